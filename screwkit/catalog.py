@@ -1,0 +1,247 @@
+"""The declarative catalog ``legs_catalog.yaml``: leg types, Table I, PM definitions.
+
+Schema (``docs/catalog.md`` has the full reference)::
+
+    version: 1
+    legs:                       # accepted leg types (the paper's Fig. 2, reconstructed)
+      - name: RRPRR             # unique; variants as STRING/variant ("UPU/couple")
+        string: RR_PRR          # leg string, '_' before the actuated joint
+        summary: one line in words
+        joints: [ ... ]         # one placement rule per letter (see screwkit.rules)
+        structure: [ ... ]      # checks that must hold wherever the leg is assembled
+        placement: {A: [..], a: [..], o: [..]}     # optional default end points
+        expect:                 # what the leg must exert, in counts and words
+          forces: 1
+          couples: 0
+          words: "one force parallel to R2 and R4, meeting R1 and R5"
+          force_lines: [{through: POINT, parallel: REF}]   # optional, each must be in the system
+          couples_along: [REF]                              # optional
+    table1: [UPU, UPRR, ...]    # the paper's Table I, cell by cell
+    pms: { ... }                # parallel manipulators (screwkit.pm)
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .errors import CatalogError, ScrewkitError
+from .placement import Placement, default_placement
+from .rules import LegRules, _Context, build_leg
+
+__all__ = ["LegSpec", "Catalog", "load_catalog", "default_catalog", "catalog_path",
+           "leg_spec_from_mapping"]
+
+_LEG_KEYS = {"name", "string", "summary", "joints", "structure", "placement", "expect",
+             "actuation", "used_by", "note"}
+_EXPECT_KEYS = {"forces", "couples", "screws", "words", "force_lines", "couples_along"}
+
+
+@dataclass(frozen=True)
+class LegSpec:
+    """A catalog leg type: its rules, default placement and expected constraint wrenches."""
+
+    rules: LegRules
+    summary: str = ""
+    placement: Placement | None = None
+    expect: dict = field(default_factory=dict)
+    used_by: tuple = ()
+    note: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.rules.name
+
+    @property
+    def string(self):
+        return self.rules.string
+
+    def build(self, placement: Placement | None = None, check_structure: bool = True):
+        """The leg placed by its rules (default: the entry's own or the default placement)."""
+        return build_leg(self.rules, placement or self.placement or default_placement(),
+                         check_structure)
+
+    def check_expectation(self, analysis) -> list:
+        """Differences between the analysis and ``expect``: empty when the expectation holds.
+
+        Counts are compared with the decomposition; each declared force line and
+        couple axis is built from the rules' references (independently of the
+        solver) and must be reciprocal to every joint twist.
+        """
+        from .reciprocal import span_contains
+        from .screws import couple_wrench, force_wrench
+
+        e = self.expect
+        problems = []
+        for key, got in (("forces", analysis.n_forces), ("couples", analysis.n_couples),
+                         ("screws", analysis.n_screws)):
+            want = int(e.get(key, 0))
+            if got != want:
+                problems.append(f"expected {want} {key}, found {got}")
+        leg = analysis.leg
+        pl = self.placement or default_placement()
+        if leg.A is not None:
+            pl = Placement(leg.A, leg.a, pl.O, pl.o, pl.base_rotation, pl.platform_rotation) \
+                if np.allclose(leg.A, pl.A) and np.allclose(leg.a, pl.a) else None
+        ctx = None
+        if pl is not None:
+            ctx = _Context(self.rules, pl)
+            for j in leg.joints:
+                ctx.dirs[j.name] = j.direction
+                ctx.pts[j.name] = j.point
+                ctx.dirs.setdefault(f"{j.spec.origin}{j.spec.position}", j.direction)
+                ctx.pts.setdefault(f"{j.spec.origin}{j.spec.position}", j.point)
+        norm = analysis.system.normalisation
+        W = analysis.system.wrenches
+        if ctx is not None:
+            for fl in e.get("force_lines", []) or []:
+                p = ctx.point(fl["through"])
+                d = ctx.direction_rule(fl["parallel"]) if "parallel" in fl else \
+                    ctx.point(fl["toward"]) - p
+                w = force_wrench(d, p).vector
+                if not span_contains(W, w, norm):
+                    problems.append(f"declared force line {fl} is not in the constraint system")
+            for ref in e.get("couples_along", []) or []:
+                w = couple_wrench(ctx.direction_rule(ref)).vector
+                if not span_contains(W, w, norm):
+                    problems.append(f"declared couple along {ref} is not in the constraint system")
+        return problems
+
+
+def _vec(v, entry, fld, source):
+    a = np.asarray(v, dtype=float) if isinstance(v, (list, tuple)) else None
+    if a is None or a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise CatalogError(f"must be a list of 3 finite numbers, got {v!r}", entry, fld, source)
+    return a
+
+
+def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> LegSpec:
+    """Validate one ``legs`` entry (a mapping from YAML or from user code)."""
+    where = d.get("name") if isinstance(d, dict) and isinstance(d.get("name"), str) \
+        else f"legs[{index}]"
+    if not isinstance(d, dict):
+        raise CatalogError("each leg entry must be a mapping", where, None, source)
+    for req in ("name", "string", "joints"):
+        if req not in d:
+            raise CatalogError(f"missing required field {req!r}", where, req, source)
+    unknown = set(d) - _LEG_KEYS
+    if unknown:
+        raise CatalogError(f"unknown field(s) {sorted(unknown)}", where, sorted(unknown)[0], source)
+    name = d["name"]
+    if not isinstance(name, str) or not name:
+        raise CatalogError("must be a non-empty string", where, "name", source)
+    if not isinstance(d["string"], str):
+        raise CatalogError("must be a string", name, "string", source)
+    rules = LegRules.from_mapping(name, d["string"], d["joints"], d.get("structure") or (), source)
+    pl = None
+    if d.get("placement") is not None:
+        p = d["placement"]
+        if not isinstance(p, dict) or not {"A", "a"} <= set(p):
+            raise CatalogError("needs at least 'A' and 'a'", name, "placement", source)
+        kw = {k: _vec(p[k], name, f"placement.{k}", source) for k in ("A", "a", "O", "o") if k in p}
+        pl = Placement(**kw)
+    expect = d.get("expect") or {}
+    if not isinstance(expect, dict):
+        raise CatalogError("must be a mapping", name, "expect", source)
+    bad = set(expect) - _EXPECT_KEYS
+    if bad:
+        raise CatalogError(f"unknown key(s) {sorted(bad)}", name, "expect", source)
+    for k in ("forces", "couples", "screws"):
+        if k in expect and not (isinstance(expect[k], int) and 0 <= expect[k] <= 6):
+            raise CatalogError("must be an integer from 0 to 6", name, f"expect.{k}", source)
+    used_by = d.get("used_by") or ()
+    return LegSpec(rules, str(d.get("summary", "")), pl, dict(expect), tuple(used_by),
+                   str(d.get("note", "")))
+
+
+class Catalog:
+    """A loaded catalog: leg types by name, the Table I list, and raw PM definitions."""
+
+    def __init__(self, legs: dict, table1: list, pms: dict, source: str = "<memory>"):
+        self.legs = legs
+        self.table1 = table1
+        self.pms = pms
+        self.source = source
+
+    @classmethod
+    def from_mapping(cls, data, source: str = "<memory>") -> "Catalog":
+        if not isinstance(data, dict):
+            raise CatalogError("the catalog must be a mapping with 'legs', 'table1' and 'pms'",
+                               source=source)
+        legs = {}
+        raw = data.get("legs", [])
+        if not isinstance(raw, list):
+            raise CatalogError("must be a list of leg entries", None, "legs", source)
+        for i, d in enumerate(raw):
+            spec = leg_spec_from_mapping(d, source, i)
+            if spec.name in legs:
+                raise CatalogError("duplicate leg name", spec.name, "name", source)
+            legs[spec.name] = spec
+        table1 = data.get("table1", [])
+        if not isinstance(table1, list) or not all(isinstance(s, str) for s in table1):
+            raise CatalogError("must be a list of leg strings", None, "table1", source)
+        pms = data.get("pms", {}) or {}
+        if not isinstance(pms, dict):
+            raise CatalogError("must be a mapping of PM name to definition", None, "pms", source)
+        return cls(legs, table1, pms, source)
+
+    def find_leg(self, name: str) -> LegSpec | None:
+        """The leg type called ``name``; a bare string matches its first variant
+        (``"UPU"`` -> ``"UPU/force"``) when no entry has exactly that name."""
+        if name in self.legs:
+            return self.legs[name]
+        for spec in self.legs.values():
+            if spec.name.split("/")[0] == name or spec.string.marked == name:
+                return spec
+        return None
+
+    def table1_distinct(self) -> list:
+        """Table I strings without repetitions, in order of first appearance."""
+        return list(dict.fromkeys(self.table1))
+
+
+def catalog_path() -> Path:
+    """Where the default catalog is read from: ``$SCREWKIT_CATALOG``, the packaged copy,
+    or the repository's top-level ``legs_catalog.yaml``."""
+    env = os.environ.get("SCREWKIT_CATALOG")
+    if env:
+        return Path(env)
+    here = Path(__file__).resolve().parent
+    for p in (here / "legs_catalog.yaml", here.parent / "legs_catalog.yaml"):
+        if p.is_file():
+            return p
+    raise CatalogError("legs_catalog.yaml not found (set SCREWKIT_CATALOG)")
+
+
+def load_catalog(path) -> Catalog:
+    """Load and validate a catalog file; raise :class:`CatalogError` naming entry and field."""
+    import yaml
+
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise CatalogError(f"cannot read catalog: {exc.strerror}", source=str(p)) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise CatalogError(f"invalid YAML{where}: {getattr(exc, 'problem', exc)}",
+                           source=str(p)) from None
+    try:
+        return Catalog.from_mapping(data, str(p))
+    except CatalogError:
+        raise
+    except ScrewkitError as exc:
+        raise CatalogError(str(exc), source=str(p)) from None
+
+
+@lru_cache(maxsize=1)
+def default_catalog() -> Catalog:
+    """The catalog at :func:`catalog_path` (cached)."""
+    return load_catalog(catalog_path())

@@ -1,0 +1,63 @@
+"""Command-line interface: a thin shell over the Python API.
+
+Each sub-command lives in its own module ``screwkit.commands.<name>`` exposing
+``register(subparsers)``; errors derived from :class:`ScrewkitError` are printed
+on one line and give exit status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .errors import ScrewkitError
+
+__all__ = ["main", "COMMANDS"]
+
+#: Sub-command modules, in the order of ``screwkit --help``.
+COMMANDS = ["leg", "catalog"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    p = argparse.ArgumentParser(
+        prog="screwkit",
+        description="Screw-theory statics of limited-DOF parallel manipulators. "
+                    "Twists [v; w] and wrenches [f; m] about the base origin; angles in "
+                    "degrees at the command line.")
+    p.add_argument("--version", action="version", version=f"screwkit {__version__}")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        importlib.import_module(f".commands.{name}", __package__).register(sub)
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 1
+    try:
+        return int(args.func(args) or 0)
+    except ScrewkitError as exc:
+        print(f"screwkit {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. piped into head
+        return 0
+    except Exception as exc:  # a bug: still one line, but say so (SCREWKIT_DEBUG=1 re-raises)
+        import os
+        if os.environ.get("SCREWKIT_DEBUG"):
+            raise
+        print(f"screwkit {args.command}: internal error ({type(exc).__name__}: {exc}); "
+              "please report it (SCREWKIT_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return 3
+    except KeyboardInterrupt:
+        print("screwkit: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,46 @@
+"""Helpers shared by the CLI sub-commands (JSON output, number formatting)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+__all__ = ["to_jsonable", "dump_json", "fmt_vec", "fmt_num"]
+
+
+def to_jsonable(x):
+    """Convert numpy values (and inf/nan) into JSON-safe Python objects."""
+    if isinstance(x, dict):
+        return {str(k): to_jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [to_jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return to_jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        v = float(x)
+        if math.isnan(v):
+            return None
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return v
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def dump_json(obj) -> str:
+    return json.dumps(to_jsonable(obj), indent=2)
+
+
+def fmt_num(x: float, digits: int = 6) -> str:
+    if x == 0 or abs(x) < 10.0 ** (-digits - 6):
+        return "0"
+    return f"{x:.{digits}g}"
+
+
+def fmt_vec(v, digits: int = 6) -> str:
+    return "(" + ", ".join(fmt_num(float(c), digits) for c in np.asarray(v).ravel()) + ")"

@@ -1,0 +1,43 @@
+"""``screwkit catalog``: list the catalog's leg types, Table I and PMs."""
+
+from __future__ import annotations
+
+from ._common import dump_json
+
+
+def register(sub):
+    p = sub.add_parser("catalog", help="list the catalog's leg types, PMs and Table I",
+                       description="List the catalog (legs_catalog.yaml).")
+    p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    p.add_argument("--path", action="store_true", help="print the catalog file's path and exit")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..catalog import catalog_path, default_catalog
+
+    if args.path:
+        print(catalog_path())
+        return 0
+    cat = default_catalog()
+    if args.json:
+        print(dump_json({
+            "source": cat.source,
+            "legs": [{"name": s.name, "string": s.string.marked, "summary": s.summary,
+                      "expect": s.expect, "used_by": list(s.used_by)} for s in cat.legs.values()],
+            "pms": sorted(cat.pms),
+            "table1": cat.table1_distinct(),
+        }))
+        return 0
+    print(f"catalog: {cat.source}")
+    print(f"leg types ({len(cat.legs)}):")
+    w = max((len(n) for n in cat.legs), default=4)
+    for s in cat.legs.values():
+        e = s.expect
+        counts = f"{e.get('forces', 0)}F {e.get('couples', 0)}T"
+        print(f"  {s.name:<{w}}  {s.string.marked:<8} {counts:<7} {s.summary}")
+    if cat.pms:
+        print(f"PMs ({len(cat.pms)}): {', '.join(sorted(cat.pms))}")
+    t = cat.table1_distinct()
+    print(f"Table I: {len(cat.table1)} cells, {len(t)} distinct strings")
+    return 0

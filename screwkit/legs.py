@@ -1,0 +1,169 @@
+"""Concrete legs: equivalent R/P/H chains with axes and points in the world frame.
+
+A :class:`Leg` is an immutable value: the parsed string, one :class:`Joint` per
+equivalent 1-DOF joint (with the letter and position it came from), and the
+leg's end points.  Its screw-theoretic analysis (constraint wrenches,
+observation rules, actuation wrench) is in :mod:`screwkit.analysis`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .parsing import EquivalentJoint, LegString
+from .screws import Line, Twist, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+
+__all__ = ["Joint", "Leg"]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint of an equivalent chain, placed in space.
+
+    Attributes
+    ----------
+    spec : EquivalentJoint
+        Name, kind, origin letter and position, actuation flag.
+    direction : ndarray (3,)
+        Unit axis (R, H) or sliding direction (P).
+    point : ndarray (3,)
+        A point of the axis (R, H); for P a reference point used for drawing.
+    pitch : float
+        Helical pitch (length per radian), 0 for R and P.
+    """
+
+    spec: EquivalentJoint
+    direction: np.ndarray
+    point: np.ndarray
+    pitch: float = 0.0
+
+    def __post_init__(self):
+        d = unit(self.direction, f"axis of {self.spec.name}")
+        p = as_vector3(self.point, f"point of {self.spec.name}")
+        d.setflags(write=False)
+        p = p.copy()
+        p.setflags(write=False)
+        object.__setattr__(self, "direction", d)
+        object.__setattr__(self, "point", p)
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def kind(self) -> str:
+        return self.spec.kind
+
+    @property
+    def actuated(self) -> bool:
+        return self.spec.actuated
+
+    @property
+    def twist(self) -> Twist:
+        """Unit twist of the joint (about the base origin)."""
+        if self.kind == "R":
+            return revolute_twist(self.direction, self.point)
+        if self.kind == "P":
+            return prismatic_twist(self.direction)
+        return helical_twist(self.direction, self.point, self.pitch)
+
+    @property
+    def line(self) -> Line:
+        """The joint axis as a line."""
+        return Line.through(self.point, self.direction)
+
+    def moved(self, rotation, translation, scale: float = 1.0) -> "Joint":
+        """The joint after ``x -> R (scale x) + p``."""
+        R = np.asarray(rotation, float)
+        return Joint(self.spec, R @ self.direction, R @ (scale * self.point) + translation,
+                     self.pitch * scale)
+
+
+@dataclass(frozen=True, eq=False)
+class Leg:
+    """A leg: a parsed string and its equivalent chain placed in space.
+
+    Parameters
+    ----------
+    string : LegString
+    joints : tuple of Joint
+        In chain order from the base to the platform.
+    A, a : ndarray (3,)
+        Base and platform attachment points.
+    name : str
+        Catalog name (``"UPU/couple"``) or the string itself.
+    """
+
+    string: LegString
+    joints: tuple
+    A: np.ndarray
+    a: np.ndarray
+    name: str = ""
+
+    def __post_init__(self):
+        if len(self.joints) != len(self.string.equivalent):
+            raise InputError(f"leg {self.string.text}: {len(self.joints)} joints given for an "
+                             f"equivalent chain of {len(self.string.equivalent)}")
+        for name in ("A", "a"):
+            v = as_vector3(getattr(self, name), name).copy()
+            v.setflags(write=False)
+            object.__setattr__(self, name, v)
+        if not self.name:
+            object.__setattr__(self, "name", self.string.text)
+
+    @property
+    def twists(self) -> np.ndarray:
+        """Joint twists, shape (m, 6), in chain order."""
+        return np.array([j.twist.vector for j in self.joints])
+
+    @property
+    def points(self) -> np.ndarray:
+        """Joint points and end points, shape (m + 2, 3): the geometry's extent."""
+        return np.vstack([self.A, self.a] + [j.point for j in self.joints])
+
+    @property
+    def length(self) -> float:
+        """Distance between the end points."""
+        return float(np.linalg.norm(self.a - self.A))
+
+    @property
+    def actuated_index(self) -> int:
+        return self.string.actuated_index
+
+    @property
+    def actuated_joint(self) -> Joint:
+        return self.joints[self.actuated_index]
+
+    def joint(self, name: str) -> Joint:
+        """The joint called ``name`` (``"R1"``, ``"S1a"``...)."""
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise InputError(f"leg {self.name} has no joint {name!r}; joints: "
+                         f"{', '.join(j.name for j in self.joints)}")
+
+    def centres(self) -> dict:
+        """Centres of the S and U joints: ``{"S1": point, ...}``."""
+        out = {}
+        for j in self.joints:
+            if j.spec.origin in "SU":
+                out.setdefault(f"{j.spec.origin}{j.spec.position}", j.point)
+        return out
+
+    def moved(self, rotation, translation, scale: float = 1.0) -> "Leg":
+        """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units)."""
+        R = np.asarray(rotation, float)
+        p = as_vector3(translation, "translation")
+        return Leg(self.string, tuple(j.moved(R, p, scale) for j in self.joints),
+                   R @ (scale * self.A) + p, R @ (scale * self.a) + p, self.name)
+
+    def analyze(self):
+        """Screw-theoretic analysis of the leg (see :func:`screwkit.analysis.analyze_leg`)."""
+        from .analysis import analyze_leg
+        return analyze_leg(self)
+
+    def __repr__(self) -> str:
+        return f"Leg({self.name!r}, {self.string.marked})"

@@ -1,0 +1,277 @@
+"""Parsing of leg strings and PM strings, and expansion into equivalent R/P chains.
+
+Leg strings use the letters R (revolute), P (prismatic), H (helical),
+U (universal), S (spherical) and C (cylindrical).  The actuated joint is marked
+by an underscore before its letter (``RR_PRR``, the ASCII form of the paper's
+underline); a letter followed by the combining low line U+0332 is accepted too.
+Without a marker the actuated joint is the first prismatic joint of the
+equivalent chain (a P, or the P part of a C), or the first R when there is none.
+
+PM strings: ``3RRPRR``, ``3-RPS``, ``2SPS+2SPR``, ``4SPS+SPR``, ``3SPU+UPR``.
+
+Expansion: S -> three intersecting non-coplanar R (``S1a S1b S1c``),
+U -> two crossed R (``U1a U1b``), C -> coaxial P and R (``C2p C2r``).
+
+Examples
+--------
+>>> leg = parse_leg("RR_PRR")
+>>> [j.name for j in leg.equivalent], leg.actuated_name
+(['R1', 'R2', 'P3', 'R4', 'R5'], 'P3')
+>>> [(t.count, t.leg.text) for t in parse_pm("2SPS+2SPR").terms]
+[(2, 'SPS'), (2, 'SPR')]
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .errors import ParseError
+
+__all__ = [
+    "JOINT_LETTERS",
+    "JOINT_DOF",
+    "EquivalentJoint",
+    "LegString",
+    "PMTerm",
+    "PMString",
+    "parse_leg",
+    "parse_pm",
+]
+
+#: Joint letters and their meaning.
+JOINT_LETTERS = {
+    "R": "revolute",
+    "P": "prismatic",
+    "H": "helical",
+    "U": "universal (two crossed R)",
+    "S": "spherical (three intersecting non-coplanar R)",
+    "C": "cylindrical (coaxial P and R)",
+}
+#: Degrees of freedom of each joint letter.
+JOINT_DOF = {"R": 1, "P": 1, "H": 1, "U": 2, "S": 3, "C": 2}
+_EXPANSION = {
+    "R": (("R", ""),),
+    "P": (("P", ""),),
+    "H": (("H", ""),),
+    "U": (("R", "a"), ("R", "b")),
+    "S": (("R", "a"), ("R", "b"), ("R", "c")),
+    "C": (("P", "p"), ("R", "r")),
+}
+_COMBINING_LOW_LINE = "\u0332"
+
+
+@dataclass(frozen=True)
+class EquivalentJoint:
+    """One 1-DOF joint of the equivalent R/P/H chain.
+
+    Attributes
+    ----------
+    name : str
+        ``R1``, ``P3``, ``S1a``, ``U4b``, ``C2p`` ... (letter, 1-based position
+        in the leg string, and a suffix for the parts of a compound joint).
+    kind : str
+        ``"R"``, ``"P"`` or ``"H"``.
+    origin : str
+        The letter of the leg string it comes from.
+    position : int
+        1-based position of that letter in the leg string.
+    part : int
+        Index of this joint among the parts of its letter (0 for simple joints).
+    actuated : bool
+    """
+
+    name: str
+    kind: str
+    origin: str
+    position: int
+    part: int
+    actuated: bool = False
+
+
+@dataclass(frozen=True)
+class LegString:
+    """A parsed leg string.
+
+    Attributes
+    ----------
+    text : str
+        The letters without the actuation marker (``"RRPRR"``).
+    marked : str
+        The canonical string with the marker (``"RR_PRR"``).
+    actuated_position : int
+        1-based position of the actuated letter.
+    explicit_actuation : bool
+        Whether the string carried a marker.
+    equivalent : tuple of EquivalentJoint
+    """
+
+    text: str
+    marked: str
+    actuated_position: int
+    explicit_actuation: bool
+    equivalent: tuple
+
+    @property
+    def actuated_name(self) -> str:
+        return next(j.name for j in self.equivalent if j.actuated)
+
+    @property
+    def actuated_index(self) -> int:
+        """Index of the actuated joint in the equivalent chain."""
+        return next(i for i, j in enumerate(self.equivalent) if j.actuated)
+
+    @property
+    def dof(self) -> int:
+        """Sum of the joint freedoms (the length of the equivalent chain)."""
+        return len(self.equivalent)
+
+    @property
+    def actuation_type(self) -> str:
+        """``"linear"`` (P actuated), ``"rotational"`` (R) or ``"helical"``."""
+        return {"P": "linear", "R": "rotational", "H": "helical"}[
+            self.equivalent[self.actuated_index].kind]
+
+
+@dataclass(frozen=True)
+class PMTerm:
+    count: int
+    leg: LegString
+
+
+@dataclass(frozen=True)
+class PMString:
+    """A parsed PM string: ``terms`` in order, e.g. ``2SPS+2SPR`` -> (2, SPS), (2, SPR)."""
+
+    text: str
+    terms: tuple
+
+    @property
+    def legs(self) -> tuple:
+        """One LegString per leg, in order (``2SPS+SPR`` -> SPS, SPS, SPR)."""
+        return tuple(t.leg for t in self.terms for _ in range(t.count))
+
+    @property
+    def canonical(self) -> str:
+        return "+".join((str(t.count) if t.count > 1 else "") + t.leg.text for t in self.terms)
+
+
+def _expand(letters: str, actuated_position: int) -> tuple:
+    joints = []
+    for pos, letter in enumerate(letters, start=1):
+        for part, (kind, suffix) in enumerate(_EXPANSION[letter]):
+            joints.append(EquivalentJoint(f"{letter}{pos}{suffix}", kind, letter, pos, part))
+    # the actuated equivalent joint of an actuated compound letter: its P part
+    # for C, its first part otherwise
+    cands = [i for i, j in enumerate(joints) if j.position == actuated_position]
+    pick = next((i for i in cands if joints[i].kind == "P"), cands[0])
+    j = joints[pick]
+    joints[pick] = EquivalentJoint(j.name, j.kind, j.origin, j.position, j.part, True)
+    return tuple(joints)
+
+
+def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegString:
+    """Parse a leg string such as ``"RRPRR"``, ``"RR_PRR"`` or ``"_RPS"``.
+
+    Parameters
+    ----------
+    text : str
+    offset : int
+        Added to reported positions (used when the leg is part of a PM string).
+    source : str, optional
+        The full string, for error messages.
+
+    Raises
+    ------
+    ParseError
+        Naming the offending character and its 0-based position.
+    """
+    if not isinstance(text, str):
+        raise ParseError(f"a leg string must be a str, got {type(text).__name__}")
+    src = source if source is not None else text
+    if text.strip() == "":
+        raise ParseError("empty leg string: expected joint letters from R, P, H, U, S, C", src,
+                         offset if source else None)
+    letters: list[str] = []
+    actuated = None
+    marker_pending = False
+    i = 0
+    while i < len(text):
+        ch = text[i]
+        up = ch.upper()
+        if ch == "_":
+            if actuated is not None or marker_pending:
+                raise ParseError("second actuation marker '_' (a leg has one actuated joint)",
+                                 src, offset + i)
+            marker_pending = True
+        elif ch == _COMBINING_LOW_LINE:
+            if not letters or actuated is not None:
+                raise ParseError("misplaced underline mark", src, offset + i)
+            actuated = len(letters)
+        elif up in _EXPANSION:
+            letters.append(up)
+            if marker_pending:
+                actuated = len(letters)
+                marker_pending = False
+        else:
+            hint = " (a leg count belongs to a PM string such as '3RPS', not to a leg)" if ch.isdigit() else ""
+            raise ParseError(f"unknown joint letter {ch!r} (expected one of R, P, H, U, S, C){hint}",
+                             src, offset + i)
+        i += 1
+    if marker_pending:
+        raise ParseError("actuation marker '_' is not followed by a joint letter", src,
+                         offset + len(text) - 1)
+    if not letters:
+        raise ParseError("leg string has no joint letters", src, offset)
+    s = "".join(letters)
+    explicit = actuated is not None
+    if actuated is None:
+        # default: first P of the equivalent chain (P or the P of a C), else first R
+        actuated = next((k + 1 for k, c in enumerate(s) if c in "PC"), None)
+        if actuated is None:
+            actuated = next((k + 1 for k, c in enumerate(s) if c == "R"), None)
+        if actuated is None:
+            raise ParseError(f"leg {s!r} has no P or R joint to actuate by default; "
+                             "mark the actuated joint with '_'", src, None)
+    marked = s[: actuated - 1] + "_" + s[actuated - 1:]
+    return LegString(s, marked, actuated, explicit, _expand(s, actuated))
+
+
+_TERM = re.compile(r"\s*(\d*)\s*(-?)\s*([^+]*)")
+
+
+def parse_pm(text: str) -> PMString:
+    """Parse a PM string such as ``"3RRPRR"``, ``"3-RPS"`` or ``"2SPS+2SPR"``.
+
+    Raises
+    ------
+    ParseError
+        Naming the offending character and its 0-based position.
+    """
+    if not isinstance(text, str):
+        raise ParseError(f"a PM string must be a str, got {type(text).__name__}")
+    if text.strip() == "":
+        raise ParseError("empty PM string: expected e.g. '3RRPRR' or '2SPS+2SPR'", text, None)
+    terms = []
+    pos = 0
+    for chunk in text.split("+"):
+        start = pos
+        m = _TERM.fullmatch(chunk)
+        count_txt, dash, leg_txt = m.group(1), m.group(2), m.group(3)
+        leg_start = start + m.start(3)
+        if leg_txt.strip() == "":
+            where = start + len(chunk) - 1 if chunk else start
+            what = "a '+' with no leg after it" if not chunk.strip() else "a term with no leg letters"
+            raise ParseError(f"{what}", text, max(0, min(where, len(text) - 1)))
+        count = int(count_txt) if count_txt else 1
+        if count < 1:
+            raise ParseError("leg count must be at least 1", text, start + m.start(1))
+        if count > 6:
+            raise ParseError(f"{count} legs of one type: a PM has at most 6 legs", text, start + m.start(1))
+        stripped = leg_txt.rstrip()
+        terms.append(PMTerm(count, parse_leg(stripped, offset=leg_start, source=text)))
+        pos = start + len(chunk) + 1
+    pm = PMString(text, tuple(terms))
+    if len(pm.legs) > 6:
+        raise ParseError(f"{len(pm.legs)} legs in total: a PM has at most 6 legs", text, None)
+    return pm

@@ -1,0 +1,110 @@
+"""Where a leg sits: its end points, and the base and platform frames around it.
+
+A :class:`Placement` is the context in which the structural rules of a leg are
+evaluated: the base attachment point ``A``, the platform attachment point
+``a``, the base origin ``O`` and platform centre ``o``, and the orientations of
+the base and the platform (world <- frame).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import GeometryError, InputError
+from .screws import as_vector3
+
+__all__ = ["Placement", "default_placement"]
+
+
+def _as_rotation(R, name):
+    R = np.asarray(R, dtype=float)
+    if R.shape != (3, 3) or not np.all(np.isfinite(R)):
+        raise InputError(f"{name} must be a finite 3x3 rotation matrix")
+    if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise InputError(f"{name} is not a proper rotation matrix")
+    return R
+
+
+@dataclass(frozen=True)
+class Placement:
+    """End points and frames of one leg (all in world = base-frame coordinates).
+
+    Parameters
+    ----------
+    A : array_like (3,)
+        Base attachment point.
+    a : array_like (3,)
+        Platform attachment point.
+    O : array_like (3,), default origin
+        Base centre.
+    o : array_like (3,), optional
+        Platform centre (default: ``a`` moved by ``O - A`` scaled to half, i.e. a
+        point above the base centre at the height of ``a``).
+    base_rotation, platform_rotation : array_like (3, 3), default identity
+        World <- base and world <- platform rotations.
+    C : array_like (3,), optional
+        A centre of rotation fixed to the base (rule reference ``C``), default
+        half-way from ``O`` to ``o``.
+    """
+
+    A: np.ndarray
+    a: np.ndarray
+    O: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    o: np.ndarray | None = None
+    base_rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    platform_rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    C: np.ndarray | None = None
+
+    def __post_init__(self):
+        A = as_vector3(self.A, "A")
+        a = as_vector3(self.a, "a")
+        O = as_vector3(self.O, "O")
+        if self.o is None:
+            o = O + np.array([0.0, 0.0, float(np.dot(a - O, self.base_rotation @ [0, 0, 1]))])
+        else:
+            o = as_vector3(self.o, "o")
+        C = O + 0.5 * (o - O) if self.C is None else as_vector3(self.C, "C")
+        object.__setattr__(self, "C", C)
+        if np.linalg.norm(a - A) <= 1e-12 * max(1.0, np.linalg.norm(A)):
+            raise GeometryError("the leg's end points A and a coincide")
+        for name, val in (("A", A), ("a", a), ("O", O), ("o", o),
+                          ("base_rotation", _as_rotation(self.base_rotation, "base_rotation")),
+                          ("platform_rotation", _as_rotation(self.platform_rotation, "platform_rotation"))):
+            val = np.array(val, dtype=float)
+            val.setflags(write=False)
+            object.__setattr__(self, name, val)
+
+    @property
+    def centre(self) -> np.ndarray:
+        return self.C
+
+    @property
+    def length(self) -> float:
+        """Distance from ``A`` to ``a``: the leg's characteristic length."""
+        return float(np.linalg.norm(self.a - self.A))
+
+    def transformed(self, rotation, translation) -> "Placement":
+        """The placement moved rigidly by ``x -> R x + p``."""
+        R = np.asarray(rotation, float)
+        p = as_vector3(translation, "translation")
+        return Placement(R @ self.A + p, R @ self.a + p, R @ self.O + p, R @ self.o + p,
+                         R @ self.base_rotation, R @ self.platform_rotation, R @ self.C + p)
+
+    def scaled(self, k: float) -> "Placement":
+        """All lengths multiplied by ``k``."""
+        return Placement(k * self.A, k * self.a, k * self.O, k * self.o,
+                         self.base_rotation, self.platform_rotation, k * self.C)
+
+
+def default_placement(scale: float = 100.0) -> Placement:
+    """The default placement used to analyse a single leg.
+
+    Base centre at the origin, ``A`` on the base X axis at ``scale``, the
+    platform parallel to the base at height ``0.8 scale`` with its centre above
+    ``O`` and ``a`` at half the base radius, in the radial plane of ``A``.
+    """
+    s = float(scale)
+    return Placement(A=[s, 0.0, 0.0], a=[0.5 * s, 0.0, 0.8 * s], O=[0.0, 0.0, 0.0],
+                     o=[0.0, 0.0, 0.8 * s])

@@ -1,0 +1,239 @@
+"""Reciprocal-screw systems: constraint wrenches of a set of joint twists.
+
+The constraint wrenches of a serial chain are the wrenches reciprocal to every
+joint twist: the null space of the twist matrix under ``W o V = W . V``.  The
+null space is computed by SVD on *length-normalised* screws (moved to the
+centroid of the geometry and with lengths divided by its characteristic length,
+see :mod:`screwkit.tolerance`) so that the rank decision is invariant under a
+change of base frame and of length units.
+
+Examples
+--------
+>>> import numpy as np
+>>> from screwkit.screws import revolute_twist, prismatic_twist
+>>> T = np.array([revolute_twist([0, 0, 1], [0, 0, 0]).vector,
+...               prismatic_twist([1, 0, 0]).vector])
+>>> sys = reciprocal_system(T, points=[[0, 0, 0]])
+>>> sys.rank, sys.dimension
+(2, 4)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .tolerance import RANK_RTOL, characteristic_length
+
+__all__ = [
+    "Normalisation",
+    "ReciprocalSystem",
+    "reciprocal_system",
+    "independent_subset",
+    "same_span",
+    "span_contains",
+]
+
+
+@dataclass(frozen=True)
+class Normalisation:
+    """Map between physical screws and length-normalised screws.
+
+    A twist ``[v; w]`` becomes ``[(v - c x w) / L; w]`` (moved to the centroid
+    ``c`` and divided by the length ``L``); a wrench ``[f; m]`` becomes
+    ``[f; (m - c x f) / L]``.  The reciprocal product of normalised screws is
+    the physical one divided by ``L``, so null spaces correspond exactly.
+    """
+
+    centre: np.ndarray
+    length: float
+
+    @classmethod
+    def for_points(cls, points, length: float | None = None) -> "Normalisation":
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        c = p.mean(axis=0) if p.size else np.zeros(3)
+        L = characteristic_length(p) if length is None else float(length)
+        if not (np.isfinite(L) and L > 0):
+            raise InputError(f"characteristic length must be positive and finite, got {L}")
+        return cls(c, L)
+
+    def twists(self, T) -> np.ndarray:
+        T = np.asarray(T, float)
+        w = T[..., 3:]
+        v = (T[..., :3] - np.cross(self.centre, w)) / self.length
+        return np.concatenate([v, w], axis=-1)
+
+    def wrenches(self, W) -> np.ndarray:
+        W = np.asarray(W, float)
+        f = W[..., :3]
+        m = (W[..., 3:] - np.cross(self.centre, f)) / self.length
+        return np.concatenate([f, m], axis=-1)
+
+    def wrenches_back(self, Wn) -> np.ndarray:
+        Wn = np.asarray(Wn, float)
+        f = Wn[..., :3]
+        m = Wn[..., 3:] * self.length + np.cross(self.centre, f)
+        return np.concatenate([f, m], axis=-1)
+
+    def twists_back(self, Tn) -> np.ndarray:
+        Tn = np.asarray(Tn, float)
+        w = Tn[..., 3:]
+        v = Tn[..., :3] * self.length + np.cross(self.centre, w)
+        return np.concatenate([v, w], axis=-1)
+
+
+@dataclass(frozen=True)
+class ReciprocalSystem:
+    """Result of :func:`reciprocal_system`.
+
+    Attributes
+    ----------
+    wrenches : ndarray, shape (k, 6)
+        Basis of the constraint-wrench system ``[f; m]`` (moments about O).
+        Orthonormal in normalised coordinates.
+    singular_values : ndarray, shape (min(m, 6),)
+        Singular values of the normalised twist matrix, descending.
+    rank : int
+        Rank of the twists (the chain's connectivity).
+    n_twists : int
+    tolerance : float
+        Absolute threshold used on the normalised singular values.
+    normalisation : Normalisation
+    residual : float
+        Largest normalised ``|W . V|`` over basis wrenches and twists.
+    """
+
+    wrenches: np.ndarray
+    singular_values: np.ndarray
+    rank: int
+    n_twists: int
+    tolerance: float
+    normalisation: Normalisation
+    residual: float
+
+    @property
+    def dimension(self) -> int:
+        """Number of independent constraint wrenches, ``6 - rank``."""
+        return 6 - self.rank
+
+    @property
+    def dependent(self) -> bool:
+        """True when the twists are linearly dependent (fewer independent joints than joints)."""
+        return self.rank < self.n_twists
+
+    @property
+    def condition_number(self) -> float:
+        """Ratio of the largest to the smallest *retained* singular value of the twists."""
+        s = self.singular_values[: self.rank]
+        return float(s[0] / s[-1]) if self.rank else float("inf")
+
+
+def _check_matrix(T, name: str) -> np.ndarray:
+    T = np.asarray(T, dtype=float)
+    if T.ndim == 1 and T.size == 0:
+        T = T.reshape(0, 6)
+    if T.ndim != 2 or T.shape[1] != 6:
+        raise InputError(f"{name} must have shape (m, 6), got {T.shape}")
+    if not np.all(np.isfinite(T)):
+        raise InputError(f"{name} contains NaN or infinite entries")
+    return T
+
+
+def reciprocal_system(twists, points=None, length: float | None = None,
+                      rtol: float = RANK_RTOL) -> ReciprocalSystem:
+    """Constraint-wrench system reciprocal to ``twists``.
+
+    Parameters
+    ----------
+    twists : array_like, shape (m, 6)
+        Joint twists ``[v; w]`` about the base origin.
+    points : array_like, shape (p, 3), optional
+        Points of the geometry (joint points); they set the centre and the
+        characteristic length of the normalisation.  Default: the points of the
+        twist axes closest to the origin.
+    length : float, optional
+        Overrides the characteristic length.
+    rtol : float
+        Relative rank tolerance on normalised singular values.
+
+    Returns
+    -------
+    ReciprocalSystem
+    """
+    T = _check_matrix(twists, "twists")
+    if points is None:
+        w = T[:, 3:]
+        ww = np.sum(w * w, axis=1)
+        pts = [np.cross(w[i], T[i, :3]) / ww[i] for i in range(len(T)) if ww[i] > 0]
+        points = np.array(pts) if pts else np.zeros((1, 3))
+    norm = Normalisation.for_points(points, length)
+    Tn = norm.twists(T)
+    if len(Tn) == 0:
+        s = np.zeros(0)
+        rank = 0
+        Vt = np.eye(6)
+        tol = rtol
+    else:
+        _, s, Vt = np.linalg.svd(Tn, full_matrices=True)
+        tol = rtol * max(1.0, float(s[0]))
+        rank = int(np.sum(s > tol))
+    basis_n = Vt[rank:]
+    W = norm.wrenches_back(basis_n)
+    residual = float(np.max(np.abs(Tn @ basis_n.T))) if basis_n.size and len(Tn) else 0.0
+    W.setflags(write=False)
+    return ReciprocalSystem(W, s, rank, len(T), tol, norm, residual)
+
+
+def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[list[int], list[int]]:
+    """Split joint indices into a maximal independent prefix-greedy set and the dependent rest.
+
+    A joint is *dependent* when its twist lies in the span of the twists of the
+    joints before it (in chain order).
+
+    Returns
+    -------
+    independent, dependent : list of int
+    """
+    T = _check_matrix(twists, "twists")
+    if points is None:
+        points = np.zeros((1, 3))
+    norm = Normalisation.for_points(points)
+    Tn = norm.twists(T)
+    independent: list[int] = []
+    dependent: list[int] = []
+    for i in range(len(Tn)):
+        trial = Tn[independent + [i]]
+        s = np.linalg.svd(trial, compute_uv=False)
+        tol = rtol * max(1.0, float(s[0]))
+        if int(np.sum(s > tol)) == len(independent) + 1:
+            independent.append(i)
+        else:
+            dependent.append(i)
+    return independent, dependent
+
+
+def _orth_rank(M, rtol):
+    if M.size == 0:
+        return 0
+    s = np.linalg.svd(M, compute_uv=False)
+    return int(np.sum(s > rtol * max(1.0, float(s[0]))))
+
+
+def same_span(A, B, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:
+    """True when two sets of screws (rows) span the same subspace (normalised comparison)."""
+    f = norm.wrenches if kind == "wrench" else norm.twists
+    An = f(_check_matrix(A, "A")) if len(A) else np.zeros((0, 6))
+    Bn = f(_check_matrix(B, "B")) if len(B) else np.zeros((0, 6))
+    ra, rb = _orth_rank(An, rtol), _orth_rank(Bn, rtol)
+    return ra == rb == _orth_rank(np.vstack([An, Bn]), rtol)
+
+
+def span_contains(A, w, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:
+    """True when screw ``w`` lies in the span of the rows of ``A`` (normalised comparison)."""
+    f = norm.wrenches if kind == "wrench" else norm.twists
+    An = f(_check_matrix(A, "A")) if len(A) else np.zeros((0, 6))
+    wn = f(np.asarray(w, float).reshape(1, 6))
+    wn = wn / max(np.linalg.norm(wn), 1e-300)
+    return _orth_rank(An, rtol) == _orth_rank(np.vstack([An, wn]), rtol)

@@ -1,0 +1,50 @@
+"""Scale-aware numerical tolerances.
+
+All rank decisions in screwkit are made on *length-normalised* screws: linear
+parts of twists and moment parts of wrenches are divided by a characteristic
+length of the geometry, and the frame is moved to the centroid of the geometry,
+so that a decision does not change when every length is multiplied by 1000 or
+when the base frame is moved.  The relative tolerances below are the only
+literals that decide ranks; every function takes them as overridable arguments.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "RANK_RTOL",
+    "GEOMETRY_RTOL",
+    "characteristic_length",
+]
+
+#: Relative tolerance on singular values of length-normalised screw matrices:
+#: a singular value below ``RANK_RTOL * max(1, s_max)`` counts as zero.
+RANK_RTOL = 1e-8
+
+#: Relative tolerance for geometric predicates on unit vectors and on distances
+#: divided by the characteristic length (parallel, perpendicular, meets).
+GEOMETRY_RTOL = 1e-7
+
+
+def characteristic_length(points) -> float:
+    """Characteristic length of a set of points.
+
+    Parameters
+    ----------
+    points : array_like, shape (..., 3)
+
+    Returns
+    -------
+    float
+        The RMS distance of the points from their centroid, or 1.0 when all the
+        points coincide (a pure-direction geometry has no length of its own).
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    if p.size == 0:
+        return 1.0
+    spread = float(np.sqrt(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=1))))
+    if not np.isfinite(spread):
+        return 1.0
+    scale = max(spread, float(np.max(np.abs(p))) * 1e-12)
+    return scale if scale > 0 else 1.0
