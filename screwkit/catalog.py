@@ -181,9 +181,16 @@ class Catalog:
             if spec.name in legs:
                 raise CatalogError("duplicate leg name", spec.name, "name", source)
             legs[spec.name] = spec
-        table1 = data.get("table1", [])
-        if not isinstance(table1, list) or not all(isinstance(s, str) for s in table1):
-            raise CatalogError("must be a list of leg strings", None, "table1", source)
+        table1 = data.get("table1", []) or []
+        if not isinstance(table1, list):
+            raise CatalogError("must be a list of rows of leg strings", None, "table1", source)
+        flat = []
+        for i, row in enumerate(table1):
+            for s in (row if isinstance(row, list) else [row]):
+                if not isinstance(s, str):
+                    raise CatalogError(f"cell {s!r} is not a leg string", None, f"table1[{i}]", source)
+                flat.append(s)
+        table1 = flat
         pms = data.get("pms", {}) or {}
         if not isinstance(pms, dict):
             raise CatalogError("must be a mapping of PM name to definition", None, "pms", source)
