@@ -349,19 +349,27 @@ def decompose(wrenches, leg: Leg, norm: Normalisation, seed: int = 0) -> tuple:
             w = c @ W
             if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
                 try_add(w, "force")
-    # 3. randomised search on the zero-pitch quadric of the system
-    rng = np.random.default_rng(seed)
-    for _ in range(200 if len(chosen) < k else 0):
-        if len(chosen) == k:
-            break
-        c1, c2 = rng.standard_normal((2, k))
-        w1, w2 = c1 @ W, c2 @ W
-        for s in _zero_pitch_roots(w1, w2):
-            w = w1 + s * w2
-            if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
-                fm = abs(w[:3] @ w[3:]) / (np.linalg.norm(w[:3]) ** 2 * L)
-                if fm < 1e-9:
+    # 3. randomised search on the zero-pitch quadric f.m = 0 of the system: along random
+    #    lines w1 + s w2 of the (normalised, orthonormal) basis, so no combination vanishes
+    if k >= 2 and len(chosen) < k:
+        rng = np.random.default_rng(seed)
+        Wn_basis = np.linalg.qr(Wn.T)[0].T            # orthonormal rows spanning the system
+        for _ in range(200):
+            if len(chosen) == k:
+                break
+            c = np.linalg.qr(rng.standard_normal((k, 2)))[0].T   # two orthonormal coefficient rows
+            u1, u2 = c @ Wn_basis
+            for s_ in _zero_pitch_roots(norm.wrenches_back(u1), norm.wrenches_back(u2)):
+                un = (u1 + s_ * u2) / np.sqrt(1 + s_ * s_)      # unit norm in normalised space
+                w = norm.wrenches_back(un)
+                fn = np.linalg.norm(un[:3])
+                if fn > 1e-6 and abs(un[:3] @ un[3:]) <= 1e-9 * fn:
                     try_add(w, "force")
+    elif k == 1 and len(chosen) == 0:
+        un = Wn[0] / np.linalg.norm(Wn[0])
+        fn = np.linalg.norm(un[:3])
+        if fn > 1e-6 and abs(un[:3] @ un[3:]) <= 1e-9 * fn:
+            try_add(W[0], "force")
     # 4. what is left: finite-pitch screws orthogonal (normalised) to the chosen ones
     if len(chosen) < k:
         Q = np.array(chosen).reshape(-1, 6)

@@ -5,7 +5,8 @@ U (universal), S (spherical) and C (cylindrical).  The actuated joint is marked
 by an underscore before its letter (``RR_PRR``, the ASCII form of the paper's
 underline); a letter followed by the combining low line U+0332 is accepted too.
 Without a marker the actuated joint is the first prismatic joint of the
-equivalent chain (a P, or the P part of a C), or the first R when there is none.
+equivalent chain (a P, or the P part of a C), or its first revolute joint (an R
+or the first R of a U or an S) when there is none.
 
 PM strings: ``3RRPRR``, ``3-RPS``, ``2SPS+2SPR``, ``4SPS+SPR``, ``3SPU+UPR``.
 
@@ -226,10 +227,11 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     s = "".join(letters)
     explicit = actuated is not None
     if actuated is None:
-        # default: first P of the equivalent chain (P or the P of a C), else first R
+        # default: first P of the equivalent chain (P or the P of a C), else its first R
+        # (an R, or the first R of a U or an S); H only when marked
         actuated = next((k + 1 for k, c in enumerate(s) if c in "PC"), None)
         if actuated is None:
-            actuated = next((k + 1 for k, c in enumerate(s) if c == "R"), None)
+            actuated = next((k + 1 for k, c in enumerate(s) if c in "RUS"), None)
         if actuated is None:
             raise ParseError(f"leg {s!r} has no P or R joint to actuate by default; "
                              "mark the actuated joint with '_'", src, None)
