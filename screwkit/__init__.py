@@ -9,12 +9,13 @@ from .errors import (CatalogError, GeometryError, InputError, ParseError, Screwk
                      SingularityError, UnreachablePoseError)
 from .screws import Line, Twist, Wrench
 from .parsing import parse_leg, parse_pm
-from .api import leg
+from .api import define_leg, extend_catalog, leg, load_legs
 
 __version__ = "0.1.0"
 
 __all__ = [
     "ScrewkitError", "ParseError", "CatalogError", "GeometryError", "InputError",
     "SingularityError", "UnreachablePoseError",
-    "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "leg", "__version__",
+    "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "leg", "define_leg", "load_legs",
+    "extend_catalog", "__version__",
 ]

@@ -6,7 +6,7 @@ from .legs import Leg
 from .placement import Placement
 from .rules import generic_leg
 
-__all__ = ["leg"]
+__all__ = ["leg", "define_leg", "load_legs", "extend_catalog"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog=None) -> Leg:
@@ -32,3 +32,125 @@ def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog
     if spec is not None:
         return spec.build(placement)
     return generic_leg(name, placement, seed)
+
+
+# ---------------------------------------------------------------------------
+# user-defined leg types
+# ---------------------------------------------------------------------------
+
+def define_leg(name: str, string: str, joints, structure=(), expect=None, summary: str = "",
+               *, placement=None):
+    """A user-defined leg type, validated exactly like a ``legs_catalog.yaml`` entry.
+
+    Parameters
+    ----------
+    name : str
+        Unique name; variants as ``STRING/variant`` (``"RPS/mine"``).
+    string : str
+        Leg string, ``_`` before the actuated joint (``"R_PS"``).
+    joints : list of dict
+        One placement rule per letter (``axis``/``axes``/``at``, see :mod:`screwkit.rules`).
+    structure : list of dict
+        Checks that must hold wherever the leg is built
+        (``{perpendicular: [R1, leg]}`` ...).
+    expect : dict, optional
+        Expected constraint wrenches: ``forces``, ``couples``, ``screws`` (counts),
+        ``words``, ``force_lines`` (``[{through: P, parallel: REF}]``), ``couples_along``.
+    summary : str
+    placement : Placement or mapping, optional
+        Default end points (``{"A": [..], "a": [..]}``); default
+        :func:`screwkit.placement.default_placement`.
+
+    Returns
+    -------
+    screwkit.catalog.LegSpec
+        Use it with ``spec.build()``, or add it to a catalog with :func:`extend_catalog`
+        and then ``screwkit.leg(name, catalog=...)``.
+
+    Raises
+    ------
+    CatalogError
+        Naming the leg and the field at fault.
+    """
+    from dataclasses import replace
+
+    from .catalog import leg_spec_from_mapping
+
+    d = {"name": name, "string": string, "joints": joints,
+         "structure": list(structure or ()), "summary": summary}
+    if expect is not None:
+        d["expect"] = expect
+    pl_obj = placement if isinstance(placement, Placement) else None
+    if placement is not None and pl_obj is None:
+        d["placement"] = placement
+    spec = leg_spec_from_mapping(d, source="define_leg")
+    return replace(spec, placement=pl_obj) if pl_obj is not None else spec
+
+
+def load_legs(path) -> tuple:
+    """Leg types from a YAML file with a ``legs:`` list (the catalog's schema).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    tuple of screwkit.catalog.LegSpec
+        In file order.
+
+    Raises
+    ------
+    CatalogError
+        Unreadable file, invalid YAML, no ``legs`` list, or a malformed entry
+        (the message names the file, the entry and the field).
+    """
+    from .catalog import load_catalog
+    from .errors import CatalogError
+
+    cat = load_catalog(path)
+    if not cat.legs:
+        raise CatalogError("no leg types: expected a non-empty 'legs:' list", None, "legs",
+                           str(path))
+    return tuple(cat.legs.values())
+
+
+def extend_catalog(legs, catalog=None, *, replace: bool = False):
+    """A catalog with extra leg types, for ``screwkit.leg(name, catalog=...)``.
+
+    Parameters
+    ----------
+    legs : LegSpec, iterable of LegSpec, or Catalog
+        From :func:`define_leg` or :func:`load_legs`.
+    catalog : Catalog, optional
+        The catalog to extend (default: the packaged one); it is not modified.
+    replace : bool
+        Allow a new leg to replace an existing leg of the same name (otherwise
+        a :class:`~screwkit.errors.CatalogError`).
+
+    Returns
+    -------
+    screwkit.catalog.Catalog
+    """
+    from .catalog import Catalog, LegSpec, default_catalog
+    from .errors import CatalogError
+
+    base = catalog if catalog is not None else default_catalog()
+    if isinstance(legs, Catalog):
+        extra = list(legs.legs.values())
+    elif isinstance(legs, LegSpec):
+        extra = [legs]
+    else:
+        extra = list(legs)
+    merged = dict(base.legs)
+    seen = set()
+    for i, spec in enumerate(extra):
+        if not isinstance(spec, LegSpec):
+            raise CatalogError(f"expected a LegSpec (from define_leg or load_legs), got "
+                               f"{type(spec).__name__}", f"legs[{i}]")
+        if spec.name in seen or (spec.name in merged and not replace):
+            raise CatalogError("a leg type of this name already exists (pass replace=True "
+                               "to override it)", spec.name, "name")
+        seen.add(spec.name)
+        merged[spec.name] = spec
+    return Catalog(merged, list(base.table1), dict(base.pms), base.source)

@@ -151,9 +151,26 @@ def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> Leg
     if bad:
         raise CatalogError(f"unknown key(s) {sorted(bad)}", name, "expect", source)
     for k in ("forces", "couples", "screws"):
-        if k in expect and not (isinstance(expect[k], int) and 0 <= expect[k] <= 6):
+        if k in expect and not (isinstance(expect[k], int) and not isinstance(expect[k], bool)
+                                and 0 <= expect[k] <= 6):
             raise CatalogError("must be an integer from 0 to 6", name, f"expect.{k}", source)
+    if "words" in expect and not isinstance(expect["words"], str):
+        raise CatalogError("must be a string", name, "expect.words", source)
+    for k in ("force_lines", "couples_along"):
+        if not isinstance(expect.get(k) or [], list):
+            raise CatalogError("must be a list", name, f"expect.{k}", source)
+    for i, fl in enumerate(expect.get("force_lines") or []):
+        if not (isinstance(fl, dict) and "through" in fl and
+                len({"parallel", "toward"} & set(fl)) == 1 and len(fl) == 2):
+            raise CatalogError("each force line is {through: POINT, parallel: REF} or "
+                               "{through: POINT, toward: POINT}", name, f"expect.force_lines[{i}]",
+                               source)
     used_by = d.get("used_by") or ()
+    if not (isinstance(used_by, (list, tuple)) and all(isinstance(u, str) for u in used_by)):
+        raise CatalogError("must be a list of PM names", name, "used_by", source)
+    for k in ("summary", "note"):
+        if not isinstance(d.get(k, ""), str):
+            raise CatalogError("must be a string", name, k, source)
     return LegSpec(rules, str(d.get("summary", "")), pl, dict(expect), tuple(used_by),
                    str(d.get("note", "")))
 

@@ -94,7 +94,8 @@ class ReciprocalSystem:
         Basis of the constraint-wrench system ``[f; m]`` (moments about O).
         Orthonormal in normalised coordinates.
     singular_values : ndarray, shape (min(m, 6),)
-        Singular values of the normalised twist matrix, descending.
+        Singular values of the normalised twist matrix with its rows scaled to
+        unit norm (scale-invariant), descending.
     rank : int
         Rank of the twists (the chain's connectivity).
     n_twists : int
@@ -141,6 +142,21 @@ def _check_matrix(T, name: str) -> np.ndarray:
     return T
 
 
+def _unit_rows(M) -> np.ndarray:
+    """Rows scaled to unit norm (zero rows left zero).
+
+    Row scaling leaves the row space and the null space unchanged; it makes the
+    singular values independent of the length unit for prismatic twists
+    (``[u; 0]`` normalises to ``[u / L; 0]``) and for couples (``[0; t / L]``),
+    so that rank decisions are scale-invariant.
+    """
+    M = np.asarray(M, float)
+    if M.size == 0:
+        return M
+    n = np.linalg.norm(M, axis=-1, keepdims=True)
+    return M / np.where(n > 0, n, 1.0)
+
+
 def reciprocal_system(twists, points=None, length: float | None = None,
                       rtol: float = RANK_RTOL) -> ReciprocalSystem:
     """Constraint-wrench system reciprocal to ``twists``.
@@ -169,7 +185,7 @@ def reciprocal_system(twists, points=None, length: float | None = None,
         pts = [np.cross(w[i], T[i, :3]) / ww[i] for i in range(len(T)) if ww[i] > 0]
         points = np.array(pts) if pts else np.zeros((1, 3))
     norm = Normalisation.for_points(points, length)
-    Tn = norm.twists(T)
+    Tn = _unit_rows(norm.twists(T))
     if len(Tn) == 0:
         s = np.zeros(0)
         rank = 0
@@ -200,7 +216,7 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
     if points is None:
         points = np.zeros((1, 3))
     norm = Normalisation.for_points(points)
-    Tn = norm.twists(T)
+    Tn = _unit_rows(norm.twists(T))
     independent: list[int] = []
     dependent: list[int] = []
     for i in range(len(Tn)):
@@ -217,7 +233,7 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
 def _orth_rank(M, rtol):
     if M.size == 0:
         return 0
-    s = np.linalg.svd(M, compute_uv=False)
+    s = np.linalg.svd(_unit_rows(M), compute_uv=False)
     return int(np.sum(s > rtol * max(1.0, float(s[0]))))
 
 

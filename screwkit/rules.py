@@ -39,6 +39,8 @@ Structure checks (residuals that must vanish)
 ``{perpendicular: [REF1, REF2]}``, ``{parallel: [REF1, REF2]}``,
 ``{meets: [J1, J2]}`` (axes intersect or are parallel),
 ``{through: [J, P]}`` (the axis of J passes through point P).
+Each check takes exactly two references; names (``R3``, ``U1a``, ``leg``, ``a``...)
+are validated when the catalog is loaded.
 """
 
 from __future__ import annotations
@@ -133,11 +135,20 @@ class LegRules:
             rules.append(JointRule(letter, k, axis, tuple(axes or ()), entry.get("at"), float(pitch or 0.0)))
         if not isinstance(structure, (list, tuple)):
             raise CatalogError("must be a list of checks", name, "structure", source)
+        # names a check may use: frame references, end points, joints and S/U/C groups
+        known = _FRAME_REFS | _POINT_NAMES | {"C"} | {j.name for j in ls.equivalent} | \
+            {f"{j.origin}{j.position}" for j in ls.equivalent}
         for i, chk in enumerate(structure):
-            if not (isinstance(chk, dict) and len(chk) == 1 and
-                    next(iter(chk)) in ("perpendicular", "parallel", "meets", "through")):
+            ok = (isinstance(chk, dict) and len(chk) == 1 and
+                  next(iter(chk)) in ("perpendicular", "parallel", "meets", "through"))
+            pair = next(iter(chk.values())) if ok else None
+            if not (ok and isinstance(pair, (list, tuple)) and len(pair) == 2):
                 raise CatalogError("each check is one of perpendicular/parallel/meets/through "
                                    "with a pair of references", name, f"structure[{i}]", source)
+            bad = [r for r in pair if isinstance(r, str) and r.lstrip("-") not in known]
+            if bad:
+                raise CatalogError(f"unknown reference {bad[0]!r} (not a frame reference, end "
+                                   f"point or joint of {ls.text!r})", name, f"structure[{i}]", source)
         return cls(name, ls, tuple(rules), tuple(structure))
 
 

@@ -1,0 +1,467 @@
+"""Pinocchio models of screwkit legs and closed-loop PMs (for cross-checking).
+
+A screwkit leg is an equivalent chain of 1-DOF joints (S -> 3 R, U -> 2 R,
+C -> P + R) whose forward kinematics is the product of exponentials in the
+world frame::
+
+    T_end(q) = exp(xi_1 q_1) ... exp(xi_m q_m) T_end_home
+
+with ``xi_i`` the home unit twists ``[v; w]`` about the world origin.  This
+module rebuilds the same leg with Pinocchio's *native* joints:
+
+=======  ==============================================================
+letter   Pinocchio joint
+=======  ==============================================================
+S        ``JointModelSpherical`` (nq = 4 quaternion ``x y z w``, nv = 3)
+U        ``JointModelUniversal(axis1, axis2)`` (nq = nv = 2)
+R        ``JointModelRevoluteUnaligned(axis)``
+P        ``JointModelPrismaticUnaligned(axis)``
+H        ``JointModelHelicalUnaligned(axis, pitch)`` (translation pitch*q)
+C        ``PrismaticUnaligned`` + ``RevoluteUnaligned`` on the same axis
+         (pin 4.1 has no unaligned cylindrical joint)
+=======  ==============================================================
+
+Every joint frame sits at its joint's home point with the *world* orientation
+at home, so each joint placement relative to its parent is a pure translation;
+then Pinocchio's FK equals the POE above (checked when a model is built).  An
+operational frame ``platform`` on the last joint sits at the platform's home
+pose.  Pinocchio is imported lazily, inside the functions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import GeometryError, InputError
+from .legs import Leg
+
+__all__ = [
+    "JointBlock",
+    "LegChain",
+    "LegModel",
+    "ClosedLoopModel",
+    "build_leg_model",
+    "build_closed_loop_model",
+    "sphere_angles",
+    "as_pose",
+]
+
+#: Tolerance of the build-time self-check (Pinocchio FK at home == joint points).
+_HOME_RTOL = 1e-10
+
+
+def as_pose(pose, what: str = "pose"):
+    """``(R, p)`` as a checked (3x3 proper rotation, 3-vector) pair of float arrays."""
+    try:
+        R, p = pose
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be a pair (R (3, 3), p (3,))") from None
+    R = np.asarray(R, float)
+    p = np.asarray(p, float)
+    if R.shape != (3, 3) or p.shape != (3,) or not (np.all(np.isfinite(R)) and np.all(np.isfinite(p))):
+        raise InputError(f"{what}: expected a finite rotation (3, 3) and position (3,), "
+                         f"got shapes {R.shape} and {p.shape}")
+    if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise InputError(f"{what}: the rotation is not a proper rotation matrix")
+    return R, p
+
+
+def _rot(u, t):
+    import pinocchio as pin
+    return pin.exp3(np.asarray(u, float) * float(t))
+
+
+@dataclass(frozen=True)
+class JointBlock:
+    """One Pinocchio joint and the screwkit equivalent joints it stands for.
+
+    Attributes
+    ----------
+    kind : str
+        ``"spherical"``, ``"universal"``, ``"revolute"``, ``"prismatic"`` or ``"helical"``.
+    joint_id : int
+        Pinocchio joint index.
+    sk : tuple of int
+        Indices of the screwkit equivalent joints (3 for S, 2 for U, 1 otherwise).
+    idx_q, nq, idx_v, nv : int
+        Slices of the Pinocchio configuration and velocity vectors.
+    axes : ndarray (k, 3)
+        Home axes of the equivalent joints (world = joint frame at home).
+    """
+
+    kind: str
+    joint_id: int
+    sk: tuple
+    idx_q: int
+    nq: int
+    idx_v: int
+    nv: int
+    axes: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class LegChain:
+    """One leg inside a Pinocchio model.
+
+    Attributes
+    ----------
+    leg : Leg
+        Home geometry.
+    blocks : tuple of JointBlock
+        In chain order.
+    end_joint : int
+        Pinocchio index of the last joint (the link carrying the platform).
+    frame_id : int
+        Operational frame at the platform's home pose, on ``end_joint``.
+    end_frame_id : int
+        Operational frame at the home point of the last joint (the S centre
+        for an S-ended leg).
+    platform_home : tuple (R (3, 3), p (3,))
+    """
+
+    leg: Leg
+    blocks: tuple
+    end_joint: int
+    frame_id: int
+    end_frame_id: int
+    platform_home: tuple
+
+    @property
+    def m(self) -> int:
+        """Number of screwkit equivalent joints."""
+        return len(self.leg.joints)
+
+    @property
+    def ends_with_sphere(self) -> bool:
+        return self.blocks[-1].kind == "spherical"
+
+    def v_columns(self) -> tuple:
+        """Pinocchio velocity columns of each screwkit joint: an int (one to one) or, for
+        the three joints of an S, the tuple of the S's three columns (spans match)."""
+        out = [None] * self.m
+        for b in self.blocks:
+            cols = tuple(range(b.idx_v, b.idx_v + b.nv))
+            for k, i in enumerate(b.sk):
+                out[i] = cols if b.kind == "spherical" else cols[k]
+        return tuple(out)
+
+    def actuated_columns(self) -> tuple:
+        """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S)."""
+        c = self.v_columns()[self.leg.actuated_index]
+        return c if isinstance(c, tuple) else (c,)
+
+    def fill_q(self, q, out) -> None:
+        """Write the Pinocchio configuration of screwkit joint values ``q`` (m,) into ``out``."""
+        import pinocchio as pin
+        for b in self.blocks:
+            vals = q[list(b.sk)]
+            if b.kind == "spherical":
+                # screwkit: Rot(u1, q1) Rot(u2, q2) Rot(u3, q3) about the centre, home axes
+                # expressed in the parent frame (= world orientation at home).
+                R = _rot(b.axes[0], vals[0]) @ _rot(b.axes[1], vals[1]) @ _rot(b.axes[2], vals[2])
+                out[b.idx_q:b.idx_q + 4] = pin.Quaternion(R).normalized().coeffs()
+            else:
+                out[b.idx_q:b.idx_q + b.nq] = vals
+
+    def read_q(self, qpin, hint=None) -> np.ndarray:
+        """Screwkit joint values (m,) of a Pinocchio configuration (S angles nearest ``hint``)."""
+        import pinocchio as pin
+        q = np.zeros(self.m)
+        h = np.zeros(self.m) if hint is None else np.asarray(hint, float)
+        for b in self.blocks:
+            if b.kind == "spherical":
+                quat = pin.Quaternion(np.asarray(qpin[b.idx_q:b.idx_q + 4], float))
+                q[list(b.sk)] = sphere_angles(quat.normalized().toRotationMatrix(), b.axes,
+                                              h[list(b.sk)])
+            else:
+                q[list(b.sk)] = qpin[b.idx_q:b.idx_q + b.nq]
+        return q
+
+    def velocity_map(self, q, nv: int) -> np.ndarray:
+        """Matrix ``M`` (nv, m) with ``v_pin = M qdot`` at screwkit joint values ``q``.
+
+        One to one except on an S, whose Pinocchio velocity is the angular velocity
+        in the joint frame: ``R^T (u1 q1' + R1 u2 q2' + R1 R2 u3 q3')`` with
+        ``R = R1 R2 R3``.
+        """
+        M = np.zeros((nv, self.m))
+        for b in self.blocks:
+            if b.kind == "spherical":
+                i1, i2, i3 = b.sk
+                R1, R2, R3 = (_rot(b.axes[k], q[i]) for k, i in enumerate(b.sk))
+                R = R1 @ R2 @ R3
+                sl = slice(b.idx_v, b.idx_v + 3)
+                M[sl, i1] = R.T @ b.axes[0]
+                M[sl, i2] = R.T @ (R1 @ b.axes[1])
+                M[sl, i3] = R.T @ (R1 @ R2 @ b.axes[2])
+            else:
+                for k, i in enumerate(b.sk):
+                    M[b.idx_v + k, i] = 1.0
+        return M
+
+
+def sphere_angles(R, axes, hint=None) -> np.ndarray:
+    """Angles ``(a, b, c)`` with ``R = Rot(u1, a) Rot(u2, b) Rot(u3, c)`` (Davenport angles
+    about arbitrary axes, u1 and u3 not parallel to u2).
+
+    Parameters
+    ----------
+    R : ndarray (3, 3)
+    axes : ndarray (3, 3)
+        Unit axes ``u1, u2, u3`` as rows.
+    hint : ndarray (3,), optional
+        Of the two solutions (and of their 2 pi shifts) the one nearest ``hint`` (default 0).
+
+    Returns
+    -------
+    ndarray (3,)
+    """
+    u1, u2, u3 = (np.asarray(a, float) for a in axes)
+    h = np.zeros(3) if hint is None else np.asarray(hint, float)
+
+    def near(x, ref):
+        return x + 2 * np.pi * np.round((ref - x) / (2 * np.pi))
+
+    def angle_about(u, x, y):
+        # signed angle about u taking x to y (projections onto the plane normal to u)
+        x = x - (x @ u) * u
+        y = y - (y @ u) * u
+        return float(np.arctan2(u @ np.cross(x, y), x @ y))
+
+    d23, d12 = u2 @ u3, u1 @ u2
+    A = u1 @ u3 - d23 * d12
+    B = u1 @ np.cross(u2, u3)
+    rho = float(np.hypot(A, B))
+    if rho < 1e-12:
+        raise GeometryError("spherical joint axes are degenerate (u2 parallel to u1 or u3)")
+    phi = float(np.arctan2(B, A))
+    t = float(np.clip((u1 @ R @ u3 - d23 * d12) / rho, -1.0, 1.0))
+    best = None
+    for b in (phi + np.arccos(t), phi - np.arccos(t)):
+        b = near(b, h[1])
+        v = _rot(u2, b) @ u3
+        x = R @ u3
+        if np.linalg.norm(np.cross(u1, v)) < 1e-9:      # gimbal lock: a and c share an axis
+            a = h[0]
+        else:
+            a = near(angle_about(u1, v, x), h[0])
+        M = (_rot(u1, a) @ _rot(u2, b)).T @ R
+        w = np.cross(u3, u1 if np.linalg.norm(np.cross(u3, u1)) > 0.1 else u2)
+        c = near(angle_about(u3, w, M @ w), h[2])
+        sol = np.array([a, b, c])
+        err = np.abs(_rot(u1, a) @ _rot(u2, b) @ _rot(u3, c) - R).max()
+        key = (err > 1e-9, float(np.linalg.norm(sol - h)))
+        if best is None or key < best[0]:
+            best = (key, sol)
+    return best[1]
+
+
+@dataclass(frozen=True, eq=False)
+class LegModel:
+    """A Pinocchio model of one serial leg (see :func:`build_leg_model`).
+
+    Attributes
+    ----------
+    model : pinocchio.Model
+    chain : LegChain
+    platform_home : tuple (R (3, 3), p (3,))
+    """
+
+    model: object
+    chain: LegChain
+    platform_home: tuple
+
+    def q(self, joint_values) -> np.ndarray:
+        """Pinocchio configuration (nq,) of screwkit joint values (m,)."""
+        import pinocchio as pin
+        out = pin.neutral(self.model)
+        self.chain.fill_q(_values(joint_values, self.chain), out)
+        return out
+
+    def joint_values(self, qpin, hint=None) -> np.ndarray:
+        """Screwkit joint values (m,) of a Pinocchio configuration."""
+        return self.chain.read_q(np.asarray(qpin, float), hint)
+
+    def velocity_map(self, joint_values) -> np.ndarray:
+        """``M`` (nv, m) with ``v_pin = M qdot`` (see :meth:`LegChain.velocity_map`)."""
+        return self.chain.velocity_map(_values(joint_values, self.chain), self.model.nv)
+
+
+@dataclass(frozen=True, eq=False)
+class ClosedLoopModel:
+    """All legs of a PM in one Pinocchio model plus loop-closure constraints.
+
+    Attributes
+    ----------
+    model : pinocchio.Model
+    chains : tuple of LegChain
+        Leg 1's last link carries the platform (frame ``platform``).
+    constraints : tuple of pinocchio.RigidConstraintModel
+        ``CONTACT_6D`` between leg ``i``'s platform frame (joint1, ``i >= 2``) and
+        leg 1's platform frame (joint2), reference frame ``LOCAL`` (of joint1's contact).
+    platform_home : tuple (R, p)
+    """
+
+    model: object
+    chains: tuple
+    constraints: tuple
+    platform_home: tuple
+
+    def q(self, joint_values) -> np.ndarray:
+        """Pinocchio configuration of the per-leg screwkit joint values."""
+        import pinocchio as pin
+        if len(joint_values) != len(self.chains):
+            raise InputError(f"{len(joint_values)} joint-value vectors for {len(self.chains)} legs")
+        out = pin.neutral(self.model)
+        for ch, qv in zip(self.chains, joint_values):
+            ch.fill_q(_values(qv, ch), out)
+        return out
+
+    def velocity_map(self, joint_values) -> np.ndarray:
+        """``M`` (nv, sum m) mapping stacked screwkit joint rates to Pinocchio velocities."""
+        return np.hstack([ch.velocity_map(_values(qv, ch), self.model.nv)
+                          for ch, qv in zip(self.chains, joint_values)])
+
+
+def _values(q, chain: LegChain) -> np.ndarray:
+    q = np.asarray(q, float).reshape(-1)
+    if q.shape != (chain.m,) or not np.all(np.isfinite(q)):
+        raise InputError(f"leg {chain.leg.name}: expected {chain.m} finite joint values "
+                         f"({', '.join(j.name for j in chain.leg.joints)}), got shape {q.shape}")
+    return q
+
+
+def _add_chain(model, leg: Leg, platform_home, prefix: str) -> LegChain:
+    """Append ``leg`` to ``model`` as a branch from the universe (depth first)."""
+    import pinocchio as pin
+    R_home, o_home = platform_home
+    joints = leg.joints
+    groups, i = [], 0
+    while i < len(joints):
+        j = joints[i]
+        if j.spec.origin in "SU":
+            n = 3 if j.spec.origin == "S" else 2
+            grp = list(range(i, i + n))
+            pts = np.array([joints[k].point for k in grp])
+            if any(joints[k].spec.position != j.spec.position for k in grp) or \
+                    np.abs(pts - pts[0]).max() > 1e-9 * max(1.0, leg.length):
+                raise GeometryError(f"leg {leg.name}: the parts of {j.spec.origin}{j.spec.position} "
+                                    "do not share one centre")
+            groups.append(("spherical" if n == 3 else "universal", tuple(grp)))
+            i += n
+        else:
+            groups.append(({"R": "revolute", "P": "prismatic", "H": "helical"}[j.kind], (i,)))
+            i += 1
+    parent, parent_point = 0, np.zeros(3)
+    blocks = []
+    for kind, grp in groups:
+        j0 = joints[grp[0]]
+        axes = np.array([joints[k].direction for k in grp])
+        if kind == "spherical":
+            jm = pin.JointModelSpherical()
+        elif kind == "universal":
+            jm = pin.JointModelUniversal(axes[0], axes[1])
+        elif kind == "revolute":
+            jm = pin.JointModelRevoluteUnaligned(axes[0])
+        elif kind == "prismatic":
+            jm = pin.JointModelPrismaticUnaligned(axes[0])
+        else:
+            jm = pin.JointModelHelicalUnaligned(axes[0], float(j0.pitch))
+        placement = pin.SE3(np.eye(3), j0.point - parent_point)   # pure translation
+        name = f"{prefix}{'+'.join(joints[k].name for k in grp)}"
+        jid = model.addJoint(parent, jm, placement, name)
+        jmod = model.joints[jid]
+        axes.setflags(write=False)
+        blocks.append(JointBlock(kind, jid, grp, jmod.idx_q, jmod.nq, jmod.idx_v, jmod.nv, axes))
+        parent, parent_point = jid, j0.point
+    fid = model.addFrame(pin.Frame(f"{prefix}platform", parent, pin.SE3(R_home, o_home - parent_point),
+                                   pin.FrameType.OP_FRAME))
+    eid = model.addFrame(pin.Frame(f"{prefix}end", parent, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+    return LegChain(leg, tuple(blocks), parent, fid, eid, (R_home, o_home))
+
+
+def _check_home(model, chains, platform_home) -> None:
+    """Pinocchio FK at the neutral configuration: each joint frame = (I, home point),
+    each platform frame = the platform's home pose (the POE at q = 0)."""
+    import pinocchio as pin
+    data = model.createData()
+    if not model.check(data):
+        raise GeometryError("Pinocchio model/data consistency check failed")
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    R_home, o_home = platform_home
+    for ch in chains:
+        L = max(ch.leg.length, 1e-300)
+        for b in ch.blocks:
+            M = data.oMi[b.joint_id]
+            p = ch.leg.joints[b.sk[0]].point
+            if np.abs(M.rotation - np.eye(3)).max() > _HOME_RTOL or \
+                    np.linalg.norm(M.translation - p) > _HOME_RTOL * max(L, np.linalg.norm(p)):
+                raise GeometryError(f"leg {ch.leg.name}: Pinocchio joint {b.joint_id} is not at its home point")
+        F = data.oMf[ch.frame_id]
+        if np.abs(F.rotation - R_home).max() > _HOME_RTOL or \
+                np.linalg.norm(F.translation - o_home) > _HOME_RTOL * max(L, np.linalg.norm(o_home)):
+            raise GeometryError(f"leg {ch.leg.name}: Pinocchio platform frame is not at the home pose")
+
+
+def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
+    """Pinocchio model of one serial leg with native joints (see module docstring).
+
+    Parameters
+    ----------
+    home_leg : Leg
+        The leg at its home geometry (joint values 0).
+    platform_home : tuple (R (3, 3), p (3,)), optional
+        Platform home pose; default ``(I, home_leg.a)``.
+
+    Returns
+    -------
+    LegModel
+    """
+    import pinocchio as pin
+    ph = as_pose(platform_home if platform_home is not None else (np.eye(3), home_leg.a), "platform_home")
+    model = pin.Model()
+    model.name = home_leg.name
+    chain = _add_chain(model, home_leg, ph, "")
+    _check_home(model, [chain], ph)
+    return LegModel(model, chain, ph)
+
+
+def build_closed_loop_model(home_legs, platform_home) -> ClosedLoopModel:
+    """One Pinocchio model with every leg (depth first) and 6-D loop closures.
+
+    Leg 1's last link carries the platform; the platform frame carried by each
+    other leg ``i`` is tied to it by a ``RigidConstraintModel(CONTACT_6D, ...,
+    joint1 = leg i's last joint, joint2 = leg 1's last joint, LOCAL)``.  S-ended
+    legs keep their S (no ``CONTACT_3D`` shortcut), so every leg is modelled the
+    same way and the S's idle spin shows up as a dependent joint (see
+    :func:`screwkit.pinocchio_check.mobility`).
+
+    Parameters
+    ----------
+    home_legs : sequence of Leg
+    platform_home : tuple (R (3, 3), p (3,))
+
+    Returns
+    -------
+    ClosedLoopModel
+    """
+    import pinocchio as pin
+    legs = tuple(home_legs)
+    if len(legs) < 1:
+        raise InputError("a closed-loop model needs at least one leg")
+    ph = as_pose(platform_home, "platform_home")
+    model = pin.Model()
+    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.") for k, lg in enumerate(legs))
+    _check_home(model, chains, ph)
+    c0 = chains[0]
+    p0 = model.frames[c0.frame_id].placement
+    cons = []
+    for k, ch in enumerate(chains[1:], start=2):
+        cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model, ch.end_joint,
+                                      model.frames[ch.frame_id].placement, c0.end_joint, p0,
+                                      pin.ReferenceFrame.LOCAL)
+        cm.name = f"loop{k}"
+        cons.append(cm)
+    return ClosedLoopModel(model, chains, tuple(cons), ph)

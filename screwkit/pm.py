@@ -1,0 +1,625 @@
+"""Parallel manipulators assembled from catalog legs: definitions, home assembly, poses.
+
+A PM is defined in the ``pms:`` section of ``legs_catalog.yaml`` (or in a user
+YAML file with ``pms:`` and optionally ``legs:``); ``docs/pm_models.md`` has the
+schema.  :func:`load_pm` evaluates the definition with its dimensions, solves the
+*home* pose (the dependent pose parameters at the home values of the independent
+ones, so that every leg's structure checks hold), builds each leg by its catalog
+rules there, and returns a :class:`PMModel` whose :meth:`PMModel.solve` is the
+unified inverse displacement (:mod:`screwkit.kinematics`).
+
+Examples
+--------
+>>> from screwkit.pm import load_pm
+>>> pm = load_pm("3RRPRR")
+>>> pm.independent, pm.order, pm.stated_dof
+(('alpha', 'beta', 'Zo'), 'XYX', 3)
+>>> sol = pm.solve({"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+>>> bool(sol.success)
+True
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import CatalogError, GeometryError, InputError, ScrewkitError
+from .euler import check_order, is_singular, rotation_matrix
+from .kinematics import LENGTH_PARAMS, PARAMS, solve_path, solve_pose
+from .placement import Placement
+from .reciprocal import Normalisation
+from .rules import LegRules, _Context, _Unresolved, build_leg
+from .screws import Line
+
+__all__ = ["PMModel", "load_pm", "pm_names", "structure_vector"]
+
+_PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
+            "independent", "pose", "home", "guess", "dof", "motion", "note", "source"}
+_SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
+               "points", "z"}
+
+
+@dataclass(frozen=True, eq=False)
+class PMModel:
+    """An assembled PM: geometry, home legs, pose parametrisation.
+
+    Attributes
+    ----------
+    name : str
+    legs : tuple of str
+        Catalog leg name at each vertex.
+    leg_rules : tuple of LegRules
+        The rules of each leg (with the PM's per-vertex axis overrides).
+    home_legs : tuple of Leg
+        Legs built by their rules at the home pose (joint values 0).
+    home_pose : dict
+        Full pose at home (radians).
+    independent, dependent : tuple of str
+    order : str
+        Euler order (scipy convention; ``"XYX"`` is intrinsic).
+    dimensions : dict
+    base_points : ndarray (n, 3)
+        ``A_i`` in the base frame.
+    platform_points : ndarray (n, 3)
+        ``a_i`` in the platform frame.
+    centre : ndarray (3,)
+        The base-fixed point ``C`` of the leg rules (base frame).
+    stated_dof : int
+    motion : str
+        The motion type the definition states (``"1T2R"``), or "".
+    default_pose : dict
+        Full pose (radians) at the definition's default independent values.
+    frame : tuple (R0 (3, 3), p0 (3,))
+        World <- base frame (identity unless :meth:`moved`).
+    notes : tuple of str
+    """
+
+    name: str
+    string: str
+    legs: tuple
+    leg_rules: tuple
+    home_legs: tuple
+    home_pose: dict
+    independent: tuple
+    dependent: tuple
+    order: str
+    dimensions: dict
+    base_points: np.ndarray
+    platform_points: np.ndarray
+    centre: np.ndarray
+    stated_dof: int
+    motion: str
+    default_pose: dict
+    frame: tuple
+    normalisation: Normalisation
+    summary: str = ""
+    note: str = ""
+    notes: tuple = ()
+    source: str = ""
+
+    # -- geometry ---------------------------------------------------------
+    def pose_matrix(self, pose: dict):
+        """World <- platform rotation (3, 3) and the platform centre ``o`` (3,)."""
+        R0, p0 = self.frame
+        R = rotation_matrix(self.order, pose["alpha"], pose["beta"], pose["gamma"])
+        return R0 @ R, R0 @ np.array([pose["Xo"], pose["Yo"], pose["Zo"]], float) + p0
+
+    @property
+    def platform_home(self):
+        """``T_end_home`` of every leg: the platform pose at home, (R (3, 3), p (3,))."""
+        return self.pose_matrix(self.home_pose)
+
+    @property
+    def world_base_points(self) -> np.ndarray:
+        R0, p0 = self.frame
+        return (R0 @ self.base_points.T).T + p0
+
+    @property
+    def n_legs(self) -> int:
+        return len(self.legs)
+
+    def placement(self, i: int, pose: dict) -> Placement:
+        """The :class:`Placement` of leg ``i`` (0-based) at ``pose`` (radians)."""
+        R0, p0 = self.frame
+        R, o = self.pose_matrix(pose)
+        return Placement(self.world_base_points[i], R @ self.platform_points[i] + o, p0, o, R0, R,
+                         R0 @ self.centre + p0)
+
+    def rebuild_legs(self, pose: dict, check_structure: bool = False) -> tuple:
+        """Every leg built afresh by its catalog rules at ``pose`` (for checks)."""
+        return tuple(build_leg(r, self.placement(i, pose), check_structure)
+                     for i, r in enumerate(self.leg_rules))
+
+    # -- inverse displacement --------------------------------------------
+    def solve(self, independent: dict, guess=None, degrees: bool = False):
+        """Unified inverse displacement at the given independent pose parameters.
+
+        Parameters
+        ----------
+        independent : dict
+            Values of ``self.independent`` (missing ones are taken from the
+            default pose, with a note); angles in radians unless ``degrees``.
+        guess : PoseSolution or dict, optional
+            Warm start (e.g. the previous pose along a path); default home.
+        degrees : bool
+
+        Returns
+        -------
+        PoseSolution
+
+        Raises
+        ------
+        InputError
+            Unknown, dependent or non-finite parameters.
+        UnreachablePoseError
+            The loop closures cannot be satisfied (``residual`` attribute).
+        """
+        return solve_pose(self, independent, guess, degrees)
+
+    def solve_path(self, poses, guess=None, degrees: bool = False) -> tuple:
+        """Solve a list of independent-parameter dicts, each warm-started from the previous."""
+        return solve_path(self, poses, guess, degrees)
+
+    def moved(self, rotation, translation) -> "PMModel":
+        """The same PM with its base frame placed at ``x -> R x + p`` in the world.
+
+        Pose parameters stay relative to the base frame; every world quantity
+        (legs, ``o``) moves with it.
+        """
+        R = np.asarray(rotation, float)
+        p = np.asarray(translation, float).reshape(3)
+        R0, p0 = self.frame
+        frame = (R @ R0, R @ p0 + p)
+        legs = tuple(lg.moved(R, p) for lg in self.home_legs)
+        norm = Normalisation(R @ self.normalisation.centre + p, self.normalisation.length)
+        return dataclasses.replace(self, home_legs=legs, frame=frame, normalisation=norm)
+
+
+# ---------------------------------------------------------------------------
+# loading
+# ---------------------------------------------------------------------------
+
+def pm_names(catalog=None) -> list:
+    """Names of the PMs of the catalog."""
+    from .catalog import default_catalog
+    cat = catalog if catalog is not None else default_catalog()
+    return sorted(cat.pms)
+
+
+def _split_path(name_or_path: str):
+    s = str(name_or_path)
+    base, _, pm = s.partition("#")
+    if base.endswith((".yaml", ".yml")) or Path(base).is_file():
+        return base, (pm or None)
+    return None, None
+
+
+def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> PMModel:
+    """Load a PM by catalog name or from a YAML file.
+
+    Parameters
+    ----------
+    name_or_path : str
+        A catalog PM name (``"3RRPRR"``, ``"3-RRPRR"``), or a path to a YAML
+        file with ``pms:`` (and optionally ``legs:``, which add to or shadow the
+        catalog's legs); ``path.yaml#NAME`` picks one of several PMs.
+    overrides : dict, optional
+        Dimension values replacing the defaults, e.g. ``{"L": 150}``.
+    catalog : Catalog, optional
+        Default: the packaged catalog.
+
+    Raises
+    ------
+    CatalogError
+        Unknown PM or a malformed definition (names the PM and field).
+    InputError
+        Bad overrides.
+    """
+    from .catalog import Catalog, default_catalog, load_catalog
+
+    cat = catalog if catalog is not None else default_catalog()
+    if not isinstance(name_or_path, str) or not name_or_path.strip():
+        raise InputError("a PM name or a path to a YAML file is required")
+    path, pick = _split_path(name_or_path)
+    if path is not None:
+        user = load_catalog(path)
+        if not user.pms:
+            raise CatalogError("the file defines no PM (no 'pms:' mapping)", source=path)
+        cat = Catalog({**cat.legs, **user.legs}, cat.table1, user.pms, path)
+        if pick is None:
+            if len(user.pms) > 1:
+                raise CatalogError(f"the file defines {len(user.pms)} PMs ({', '.join(user.pms)}): "
+                                   f"pick one with {path}#NAME", source=path)
+            pick = next(iter(user.pms))
+        name = pick
+    else:
+        name = name_or_path.strip()
+    key = _find(cat, name)
+    return _build(key, cat.pms[key], cat, overrides or {})
+
+
+def _find(cat, name):
+    if name in cat.pms:
+        return name
+    canon = name.replace("-", "").replace(" ", "")
+    for k in cat.pms:
+        if k.replace("-", "").replace(" ", "").lower() == canon.lower():
+            return k
+    raise CatalogError(f"unknown PM {name!r}; known: {', '.join(sorted(cat.pms)) or 'none'}",
+                       source=cat.source)
+
+
+class _Ctx:
+    """Evaluation context of one PM definition: name, source, dimensions."""
+
+    def __init__(self, name, source, dims):
+        self.name, self.source, self.dims = name, source, dims
+
+    def err(self, msg, fld):
+        return CatalogError(msg, self.name, fld, self.source)
+
+    def num(self, v, fld) -> float:
+        from .expressions import parse_expression
+        if isinstance(v, bool):
+            raise self.err(f"must be a number or an expression, got {v!r}", fld)
+        if isinstance(v, (int, float)):
+            x = float(v)
+        elif isinstance(v, str):
+            try:
+                x = float(parse_expression(v, tuple(self.dims))(**self.dims))
+            except InputError as exc:
+                raise self.err(str(exc), fld) from None
+        else:
+            raise self.err(f"must be a number or an expression, got {v!r}", fld)
+        if not np.isfinite(x):
+            raise self.err(f"is not finite ({x})", fld)
+        return x
+
+    def vec(self, v, fld) -> np.ndarray:
+        if not (isinstance(v, (list, tuple)) and len(v) == 3):
+            raise self.err("must be a list of 3 numbers", fld)
+        return np.array([self.num(x, f"{fld}[{k}]") for k, x in enumerate(v)])
+
+
+def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
+    if not isinstance(spec, dict):
+        raise ctx.err("must be a mapping with 'shape' (triangle, square, rectangle, circle, points)", fld)
+    bad = set(spec) - _SHAPE_KEYS
+    if bad:
+        raise ctx.err(f"unknown key(s) {sorted(bad)}", fld)
+    shape = spec.get("shape", "points" if "points" in spec else None)
+
+    def need(k):
+        if k not in spec:
+            raise ctx.err(f"a {shape} needs {k!r}", f"{fld}.{k}")
+        return spec[k]
+
+    def ring(radius, angles):
+        a = np.radians(angles)
+        return np.column_stack([radius * np.cos(a), radius * np.sin(a), np.zeros(len(a))])
+
+    if shape == "triangle":
+        if ("side" in spec) == ("circumradius" in spec):
+            raise ctx.err("a triangle needs exactly one of 'side' and 'circumradius'", fld)
+        r = (ctx.num(spec["side"], f"{fld}.side") / np.sqrt(3) if "side" in spec
+             else ctx.num(spec["circumradius"], f"{fld}.circumradius"))
+        ang = [ctx.num(x, f"{fld}.angles") for x in spec.get("angles", [-30, 90, 210])]
+        if len(ang) != 3:
+            raise ctx.err("a triangle has 3 angles", f"{fld}.angles")
+        pts = ring(r, ang)
+    elif shape in ("square", "rectangle"):
+        if shape == "square":
+            s1 = s2 = ctx.num(need("side"), f"{fld}.side")
+        else:
+            sides = need("sides")
+            if not (isinstance(sides, (list, tuple)) and len(sides) == 2):
+                raise ctx.err("must be [l1, l2]", f"{fld}.sides")
+            s1, s2 = (ctx.num(x, f"{fld}.sides") for x in sides)
+        pts = 0.5 * np.array([[s1, -s2, 0], [s1, s2, 0], [-s1, s2, 0], [-s1, -s2, 0]])
+    elif shape == "circle":
+        r = ctx.num(need("radius"), f"{fld}.radius")
+        if "angles" in spec:
+            ang = [ctx.num(x, f"{fld}.angles") for x in spec["angles"]]
+        else:
+            n = need("count")
+            if not (isinstance(n, int) and n >= 1):
+                raise ctx.err("must be a positive integer", f"{fld}.count")
+            st = ctx.num(spec.get("start", 0), f"{fld}.start")
+            ang = [st + 360.0 * k / n for k in range(n)]
+        pts = ring(r, ang)
+    elif shape == "points":
+        raw = need("points")
+        if not isinstance(raw, list) or not raw:
+            raise ctx.err("must be a list of [x, y, z]", f"{fld}.points")
+        pts = np.array([ctx.vec(p, f"{fld}.points[{k}]") for k, p in enumerate(raw)])
+    else:
+        raise ctx.err(f"unknown shape {shape!r} (triangle, square, rectangle, circle, points)",
+                      f"{fld}.shape")
+    if "z" in spec:
+        pts[:, 2] += ctx.num(spec["z"], f"{fld}.z")
+    if np.any(np.linalg.norm(pts - pts.mean(axis=0), axis=1) <= 0) and len(pts) > 1:
+        raise ctx.err("degenerate vertices (zero size)", fld)
+    return pts
+
+
+def _vertex_vector(names, base_pts, plat_pts, ctx, fld, kind):
+    if not (isinstance(names, (list, tuple)) and len(names) == 2):
+        raise ctx.err("needs two vertex names, e.g. [a3, a1]", fld)
+    pts = []
+    for nm in names:
+        nm = str(nm)
+        if kind == "platform":
+            table = {"o": np.zeros(3), **{f"a{k + 1}": p for k, p in enumerate(plat_pts)}}
+        else:
+            table = {"O": np.zeros(3), **{f"A{k + 1}": p for k, p in enumerate(base_pts)}}
+        if nm not in table:
+            raise ctx.err(f"unknown vertex {nm!r} (one of {', '.join(table)})", fld)
+        pts.append(table[nm])
+    v = pts[1] - pts[0]
+    if np.linalg.norm(v) == 0:
+        raise ctx.err("the two vertices coincide", fld)
+    return [float(x) for x in v]
+
+
+def _override(rules: LegRules, axes, base_pts, plat_pts, ctx, fld) -> LegRules:
+    """Rules with some joint axes replaced (a PM's per-vertex choice)."""
+    if not isinstance(axes, dict):
+        raise ctx.err("must be a mapping joint name -> direction rule", fld)
+    joints = list(rules.joints)
+    for jname, rule in axes.items():
+        f = f"{fld}.{jname}"
+        if isinstance(rule, dict) and len(rule) == 1 and next(iter(rule)) in ("platform_toward", "base_toward"):
+            (k, v), = rule.items()
+            kind = k.split("_")[0]
+            rule = {kind: _vertex_vector(v, base_pts, plat_pts, ctx, f, kind)}
+        jn = str(jname)
+        part = jn[-1] if jn[-1] in "abc" and len(jn) > 2 and not jn[-2].isalpha() else ""
+        try:
+            pos = int(jn[1:len(jn) - len(part)])
+        except ValueError:
+            raise ctx.err(f"not a joint name of {rules.string.text} (R3, U1a, ...)", f) from None
+        if not (1 <= pos <= len(joints)) or joints[pos - 1].letter != jn[0]:
+            raise ctx.err(f"{rules.string.text} has no joint {jn!r}", f)
+        jr = joints[pos - 1]
+        if part:
+            if jr.letter not in "US" or not jr.axes:
+                raise ctx.err(f"{jn[:-1]} has no listed axes to replace", f)
+            ax = list(jr.axes)
+            idx = "abc".index(part)
+            if idx >= len(ax):
+                raise ctx.err(f"{jn[:-1]} has {len(ax)} axes", f)
+            ax[idx] = rule
+            joints[pos - 1] = dataclasses.replace(jr, axes=tuple(ax))
+        else:
+            if jr.letter not in "RPHC":
+                raise ctx.err(f"name a part of {jn} ({jn}a, {jn}b ...)", f)
+            joints[pos - 1] = dataclasses.replace(jr, axis=rule)
+    return dataclasses.replace(rules, joints=tuple(joints))
+
+
+def structure_vector(rules: LegRules, placement: Placement, leg) -> np.ndarray:
+    """Smooth residuals of a leg's structure checks (vectors where the check is 2-D).
+
+    ``perpendicular``: ``d1 . d2``; ``parallel``: ``d1 x d2`` (3); ``meets``:
+    the signed distance of the axes over the leg length; ``through``: the
+    offset of the point from the axis over the leg length (3).
+    """
+    ctx = _Context(rules, placement)
+    for j in leg.joints:
+        for key in (j.name, f"{j.spec.origin}{j.spec.position}"):
+            ctx.dirs.setdefault(key, j.direction)
+            ctx.pts.setdefault(key, j.point)
+    L = max(placement.length, 1e-300)
+    out = []
+    for chk in rules.structure:
+        (k, v), = chk.items()
+        if k == "perpendicular":
+            out.append([float(ctx.direction(v[0]) @ ctx.direction(v[1]))])
+        elif k == "parallel":
+            out.append(np.cross(ctx.direction(v[0]), ctx.direction(v[1])))
+        elif k == "meets":
+            d1, d2 = ctx.direction(v[0]), ctx.direction(v[1])
+            n = np.cross(d1, d2)
+            nn = np.linalg.norm(n)
+            out.append([0.0 if nn < 1e-9 else float(n @ (ctx.point(v[1]) - ctx.point(v[0]))) / nn / L])
+        else:
+            d, p, x = ctx.direction(v[0]), ctx.point(v[0]), ctx.point(v[1])
+            r = x - p
+            out.append((r - (r @ d) * d) / L)
+    return np.concatenate([np.ravel(o) for o in out]) if out else np.zeros(0)
+
+
+def _pose_values(raw, ctx, fld, names) -> dict:
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        raise ctx.err("must be a mapping pose parameter -> value (angles in degrees)", fld)
+    out = {}
+    for k, v in raw.items():
+        if k not in PARAMS:
+            raise ctx.err(f"unknown pose parameter {k!r} (one of {', '.join(PARAMS)})", fld)
+        if names is not None and k not in names:
+            raise ctx.err(f"{k} is not one of {', '.join(names)}", fld)
+        x = ctx.num(v, f"{fld}.{k}")
+        out[k] = x if k in LENGTH_PARAMS else np.radians(x)
+    return out
+
+
+def _build(name: str, d, cat, overrides: dict) -> PMModel:
+    from .parsing import parse_pm
+
+    src = cat.source
+    if not isinstance(d, dict):
+        raise CatalogError("must be a mapping", name, None, src)
+    bad = set(d) - _PM_KEYS
+    if bad:
+        raise CatalogError(f"unknown field(s) {sorted(bad)}", name, sorted(bad)[0], src)
+    for req in ("base", "platform", "legs", "independent", "dof"):
+        if req not in d:
+            raise CatalogError(f"missing required field {req!r}", name, req, src)
+    # dimensions and overrides
+    dims_raw = d.get("dimensions") or {}
+    if not isinstance(dims_raw, dict):
+        raise CatalogError("must be a mapping name -> length", name, "dimensions", src)
+    if not isinstance(overrides, dict):
+        raise InputError(f"{name}: overrides must be a mapping dimension -> value")
+    unknown = set(overrides) - set(dims_raw)
+    if unknown:
+        raise InputError(f"{name}: unknown dimension(s) {sorted(unknown)}; the dimensions are "
+                         f"{', '.join(dims_raw) or 'none'}")
+    dims = {}
+    for k, v in {**dims_raw, **overrides}.items():
+        try:
+            x = float(v)
+        except (TypeError, ValueError):
+            raise CatalogError(f"must be a number, got {v!r}", name, f"dimensions.{k}", src) from None
+        if not (np.isfinite(x) and x > 0):
+            where = "override" if k in overrides else "dimension"
+            raise InputError(f"{name}: {where} {k} = {v!r} must be a positive finite length")
+        dims[str(k)] = x
+    ctx = _Ctx(name, src, dims)
+    base = _vertices(d["base"], ctx, "base")
+    plat = _vertices(d["platform"], ctx, "platform")
+    n = len(base)
+    # legs
+    raw_legs = d["legs"]
+    if not isinstance(raw_legs, list) or not raw_legs:
+        raise ctx.err("must be a list with one leg per vertex", "legs")
+    if not (len(raw_legs) == n == len(plat)):
+        raise ctx.err(f"{len(raw_legs)} legs for {n} base and {len(plat)} platform vertices", "legs")
+    names, rules = [], []
+    for i, entry in enumerate(raw_legs):
+        fld = f"legs[{i}]"
+        axes = None
+        if isinstance(entry, dict):
+            extra = set(entry) - {"leg", "axes"}
+            if "leg" not in entry or extra:
+                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}}", fld)
+            axes, entry = entry.get("axes"), entry["leg"]
+        if not isinstance(entry, str):
+            raise ctx.err("must be a leg name", fld)
+        spec = cat.find_leg(entry)
+        if spec is None:
+            raise ctx.err(f"unknown leg {entry!r} (not in the catalog's legs)", fld)
+        r = spec.rules
+        if axes:
+            r = _override(r, axes, base, plat, ctx, f"{fld}.axes")
+        names.append(spec.name)
+        rules.append(r)
+    string = str(d.get("string", name))
+    try:
+        pms = parse_pm(string)
+    except ScrewkitError as exc:
+        raise ctx.err(str(exc), "string") from None
+    if sorted(ls.text for ls in pms.legs) != sorted(r.string.text for r in rules):
+        raise ctx.err(f"the legs {'+'.join(r.string.text for r in rules)} do not make {string}", "legs")
+    # pose parametrisation
+    order = d.get("euler", "XYX")
+    try:
+        check_order(order)
+    except InputError as exc:
+        raise ctx.err(str(exc), "euler") from None
+    ind = d["independent"]
+    if not (isinstance(ind, list) and ind and all(p in PARAMS for p in ind) and len(set(ind)) == len(ind)):
+        raise ctx.err(f"must be a list of distinct names among {', '.join(PARAMS)}", "independent")
+    ind = tuple(ind)
+    dep = tuple(p for p in PARAMS if p not in ind)
+    dof = d["dof"]
+    if not (isinstance(dof, int) and 1 <= dof <= 6):
+        raise ctx.err("must be an integer from 1 to 6", "dof")
+    if dof != len(ind):
+        raise ctx.err(f"dof {dof} but {len(ind)} independent pose parameters", "independent")
+    pose = _pose_values(d.get("pose"), ctx, "pose", ind)
+    missing = [p for p in ind if p not in pose]
+    if missing:
+        raise ctx.err(f"no default value for {', '.join(missing)}", "pose")
+    home_ind = {**pose, **_pose_values(d.get("home"), ctx, "home", ind)}
+    guess = {p: 0.0 for p in PARAMS}
+    guess.update(_pose_values(d.get("guess"), ctx, "guess", dep))
+    start = {**guess, **home_ind}
+    C = (ctx.vec(d["centre"], "centre") if d.get("centre") is not None
+         else 0.5 * np.array([start["Xo"], start["Yo"], start["Zo"]]))
+    motion = str(d.get("motion", ""))
+    pts = np.vstack([base, plat + [start["Xo"], start["Yo"], start["Zo"]]])
+    norm = Normalisation.for_points(pts)
+    proto = PMModel(name, pms.canonical, tuple(names), tuple(rules), (), start, ind, dep, order,
+                    dims, base, plat, C, dof, motion, {}, (np.eye(3), np.zeros(3)), norm,
+                    str(d.get("summary", "")), str(d.get("note", "")), (), src)
+    home, notes = _solve_home(proto, start, ctx)
+    try:
+        legs = tuple(build_leg(r, proto.placement(i, home), True) for i, r in enumerate(rules))
+    except GeometryError as exc:
+        raise ctx.err(f"cannot assemble the legs at the home pose: {exc}", "home") from None
+    Rh, oh = proto.pose_matrix(home)
+    norm = Normalisation.for_points(np.vstack([base, (Rh @ plat.T).T + oh]))
+    model = dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
+                                default_pose=dict(home), notes=tuple(notes))
+    if any(abs(pose[p] - home[p]) > 0 for p in ind):
+        try:
+            sol = model.solve(pose)
+        except ScrewkitError as exc:
+            raise ctx.err(f"the default pose cannot be assembled: {exc}", "pose") from None
+        model = dataclasses.replace(model, default_pose=dict(sol.params))
+    return model
+
+
+def _solve_home(model: PMModel, start: dict, ctx: _Ctx):
+    """Dependent pose parameters at home: every leg's structure checks vanish (Gauss-Newton)."""
+    dep = model.dependent
+    L = model.normalisation.length
+    scale = np.array([L if p in LENGTH_PARAMS else 1.0 for p in dep])
+
+    def residual(x):
+        pose = dict(start)
+        pose.update(zip(dep, x))
+        out = []
+        for i, r in enumerate(model.leg_rules):
+            pl = model.placement(i, pose)
+            try:
+                leg = build_leg(r, pl, check_structure=False)
+                out.append(structure_vector(r, pl, leg))
+            except GeometryError:
+                return None
+        return np.concatenate(out) if out else np.zeros(0)
+
+    x = np.array([start[p] for p in dep], float)
+    f = residual(x)
+    if f is None:
+        raise ctx.err("the legs cannot be built at the home guess (adjust 'guess' or 'home')", "guess")
+    notes = []
+    for it in range(100):
+        if f.size == 0 or np.max(np.abs(f)) < 1e-14:
+            break
+        J = np.empty((f.size, len(dep)))
+        for k in range(len(dep)):
+            h = np.zeros(len(dep))
+            h[k] = 1e-6 * scale[k]
+            fp, fm = residual(x + h), residual(x - h)
+            if fp is None or fm is None:
+                raise ctx.err("the legs cannot be built near the home pose", "home")
+            J[:, k] = (fp - fm) / (2e-6)
+        dx = np.linalg.lstsq(J, -f, rcond=1e-10)[0] * scale
+        t = 1.0
+        for _ in range(30):
+            fn = residual(x + t * dx)
+            if fn is not None and np.linalg.norm(fn) < np.linalg.norm(f):
+                break
+            t *= 0.5
+        else:
+            break
+        x, f = x + t * dx, fn
+    res = float(np.max(np.abs(f))) if f.size else 0.0
+    if res > 1e-9:
+        raise ctx.err(f"no home pose satisfies the legs' structure checks near the guess "
+                      f"(residual {res:.3g}); adjust 'home' or 'guess'", "home")
+    home = dict(start)
+    home.update(zip(dep, (float(v) for v in x)))
+    if "beta" in home and is_singular(model.order, home["beta"]) and \
+            any(p in dep for p in ("alpha", "gamma")):
+        notes.append(f"the home pose is at a representation singularity of {model.order} "
+                     "(beta = 0 or pi): the dependent angle kept its guess value")
+    return home, notes
