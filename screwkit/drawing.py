@@ -194,6 +194,45 @@ def _choose_view(groups) -> _View:
     return best
 
 
+def _segment_distance(q, a, b) -> float:
+    ab = b - a
+    t = float(np.clip(np.dot(q - a, ab) / max(float(np.dot(ab, ab)), 1e-300), 0.0, 1.0))
+    return float(np.linalg.norm(q - (a + t * ab)))
+
+
+def _pm_view_clearance(view: _View, legs, B, P, o, size) -> float:
+    """Smallest screen distance (in units of ``size``) between two of the points
+    ``A_i, a_i, o``, or between one of them and another leg (extended by half its
+    length beyond ``a_i``, where the actuation arrows go)."""
+    pts = [(view.project(b) / size, i) for i, b in enumerate(B)]
+    pts += [(view.project(p) / size, i) for i, p in enumerate(P)] + [(view.project(o) / size, -1)]
+    segs = [(view.project(g.A) / size, view.project(g.a + 0.5 * (g.a - g.A)) / size)
+            for g in legs]
+    worst = np.inf
+    for q, i in pts:
+        for k, (a, b) in enumerate(segs):
+            if k != i:
+                worst = min(worst, _segment_distance(q, a, b))
+    for x in range(len(pts)):
+        for y in range(x + 1, len(pts)):
+            worst = min(worst, float(np.linalg.norm(pts[x][0] - pts[y][0])))
+    return float(worst)
+
+
+def _choose_pm_view(legs, B, P, o, size) -> _View:
+    """The view nearest :data:`DEFAULT_VIEW` in which no point ``A_i``, ``a_i``, ``o``
+    is hidden by another or by a leg (clearance >= 0.1 ``size`` if possible)."""
+    best, best_key = _View(*DEFAULT_VIEW), None
+    for elev in (20.0, 25.0, 30.0, 15.0, 35.0):
+        for azim in np.arange(-150.0, -19.0, 5.0):
+            v = _View(elev, float(azim))
+            c = round(min(_pm_view_clearance(v, legs, B, P, o, size), 0.1), 3)
+            key = (c, -abs(azim - DEFAULT_VIEW[1]) - 0.5 * abs(elev - DEFAULT_VIEW[0]))
+            if best_key is None or key > best_key:
+                best, best_key = v, key
+    return best
+
+
 # ----------------------------------------------------------------------------- primitives
 
 @lru_cache(maxsize=1)
@@ -271,12 +310,26 @@ def _label(ax, p, text, color="k", size=7, offset=None, ha="left", va="center"):
     ax.text(p[0], p[1], p[2], text, color=color, fontsize=size, zorder=10, ha=ha, va=va)
 
 
-class _Labeller:
-    """Places labels around points, avoiding screen directions already taken there."""
+def _visible_length(text: str) -> int:
+    """Rough number of printed characters of a (mathtext) label."""
+    return max(1, len(text) - sum(text.count(c) for c in "${}_\\"))
 
-    def __init__(self, ax, view: _View, scale: float):
+
+class _Labeller:
+    """Places labels: avoids screen directions already taken at a point (chain,
+    axes, other labels) and overlaps with the boxes of labels already placed.
+
+    ``scale`` is the drawing's characteristic length; ``pt`` the data length of one
+    typographic point (estimated from the figure size: the drawing spans about
+    ``span`` scales over ``width_pt`` points).
+    """
+
+    def __init__(self, ax, view: _View, scale: float, span: float = 1.6,
+                 width_pt: float = 420.0):
         self.ax, self.view, self.scale = ax, view, scale
+        self.pt = span * scale / width_pt
         self.taken = {}
+        self.boxes = []
 
     def _key(self, p):
         return tuple(np.round(np.asarray(p, float) / self.scale, 3))
@@ -291,6 +344,43 @@ class _Labeller:
         return min((-float(np.dot(s, t)) for t in self.taken.get(self._key(point), [])),
                    default=1.0)
 
+    def _box(self, pos, text, size, ha, va):
+        xy = self.view.project(pos)
+        w = 0.7 * size * _visible_length(text) * self.pt
+        h = 1.3 * size * self.pt
+        x0 = xy[0] - {"left": 0.0, "center": 0.5, "right": 1.0}[ha] * w
+        y0 = xy[1] - {"bottom": 0.0, "center": 0.5, "top": 1.0}[va] * h
+        return (x0, y0, x0 + w, y0 + h)
+
+    def _overlap(self, box):
+        area = (box[2] - box[0]) * (box[3] - box[1])
+        tot = 0.0
+        for b in self.boxes:
+            dx = min(box[2], b[2]) - max(box[0], b[0])
+            dy = min(box[3], b[3]) - max(box[1], b[1])
+            if dx > 0 and dy > 0:
+                tot += dx * dy
+        return tot / area if area > 0 else 0.0
+
+    def _put(self, candidates, text, color, size):
+        """candidates: (position, ha, va, score); the best after overlap penalties."""
+        best, best_score = None, -np.inf
+        for pos, ha, va, sc in candidates:
+            box = self._box(pos, text, size, ha, va)
+            total = sc - 3.0 * self._overlap(box)
+            if total > best_score + 1e-9:
+                best, best_score = (pos, ha, va, box), total
+        pos, ha, va, box = best
+        self.boxes.append(box)
+        _label(self.ax, pos, text, color, size, ha=ha, va=va)
+        return pos
+
+    @staticmethod
+    def _align(xy):
+        ha = "left" if xy[0] > 0.3 else ("right" if xy[0] < -0.3 else "center")
+        va = "bottom" if xy[1] > 0.3 else ("top" if xy[1] < -0.3 else "center")
+        return ha, va
+
     def axis_end(self, point, d) -> float:
         """+1 or -1: the end of an axis through ``point`` to put its label at."""
         d = np.asarray(d, float)
@@ -303,25 +393,37 @@ class _Labeller:
     def tip(self, tip, d, text, color, size, gap):
         """Label beyond the tip of an arrow/segment pointing along ``d``."""
         d = np.asarray(d, float)
-        sx, sy = self.view.screen(d)
-        ha = "right" if sx < -0.3 else ("left" if sx > 0.3 else "center")
-        va = "center" if ha != "center" else ("bottom" if sy >= 0 else "top")
-        _label(self.ax, np.asarray(tip, float) + gap * d, text, color, size, ha=ha, va=va)
+        ha, va = self._align(self.view.screen(d))
+        if ha != "center":
+            va = "center"
+        self._put([(np.asarray(tip, float) + gap * d, ha, va, 0.0)], text, color, size)
+
+    def beside(self, tip, d, text, color, size, gap):
+        """Label beside the head of an arrow along ``d`` (off its line, which may be
+        drawn dashed beyond the head): on either side, whichever is freer."""
+        d = np.asarray(d, float)
+        n = self.view.side(d)
+        cands = []
+        for sgn in (1.0, -1.0):
+            xy = self.view.screen(sgn * n)
+            ha, va = self._align(xy)
+            cands.append((np.asarray(tip, float) + gap * sgn * n, ha, va,
+                          0.1 if xy[0] > 0 else 0.0))
+        self._put(cands, text, color, size)
 
     def around(self, point, text, color, size, dist=0.06):
         """Label next to ``point`` in the freest of 12 screen directions."""
-        best, best_score = None, -np.inf
+        cands = []
         for k in range(12):
             th = np.radians(-90.0 - 30.0 * k)  # from below, clockwise
             c = np.array([np.cos(th), np.sin(th)])
-            sc = self._score(point, c)
-            if sc > best_score + 1e-9:
-                best, best_score = c, sc
-        self.taken.setdefault(self._key(point), []).append(best)
-        ha = "left" if best[0] > 0.3 else ("right" if best[0] < -0.3 else "center")
-        va = "bottom" if best[1] > 0.3 else ("top" if best[1] < -0.3 else "center")
-        _label(self.ax, point, text, color, size, offset=dist * self.scale *
-               self.view.offset(best), ha=ha, va=va)
+            ha, va = self._align(c)
+            pos = np.asarray(point, float) + dist * self.scale * self.view.offset(c)
+            cands.append((pos, ha, va, self._score(point, c) - 1e-3 * k))
+        pos = self._put(cands, text, color, size)
+        off = self.view.project(pos - np.asarray(point, float))
+        if np.linalg.norm(off) > 0:
+            self.taken.setdefault(self._key(point), []).append(off / np.linalg.norm(off))
 
 
 # ----------------------------------------------------------------------------- legs
@@ -453,6 +555,7 @@ def _finish_axes(ax, box, view: _View, length_unit, title, legend_kinds, legend=
     ax.set_ylabel("y" + unit, fontsize=8, labelpad=2)
     ax.set_zlabel("z" + unit, fontsize=8, labelpad=2)
     ax.tick_params(labelsize=7, pad=0)
+    ax.locator_params(nbins=5)
     lo, hi = box
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -593,7 +696,7 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
                         zorder=2)
             ax.scatter(*c.point, s=14, color=color, depthshade=False, zorder=4)
         where = f" through {c.point_name.replace('^', '∩')}" if c.point_name else ""
-        labeller.tip(p1, d, lab + where, color, 8, 0.03 * L)
+        labeller.beside(p1 - 0.1 * arrow_len * d, d, lab + where, color, 8, 0.04 * L)
         lines.append((p, d, color))
         kinds.add(ckey)
     box = ext.box()
@@ -696,7 +799,7 @@ def _as_points(x, name):
 def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None, ax=None,
             out=None, title=None, *, force_unit: str = "kN", torque_unit: str = "kN.cm",
             length_unit: str = "cm", dpi: int = 150, joint_labels: bool = False,
-            value_format: str = "{:.3g}", view=DEFAULT_VIEW):
+            value_format: str = "{:.3g}", view=None):
     """Draw a PM at one pose with its wrench rows.
 
     Parameters
@@ -734,7 +837,9 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         Label every joint (cluttered for a whole PM; default off).
     value_format : str
         Format of the values in the labels.
-    view : (elev, azim) in degrees
+    view : (elev, azim) in degrees, optional
+        Default: the view nearest (20, -60) in which no point ``A_i``, ``a_i``,
+        ``o`` hides behind another or behind a leg.
 
     Returns
     -------
@@ -752,7 +857,12 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         raise InputError("o must be a finite 3-vector")
     rows = _check_rows(rows, values, len(legs))
     _default_labels(rows)
-    v = _check_view(view) or _View(*DEFAULT_VIEW)
+    size = float(np.max(np.linalg.norm(B - B.mean(axis=0), axis=1))) if len(B) > 1 else 0.0
+    if size == 0.0:
+        size = max(leg.length for leg in legs)
+    v = _check_view(view)
+    if v is None:
+        v = _choose_pm_view(legs, B, Pw, o, size)
     own = ax is None
     if own:
         fig, ax = new_figure((10.0, 7.2), "3d")
@@ -762,10 +872,7 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
     _polygon(ax, B, COLORS["base"], "#636363", 0.35, ext)
     _polygon(ax, Pw, COLORS["platform"], "#3182bd", 0.5, ext)
     kinds = {"base", "platform"}
-    size = float(np.max(np.linalg.norm(B - B.mean(axis=0), axis=1))) if len(B) > 1 else 0.0
-    if size == 0.0:
-        size = max(leg.length for leg in legs)
-    labeller = _Labeller(ax, v, size)
+    labeller = _Labeller(ax, v, size, span=3.0, width_pt=470.0)
     for i, leg in enumerate(legs):
         kinds |= _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels,
                                end_labels=(f"$A_{i + 1}$", f"$a_{i + 1}$"), label_size=7,
@@ -805,7 +912,11 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
             _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13)
             lines.append((p0, d, color))
         ext.add(p0, p0 + vec)
-        labeller.tip(p0 + vec, vec / np.linalg.norm(vec), text, color, 7.5, 0.03 * size)
+        if is_couple:
+            labeller.tip(p0 + vec, vec / np.linalg.norm(vec), text, color, 7.5, 0.03 * size)
+        else:
+            labeller.beside(p0 + 0.75 * vec, vec / np.linalg.norm(vec), text, color, 7.5,
+                            0.05 * size)
     box = ext.box(pad=0.05)
     for p, d, color in lines:
         seg = _clip_line(p, d, *box)

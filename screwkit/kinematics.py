@@ -34,9 +34,10 @@ from scipy.spatial.transform import Rotation
 from .errors import InputError, UnreachablePoseError
 from .euler import angular_jacobian, is_singular, rotation_matrix
 from .legs import Joint, Leg
+from .rules import _Context
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "PoseSolution", "leg_forward", "placed_leg",
-           "solve_pose", "solve_path", "CONVERGED", "ACCEPTED"]
+           "solve_pose", "solve_path", "structure_vector", "CONVERGED", "ACCEPTED"]
 
 #: The six pose parameters of the platform, in this order.
 PARAMS = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
@@ -45,6 +46,8 @@ LENGTH_PARAMS = frozenset(("Xo", "Yo", "Zo"))
 CONVERGED = 1e-10
 #: Largest normalised residual returned without raising UnreachablePoseError.
 ACCEPTED = 1e-6
+#: Largest structure-check residual regarded as satisfied (dimensionless).
+STRUCTURE_TOL = 1e-7
 _MAX_ITER = 60
 _SING_STEP = 1e-4   # beta offset (radians) of the one-sided limits at a representation singularity
 
@@ -112,9 +115,29 @@ class PoseSolution:
 # product of exponentials
 # ---------------------------------------------------------------------------
 
+def _cross(a, b):
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def _rot(d, th):
-    K = np.array([[0, -d[2], d[1]], [d[2], 0, -d[0]], [-d[1], d[0], 0]])
-    return np.eye(3) + np.sin(th) * K + (1 - np.cos(th)) * (K @ K)
+    """Rodrigues: rotation by ``th`` about the unit vector ``d``."""
+    x, y, z = d
+    c, s = np.cos(th), np.sin(th)
+    v = 1.0 - c
+    return np.array([[c + x * x * v, x * y * v - z * s, x * z * v + y * s],
+                     [y * x * v + z * s, c + y * y * v, y * z * v - x * s],
+                     [z * x * v - y * s, z * y * v + x * s, c + z * z * v]])
+
+
+def _rotvec(R):
+    """Rotation vector of a rotation matrix (scipy's robust path near pi)."""
+    w = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
+    if c < -0.9:
+        return Rotation.from_matrix(R).as_rotvec()
+    s = np.sqrt(w @ w)
+    th = np.arctan2(s, c)
+    return w * (th / s) if s > 1e-12 else w
 
 
 def _leg_arrays(leg: Leg):
@@ -148,7 +171,7 @@ def _twists(kinds, D, P, H):
         if k == "P":
             T[i, :3] = D[i]
         else:
-            T[i, :3] = np.cross(P[i], D[i]) + (H[i] * D[i] if k == "H" else 0.0)
+            T[i, :3] = _cross(P[i], D[i]) + (H[i] * D[i] if k == "H" else 0.0)
             T[i, 3:] = D[i]
     return T
 
@@ -213,13 +236,13 @@ def _platform_twists(model, pose, names):
             cols.append(np.concatenate([R0[:, "XYZ".index(n[0])], np.zeros(3)]))
         else:
             w = E[:, ("alpha", "beta", "gamma").index(n)]
-            cols.append(np.concatenate([-np.cross(w, o), w]))
+            cols.append(np.concatenate([_cross(o, w), w]))
     return np.array(cols).reshape(len(names), 6)
 
 
 def _closure_error(Rp, pp, Re, pe, c, L):
     Rd = Rp @ Re.T
-    w = Rotation.from_matrix(Rd).as_rotvec()
+    w = _rotvec(Rd)
     d = Rd @ (c - pe) + pp - c
     return np.concatenate([d / L, w])
 
@@ -275,7 +298,10 @@ class _Problem:
     def model_norm_twists(self, T):
         T = np.asarray(T, float)
         w = T[:, 3:]
-        return np.concatenate([(T[:, :3] + np.cross(w, self.c)) / self.L, w], axis=1)
+        c = self.c
+        v = T[:, :3] + np.column_stack([w[:, 1] * c[2] - w[:, 2] * c[1], w[:, 2] * c[0] - w[:, 0] * c[2],
+                                        w[:, 0] * c[1] - w[:, 1] * c[0]])
+        return np.concatenate([v / self.L, w], axis=1)
 
 
 def _newton(prob: _Problem, x0, tol=CONVERGED * 1e-2, max_iter=_MAX_ITER):
@@ -294,10 +320,9 @@ def _newton(prob: _Problem, x0, tol=CONVERGED * 1e-2, max_iter=_MAX_ITER):
             dx = np.linalg.lstsq(J, -e, rcond=1e-12)[0]
         step = dx * prob.scale
         accepted = False
-        for _ in range(8):
+        for k in range(8):
             xn = x + step
-            en, _ = prob.evaluate(xn, jac=False)
-            fn = float(np.max(np.abs(en)))
+            en, Jn = prob.evaluate(xn, jac=(k == 0))
             if np.all(np.isfinite(en)) and np.linalg.norm(en) < np.linalg.norm(e):
                 accepted = True
                 break
@@ -308,9 +333,9 @@ def _newton(prob: _Problem, x0, tol=CONVERGED * 1e-2, max_iter=_MAX_ITER):
             lam = max(1e-6, 10 * lam)
             continue
         lam = lam / 10 if lam > 1e-9 else 0.0
-        x = xn
-        e, J = prob.evaluate(x)
-        f = fn
+        x, e = xn, en
+        J = Jn if Jn is not None else prob.evaluate(x)[1]
+        f = float(np.max(np.abs(e)))
     return x, f, it
 
 
@@ -453,11 +478,57 @@ def _resolve_singularity(model, fixed, pose0, q0, pair, guess):
     return out, notes
 
 
+def structure_vector(rules: LegRules, placement: Placement, leg) -> np.ndarray:
+    """Smooth residuals of a leg's structure checks (vectors where the check is 2-D).
+
+    ``perpendicular``: ``d1 . d2``; ``parallel``: ``d1 x d2`` (3); ``meets``:
+    the signed distance of the axes over the leg length; ``through``: the
+    offset of the point from the axis over the leg length (3).
+    """
+    ctx = _Context(rules, placement)
+    for j in leg.joints:
+        for key in (j.name, f"{j.spec.origin}{j.spec.position}"):
+            ctx.dirs.setdefault(key, j.direction)
+            ctx.pts.setdefault(key, j.point)
+    L = max(placement.length, 1e-300)
+    out = []
+    for chk in rules.structure:
+        (k, v), = chk.items()
+        if k == "perpendicular":
+            out.append([float(ctx.direction(v[0]) @ ctx.direction(v[1]))])
+        elif k == "parallel":
+            out.append(np.cross(ctx.direction(v[0]), ctx.direction(v[1])))
+        elif k == "meets":
+            d1, d2 = ctx.direction(v[0]), ctx.direction(v[1])
+            n = np.cross(d1, d2)
+            nn = np.linalg.norm(n)
+            out.append([0.0 if nn < 1e-9 else float(n @ (ctx.point(v[1]) - ctx.point(v[0]))) / nn / L])
+        else:
+            d, p, x = ctx.direction(v[0]), ctx.point(v[0]), ctx.point(v[1])
+            r = x - p
+            out.append((r - (r @ d) * d) / L)
+    return np.concatenate([np.ravel(o) for o in out]) if out else np.zeros(0)
+
+
+def _structure_notes(model, pose, legs):
+    out = []
+    for i, (r, lg) in enumerate(zip(model.leg_rules, legs)):
+        if not r.structure:
+            continue
+        v = structure_vector(r, model.placement(i, pose), lg)
+        if v.size and float(np.max(np.abs(v))) > STRUCTURE_TOL:
+            out.append(f"leg {i + 1} ({r.name}): its structure checks do not hold here (residual "
+                       f"{float(np.max(np.abs(v))):.3g}); its constraint wrenches are those of "
+                       "the actual geometry")
+    return out
+
+
 def _assemble(model, pose, qs, f, notes, it) -> PoseSolution:
     Rp, pp = model.pose_matrix(pose)
     A = model.world_base_points
     a = (Rp @ model.platform_points.T).T + pp
     legs = tuple(placed_leg(h, q, A[i], a[i]) for i, (h, q) in enumerate(zip(model.home_legs, qs)))
+    notes = tuple(notes) + tuple(_structure_notes(model, pose, legs))
     ext = np.linalg.norm(a - A, axis=1)
     act = np.array([q[h.actuated_index] for h, q in zip(model.home_legs, qs)])
     params = {p: float(pose[p]) for p in PARAMS}

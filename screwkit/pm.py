@@ -29,11 +29,10 @@ import numpy as np
 
 from .errors import CatalogError, GeometryError, InputError, ScrewkitError
 from .euler import check_order, is_singular, rotation_matrix
-from .kinematics import LENGTH_PARAMS, PARAMS, solve_path, solve_pose
+from .kinematics import LENGTH_PARAMS, PARAMS, solve_path, solve_pose, structure_vector
 from .placement import Placement
 from .reciprocal import Normalisation
-from .rules import LegRules, _Context, _Unresolved, build_leg
-from .screws import Line
+from .rules import LegRules, build_leg
 
 __all__ = ["PMModel", "load_pm", "pm_names", "structure_vector"]
 
@@ -401,38 +400,6 @@ def _override(rules: LegRules, axes, base_pts, plat_pts, ctx, fld) -> LegRules:
     return dataclasses.replace(rules, joints=tuple(joints))
 
 
-def structure_vector(rules: LegRules, placement: Placement, leg) -> np.ndarray:
-    """Smooth residuals of a leg's structure checks (vectors where the check is 2-D).
-
-    ``perpendicular``: ``d1 . d2``; ``parallel``: ``d1 x d2`` (3); ``meets``:
-    the signed distance of the axes over the leg length; ``through``: the
-    offset of the point from the axis over the leg length (3).
-    """
-    ctx = _Context(rules, placement)
-    for j in leg.joints:
-        for key in (j.name, f"{j.spec.origin}{j.spec.position}"):
-            ctx.dirs.setdefault(key, j.direction)
-            ctx.pts.setdefault(key, j.point)
-    L = max(placement.length, 1e-300)
-    out = []
-    for chk in rules.structure:
-        (k, v), = chk.items()
-        if k == "perpendicular":
-            out.append([float(ctx.direction(v[0]) @ ctx.direction(v[1]))])
-        elif k == "parallel":
-            out.append(np.cross(ctx.direction(v[0]), ctx.direction(v[1])))
-        elif k == "meets":
-            d1, d2 = ctx.direction(v[0]), ctx.direction(v[1])
-            n = np.cross(d1, d2)
-            nn = np.linalg.norm(n)
-            out.append([0.0 if nn < 1e-9 else float(n @ (ctx.point(v[1]) - ctx.point(v[0]))) / nn / L])
-        else:
-            d, p, x = ctx.direction(v[0]), ctx.point(v[0]), ctx.point(v[1])
-            r = x - p
-            out.append((r - (r @ d) * d) / L)
-    return np.concatenate([np.ravel(o) for o in out]) if out else np.zeros(0)
-
-
 def _pose_values(raw, ctx, fld, names) -> dict:
     if raw is None:
         return {}
@@ -563,7 +530,8 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
             sol = model.solve(pose)
         except ScrewkitError as exc:
             raise ctx.err(f"the default pose cannot be assembled: {exc}", "pose") from None
-        model = dataclasses.replace(model, default_pose=dict(sol.params))
+        model = dataclasses.replace(model, default_pose=dict(sol.params),
+                                    notes=model.notes + tuple(f"default pose: {t}" for t in sol.notes))
     return model
 
 
@@ -616,7 +584,7 @@ def _solve_home(model: PMModel, start: dict, ctx: _Ctx):
     if res > 1e-9:
         raise ctx.err(f"no home pose satisfies the legs' structure checks near the guess "
                       f"(residual {res:.3g}); adjust 'home' or 'guess'", "home")
-    home = dict(start)
+    home = {p: float(v) for p, v in start.items()}
     home.update(zip(dep, (float(v) for v in x)))
     if "beta" in home and is_singular(model.order, home["beta"]) and \
             any(p in dep for p in ("alpha", "gamma")):

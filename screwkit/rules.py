@@ -313,7 +313,7 @@ def build_leg(rules: LegRules, placement: Placement, check_structure: bool = Tru
     leg = Leg(rules.string, tuple(placed[i] for i in range(len(specs))), placement.A, placement.a,
               rules.name)
     if check_structure:
-        bad = [(c, r) for c, r in structure_residuals(rules, placement, leg) if abs(r) > 1e-7]
+        bad = [(c, r) for c, r in structure_residuals(rules, placement, leg) if abs(r) > GEOMETRY_RTOL]
         if bad:
             c, r = bad[0]
             ctx.fail(f"structure check {c} fails here (residual {r:.3g})")

@@ -164,6 +164,13 @@ class Layout:
     loci: tuple
     words: str
 
+    def __post_init__(self):
+        rows = [force_wrench(d, p).vector for p, d in self.force_lines]
+        rows += [couple_wrench(t).vector for t in self.couples]
+        W = np.array(rows, float).reshape(-1, 6)
+        W.setflags(write=False)
+        object.__setattr__(self, "_W", W)
+
     @property
     def k(self) -> int:
         return len(self.force_lines) + len(self.couples)
@@ -171,9 +178,7 @@ class Layout:
     @property
     def wrenches(self) -> np.ndarray:
         """The target wrenches ``[f; m]`` (moments about O), shape (k, 6): forces then couples."""
-        rows = [force_wrench(d, p).vector for p, d in self.force_lines]
-        rows += [couple_wrench(t).vector for t in self.couples]
-        return np.array(rows, float).reshape(-1, 6)
+        return self._W.copy()
 
     @property
     def force_rank(self) -> int:
@@ -186,12 +191,20 @@ class Layout:
 
     def force_matrix(self) -> np.ndarray:
         """``F``, shape (k, 3)."""
-        return self.wrenches[:, :3]
+        return self._W[:, :3]
 
     def moment_matrix(self, p) -> np.ndarray:
         """``M_p``: moments of the target wrenches about ``p``, shape (k, 3)."""
-        W = self.wrenches
-        return W[:, 3:] - np.cross(np.asarray(p, float), W[:, :3])
+        W = self._W
+        return W[:, 3:] - _cross(np.asarray(p, float), W[:, :3])
+
+
+def _cross(a, b):
+    """``a x b`` for 3-vectors (rows of b), without numpy's generic overhead."""
+    b = np.asarray(b, float)
+    return np.stack([a[1] * b[..., 2] - a[2] * b[..., 1],
+                     a[2] * b[..., 0] - a[0] * b[..., 2],
+                     a[0] * b[..., 1] - a[1] * b[..., 0]], axis=-1)
 
 
 def _unit(v):
@@ -535,7 +548,7 @@ def _place(letter: _Letter, option, layout, rng, scale, prior_p):
 def _twist(kind, d, p, pitch):
     if kind == "P":
         return np.concatenate([d, np.zeros(3)])
-    return np.concatenate([np.cross(p, d) + pitch * d, d])
+    return np.concatenate([_cross(p, d) + pitch * d, d])
 
 
 class _Ranker:

@@ -37,8 +37,9 @@ def characteristic_length(points) -> float:
     Returns
     -------
     float
-        The RMS distance of the points from their centroid, or 1.0 when all the
-        points coincide (a pure-direction geometry has no length of its own).
+        The RMS distance of the points from their centroid; when all the points
+        coincide, their largest coordinate magnitude; 1.0 when they all lie at the
+        origin (a pure-direction geometry has no length of its own).
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if p.size == 0:
@@ -46,5 +47,8 @@ def characteristic_length(points) -> float:
     spread = float(np.sqrt(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=1))))
     if not np.isfinite(spread):
         return 1.0
-    scale = max(spread, float(np.max(np.abs(p))) * 1e-12)
-    return scale if scale > 0 else 1.0
+    # coincident points: no spread to measure, fall back to the distance from the origin
+    # (so the result still scales with the units) or to 1 for points at the origin
+    if spread <= 1e-12 * float(np.max(np.abs(p))):
+        spread = float(np.max(np.abs(p)))
+    return spread if spread > 0 else 1.0

@@ -1,0 +1,142 @@
+"""``screwkit analyze PM``: pose, mobility, Jacobian and statics of a parallel manipulator."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import dump_json, fmt_num, fmt_vec
+from ..errors import InputError
+
+HELP = """Analyse a PM at a pose: legs, mobility, the solved pose (unified inverse displacement),
+leg extensions, the unified Jacobian J = [J_a; J_c] and its condition number, and the statics
+F_r = -(J^-1)^T [F; T] for a workload (F, T) at the platform centre o. Angles in degrees,
+lengths in the model's units (the catalog's examples: cm, kN, kN.cm)."""
+
+
+def parse_assignments(items, what: str) -> dict:
+    """``["alpha=5", "Zo=80"]`` -> ``{"alpha": 5.0, "Zo": 80.0}`` (InputError on bad items)."""
+    out = {}
+    for item in items or ():
+        name, sep, val = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"{what} {item!r} must look like NAME=VALUE")
+        try:
+            v = float(val)
+        except ValueError:
+            raise InputError(f"{what} {name}: {val!r} is not a number") from None
+        if not np.isfinite(v):
+            raise InputError(f"{what} {name} must be finite, got {val!r}")
+        out[name] = v
+    return out
+
+
+def parse_triple(text: str, what: str):
+    parts = text.replace(" ", "").split(",")
+    try:
+        v = [float(p) for p in parts]
+    except ValueError:
+        raise InputError(f"{what} {text!r} must be three numbers X,Y,Z") from None
+    if len(v) != 3 or not np.all(np.isfinite(v)):
+        raise InputError(f"{what} {text!r} must be three finite numbers X,Y,Z")
+    return v
+
+
+def add_pm_arguments(p, pose=True):
+    """Arguments shared by analyze, check, trajectory and draw."""
+    p.add_argument("pm", nargs="?", help="catalog PM name (3RRPRR, 2SPS+2SPR, ...); "
+                   "optional with --model")
+    p.add_argument("--model", metavar="FILE", help="a YAML model file (schema of the catalog's pms:)")
+    p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
+                   help="override a dimension, e.g. --set L=150 (repeatable)")
+    if pose:
+        p.add_argument("--pose", metavar="NAME=VALUE", action="append", default=[],
+                       help="independent pose parameter, degrees for angles, e.g. --pose alpha=5 "
+                            "(repeatable; default: the model's regular default pose)")
+
+
+def add_load_arguments(p):
+    from ..pm_analysis import PAPER_FORCE, PAPER_TORQUE
+
+    p.add_argument("--force", metavar="FX,FY,FZ", default=",".join(str(x) for x in PAPER_FORCE),
+                   help="force at o (default: the paper's -20,-30,-60 kN)")
+    p.add_argument("--torque", metavar="TX,TY,TZ", default=",".join(str(x) for x in PAPER_TORQUE),
+                   help="torque at o (default: the paper's -30,-30,100 kN.cm)")
+
+
+def resolve_model(args):
+    """Load the PM named on the command line (catalog name or --model file) with --set overrides."""
+    from ..pm import load_pm
+
+    overrides = parse_assignments(args.set, "--set")
+    if args.model:
+        target = args.model if not args.pm else f"{args.model}::{args.pm}"
+        return load_pm(target, overrides)
+    if not args.pm:
+        raise InputError("name a PM (see 'screwkit catalog') or give --model FILE")
+    return load_pm(args.pm, overrides)
+
+
+def register(sub):
+    p = sub.add_parser("analyze", help="pose, mobility, Jacobian and statics of a PM",
+                       description=HELP)
+    add_pm_arguments(p)
+    add_load_arguments(p)
+    p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..pm_analysis import analyze_pm
+
+    model = resolve_model(args)
+    res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
+                     force=parse_triple(args.force, "--force"),
+                     torque=parse_triple(args.torque, "--torque"))
+    if args.json:
+        print(dump_json(res.to_dict()))
+        return 0
+    print_text(res)
+    return 0
+
+
+def print_text(res) -> None:
+    model, sol, mob, jac, st = res.model, res.solution, res.mobility, res.jacobian, res.statics
+    print(f"PM {model.name}  ({len(sol.legs)} legs, Euler order {model.order}, "
+          f"independent {', '.join(model.independent)})")
+    if getattr(model, "summary", ""):
+        print(f"  {model.summary}")
+    print("legs:")
+    for i, leg in enumerate(sol.legs, 1):
+        print(f"  {i}. {leg.name:<12} [{leg.string.marked}]  A{i} = {fmt_vec(leg.A)}  a{i} = {fmt_vec(leg.a)}")
+    print(f"mobility: {mob.dof} DOF ({mob.motion_type}); constraint rank {mob.constraint_rank} of "
+          f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "
+          f"Grubler-Kutzbach count {mob.gruebler}")
+    p = sol.params_degrees()
+    print("pose (deg, model units): " + "  ".join(f"{k}={fmt_num(p[k])}" for k in
+                                                 ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")))
+    print(f"  closure residual {sol.residual:.2e} (length-normalised)")
+    for n in sol.notes:
+        print(f"  note: {n}")
+    print("extensions r_i: " + "  ".join(f"r{i}={fmt_num(r)}" for i, r in enumerate(sol.extensions, 1)))
+    print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O), normalised condition number "
+          f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
+    for r, row in zip(jac.rows, jac.J):
+        print(f"  {' '.join(f'{x:10.5g}' for x in row)}   leg {r.leg + 1} {r.kind}")
+    F, T = res.force, res.torque
+    print(f"statics for F = {fmt_vec(F)} and T = {fmt_vec(T)} at o:")
+    if st is None:
+        print("  not solved: singular pose")
+        return
+    if st.indeterminate:
+        print(f"  statically indeterminate: {st.indeterminacy} redundant rows; least-norm solution")
+    for k, (r, v, vec) in enumerate(zip(jac.rows, st.values, st.vectors)):
+        label = {"actuation": "active", "force": "constraint force", "couple": "constraint couple",
+                 "screw": "constraint wrench"}[r.kind]
+        where = ""
+        if r.point is not None:
+            where = f" on the line through {r.point_name or fmt_vec(r.point)}"
+        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}   vector {fmt_vec(vec)}{where}")
+    print("  constraint torques T_ri carried about each leg's axis: " +
+          "  ".join(f"T_r{i}={fmt_num(t)}" for i, t in enumerate(st.T_r, 1)))
+    print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")
