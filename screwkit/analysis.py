@@ -20,7 +20,7 @@ import numpy as np
 
 from .legs import Leg
 from .observation import (ConstraintWrench, RuleNote, candidate_points, decompose,
-                          explain_couple, explain_force, _reciprocity)
+                          explain_couple, explain_force, reciprocity_residual)
 from .reciprocal import ReciprocalSystem, independent_subset, reciprocal_system, same_span
 from .screws import Line, couple_wrench, force_wrench
 from .tolerance import GEOMETRY_RTOL
@@ -145,7 +145,7 @@ def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> Actuat
 
     def member_ok(w):
         return abs(w @ xi) > 1e-6 * np.linalg.norm(norm.wrenches(w)) * scale_ref and \
-            _reciprocity(w, leg, norm, passive) < 1e-8
+            reciprocity_residual(w, Tp, norm) < 1e-8
 
     choice = None
     names = list(pts)
@@ -198,13 +198,13 @@ def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> Actuat
         unit_w = force_wrench(d, p).vector
         notes = explain_force(d, p, _passive_leg_view(leg, ia))
         member = ConstraintWrench("force", force_wrench(d, p), d, p, nm, 0.0, notes,
-                                  _reciprocity(unit_w, leg, norm, passive))
+                                  reciprocity_residual(unit_w, Tp, norm))
     elif kind == "couple":
         d = m / np.linalg.norm(m)
         unit_w = couple_wrench(d).vector
         member = ConstraintWrench("couple", couple_wrench(d), d, None, None, float("inf"),
                                   explain_couple(d, _passive_leg_view(leg, ia)),
-                                  _reciprocity(unit_w, leg, norm, passive))
+                                  reciprocity_residual(unit_w, Tp, norm))
     else:
         from .screws import Wrench, screw_pitch
         unit_w = w / np.linalg.norm(f if np.linalg.norm(f) > 0 else m)
@@ -212,7 +212,7 @@ def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> Actuat
                                   np.cross(f, m) / max(f @ f, 1e-300), None,
                                   float(screw_pitch(unit_w, "wrench")),
                                   (RuleNote("-", None, "no pure force or couple actuates this joint", True),),
-                                  _reciprocity(unit_w, leg, norm, passive))
+                                  reciprocity_residual(unit_w, Tp, norm))
     k = 1.0 / float(unit_w @ xi)
     if kind == "force" and k < 0:
         # orient the line so that the actuator force is positive along it

@@ -22,6 +22,12 @@ Drawing conventions
 * constraint couple: green arrow with two heads (a free vector: drawn from the
   leg's midpoint, or beside the leg when it is along the leg);
 * actuation wrench: red (a force is drawn where its line is closest to ``a``).
+
+Artists are tagged with matplotlib gids so that callers (and tests) can find
+them: arrows ``"force:k"``, ``"couple:k"``, ``"screw:k"`` (k-th constraint
+member), ``"actuation:<kind>"``, ``"joint:P2"`` (P joints), ``"row:i"`` (the
+i-th wrench row of :func:`draw_pm`); polygons ``"base"`` and ``"platform"``.
+Arrows carry their tail and head in data coordinates as ``arrow.xyz``.
 """
 
 from __future__ import annotations
@@ -69,8 +75,17 @@ def require_matplotlib():
     return matplotlib
 
 
-def new_figure(figsize, projection=None):
+def new_figure(figsize, projection=None, **figure_kw):
     """A Figure on an Agg canvas (no pyplot) and, if ``projection``, one axes.
+
+    Parameters
+    ----------
+    figsize : (float, float)
+        Inches.
+    projection : str, optional
+        E.g. ``"3d"``: add one axes with that projection.
+    **figure_kw
+        Passed to ``matplotlib.figure.Figure`` (e.g. ``layout="constrained"``).
 
     Returns
     -------
@@ -80,7 +95,7 @@ def new_figure(figsize, projection=None):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=figsize)
+    fig = Figure(figsize=figsize, **figure_kw)
     FigureCanvasAgg(fig)
     if projection is None:
         return fig, None
@@ -245,10 +260,11 @@ def _arrow3d_class():
 
         def __init__(self, p0, p1, **kw):
             super().__init__((0.0, 0.0), (0.0, 0.0), **kw)
-            self._xyz = (np.asarray(p0, float), np.asarray(p1, float))
+            #: tail and head in data (3D) coordinates
+            self.xyz = (np.asarray(p0, float).copy(), np.asarray(p1, float).copy())
 
         def do_3d_projection(self, renderer=None):
-            (x0, y0, z0), (x1, y1, z1) = self._xyz
+            (x0, y0, z0), (x1, y1, z1) = self.xyz
             xs, ys, zs = proj3d.proj_transform((x0, x1), (y0, y1), (z0, z1), self.axes.M)
             self.set_positions((xs[0], ys[0]), (xs[1], ys[1]))
             return float(np.min(zs))
@@ -256,18 +272,20 @@ def _arrow3d_class():
     return Arrow3D
 
 
-def _arrow(ax, p0, p1, color, style="-|>", lw=2.0, scale=14, zorder=5, alpha=1.0):
+def _arrow(ax, p0, p1, color, style="-|>", lw=2.0, scale=14, zorder=5, alpha=1.0, gid=None):
+    """A 3D arrow; ``gid`` tags it (``"force:..."``, ``"row:3"``...) for tests and users."""
     arrow = _arrow3d_class()(p0, p1, arrowstyle=style, mutation_scale=scale, lw=lw,
                              color=color, shrinkA=0, shrinkB=0, zorder=zorder, alpha=alpha)
+    arrow.set_gid(gid)
     ax.add_artist(arrow)
     return arrow
 
 
-def _double_head(ax, p0, p1, color, lw=2.0, scale=14):
+def _double_head(ax, p0, p1, color, lw=2.0, scale=14, gid=None):
     """Couple symbol: an arrow with two heads at its tip."""
     p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
-    _arrow(ax, p0, p1, color, lw=lw, scale=scale)
-    _arrow(ax, p0, p0 + 0.8 * (p1 - p0), color, lw=lw, scale=scale)
+    _arrow(ax, p0, p1, color, lw=lw, scale=scale, gid=gid)
+    _arrow(ax, p0, p0 + 0.8 * (p1 - p0), color, lw=lw, scale=scale, gid=gid)
 
 
 def _clip_line(point, direction, lo, hi):
@@ -479,7 +497,8 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
         if j.kind == "P":
             d = j.direction
             p0, p1 = j.point - 0.15 * L * d, j.point + 0.15 * L * d
-            _arrow(ax, p0, p1, COLORS["P"], style="<|-|>", lw=2.2, scale=12)
+            _arrow(ax, p0, p1, COLORS["P"], style="<|-|>", lw=2.2, scale=12,
+                   gid=f"joint:{j.name}")
             ext.add(p0, p1)
             kinds.add("P")
             if joint_labels:
@@ -534,13 +553,14 @@ def _legend_handles(kinds):
         ("U", h(COLORS["U"], "U centre", lw=0, marker="o", markersize=5)),
         ("end", h(COLORS["end"], "end points A (base), a (platform)", lw=0, marker="s",
                   markersize=4)),
+        ("meet", h(COLORS["R"], "axes extended to where they meet", lw=0.9, ls=":")),
         ("force", h(COLORS["force"], "constraint force (line dashed)", lw=2, marker=">",
                     markersize=6)),
         ("couple", h(COLORS["couple"], "constraint couple (double head)", lw=2, marker=">",
                      markersize=6)),
         ("screw", h(COLORS["screw"], "constraint wrench, finite pitch", lw=2, marker=">",
                     markersize=6)),
-        ("actuation", h(COLORS["actuation"], "actuation force (line dashed)", lw=2,
+        ("actuation", h(COLORS["actuation"], "actuation wrench (line dashed)", lw=2,
                         marker=">", markersize=6)),
         ("actuation-couple", h(COLORS["actuation"], "actuation torque (double head)", lw=2,
                                marker=">", markersize=6)),
@@ -632,27 +652,29 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
     L = leg.length
     mid = 0.5 * (leg.A + leg.a)
     legdir = (leg.a - leg.A) / L
-    items = []  # (kind, member, colour key, label)
+    items = []  # (kind, member, colour key, label, gid)
     if analysis is not None:
         nf = nc = ns = 0
         for c in analysis.constraints:
             if c.kind == "force":
                 nf += 1
-                items.append(("force", c, "force", f"$F_{{c{nf}}}$"))
+                items.append(("force", c, "force", f"$F_{{c{nf}}}$", f"force:{nf}"))
             elif c.kind == "couple":
                 nc += 1
-                items.append(("couple", c, "couple", f"$T_{{c{nc}}}$"))
+                items.append(("couple", c, "couple", f"$T_{{c{nc}}}$", f"couple:{nc}"))
             else:
                 ns += 1
-                items.append(("screw", c, "screw", f"$W_{{c{ns}}}$ (pitch {c.pitch:.3g})"))
+                items.append(("screw", c, "screw", f"$W_{{c{ns}}}$ (pitch {c.pitch:.3g})",
+                              f"screw:{ns}"))
         act = analysis.actuation
         if act is not None:
             m = act.member
-            sym = "T_{a}" if m.kind == "couple" else "F_{a}"
-            items.append((m.kind, m, "actuation", f"${sym}$ ({act.joint})"))
+            sym = {"couple": "T_{a}", "force": "F_{a}"}.get(m.kind, "W_{a}")
+            items.append((m.kind, m, "actuation", f"${sym}$ ({act.joint})",
+                          f"actuation:{m.kind}"))
     v = _check_view(view)
     if v is None:
-        extra = [(c.point, c.direction) for k, c, _, _ in items
+        extra = [(c.point, c.direction) for k, c, _, _, _ in items
                  if k != "couple" and c.point is not None]
         v = _choose_view(_leg_direction_groups(leg, extra))
     own = ax is None
@@ -665,7 +687,7 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
     kinds = _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels, labeller=labeller)
     arrow_len = 0.4 * L
     lines = []
-    for kind, c, ckey, lab in items:
+    for kind, c, ckey, lab, gid in items:
         d = np.asarray(c.direction, float)
         color = COLORS[ckey]
         if kind == "couple":  # a free vector: drawn beside the leg if along it
@@ -673,7 +695,7 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
             if abs(float(np.dot(d, legdir))) > 0.5:
                 p0 = mid + 0.3 * L * v.side(legdir)
             p1 = p0 + arrow_len * d
-            _double_head(ax, p0, p1, color)
+            _double_head(ax, p0, p1, color, gid=gid)
             ext.add(p0, p1)
             labeller.tip(p1, d, lab, color, 8, 0.03 * L)
             kinds.add("actuation-couple" if ckey == "actuation" else "couple")
@@ -682,9 +704,9 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
         if ckey == "actuation":  # drawn where it acts on the platform: nearest to a
             p = p + float(np.dot(leg.a - p, d)) * d
         p1 = p + arrow_len * d
-        _arrow(ax, p, p1, color, lw=2.2)
+        _arrow(ax, p, p1, color, lw=2.2, gid=gid)
         if kind == "screw":  # a second, thinner head marks the finite pitch
-            _arrow(ax, p, p + 0.8 * arrow_len * d, color, lw=1.0, scale=10)
+            _arrow(ax, p, p + 0.8 * arrow_len * d, color, lw=1.0, scale=10, gid=gid)
         ext.add(p, p1)
         if c.point_name and "^" in c.point_name:  # show where the two axes meet
             for jn in c.point_name.split("^"):
@@ -695,6 +717,7 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
                 ax.plot(*np.array([jp, c.point]).T, color=COLORS["R"], lw=0.9, ls=":",
                         zorder=2)
             ax.scatter(*c.point, s=14, color=color, depthshade=False, zorder=4)
+            kinds.add("meet")
         where = f" through {c.point_name.replace('^', '∩')}" if c.point_name else ""
         labeller.beside(p1 - 0.1 * arrow_len * d, d, lab + where, color, 8, 0.04 * L)
         lines.append((p, d, color))
@@ -773,13 +796,14 @@ def _default_labels(rows):
         r["label"] = f"${b}$"
 
 
-def _polygon(ax, pts, face, edge, alpha, ext):
+def _polygon(ax, pts, face, edge, alpha, ext, gid=None):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     P = np.asarray(pts, float)
     if len(P) >= 3:
-        ax.add_collection3d(Poly3DCollection([P], facecolors=face, edgecolors="none",
-                                             alpha=alpha, zorder=0))
+        poly = Poly3DCollection([P], facecolors=face, edgecolors="none", alpha=alpha, zorder=0)
+        poly.set_gid(gid)
+        ax.add_collection3d(poly)
     loop = np.vstack([P, P[:1]])
     ax.plot(*loop.T, color=edge, lw=1.2, zorder=1)
     ext.add(P)
@@ -869,13 +893,13 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
     else:
         fig = ax.figure
     ext = _Extent()
-    _polygon(ax, B, COLORS["base"], "#636363", 0.35, ext)
-    _polygon(ax, Pw, COLORS["platform"], "#3182bd", 0.5, ext)
+    _polygon(ax, B, COLORS["base"], "#636363", 0.35, ext, gid="base")
+    _polygon(ax, Pw, COLORS["platform"], "#3182bd", 0.5, ext, gid="platform")
     kinds = {"base", "platform"}
     labeller = _Labeller(ax, v, size, span=3.0, width_pt=470.0)
     for i, leg in enumerate(legs):
         kinds |= _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels,
-                               end_labels=(f"$A_{i + 1}$", f"$a_{i + 1}$"), label_size=7,
+                               end_labels=(f"$A_{{{i + 1}}}$", f"$a_{{{i + 1}}}$"), label_size=7,
                                labeller=labeller)
     ax.scatter(*o, s=25, color="#3182bd", depthshade=False, zorder=4)
     labeller.around(o, "o", "#08519c", 8, dist=0.04)
@@ -886,7 +910,7 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         if np.isfinite(r["value"]):
             vmax[key] = max(vmax.get(key, 0.0), abs(r["value"]))
     lines = []
-    for r in rows:
+    for irow, r in enumerate(rows):
         leg = legs[r["leg"]]
         is_couple = r["kind"] == "couple"
         key = "torque" if is_couple else "force"
@@ -905,11 +929,11 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         vec = sgn * frac * max_len * r["direction"]
         if is_couple:
             p0 = 0.5 * (leg.A + leg.a)
-            _double_head(ax, p0, p0 + vec, color, lw=2.0, scale=13)
+            _double_head(ax, p0, p0 + vec, color, lw=2.0, scale=13, gid=f"row:{irow}")
         else:
             d, q = r["direction"], r["point"]
             p0 = q + float(np.dot(leg.a - q, d)) * d  # the line's point nearest to a
-            _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13)
+            _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13, gid=f"row:{irow}")
             lines.append((p0, d, color))
         ext.add(p0, p0 + vec)
         if is_couple:

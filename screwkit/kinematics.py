@@ -106,6 +106,11 @@ class PoseSolution:
         """The base vertices ``A_i`` (world), shape (n, 3)."""
         return np.array([lg.A for lg in self.legs])
 
+    def __repr__(self) -> str:
+        p = ", ".join(f"{k}={v:.6g}" for k, v in self.params_degrees().items())
+        return (f"PoseSolution({getattr(self.model, 'name', '?')}: {p}; residual "
+                f"{self.residual:.2g}, {'ok' if self.success else 'NOT converged'})")
+
     def params_degrees(self) -> dict:
         """``params`` with the angles in degrees."""
         return {k: (np.degrees(v) if k not in LENGTH_PARAMS else v) for k, v in self.params.items()}
@@ -373,7 +378,10 @@ def _start(model, guess):
     if guess is None:
         return pose, qs
     if isinstance(guess, PoseSolution):
-        return dict(guess.params), [np.array(q, float) for q in guess.joint_values]
+        gq = [np.array(q, float) for q in guess.joint_values]
+        if [len(q) for q in gq] != [len(q) for q in qs]:
+            raise InputError(f"{model.name}: the guess is a solution of another PM")
+        return dict(guess.params), gq
     if isinstance(guess, dict):
         for k, v in guess.items():
             if k not in PARAMS or not np.isfinite(float(v)):
@@ -419,6 +427,9 @@ def solve_pose(model, independent: dict, guess=None, degrees: bool = False) -> P
     if beta_fixed and pair and is_singular(model.order, fixed["beta"]):
         fixed, extra = _resolve_singularity(model, fixed, pose0, q0, pair, guess)
         notes += extra
+    elif beta_fixed and is_singular(model.order, fixed["beta"]):
+        notes.append(f"beta = {np.degrees(fixed['beta']):.6g} deg is a representation singularity "
+                     f"of {model.order}: alpha and gamma turn about the same axis (both given)")
     prob, x, f, it = _solve_fixed(model, fixed, pose0, q0)
     pose, qs = prob.split(x)
     if not np.isfinite(f) or f > ACCEPTED:

@@ -9,6 +9,7 @@ observation rules, actuation wrench) is in :mod:`screwkit.analysis`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -114,10 +115,12 @@ class Leg:
         if not self.name:
             object.__setattr__(self, "name", self.string.text)
 
-    @property
+    @cached_property
     def twists(self) -> np.ndarray:
-        """Joint twists, shape (m, 6), in chain order."""
-        return np.array([j.twist.vector for j in self.joints])
+        """Joint twists, shape (m, 6), in chain order (read-only, computed once)."""
+        T = np.array([j.twist.vector for j in self.joints]).reshape(-1, 6)
+        T.setflags(write=False)
+        return T
 
     @property
     def points(self) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Mobility of an assembled PM from its legs' constraint wrenches.
+"""Instantaneous mobility of an assembled PM from its legs' constraint wrenches.
 
 * ``dof = 6 - rank`` of the union of every leg's constraint-wrench system
   (length-normalised rank, :class:`screwkit.reciprocal.Normalisation`).

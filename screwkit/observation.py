@@ -27,7 +27,7 @@ from .screws import Line, Wrench, couple_wrench, force_wrench, screw_pitch
 from .tolerance import GEOMETRY_RTOL, RANK_RTOL
 
 __all__ = ["RuleNote", "ConstraintWrench", "decompose", "explain_force", "explain_couple",
-           "named_points", "candidate_points"]
+           "named_points", "candidate_points", "reciprocity_residual"]
 
 
 @dataclass(frozen=True)
@@ -247,12 +247,17 @@ def _unit_wrench(w):
     return w / nf if nf > 0 else w / np.linalg.norm(m)
 
 
-def _reciprocity(w, leg: Leg, norm: Normalisation, joints=None) -> float:
-    js = leg.joints if joints is None else joints
-    if not js:
+def reciprocity_residual(w, twists, norm: Normalisation) -> float:
+    """Largest ``|W . V| / (|W| |V|)`` in normalised coordinates over the rows of ``twists``.
+
+    Unit-free (invariant under a change of frame and of length units); 0 for
+    an empty set of twists.
+    """
+    T = np.asarray(twists, float).reshape(-1, 6)
+    if len(T) == 0:
         return 0.0
     Wn = norm.wrenches(w)
-    Tn = norm.twists(np.array([j.twist.vector for j in js]))
+    Tn = norm.twists(T)
     num = np.abs(Tn @ Wn)
     den = np.linalg.norm(Tn, axis=1) * np.linalg.norm(Wn)
     return float(np.max(num / den))
@@ -387,7 +392,7 @@ def _make(w, kind, leg: Leg, norm: Normalisation, tol_dist) -> ConstraintWrench:
         d = m / np.linalg.norm(m)
         wr = couple_wrench(d)
         return ConstraintWrench("couple", wr, d, None, None, float("inf"), explain_couple(d, leg),
-                                _reciprocity(wr.vector, leg, norm))
+                                reciprocity_residual(wr.vector, leg.twists, norm))
     d = f / np.linalg.norm(f)
     p0 = np.cross(f, m) / (f @ f)
     if kind == "force":
@@ -398,10 +403,10 @@ def _make(w, kind, leg: Leg, norm: Normalisation, tol_dist) -> ConstraintWrench:
             p = p0 + np.dot(c - p0, d) * d
         wr = force_wrench(d, p)
         return ConstraintWrench("force", wr, d, p, name, 0.0, explain_force(d, p, leg),
-                                _reciprocity(wr.vector, leg, norm))
+                                reciprocity_residual(wr.vector, leg.twists, norm))
     wr = Wrench(w)
     pitch = float(screw_pitch(w, "wrench"))
     return ConstraintWrench("screw", wr, d, p0, None, pitch,
                             (RuleNote("-", None, "finite-pitch wrench: no observation rule "
                                       "applies; reciprocity checked numerically", True),),
-                            _reciprocity(w, leg, norm))
+                            reciprocity_residual(w, leg.twists, norm))

@@ -123,8 +123,9 @@ def _check_names(given, independent, where: str):
             if n in POSE_PARAMETERS:
                 parts.append(f"{n!r} is not independent here (it follows from the others)")
             else:
-                hint = difflib.get_close_matches(n, list(independent) + ["t"], n=1)
-                parts.append(f"{n!r} is unknown" + (f" (did you mean {hint[0]!r}?)" if hint else ""))
+                hint = difflib.get_close_matches(n, list(POSE_PARAMETERS) + ["t"], n=1)
+                parts.append(f"{n!r} is unknown"
+                             + (f" (did you mean {hint[0]!r}?)" if hint else ""))
         raise InputError(f"{where}: {'; '.join(parts)}; the independent parameters are "
                          f"{', '.join(independent)}")
     missing = [n for n in independent if n not in given]

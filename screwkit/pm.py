@@ -100,6 +100,10 @@ class PMModel:
     notes: tuple = ()
     source: str = ""
 
+    def __repr__(self) -> str:
+        return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
+                f"independent={self.independent}, order={self.order!r})")
+
     # -- geometry ---------------------------------------------------------
     def pose_matrix(self, pose: dict):
         """World <- platform rotation (3, 3) and the platform centre ``o`` (3,)."""
@@ -340,8 +344,8 @@ def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
                       f"{fld}.shape")
     if "z" in spec:
         pts[:, 2] += ctx.num(spec["z"], f"{fld}.z")
-    if np.any(np.linalg.norm(pts - pts.mean(axis=0), axis=1) <= 0) and len(pts) > 1:
-        raise ctx.err("degenerate vertices (zero size)", fld)
+    if len(pts) > 1 and np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)) <= 0:
+        raise ctx.err("degenerate vertices (all at one point)", fld)
     return pts
 
 

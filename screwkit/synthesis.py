@@ -89,8 +89,8 @@ LAYOUTS = {
     (1, 1): ("general", "perpendicular", "coaxial"),
     (0, 2): ("couples",),
     (3, 0): ("concurrent", "coplanar"),
-    (2, 1): ("concurrent",),
-    (1, 2): ("line",),
+    (2, 1): ("concurrent", "normal"),
+    (1, 2): ("line", "normal"),
     (0, 3): ("couples",),
 }
 
@@ -188,6 +188,17 @@ class Layout:
         D = np.array([d for _, d in self.force_lines])
         s = np.linalg.svd(D, compute_uv=False)
         return int(np.sum(s > NULL_RTOL * s[0]))
+
+    def couple_space(self) -> np.ndarray:
+        """Orthonormal basis (rows) of the directions of the couples in the system's span
+        (the combinations with zero force), shape (c, 3)."""
+        F = self._W[:, :3]
+        _, s, Vt = np.linalg.svd(F.T, full_matrices=True)
+        r = int(np.sum(s > NULL_RTOL * max(1.0, float(s[0]) if s.size else 1.0)))
+        M = Vt[r:] @ self._W[:, 3:]
+        if len(M) == 0:
+            return np.zeros((0, 3))
+        return _null(_null(M))
 
     def force_matrix(self) -> np.ndarray:
         """``F``, shape (k, 3)."""
@@ -313,14 +324,23 @@ def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:
     elif comp == (2, 1):
         X = near()
         c1, c2 = _rand_unit(rng), _rand_unit(rng)
-        lines, couples = [(X, c1), (X, c2)], [_rand_unit(rng)]
-        loci += [Locus("X", "point", X), Locus("pi", "plane", X, _unit(np.cross(c1, c2)))]
-        words = "2 forces meeting at X (plane pi) and 1 couple t"
+        n = _unit(np.cross(c1, c2))
+        t = _rand_unit(rng) if name == "concurrent" else n
+        lines, couples = [(X, c1), (X, c2)], [t]
+        loci += [Locus("X", "point", X), Locus("pi", "plane", X, n)]
+        words = ("2 forces meeting at X (plane pi) and 1 couple t" if name == "concurrent" else
+                 "2 forces meeting at X (plane pi) and 1 couple normal to pi")
     elif comp == (1, 2):
         q, c = near(), _rand_unit(rng)
-        lines, couples = [(q, c)], [_rand_unit(rng), _rand_unit(rng)]
+        if name == "line":
+            couples = [_rand_unit(rng), _rand_unit(rng)]
+            words = "1 force on L and 2 couples t1, t2"
+        else:
+            couples = [_perp_unit(rng, c)]
+            couples.append(_unit(np.cross(c, couples[0])))
+            words = "1 force on L and 2 couples t1, t2 perpendicular to L"
+        lines = [(q, c)]
         loci.append(Locus("L", "line", q, c))
-        words = "1 force on L and 2 couples t1, t2"
     else:  # (0, 3)
         couples = [np.eye(3)[i] for i in range(3)]
         words = "3 couples (every couple)"
@@ -353,9 +373,8 @@ def _words(letter: str, locus: str, layout: Layout, option: str = "") -> str:
         if nf == 0:
             return "free direction" + (" (in the span of the earlier passive P)"
                                        if option == "span" else "")
-        base = f"perpendicular to {L}" if layout.force_rank == 1 or nf == 1 else \
-            ("along the normal of pi" if layout.name in ("concurrent",) and nf == 2
-             else f"perpendicular to {L}")
+        base = ("along the normal of pi" if nf == 2 and layout.name == "concurrent"
+                else f"perpendicular to {L}")
         return base + (" (in the span of the earlier passive P)" if option == "span" else "")
     at = {"L": "on L", "L1": "on L1", "L2": "on L2", "X": "at X", "pi": "in pi",
           "N": "on N", "Pt": "in the plane through L normal to t"}.get(locus, "")
@@ -371,13 +390,15 @@ def _words(letter: str, locus: str, layout: Layout, option: str = "") -> str:
             core = "axis in pi"
         elif locus == "N":
             core = "axis along the common perpendicular N"
+        elif layout.composition == (1, 2) and layout.name == "normal":
+            core = "axis parallel to L"
         else:
             core = f"meets {L}"
         return core + (f", {perp}" if perp else "")
     if letter == "U":
         if nf == 0:
             return f"both axes {perp}"
-        if locus in ("X", "L", "L1", "L2") and locus != "generic":
+        if locus in ("X", "L", "L1", "L2"):
             core = f"centre {at}" + (f", plane through {'L2' if locus == 'L1' else 'L1'}"
                                      if layout.name == "skew" else "")
         elif locus == "pi":
@@ -627,7 +648,16 @@ def _bound(ls: LegString, layout: Layout) -> int:
 
 
 def _counting_reason(ls: LegString, layout: Layout, target_rank: int) -> str | None:
-    """Why the :func:`_bound` is below ``target_rank`` (None when it is not)."""
+    """Why the :func:`_bound` is below ``target_rank``, or why the C joints are
+    necessarily dependent (None when neither)."""
+    nC = ls.text.count("C")
+    if nC >= 2 and len(ls.equivalent) == target_rank:
+        dC = len(_null(np.vstack([layout.force_matrix(), layout.couple_space()])))
+        if nC > dC:
+            return (f"the {nC} C axes must be perpendicular to every force (rule 1, their P) "
+                    "and to every couple (rule 3, their R): they span at most "
+                    f"{dC} direction{'s' * (dC != 1)}, so the P parts of the C joints "
+                    "are dependent")
     m = len(ls.equivalent)
     nr = sum(j.kind in "RH" for j in ls.equivalent)
     npr = m - nr

@@ -16,6 +16,9 @@ def register(sub):
     p.add_argument("--seed", type=int, default=0,
                    help="seed of the generic geometry of a bare string (default 0)")
     p.add_argument("--model", help="a YAML file with extra leg types (same schema as the catalog)")
+    p.add_argument("--draw", metavar="FILE",
+                   help="also save a 3D drawing of the leg and its wrenches (PNG; needs "
+                        "matplotlib)")
     p.set_defaults(func=run)
 
 
@@ -61,8 +64,16 @@ def run(args) -> int:
         extra = load_catalog(args.model)
         cat = Catalog({**cat.legs, **extra.legs}, cat.table1, cat.pms, cat.source)
     res = screwkit.leg(args.string, seed=args.seed, catalog=cat).analyze()
+    figure = None
+    if getattr(args, "draw", None):
+        from ..drawing import draw_leg
+        draw_leg(res.leg, res, out=args.draw)
+        figure = str(args.draw)
     if args.json:
-        print(dump_json(leg_report(res)))
+        report = leg_report(res)
+        if figure:
+            report["figure"] = figure
+        print(dump_json(report))
         return 0
     leg = res.leg
     spec = cat.find_leg(args.string)
@@ -96,4 +107,6 @@ def run(args) -> int:
               f"(unit reciprocal product; scale {fmt_num(act.scale)})")
         for n in act.member.rules:
             print(f"       - {n}")
+    if figure:
+        print(f"drawing saved to {figure}")
     return 0

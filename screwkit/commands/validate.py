@@ -34,7 +34,7 @@ def register(sub):
     p.add_argument("--out", metavar="FILE", help="write the table to FILE (the summary line "
                    "still goes to standard output)")
     p.add_argument("--draws", type=int, default=None,
-                   help="random draws per target (default %(default)s -> 3)")
+                   help="random draws per target (default 3)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random draws (default 0)")
     p.add_argument("--no-catalog", action="store_true", help="skip the catalog's legs")
     p.set_defaults(func=run)
