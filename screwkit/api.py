@@ -6,7 +6,7 @@ from .legs import Leg
 from .placement import Placement
 from .rules import generic_leg
 
-__all__ = ["leg", "define_leg", "load_legs", "extend_catalog"]
+__all__ = ["leg", "pm", "analyze", "define_leg", "load_legs", "extend_catalog"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog=None) -> Leg:
@@ -154,3 +154,32 @@ def extend_catalog(legs, catalog=None, *, replace: bool = False):
         seen.add(spec.name)
         merged[spec.name] = spec
     return Catalog(merged, list(base.table1), dict(base.pms), base.source)
+
+
+def pm(name: str, overrides: dict | None = None, *, catalog=None):
+    """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path, or
+    ``"path.yaml#NAME"``; ``overrides`` changes dimensions (``{"L": 150}``).
+
+    Returns
+    -------
+    screwkit.pm.PMModel
+        With ``.solve(pose)`` (unified inverse displacement) and the model data.
+    """
+    from .pm import load_pm
+
+    return load_pm(name, overrides, catalog)
+
+
+def analyze(pm, pose: dict | None = None, **kwargs):
+    """Analyse a PM at a pose: see :func:`screwkit.pm_analysis.analyze_pm`.
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> res = screwkit.analyze("2SPS+2SPR")
+    >>> res.mobility.dof
+    4
+    """
+    from .pm_analysis import analyze_pm
+
+    return analyze_pm(pm, pose, **kwargs)

@@ -64,6 +64,7 @@ import numpy as np
 
 from .errors import InputError, SingularityError
 from .legs import Leg
+from .observation import point_label
 from .reciprocal import Normalisation
 from .screws import as_vector3
 from .tolerance import RANK_RTOL
@@ -116,13 +117,13 @@ class JacobianRow:
     joint: str | None
 
     def describe(self) -> str:
-        """One line, e.g. ``leg 0 (RRPRR) force along (...) through R1^R5``."""
+        """One line, e.g. ``leg 0 (RRPRR) force along (...) through Q (where R1 meets R5)``."""
         d = "(" + ", ".join(f"{x:.6g}" for x in np.where(np.abs(self.direction) < 5e-13, 0.0,
                                                           self.direction)) + ")"
         if self.member == "couple":
             what = f"couple about {d}"
         else:
-            where = self.point_name or "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")"
+            where = point_label(self.point_name) or "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")"
             what = f"{self.member} along {d} through {where}"
         head = f"leg {self.leg} ({self.leg_name}) "
         return head + (f"actuation of {self.joint}: {what}" if self.kind == "actuation" else what)

@@ -27,7 +27,7 @@ from .screws import Line, Wrench, couple_wrench, force_wrench, screw_pitch
 from .tolerance import GEOMETRY_RTOL, RANK_RTOL
 
 __all__ = ["RuleNote", "ConstraintWrench", "decompose", "explain_force", "explain_couple",
-           "named_points", "candidate_points", "reciprocity_residual"]
+           "named_points", "candidate_points", "reciprocity_residual", "point_label"]
 
 
 @dataclass(frozen=True)
@@ -101,11 +101,24 @@ class ConstraintWrench:
         """One line: kind, line or direction."""
         d = _fmt(self.direction)
         if self.kind == "force":
-            where = self.point_name or _fmt(self.point)
+            where = point_label(self.point_name) or _fmt(self.point)
             return f"force along {d} through {where}"
         if self.kind == "couple":
             return f"couple about {d}"
         return f"screw of pitch {self.pitch:.6g} along {d}"
+
+
+def point_label(name: str | None) -> str | None:
+    """Readable form of a named point: ``"R1^R5"`` -> ``"Q (where R1 meets R5)"``,
+    ``"S1"`` -> ``"the centre of S1"``; other names unchanged."""
+    if not name:
+        return name
+    if "^" in name:
+        a, b = name.split("^", 1)
+        return f"Q (where {a} meets {b})"
+    if name[0] in "SU" and name[1:].isdigit():
+        return f"the centre of {name}"
+    return name
 
 
 def _fmt(v) -> str:

@@ -6,6 +6,7 @@ import numpy as np
 
 from ._common import dump_json, fmt_num, fmt_vec
 from ..errors import InputError
+from ..observation import point_label
 
 HELP = """Analyse a PM at a pose: legs, mobility, the solved pose (unified inverse displacement),
 leg extensions, the unified Jacobian J = [J_a; J_c] and its condition number, and the statics
@@ -135,7 +136,7 @@ def print_text(res) -> None:
                  "screw": "constraint wrench"}[r.kind]
         where = ""
         if r.point is not None:
-            where = f" on the line through {r.point_name or fmt_vec(r.point)}"
+            where = f" on the line through {point_label(r.point_name) or fmt_vec(r.point)}"
         print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}   vector {fmt_vec(vec)}{where}")
     print("  constraint torques T_ri carried about each leg's axis: " +
           "  ".join(f"T_r{i}={fmt_num(t)}" for i, t in enumerate(st.T_r, 1)))
