@@ -6,7 +6,7 @@ from .legs import Leg
 from .placement import Placement
 from .rules import generic_leg
 
-__all__ = ["leg", "pm", "analyze", "define_leg", "load_legs", "extend_catalog"]
+__all__ = ["leg", "load_pm", "analyze", "define_leg", "load_legs", "extend_catalog"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog=None) -> Leg:
@@ -156,7 +156,7 @@ def extend_catalog(legs, catalog=None, *, replace: bool = False):
     return Catalog(merged, list(base.table1), dict(base.pms), base.source)
 
 
-def pm(name: str, overrides: dict | None = None, *, catalog=None):
+def load_pm(name: str, overrides: dict | None = None, *, catalog=None):
     """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path, or
     ``"path.yaml#NAME"``; ``overrides`` changes dimensions (``{"L": 150}``).
 
@@ -165,9 +165,9 @@ def pm(name: str, overrides: dict | None = None, *, catalog=None):
     screwkit.pm.PMModel
         With ``.solve(pose)`` (unified inverse displacement) and the model data.
     """
-    from .pm import load_pm
+    from .pm import load_pm as _load
 
-    return load_pm(name, overrides, catalog)
+    return _load(name, overrides, catalog)
 
 
 def analyze(pm, pose: dict | None = None, **kwargs):

@@ -398,8 +398,26 @@ def decompose(wrenches, leg: Leg, norm: Normalisation, seed: int = 0) -> tuple:
     return tuple(out)
 
 
+def _orientation_sign(d, leg) -> float:
+    """+1 or -1 so that ``sign * d`` points along the leg line (A -> a) or, when ``d`` is
+    perpendicular to it, along the first joint axis (chain order) it is not perpendicular to.
+
+    The sign of a constraint wrench is a convention; this one depends only on the leg's own
+    geometry, so reported values do not change with the base frame or the units.
+    """
+    refs = [leg.a - leg.A] + [j.direction for j in leg.joints]
+    for r in refs:
+        r = np.asarray(r, float)
+        c = float(np.dot(d, r)) / max(np.linalg.norm(r), 1e-300)
+        if abs(c) > 1e-6:
+            return 1.0 if c > 0 else -1.0
+    return 1.0
+
+
 def _make(w, kind, leg: Leg, norm: Normalisation, tol_dist) -> ConstraintWrench:
     w = _unit_wrench(np.asarray(w, float))
+    part = w[3:] if kind == "couple" else w[:3]
+    w = w * _orientation_sign(part / np.linalg.norm(part), leg)
     f, m = w[:3], w[3:]
     if kind == "couple":
         d = m / np.linalg.norm(m)
@@ -409,7 +427,7 @@ def _make(w, kind, leg: Leg, norm: Normalisation, tol_dist) -> ConstraintWrench:
     d = f / np.linalg.norm(f)
     p0 = np.cross(f, m) / (f @ f)
     if kind == "force":
-        # orient consistently and name a point of the line where one is known
+        # name a point of the line where one is known
         name, p = _point_name(p0, d, candidate_points(leg, tol_dist), tol_dist)
         if p is None:
             c = leg.points.mean(axis=0)
