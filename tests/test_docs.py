@@ -28,3 +28,22 @@ def test_readme_commands_are_commands():
     for line in lines:
         cmd = re.search(r"screwkit (\w+)", line).group(1)
         assert cmd in COMMANDS, f"README uses unknown command {cmd!r}: {line}"
+
+
+def test_readme_python_blocks_run():
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert blocks
+    for code in blocks:
+        exec(compile(code, "README.md", "exec"), {})
+
+
+def test_module_docstring_examples():
+    import doctest
+    import importlib
+
+    mods = ["screwkit.screws", "screwkit.reciprocal", "screwkit.parsing", "screwkit.analysis",
+            "screwkit.pm_analysis", "screwkit.api"]
+    for name in mods:
+        res = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+        assert res.failed == 0, f"doctest failures in {name}"
