@@ -119,6 +119,11 @@ class LegChain:
         Operational frame at the home point of the last joint (the S centre
         for an S-ended leg).
     platform_home : tuple (R (3, 3), p (3,))
+    truncated : bool
+        The leg's last S is not in the model (a point contact at its centre
+        replaces it, see :func:`build_closed_loop_model`): ``frame_id`` and
+        ``end_frame_id`` are then a frame at the S centre on the link before the S,
+        with the world orientation at home, and the S's joints have no column.
     """
 
     leg: Leg
@@ -127,6 +132,7 @@ class LegChain:
     frame_id: int
     end_frame_id: int
     platform_home: tuple
+    truncated: bool = False
 
     @property
     def m(self) -> int:
@@ -135,11 +141,20 @@ class LegChain:
 
     @property
     def ends_with_sphere(self) -> bool:
-        return self.blocks[-1].kind == "spherical"
+        """The leg's last joint is an S (whether or not the model keeps it)."""
+        return self.truncated or self.blocks[-1].kind == "spherical"
+
+    @property
+    def sphere_centre(self) -> np.ndarray:
+        """Home centre of the leg's last S (ValueError if the leg does not end in S)."""
+        if not self.ends_with_sphere:
+            raise ValueError(f"leg {self.leg.name} does not end in S")
+        return np.asarray(self.leg.joints[-1].point, float)
 
     def v_columns(self) -> tuple:
         """Pinocchio velocity columns of each screwkit joint: an int (one to one) or, for
-        the three joints of an S, the tuple of the S's three columns (spans match)."""
+        the three joints of an S, the tuple of the S's three columns (spans match);
+        None for the joints of a dropped S (``truncated``)."""
         out = [None] * self.m
         for b in self.blocks:
             cols = tuple(range(b.idx_v, b.idx_v + b.nv))
@@ -151,6 +166,19 @@ class LegChain:
         """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S)."""
         c = self.v_columns()[self.leg.actuated_index]
         return c if isinstance(c, tuple) else (c,)
+
+    def rates(self, q, v) -> np.ndarray:
+        """Screwkit joint rates (m,) of the Pinocchio velocity ``v`` (nv,) at joint values
+        ``q`` (the inverse of :meth:`velocity_map` on this chain; 0 on dropped joints)."""
+        out = np.zeros(self.m)
+        for b in self.blocks:
+            vb = np.asarray(v[b.idx_v:b.idx_v + b.nv], float)
+            if b.kind == "spherical":
+                M = self.velocity_map(q, len(v))[b.idx_v:b.idx_v + 3][:, list(b.sk)]
+                out[list(b.sk)] = np.linalg.solve(M, vb)
+            else:
+                out[list(b.sk)] = vb
+        return out
 
     def fill_q(self, q, out) -> None:
         """Write the Pinocchio configuration of screwkit joint values ``q`` (m,) into ``out``."""
@@ -297,17 +325,26 @@ class ClosedLoopModel:
     ----------
     model : pinocchio.Model
     chains : tuple of LegChain
-        Leg 1's last link carries the platform (frame ``platform``).
+        In leg order; the last link of ``chains[carrier]`` carries the platform.
     constraints : tuple of pinocchio.RigidConstraintModel
-        ``CONTACT_6D`` between leg ``i``'s platform frame (joint1, ``i >= 2``) and
-        leg 1's platform frame (joint2), reference frame ``LOCAL`` (of joint1's contact).
+        One per leg other than the carrier (in leg order, see ``constraint_legs``):
+        ``CONTACT_6D`` between the leg's platform frame (joint1) and the carrier's
+        (joint2), or ``CONTACT_3D`` between the centre of the leg's dropped last S
+        (joint1, ``LegChain.truncated``) and the same point of the platform on the
+        carrier (joint2); reference frame ``LOCAL`` (of joint1's contact).
     platform_home : tuple (R, p)
+    carrier : int
+        Index of the leg whose last link carries the platform.
+    constraint_legs : tuple of int
+        The leg of each constraint.
     """
 
     model: object
     chains: tuple
     constraints: tuple
     platform_home: tuple
+    carrier: int = 0
+    constraint_legs: tuple = ()
 
     def q(self, joint_values) -> np.ndarray:
         """Pinocchio configuration of the per-leg screwkit joint values."""
@@ -333,8 +370,11 @@ def _values(q, chain: LegChain) -> np.ndarray:
     return q
 
 
-def _add_chain(model, leg: Leg, platform_home, prefix: str) -> LegChain:
-    """Append ``leg`` to ``model`` as a branch from the universe (depth first)."""
+def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False) -> LegChain:
+    """Append ``leg`` to ``model`` as a branch from the universe (depth first).
+
+    With ``point_contact`` a passive last S is left out: the chain ends at the link
+    before it, with frames ``contact`` at the S centre (see :class:`LegChain`)."""
     import pinocchio as pin
     R_home, o_home = platform_home
     joints = leg.joints
@@ -354,6 +394,10 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str) -> LegChain:
         else:
             groups.append(({"R": "revolute", "P": "prismatic", "H": "helical"}[j.kind], (i,)))
             i += 1
+    truncated = bool(point_contact and groups[-1][0] == "spherical"
+                     and leg.actuated_index not in groups[-1][1])
+    if truncated:
+        groups = groups[:-1]
     parent, parent_point = 0, np.zeros(3)
     blocks = []
     for kind, grp in groups:
@@ -376,6 +420,11 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str) -> LegChain:
         axes.setflags(write=False)
         blocks.append(JointBlock(kind, jid, grp, jmod.idx_q, jmod.nq, jmod.idx_v, jmod.nv, axes))
         parent, parent_point = jid, j0.point
+    if truncated:
+        c = np.asarray(joints[-1].point, float)
+        fid = model.addFrame(pin.Frame(f"{prefix}contact", parent, pin.SE3(np.eye(3), c - parent_point),
+                                       pin.FrameType.OP_FRAME))
+        return LegChain(leg, tuple(blocks), parent, fid, fid, (R_home, o_home), True)
     fid = model.addFrame(pin.Frame(f"{prefix}platform", parent, pin.SE3(R_home, o_home - parent_point),
                                    pin.FrameType.OP_FRAME))
     eid = model.addFrame(pin.Frame(f"{prefix}end", parent, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
@@ -400,8 +449,9 @@ def _check_home(model, chains, platform_home) -> None:
                     np.linalg.norm(M.translation - p) > _HOME_RTOL * max(L, np.linalg.norm(p)):
                 raise GeometryError(f"leg {ch.leg.name}: Pinocchio joint {b.joint_id} is not at its home point")
         F = data.oMf[ch.frame_id]
-        if np.abs(F.rotation - R_home).max() > _HOME_RTOL or \
-                np.linalg.norm(F.translation - o_home) > _HOME_RTOL * max(L, np.linalg.norm(o_home)):
+        R_f, p_f = (np.eye(3), ch.sphere_centre) if ch.truncated else (R_home, o_home)
+        if np.abs(F.rotation - R_f).max() > _HOME_RTOL or \
+                np.linalg.norm(F.translation - p_f) > _HOME_RTOL * max(L, np.linalg.norm(p_f)):
             raise GeometryError(f"leg {ch.leg.name}: Pinocchio platform frame is not at the home pose")
 
 
@@ -428,20 +478,30 @@ def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
     return LegModel(model, chain, ph)
 
 
-def build_closed_loop_model(home_legs, platform_home) -> ClosedLoopModel:
-    """One Pinocchio model with every leg (depth first) and 6-D loop closures.
+def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False) -> ClosedLoopModel:
+    """One Pinocchio model with every leg (depth first) and its loop closures.
 
-    Leg 1's last link carries the platform; the platform frame carried by each
-    other leg ``i`` is tied to it by a ``RigidConstraintModel(CONTACT_6D, ...,
-    joint1 = leg i's last joint, joint2 = leg 1's last joint, LOCAL)``.  S-ended
-    legs keep their S (no ``CONTACT_3D`` shortcut), so every leg is modelled the
-    same way and the S's idle spin shows up as a dependent joint (see
-    :func:`screwkit.pinocchio_check.mobility`).
+    Every leg is a branch from the universe, added depth first in leg order.  The
+    *carrier* leg's last link carries the platform: leg 1, or with
+    ``point_contacts`` the first leg that does not end in an S (leg 1 if they all
+    do).  Each other leg is tied to the platform on the carrier by a
+    ``RigidConstraintModel`` (frame ``LOCAL`` of joint1):
+
+    * ``CONTACT_6D`` between its platform frame and the carrier's;
+    * with ``point_contacts``, a leg ending in a passive S loses that S and gets a
+      ``CONTACT_3D`` between the S centre on its previous link and the same point
+      of the platform (the S only makes the two coincide).
+
+    Without ``point_contacts`` (the default) S-ended legs keep their S and get a 6-D
+    closure: the S's rotations then show up in the Jacobian and its idle spin as a
+    dependent joint (see :func:`screwkit.pinocchio_check.mobility`).  Both models
+    give the same platform mobility.
 
     Parameters
     ----------
     home_legs : sequence of Leg
     platform_home : tuple (R (3, 3), p (3,))
+    point_contacts : bool
 
     Returns
     -------
@@ -452,16 +512,35 @@ def build_closed_loop_model(home_legs, platform_home) -> ClosedLoopModel:
     if len(legs) < 1:
         raise InputError("a closed-loop model needs at least one leg")
     ph = as_pose(platform_home, "platform_home")
+    o_h = ph[1]
+
+    def s_ended(lg):
+        return lg.joints[-1].spec.origin == "S"
+
+    carrier = 0
+    if point_contacts:
+        carrier = next((k for k, lg in enumerate(legs) if not s_ended(lg)), 0)
     model = pin.Model()
-    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.") for k, lg in enumerate(legs))
+    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier)
+                   for k, lg in enumerate(legs))
     _check_home(model, chains, ph)
-    c0 = chains[0]
-    p0 = model.frames[c0.frame_id].placement
-    cons = []
-    for k, ch in enumerate(chains[1:], start=2):
-        cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model, ch.end_joint,
-                                      model.frames[ch.frame_id].placement, c0.end_joint, p0,
-                                      pin.ReferenceFrame.LOCAL)
-        cm.name = f"loop{k}"
+    c0 = chains[carrier]
+    p0 = model.frames[c0.frame_id].placement          # platform frame in the carrier's end joint
+    cons, owners = [], []
+    for k, ch in enumerate(chains):
+        if k == carrier:
+            continue
+        pk = model.frames[ch.frame_id].placement
+        if ch.truncated:
+            # the S centre as a point of the platform: home offset from the carrier's end joint
+            # (the carrier's end-joint frame is world-oriented at home: c - p_end = c - o_h + p0.t)
+            c_on_platform = pin.SE3(np.eye(3), ch.sphere_centre - o_h + p0.translation)
+            cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, ch.end_joint, pk,
+                                          c0.end_joint, c_on_platform, pin.ReferenceFrame.LOCAL)
+        else:
+            cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model, ch.end_joint, pk,
+                                          c0.end_joint, p0, pin.ReferenceFrame.LOCAL)
+        cm.name = f"loop{k + 1}"
         cons.append(cm)
-    return ClosedLoopModel(model, chains, tuple(cons), ph)
+        owners.append(k)
+    return ClosedLoopModel(model, chains, tuple(cons), ph, carrier, tuple(owners))
