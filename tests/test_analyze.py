@@ -126,3 +126,27 @@ def test_console_script_runs_main_job():
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     assert "mobility: 4 DOF" in out.stdout
+
+
+def test_user_model_file(capsys):
+    """A user YAML model with its own leg type (tests/data/user_3prs.yaml)."""
+    from pathlib import Path
+
+    from equilibrium_check import leg_equilibrium_error
+
+    path = Path(__file__).with_name("data") / "user_3prs.yaml"
+    res = screwkit.analyze(str(path), {"alpha": 4, "beta": -3, "Zo": 58}, degrees=True)
+    assert res.mobility.dof == 3 and res.mobility.motion_type == "1T2R"
+    sol, st = res.solution, res.statics
+    for i, leg in enumerate(sol.legs):
+        assert leg_equilibrium_error(sol, st, i) < 1e-9
+        # hand derivation: the constraint force is horizontal, along the base tangent at A_i,
+        # on the line through the S centre a_i
+        (row,) = [r for r in res.jacobian.rows if r.leg == i and r.kind == "force"]
+        A = leg.A
+        tangent = np.cross([0, 0, 1], A) / np.linalg.norm(A)
+        assert abs(abs(row.direction @ tangent) - 1) < 1e-9
+        assert np.linalg.norm(np.cross(leg.a - row.point, row.direction)) < 1e-9 * np.linalg.norm(A)
+    assert main(["analyze", "--model", str(path), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["pm"] == "3PRS" and d["mobility"]["dof"] == 3

@@ -14,7 +14,7 @@ import pytest
 from screwkit.errors import SingularityError, UnreachablePoseError
 from screwkit.pm import load_pm, pm_names
 from screwkit.pm_analysis import PAPER_FORCE, PAPER_TORQUE, analyze_pm
-from screwkit.reciprocal import Normalisation
+from equilibrium_check import leg_equilibrium_error
 
 PMS = pm_names()
 N_POSES = 20
@@ -35,26 +35,6 @@ def _random_poses(model, n, seed):
         yield pose
 
 
-def _leg_equilibrium_error(sol, st, i):
-    """max |J_leg^T w - (0.., F_a, ..0)| relative to the leg's wrench, in normalised coordinates."""
-    leg = sol.legs[i]
-    norm = Normalisation.for_points(np.vstack([lg.points for lg in sol.legs]))
-    Tn = norm.twists(leg.twists)
-    Tn = Tn / np.linalg.norm(Tn, axis=1, keepdims=True)
-    w = st.leg_wrenches[i]
-    wn = norm.wrenches(w)
-    work = Tn @ wn
-    # the actuated joint's work per unit twist equals F_a (twist scaled back to unit physical twist)
-    ia = leg.actuated_index
-    xi = leg.twists[ia]
-    expected = np.zeros(len(work))
-    act_rows = [k for k, r in enumerate(st.jacobian.rows) if r.leg == i and r.kind == "actuation"]
-    if act_rows:
-        expected[ia] = st.values[act_rows[0]] / (np.linalg.norm(norm.twists(xi)) * norm.length)
-    scale = max(np.linalg.norm(norm.wrenches(st.workload)), np.linalg.norm(wn), 1e-300)
-    return float(np.max(np.abs(work - expected)) / scale)
-
-
 @pytest.mark.parametrize("name", PMS)
 def test_mobility_is_stated_dof_and_statics_balance(name):
     model = load_pm(name)
@@ -70,7 +50,7 @@ def test_mobility_is_stated_dof_and_statics_balance(name):
         st = res.statics
         assert st.equilibrium_residual < 1e-9, (name, st.equilibrium_residual)
         for i in range(len(res.solution.legs)):
-            err = _leg_equilibrium_error(res.solution, st, i)
+            err = leg_equilibrium_error(res.solution, st, i)
             assert err < 1e-9, (name, i, err)
         done += 1
         if done == N_POSES:
