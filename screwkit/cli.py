@@ -16,7 +16,7 @@ from .errors import ScrewkitError
 __all__ = ["main", "COMMANDS"]
 
 #: Sub-command modules, in the order of ``screwkit --help``.
-COMMANDS = ["leg", "catalog", "analyze", "validate"]
+COMMANDS = ["leg", "catalog", "analyze", "check", "trajectory", "draw", "validate"]
 
 
 def build_parser() -> argparse.ArgumentParser:

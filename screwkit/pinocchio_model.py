@@ -23,9 +23,16 @@ C        ``PrismaticUnaligned`` + ``RevoluteUnaligned`` on the same axis
 
 Every joint frame sits at its joint's home point with the *world* orientation
 at home, so each joint placement relative to its parent is a pure translation;
-then Pinocchio's FK equals the POE above (checked when a model is built).  An
-operational frame ``platform`` on the last joint sits at the platform's home
-pose.  Pinocchio is imported lazily, inside the functions.
+then Pinocchio's FK equals the POE above (checked when a model is built, with
+``model.check(data)``).  An operational frame ``platform`` on the last joint
+sits at the platform's home pose.
+
+A closed-loop model (:func:`build_closed_loop_model`) holds every leg as a
+branch from the universe, added depth first; one *carrier* leg carries the
+platform and every other leg is tied to it by a ``RigidConstraintModel``:
+``CONTACT_6D``, or with ``point_contacts`` a ``CONTACT_3D`` at the centre of a
+leg's last (passive) S, which is then left out of the model.  Pinocchio is
+imported lazily, inside the functions.
 """
 
 from __future__ import annotations

@@ -71,7 +71,7 @@ def resolve_model(args):
 
     overrides = parse_assignments(args.set, "--set")
     if args.model:
-        target = args.model if not args.pm else f"{args.model}::{args.pm}"
+        target = args.model if not args.pm else f"{args.model}#{args.pm}"
         return load_pm(target, overrides)
     if not args.pm:
         raise InputError("name a PM (see 'screwkit catalog') or give --model FILE")

@@ -1,0 +1,126 @@
+"""``screwkit draw PM``: a 3D drawing of a PM at a pose with its actuation and constraint wrenches."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple, resolve_model
+from ..errors import InputError
+
+HELP = """Draw a PM at a pose (the paper's Figs. 3b and 4b): base and platform polygons, the legs
+with their joints, the actuation forces on their lines (red), the constraint forces as arrows on
+their lines (blue, line dashed) and constraint couples as double-headed arrows (green), each
+arrow scaled by its value in the statics of the workload (F, T) at o and labelled with it.
+Angles in degrees, lengths and forces in the model's units."""
+
+
+def register(sub):
+    p = sub.add_parser("draw", help="3D drawing of a PM at a pose with its wrenches",
+                       description=HELP)
+    add_pm_arguments(p)
+    add_load_arguments(p)
+    p.add_argument("-o", "--out", metavar="PNG", required=True, help="output image (PNG)")
+    p.add_argument("--view", metavar="ELEV,AZIM",
+                   help="camera elevation and azimuth in degrees (default: chosen so that no "
+                        "A_i, a_i or o hides behind a leg)")
+    p.add_argument("--joint-labels", action="store_true", help="label every joint")
+    p.add_argument("--title", help="figure title (default: PM, pose and workload)")
+    p.add_argument("--length-unit", default="cm", help="length unit printed (cm)")
+    p.add_argument("--force-unit", default="kN", help="force unit printed (kN)")
+    p.add_argument("--dpi", type=int, default=150, help="resolution (default 150)")
+    p.set_defaults(func=run)
+
+
+def wrench_rows(analysis, values: bool = True):
+    """The rows of ``draw_pm`` from a :class:`~screwkit.pm_analysis.PMAnalysis`.
+
+    Returns
+    -------
+    rows : list of dict
+        ``kind`` (actuation | force | couple), ``leg``, ``direction``, ``point``,
+        ``value`` (the statics' value; NaN when singular or ``values`` is False),
+        ``label`` (``F_a1``, ``F_c2``, ``T_c3``; an actuation torque is ``T_a1``).
+    skipped : list of str
+        Rows that cannot be drawn (finite-pitch wrenches, a dependent actuator).
+    """
+    jac, st = analysis.jacobian, analysis.statics
+    vals = st.values if (st is not None and values) else np.full(len(jac.rows), np.nan)
+    rows, skipped = [], []
+    for r, v in zip(jac.rows, vals):
+        i = r.leg + 1
+        if r.kind == "actuation":
+            if r.member == "force":
+                rows.append(dict(kind="actuation", leg=r.leg, direction=r.direction,
+                                 point=r.point, value=v, label=f"$F_{{a{i}}}$"))
+            elif r.member == "couple":
+                rows.append(dict(kind="couple", leg=r.leg, direction=r.direction, point=None,
+                                 value=v, label=f"$T_{{a{i}}}$"))
+            else:
+                skipped.append(f"leg {i}: actuation {r.member}")
+        elif r.kind in ("force", "couple"):
+            sym = "F_{c" if r.kind == "force" else "T_{c"
+            rows.append(dict(kind=r.kind, leg=r.leg, direction=r.direction, point=r.point,
+                             value=v, label=f"${sym}{i}}}$"))
+        else:
+            skipped.append(f"leg {i}: constraint {r.kind}")
+    labels = [r["label"] for r in rows]
+    count = {}
+    for r in rows:
+        if labels.count(r["label"]) > 1:
+            count[r["label"]] = count.get(r["label"], 0) + 1
+            r["label"] = r["label"][:-2] + f",{count[r['label']]}}}$"
+    return rows, skipped
+
+
+def _title(res, force_unit, length_unit, singular) -> str:
+    p = res.solution.params_degrees()
+    pose = ", ".join(
+        f"{k} = {p[k]:.4g}{'°' if k in ('alpha', 'beta', 'gamma') else ' ' + length_unit}"
+        for k in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma"))
+    F = ", ".join(f"{x:g}" for x in res.force)
+    T = ", ".join(f"{x:g}" for x in res.torque)
+    t = (f"{res.model.name} at {pose}\n"
+         f"F = [{F}] {force_unit}, T = [{T}] {force_unit}·{length_unit} at o; "
+         f"condition number {res.jacobian.condition_number:.3g}")
+    if singular:
+        t += f"\n{res.jacobian.singularity_kind.upper()} SINGULARITY: no statics (values n/a)"
+    return t
+
+
+def run(args) -> int:
+    from ..drawing import draw_pm, require_matplotlib
+    from ..pm_analysis import analyze_pm
+
+    require_matplotlib()
+    view = None
+    if args.view:
+        try:
+            view = tuple(float(x) for x in args.view.split(","))
+        except ValueError:
+            view = ()
+        if len(view) != 2 or not np.all(np.isfinite(view)):
+            raise InputError(f"--view {args.view!r} must be ELEV,AZIM in degrees")
+    if args.dpi < 20 or args.dpi > 1200:
+        raise InputError(f"--dpi {args.dpi} must be between 20 and 1200")
+    model = resolve_model(args)
+    res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
+                     force=parse_triple(args.force, "--force"),
+                     torque=parse_triple(args.torque, "--torque"), raise_on_singular=False)
+    sol = res.solution
+    singular = res.jacobian.singular
+    rows, skipped = wrench_rows(res)
+    title = args.title or _title(res, args.force_unit, args.length_unit, singular)
+    draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position, rows, out=args.out,
+            title=title, force_unit=args.force_unit,
+            torque_unit=f"{args.force_unit}·{args.length_unit}", length_unit=args.length_unit,
+            dpi=args.dpi, joint_labels=args.joint_labels, view=view)
+    for s in skipped:
+        print(f"screwkit draw: not drawn: {s}", file=sys.stderr)
+    if singular:
+        print(f"screwkit draw: {res.jacobian.singularity_kind} singularity at this pose "
+              f"(condition number {res.jacobian.condition_number:.3g}): no statics",
+              file=sys.stderr)
+    print(f"wrote {args.out}", file=sys.stderr)
+    return 0

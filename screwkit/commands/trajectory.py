@@ -1,0 +1,118 @@
+"""``screwkit trajectory PM``: statics along a path (CSV/JSON table, Fig. 5-style plot)."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from ._common import dump_json
+from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
+from ..errors import InputError
+
+HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
+pose (unified inverse displacement, warm-started), the leg extensions r_i, the active forces F_ai,
+the constraint forces/couples and the constraint torques T_ri for a workload (F, T) at o, and
+the normalised condition number of the unified Jacobian. The path is a CSV file (--path: a
+header row with t and the independent parameters, angles in degrees) or one expression in t
+per independent parameter (--expr 'alpha=10*sin(2*pi*t)' --expr ... --samples N). Output: CSV
+(default) or JSON on stdout or in --out FILE; --plot FILE draws the panels of the paper's
+Fig. 5. A sample that is singular or unreachable is flagged in the 'status' column
+(ok|singular|unreachable) with NaN values; the run continues. Angles in degrees, lengths and
+forces in the model's units."""
+
+EPILOG = """examples:
+  screwkit trajectory 3RRPRR --expr "alpha=8*sin(2*pi*t)" --expr "beta=6*sin(4*pi*t)" \\
+      --expr "Zo=80+10*t" --samples 201 --out path.csv --plot fig5.png
+  screwkit trajectory 2SPS+2SPR --path poses.csv --format json"""
+
+
+def register(sub):
+    from ..pathspec import add_path_arguments
+    import argparse
+
+    p = sub.add_parser("trajectory", help="statics along a path (table, Fig. 5 plot)",
+                       description=HELP, epilog=EPILOG,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_pm_arguments(p, pose=False)
+    add_path_arguments(p)
+    add_load_arguments(p)
+    p.add_argument("--format", choices=("csv", "json"),
+                   help="output format (default: from the --out suffix, else csv)")
+    p.add_argument("--out", metavar="FILE", help="write the table to FILE instead of stdout")
+    p.add_argument("--plot", metavar="PNG", help="also draw the panels of the paper's Fig. 5")
+    p.add_argument("--title", help="title of the plot")
+    p.add_argument("--length-unit", default="cm", help="length unit printed on the plot (cm)")
+    p.add_argument("--force-unit", default="kN", help="force unit printed on the plot (kN)")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar (it is shown on a terminal only, for long runs)")
+    p.set_defaults(func=run)
+
+
+class ProgressBar:
+    """A one-line progress bar on a terminal's stderr, shown once a run lasts > 0.5 s."""
+
+    def __init__(self, stream=None, label="trajectory", delay=0.5, width=30):
+        self.stream = stream if stream is not None else sys.stderr
+        self.label, self.delay, self.width = label, delay, width
+        self.t0 = time.perf_counter()
+        self.shown = False
+
+    def __call__(self, done: int, total: int) -> None:
+        elapsed = time.perf_counter() - self.t0
+        if elapsed < self.delay and done < total:
+            return
+        if not self.shown and done >= total:
+            return                              # finished before the bar was due
+        self.shown = True
+        frac = done / max(total, 1)
+        bar = "#" * int(round(frac * self.width))
+        rate = done / elapsed if elapsed > 0 else 0.0
+        self.stream.write(f"\r{self.label} [{bar:<{self.width}}] {100 * frac:3.0f}% "
+                          f"{done}/{total} samples ({rate:.0f}/s)")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _format(args) -> str:
+    if args.format:
+        return args.format
+    if args.out and args.out.lower().endswith(".json"):
+        return "json"
+    return "csv"
+
+
+def run(args) -> int:
+    from ..pathspec import path_from_args
+    from ..trajectory import run_trajectory
+
+    model = resolve_model(args)
+    path = path_from_args(args, model.independent)
+    fmt = _format(args)
+    if args.plot:
+        from ..drawing import require_matplotlib
+        require_matplotlib()                     # fail before a long run, not after it
+    show = sys.stderr.isatty() and not args.no_progress
+    res = run_trajectory(model, path, parse_triple(args.force, "--force"),
+                         parse_triple(args.torque, "--torque"),
+                         progress=ProgressBar() if show else None)
+    text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
+    if args.out:
+        try:
+            with open(args.out, "w", encoding="utf-8", newline="") as fh:
+                fh.write(text)
+        except OSError as exc:
+            raise InputError(f"cannot write {args.out!r}: {exc}") from None
+        print(f"wrote {args.out}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    if args.plot:
+        units = {"length": args.length_unit, "force": args.force_unit,
+                 "torque": f"{args.force_unit}·{args.length_unit}"}
+        res.plot(args.plot, title=args.title, units=units)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    c = res.counts()
+    if c["singular"] or c["unreachable"]:
+        print(f"screwkit trajectory: {c['singular']} singular and {c['unreachable']} unreachable "
+              f"of {len(res)} samples (status column; their statics are NaN)", file=sys.stderr)
+    return 0
