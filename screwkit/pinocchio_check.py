@@ -86,8 +86,25 @@ class CheckRow:
     passed: bool
 
 
+class _RowLookup:
+    """``failed`` and ``row(name)`` for reports that hold a tuple of :class:`CheckRow`."""
+
+    rows: tuple
+
+    @property
+    def failed(self) -> tuple:
+        """Names of the rows that failed."""
+        return tuple(r.name for r in self.rows if not r.passed)
+
+    def row(self, name: str) -> CheckRow:
+        for r in self.rows:
+            if r.name == name:
+                return r
+        raise InputError(f"no check row {name!r}; rows: {', '.join(r.name for r in self.rows)}")
+
+
 @dataclass(frozen=True)
-class CheckReport:
+class CheckReport(_RowLookup):
     """Result of a cross-check.
 
     Attributes
@@ -103,17 +120,6 @@ class CheckReport:
     @property
     def passed(self) -> bool:
         return all(r.passed for r in self.rows)
-
-    @property
-    def failed(self) -> tuple:
-        """Names of the rows that failed."""
-        return tuple(r.name for r in self.rows if not r.passed)
-
-    def row(self, name: str) -> CheckRow:
-        for r in self.rows:
-            if r.name == name:
-                return r
-        raise InputError(f"no check row {name!r}; rows: {', '.join(r.name for r in self.rows)}")
 
     def value(self, name: str):
         for k, v in self.values:
@@ -724,7 +730,7 @@ def summarize(report: CheckReport) -> tuple:
 
 
 @dataclass(frozen=True, eq=False)
-class PMCheckReport:
+class PMCheckReport(_RowLookup):
     """The Pinocchio cross-check of one PM at one pose.
 
     Attributes
@@ -749,16 +755,6 @@ class PMCheckReport:
     @property
     def passed(self) -> bool:
         return not self.error and bool(self.rows) and all(r.passed for r in self.rows)
-
-    @property
-    def failed(self) -> tuple:
-        return tuple(r.name for r in self.rows if not r.passed)
-
-    def row(self, name: str) -> CheckRow:
-        for r in self.rows:
-            if r.name == name:
-                return r
-        raise InputError(f"no check {name!r}; checks: {', '.join(r.name for r in self.rows)}")
 
     @property
     def pose_label(self) -> str:
