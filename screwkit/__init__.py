@@ -8,7 +8,7 @@ moments about the base origin, reciprocal product ``f.v + m.w`` (see
 from .errors import (CatalogError, GeometryError, InputError, ParseError, ScrewkitError,
                      SingularityError, UnreachablePoseError)
 from .screws import Line, Twist, Wrench
-from .parsing import parse_leg, parse_pm
+from .legs import parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm
 
 __version__ = "0.1.0"

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-from .legs import Leg
-from .placement import Placement
-from .rules import generic_leg
+from .legs import Leg, Placement, generic_leg
 
 __all__ = ["leg", "load_pm", "analyze", "define_leg", "load_legs", "extend_catalog"]
 

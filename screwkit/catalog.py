@@ -30,8 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CatalogError, ScrewkitError
-from .placement import Placement, default_placement
-from .rules import LegRules, _Context, build_leg
+from .legs import Placement, default_placement
+from .legs._rules import LegRules, _Context, build_leg
 
 __all__ = ["LegSpec", "Catalog", "load_catalog", "default_catalog", "catalog_path",
            "leg_spec_from_mapping"]
@@ -72,7 +72,7 @@ class LegSpec:
         couple axis is built from the rules' references (independently of the
         solver) and must be reciprocal to every joint twist.
         """
-        from .reciprocal import span_contains
+        from .screws import span_contains
         from .screws import couple_wrench, force_wrench
 
         e = self.expect

@@ -63,11 +63,8 @@ from functools import cached_property
 import numpy as np
 
 from .errors import InputError, SingularityError
-from .legs import Leg
-from .observation import point_label
-from .reciprocal import Normalisation
-from .screws import as_vector3
-from .tolerance import RANK_RTOL
+from .legs import Leg, point_label
+from .screws import Normalisation, RANK_RTOL, as_vector3
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult", "unified_jacobian"]
 

@@ -32,9 +32,9 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from .errors import InputError, UnreachablePoseError
-from .euler import angular_jacobian, is_singular, rotation_matrix
 from .legs import Joint, Leg
-from .rules import _Context
+from .legs._rules import _Context
+from .screws import angular_jacobian, is_singular, rotation_matrix
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "PoseSolution", "leg_forward", "placed_leg",
            "solve_pose", "solve_path", "structure_vector", "CONVERGED", "ACCEPTED"]

@@ -48,8 +48,7 @@ from .errors import InputError
 from .legs import Leg
 from .pinocchio_model import (ClosedLoopModel, LegChain, as_pose, build_closed_loop_model,
                               build_leg_model)
-from .reciprocal import Normalisation, reciprocal_system
-from .tolerance import RANK_RTOL
+from .screws import Normalisation, RANK_RTOL, reciprocal_system
 
 __all__ = [
     "CHECK_RTOL",

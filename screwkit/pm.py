@@ -28,11 +28,9 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CatalogError, GeometryError, InputError, ScrewkitError
-from .euler import check_order, is_singular, rotation_matrix
 from .kinematics import LENGTH_PARAMS, PARAMS, solve_path, solve_pose, structure_vector
-from .placement import Placement
-from .reciprocal import Normalisation
-from .rules import LegRules, build_leg
+from .legs import LegRules, Placement, build_leg
+from .screws import Normalisation, check_order, is_singular, rotation_matrix
 
 __all__ = ["PMModel", "load_pm", "pm_names", "structure_vector"]
 
@@ -421,7 +419,7 @@ def _pose_values(raw, ctx, fld, names) -> dict:
 
 
 def _build(name: str, d, cat, overrides: dict) -> PMModel:
-    from .parsing import parse_pm
+    from .legs import parse_pm
 
     src = cat.source
     if not isinstance(d, dict):

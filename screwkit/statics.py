@@ -48,8 +48,7 @@ import numpy as np
 
 from .errors import InputError
 from .jacobian import COND_THRESHOLD, JacobianResult, unified_jacobian
-from .screws import as_vector3
-from .tolerance import RANK_RTOL
+from .screws import RANK_RTOL, as_vector3
 
 __all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench"]
 

@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parsing import LegString
-from .placement import Placement
+from .legs import LegString, Placement
 from .synthesis_layouts import Layout
 from .synthesis_linalg import cross, null_basis, unit
 

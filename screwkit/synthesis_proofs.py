@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parsing import LegString, parse_leg
+from .legs import LegString, parse_leg
 from .synthesis_joints import Letter, admissible_directions
 from .synthesis_layouts import Layout
 from .synthesis_linalg import null_basis

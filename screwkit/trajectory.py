@@ -62,7 +62,7 @@ from .errors import InputError, ScrewkitError
 from .kinematics import CONVERGED, LENGTH_PARAMS, PARAMS
 from .pathspec import PathSpec
 from .pm_analysis import PAPER_FORCE, PAPER_TORQUE
-from .tolerance import GEOMETRY_RTOL
+from .screws import GEOMETRY_RTOL
 
 __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
 

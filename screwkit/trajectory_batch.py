@@ -33,7 +33,7 @@ from scipy.spatial.transform import Rotation
 
 from .jacobian import COND_THRESHOLD
 from .kinematics import CONVERGED, LENGTH_PARAMS
-from .tolerance import GEOMETRY_RTOL, RANK_RTOL
+from .screws import GEOMETRY_RTOL, RANK_RTOL
 
 __all__ = ["LegArrays", "leg_arrays", "forward_batch", "twists_batch", "KinematicsBatch",
            "BatchProblem", "newton_batch", "assemble_batch", "LegTemplate",

@@ -34,13 +34,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .analysis import actuation_wrench, analyze_leg
 from .errors import InputError
-from .legs import Leg
-from .parsing import LegString, parse_leg
-from .placement import Placement
-from .reciprocal import independent_subset, reciprocal_system, same_span, span_contains
-from .rules import generic_leg
+from .legs import Leg, LegString, Placement, actuation_wrench, analyze_leg, generic_leg, parse_leg
+from .screws import independent_subset, reciprocal_system, same_span, span_contains
 from .synthesis import Synthesis, compositions, counting_rank, layouts_for, synthesize
 
 __all__ = [

@@ -7,7 +7,7 @@ the actuated one.  This uses the leg's chain, not the Jacobian rows the statics 
 
 import numpy as np
 
-from screwkit.reciprocal import Normalisation
+from screwkit.screws import Normalisation
 
 
 def leg_equilibrium_error(sol, st, i):

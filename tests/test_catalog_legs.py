@@ -19,8 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from screwkit.catalog import default_catalog
 from screwkit.errors import GeometryError
-from screwkit.parsing import parse_pm
-from screwkit.placement import Placement, default_placement
+from screwkit.legs import Placement, default_placement, parse_pm
 
 CAT = default_catalog()
 NAMES = sorted(CAT.legs)

@@ -15,9 +15,9 @@ import pytest
 pin = pytest.importorskip("pinocchio")
 
 from screwkit.errors import GeometryError, InputError  # noqa: E402
-from screwkit.pinocchio_check import (CHECK_RTOL, SUMMARY_CHECKS, PMChecker, check_all,  # noqa: E402
-                                      check_analysis, check_pm, constraint_jacobian, mobility,
-                                      regular_analyses)
+from screwkit.pinocchio_check import (CHECK_RTOL, PMChecker, SUMMARY_CHECKS,  # noqa: E402
+                                      check_all, check_analysis, check_pm, constraint_jacobian,
+                                      mobility, regular_analyses)
 from screwkit.pinocchio_model import build_closed_loop_model  # noqa: E402
 from screwkit.pm import load_pm, pm_names  # noqa: E402
 from screwkit.pm_analysis import analyze_pm  # noqa: E402
@@ -108,7 +108,7 @@ def test_point_contacts_and_6d_closures_give_the_same_mobility():
         assert m3.internal == m6.internal == a.mobility.idle
         assert m3.locked_dof == m6.locked_dof == 0
         L = model.normalisation
-        from screwkit.reciprocal import same_span
+        from screwkit.screws import same_span
         assert same_span(m3.twists, m6.twists, L) and same_span(m3.twists, a.mobility.twists, L)
 
 

@@ -42,7 +42,8 @@ def test_module_docstring_examples():
     import doctest
     import importlib
 
-    mods = ["screwkit.screws", "screwkit.reciprocal", "screwkit.parsing", "screwkit.analysis",
+    mods = ["screwkit.screws._primitives", "screwkit.screws._reciprocal", "screwkit.legs._parsing",
+            "screwkit.legs._analysis",
             "screwkit.pm_analysis", "screwkit.api"]
     for name in mods:
         res = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)

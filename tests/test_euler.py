@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from screwkit.errors import InputError
-from screwkit.euler import (ORDERS, angular_jacobian, euler_angles, is_singular,
-                            rotation_matrix)
+from screwkit.screws import ORDERS, angular_jacobian, euler_angles, is_singular, rotation_matrix
 
 
 def _elem(axis, t):

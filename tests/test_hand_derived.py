@@ -1,6 +1,6 @@
 """Constraint and actuation wrenches of the paper's legs, derived by hand.
 
-Default placement (screwkit.placement.default_placement, scale 100):
+Default placement (screwkit.legs.default_placement, scale 100):
 A = (100, 0, 0) on the base X axis, a = (50, 0, 80), O = origin, o = (0, 0, 80),
 base and platform frames = identity.  Leg direction d = (a - A)/|a - A| =
 (-50, 0, 80)/sqrt(8900).  The expected lines below come from this geometry and
@@ -12,12 +12,9 @@ import numpy as np
 import pytest
 
 import screwkit
-from screwkit.legs import Joint, Leg
-from screwkit.parsing import parse_leg
-from screwkit.placement import Placement
-from screwkit.reciprocal import same_span, span_contains
-from screwkit.rules import generic_leg
-from screwkit.screws import couple_wrench, force_wrench, prismatic_twist, revolute_twist
+from screwkit.legs import Joint, Leg, Placement, generic_leg, parse_leg
+from screwkit.screws import (couple_wrench, force_wrench, prismatic_twist, revolute_twist,
+                             same_span, span_contains)
 
 X, Y, Z = np.eye(3)
 A0 = np.array([100.0, 0.0, 0.0])

@@ -4,11 +4,10 @@ import numpy as np
 import pytest
 
 from screwkit.catalog import default_catalog
-from screwkit.legs import Joint, Leg
+from screwkit.legs import Joint, Leg, parse_leg
 from screwkit.mobility import linkage_graph, mobility, mobility_of_legs
-from screwkit.parsing import parse_leg
 from screwkit.pm import load_pm
-from screwkit.reciprocal import reciprocal_system
+from screwkit.screws import reciprocal_system
 
 PMS = sorted(default_catalog().pms)
 

@@ -10,12 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import screwkit
-from screwkit.legs import Joint, Leg
-from screwkit.observation import candidate_points, decompose, explain_couple, explain_force
-from screwkit.parsing import JOINT_DOF, parse_leg
-from screwkit.reciprocal import reciprocal_system, same_span
-from screwkit.rules import generic_leg
-from screwkit.screws import couple_wrench, force_wrench
+from screwkit.legs import (JOINT_DOF, Joint, Leg, candidate_points, decompose, explain_couple,
+                           explain_force, generic_leg, parse_leg)
+from screwkit.screws import couple_wrench, force_wrench, reciprocal_system, same_span
 
 SETTINGS = settings(max_examples=50, deadline=None)
 X, Y, Z = np.eye(3)

@@ -16,11 +16,10 @@ from scipy.spatial.transform import Rotation
 
 from screwkit.catalog import default_catalog, leg_spec_from_mapping
 from screwkit.errors import GeometryError, SingularityError
-from screwkit.placement import Placement
-from screwkit.rules import structure_residuals
+from screwkit.jacobian import unified_jacobian
+from screwkit.legs import Placement, structure_residuals
 from screwkit.screws import transform_wrenches
 from screwkit.statics import solve_statics, statics
-from screwkit.jacobian import unified_jacobian
 
 F_LOAD = np.array([-20.0, -30.0, -60.0])      # kN
 T_LOAD = np.array([-30.0, -30.0, 100.0])      # kN.cm

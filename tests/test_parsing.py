@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from screwkit.errors import ParseError
-from screwkit.parsing import JOINT_DOF, parse_leg, parse_pm
+from screwkit.legs import JOINT_DOF, parse_leg, parse_pm
 
 SETTINGS = settings(max_examples=50, deadline=None)
 

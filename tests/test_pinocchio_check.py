@@ -15,12 +15,11 @@ pin = pytest.importorskip("pinocchio")
 
 import screwkit  # noqa: E402
 from screwkit.errors import InputError  # noqa: E402
-from screwkit.legs import Joint, Leg  # noqa: E402
-from screwkit.pinocchio_check import (check_closed_loop, check_leg, constraint_jacobian,  # noqa: E402
-                                      mobility)
+from screwkit.legs import Joint, Leg, Placement  # noqa: E402
+from screwkit.pinocchio_check import (check_closed_loop, check_leg,  # noqa: E402
+                                      constraint_jacobian, mobility)
 from screwkit.pinocchio_model import (build_closed_loop_model, build_leg_model,  # noqa: E402
                                       sphere_angles)
-from screwkit.placement import Placement  # noqa: E402
 
 TOL = 1e-9
 LEGS = ["SPR", "RRPRR", "UPU/couple", "UPU/force", "SPS", "PRRR", "RHC", "US", "CRU", "UPS"]

@@ -10,10 +10,9 @@ import pytest
 
 from screwkit.errors import CatalogError, InputError, UnreachablePoseError
 from screwkit.kinematics import leg_forward
+from screwkit.legs import structure_residuals
 from screwkit.pm import load_pm
-from screwkit.reciprocal import reciprocal_system, same_span
-from screwkit.rules import structure_residuals
-from screwkit.screws import transform_twists
+from screwkit.screws import reciprocal_system, same_span, transform_twists
 
 b3 = np.sqrt(3.0)
 

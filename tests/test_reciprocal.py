@@ -14,13 +14,10 @@ from scipy.spatial.transform import Rotation
 
 import screwkit
 from screwkit.errors import InputError
-from screwkit.parsing import JOINT_DOF
-from screwkit.reciprocal import (Normalisation, independent_subset, reciprocal_system, same_span,
-                                 span_contains)
-from screwkit.rules import generic_leg
-from screwkit.screws import (couple_wrench, force_wrench, prismatic_twist, revolute_twist,
-                             transform_wrenches)
-from screwkit.tolerance import characteristic_length
+from screwkit.legs import JOINT_DOF, generic_leg
+from screwkit.screws import (Normalisation, characteristic_length, couple_wrench, force_wrench,
+                             independent_subset, prismatic_twist, reciprocal_system,
+                             revolute_twist, same_span, span_contains, transform_wrenches)
 
 SETTINGS = settings(max_examples=50, deadline=None)
 

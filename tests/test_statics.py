@@ -14,9 +14,7 @@ import screwkit
 from screwkit.catalog import default_catalog, leg_spec_from_mapping
 from screwkit.errors import InputError, SingularityError
 from screwkit.jacobian import COND_THRESHOLD, unified_jacobian
-from screwkit.legs import Joint, Leg
-from screwkit.parsing import parse_leg
-from screwkit.placement import Placement
+from screwkit.legs import Joint, Leg, Placement, parse_leg
 from screwkit.statics import solve_statics, statics, workload_wrench
 
 F0 = np.array([10.0, -5.0, -60.0])

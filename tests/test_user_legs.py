@@ -14,9 +14,8 @@ import pytest
 import screwkit
 from screwkit.catalog import Catalog, LegSpec, default_catalog
 from screwkit.cli import main
-from screwkit.placement import Placement
-from screwkit.reciprocal import same_span, span_contains
-from screwkit.screws import couple_wrench, force_wrench
+from screwkit.legs import Placement
+from screwkit.screws import couple_wrench, force_wrench, same_span, span_contains
 
 X, Y, Z = np.eye(3)
 A0, a0 = np.array([100.0, 0, 0]), np.array([50.0, 0, 80])

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import dump_json, fmt_num, fmt_vec
 from ..errors import InputError
-from ..observation import point_label
+from ..legs import point_label
+from ._common import dump_json, fmt_num, fmt_vec
 
 HELP = """Analyse a PM at a pose: legs, mobility, the solved pose (unified inverse displacement),
 leg extensions, the unified Jacobian J = [J_a; J_c] and its condition number, and the statics

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .tolerance import RANK_RTOL, characteristic_length
+from ..errors import InputError
+from ._tolerance import RANK_RTOL, characteristic_length
 
 __all__ = [
     "Normalisation",

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import GeometryError, InputError
+from ..errors import GeometryError, InputError
 
 __all__ = [
     "Line",

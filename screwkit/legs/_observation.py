@@ -21,10 +21,13 @@ from itertools import combinations
 
 import numpy as np
 
-from .legs import Leg
-from .reciprocal import Normalisation
-from .screws import Line, Wrench, couple_wrench, force_wrench, screw_pitch
-from .tolerance import GEOMETRY_RTOL, RANK_RTOL
+from ..screws import (GEOMETRY_RTOL, Line, Normalisation, RANK_RTOL, Wrench, couple_wrench,
+                      force_wrench, screw_pitch)
+
+# ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
+# (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
+# the chain module is not imported, so that ``Leg.analyze`` can import this module
+# without an import cycle.
 
 __all__ = ["RuleNote", "ConstraintWrench", "decompose", "explain_force", "explain_couple",
            "named_points", "candidate_points", "reciprocity_residual", "point_label"]
@@ -125,7 +128,7 @@ def _fmt(v) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in np.where(np.abs(v) < 5e-13, 0.0, v)) + ")"
 
 
-def named_points(leg: Leg) -> dict:
+def named_points(leg: "Leg") -> dict:
     """Points worth naming: S/U centres, then the end points ``A`` and ``a``."""
     out = dict(leg.centres())
     out.setdefault("A", leg.A)
@@ -133,7 +136,7 @@ def named_points(leg: Leg) -> dict:
     return out
 
 
-def candidate_points(leg: Leg, tol: float) -> dict:
+def candidate_points(leg: "Leg", tol: float) -> dict:
     """Named points plus the meeting points of pairs of R axes (``R1^R5``)."""
     pts = named_points(leg)
     rs = [j for j in leg.joints if j.kind == "R"]
@@ -159,7 +162,7 @@ def _point_name(point, direction, pts: dict, tol: float):
     return None, None
 
 
-def explain_force(direction, point, leg: Leg, tol_angle: float = GEOMETRY_RTOL * 10,
+def explain_force(direction, point, leg: "Leg", tol_angle: float = GEOMETRY_RTOL * 10,
                   tol_dist: float | None = None) -> tuple:
     """Check rules 1 and 2 for a force on the line (``point``, ``direction``), joint by joint.
 
@@ -219,7 +222,7 @@ def explain_force(direction, point, leg: Leg, tol_angle: float = GEOMETRY_RTOL *
     return tuple(notes)
 
 
-def explain_couple(direction, leg: Leg, tol_angle: float = GEOMETRY_RTOL * 10) -> tuple:
+def explain_couple(direction, leg: "Leg", tol_angle: float = GEOMETRY_RTOL * 10) -> tuple:
     """Check rule 3 for a couple about ``direction``, joint by joint."""
     t = np.asarray(direction, float) / np.linalg.norm(direction)
     notes = []
@@ -303,7 +306,7 @@ def _zero_pitch_roots(w1, w2):
     return [(-b + r) / (2 * a), (-b - r) / (2 * a)]
 
 
-def decompose(wrenches, leg: Leg, norm: Normalisation, seed: int = 0) -> tuple:
+def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple:
     """Decompose a wrench system into pure couples, pure forces and finite-pitch screws.
 
     Parameters
@@ -414,7 +417,7 @@ def _orientation_sign(d, leg) -> float:
     return 1.0
 
 
-def _make(w, kind, leg: Leg, norm: Normalisation, tol_dist) -> ConstraintWrench:
+def _make(w, kind, leg: "Leg", norm: Normalisation, tol_dist) -> ConstraintWrench:
     w = _unit_wrench(np.asarray(w, float))
     part = w[3:] if kind == "couple" else w[:3]
     w = w * _orientation_sign(part / np.linalg.norm(part), leg)

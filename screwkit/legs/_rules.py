@@ -49,12 +49,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import CatalogError, GeometryError
-from .legs import Joint, Leg
-from .parsing import JOINT_DOF, LegString, parse_leg
-from .placement import Placement
-from .screws import Line
-from .tolerance import GEOMETRY_RTOL
+from ..errors import CatalogError, GeometryError
+from ..screws import GEOMETRY_RTOL, Line
+from ._chain import Joint, Leg
+from ._parsing import JOINT_DOF, LegString, parse_leg
+from ._placement import Placement
 
 __all__ = ["JointRule", "LegRules", "build_leg", "generic_leg", "structure_residuals"]
 
@@ -407,7 +406,7 @@ def generic_leg(string: str | LegString, placement: Placement | None = None, see
     seed : int
         Seed of the random axis directions.
     """
-    from .placement import default_placement
+    from ._placement import default_placement
 
     ls = parse_leg(string) if isinstance(string, str) else string
     pl = placement or default_placement()

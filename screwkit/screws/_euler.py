@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .errors import InputError
-from .tolerance import GEOMETRY_RTOL
+from ..errors import InputError
+from ._tolerance import GEOMETRY_RTOL
 
 __all__ = ["ORDERS", "EulerAngles", "check_order", "rotation_matrix", "euler_angles",
            "is_singular", "angular_jacobian", "axis_rotation"]

@@ -13,9 +13,9 @@ from functools import cached_property
 
 import numpy as np
 
-from .errors import InputError
-from .parsing import EquivalentJoint, LegString
-from .screws import Line, Twist, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+from ..errors import InputError
+from ..screws import Line, Twist, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+from ._parsing import EquivalentJoint, LegString
 
 __all__ = ["Joint", "Leg"]
 
@@ -165,7 +165,7 @@ class Leg:
 
     def analyze(self):
         """Screw-theoretic analysis of the leg (see :func:`screwkit.analysis.analyze_leg`)."""
-        from .analysis import analyze_leg
+        from ._analysis import analyze_leg
         return analyze_leg(self)
 
     def __repr__(self) -> str:

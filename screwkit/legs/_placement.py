@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import GeometryError, InputError
-from .screws import as_vector3
+from ..errors import GeometryError, InputError
+from ..screws import as_vector3
 
 __all__ = ["Placement", "default_placement"]
 

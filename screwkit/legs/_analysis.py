@@ -18,12 +18,15 @@ from itertools import combinations
 
 import numpy as np
 
-from .legs import Leg
-from .observation import (ConstraintWrench, RuleNote, candidate_points, decompose,
-                          explain_couple, explain_force, reciprocity_residual)
-from .reciprocal import ReciprocalSystem, independent_subset, reciprocal_system, same_span
-from .screws import Line, couple_wrench, force_wrench
-from .tolerance import GEOMETRY_RTOL
+from ..screws import (GEOMETRY_RTOL, Line, ReciprocalSystem, couple_wrench, force_wrench,
+                      independent_subset, reciprocal_system, same_span)
+from ._observation import (ConstraintWrench, RuleNote, candidate_points, decompose, explain_couple,
+                           explain_force, reciprocity_residual)
+
+# ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
+# (``joints``, ``twists``, ``points``, ``actuated_index``, ``A``, ``a``, ``length``, ``centres()``):
+# the chain module is not imported, so that ``Leg.analyze`` can import this module
+# without an import cycle.
 
 __all__ = ["LegAnalysis", "ActuationWrench", "analyze_leg", "actuation_wrench"]
 
@@ -58,7 +61,7 @@ class ActuationWrench:
 class LegAnalysis:
     """Everything screwkit says about one leg at one geometry."""
 
-    leg: Leg
+    leg: "Leg"
     system: ReciprocalSystem
 
     @property
@@ -112,12 +115,12 @@ class LegAnalysis:
         return " + ".join(parts) if parts else "no constraint wrench"
 
 
-def analyze_leg(leg: Leg) -> LegAnalysis:
+def analyze_leg(leg: "Leg") -> LegAnalysis:
     """Analyse a placed leg (see :class:`LegAnalysis`)."""
     return LegAnalysis(leg, reciprocal_system(leg.twists, leg.points))
 
 
-def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> ActuationWrench | None:
+def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> ActuationWrench | None:
     """Actuation wrench of the leg's actuated joint (see :class:`ActuationWrench`).
 
     Among the wrenches reciprocal to the passive joints and not to the actuated
@@ -206,7 +209,7 @@ def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> Actuat
                                   explain_couple(d, _passive_leg_view(leg, ia)),
                                   reciprocity_residual(unit_w, Tp, norm))
     else:
-        from .screws import Wrench, screw_pitch
+        from ..screws import Wrench, screw_pitch
         unit_w = w / np.linalg.norm(f if np.linalg.norm(f) > 0 else m)
         member = ConstraintWrench("screw", Wrench(unit_w), unit_w[:3] / max(np.linalg.norm(unit_w[:3]), 1e-300),
                                   np.cross(f, m) / max(f @ f, 1e-300), None,
@@ -226,7 +229,7 @@ def actuation_wrench(leg: Leg, system: ReciprocalSystem | None = None) -> Actuat
 class _PassiveView:
     """A leg-like view without the actuated joint, for rule explanations."""
 
-    def __init__(self, leg: Leg, skip: int):
+    def __init__(self, leg: "Leg", skip: int):
         self.joints = tuple(j for i, j in enumerate(leg.joints) if i != skip)
         self.length = leg.length
         self.A, self.a = leg.A, leg.a
@@ -236,5 +239,5 @@ class _PassiveView:
         return self._leg.centres()
 
 
-def _passive_leg_view(leg: Leg, skip: int):
+def _passive_leg_view(leg: "Leg", skip: int):
     return _PassiveView(leg, skip)

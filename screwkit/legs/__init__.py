@@ -1,0 +1,34 @@
+"""Leg layer: leg strings, placed equivalent chains, catalog rules, and the analysis of a leg.
+
+* parsing of leg and PM strings (:func:`parse_leg`, :func:`parse_pm`);
+* the placed equivalent chain of a leg (:class:`Joint`, :class:`Leg`) and its
+  end points and frames (:class:`Placement`);
+* the placement rules of the catalog (:class:`LegRules`, :func:`build_leg`,
+  :func:`generic_leg`, :func:`structure_residuals`);
+* the three observation rules (:func:`decompose`, :func:`explain_force`, ...)
+  and the screw-theoretic analysis of a leg (:func:`analyze_leg`,
+  :meth:`Leg.analyze`).
+"""
+
+from ._parsing import (JOINT_DOF, JOINT_LETTERS, EquivalentJoint, LegString, PMString, PMTerm,
+                       parse_leg, parse_pm)
+from ._chain import Joint, Leg
+from ._placement import Placement, default_placement
+from ._rules import JointRule, LegRules, build_leg, generic_leg, structure_residuals
+from ._observation import (ConstraintWrench, RuleNote, candidate_points, decompose, explain_couple,
+                           explain_force, named_points, point_label, reciprocity_residual)
+from ._analysis import ActuationWrench, LegAnalysis, actuation_wrench, analyze_leg
+
+__all__ = [
+    # leg and PM strings
+    "JOINT_LETTERS", "JOINT_DOF", "EquivalentJoint", "LegString", "PMTerm", "PMString",
+    "parse_leg", "parse_pm",
+    # placed chains
+    "Joint", "Leg", "Placement", "default_placement",
+    # catalog rules
+    "JointRule", "LegRules", "build_leg", "generic_leg", "structure_residuals",
+    # observation rules and leg analysis
+    "RuleNote", "ConstraintWrench", "decompose", "explain_force", "explain_couple",
+    "named_points", "candidate_points", "reciprocity_residual", "point_label",
+    "LegAnalysis", "ActuationWrench", "analyze_leg", "actuation_wrench",
+]
