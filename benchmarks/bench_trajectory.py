@@ -29,7 +29,7 @@ def main(argv=None):
 
     import screwkit
     from screwkit.pathspec import PathSpec, path_from_expressions
-    from screwkit.pm_analysis import analyze_pm
+    from screwkit.engine import analyze_pm
     from screwkit.trajectory import run_trajectory
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -16,7 +16,7 @@ import time
 
 
 def main(argv=None) -> int:
-    from screwkit.catalog import default_catalog
+    from screwkit.pm import default_catalog
     from screwkit import validation
     from screwkit.validation import DEFAULT_DRAWS, validate_table1
 

@@ -62,7 +62,7 @@ def render(text: str, catalog) -> str:
 
 
 def main(argv=None) -> int:
-    from screwkit.catalog import default_catalog, load_catalog
+    from screwkit.pm import default_catalog, load_catalog
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--catalog", help="catalog file (default: the packaged legs_catalog.yaml)")

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from .legs import Leg, Placement, generic_leg
 
-__all__ = ["leg", "load_pm", "analyze", "define_leg", "load_legs", "extend_catalog"]
+__all__ = ["leg", "load_pm", "solve", "solve_path", "analyze", "define_leg", "load_legs",
+           "extend_catalog"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog=None) -> Leg:
@@ -23,7 +24,7 @@ def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog
     catalog : Catalog, optional
         Default: the packaged ``legs_catalog.yaml``.
     """
-    from .catalog import default_catalog
+    from .pm import default_catalog
 
     cat = catalog if catalog is not None else default_catalog()
     spec = cat.find_leg(name)
@@ -72,7 +73,7 @@ def define_leg(name: str, string: str, joints, structure=(), expect=None, summar
     """
     from dataclasses import replace
 
-    from .catalog import leg_spec_from_mapping
+    from .pm import leg_spec_from_mapping
 
     d = {"name": name, "string": string, "joints": joints,
          "structure": list(structure or ()), "summary": summary}
@@ -103,7 +104,7 @@ def load_legs(path) -> tuple:
         Unreadable file, invalid YAML, no ``legs`` list, or a malformed entry
         (the message names the file, the entry and the field).
     """
-    from .catalog import load_catalog
+    from .pm import load_catalog
     from .errors import CatalogError
 
     cat = load_catalog(path)
@@ -130,7 +131,7 @@ def extend_catalog(legs, catalog=None, *, replace: bool = False):
     -------
     screwkit.catalog.Catalog
     """
-    from .catalog import Catalog, LegSpec, default_catalog
+    from .pm import Catalog, LegSpec, default_catalog
     from .errors import CatalogError
 
     base = catalog if catalog is not None else default_catalog()
@@ -158,18 +159,93 @@ def load_pm(name: str, overrides: dict | None = None, *, catalog=None):
     """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path, or
     ``"path.yaml#NAME"``; ``overrides`` changes dimensions (``{"L": 150}``).
 
+    The model is built by :func:`screwkit.pm.load_pm`, then its default pose is
+    solved (:func:`screwkit.engine.check_default_pose`).
+
     Returns
     -------
     screwkit.pm.PMModel
-        With ``.solve(pose)`` (unified inverse displacement) and the model data.
+        The model data (a constant description); solve it at a pose with
+        :func:`solve`, analyse it with :func:`analyze`.
+
+    Raises
+    ------
+    CatalogError
+        Unknown PM, a malformed definition, or a default pose that cannot be
+        assembled (``the default pose cannot be assembled: ...``).
+    InputError
+        Bad overrides.
     """
+    from .engine import check_default_pose
     from .pm import load_pm as _load
 
-    return _load(name, overrides, catalog)
+    return check_default_pose(_load(name, overrides, catalog))
+
+
+def _model(pm, overrides=None, catalog=None):
+    from .pm import PMModel
+
+    return pm if isinstance(pm, PMModel) else load_pm(pm, overrides, catalog=catalog)
+
+
+def solve(pm, independent: dict, guess=None, degrees: bool = False):
+    """Unified inverse displacement of a PM at the given independent pose parameters.
+
+    Parameters
+    ----------
+    pm : PMModel or str
+        A loaded model, or a name or path for :func:`load_pm`.
+    independent : dict
+        Values of ``pm.independent`` (missing ones are taken from the default
+        pose, with a note); angles in radians unless ``degrees``.
+    guess : PoseSolution or dict, optional
+        Warm start (e.g. the previous pose along a path); default home.
+    degrees : bool
+
+    Returns
+    -------
+    screwkit.engine.PoseSolution
+
+    Raises
+    ------
+    InputError
+        Unknown, dependent or non-finite parameters.
+    UnreachablePoseError
+        The loop closures cannot be satisfied (``residual`` attribute).
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> pm = screwkit.load_pm("3RRPRR")
+    >>> sol = screwkit.solve(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+    >>> bool(sol.success), sol.legs[0].name
+    (True, 'RRPRR')
+    """
+    from .engine import solve_pose
+
+    return solve_pose(_model(pm), independent, guess, degrees)
+
+
+def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
+    """:func:`solve` at each of a sequence of independent-parameter dicts, each warm-started
+    from the previous solution (``guess`` warm-starts the first).
+
+    Returns
+    -------
+    tuple of screwkit.engine.PoseSolution
+
+    Raises
+    ------
+    UnreachablePoseError
+        Naming the first sample that cannot be assembled.
+    """
+    from .engine import solve_path as _solve_path
+
+    return _solve_path(_model(pm), poses, guess, degrees)
 
 
 def analyze(pm, pose: dict | None = None, **kwargs):
-    """Analyse a PM at a pose: see :func:`screwkit.pm_analysis.analyze_pm`.
+    """Analyse a PM at a pose: see :func:`screwkit.engine.analyze_pm`.
 
     Examples
     --------
@@ -178,6 +254,6 @@ def analyze(pm, pose: dict | None = None, **kwargs):
     >>> res.mobility.dof
     4
     """
-    from .pm_analysis import analyze_pm
+    from .engine import analyze_pm
 
     return analyze_pm(pm, pose, **kwargs)

@@ -824,7 +824,9 @@ def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = No
     n : int
     seed : int
     centre : dict, optional
-        Full pose (radians) to draw around; default ``pm.default_pose``.
+        Pose (radians) to draw around: its independent parameters, and ``Zo``
+        for the length scale; default: the default pose (``pm.default_pose``,
+        with ``Zo`` of the assembled default pose when it is dependent).
     angle, length_fraction : float
     max_draws : int, optional
         Give up after this many draws (default ``5 n + 20``).
@@ -842,15 +844,16 @@ def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = No
     """
     import zlib
 
+    from .engine import LENGTH_PARAMS, analyze_pm, default_full_pose, load_assembled_pm
     from .errors import GeometryError, SingularityError, UnreachablePoseError
-    from .kinematics import LENGTH_PARAMS
-    from .pm import PMModel, load_pm
-    from .pm_analysis import analyze_pm
+    from .pm import PMModel
 
-    model = pm if isinstance(pm, PMModel) else load_pm(pm)
+    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm)
     if not (isinstance(n, (int, np.integer)) and n >= 1):
         raise InputError(f"the number of poses must be a positive integer, got {n!r}")
     c = dict(model.default_pose if centre is None else centre)
+    if centre is None and "Zo" not in c:
+        c = default_full_pose(model)     # its |Zo| is the length scale of the draws
     zref = abs(float(c.get("Zo", 0.0))) or float(model.normalisation.length)
     rng = np.random.default_rng([int(seed), zlib.crc32(model.name.encode())])
     limit = 5 * int(n) + 20 if max_draws is None else int(max_draws)
@@ -892,14 +895,15 @@ def check_all(poses_per_pm: int = 3, seed: int = 0, names=None, *, rtol: float =
     -------
     tuple of PMCheckReport
     """
+    from .engine import load_assembled_pm
     from .errors import ScrewkitError
-    from .pm import PMModel, load_pm, pm_names
+    from .pm import PMModel, pm_names
 
     out = []
     for name in (pm_names() if names is None else names):
         label = name.name if isinstance(name, PMModel) else str(name)
         try:
-            model = name if isinstance(name, PMModel) else load_pm(name)
+            model = name if isinstance(name, PMModel) else load_assembled_pm(name)
             checker = PMChecker.for_model(model)
             analyses = regular_analyses(model, poses_per_pm, seed)
             reps = [check_analysis(a, checker, rtol=rtol) for a in analyses]

@@ -21,7 +21,7 @@ wrench, and the active forces are what is defined).  The computation is
 organised for speed (``docs/tutorial.md``, "Speed"):
 
 1. *anchor* samples (every ``anchor_every``-th, at least ~8 per path) are
-   solved one after the other by :meth:`PMModel.solve`, each warm-started from
+   solved one after the other by :func:`screwkit.engine.solve_pose`, each warm-started from
    the previous one;
 2. the other samples are solved level by level (the spacing divided by 16 at
    each level) by a Gauss-Newton vectorised over samples
@@ -58,10 +58,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .engine import CONVERGED, LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE, PARAMS, solve_pose
 from .errors import InputError, ScrewkitError
-from .kinematics import CONVERGED, LENGTH_PARAMS, PARAMS
 from .pathspec import PathSpec
-from .pm_analysis import PAPER_FORCE, PAPER_TORQUE
 from .screws import GEOMETRY_RTOL
 
 __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
@@ -363,10 +362,11 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     -------
     TrajectoryResult
     """
-    from .pm import PMModel, load_pm
+    from .engine import load_assembled_pm
+    from .pm import PMModel
 
     if not isinstance(model, PMModel):
-        model = load_pm(model, overrides)
+        model = load_assembled_pm(model, overrides)
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     path = _check_path(model, path)
     try:
@@ -399,8 +399,8 @@ class _Run:
     """State of one run: the outputs, the per-pose solutions kept as warm starts."""
 
     def __init__(self, model, path, F, T):
-        from .jacobian import unified_jacobian
-        from .trajectory_batch import LegTemplate
+        from .engine import unified_jacobian
+        from .engine import LegTemplate
 
         self.model, self.path, self.F, self.T = model, path, F, T
         N, n = len(path), model.n_legs
@@ -447,11 +447,11 @@ class _Run:
         return None
 
     def core_solve(self, i):
-        """PMModel.solve at sample i, warm-started from the nearest earlier solved sample."""
+        """The inverse displacement (:func:`screwkit.engine.solve_pose`) at sample i, warm-started from the nearest earlier solved sample."""
         if i in self.core:
             return self.core[i]
         try:
-            sol = self.model.solve(self._independent(i), guess=self._guess(i))
+            sol = solve_pose(self.model, self._independent(i), self._guess(i))
         except ScrewkitError as exc:
             sol = None
             res = getattr(exc, "residual", None)
@@ -477,8 +477,8 @@ class _Run:
         self.full_rows(i, sol.legs, sol.position, "; ".join(sol.notes))
 
     def full_rows(self, i, legs, position, note=""):
-        from .jacobian import unified_jacobian
-        from .statics import statics
+        from .engine import unified_jacobian
+        from .engine import statics
 
         o = self.out
         jac = unified_jacobian(legs, position)
@@ -524,7 +524,7 @@ class _Run:
         """Samples c0..c1-1: core-solve the anchors (and sample c1 when it is one, for the
         interpolation), then refine level by level (spacing / _REFINE) with the batched
         Newton started from the linear interpolation of the samples already solved."""
-        from .trajectory_batch import BatchProblem, assemble_batch
+        from .engine import BatchProblem, assemble_batch
 
         model = self.model
         end = min(c1, len(self.path) - 1)
@@ -561,7 +561,7 @@ class _Run:
         """Solve ``targets`` (positions in idx) from the interpolation of their solved
         neighbours; a sample that fails (no convergence, or a step from the guess larger
         than half the change between its neighbours: another branch) is core-solved."""
-        from .trajectory_batch import newton_batch
+        from .engine import newton_batch
 
         if targets.size == 0:
             return
@@ -609,7 +609,7 @@ class _Run:
         return tuple(legs)
 
     def _batch_rows(self, samples, kb):
-        from .trajectory_batch import jacobian_statics_batch
+        from .engine import jacobian_statics_batch
 
         o = self.out
         M = len(samples)

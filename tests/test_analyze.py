@@ -15,8 +15,8 @@ from scipy.spatial.transform import Rotation
 
 import screwkit
 from screwkit.cli import main
+from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
 from screwkit.errors import SingularityError
-from screwkit.pm_analysis import PAPER_FORCE, PAPER_TORQUE
 
 
 @pytest.mark.parametrize("name", ["3RRPRR", "2SPS+2SPR", "4SPS+SPR", "3UPU"])

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from screwkit.catalog import default_catalog
 from screwkit.errors import GeometryError
 from screwkit.legs import Placement, default_placement, parse_pm
+from screwkit.pm import default_catalog
 
 CAT = default_catalog()
 NAMES = sorted(CAT.legs)

@@ -7,9 +7,9 @@ import copy
 import pytest
 import yaml
 
-from screwkit.catalog import Catalog, load_catalog
 from screwkit.cli import main
 from screwkit.errors import CatalogError
+from screwkit.pm import Catalog, load_catalog
 
 GOOD = {
     "name": "MySPR",

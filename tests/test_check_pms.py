@@ -14,13 +14,13 @@ import pytest
 
 pin = pytest.importorskip("pinocchio")
 
+from screwkit.engine import analyze_pm  # noqa: E402
 from screwkit.errors import GeometryError, InputError  # noqa: E402
 from screwkit.pinocchio_check import (CHECK_RTOL, PMChecker, SUMMARY_CHECKS,  # noqa: E402
                                       check_all, check_analysis, check_pm, constraint_jacobian,
                                       mobility, regular_analyses)
 from screwkit.pinocchio_model import build_closed_loop_model  # noqa: E402
 from screwkit.pm import load_pm, pm_names  # noqa: E402
-from screwkit.pm_analysis import analyze_pm  # noqa: E402
 
 USER_PM = str(Path(__file__).parent / "data" / "user_pm.yaml")
 ALL_CHECKS = tuple(k for k, _ in SUMMARY_CHECKS)
@@ -240,7 +240,7 @@ def test_check_all_reports_every_pm_and_errors():
 
 
 def test_singular_and_unreachable_draws_are_skipped(monkeypatch):
-    import screwkit.pm_analysis as pa
+    import screwkit.engine as pa
     from screwkit.errors import SingularityError, UnreachablePoseError
 
     real, calls = pa.analyze_pm, []

@@ -15,11 +15,11 @@ import pytest
 pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
-from screwkit.catalog import default_catalog  # noqa: E402
 from screwkit.cli import main  # noqa: E402
 from screwkit.drawing import _clip_line, draw_leg, draw_pm, require_matplotlib  # noqa: E402
 from screwkit.errors import InputError  # noqa: E402
 from screwkit.legs import Placement  # noqa: E402
+from screwkit.pm import default_catalog  # noqa: E402
 
 
 def read_png(path):

@@ -14,12 +14,12 @@ import pytest
 from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation
 
-from screwkit.catalog import default_catalog, leg_spec_from_mapping
+import screwkit
+from screwkit.engine import solve_statics, statics, unified_jacobian
 from screwkit.errors import GeometryError, SingularityError
-from screwkit.jacobian import unified_jacobian
 from screwkit.legs import Placement, structure_residuals
+from screwkit.pm import default_catalog, leg_spec_from_mapping
 from screwkit.screws import transform_wrenches
-from screwkit.statics import solve_statics, statics
 
 F_LOAD = np.array([-20.0, -30.0, -60.0])      # kN
 T_LOAD = np.array([-30.0, -30.0, 100.0])      # kN.cm
@@ -379,7 +379,7 @@ def test_3rrprr_from_load_pm_matches_the_paper():
         pm = pm_mod.load_pm("3RRPRR")
     except CatalogError as exc:
         pytest.skip(f"no 3RRPRR PM in the catalog yet: {exc}")
-    sol = pm.solve({"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+    sol = screwkit.solve(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
     assert sol.success
     res = solve_statics(sol.legs, sol.position, F_LOAD, T_LOAD)
     Fr, lines, T_r, _ = paper_3rrprr(np.radians(5), np.radians(-3), 80.0)

@@ -334,7 +334,7 @@ def test_unclosed_configuration_fails_loop_closure():
 
 
 def test_screwkit_statics_agrees_with_pinocchio_and_check_pm_adapter():
-    statics_mod = pytest.importorskip("screwkit.statics")
+    statics_mod = pytest.importorskip("screwkit.engine")
     from types import SimpleNamespace
     from screwkit.pinocchio_check import check_pm
     rng = np.random.default_rng(9)

@@ -8,8 +8,9 @@ the product of exponentials, and from invariances (frame, units).
 import numpy as np
 import pytest
 
+import screwkit
+from screwkit.engine import leg_forward
 from screwkit.errors import CatalogError, InputError, UnreachablePoseError
-from screwkit.kinematics import leg_forward
 from screwkit.legs import structure_residuals
 from screwkit.pm import load_pm
 from screwkit.screws import reciprocal_system, same_span, transform_twists
@@ -40,7 +41,7 @@ def _dc(a, b, g):
 @pytest.mark.parametrize("a,b,Zo", [(5, -3, 80), (-8, 6, 70), (12, 10, 95), (0.5, -15, 85)])
 def test_3rrprr_closed_forms(rrprr, a, b, Zo):
     E, e = 120 / b3, 60 / b3                       # sides 120 and 60: E = 2e
-    sol = rrprr.solve({"alpha": a, "beta": b, "Zo": Zo}, degrees=True)
+    sol = screwkit.solve(rrprr, {"alpha": a, "beta": b, "Zo": Zo}, degrees=True)
     assert sol.success and sol.residual < 1e-10
     a, b = np.radians(a), np.radians(b)
     ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
@@ -73,17 +74,17 @@ def test_3rrprr_vertices_are_eq_10a(rrprr):
 
 
 def test_beta_zero_is_resolved_by_continuity(rrprr):
-    sol = rrprr.solve({"alpha": 0.1, "beta": 0.0, "Zo": 80})
+    sol = screwkit.solve(rrprr, {"alpha": 0.1, "beta": 0.0, "Zo": 80})
     assert sol.success
     assert sol.params["gamma"] == pytest.approx(0.1, abs=1e-7)           # the limit gamma = alpha
     assert any("representation singularity" in n for n in sol.notes)
-    near = rrprr.solve({"alpha": 0.1, "beta": 1e-6, "Zo": 80})
+    near = screwkit.solve(rrprr, {"alpha": 0.1, "beta": 1e-6, "Zo": 80})
     assert not any("representation" in n for n in near.notes)
     for k in ("Xo", "Yo", "gamma"):
         assert sol.params[k] == pytest.approx(near.params[k], abs=1e-4)
     # warm start from one side: same limit
-    side = rrprr.solve({"alpha": 0.1, "beta": 0.0, "Zo": 80},
-                       guess=rrprr.solve({"alpha": 0.1, "beta": -0.05, "Zo": 80}))
+    side = screwkit.solve(rrprr, {"alpha": 0.1, "beta": 0.0, "Zo": 80},
+                          guess=screwkit.solve(rrprr, {"alpha": 0.1, "beta": -0.05, "Zo": 80}))
     assert side.params["gamma"] == pytest.approx(0.1, abs=1e-7)
     assert any("one-sided" in n for n in side.notes)
 
@@ -92,7 +93,7 @@ def test_path_continuity_and_warm_start(rrprr):
     t = np.linspace(0, 1, 41)
     path = [{"alpha": 0.15 * np.sin(3 * s), "beta": 0.1 * np.cos(2 * s) - 0.05, "Zo": 75 + 10 * s}
             for s in t]   # crosses beta = 0 (not exactly)
-    sols = rrprr.solve_path(path)
+    sols = screwkit.solve_path(rrprr, path)
     assert all(s.success for s in sols)
     q = np.array([np.concatenate(s.joint_values) for s in sols])
     prismatic = np.array([j.kind == "P" for h in rrprr.home_legs for j in h.joints])
@@ -100,7 +101,7 @@ def test_path_continuity_and_warm_start(rrprr):
     assert np.all(step[~prismatic] < 0.05) and np.all(step[prismatic] < 2.0)  # no jump (cm, rad)
     g = np.array([s.params["gamma"] - s.params["alpha"] for s in sols])
     assert np.max(np.abs(g)) < 1e-8
-    cold = rrprr.solve(path[-1])
+    cold = screwkit.solve(rrprr, path[-1])
     assert np.allclose(np.concatenate(cold.joint_values), q[-1], atol=1e-7)
     assert sols[-1].iterations <= cold.iterations
 
@@ -119,7 +120,7 @@ def test_2sps2spr_home_is_not_centred(sps_spr):
 @pytest.mark.parametrize("a,b,g,Zo", [(4, 3, 2, 80), (-6, 10, 8, 90), (15, -12, -14, 70)])
 def test_2sps2spr_eq16_and_eq17(sps_spr, a, b, g, Zo):
     L, l1, l2 = 100.0, 60.0, 50.0
-    sol = sps_spr.solve({"alpha": a, "beta": b, "gamma": g, "Zo": Zo}, degrees=True)
+    sol = screwkit.solve(sps_spr, {"alpha": a, "beta": b, "gamma": g, "Zo": Zo}, degrees=True)
     assert sol.success
     a, b, g = np.radians([a, b, g])
     c = _dc(a, b, g)
@@ -184,7 +185,7 @@ def test_placed_legs_keep_their_structure_and_close_the_loops(name):
     rng = np.random.default_rng(7)
     ind = {p: pm.default_pose[p] + (rng.uniform(-0.08, 0.08) if p in ("alpha", "beta", "gamma")
                                     else rng.uniform(-4, 4)) for p in pm.independent}
-    sol = pm.solve(ind)
+    sol = screwkit.solve(pm, ind)
     assert sol.success and not sol.notes
     rebuilt = pm.rebuild_legs(sol.params)
     Rp, op = sol.rotation, sol.position
@@ -210,20 +211,20 @@ def test_placed_legs_keep_their_structure_and_close_the_loops(name):
 
 def test_structure_notes_when_a_leg_loses_its_structure():
     pm = load_pm("3RPUR")        # R4 parallel to R1 only while the platform does not rotate
-    assert not pm.solve({"alpha": 0, "beta": 0, "Zo": 65}).notes
-    sol = pm.solve({"alpha": 0.05, "beta": 0.02, "Zo": 60})
+    assert not screwkit.solve(pm, {"alpha": 0, "beta": 0, "Zo": 65}).notes
+    sol = screwkit.solve(pm, {"alpha": 0.05, "beta": 0.02, "Zo": 60})
     assert sol.success and any("structure checks do not hold" in n for n in sol.notes)
 
 
 def test_translational_and_spherical_3upu():
     tr = load_pm("3UPU")
-    s = tr.solve({"Xo": 7, "Yo": -4, "Zo": 55})
+    s = screwkit.solve(tr, {"Xo": 7, "Yo": -4, "Zo": 55})
     assert np.allclose(s.rotation, np.eye(3), atol=1e-10)
     sp = load_pm("3UPU/spherical")
     C = sp.centre
     d0 = np.linalg.norm(sp.platform_home[1] - C)
     for ang in ([0.1, -0.05, 0.08], [-0.12, 0.1, 0.0]):
-        s = sp.solve(dict(zip(("alpha", "beta", "gamma"), ang)))
+        s = screwkit.solve(sp, dict(zip(("alpha", "beta", "gamma"), ang)))
         assert np.linalg.norm(s.position - C) == pytest.approx(d0, abs=1e-8)
         # the platform point at C stays at C (rotation about C)
         assert np.allclose(s.rotation @ (C - sp.platform_home[1]) + s.position, C, atol=1e-8)
@@ -233,8 +234,8 @@ def test_translational_and_spherical_3upu():
 
 def test_units_scaling(rrprr):
     big = load_pm("3RRPRR", {"L": 120000, "l": 60000})
-    s1 = rrprr.solve({"alpha": 7, "beta": -4, "Zo": 85}, degrees=True)
-    s2 = big.solve({"alpha": 7, "beta": -4, "Zo": 85000}, degrees=True)
+    s1 = screwkit.solve(rrprr, {"alpha": 7, "beta": -4, "Zo": 85}, degrees=True)
+    s2 = screwkit.solve(big, {"alpha": 7, "beta": -4, "Zo": 85000}, degrees=True)
     assert s2.success
     assert np.allclose(s2.extensions, 1000 * s1.extensions, rtol=1e-10)
     for k in ("alpha", "beta", "gamma"):
@@ -252,7 +253,7 @@ def test_change_of_base_frame(name):
     p = np.array([300.0, -120.0, 45.0])
     moved = pm.moved(R, p)
     ind = {k: pm.default_pose[k] * 1.3 for k in pm.independent}
-    s1, s2 = pm.solve(ind), moved.solve(ind)
+    s1, s2 = screwkit.solve(pm, ind), screwkit.solve(moved, ind)
     assert s2.success
     assert np.allclose(s2.position, R @ s1.position + p)
     assert np.allclose(s2.rotation, R @ s1.rotation)
@@ -268,15 +269,15 @@ def test_change_of_base_frame(name):
 def test_unreachable_and_bad_input(rrprr):
     rsr = load_pm("3RSR")      # fixed-length links: the platform cannot rise far
     with pytest.raises(UnreachablePoseError) as ei:
-        rsr.solve({"alpha": 0, "beta": 0, "Zo": 400})
+        screwkit.solve(rsr, {"alpha": 0, "beta": 0, "Zo": 400})
     assert ei.value.residual > 1e-6 and "unreachable" in str(ei.value)
     with pytest.raises(InputError, match="finite"):
-        rrprr.solve({"alpha": float("nan"), "beta": 0, "Zo": 80})
+        screwkit.solve(rrprr, {"alpha": float("nan"), "beta": 0, "Zo": 80})
     with pytest.raises(InputError, match="dependent"):
-        rrprr.solve({"alpha": 0, "beta": 0, "Zo": 80, "gamma": 0.1})
+        screwkit.solve(rrprr, {"alpha": 0, "beta": 0, "Zo": 80, "gamma": 0.1})
     with pytest.raises(InputError, match="unknown pose parameter"):
-        rrprr.solve({"theta": 1})
-    s = rrprr.solve({"alpha": 0.05})
+        screwkit.solve(rrprr, {"theta": 1})
+    s = screwkit.solve(rrprr, {"alpha": 0.05})
     assert any("default pose" in n for n in s.notes)
     with pytest.raises(InputError, match="unknown dimension"):
         load_pm("3RRPRR", {"H": 3})
@@ -315,7 +316,7 @@ def test_user_file(tmp_path):
     f.write_text(_GOOD)
     pm = load_pm(str(f))
     assert pm.legs == ("MYSPR",) * 3 and pm.dimensions == {"R": 50.0, "r": 20.0}
-    s = pm.solve({"alpha": 4, "beta": 2, "Zo": 45}, degrees=True)
+    s = screwkit.solve(pm, {"alpha": 4, "beta": 2, "Zo": 45}, degrees=True)
     assert s.success and np.allclose(pm.base_points[0], [0, 50, 0], atol=1e-12)
 
 

@@ -11,9 +11,9 @@ Independent checks (not the statics code's own algebra):
 import numpy as np
 import pytest
 
+from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.errors import SingularityError, UnreachablePoseError
 from screwkit.pm import load_pm, pm_names
-from screwkit.pm_analysis import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from equilibrium_check import leg_equilibrium_error
 
 PMS = pm_names()

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 import screwkit
-from screwkit.catalog import default_catalog, leg_spec_from_mapping
+from screwkit.engine import (COND_THRESHOLD, solve_statics, statics, unified_jacobian,
+                             workload_wrench)
 from screwkit.errors import InputError, SingularityError
-from screwkit.jacobian import COND_THRESHOLD, unified_jacobian
 from screwkit.legs import Joint, Leg, Placement, parse_leg
-from screwkit.statics import solve_statics, statics, workload_wrench
+from screwkit.pm import default_catalog, leg_spec_from_mapping
 
 F0 = np.array([10.0, -5.0, -60.0])
 T0 = np.array([3.0, 4.0, 5.0])

@@ -21,9 +21,9 @@ from scipy.spatial.transform import Rotation
 
 import screwkit
 from screwkit.commands._common import dump_json
+from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
 from screwkit.pathspec import PathSpec, path_from_csv, path_from_expressions
-from screwkit.pm_analysis import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.trajectory import run_trajectory
 
 F_LOAD, T_LOAD = np.array(PAPER_FORCE), np.array(PAPER_TORQUE)
@@ -172,7 +172,7 @@ def test_every_sample_leg_equilibrium_on_the_legs_own_joints(models, runs, name)
     L = model.normalisation.length
     guess = None
     for k in range(len(path)):
-        sol = model.solve(path.sample(k), guess=guess)
+        sol = screwkit.solve(model, path.sample(k), guess=guess)
         guess = sol
         o = sol.position
         W = np.r_[F_LOAD, T_LOAD + np.cross(o, F_LOAD)]
@@ -191,7 +191,7 @@ def _paper_det_2sps2spr(model, s):
     """det of the paper's J (eq. 18) at alpha = gamma = s (deg), beta = 0, Zo = 80: rows
     [delta_i; e_i x delta_i] and [c_j; rho_j x c_j] about o, e_i = a_i - o, rho_j = A_j - o,
     c2 = (a1 - a3)/|.|, c3 = (a2 - a4)/|.| (eq. 19 with NOTES.md's corrections)."""
-    sol = model.solve({"alpha": s, "beta": 0.0, "gamma": s, "Zo": 80.0}, degrees=True)
+    sol = screwkit.solve(model, {"alpha": s, "beta": 0.0, "gamma": s, "Zo": 80.0}, degrees=True)
     A, a, o = sol.base_points, sol.platform_points, sol.position
     rows = []
     for i in range(4):
@@ -232,7 +232,7 @@ def test_unreachable_samples_are_flagged_and_the_run_recovers(tmp_path):
     res = run_trajectory(model, path)
     assert res.status.tolist() == ["ok", "ok", "unreachable", "unreachable", "ok", "ok"]
     with pytest.raises(UnreachablePoseError):
-        model.solve(path.sample(3))
+        screwkit.solve(model, path.sample(3))
     for i in (2, 3):
         assert np.isnan(res.params["Xo"][i]) and np.isnan(res.condition_number[i])
         assert res.params["alpha"][i] == pytest.approx(path.values["alpha"][i])  # as given

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import screwkit
-from screwkit.catalog import Catalog, LegSpec, default_catalog
 from screwkit.cli import main
 from screwkit.legs import Placement
+from screwkit.pm import Catalog, LegSpec, default_catalog
 from screwkit.screws import couple_wrench, force_wrench, same_span, span_contains
 
 X, Y, Z = np.eye(3)

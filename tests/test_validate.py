@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 
 import screwkit.validation as validation
-from screwkit.catalog import Catalog, default_catalog, leg_spec_from_mapping
 from screwkit.cli import main
 from screwkit.legs import Joint, Leg
+from screwkit.pm import Catalog, default_catalog, leg_spec_from_mapping
 from screwkit.validation import validate_catalog, validate_string, validate_table1
 
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import dump_json
 from ..errors import InputError
+from ._common import dump_json
 from .analyze import add_pm_arguments, parse_assignments, resolve_model
 
 HELP = """Cross-check screwkit's analysis of a PM with Pinocchio: the PM is rebuilt with
@@ -54,7 +54,7 @@ def _poses(args, default):
 
 def run(args) -> int:
     from ..pinocchio_check import PMChecker, check_all, check_analysis, regular_analyses
-    from ..pm_analysis import analyze_pm
+    from ..engine import analyze_pm
 
     rtol = _rtol(args)
     if args.all:

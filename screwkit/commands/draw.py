@@ -6,8 +6,9 @@ import sys
 
 import numpy as np
 
-from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple, resolve_model
 from ..errors import InputError
+from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_triple,
+                      resolve_model)
 
 HELP = """Draw a PM at a pose (the paper's Figs. 3b and 4b): base and platform polygons, the legs
 with their joints, the actuation forces on their lines (red), the constraint forces as arrows on
@@ -91,7 +92,7 @@ def _title(res, force_unit, length_unit, singular) -> str:
 
 def run(args) -> int:
     from ..drawing import draw_pm, require_matplotlib
-    from ..pm_analysis import analyze_pm
+    from ..engine import analyze_pm
 
     require_matplotlib()
     view = None

@@ -57,7 +57,7 @@ def leg_report(res) -> dict:
 
 def run(args) -> int:
     import screwkit
-    from ..catalog import Catalog, default_catalog, load_catalog
+    from ..pm import Catalog, default_catalog, load_catalog
 
     cat = default_catalog()
     if args.model:

@@ -4,7 +4,8 @@
 * the placed equivalent chain of a leg (:class:`Joint`, :class:`Leg`) and its
   end points and frames (:class:`Placement`);
 * the placement rules of the catalog (:class:`LegRules`, :func:`build_leg`,
-  :func:`generic_leg`, :func:`structure_residuals`);
+  :func:`generic_leg`) and their structure checks (:func:`structure_residuals`,
+  :func:`structure_vector`);
 * the three observation rules (:func:`decompose`, :func:`explain_force`, ...)
   and the screw-theoretic analysis of a leg (:func:`analyze_leg`,
   :meth:`Leg.analyze`).
@@ -14,7 +15,8 @@ from ._parsing import (JOINT_DOF, JOINT_LETTERS, EquivalentJoint, LegString, PMS
                        parse_leg, parse_pm)
 from ._chain import Joint, Leg
 from ._placement import Placement, default_placement
-from ._rules import JointRule, LegRules, build_leg, generic_leg, structure_residuals
+from ._rules import JointRule, LegRules, build_leg, generic_leg
+from ._structure import structure_residuals, structure_vector
 from ._observation import (ConstraintWrench, RuleNote, candidate_points, decompose, explain_couple,
                            explain_force, named_points, point_label, reciprocity_residual)
 from ._analysis import ActuationWrench, LegAnalysis, actuation_wrench, analyze_leg
@@ -27,6 +29,7 @@ __all__ = [
     "Joint", "Leg", "Placement", "default_placement",
     # catalog rules
     "JointRule", "LegRules", "build_leg", "generic_leg", "structure_residuals",
+    "structure_vector",
     # observation rules and leg analysis
     "RuleNote", "ConstraintWrench", "decompose", "explain_force", "explain_couple",
     "named_points", "candidate_points", "reciprocity_residual", "point_label",

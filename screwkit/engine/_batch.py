@@ -31,9 +31,9 @@ from itertools import combinations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .jacobian import COND_THRESHOLD
-from .kinematics import CONVERGED, LENGTH_PARAMS
-from .screws import GEOMETRY_RTOL, RANK_RTOL
+from ..screws import GEOMETRY_RTOL, RANK_RTOL
+from ._jacobian import COND_THRESHOLD
+from ._kinematics import CONVERGED, LENGTH_PARAMS
 
 __all__ = ["LegArrays", "leg_arrays", "forward_batch", "twists_batch", "KinematicsBatch",
            "BatchProblem", "newton_batch", "assemble_batch", "LegTemplate",

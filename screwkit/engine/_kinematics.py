@@ -31,17 +31,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .errors import InputError, UnreachablePoseError
-from .legs import Joint, Leg
-from .legs._rules import _Context
-from .screws import angular_jacobian, is_singular, rotation_matrix
+from ..errors import InputError, UnreachablePoseError
+from ..legs import Joint, Leg, structure_vector
+from ..pm import LENGTH_PARAMS, PARAMS     # the pose parametrisation of the models
+from ..screws import angular_jacobian, is_singular, rotation_matrix
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "PoseSolution", "leg_forward", "placed_leg",
            "solve_pose", "solve_path", "structure_vector", "CONVERGED", "ACCEPTED"]
 
-#: The six pose parameters of the platform, in this order.
-PARAMS = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
-LENGTH_PARAMS = frozenset(("Xo", "Yo", "Zo"))
 #: Normalised closure residual regarded as converged (success).
 CONVERGED = 1e-10
 #: Largest normalised residual returned without raising UnreachablePoseError.
@@ -487,38 +484,6 @@ def _resolve_singularity(model, fixed, pose0, q0, pair, guess):
         notes.append(f"the one-sided limits differ by {np.degrees(jump):.3g} deg: the pose "
                      "parametrisation is discontinuous here")
     return out, notes
-
-
-def structure_vector(rules: LegRules, placement: Placement, leg) -> np.ndarray:
-    """Smooth residuals of a leg's structure checks (vectors where the check is 2-D).
-
-    ``perpendicular``: ``d1 . d2``; ``parallel``: ``d1 x d2`` (3); ``meets``:
-    the signed distance of the axes over the leg length; ``through``: the
-    offset of the point from the axis over the leg length (3).
-    """
-    ctx = _Context(rules, placement)
-    for j in leg.joints:
-        for key in (j.name, f"{j.spec.origin}{j.spec.position}"):
-            ctx.dirs.setdefault(key, j.direction)
-            ctx.pts.setdefault(key, j.point)
-    L = max(placement.length, 1e-300)
-    out = []
-    for chk in rules.structure:
-        (k, v), = chk.items()
-        if k == "perpendicular":
-            out.append([float(ctx.direction(v[0]) @ ctx.direction(v[1]))])
-        elif k == "parallel":
-            out.append(np.cross(ctx.direction(v[0]), ctx.direction(v[1])))
-        elif k == "meets":
-            d1, d2 = ctx.direction(v[0]), ctx.direction(v[1])
-            n = np.cross(d1, d2)
-            nn = np.linalg.norm(n)
-            out.append([0.0 if nn < 1e-9 else float(n @ (ctx.point(v[1]) - ctx.point(v[0]))) / nn / L])
-        else:
-            d, p, x = ctx.direction(v[0]), ctx.point(v[0]), ctx.point(v[1])
-            r = x - p
-            out.append((r - (r @ d) * d) / L)
-    return np.concatenate([np.ravel(o) for o in out]) if out else np.zeros(0)
 
 
 def _structure_notes(model, pose, legs):

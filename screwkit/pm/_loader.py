@@ -5,16 +5,20 @@ YAML file with ``pms:`` and optionally ``legs:``); ``docs/pm_models.md`` has the
 schema.  :func:`load_pm` evaluates the definition with its dimensions, solves the
 *home* pose (the dependent pose parameters at the home values of the independent
 ones, so that every leg's structure checks hold), builds each leg by its catalog
-rules there, and returns a :class:`PMModel` whose :meth:`PMModel.solve` is the
-unified inverse displacement (:mod:`screwkit.kinematics`).
+rules there, and returns a :class:`PMModel`: a constant description, solved at a
+pose by :func:`screwkit.solve` (the unified inverse displacement of
+:mod:`screwkit.engine`).  This module never calls the engine: the check that the
+default pose can be assembled is made by :func:`screwkit.load_pm` (and
+:func:`screwkit.engine.load_assembled_pm`, which every loader for users goes
+through).
 
 Examples
 --------
->>> from screwkit.pm import load_pm
->>> pm = load_pm("3RRPRR")
+>>> import screwkit
+>>> pm = screwkit.load_pm("3RRPRR")
 >>> pm.independent, pm.order, pm.stated_dof
 (('alpha', 'beta', 'Zo'), 'XYX', 3)
->>> sol = pm.solve({"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+>>> sol = screwkit.solve(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
 >>> bool(sol.success)
 True
 """
@@ -22,17 +26,17 @@ True
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .errors import CatalogError, GeometryError, InputError, ScrewkitError
-from .kinematics import LENGTH_PARAMS, PARAMS, solve_path, solve_pose, structure_vector
-from .legs import LegRules, Placement, build_leg
-from .screws import Normalisation, check_order, is_singular, rotation_matrix
+from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
+from ..legs import LegRules, build_leg
+from ..screws import Normalisation, check_order
+from ._home import _solve_home
+from ._model import LENGTH_PARAMS, PARAMS, PMModel
 
-__all__ = ["PMModel", "load_pm", "pm_names", "structure_vector"]
+__all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
             "independent", "pose", "home", "guess", "dof", "motion", "note", "source"}
@@ -40,153 +44,10 @@ _SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "co
                "points", "z"}
 
 
-@dataclass(frozen=True, eq=False)
-class PMModel:
-    """An assembled PM: geometry, home legs, pose parametrisation.
-
-    Attributes
-    ----------
-    name : str
-    legs : tuple of str
-        Catalog leg name at each vertex.
-    leg_rules : tuple of LegRules
-        The rules of each leg (with the PM's per-vertex axis overrides).
-    home_legs : tuple of Leg
-        Legs built by their rules at the home pose (joint values 0).
-    home_pose : dict
-        Full pose at home (radians).
-    independent, dependent : tuple of str
-    order : str
-        Euler order (scipy convention; ``"XYX"`` is intrinsic).
-    dimensions : dict
-    base_points : ndarray (n, 3)
-        ``A_i`` in the base frame.
-    platform_points : ndarray (n, 3)
-        ``a_i`` in the platform frame.
-    centre : ndarray (3,)
-        The base-fixed point ``C`` of the leg rules (base frame).
-    stated_dof : int
-    motion : str
-        The motion type the definition states (``"1T2R"``), or "".
-    default_pose : dict
-        Full pose (radians) at the definition's default independent values.
-    frame : tuple (R0 (3, 3), p0 (3,))
-        World <- base frame (identity unless :meth:`moved`).
-    notes : tuple of str
-    """
-
-    name: str
-    string: str
-    legs: tuple
-    leg_rules: tuple
-    home_legs: tuple
-    home_pose: dict
-    independent: tuple
-    dependent: tuple
-    order: str
-    dimensions: dict
-    base_points: np.ndarray
-    platform_points: np.ndarray
-    centre: np.ndarray
-    stated_dof: int
-    motion: str
-    default_pose: dict
-    frame: tuple
-    normalisation: Normalisation
-    summary: str = ""
-    note: str = ""
-    notes: tuple = ()
-    source: str = ""
-
-    def __repr__(self) -> str:
-        return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
-                f"independent={self.independent}, order={self.order!r})")
-
-    # -- geometry ---------------------------------------------------------
-    def pose_matrix(self, pose: dict):
-        """World <- platform rotation (3, 3) and the platform centre ``o`` (3,)."""
-        R0, p0 = self.frame
-        R = rotation_matrix(self.order, pose["alpha"], pose["beta"], pose["gamma"])
-        return R0 @ R, R0 @ np.array([pose["Xo"], pose["Yo"], pose["Zo"]], float) + p0
-
-    @property
-    def platform_home(self):
-        """``T_end_home`` of every leg: the platform pose at home, (R (3, 3), p (3,))."""
-        return self.pose_matrix(self.home_pose)
-
-    @property
-    def world_base_points(self) -> np.ndarray:
-        R0, p0 = self.frame
-        return (R0 @ self.base_points.T).T + p0
-
-    @property
-    def n_legs(self) -> int:
-        return len(self.legs)
-
-    def placement(self, i: int, pose: dict) -> Placement:
-        """The :class:`Placement` of leg ``i`` (0-based) at ``pose`` (radians)."""
-        R0, p0 = self.frame
-        R, o = self.pose_matrix(pose)
-        return Placement(self.world_base_points[i], R @ self.platform_points[i] + o, p0, o, R0, R,
-                         R0 @ self.centre + p0)
-
-    def rebuild_legs(self, pose: dict, check_structure: bool = False) -> tuple:
-        """Every leg built afresh by its catalog rules at ``pose`` (for checks)."""
-        return tuple(build_leg(r, self.placement(i, pose), check_structure)
-                     for i, r in enumerate(self.leg_rules))
-
-    # -- inverse displacement --------------------------------------------
-    def solve(self, independent: dict, guess=None, degrees: bool = False):
-        """Unified inverse displacement at the given independent pose parameters.
-
-        Parameters
-        ----------
-        independent : dict
-            Values of ``self.independent`` (missing ones are taken from the
-            default pose, with a note); angles in radians unless ``degrees``.
-        guess : PoseSolution or dict, optional
-            Warm start (e.g. the previous pose along a path); default home.
-        degrees : bool
-
-        Returns
-        -------
-        PoseSolution
-
-        Raises
-        ------
-        InputError
-            Unknown, dependent or non-finite parameters.
-        UnreachablePoseError
-            The loop closures cannot be satisfied (``residual`` attribute).
-        """
-        return solve_pose(self, independent, guess, degrees)
-
-    def solve_path(self, poses, guess=None, degrees: bool = False) -> tuple:
-        """Solve a list of independent-parameter dicts, each warm-started from the previous."""
-        return solve_path(self, poses, guess, degrees)
-
-    def moved(self, rotation, translation) -> "PMModel":
-        """The same PM with its base frame placed at ``x -> R x + p`` in the world.
-
-        Pose parameters stay relative to the base frame; every world quantity
-        (legs, ``o``) moves with it.
-        """
-        R = np.asarray(rotation, float)
-        p = np.asarray(translation, float).reshape(3)
-        R0, p0 = self.frame
-        frame = (R @ R0, R @ p0 + p)
-        legs = tuple(lg.moved(R, p) for lg in self.home_legs)
-        norm = Normalisation(R @ self.normalisation.centre + p, self.normalisation.length)
-        return dataclasses.replace(self, home_legs=legs, frame=frame, normalisation=norm)
-
-
-# ---------------------------------------------------------------------------
-# loading
-# ---------------------------------------------------------------------------
 
 def pm_names(catalog=None) -> list:
     """Names of the PMs of the catalog."""
-    from .catalog import default_catalog
+    from ._catalog import default_catalog
     cat = catalog if catalog is not None else default_catalog()
     return sorted(cat.pms)
 
@@ -220,7 +81,7 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
     InputError
         Bad overrides.
     """
-    from .catalog import Catalog, default_catalog, load_catalog
+    from ._catalog import Catalog, default_catalog, load_catalog
 
     cat = catalog if catalog is not None else default_catalog()
     if not isinstance(name_or_path, str) or not name_or_path.strip():
@@ -264,7 +125,7 @@ class _Ctx:
         return CatalogError(msg, self.name, fld, self.source)
 
     def num(self, v, fld) -> float:
-        from .expressions import parse_expression
+        from ._expressions import parse_expression
         if isinstance(v, bool):
             raise self.err(f"must be a number or an expression, got {v!r}", fld)
         if isinstance(v, (int, float)):
@@ -419,7 +280,7 @@ def _pose_values(raw, ctx, fld, names) -> dict:
 
 
 def _build(name: str, d, cat, overrides: dict) -> PMModel:
-    from .legs import parse_pm
+    from ..legs import parse_pm
 
     src = cat.source
     if not isinstance(d, dict):
@@ -525,71 +386,8 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         raise ctx.err(f"cannot assemble the legs at the home pose: {exc}", "home") from None
     Rh, oh = proto.pose_matrix(home)
     norm = Normalisation.for_points(np.vstack([base, (Rh @ plat.T).T + oh]))
-    model = dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
-                                default_pose=dict(home), notes=tuple(notes))
-    if any(abs(pose[p] - home[p]) > 0 for p in ind):
-        try:
-            sol = model.solve(pose)
-        except ScrewkitError as exc:
-            raise ctx.err(f"the default pose cannot be assembled: {exc}", "pose") from None
-        model = dataclasses.replace(model, default_pose=dict(sol.params),
-                                    notes=model.notes + tuple(f"default pose: {t}" for t in sol.notes))
-    return model
-
-
-def _solve_home(model: PMModel, start: dict, ctx: _Ctx):
-    """Dependent pose parameters at home: every leg's structure checks vanish (Gauss-Newton)."""
-    dep = model.dependent
-    L = model.normalisation.length
-    scale = np.array([L if p in LENGTH_PARAMS else 1.0 for p in dep])
-
-    def residual(x):
-        pose = dict(start)
-        pose.update(zip(dep, x))
-        out = []
-        for i, r in enumerate(model.leg_rules):
-            pl = model.placement(i, pose)
-            try:
-                leg = build_leg(r, pl, check_structure=False)
-                out.append(structure_vector(r, pl, leg))
-            except GeometryError:
-                return None
-        return np.concatenate(out) if out else np.zeros(0)
-
-    x = np.array([start[p] for p in dep], float)
-    f = residual(x)
-    if f is None:
-        raise ctx.err("the legs cannot be built at the home guess (adjust 'guess' or 'home')", "guess")
-    notes = []
-    for it in range(100):
-        if f.size == 0 or np.max(np.abs(f)) < 1e-14:
-            break
-        J = np.empty((f.size, len(dep)))
-        for k in range(len(dep)):
-            h = np.zeros(len(dep))
-            h[k] = 1e-6 * scale[k]
-            fp, fm = residual(x + h), residual(x - h)
-            if fp is None or fm is None:
-                raise ctx.err("the legs cannot be built near the home pose", "home")
-            J[:, k] = (fp - fm) / (2e-6)
-        dx = np.linalg.lstsq(J, -f, rcond=1e-10)[0] * scale
-        t = 1.0
-        for _ in range(30):
-            fn = residual(x + t * dx)
-            if fn is not None and np.linalg.norm(fn) < np.linalg.norm(f):
-                break
-            t *= 0.5
-        else:
-            break
-        x, f = x + t * dx, fn
-    res = float(np.max(np.abs(f))) if f.size else 0.0
-    if res > 1e-9:
-        raise ctx.err(f"no home pose satisfies the legs' structure checks near the guess "
-                      f"(residual {res:.3g}); adjust 'home' or 'guess'", "home")
-    home = {p: float(v) for p, v in start.items()}
-    home.update(zip(dep, (float(v) for v in x)))
-    if "beta" in home and is_singular(model.order, home["beta"]) and \
-            any(p in dep for p in ("alpha", "gamma")):
-        notes.append(f"the home pose is at a representation singularity of {model.order} "
-                     "(beta = 0 or pi): the dependent angle kept its guess value")
-    return home, notes
+    # the default pose is only the independent values: assembling it is the engine's job
+    # (screwkit.engine.check_default_pose, called by screwkit.load_pm)
+    default = {k: float(v) for k, v in pose.items()}
+    return dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
+                               default_pose=default, notes=tuple(notes))

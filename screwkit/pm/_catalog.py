@@ -29,9 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import CatalogError, ScrewkitError
-from .legs import Placement, default_placement
-from .legs._rules import LegRules, _Context, build_leg
+from ..errors import CatalogError, ScrewkitError
+from ..legs import Placement, default_placement
+from ..legs import LegRules, build_leg
+from ..legs._rule_context import _Context
 
 __all__ = ["LegSpec", "Catalog", "load_catalog", "default_catalog", "catalog_path",
            "leg_spec_from_mapping"]
@@ -72,8 +73,8 @@ class LegSpec:
         couple axis is built from the rules' references (independently of the
         solver) and must be reciprocal to every joint twist.
         """
-        from .screws import span_contains
-        from .screws import couple_wrench, force_wrench
+        from ..screws import span_contains
+        from ..screws import couple_wrench, force_wrench
 
         e = self.expect
         problems = []
@@ -234,7 +235,7 @@ def catalog_path() -> Path:
     env = os.environ.get("SCREWKIT_CATALOG")
     if env:
         return Path(env)
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parent.parent     # the screwkit package (this is pm/_catalog.py)
     for p in (here / "legs_catalog.yaml", here.parent / "legs_catalog.yaml"):
         if p.is_file():
             return p

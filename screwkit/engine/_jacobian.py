@@ -62,9 +62,9 @@ from functools import cached_property
 
 import numpy as np
 
-from .errors import InputError, SingularityError
-from .legs import Leg, point_label
-from .screws import Normalisation, RANK_RTOL, as_vector3
+from ..errors import InputError, SingularityError
+from ..legs import Leg, point_label
+from ..screws import Normalisation, RANK_RTOL, as_vector3
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult", "unified_jacobian"]
 

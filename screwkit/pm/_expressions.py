@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS",
            "MAX_LENGTH"]

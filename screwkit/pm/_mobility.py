@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .screws import Normalisation, RANK_RTOL, reciprocal_system
+from ..screws import Normalisation, RANK_RTOL, reciprocal_system
 
 __all__ = ["Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph"]
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze_pm"]
 
@@ -149,14 +149,15 @@ def analyze_pm(pm, pose: dict | None = None, *, force=PAPER_FORCE, torque=PAPER_
         Raise :class:`SingularityError` at a singular pose (default) or return
         the analysis with ``statics=None``.
     """
-    from .jacobian import unified_jacobian
-    from .mobility import mobility
-    from .pm import PMModel, load_pm
-    from .statics import statics
+    from ..pm import PMModel, mobility
+    from ._assembly import load_assembled_pm
+    from ._jacobian import unified_jacobian
+    from ._kinematics import solve_pose
+    from ._statics import statics
 
-    model = pm if isinstance(pm, PMModel) else load_pm(pm, overrides, catalog)
+    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, overrides, catalog)
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
-    sol = model.solve(pose or {}, guess=guess, degrees=degrees)
+    sol = solve_pose(model, pose or {}, guess, degrees)
     mob = mobility(sol)
     jac = unified_jacobian(sol.legs, sol.position)
     st = None

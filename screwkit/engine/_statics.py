@@ -46,9 +46,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .jacobian import COND_THRESHOLD, JacobianResult, unified_jacobian
-from .screws import RANK_RTOL, as_vector3
+from ..errors import InputError
+from ..screws import RANK_RTOL, as_vector3
+from ._jacobian import COND_THRESHOLD, JacobianResult, unified_jacobian
 
 __all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench"]
 

@@ -1,0 +1,32 @@
+"""PM layer: the leg catalog, parallel-manipulator models and their mobility.
+
+* the catalog of leg types and PM definitions (:func:`default_catalog`,
+  :func:`load_catalog`, :class:`LegSpec`, :class:`Catalog`);
+* the model of a PM (:func:`load_pm` -> :class:`PMModel`): geometry, home legs
+  and pose parametrisation (:data:`PARAMS`), a constant description that the
+  solvers of :mod:`screwkit.engine` take as input (this layer never imports the
+  engine; :func:`screwkit.load_pm` also checks that the default pose assembles);
+* the mobility of an assembled PM (:func:`mobility`);
+* the safe expressions of the dimensions and paths (:func:`parse_expression`).
+"""
+
+from ._expressions import (CONSTANTS, FUNCTIONS, MAX_LENGTH, Expression, evaluate,
+                           parse_expression)
+from ._catalog import (Catalog, LegSpec, catalog_path, default_catalog, leg_spec_from_mapping,
+                       load_catalog)
+from ._model import LENGTH_PARAMS, PARAMS, PMModel
+from ._loader import load_pm, pm_names
+from ._mobility import Mobility, linkage_graph, mobility, mobility_of_legs, motion_type
+from ..legs import structure_vector    # re-exported: it was screwkit.pm.structure_vector
+
+__all__ = [
+    # catalog
+    "LegSpec", "Catalog", "load_catalog", "default_catalog", "catalog_path",
+    "leg_spec_from_mapping",
+    # models
+    "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    # mobility
+    "Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph",
+    # expressions
+    "Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
+]
