@@ -28,9 +28,9 @@ def main(argv=None):
     import numpy as np
 
     import screwkit
-    from screwkit.pathspec import PathSpec, path_from_expressions
+    from screwkit.paths import PathSpec, path_from_expressions
     from screwkit.engine import analyze_pm
-    from screwkit.trajectory import run_trajectory
+    from screwkit.paths import run_trajectory
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=10_000)

@@ -17,8 +17,8 @@ import time
 
 def main(argv=None) -> int:
     from screwkit.pm import default_catalog
-    from screwkit import validation
-    from screwkit.validation import DEFAULT_DRAWS, validate_table1
+    from screwkit.synthesis import _validation as validation
+    from screwkit.synthesis import DEFAULT_DRAWS, validate_table1
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--draws", type=int, default=DEFAULT_DRAWS)

@@ -16,10 +16,9 @@ pin = pytest.importorskip("pinocchio")
 
 from screwkit.engine import analyze_pm  # noqa: E402
 from screwkit.errors import GeometryError, InputError  # noqa: E402
-from screwkit.pinocchio_check import (CHECK_RTOL, PMChecker, SUMMARY_CHECKS,  # noqa: E402
-                                      check_all, check_analysis, check_pm, constraint_jacobian,
-                                      mobility, regular_analyses)
-from screwkit.pinocchio_model import build_closed_loop_model  # noqa: E402
+from screwkit.interop import (CHECK_RTOL, PMChecker, SUMMARY_CHECKS,  # noqa: E402
+                              build_closed_loop_model, check_all, check_analysis, check_pm,
+                              constraint_jacobian, mobility, regular_analyses)
 from screwkit.pm import load_pm, pm_names  # noqa: E402
 
 USER_PM = str(Path(__file__).parent / "data" / "user_pm.yaml")

@@ -8,7 +8,7 @@ import pytest
 pytest.importorskip("pinocchio")
 
 from screwkit.cli import COMMANDS, main  # noqa: E402
-from screwkit.pinocchio_check import SUMMARY_CHECKS  # noqa: E402
+from screwkit.interop import SUMMARY_CHECKS  # noqa: E402
 from screwkit.pm import pm_names  # noqa: E402
 
 USER_PM = str(Path(__file__).parent / "data" / "user_pm.yaml")

@@ -10,7 +10,7 @@ import pytest
 import screwkit
 from screwkit.cli import main
 from screwkit.commands.draw import wrench_rows
-from screwkit.drawing import draw_pm
+from screwkit.viz import draw_pm
 
 
 def _png(path):

@@ -16,10 +16,10 @@ pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
 from screwkit.cli import main  # noqa: E402
-from screwkit.drawing import _clip_line, draw_leg, draw_pm, require_matplotlib  # noqa: E402
 from screwkit.errors import InputError  # noqa: E402
 from screwkit.legs import Placement  # noqa: E402
 from screwkit.pm import default_catalog  # noqa: E402
+from screwkit.viz._drawing import _clip_line, draw_leg, draw_pm, require_matplotlib  # noqa: E402
 
 
 def read_png(path):
@@ -170,7 +170,7 @@ def test_labels_and_axis_units(drawn):
 
 
 def test_draw_into_given_axes_and_explicit_view(tmp_path):
-    from screwkit.drawing import new_figure
+    from screwkit.viz import new_figure
 
     fig, ax = new_figure((5, 5), "3d")
     leg = screwkit.leg("SPR")

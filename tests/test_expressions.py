@@ -12,11 +12,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from screwkit.pm import _expressions as expressions
 from screwkit.errors import InputError, ScrewkitError
-from screwkit.pathspec import (add_path_arguments, parse_assignment, path_from_args, path_from_csv,
-                               path_from_expressions)
-from screwkit.pm import evaluate, parse_expression
+from screwkit.paths import (add_path_arguments, parse_assignment, path_from_args, path_from_csv,
+                            path_from_expressions)
+from screwkit.pm import _expressions as expressions, evaluate, parse_expression
 
 T = np.linspace(0.0, 1.0, 11)
 

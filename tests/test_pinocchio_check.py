@@ -15,11 +15,10 @@ pin = pytest.importorskip("pinocchio")
 
 import screwkit  # noqa: E402
 from screwkit.errors import InputError  # noqa: E402
+from screwkit.interop import (build_closed_loop_model, build_leg_model,  # noqa: E402
+                              check_closed_loop, check_leg, constraint_jacobian, mobility,
+                              sphere_angles)
 from screwkit.legs import Joint, Leg, Placement  # noqa: E402
-from screwkit.pinocchio_check import (check_closed_loop, check_leg,  # noqa: E402
-                                      constraint_jacobian, mobility)
-from screwkit.pinocchio_model import (build_closed_loop_model, build_leg_model,  # noqa: E402
-                                      sphere_angles)
 
 TOL = 1e-9
 LEGS = ["SPR", "RRPRR", "UPU/couple", "UPU/force", "SPS", "PRRR", "RHC", "US", "CRU", "UPS"]
@@ -336,7 +335,7 @@ def test_unclosed_configuration_fails_loop_closure():
 def test_screwkit_statics_agrees_with_pinocchio_and_check_pm_adapter():
     statics_mod = pytest.importorskip("screwkit.engine")
     from types import SimpleNamespace
-    from screwkit.pinocchio_check import check_pm
+    from screwkit.interop import check_pm
     rng = np.random.default_rng(9)
     legs, home = three_spr()
     qs, placed, pose = solve_closed(legs, home, [6.0, -4.0, 9.0], rng)

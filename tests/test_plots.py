@@ -8,7 +8,7 @@ import pytest
 pytest.importorskip("matplotlib")
 
 from screwkit.errors import InputError  # noqa: E402
-from screwkit.plots import plot_fig5  # noqa: E402
+from screwkit.viz import plot_fig5  # noqa: E402
 
 N = 41
 T = np.linspace(0.0, 2.0, N)

@@ -11,8 +11,7 @@ import pytest
 from screwkit.errors import InputError
 from screwkit.legs import Joint, Leg, parse_leg
 from screwkit.screws import Line, couple_wrench, force_wrench, transform_wrenches
-from screwkit.synthesis import LAYOUTS, compositions, counting_rank, make_layout, synthesize
-from screwkit.validation import verify
+from screwkit.synthesis import LAYOUTS, compositions, counting_rank, make_layout, synthesize, verify
 
 L0 = 100.0  # the default placement's scale (leg length is about 94)
 

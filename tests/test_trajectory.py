@@ -23,8 +23,7 @@ import screwkit
 from screwkit.commands._common import dump_json
 from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
-from screwkit.pathspec import PathSpec, path_from_csv, path_from_expressions
-from screwkit.trajectory import run_trajectory
+from screwkit.paths import PathSpec, path_from_csv, path_from_expressions, run_trajectory
 
 F_LOAD, T_LOAD = np.array(PAPER_FORCE), np.array(PAPER_TORQUE)
 PATHS = {

@@ -17,11 +17,11 @@ import json
 import numpy as np
 import pytest
 
-import screwkit.validation as validation
+import screwkit.synthesis._validation as validation
 from screwkit.cli import main
 from screwkit.legs import Joint, Leg
 from screwkit.pm import Catalog, default_catalog, leg_spec_from_mapping
-from screwkit.validation import validate_catalog, validate_string, validate_table1
+from screwkit.synthesis import validate_catalog, validate_string, validate_table1
 
 
 def _n_ptype(s):

@@ -36,7 +36,7 @@ def register(sub):
 
 
 def _rtol(args) -> float:
-    from ..pinocchio_check import CHECK_RTOL
+    from ..interop import CHECK_RTOL
 
     if args.rtol is None:
         return CHECK_RTOL
@@ -53,7 +53,7 @@ def _poses(args, default):
 
 
 def run(args) -> int:
-    from ..pinocchio_check import PMChecker, check_all, check_analysis, regular_analyses
+    from ..interop import PMChecker, check_all, check_analysis, regular_analyses
     from ..engine import analyze_pm
 
     rtol = _rtol(args)

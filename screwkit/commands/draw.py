@@ -91,7 +91,7 @@ def _title(res, force_unit, length_unit, singular) -> str:
 
 
 def run(args) -> int:
-    from ..drawing import draw_pm, require_matplotlib
+    from ..viz import draw_pm, require_matplotlib
     from ..engine import analyze_pm
 
     require_matplotlib()

@@ -66,7 +66,7 @@ def run(args) -> int:
     res = screwkit.leg(args.string, seed=args.seed, catalog=cat).analyze()
     figure = None
     if getattr(args, "draw", None):
-        from ..drawing import draw_leg
+        from ..viz import draw_leg
         draw_leg(res.leg, res, out=args.draw)
         figure = str(args.draw)
     if args.json:

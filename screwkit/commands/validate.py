@@ -130,7 +130,7 @@ def report_json(report) -> dict:
 
 def run(args) -> int:
     from ..errors import InputError
-    from ..validation import DEFAULT_DRAWS, catalog_rows, report_rows, validate_table1
+    from ..synthesis import DEFAULT_DRAWS, catalog_rows, report_rows, validate_table1
 
     draws = DEFAULT_DRAWS if args.draws is None else args.draws
     if draws < 1:

@@ -71,13 +71,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .legs import Joint, Leg, LegString, Placement, default_placement, parse_leg
-from .screws import Normalisation, RANK_RTOL
-from .synthesis_joints import choice_words, joint_twist, letters_of, options_for, place_letter
-from .synthesis_layouts import LAYOUTS, Layout, Locus, compositions, layouts_for, make_layout
-from .synthesis_linalg import NULL_RTOL
-from .synthesis_proofs import counting_rank, counting_reason, rank_bound, rule_reason
+from ..errors import InputError
+from ..legs import Joint, Leg, LegString, Placement, default_placement, parse_leg
+from ..screws import Normalisation, RANK_RTOL
+from ._joints import choice_words, joint_twist, letters_of, options_for, place_letter
+from ._layouts import LAYOUTS, Layout, Locus, compositions, layouts_for, make_layout
+from ._linalg import NULL_RTOL
+from ._proofs import counting_rank, counting_reason, rank_bound, rule_reason
 
 __all__ = [
     "Locus",

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .legs import LegString, Placement
-from .synthesis_layouts import Layout
-from .synthesis_linalg import cross, null_basis, unit
+from ..legs import LegString, Placement
+from ._layouts import Layout
+from ._linalg import cross, null_basis, unit
 
 __all__ = ["Letter", "admissible_directions", "place_letter", "joint_twist", "letters_of",
            "options_for", "choice_words"]

@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .pm import parse_expression
+from ..errors import InputError
+from ..pm import parse_expression
 
 __all__ = ["PathSpec", "POSE_PARAMETERS", "ANGLE_PARAMETERS", "path_from_csv",
            "path_from_expressions", "parse_assignment", "add_path_arguments",

@@ -44,11 +44,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .legs import Leg
-from .pinocchio_model import (ClosedLoopModel, LegChain, as_pose, build_closed_loop_model,
-                              build_leg_model)
-from .screws import Normalisation, RANK_RTOL, reciprocal_system
+from ..errors import InputError
+from ..legs import Leg
+from ..screws import Normalisation, RANK_RTOL, reciprocal_system
+from ._pinocchio_model import (ClosedLoopModel, LegChain, as_pose, build_closed_loop_model,
+                               build_leg_model)
 
 __all__ = [
     "CHECK_RTOL",
@@ -844,9 +844,9 @@ def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = No
     """
     import zlib
 
-    from .engine import LENGTH_PARAMS, analyze_pm, default_full_pose, load_assembled_pm
-    from .errors import GeometryError, SingularityError, UnreachablePoseError
-    from .pm import PMModel
+    from ..engine import LENGTH_PARAMS, analyze_pm, default_full_pose, load_assembled_pm
+    from ..errors import GeometryError, SingularityError, UnreachablePoseError
+    from ..pm import PMModel
 
     model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm)
     if not (isinstance(n, (int, np.integer)) and n >= 1):
@@ -895,9 +895,9 @@ def check_all(poses_per_pm: int = 3, seed: int = 0, names=None, *, rtol: float =
     -------
     tuple of PMCheckReport
     """
-    from .engine import load_assembled_pm
-    from .errors import ScrewkitError
-    from .pm import PMModel, pm_names
+    from ..engine import load_assembled_pm
+    from ..errors import ScrewkitError
+    from ..pm import PMModel, pm_names
 
     out = []
     for name in (pm_names() if names is None else names):

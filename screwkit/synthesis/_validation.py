@@ -34,10 +34,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
-from .legs import Leg, LegString, Placement, actuation_wrench, analyze_leg, generic_leg, parse_leg
-from .screws import independent_subset, reciprocal_system, same_span, span_contains
-from .synthesis import Synthesis, compositions, counting_rank, layouts_for, synthesize
+from ..errors import InputError
+from ..legs import Leg, LegString, Placement, actuation_wrench, analyze_leg, generic_leg, parse_leg
+from ..screws import independent_subset, reciprocal_system, same_span, span_contains
+from ._synthesis import Synthesis, compositions, counting_rank, layouts_for, synthesize
 
 __all__ = [
     "Verification",
@@ -466,7 +466,7 @@ def validate_catalog(catalog=None, known: dict | None = None, draws: int = 1,
     -------
     tuple of CatalogCheck
     """
-    from .pm import default_catalog
+    from ..pm import default_catalog
 
     cat = catalog if catalog is not None else default_catalog()
     known = {} if known is None else known
@@ -520,7 +520,7 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
     check_catalog : bool
         Also run :func:`validate_catalog`.
     """
-    from .pm import default_catalog
+    from ..pm import default_catalog
 
     t0 = time.perf_counter()
     cat = catalog if catalog is not None else default_catalog()

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .legs import LegString, parse_leg
-from .synthesis_joints import Letter, admissible_directions
-from .synthesis_layouts import Layout
-from .synthesis_linalg import null_basis
+from ..legs import LegString, parse_leg
+from ._joints import Letter, admissible_directions
+from ._layouts import Layout
+from ._linalg import null_basis
 
 __all__ = ["counting_rank", "rule_reason", "rank_bound", "counting_reason"]
 

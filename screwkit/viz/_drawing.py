@@ -37,7 +37,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["draw_leg", "draw_pm", "require_matplotlib", "new_figure", "save_figure",
            "COLORS", "DEFAULT_VIEW"]

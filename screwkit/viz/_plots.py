@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .drawing import new_figure, save_figure
-from .errors import InputError
+from ..errors import InputError
+from ._drawing import new_figure, save_figure
 
 __all__ = ["plot_fig5", "DEFAULT_UNITS", "POSE_LABELS"]
 

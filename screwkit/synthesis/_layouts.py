@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .screws import couple_wrench, force_wrench
-from .synthesis_linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
+from ..errors import InputError
+from ..screws import couple_wrench, force_wrench
+from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
 
 __all__ = ["LAYOUTS", "Locus", "Layout", "compositions", "layouts_for", "make_layout"]
 

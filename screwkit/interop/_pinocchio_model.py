@@ -41,8 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GeometryError, InputError
-from .legs import Leg
+from ..errors import GeometryError, InputError
+from ..legs import Leg
 
 __all__ = [
     "JointBlock",

@@ -58,10 +58,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .engine import CONVERGED, LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE, PARAMS, solve_pose
-from .errors import InputError, ScrewkitError
-from .pathspec import PathSpec
-from .screws import GEOMETRY_RTOL
+from ..engine import CONVERGED, LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE, PARAMS, solve_pose
+from ..errors import InputError, ScrewkitError
+from ..screws import GEOMETRY_RTOL
+from ._pathspec import PathSpec
 
 __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
 
@@ -244,7 +244,7 @@ class TrajectoryResult:
         identically, e.g. legs whose constraint force passes through ``A_i``).
         Flagged samples are shaded grey.
         """
-        from .plots import plot_fig5
+        from ..viz import plot_fig5
 
         p = self.params_degrees()
         pose = {k: p[k] for k in self.independent}
@@ -273,7 +273,7 @@ class TrajectoryResult:
         if Tc is not None:
             labels["constraint_torques"] = tlabels
         if title is None:
-            from .plots import DEFAULT_UNITS
+            from ..viz import DEFAULT_UNITS
             u = {**DEFAULT_UNITS, **(units or {})}
             F, T = self.force, self.torque
             title = (f"{self.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
@@ -362,8 +362,8 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     -------
     TrajectoryResult
     """
-    from .engine import load_assembled_pm
-    from .pm import PMModel
+    from ..engine import load_assembled_pm
+    from ..pm import PMModel
 
     if not isinstance(model, PMModel):
         model = load_assembled_pm(model, overrides)
@@ -399,8 +399,7 @@ class _Run:
     """State of one run: the outputs, the per-pose solutions kept as warm starts."""
 
     def __init__(self, model, path, F, T):
-        from .engine import unified_jacobian
-        from .engine import LegTemplate
+        from ..engine import LegTemplate, unified_jacobian
 
         self.model, self.path, self.F, self.T = model, path, F, T
         N, n = len(path), model.n_legs
@@ -477,8 +476,7 @@ class _Run:
         self.full_rows(i, sol.legs, sol.position, "; ".join(sol.notes))
 
     def full_rows(self, i, legs, position, note=""):
-        from .engine import unified_jacobian
-        from .engine import statics
+        from ..engine import statics, unified_jacobian
 
         o = self.out
         jac = unified_jacobian(legs, position)
@@ -524,7 +522,7 @@ class _Run:
         """Samples c0..c1-1: core-solve the anchors (and sample c1 when it is one, for the
         interpolation), then refine level by level (spacing / _REFINE) with the batched
         Newton started from the linear interpolation of the samples already solved."""
-        from .engine import BatchProblem, assemble_batch
+        from ..engine import BatchProblem, assemble_batch
 
         model = self.model
         end = min(c1, len(self.path) - 1)
@@ -561,7 +559,7 @@ class _Run:
         """Solve ``targets`` (positions in idx) from the interpolation of their solved
         neighbours; a sample that fails (no convergence, or a step from the guess larger
         than half the change between its neighbours: another branch) is core-solved."""
-        from .engine import newton_batch
+        from ..engine import newton_batch
 
         if targets.size == 0:
             return
@@ -599,7 +597,7 @@ class _Run:
 
     def _legs_at(self, kb, s):
         """Leg objects of batch sample s (for the per-pose rows)."""
-        from .legs import Joint, Leg
+        from ..legs import Joint, Leg
 
         legs = []
         for i, h in enumerate(self.model.home_legs):
@@ -609,7 +607,7 @@ class _Run:
         return tuple(legs)
 
     def _batch_rows(self, samples, kb):
-        from .engine import jacobian_statics_batch
+        from ..engine import jacobian_statics_batch
 
         o = self.out
         M = len(samples)

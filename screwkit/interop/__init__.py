@@ -1,0 +1,28 @@
+"""Interoperability layer: Pinocchio models of legs and PMs, and the cross-check with Pinocchio.
+
+* :func:`build_leg_model`, :func:`build_closed_loop_model`: a screwkit leg or a
+  whole PM rebuilt with Pinocchio's native joints (:class:`LegChain`,
+  :class:`LegModel`, :class:`ClosedLoopModel`);
+* :func:`check_leg`, :func:`check_closed_loop`, :func:`check_pm`,
+  :class:`PMChecker`, :func:`check_analysis`, :func:`check_all`: closure, joint
+  twists, mobility and statics compared with Pinocchio (``screwkit check``).
+
+Pinocchio is imported lazily, inside the functions.
+"""
+
+from ._pinocchio_model import (ClosedLoopModel, JointBlock, LegChain, LegModel, as_pose,
+                               build_closed_loop_model, build_leg_model, sphere_angles)
+from ._pinocchio_check import (CHECK_RTOL, SUMMARY_CHECKS, CheckReport, CheckRow, Mobility,
+                               PMChecker, PMCheckReport, check_all, check_analysis,
+                               check_closed_loop, check_leg, check_pm, constraint_jacobian,
+                               mobility, regular_analyses, summarize)
+
+__all__ = [
+    # Pinocchio models
+    "JointBlock", "LegChain", "LegModel", "ClosedLoopModel", "build_leg_model",
+    "build_closed_loop_model", "sphere_angles", "as_pose",
+    # checks
+    "CHECK_RTOL", "SUMMARY_CHECKS", "CheckRow", "CheckReport", "Mobility", "PMChecker",
+    "PMCheckReport", "check_leg", "check_closed_loop", "check_pm", "check_analysis", "check_all",
+    "regular_analyses", "summarize", "constraint_jacobian", "mobility",
+]

@@ -1,0 +1,37 @@
+"""Synthesis layer: type synthesis of legs by the observation rules, and its validation.
+
+* :func:`synthesize` places the joints of a leg string in the hand-derived
+  target layouts (:data:`LAYOUTS`, :func:`make_layout`) and proves the
+  impossible ones (:func:`counting_rank`, :func:`rule_reason`);
+* :func:`validate_string`, :func:`validate_catalog` and :func:`validate_table1`
+  verify every synthesized leg with the reciprocal-screw solver (:func:`verify`)
+  and reproduce the paper's Table I (read from the catalog, :mod:`screwkit.pm`).
+"""
+
+from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
+from ._layouts import LAYOUTS, Layout, Locus, compositions, layouts_for, make_layout
+from ._joints import (Letter, admissible_directions, choice_words, joint_twist, letters_of,
+                      options_for, place_letter)
+from ._proofs import counting_rank, counting_reason, rank_bound, rule_reason
+from ._synthesis import JointChoice, Synthesis, synthesize, synthesize_composition
+from ._validation import (DEFAULT_DRAWS, CatalogCheck, DrawResult, LegValidation, TargetResult,
+                          ValidationReport, Verification, catalog_rows, chain_text,
+                          composition_label, report_rows, validate_catalog, validate_string,
+                          validate_table1, verify)
+
+__all__ = [
+    # synthesis
+    "Locus", "Layout", "JointChoice", "Synthesis", "LAYOUTS", "NULL_RTOL", "compositions",
+    "counting_rank", "layouts_for", "make_layout", "synthesize", "synthesize_composition",
+    # joints in a layout
+    "Letter", "admissible_directions", "place_letter", "joint_twist", "letters_of", "options_for",
+    "choice_words",
+    # proofs
+    "rule_reason", "rank_bound", "counting_reason",
+    # 3-vector helpers, null spaces
+    "cross", "unit", "random_unit", "perpendicular_unit", "null_basis",
+    # validation
+    "Verification", "verify", "DrawResult", "TargetResult", "LegValidation", "CatalogCheck",
+    "ValidationReport", "validate_string", "validate_catalog", "validate_table1",
+    "composition_label", "chain_text", "report_rows", "catalog_rows", "DEFAULT_DRAWS",
+]

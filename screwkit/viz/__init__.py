@@ -1,0 +1,20 @@
+"""Drawing layer: 3D drawings of legs and PMs, and the time plots of a path (matplotlib).
+
+Drawings take legs, analyses or plain arrays; they never call the solvers of
+:mod:`screwkit.engine`.  matplotlib is optional (``pip install "screwkit[plot]"``):
+it is imported inside the functions, and figures are made on an Agg canvas.
+
+* :func:`draw_leg`, :func:`draw_pm` (3D), with :func:`new_figure`,
+  :func:`save_figure`, :func:`require_matplotlib`;
+* :func:`plot_fig5`: the panels of the paper's Fig. 5 along a path.
+"""
+
+from ._drawing import (COLORS, DEFAULT_VIEW, draw_leg, draw_pm, new_figure, require_matplotlib,
+                       save_figure)
+from ._plots import DEFAULT_UNITS, POSE_LABELS, plot_fig5
+
+__all__ = [
+    "draw_leg", "draw_pm", "require_matplotlib", "new_figure", "save_figure", "COLORS",
+    "DEFAULT_VIEW",
+    "plot_fig5", "DEFAULT_UNITS", "POSE_LABELS",
+]
