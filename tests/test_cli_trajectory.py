@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from screwkit.cli import main
-from screwkit.commands.trajectory import ProgressBar
+from screwkit.cli._commands.trajectory import ProgressBar
 
 EXPR = ["--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=6*sin(2*pi*t+1)", "--expr", "Zo=70+20*t"]
 

@@ -20,7 +20,7 @@ from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation
 
 import screwkit
-from screwkit.commands._common import dump_json
+from screwkit.cli._commands._common import dump_json
 from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
 from screwkit.paths import PathSpec, path_from_csv, path_from_expressions, run_trajectory

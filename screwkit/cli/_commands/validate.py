@@ -129,8 +129,8 @@ def report_json(report) -> dict:
 
 
 def run(args) -> int:
-    from ..errors import InputError
-    from ..synthesis import DEFAULT_DRAWS, catalog_rows, report_rows, validate_table1
+    from ...errors import InputError
+    from ...synthesis import DEFAULT_DRAWS, catalog_rows, report_rows, validate_table1
 
     draws = DEFAULT_DRAWS if args.draws is None else args.draws
     if draws < 1:

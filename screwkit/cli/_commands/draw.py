@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_triple,
                       resolve_model)
 
@@ -91,8 +91,8 @@ def _title(res, force_unit, length_unit, singular) -> str:
 
 
 def run(args) -> int:
-    from ..viz import draw_pm, require_matplotlib
-    from ..engine import analyze_pm
+    from ...viz import draw_pm, require_matplotlib
+    from ...engine import analyze_pm
 
     require_matplotlib()
     view = None

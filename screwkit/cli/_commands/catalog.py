@@ -14,7 +14,7 @@ def register(sub):
 
 
 def run(args) -> int:
-    from ..pm import catalog_path, default_catalog
+    from ...pm import catalog_path, default_catalog
 
     if args.path:
         print(catalog_path())

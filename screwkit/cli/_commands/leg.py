@@ -57,7 +57,7 @@ def leg_report(res) -> dict:
 
 def run(args) -> int:
     import screwkit
-    from ..pm import Catalog, default_catalog, load_catalog
+    from ...pm import Catalog, default_catalog, load_catalog
 
     cat = default_catalog()
     if args.model:
@@ -66,7 +66,7 @@ def run(args) -> int:
     res = screwkit.leg(args.string, seed=args.seed, catalog=cat).analyze()
     figure = None
     if getattr(args, "draw", None):
-        from ..viz import draw_leg
+        from ...viz import draw_leg
         draw_leg(res.leg, res, out=args.draw)
         figure = str(args.draw)
     if args.json:

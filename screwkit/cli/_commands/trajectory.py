@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
-from ..errors import InputError
+from ...errors import InputError
 from ._common import dump_json
 from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
 
@@ -27,7 +27,7 @@ EPILOG = """examples:
 
 
 def register(sub):
-    from ..paths import add_path_arguments
+    from ...paths import add_path_arguments
     import argparse
 
     p = sub.add_parser("trajectory", help="statics along a path (table, Fig. 5 plot)",
@@ -83,14 +83,14 @@ def _format(args) -> str:
 
 
 def run(args) -> int:
-    from ..paths import path_from_args
-    from ..paths import run_trajectory
+    from ...paths import path_from_args
+    from ...paths import run_trajectory
 
     model = resolve_model(args)
     path = path_from_args(args, model.independent)
     fmt = _format(args)
     if args.plot:
-        from ..viz import require_matplotlib
+        from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
     show = sys.stderr.isatty() and not args.no_progress
     res = run_trajectory(model, path, parse_triple(args.force, "--force"),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 from ._common import dump_json
 from .analyze import add_pm_arguments, parse_assignments, resolve_model
 
@@ -36,7 +36,7 @@ def register(sub):
 
 
 def _rtol(args) -> float:
-    from ..interop import CHECK_RTOL
+    from ...interop import CHECK_RTOL
 
     if args.rtol is None:
         return CHECK_RTOL
@@ -53,8 +53,8 @@ def _poses(args, default):
 
 
 def run(args) -> int:
-    from ..interop import PMChecker, check_all, check_analysis, regular_analyses
-    from ..engine import analyze_pm
+    from ...interop import PMChecker, check_all, check_analysis, regular_analyses
+    from ...engine import analyze_pm
 
     rtol = _rtol(args)
     if args.all:

@@ -1,6 +1,6 @@
 """Command-line interface: a thin shell over the Python API.
 
-Each sub-command lives in its own module ``screwkit.commands.<name>`` exposing
+Each sub-command lives in its own module ``screwkit.cli._commands.<name>`` exposing
 ``register(subparsers)``; errors derived from :class:`ScrewkitError` are printed
 on one line and give exit status 2, never a traceback.
 """
@@ -11,16 +11,16 @@ import argparse
 import importlib
 import sys
 
-from .errors import ScrewkitError
+from ..errors import ScrewkitError
 
-__all__ = ["main", "COMMANDS"]
+__all__ = ["main", "build_parser", "COMMANDS"]
 
 #: Sub-command modules, in the order of ``screwkit --help``.
 COMMANDS = ["leg", "catalog", "analyze", "check", "trajectory", "draw", "validate"]
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from .. import __version__
 
     p = argparse.ArgumentParser(
         prog="screwkit",
@@ -30,7 +30,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"screwkit {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMANDS:
-        importlib.import_module(f".commands.{name}", __package__).register(sub)
+        importlib.import_module(f"._commands.{name}", __package__).register(sub)
     return p
 
 
@@ -58,6 +58,3 @@ def main(argv=None) -> int:
         print("screwkit: interrupted", file=sys.stderr)
         return 130
 
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

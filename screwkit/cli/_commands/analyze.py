@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from ..legs import point_label
+from ...errors import InputError
+from ...legs import point_label
 from ._common import dump_json, fmt_num, fmt_vec
 
 HELP = """Analyse a PM at a pose: legs, mobility, the solved pose (unified inverse displacement),
@@ -57,7 +57,7 @@ def add_pm_arguments(p, pose=True):
 
 
 def add_load_arguments(p):
-    from ..engine import PAPER_FORCE, PAPER_TORQUE
+    from ...engine import PAPER_FORCE, PAPER_TORQUE
 
     p.add_argument("--force", metavar="FX,FY,FZ", default=",".join(str(x) for x in PAPER_FORCE),
                    help="force at o (default: the paper's -20,-30,-60 kN)")
@@ -67,7 +67,7 @@ def add_load_arguments(p):
 
 def resolve_model(args):
     """Load the PM named on the command line (catalog name or --model file) with --set overrides."""
-    from ..api import load_pm
+    from ...api import load_pm
 
     overrides = parse_assignments(args.set, "--set")
     if args.model:
@@ -88,7 +88,7 @@ def register(sub):
 
 
 def run(args) -> int:
-    from ..engine import analyze_pm
+    from ...engine import analyze_pm
 
     model = resolve_model(args)
     res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
