@@ -19,7 +19,8 @@ from screwkit.cli import main  # noqa: E402
 from screwkit.errors import InputError  # noqa: E402
 from screwkit.legs import Placement  # noqa: E402
 from screwkit.pm import default_catalog  # noqa: E402
-from screwkit.viz._drawing import _clip_line, draw_leg, draw_pm, require_matplotlib  # noqa: E402
+from screwkit.viz import draw_leg, draw_pm, require_matplotlib  # noqa: E402
+from screwkit.viz._artists import _clip_line  # noqa: E402
 
 
 def read_png(path):

@@ -10,12 +10,14 @@
 Pinocchio is imported lazily, inside the functions.
 """
 
-from ._pinocchio_model import (ClosedLoopModel, JointBlock, LegChain, LegModel, as_pose,
-                               build_closed_loop_model, build_leg_model, sphere_angles)
-from ._pinocchio_check import (CHECK_RTOL, SUMMARY_CHECKS, CheckReport, CheckRow, Mobility,
-                               PMChecker, PMCheckReport, check_all, check_analysis,
-                               check_closed_loop, check_leg, check_pm, constraint_jacobian,
-                               mobility, regular_analyses, summarize)
+from ._pinocchio_chain import JointBlock, LegChain, as_pose, sphere_angles
+from ._pinocchio_model import ClosedLoopModel, LegModel, build_closed_loop_model, build_leg_model
+from ._check_rows import CHECK_RTOL, CheckReport, CheckRow
+from ._check_leg import check_leg
+from ._check_mobility import Mobility, constraint_jacobian, mobility
+from ._pinocchio_check import PMChecker, check_closed_loop, check_pm
+from ._check_catalog import (SUMMARY_CHECKS, PMCheckReport, check_all, check_analysis,
+                             regular_analyses, summarize)
 
 __all__ = [
     # Pinocchio models

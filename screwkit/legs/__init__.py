@@ -17,8 +17,9 @@ from ._chain import Joint, Leg
 from ._placement import Placement, default_placement
 from ._rules import JointRule, LegRules, build_leg, generic_leg
 from ._structure import structure_residuals, structure_vector
-from ._observation import (ConstraintWrench, RuleNote, candidate_points, decompose, explain_couple,
-                           explain_force, named_points, point_label, reciprocity_residual)
+from ._observation import (ConstraintWrench, RuleNote, candidate_points, explain_couple,
+                           explain_force, named_points, point_label)
+from ._decompose import decompose, reciprocity_residual
 from ._analysis import ActuationWrench, LegAnalysis, actuation_wrench, analyze_leg
 
 __all__ = [

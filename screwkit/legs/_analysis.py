@@ -20,8 +20,8 @@ import numpy as np
 
 from ..screws import (GEOMETRY_RTOL, Line, ReciprocalSystem, couple_wrench, force_wrench,
                       independent_subset, reciprocal_system, same_span)
-from ._observation import (ConstraintWrench, RuleNote, candidate_points, decompose, explain_couple,
-                           explain_force, reciprocity_residual)
+from ._decompose import decompose, reciprocity_residual
+from ._observation import ConstraintWrench, RuleNote, candidate_points, explain_couple, explain_force
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``actuated_index``, ``A``, ``a``, ``length``, ``centres()``):

@@ -12,10 +12,11 @@ parallel manipulators.
 """
 
 from ._tolerance import GEOMETRY_RTOL, RANK_RTOL, characteristic_length
-from ._primitives import (Line, Twist, Wrench, as_vector3, couple_wrench, force_wrench,
-                          helical_twist, prismatic_twist, reciprocal_product, revolute_twist,
-                          screw_axis_point, screw_pitch, transform_twists, transform_wrenches,
-                          unit)
+from ._primitives import (as_vector3, reciprocal_product, screw_axis_point, screw_pitch,
+                          transform_twists, transform_wrenches, unit)
+from ._line import Line
+from ._screw import (Twist, Wrench, couple_wrench, force_wrench, helical_twist, prismatic_twist,
+                     revolute_twist)
 from ._reciprocal import (Normalisation, ReciprocalSystem, independent_subset, reciprocal_system,
                           same_span, span_contains)
 from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check_order,

@@ -14,10 +14,10 @@ from ._joints import (Letter, admissible_directions, choice_words, joint_twist, 
                       options_for, place_letter)
 from ._proofs import counting_rank, counting_reason, rank_bound, rule_reason
 from ._synthesis import JointChoice, Synthesis, synthesize, synthesize_composition
-from ._validation import (DEFAULT_DRAWS, CatalogCheck, DrawResult, LegValidation, TargetResult,
-                          ValidationReport, Verification, catalog_rows, chain_text,
-                          composition_label, report_rows, validate_catalog, validate_string,
-                          validate_table1, verify)
+from ._verify import Verification, verify
+from ._reports import (CatalogCheck, DrawResult, LegValidation, TargetResult, ValidationReport,
+                       catalog_rows, chain_text, composition_label, report_rows)
+from ._validation import DEFAULT_DRAWS, validate_catalog, validate_string, validate_table1
 
 __all__ = [
     # synthesis

@@ -9,8 +9,9 @@ it is imported inside the functions, and figures are made on an Agg canvas.
 * :func:`plot_fig5`: the panels of the paper's Fig. 5 along a path.
 """
 
-from ._drawing import (COLORS, DEFAULT_VIEW, draw_leg, draw_pm, new_figure, require_matplotlib,
-                       save_figure)
+from ._figure import COLORS, DEFAULT_VIEW, new_figure, require_matplotlib, save_figure
+from ._leg_drawing import draw_leg
+from ._pm_drawing import draw_pm
 from ._plots import DEFAULT_UNITS, POSE_LABELS, plot_fig5
 
 __all__ = [

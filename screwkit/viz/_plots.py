@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._drawing import new_figure, save_figure
+from ._figure import new_figure, save_figure
 
 __all__ = ["plot_fig5", "DEFAULT_UNITS", "POSE_LABELS"]
 

@@ -1,0 +1,233 @@
+"""A basis of a leg's constraint system made of pure forces on lines and pure couples.
+
+:func:`decompose` finds, wherever one exists, a basis of the constraint system
+made of pure couples and pure forces on lines, and leaves the rest as
+finite-pitch screws; each member is explained by the observation rules
+(:mod:`screwkit.legs._observation`).
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+
+from ..screws import (GEOMETRY_RTOL, RANK_RTOL, Normalisation, Wrench, couple_wrench, force_wrench,
+                      screw_pitch)
+from ._observation import (ConstraintWrench, RuleNote, _point_name, candidate_points, explain_couple,
+                           explain_force)
+
+# ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
+# (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
+# the chain module is not imported, so that ``Leg.analyze`` can import this module
+# without an import cycle.
+
+__all__ = ["decompose", "reciprocity_residual"]
+
+
+def _rank(Mn, rtol=RANK_RTOL):
+    if len(Mn) == 0:
+        return 0
+    s = np.linalg.svd(np.asarray(Mn), compute_uv=False)
+    return int(np.sum(s > rtol * 1e2 * max(1.0, s[0])))
+
+
+def _null(M, rtol=1e-9):
+    M = np.atleast_2d(M)
+    _, s, Vt = np.linalg.svd(M, full_matrices=True)
+    tol = rtol * max(1.0, s[0] if s.size else 1.0)
+    r = int(np.sum(s > tol))
+    return Vt[r:]
+
+
+def _skew(p):
+    return np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
+
+
+def _unit_wrench(w):
+    f, m = w[:3], w[3:]
+    nf = np.linalg.norm(f)
+    return w / nf if nf > 0 else w / np.linalg.norm(m)
+
+
+def reciprocity_residual(w, twists, norm: Normalisation) -> float:
+    """Largest ``|W . V| / (|W| |V|)`` in normalised coordinates over the rows of ``twists``.
+
+    Unit-free (invariant under a change of frame and of length units); 0 for
+    an empty set of twists.
+    """
+    T = np.asarray(twists, float).reshape(-1, 6)
+    if len(T) == 0:
+        return 0.0
+    Wn = norm.wrenches(w)
+    Tn = norm.twists(T)
+    num = np.abs(Tn @ Wn)
+    den = np.linalg.norm(Tn, axis=1) * np.linalg.norm(Wn)
+    return float(np.max(num / den))
+
+
+def _forces_through(Wbasis, p):
+    """Coefficients of forces through point p in span(Wbasis): m - p x f = 0."""
+    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
+    return _null(M - _skew(p) @ F)
+
+
+def _forces_parallel(Wbasis, d):
+    """Coefficients of zero-pitch wrenches with f parallel to d: d x f = 0, d . m = 0."""
+    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
+    return _null(np.vstack([_skew(d) @ F, d @ M]))
+
+
+def _zero_pitch_roots(w1, w2):
+    """s such that w1 + s w2 has f.m = 0 (quadratic); returns real roots."""
+    f1, m1, f2, m2 = w1[:3], w1[3:], w2[:3], w2[3:]
+    a = float(f2 @ m2)
+    b = float(f1 @ m2 + f2 @ m1)
+    c = float(f1 @ m1)
+    if abs(a) < 1e-15 * max(1.0, abs(b), abs(c)):
+        return [-c / b] if abs(b) > 1e-15 else []
+    disc = b * b - 4 * a * c
+    if disc < 0:
+        return []
+    r = np.sqrt(disc)
+    return [(-b + r) / (2 * a), (-b - r) / (2 * a)]
+
+
+def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple:
+    """Decompose a wrench system into pure couples, pure forces and finite-pitch screws.
+
+    Parameters
+    ----------
+    wrenches : ndarray, shape (k, 6)
+        A basis of the system (physical units).
+    leg : Leg
+        Used for candidate lines and for the explanations.
+    norm : Normalisation
+        The normalisation used for rank decisions.
+    seed : int
+        Seed of the randomised search used only when no observable line is found.
+
+    Returns
+    -------
+    tuple of ConstraintWrench
+        Couples first, then forces, then screws; together they span the system.
+    """
+    W = np.asarray(wrenches, float).reshape(-1, 6)
+    k = len(W)
+    if k == 0:
+        return ()
+    L = norm.length
+    tol_dist = GEOMETRY_RTOL * 10 * max(leg.length, L)
+    Wn = norm.wrenches(W)
+    chosen: list[np.ndarray] = []          # normalised rows
+    out: list[ConstraintWrench] = []
+
+    def try_add(w, kind):
+        wn = norm.wrenches(w)
+        wn = wn / np.linalg.norm(wn)
+        if _rank(np.array(chosen + [wn])) == len(chosen) + 1:
+            chosen.append(wn)
+            out.append(_make(w, kind, leg, norm, tol_dist))
+            return True
+        return False
+
+    # 1. couples: f(c) = 0
+    for c in _null(W[:, :3].T) if k else []:
+        w = c @ W
+        if np.linalg.norm(w[3:]) > 0:
+            try_add(w, "couple")
+    # 2. forces on observable lines: through named / meeting points, parallel to axes
+    pts = candidate_points(leg, tol_dist)
+    dirs = [j.direction for j in leg.joints]
+    for (i, j) in combinations(range(len(leg.joints)), 2):
+        c = np.cross(leg.joints[i].direction, leg.joints[j].direction)
+        if np.linalg.norm(c) > 1e-6:
+            dirs.append(c / np.linalg.norm(c))
+    for p in pts.values():
+        if len(chosen) == k:
+            break
+        for c in _forces_through(W, p):
+            w = c @ W
+            if np.linalg.norm(w[:3]) > 1e-9 * np.linalg.norm(norm.wrenches(w)):
+                try_add(w, "force")
+    for d in dirs:
+        if len(chosen) == k:
+            break
+        for c in _forces_parallel(W, d):
+            w = c @ W
+            if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
+                try_add(w, "force")
+    # 3. randomised search on the zero-pitch quadric f.m = 0 of the system: along random
+    #    lines w1 + s w2 of the (normalised, orthonormal) basis, so no combination vanishes
+    if k >= 2 and len(chosen) < k:
+        rng = np.random.default_rng(seed)
+        Wn_basis = np.linalg.qr(Wn.T)[0].T            # orthonormal rows spanning the system
+        for _ in range(200):
+            if len(chosen) == k:
+                break
+            c = np.linalg.qr(rng.standard_normal((k, 2)))[0].T   # two orthonormal coefficient rows
+            u1, u2 = c @ Wn_basis
+            for s_ in _zero_pitch_roots(norm.wrenches_back(u1), norm.wrenches_back(u2)):
+                un = (u1 + s_ * u2) / np.sqrt(1 + s_ * s_)      # unit norm in normalised space
+                w = norm.wrenches_back(un)
+                fn = np.linalg.norm(un[:3])
+                if fn > 1e-6 and abs(un[:3] @ un[3:]) <= 1e-9 * fn:
+                    try_add(w, "force")
+    elif k == 1 and len(chosen) == 0:
+        un = Wn[0] / np.linalg.norm(Wn[0])
+        fn = np.linalg.norm(un[:3])
+        if fn > 1e-6 and abs(un[:3] @ un[3:]) <= 1e-9 * fn:
+            try_add(W[0], "force")
+    # 4. what is left: finite-pitch screws orthogonal (normalised) to the chosen ones
+    if len(chosen) < k:
+        Q = np.array(chosen).reshape(-1, 6)
+        rest = Wn - (Wn @ Q.T) @ Q if len(Q) else Wn.copy()
+        U, s, Vt = np.linalg.svd(rest)
+        for v in Vt[: k - len(chosen)]:
+            try_add(norm.wrenches_back(v), "screw")
+    return tuple(out)
+
+
+def _orientation_sign(d, leg) -> float:
+    """+1 or -1 so that ``sign * d`` points along the leg line (A -> a) or, when ``d`` is
+    perpendicular to it, along the first joint axis (chain order) it is not perpendicular to.
+
+    The sign of a constraint wrench is a convention; this one depends only on the leg's own
+    geometry, so reported values do not change with the base frame or the units.
+    """
+    refs = [leg.a - leg.A] + [j.direction for j in leg.joints]
+    for r in refs:
+        r = np.asarray(r, float)
+        c = float(np.dot(d, r)) / max(np.linalg.norm(r), 1e-300)
+        if abs(c) > 1e-6:
+            return 1.0 if c > 0 else -1.0
+    return 1.0
+
+
+def _make(w, kind, leg: "Leg", norm: Normalisation, tol_dist) -> ConstraintWrench:
+    w = _unit_wrench(np.asarray(w, float))
+    part = w[3:] if kind == "couple" else w[:3]
+    w = w * _orientation_sign(part / np.linalg.norm(part), leg)
+    f, m = w[:3], w[3:]
+    if kind == "couple":
+        d = m / np.linalg.norm(m)
+        wr = couple_wrench(d)
+        return ConstraintWrench("couple", wr, d, None, None, float("inf"), explain_couple(d, leg),
+                                reciprocity_residual(wr.vector, leg.twists, norm))
+    d = f / np.linalg.norm(f)
+    p0 = np.cross(f, m) / (f @ f)
+    if kind == "force":
+        # name a point of the line where one is known
+        name, p = _point_name(p0, d, candidate_points(leg, tol_dist), tol_dist)
+        if p is None:
+            c = leg.points.mean(axis=0)
+            p = p0 + np.dot(c - p0, d) * d
+        wr = force_wrench(d, p)
+        return ConstraintWrench("force", wr, d, p, name, 0.0, explain_force(d, p, leg),
+                                reciprocity_residual(wr.vector, leg.twists, norm))
+    wr = Wrench(w)
+    pitch = float(screw_pitch(w, "wrench"))
+    return ConstraintWrench("screw", wr, d, p0, None, pitch,
+                            (RuleNote("-", None, "finite-pitch wrench: no observation rule "
+                                      "applies; reciprocity checked numerically", True),),
+                            reciprocity_residual(w, leg.twists, norm))

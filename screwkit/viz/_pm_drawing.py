@@ -1,0 +1,230 @@
+"""The drawing of a PM at one pose, from plain arrays (base and platform polygons, legs,
+wrench rows with values).
+
+See :mod:`screwkit.viz._leg_drawing` for the drawing conventions and the gids of the
+artists; polygons are tagged ``"base"`` and ``"platform"``, the i-th wrench row ``"row:i"``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ._artists import _Extent, _arrow, _clip_line, _double_head
+from ._axes import _check_3d_axes, _check_view, _finish_axes
+from ._figure import COLORS, new_figure, require_matplotlib, save_figure
+from ._labels import _Labeller
+from ._leg_drawing import _leg_geometry
+from ._view import _choose_pm_view
+
+__all__ = ["draw_pm"]
+
+_ROW_KINDS = ("actuation", "force", "couple")
+
+
+def _check_rows(rows, values, n_legs):
+    rows = list(rows or [])
+    if values is not None:
+        values = np.asarray(values, float).reshape(-1)
+        if values.size != len(rows):
+            raise InputError(f"{values.size} values given for {len(rows)} wrench rows")
+    out = []
+    for i, r in enumerate(rows):
+        if not isinstance(r, dict):
+            raise InputError(f"wrench row {i}: expected a dict, got {type(r).__name__}")
+        kind = r.get("kind")
+        if kind not in _ROW_KINDS:
+            raise InputError(f"wrench row {i}: kind {kind!r} is not one of "
+                             f"{', '.join(_ROW_KINDS)}")
+        leg = r.get("leg")
+        if isinstance(leg, bool) or not isinstance(leg, (int, np.integer)) \
+                or not 0 <= leg < n_legs:
+            raise InputError(f"wrench row {i}: leg {leg!r} is not an index 0..{n_legs - 1}")
+        try:
+            d = np.asarray(r.get("direction"), float).reshape(-1)
+        except (TypeError, ValueError):
+            d = np.zeros(0)
+        if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
+            raise InputError(f"wrench row {i}: direction must be a non-zero finite 3-vector")
+        d = d / np.linalg.norm(d)
+        p = r.get("point")
+        if p is not None:
+            p = np.asarray(p, float).reshape(-1)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise InputError(f"wrench row {i}: point must be a finite 3-vector")
+        elif kind != "couple":
+            raise InputError(f"wrench row {i}: a {kind} needs a point on its line")
+        v = float(values[i]) if values is not None else float(r.get("value", np.nan))
+        out.append(dict(kind=kind, leg=int(leg), direction=d, point=p, value=v,
+                        label=r.get("label")))
+    return out
+
+
+def _default_labels(rows):
+    sym = {"actuation": "F_{{a{}}}", "force": "F_{{c{}}}", "couple": "T_{{r{}}}"}
+    bases = [sym[r["kind"]].format(r["leg"] + 1) for r in rows]
+    seen = {}
+    for r, b in zip(rows, bases):
+        if r["label"]:
+            continue
+        if bases.count(b) > 1:
+            seen[b] = seen.get(b, 0) + 1
+            b = b[:-1] + f",{seen[b]}}}"
+        r["label"] = f"${b}$"
+
+
+def _polygon(ax, pts, face, edge, alpha, ext, gid=None):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    P = np.asarray(pts, float)
+    if len(P) >= 3:
+        poly = Poly3DCollection([P], facecolors=face, edgecolors="none", alpha=alpha, zorder=0)
+        poly.set_gid(gid)
+        ax.add_collection3d(poly)
+    loop = np.vstack([P, P[:1]])
+    ax.plot(*loop.T, color=edge, lw=1.2, zorder=1)
+    ext.add(P)
+
+
+def _as_points(x, name):
+    try:
+        P = np.asarray(x, float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an (n, 3) array of numbers") from None
+    if P.ndim != 2 or P.shape[1] != 3 or P.shape[0] < 1 or not np.all(np.isfinite(P)):
+        raise InputError(f"{name} must be a finite (n, 3) array of points, got shape "
+                         f"{P.shape}")
+    return P
+
+
+def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None, ax=None,
+            out=None, title=None, *, force_unit: str = "kN", torque_unit: str = "kN.cm",
+            length_unit: str = "cm", dpi: int = 150, joint_labels: bool = False,
+            value_format: str = "{:.3g}", view=None):
+    """Draw a PM at one pose with its wrench rows.
+
+    Parameters
+    ----------
+    legs : sequence of Leg
+        The placed legs at this pose.
+    base_points : array_like (n, 3)
+        Base polygon vertices ``A_i`` (in order around the polygon).
+    platform_points_world : array_like (n, 3)
+        Platform polygon vertices ``a_i`` in world coordinates.
+    o : array_like (3,)
+        Platform centre.
+    rows : sequence of dict, optional
+        Wrenches to draw, each ``{"kind": "actuation"|"force"|"couple", "leg": i,
+        "direction": (3,), "point": (3,) or None, "value": float}`` and
+        optionally ``"label"`` (mathtext allowed; default ``F_a{i+1}``,
+        ``F_c{i+1}``, ``T_r{i+1}``).  The drawn vector is ``value * direction``
+        (direction normalised); arrow lengths are proportional to ``|value|``
+        relative to the largest of the same unit (forces and couples scaled
+        separately), with a floor of 15 % so that small values stay visible.
+        A force is drawn on its line at the point nearest to its leg's
+        platform point ``a``, its line dashed; a couple as a double-headed
+        arrow from its leg's midpoint.  A NaN value is drawn at the floor
+        length and labelled ``n/a``.
+    values : array_like (len(rows),), optional
+        Values overriding the rows' ``"value"`` (e.g. a statics solution).
+    ax : Axes3D, optional
+    out : str or Path, optional
+        Save as PNG.
+    title : str, optional
+    force_unit, torque_unit, length_unit : str
+        Units printed in the labels.
+    dpi : int
+    joint_labels : bool
+        Label every joint (cluttered for a whole PM; default off).
+    value_format : str
+        Format of the values in the labels.
+    view : (elev, azim) in degrees, optional
+        Default: the view nearest (20, -60) in which no point ``A_i``, ``a_i``,
+        ``o`` hides behind another or behind a leg.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    require_matplotlib()
+    _check_3d_axes(ax)
+    legs = list(legs)
+    if not legs:
+        raise InputError("draw_pm needs at least one leg")
+    B = _as_points(base_points, "base_points")
+    Pw = _as_points(platform_points_world, "platform_points_world")
+    o = np.asarray(o, float).reshape(-1)
+    if o.shape != (3,) or not np.all(np.isfinite(o)):
+        raise InputError("o must be a finite 3-vector")
+    rows = _check_rows(rows, values, len(legs))
+    _default_labels(rows)
+    size = float(np.max(np.linalg.norm(B - B.mean(axis=0), axis=1))) if len(B) > 1 else 0.0
+    if size == 0.0:
+        size = max(leg.length for leg in legs)
+    v = _check_view(view)
+    if v is None:
+        v = _choose_pm_view(legs, B, Pw, o, size)
+    own = ax is None
+    if own:
+        fig, ax = new_figure((10.0, 7.2), "3d")
+    else:
+        fig = ax.figure
+    ext = _Extent()
+    _polygon(ax, B, COLORS["base"], "#636363", 0.35, ext, gid="base")
+    _polygon(ax, Pw, COLORS["platform"], "#3182bd", 0.5, ext, gid="platform")
+    kinds = {"base", "platform"}
+    labeller = _Labeller(ax, v, size, span=3.0, width_pt=470.0)
+    for i, leg in enumerate(legs):
+        kinds |= _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels,
+                               end_labels=(f"$A_{{{i + 1}}}$", f"$a_{{{i + 1}}}$"), label_size=7,
+                               labeller=labeller)
+    ax.scatter(*o, s=25, color="#3182bd", depthshade=False, zorder=4)
+    labeller.around(o, "o", "#08519c", 8, dist=0.04)
+    max_len = 0.6 * size
+    vmax = {}
+    for r in rows:
+        key = "torque" if r["kind"] == "couple" else "force"
+        if np.isfinite(r["value"]):
+            vmax[key] = max(vmax.get(key, 0.0), abs(r["value"]))
+    lines = []
+    for irow, r in enumerate(rows):
+        leg = legs[r["leg"]]
+        is_couple = r["kind"] == "couple"
+        key = "torque" if is_couple else "force"
+        val = r["value"]
+        color = COLORS["actuation"] if r["kind"] == "actuation" else \
+            COLORS["couple"] if is_couple else COLORS["force"]
+        kinds.add(r["kind"])
+        unit = torque_unit if is_couple else force_unit
+        text = f"{r['label']} = {value_format.format(val)} {unit}" if np.isfinite(val) \
+            else f"{r['label']} = n/a"
+        top = vmax.get(key, 0.0)
+        if np.isfinite(val) and top > 0:
+            frac, sgn = max(abs(val) / top, 0.15), (-1.0 if val < 0 else 1.0)
+        else:
+            frac, sgn = 0.15, 1.0
+        vec = sgn * frac * max_len * r["direction"]
+        if is_couple:
+            p0 = 0.5 * (leg.A + leg.a)
+            _double_head(ax, p0, p0 + vec, color, lw=2.0, scale=13, gid=f"row:{irow}")
+        else:
+            d, q = r["direction"], r["point"]
+            p0 = q + float(np.dot(leg.a - q, d)) * d  # the line's point nearest to a
+            _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13, gid=f"row:{irow}")
+            lines.append((p0, d, color))
+        ext.add(p0, p0 + vec)
+        if is_couple:
+            labeller.tip(p0 + vec, vec / np.linalg.norm(vec), text, color, 7.5, 0.03 * size)
+        else:
+            labeller.beside(p0 + 0.75 * vec, vec / np.linalg.norm(vec), text, color, 7.5,
+                            0.05 * size)
+    box = ext.box(pad=0.05)
+    for p, d, color in lines:
+        seg = _clip_line(p, d, *box)
+        if seg is not None:
+            ax.plot(*np.array(seg).T, color=color, lw=0.8, ls=(0, (5, 4)), alpha=0.6, zorder=2)
+    _finish_axes(ax, box, v, length_unit, title, kinds, True, own,
+                 "arrow lengths proportional to |value|\n(forces and torques scaled separately)"
+                 if rows else None)
+    save_figure(fig, out, dpi)
+    return fig
