@@ -17,7 +17,7 @@ def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog
     name : str
         Catalog name or leg string (an ``_`` marks the actuated joint).
     placement : Placement, optional
-        End points and frames; default :func:`screwkit.placement.default_placement`
+        End points and frames; default :func:`screwkit.legs.default_placement`
         or the catalog entry's own placement.
     seed : int
         Seed of the generic geometry of a bare string.
@@ -48,7 +48,7 @@ def define_leg(name: str, string: str, joints, structure=(), expect=None, summar
     string : str
         Leg string, ``_`` before the actuated joint (``"R_PS"``).
     joints : list of dict
-        One placement rule per letter (``axis``/``axes``/``at``, see :mod:`screwkit.rules`).
+        One placement rule per letter (``axis``/``axes``/``at``, see :mod:`screwkit.legs._rules`).
     structure : list of dict
         Checks that must hold wherever the leg is built
         (``{perpendicular: [R1, leg]}`` ...).
@@ -58,11 +58,11 @@ def define_leg(name: str, string: str, joints, structure=(), expect=None, summar
     summary : str
     placement : Placement or mapping, optional
         Default end points (``{"A": [..], "a": [..]}``); default
-        :func:`screwkit.placement.default_placement`.
+        :func:`screwkit.legs.default_placement`.
 
     Returns
     -------
-    screwkit.catalog.LegSpec
+    screwkit.pm.LegSpec
         Use it with ``spec.build()``, or add it to a catalog with :func:`extend_catalog`
         and then ``screwkit.leg(name, catalog=...)``.
 
@@ -95,7 +95,7 @@ def load_legs(path) -> tuple:
 
     Returns
     -------
-    tuple of screwkit.catalog.LegSpec
+    tuple of screwkit.pm.LegSpec
         In file order.
 
     Raises
@@ -129,7 +129,7 @@ def extend_catalog(legs, catalog=None, *, replace: bool = False):
 
     Returns
     -------
-    screwkit.catalog.Catalog
+    screwkit.pm.Catalog
     """
     from .pm import Catalog, LegSpec, default_catalog
     from .errors import CatalogError

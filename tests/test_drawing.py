@@ -1,4 +1,4 @@
-"""3D drawings of legs and PMs (screwkit.drawing) and ``screwkit leg --draw``.
+"""3D drawings of legs and PMs (screwkit.viz) and ``screwkit leg --draw``.
 
 Geometry checks compare the drawn arrows with lines built here from the leg's
 joints (rule 2: a constraint force meets every R axis; rule 3: a couple is

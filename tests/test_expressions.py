@@ -1,4 +1,4 @@
-"""Safe expression evaluator (screwkit.expressions) and path input (screwkit.pathspec)."""
+"""Safe expression evaluator (screwkit.pm._expressions) and path input (screwkit.paths)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The paper's two examples (section 5.1): 3RRPRR and 2SPS+2SPR statics.
 
-Every expected value here is built independently of screwkit.jacobian/statics:
+Every expected value here is built independently of screwkit.engine (Jacobian, statics):
 the paper's own Jacobian rows (eqs. 13d, 14a-e, 18, 19 with the corrections of
 NOTES.md) assembled by hand, the legs' own joint twists, finite differences of
 the closed-form inverse displacement, and invariance under a change of frame

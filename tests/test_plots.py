@@ -1,4 +1,4 @@
-"""Fig. 5 panels (screwkit.plots.plot_fig5) on synthetic data."""
+"""Fig. 5 panels (screwkit.viz.plot_fig5) on synthetic data."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""PM definitions and the unified inverse displacement (screwkit.pm, screwkit.kinematics).
+"""PM definitions and the unified inverse displacement (screwkit.pm, screwkit.engine).
 
 Expected values come from the paper's closed forms (typed here, with the errata of
 docs NOTES.md), from hand derivations, from the leg rules rebuilt independently of

@@ -1,4 +1,4 @@
-"""Issue 6: trajectories (screwkit.trajectory, screwkit.trajectory_batch).
+"""Issue 6: trajectories (screwkit.paths, screwkit.engine).
 
 Independent checks, sample by sample:
 * the per-pose pipeline (`analyze_pm`, what `screwkit analyze` prints) at the same pose;
@@ -85,7 +85,7 @@ def test_every_sample_equals_analyze(models, runs, name):
 
 
 def test_per_pose_mode_and_refinement_levels_agree(models, runs):
-    """vectorised=False (every sample by PMModel.solve + Leg.analyze) and a three-level
+    """vectorised=False (every sample by screwkit.solve + Leg.analyze) and a three-level
     refinement (anchors every 16, then 1) give the same numbers."""
     model = models["3RRPRR"]
     path, ref = runs["3RRPRR"]

@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 
 import screwkit
-from screwkit.catalog import default_catalog
-from screwkit.drawing import draw_leg, draw_pm
-from screwkit.placement import Placement
+from screwkit.pm import default_catalog
+from screwkit.viz import draw_leg, draw_pm
+from screwkit.legs import Placement
 
 HERE = Path(__file__).resolve().parent
 

@@ -1,13 +1,13 @@
 """Vectorised (over path samples) kinematics, Jacobian rows and statics of a PM.
 
-The per-pose pipeline (:meth:`PMModel.solve`, :meth:`Leg.analyze`,
-:func:`~screwkit.jacobian.unified_jacobian`, :func:`~screwkit.statics.statics`)
+The per-pose pipeline (:func:`screwkit.solve`, :meth:`Leg.analyze`,
+:func:`~screwkit.engine.unified_jacobian`, :func:`~screwkit.engine.statics`)
 costs ~35 ms a pose, most of it in the observation-rule decomposition of every
 leg (named points, rule explanations).  Along a path the *structure* of that
 decomposition does not change, only the geometry; this module evaluates the
 same quantities for N samples at once with numpy:
 
-* :func:`newton_batch` - the loop closures of :mod:`screwkit.kinematics`
+* :func:`newton_batch` - the loop closures of :mod:`screwkit.engine._kinematics`
   (same unknowns, same length-normalised closure error, same minimum-norm
   Gauss-Newton step) for N samples simultaneously;
 * :class:`LegTemplate` - what a leg's analysis chose at a reference pose (its
@@ -16,9 +16,9 @@ same quantities for N samples at once with numpy:
   recomputes both at N poses and flags every sample where one of the analysis'
   decisions (rank, kind, orientation, choice of line) is not clear-cut;
 * :func:`jacobian_statics_batch` - conditioning and statics with the formulas of
-  :mod:`screwkit.jacobian` and :mod:`screwkit.statics`.
+  :mod:`screwkit.engine._jacobian` and :mod:`screwkit.engine._statics`.
 
-Flagged samples are recomputed by the caller (:mod:`screwkit.trajectory`) with
+Flagged samples are recomputed by the caller (:mod:`screwkit.paths._trajectory`) with
 the per-pose pipeline, so the results agree with ``screwkit analyze`` at every
 sample (``tests/test_trajectory.py`` checks it).
 """
@@ -72,7 +72,7 @@ def _rot(d, th):
 
 
 def _axis_rot(axis, ang):
-    """Batched :func:`screwkit.euler.axis_rotation`."""
+    """Batched :func:`screwkit.screws.axis_rotation`."""
     c, s = np.cos(ang), np.sin(ang)
     j, k = (axis + 1) % 3, (axis + 2) % 3
     R = np.zeros((len(ang), 3, 3))
@@ -97,7 +97,7 @@ def _rotvec(R):
 
 
 def _char_length(P):
-    """Batched :func:`screwkit.tolerance.characteristic_length` for (N, p, 3) points
+    """Batched :func:`screwkit.screws.characteristic_length` for (N, p, 3) points
     (RMS spread about the centroid); returns (centre (N, 3), length (N,), ok (N,))."""
     c = P.mean(axis=1)
     L = np.sqrt(np.mean(np.sum((P - c[:, None, :]) ** 2, axis=2), axis=1))
@@ -415,7 +415,7 @@ def assemble_batch(model, prob: BatchProblem, X, rows=slice(None)) -> Kinematics
 class LegTemplate:
     """The structure of a leg's analysis, to recompute its rows at many poses.
 
-    Built from the :class:`~screwkit.analysis.LegAnalysis` of the leg at a
+    Built from the :class:`~screwkit.legs.LegAnalysis` of the leg at a
     reference pose.  It is *trackable* when the leg has at most one constraint
     wrench (a pure force or a pure couple, unique up to its sign, which
     ``observation._orientation_sign`` fixes) and its actuation member is the unit

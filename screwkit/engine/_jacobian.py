@@ -3,7 +3,7 @@
 Given the legs of a PM placed at one pose, every leg contributes
 
 * one **actuation row**: the wrench its actuator transmits to the platform
-  (:attr:`screwkit.analysis.LegAnalysis.actuation`), reciprocal to the leg's
+  (:attr:`screwkit.legs.LegAnalysis.actuation`), reciprocal to the leg's
   passive joints and scaled to unit reciprocal product with the actuated
   joint's unit twist, so that ``row . V`` is the actuator velocity;
 * its **constraint rows**: the leg's constraint wrenches (unit pure forces,
@@ -23,7 +23,7 @@ Condition number
 The rows are *length-normalised* before any rank or conditioning decision:
 moments are taken about the centroid ``c`` of the geometry (all leg points and
 ``o``) and divided by its characteristic length ``L``
-(:class:`screwkit.reciprocal.Normalisation`), then each row is scaled to unit
+(:class:`screwkit.screws.Normalisation`), then each row is scaled to unit
 Euclidean norm (row scaling does not change the rank and removes the arbitrary
 scale of each row: a unit couple becomes comparable with a unit force at arm
 ``L``).  The condition number is the ratio of the largest to the 6th singular
@@ -43,10 +43,10 @@ hold but the actuators cannot control (or balance) some twist.
 Examples
 --------
 >>> import numpy as np
->>> from screwkit.jacobian import unified_jacobian
+>>> from screwkit.engine import unified_jacobian
 >>> from screwkit.legs import Leg
 >>> import screwkit
->>> from screwkit.placement import Placement
+>>> from screwkit.legs import Placement
 >>> A = [[100, 0, 0], [-50, 86.6, 0], [-50, -86.6, 0], [100, 20, 0], [-50, 70, 0], [-50, -100, 0]]
 >>> a = [[40, 10, 80], [-30, 40, 80], [-10, -40, 80], [30, -40, 80], [-40, -10, 80], [10, 40, 80]]
 >>> legs = [screwkit.leg("SPS", Placement(A[i], a[i], o=[0, 0, 80])) for i in range(6)]
@@ -337,7 +337,7 @@ def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOL
     -------
     JacobianResult
         Never raises at a singular pose: call :meth:`JacobianResult.check` (or use
-        :func:`screwkit.statics.statics`) to raise :class:`SingularityError`.
+        :func:`screwkit.engine.statics`) to raise :class:`SingularityError`.
         A leg whose actuated joint is dependent on its passive joints contributes a
         zero actuation row (the Jacobian is then singular, kind ``"actuation"``).
     """

@@ -20,7 +20,7 @@ idle motions, e.g. the spin of an SPS, keep the smallest joint motion).  The
 closure error of a leg is the length-normalised twist that carries its end
 pose onto the platform pose, measured at the PM's centroid: ``[d / L; w]``
 with ``w`` the rotation vector and ``d`` the displacement of the platform point
-at the centroid (see :class:`screwkit.reciprocal.Normalisation`); the reported
+at the centroid (see :class:`screwkit.screws.Normalisation`); the reported
 ``residual`` is its largest component.
 """
 
@@ -416,7 +416,7 @@ def _solve_fixed(model, fixed, start_pose, start_q):
 
 
 def solve_pose(model, independent: dict, guess=None, degrees: bool = False) -> PoseSolution:
-    """Unified inverse displacement: see the module docstring and :meth:`PMModel.solve`."""
+    """Unified inverse displacement: see the module docstring and :func:`screwkit.solve`."""
     fixed, notes = _validate(model, independent, degrees)
     pose0, q0 = _start(model, guess)
     pair = [p for p in ("alpha", "gamma") if p not in fixed]

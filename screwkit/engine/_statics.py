@@ -23,15 +23,15 @@ Virtual work, ``F_r . (J V) + W . V = 0`` for every twist ``V``, gives
 When ``J`` has more than 6 rows (redundant constraints or redundant actuation)
 the statics is indeterminate: the result is the least-norm solution (norm of the
 length-normalised, row-equilibrated unknowns, i.e. forces and couples divided by
-the characteristic length, see :mod:`screwkit.jacobian`), ``indeterminacy`` is
+the characteristic length, see :mod:`screwkit.engine._jacobian`), ``indeterminacy`` is
 ``m - rank`` and ``self_stress`` a basis of the solutions of ``J^T x = 0`` that
 may be added to it.
 
 Examples
 --------
 >>> import numpy as np, screwkit
->>> from screwkit.placement import Placement
->>> from screwkit.statics import solve_statics
+>>> from screwkit.legs import Placement
+>>> from screwkit.engine import solve_statics
 >>> A = [[100, 0, 0], [-50, 86.6, 0], [-50, -86.6, 0], [100, 20, 0], [-50, 70, 0], [-50, -100, 0]]
 >>> a = [[40, 10, 80], [-30, 40, 80], [-10, -40, 80], [30, -40, 80], [-40, -10, 80], [10, 40, 80]]
 >>> legs = [screwkit.leg("SPS", Placement(A[i], a[i], o=[0, 0, 80])) for i in range(6)]
@@ -202,7 +202,7 @@ def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool =
     Parameters
     ----------
     jacobian : JacobianResult
-        From :func:`screwkit.jacobian.unified_jacobian`.
+        From :func:`screwkit.engine.unified_jacobian`.
     F, T : array_like, shape (3,) or (..., 3)
         Force and torque about ``o`` (same units as the legs' lengths for ``T``).
     o : array_like (3,), optional

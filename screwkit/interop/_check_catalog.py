@@ -113,7 +113,7 @@ def _pose_of(solution) -> dict:
 
 
 def check_analysis(analysis, checker=None, *, rtol: float = CHECK_RTOL) -> PMCheckReport:
-    """Cross-check a :class:`screwkit.pm_analysis.PMAnalysis` (pose, statics, mobility).
+    """Cross-check a :class:`screwkit.engine.PMAnalysis` (pose, statics, mobility).
 
     Parameters
     ----------
@@ -160,7 +160,7 @@ def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = No
     max_draws : int, optional
         Give up after this many draws (default ``5 n + 20``).
     **analyze_kwargs
-        Passed to :func:`screwkit.pm_analysis.analyze_pm` (``force``, ``torque``).
+        Passed to :func:`screwkit.engine.analyze_pm` (``force``, ``torque``).
 
     Returns
     -------

@@ -2,7 +2,7 @@
 
 Given what screwkit computed for a leg or a PM at a pose (joint values, the
 legs placed at the pose, leg wrenches, actuator forces), rebuild the
-mechanism in Pinocchio (:mod:`screwkit.pinocchio_model`) and compare:
+mechanism in Pinocchio (:mod:`screwkit.interop._pinocchio_model`) and compare:
 
 a) **closure** - Pinocchio's FK of each leg at screwkit's joint values reaches
    the platform pose (position of the platform origin divided by the length
@@ -26,14 +26,14 @@ d) **statics** - ``J_leg(q)^T w`` (``w`` the leg's wrench on the platform about 
 
 For an assembled PM (:mod:`screwkit.pm`): :class:`PMChecker` builds the models
 once from the home geometry and checks any pose; :func:`check_pm` (a pose
-solution or a :class:`~screwkit.pm_analysis.PMAnalysis`) gives the detailed
+solution or a :class:`~screwkit.engine.PMAnalysis`) gives the detailed
 rows, :func:`check_analysis` a :class:`PMCheckReport` with one row per check
 (:data:`SUMMARY_CHECKS`), :func:`regular_analyses` draws regular poses around a
 PM's default pose and :func:`check_all` runs the whole catalog
 (``screwkit check``).
 
 Every deviation is dimensionless (length-normalised with the geometry's
-characteristic length, see :class:`screwkit.reciprocal.Normalisation`) and
+characteristic length, see :class:`screwkit.screws.Normalisation`) and
 compared with ``rtol`` (default :data:`CHECK_RTOL`); ranks use
 :data:`screwkit.screws.RANK_RTOL`.
 
@@ -251,10 +251,10 @@ def check_pm(solution, statics=None, *, mobility=None, expected_dof=None, checke
         Uses ``solution.model.home_legs``, ``solution.model.platform_home`` (or
         ``home_rotation``/``home_position``), ``solution.joint_values``,
         ``solution.legs``, ``solution.rotation``, ``solution.position``.  A
-        :class:`~screwkit.pm_analysis.PMAnalysis` brings its statics and mobility.
+        :class:`~screwkit.engine.PMAnalysis` brings its statics and mobility.
     statics : StaticsResult, optional
         ``leg_wrenches`` (n, 6), ``active`` (n,) and ``workload`` (6,).
-    mobility : screwkit.mobility.Mobility, optional
+    mobility : screwkit.pm.Mobility, optional
         screwkit's mobility at the pose: ``dof`` and ``twists`` are checked.
     expected_dof : int, optional
         Default: ``mobility.dof``, else ``model.stated_dof`` (or ``model.dof``).

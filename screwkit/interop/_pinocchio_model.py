@@ -259,7 +259,7 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
 
     Without ``point_contacts`` (the default) S-ended legs keep their S and get a 6-D
     closure: the S's rotations then show up in the Jacobian and its idle spin as a
-    dependent joint (see :func:`screwkit.pinocchio_check.mobility`).  Both models
+    dependent joint (see :func:`screwkit.interop.mobility`).  Both models
     give the same platform mobility.
 
     Parameters

@@ -3,7 +3,7 @@
 A :class:`Leg` is an immutable value: the parsed string, one :class:`Joint` per
 equivalent 1-DOF joint (with the letter and position it came from), and the
 leg's end points.  Its screw-theoretic analysis (constraint wrenches,
-observation rules, actuation wrench) is in :mod:`screwkit.analysis`.
+observation rules, actuation wrench) is in :mod:`screwkit.legs._analysis`.
 """
 
 from __future__ import annotations
@@ -164,7 +164,7 @@ class Leg:
                    R @ (scale * self.A) + p, R @ (scale * self.a) + p, self.name)
 
     def analyze(self):
-        """Screw-theoretic analysis of the leg (see :func:`screwkit.analysis.analyze_leg`)."""
+        """Screw-theoretic analysis of the leg (see :func:`screwkit.legs.analyze_leg`)."""
         from ._analysis import analyze_leg
         return analyze_leg(self)
 

@@ -3,7 +3,7 @@
 A leg type in ``legs_catalog.yaml`` lists one entry per letter of its string.
 Each entry places the joint relative to the leg line, the base, the platform
 and the other joints.  The builder evaluates the entries for a
-:class:`~screwkit.placement.Placement` and returns a concrete
+:class:`~screwkit.legs.Placement` and returns a concrete
 :class:`~screwkit.legs.Leg`.
 
 Direction references (``REF``)

@@ -6,7 +6,7 @@ Zo`` for the 3RRPRR) at N samples.  It is read either from
 * a CSV file with a header row: a column ``t`` and one column per independent
   parameter (``Xo, Yo, Zo`` in length units, ``alpha, beta, gamma`` in
   **degrees**); blank lines and lines starting with ``#`` are skipped; or
-* expressions ``name=EXPR`` in ``t`` (see :mod:`screwkit.expressions`; angles
+* expressions ``name=EXPR`` in ``t`` (see :mod:`screwkit.pm._expressions`; angles
   in degrees) sampled at ``samples`` equally spaced values of ``t`` over
   ``t_range`` (default ``[0, 1]``).
 
@@ -15,7 +15,7 @@ unit); :meth:`PathSpec.display` gives them back in degrees.
 
 Examples
 --------
->>> from screwkit.pathspec import path_from_expressions
+>>> from screwkit.paths import path_from_expressions
 >>> p = path_from_expressions(["alpha=10*t", "beta=0", "Zo=70+30*t"],
 ...                           independent=("alpha", "beta", "Zo"), samples=3)
 >>> p.t

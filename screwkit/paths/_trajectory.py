@@ -1,6 +1,6 @@
 """Statics along a path: inverse displacement, Jacobian and statics at every sample.
 
-:func:`run_trajectory` takes a PM and a :class:`~screwkit.pathspec.PathSpec`
+:func:`run_trajectory` takes a PM and a :class:`~screwkit.paths.PathSpec`
 (the independent pose parameters sampled at ``t``) and returns a
 :class:`TrajectoryResult`: the full pose, leg extensions, active forces,
 constraint forces/couples, constraint torques ``T_ri`` and the condition number
@@ -8,13 +8,13 @@ at every sample, with a per-sample ``status``:
 
 * ``ok`` - solved, regular;
 * ``singular`` - the pose is assembled but the unified Jacobian is singular
-  (condition number above :data:`~screwkit.jacobian.COND_THRESHOLD`): the
+  (condition number above :data:`~screwkit.engine.COND_THRESHOLD`): the
   statics are NaN, the pose, extensions and condition number are kept;
 * ``unreachable`` - the loop closures cannot be satisfied: everything but the
   given parameters is NaN.
 
 A flagged sample never aborts the run.  Every sample equals what
-:func:`screwkit.pm_analysis.analyze_pm` (``screwkit analyze``) gives at that
+:func:`screwkit.engine.analyze_pm` (``screwkit analyze``) gives at that
 pose (for a leg with two or more constraint wrenches of one kind the split
 between them is a basis choice of the per-pose analysis; their total, the leg's
 wrench, and the active forces are what is defined).  The computation is
@@ -25,12 +25,12 @@ organised for speed (``docs/tutorial.md``, "Speed"):
    the previous one;
 2. the other samples are solved level by level (the spacing divided by 16 at
    each level) by a Gauss-Newton vectorised over samples
-   (:func:`screwkit.trajectory_batch.newton_batch`), started from the linear
+   (:func:`screwkit.engine.newton_batch`), started from the linear
    interpolation of the samples already solved;
 3. each leg's Jacobian rows are recomputed for all samples at once from the
    structure of its analysis at the home pose
-   (:class:`~screwkit.trajectory_batch.LegTemplate`), then the conditioning and
-   the statics (:func:`~screwkit.trajectory_batch.jacobian_statics_batch`);
+   (:class:`~screwkit.engine.LegTemplate`), then the conditioning and
+   the statics (:func:`~screwkit.engine.jacobian_statics_batch`);
 4. every sample where a step is not clear-cut (no convergence, a jump to
    another branch, a representation singularity, a rank or orientation decision
    near its threshold, a leg whose analysis is not tracked) is recomputed by the
@@ -38,8 +38,8 @@ organised for speed (``docs/tutorial.md``, "Speed"):
 
 Examples
 --------
->>> from screwkit.pathspec import path_from_expressions
->>> from screwkit.trajectory import run_trajectory
+>>> from screwkit.paths import path_from_expressions
+>>> from screwkit.paths import run_trajectory
 >>> path = path_from_expressions(["alpha=5*sin(2*pi*t)", "beta=3", "Zo=70+20*t"],
 ...                              ("alpha", "beta", "Zo"), samples=5)
 >>> res = run_trajectory("3RRPRR", path)
@@ -208,7 +208,7 @@ class TrajectoryResult:
 
     def to_dict(self) -> dict:
         """JSON-ready, column-oriented (angles in degrees; NaN stays NaN until
-        :func:`screwkit.commands._common.to_jsonable` makes it null)."""
+        :func:`screwkit.cli._commands._common.to_jsonable` makes it null)."""
         p = self.params_degrees()
         return {
             "pm": self.pm,
@@ -236,7 +236,7 @@ class TrajectoryResult:
         }
 
     def plot(self, out=None, *, title=None, units=None, dpi: int = 150):
-        """The panels of the paper's Fig. 5 (:func:`screwkit.plots.plot_fig5`).
+        """The panels of the paper's Fig. 5 (:func:`screwkit.viz.plot_fig5`).
 
         (a) the independent pose parameters, (b) the extensions ``r_i``, (c) the
         active forces ``F_ai``, (d) the constraint forces and torques (``F_c``,
@@ -320,7 +320,7 @@ def _vec3(x, name):
 
 def _check_path(model, path) -> PathSpec:
     if not isinstance(path, PathSpec):
-        raise InputError(f"the path must be a PathSpec (see screwkit.pathspec), got "
+        raise InputError(f"the path must be a PathSpec (see screwkit.paths), got "
                          f"{type(path).__name__}")
     if len(path) == 0:
         raise InputError("the path has no samples")
@@ -351,7 +351,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
         Dimension overrides when ``model`` is a name.
     anchor_every : int
         Spacing of the anchor samples solved one by one (>= 1; 1 solves every
-        sample by :meth:`PMModel.solve`); at most N // 8.
+        sample by :func:`screwkit.engine.solve_pose`); at most N // 8.
     chunk : int
         Samples processed together (bounds the memory of the vectorised steps).
     vectorised : bool
@@ -461,7 +461,7 @@ class _Run:
         return sol
 
     def per_pose(self, i):
-        """Sample i by the per-pose pipeline (PMModel.solve, Leg.analyze, unified_jacobian)."""
+        """Sample i by the per-pose pipeline (solve_pose, Leg.analyze, unified_jacobian)."""
         sol = self.core_solve(i)
         self.diag["per_pose_kinematics"] += 1
         if sol is None:

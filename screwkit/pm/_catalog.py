@@ -7,7 +7,7 @@ Schema (``docs/catalog.md`` has the full reference)::
       - name: RRPRR             # unique; variants as STRING/variant ("UPU/couple")
         string: RR_PRR          # leg string, '_' before the actuated joint
         summary: one line in words
-        joints: [ ... ]         # one placement rule per letter (see screwkit.rules)
+        joints: [ ... ]         # one placement rule per letter (see screwkit.legs)
         structure: [ ... ]      # checks that must hold wherever the leg is assembled
         placement: {A: [..], a: [..], o: [..]}     # optional default end points
         expect:                 # what the leg must exert, in counts and words

@@ -17,7 +17,7 @@ over a numpy array ``t``.
 Examples
 --------
 >>> import numpy as np
->>> from screwkit.expressions import evaluate
+>>> from screwkit.pm import evaluate
 >>> evaluate("70 + 30*t", np.array([0.0, 0.5, 1.0]))
 array([ 70.,  85., 100.])
 >>> evaluate("t.__class__", np.zeros(2))  # doctest: +ELLIPSIS

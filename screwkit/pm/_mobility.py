@@ -1,7 +1,7 @@
 """Instantaneous mobility of an assembled PM from its legs' constraint wrenches.
 
 * ``dof = 6 - rank`` of the union of every leg's constraint-wrench system
-  (length-normalised rank, :class:`screwkit.reciprocal.Normalisation`).
+  (length-normalised rank, :class:`screwkit.screws.Normalisation`).
 * The platform twist space is the set of twists reciprocal to that union.
   ``motion_type`` is ``"<t>T<r>R"``: ``r`` is the number of independent
   rotations (the rank of the angular parts of the twist space), ``t = dof - r``
@@ -159,7 +159,7 @@ def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
 
 
 def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
-    """Mobility of a PM at a solved pose (:class:`~screwkit.kinematics.PoseSolution`).
+    """Mobility of a PM at a solved pose (:class:`~screwkit.engine.PoseSolution`).
 
     A note is added when the DOF differs from the definition's stated DOF (a
     singular pose or a geometry that cannot have the stated mobility).

@@ -4,7 +4,7 @@ The constraint wrenches of a serial chain are the wrenches reciprocal to every
 joint twist: the null space of the twist matrix under ``W o V = W . V``.  The
 null space is computed by SVD on *length-normalised* screws (moved to the
 centroid of the geometry and with lengths divided by its characteristic length,
-see :mod:`screwkit.tolerance`) so that the rank decision is invariant under a
+see :mod:`screwkit.screws._tolerance`) so that the rank decision is invariant under a
 change of base frame and of length units.
 
 Examples

@@ -46,13 +46,13 @@ This module holds the driver (:func:`synthesize`, :func:`synthesize_composition`
 the depth-first search) and the result types (:class:`Synthesis`,
 :class:`JointChoice`); the rest of the synthesis lives by concern in
 
-* :mod:`screwkit.synthesis_layouts`: the target systems (:data:`LAYOUTS`,
+* :mod:`screwkit.synthesis._layouts`: the target systems (:data:`LAYOUTS`,
   :class:`Layout`, :class:`Locus`, :func:`make_layout`), derived by hand;
-* :mod:`screwkit.synthesis_joints`: placement of each letter's joints in a
+* :mod:`screwkit.synthesis._joints`: placement of each letter's joints in a
   layout and the words saying how they satisfy the rules;
-* :mod:`screwkit.synthesis_proofs`: the impossibility arguments (by the rules,
+* :mod:`screwkit.synthesis._proofs`: the impossibility arguments (by the rules,
   by counting) and :func:`counting_rank`;
-* :mod:`screwkit.synthesis_linalg`: 3-vector helpers and null spaces.
+* :mod:`screwkit.synthesis._linalg`: 3-vector helpers and null spaces.
 
 Their public names are re-exported here.
 
@@ -288,7 +288,7 @@ def synthesize(string, composition, seed=0, placement: Placement | None = None,
     seed : int or numpy.random.Generator or sequence of int
         Seed of the random free choices (target geometry, joint points and axes).
     placement : Placement, optional
-        End points of the leg (default :func:`screwkit.placement.default_placement`).
+        End points of the leg (default :func:`screwkit.legs.default_placement`).
     layouts : sequence of str, optional
         Restrict the layouts tried.
 

@@ -2,7 +2,7 @@
 
 For every leg string (the paper's Table I by default) :func:`validate_string`
 
-1. analyses a *generic* geometry (:func:`screwkit.rules.generic_leg`): connectivity,
+1. analyses a *generic* geometry (:func:`screwkit.legs.generic_leg`): connectivity,
    number of constraint wrenches ``k = 6 - rank``, dependent joints;
 2. for every composition of a ``k``-system into pure forces and couples
    (``(1, 0)`` and ``(0, 1)`` when ``k = 1``; ``(2, 0)``, ``(1, 1)``, ``(0, 2)``
@@ -117,7 +117,7 @@ def validate_catalog(catalog=None, known: dict | None = None, draws: int = 1,
     Parameters
     ----------
     catalog : Catalog, optional
-        Default :func:`screwkit.catalog.default_catalog`.
+        Default :func:`screwkit.pm.default_catalog`.
     known : dict, optional
         ``{marked string: LegValidation}`` already computed (reused for the
         composition check).

@@ -94,7 +94,7 @@ def verify(leg: Leg, predicted, allow_dependent: bool = False,
         Whether dependent joints are expected (reported, not a failure).
     actuation : {"wrench", "rank"}
         ``"wrench"``: the actuated joint must have an actuation wrench
-        (:func:`screwkit.analysis.actuation_wrench` is not None); ``"rank"``: the
+        (:func:`screwkit.legs.actuation_wrench` is not None); ``"rank"``: the
         equivalent, cheaper test that the passive joints' twists have a lower rank
         than all the twists (used for repeated draws).
 

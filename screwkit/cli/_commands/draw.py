@@ -35,7 +35,7 @@ def register(sub):
 
 
 def wrench_rows(analysis, values: bool = True):
-    """The rows of ``draw_pm`` from a :class:`~screwkit.pm_analysis.PMAnalysis`.
+    """The rows of ``draw_pm`` from a :class:`~screwkit.engine.PMAnalysis`.
 
     Returns
     -------

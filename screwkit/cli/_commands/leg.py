@@ -23,7 +23,7 @@ def register(sub):
 
 
 def leg_report(res) -> dict:
-    """JSON-ready description of a :class:`~screwkit.analysis.LegAnalysis`."""
+    """JSON-ready description of a :class:`~screwkit.legs.LegAnalysis`."""
     leg = res.leg
 
     def member(c):
