@@ -43,7 +43,7 @@ def test_module_docstring_examples():
     import importlib
 
     mods = ["screwkit.screws._primitives", "screwkit.screws._reciprocal", "screwkit.legs._parsing",
-            "screwkit.legs._analysis", "screwkit.engine._analyze", "screwkit.api"]
+            "screwkit.legs._analysis", "screwkit.engine._analysis", "screwkit.api"]
     for name in mods:
         res = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
         assert res.failed == 0, f"doctest failures in {name}"

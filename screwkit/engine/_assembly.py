@@ -1,22 +1,26 @@
-"""Loading a PM for use: the model of :mod:`screwkit.pm` and the check that its default pose assembles.
+"""Loading a PM for use: the model of :mod:`screwkit.pm` and the check that its default pose
+assembles; the one-pose and list-of-poses conveniences of the inverse displacement.
 
 :func:`screwkit.pm.load_pm` builds a :class:`~screwkit.pm.PMModel` without the
 engine (the model layer never imports it).  The check that the definition's
 default pose can be assembled needs the inverse displacement, so it is made
 here, by :func:`check_default_pose`; :func:`load_assembled_pm` is the loader
-that every path loading a PM for users goes through (:func:`screwkit.load_pm`,
-:func:`screwkit.analyze`, trajectories, the Pinocchio checks, the CLI).
+that every path loading a PM for users goes through.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
-from ..errors import CatalogError, ScrewkitError
-from ..pm import load_pm
-from ._kinematics import solve_pose
+import numpy as np
 
-__all__ = ["load_assembled_pm", "check_default_pose", "default_full_pose"]
+from ..errors import CatalogError, InputError, ScrewkitError, UnreachablePoseError
+from ..pm import PARAMS, PMModel, load_pm
+from ._analysis import PAPER_FORCE, PAPER_TORQUE, analyze
+from ._solution import solve
+
+__all__ = ["load_assembled_pm", "check_default_pose", "default_full_pose", "solve_pose",
+           "solve_path", "analyze_pm"]
 
 
 def _default_is_home(model) -> bool:
@@ -26,9 +30,8 @@ def _default_is_home(model) -> bool:
 def check_default_pose(model):
     """``model``, after checking that its default pose can be assembled.
 
-    The default pose is solved from the home assembly (unless it is the home
-    pose); the notes of that solution are added to the model's ``notes`` as
-    ``"default pose: ..."``.
+    The default pose is solved from the home assembly (unless it is the home pose); the
+    notes of that solution are added to the model's ``notes`` as ``"default pose: ..."``.
 
     Raises
     ------
@@ -42,17 +45,71 @@ def check_default_pose(model):
     except ScrewkitError as exc:
         raise CatalogError(f"the default pose cannot be assembled: {exc}", model.name, "pose",
                            model.source) from None
-    return dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}" for t in sol.notes))
+    return dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}"
+                                                                for t in sol.notes))
 
 
-def load_assembled_pm(name_or_path: str, overrides: dict | None = None, catalog=None):
+def load_assembled_pm(name_or_path, overrides: dict | None = None, catalog=None):
     """:func:`screwkit.pm.load_pm` followed by :func:`check_default_pose`."""
     return check_default_pose(load_pm(name_or_path, overrides, catalog))
 
 
 def default_full_pose(model) -> dict:
-    """All six pose parameters (radians) at the model's default independent values: the
-    home pose when they are the home values, else the inverse displacement from home."""
+    """All six pose parameters (radians) at the model's default independent values."""
     if _default_is_home(model):
         return dict(model.home_pose)
     return dict(solve_pose(model, dict(model.default_pose)).params)
+
+
+def solve_pose(model, independent=None, guess=None, degrees: bool = False):
+    """Inverse displacement at one pose (numbers) or N poses (arrays): :func:`solve`;
+    raises :class:`UnreachablePoseError` for an unreachable single pose."""
+    return solve(model, independent, guess, degrees)
+
+
+def solve_path(model, poses, guess=None, degrees: bool = False) -> tuple:
+    """Solve a list of independent-parameter mappings as successive samples of a path
+    (each warm-started from its neighbours); one :class:`PoseSolution` per sample.
+
+    Raises
+    ------
+    UnreachablePoseError
+        ``path sample k: ...`` for the first unreachable sample.
+    """
+    poses = list(poses)
+    if not poses:
+        return ()
+    for k, p in enumerate(poses):
+        if not isinstance(p, dict):
+            raise InputError(f"{model.name}: path sample {k} must be a mapping of the "
+                             f"independent pose parameters, got {type(p).__name__}")
+    keys = set().union(*poses)
+    arrays = {}
+    for name in keys:
+        if name not in PARAMS:
+            raise InputError(f"{model.name}: unknown pose parameter {name!r} (one of "
+                             f"{', '.join(PARAMS)})")
+        arrays[name] = np.array([p.get(name, np.nan) for p in poses], float)
+        if np.isnan(arrays[name]).any():
+            k = int(np.flatnonzero(np.isnan(arrays[name]))[0])
+            raise InputError(f"{model.name}: path sample {k} has no {name}")
+    sol = solve(model, arrays, guess, degrees, path=True, single=False)
+    bad = ~sol.reachable_mask
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        try:
+            solve(model, {n: v[k] for n, v in arrays.items()}, degrees=degrees)
+        except UnreachablePoseError as exc:
+            raise UnreachablePoseError(f"path sample {k}: {exc}", residual=exc.residual) from None
+        raise UnreachablePoseError(f"path sample {k}: unreachable from its neighbours",
+                                   residual=float(sol.residual[k]))
+    return tuple(sol[i] for i in range(len(sol)))
+
+
+def analyze_pm(pm, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE,
+               overrides: dict | None = None, degrees: bool = False, guess=None,
+               raise_on_singular: bool = True, catalog=None, **kwargs):
+    """:func:`analyze` of a PM given by name, YAML path or model (see :func:`screwkit.analyze`)."""
+    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, overrides, catalog)
+    return analyze(model, pose, force=force, torque=torque, degrees=degrees, guess=guess,
+                   raise_on_singular=raise_on_singular, **kwargs)

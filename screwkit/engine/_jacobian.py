@@ -1,51 +1,26 @@
-"""The unified 6x6 Jacobian of a parallel manipulator: actuation and constraint wrenches.
+"""The unified 6x6 Jacobian ``J = [J_a; J_c]`` of N poses, and what its conditioning says.
 
-Given the legs of a PM placed at one pose, every leg contributes
+Every leg contributes one **actuation row** (the wrench its actuator transmits
+to the platform, reciprocal to the leg's passive joints and scaled to unit
+reciprocal product with the actuated joint's unit twist, so that ``row . V``
+is the actuator velocity) and its **constraint rows** (unit pure forces, unit
+pure couples or finite-pitch screws with ``|f| = 1``, reciprocal to every
+joint of the leg).  ``J`` maps the platform twist ``V = [v_O; w]`` to
+``[actuator velocities; 0]`` (paper eq. 7b).  Rows are wrenches ``[f; m]``
+with moments about the base origin ``O``; the paper's rows about the platform
+centre ``o`` give the same products with ``[v_o; w]`` (:meth:`JacobianResult.rows_about`).
 
-* one **actuation row**: the wrench its actuator transmits to the platform
-  (:attr:`screwkit.legs.LegAnalysis.actuation`), reciprocal to the leg's
-  passive joints and scaled to unit reciprocal product with the actuated
-  joint's unit twist, so that ``row . V`` is the actuator velocity;
-* its **constraint rows**: the leg's constraint wrenches (unit pure forces,
-  unit pure couples, finite-pitch screws with ``|f| = 1``), reciprocal to
-  every joint of the leg, so that ``row . V = 0`` for every twist the leg
-  allows.
-
-``J = [J_a; J_c]`` (actuation rows first, in leg order, then constraint rows in
-leg order) maps the platform twist ``V = [v_O; w]`` to ``[actuator velocities;
-0]`` (paper eq. 7b).  Rows are wrenches ``[f; m]`` with moments about the base
-origin ``O``; the paper writes them about the platform centre ``o``
-(``[c; rho x c]``, ``rho`` from ``o``) with ``V = [v_o; w]``: the products are
-equal, so both give the same statics (:meth:`JacobianResult.rows_about`).
-
-Condition number
-----------------
-The rows are *length-normalised* before any rank or conditioning decision:
-moments are taken about the centroid ``c`` of the geometry (all leg points and
-``o``) and divided by its characteristic length ``L``
-(:class:`screwkit.screws.Normalisation`), then each row is scaled to unit
-Euclidean norm (row scaling does not change the rank and removes the arbitrary
-scale of each row: a unit couple becomes comparable with a unit force at arm
-``L``).  The condition number is the ratio of the largest to the 6th singular
-value of that matrix: it is unit-free and does not change when the base frame
-is moved or every length is multiplied by 1000.
-
-Singularity
------------
-The pose is singular when the normalised condition number exceeds
-:data:`COND_THRESHOLD` (``1 / RANK_RTOL = 1e8``) or ``J`` has fewer than 6
-independent rows.  ``kind="constraint"`` when the constraint rows alone lose
-their expected rank ``6 - n`` (``n`` actuation rows; condition of their first
-``6 - n`` singular values above the threshold, or too few rows): the legs no
-longer constrain the platform; otherwise ``kind="actuation"``: the constraints
-hold but the actuators cannot control (or balance) some twist.
+Condition number.  Rows are moved to the centroid of the geometry (every
+leg's points and ``o``), their moments divided by its characteristic length,
+and scaled to unit norm; ``s_1 / s_6`` of that matrix is unit-free and does
+not change with the base frame.  The pose is **singular** above
+:data:`COND_THRESHOLD`: ``kind="constraint"`` when the constraint rows alone
+lose the rank ``6 - n`` the ``n`` actuators need, else ``"actuation"``.
 
 Examples
 --------
->>> import numpy as np
->>> from screwkit.engine import unified_jacobian
->>> from screwkit.legs import Leg
 >>> import screwkit
+>>> from screwkit.engine import unified_jacobian
 >>> from screwkit.legs import Placement
 >>> A = [[100, 0, 0], [-50, 86.6, 0], [-50, -86.6, 0], [100, 20, 0], [-50, 70, 0], [-50, -100, 0]]
 >>> a = [[40, 10, 80], [-30, 40, 80], [-10, -40, 80], [30, -40, 80], [-40, -10, 80], [10, 40, 80]]
@@ -62,44 +37,43 @@ from functools import cached_property
 
 import numpy as np
 
-from ..errors import InputError, SingularityError
-from ..legs import Leg, point_label
-from ..screws import Normalisation, RANK_RTOL, as_vector3
+from ._pipeline import COND_THRESHOLD, Conditioning, RowInfo, condition
 
-__all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult", "unified_jacobian"]
+__all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
-#: Largest normalised condition number of ``J`` still treated as regular.
-COND_THRESHOLD = 1.0 / RANK_RTOL
+
+def _point_label(name):
+    from ..legs import point_label
+    return point_label(name)
 
 
 @dataclass(frozen=True)
 class JacobianRow:
-    """What one row of the unified Jacobian is.
+    """What one row of the unified Jacobian is, at one pose.
 
     Attributes
     ----------
     leg : int
-        Index of the leg in the sequence given to :func:`unified_jacobian`.
+        Index of the leg (0-based).
     leg_name : str
     kind : str
         ``"actuation"``, ``"force"``, ``"couple"`` or ``"screw"``.
     member : str
-        Geometric kind of the row's wrench: ``"force"``, ``"couple"`` or
-        ``"screw"`` (for a constraint row equal to ``kind``).
+        Geometric kind of the row's wrench (``"none"`` for the zero row of a
+        dependent actuator).
     direction : ndarray (3,)
-        Unit direction of the force (``force``/``screw``) or of the couple.
+        Unit direction of the force or couple.
     point : ndarray (3,) or None
-        A point of the force line (of the screw axis); None for a couple.
+        A point of the force line (the named point where there is one); None for a couple.
     point_name : str or None
-        The named point of the leg on that line (``"A"``, ``"R1^R5"``...), if any.
     pitch : float
         0 for a force, ``inf`` for a couple.
     scale : float
-        The row is ``scale`` times the unit member wrench (1 for constraint rows;
-        for an actuation row, the factor that makes its reciprocal product with
-        the actuated joint's unit twist equal to 1).
+        Row = scale x unit member (1 for constraint rows).
     joint : str or None
-        The actuated joint (actuation rows), None for constraint rows.
+        The actuated joint of an actuation row.
+    label : str
+        ``F_a1``, ``F_c2``, ``T_c3``...
     """
 
     leg: int
@@ -112,6 +86,7 @@ class JacobianRow:
     pitch: float
     scale: float
     joint: str | None
+    label: str = ""
 
     def describe(self) -> str:
         """One line, e.g. ``leg 0 (RRPRR) force along (...) through Q (where R1 meets R5)``."""
@@ -119,277 +94,305 @@ class JacobianRow:
                                                           self.direction)) + ")"
         if self.member == "couple":
             what = f"couple about {d}"
+        elif self.member == "none":
+            what = "zero row (the actuated joint is dependent on the passive ones)"
         else:
-            where = point_label(self.point_name) or "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")"
+            where = _point_label(self.point_name) or (
+                "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")" if self.point is not None
+                else "?")
             what = f"{self.member} along {d} through {where}"
         head = f"leg {self.leg} ({self.leg_name}) "
         return head + (f"actuation of {self.joint}: {what}" if self.kind == "actuation" else what)
 
 
+def _squeeze(x, single):
+    return x[0] if single else x
+
+
 @dataclass(frozen=True, eq=False)
 class JacobianResult:
-    """The unified Jacobian at one pose and what its conditioning says.
+    """The unified Jacobian at N poses (``single``: one pose, arrays without the pose axis).
 
     Attributes
     ----------
-    J : ndarray (m, 6)
-        Rows ``[f; m]`` about the base origin: ``n`` actuation rows, then the
-        constraint rows.
-    rows : tuple of JacobianRow
-        Metadata, one per row of ``J``.
+    matrix : ndarray (N, m, 6)
+        Rows ``[f; m]`` about ``O``: ``n`` actuation rows (leg order), then the constraint
+        rows (leg order).  :attr:`J` is the same (squeezed for one pose).
+    info : tuple of RowInfo
+        What each row is (the same at every pose).
     n_actuated : int
-        Number of actuation rows ``n``.
-    legs : tuple of Leg
-    analyses : tuple of LegAnalysis
-    o : ndarray (3,)
-        Platform centre (the paper's reference point for rows and workload).
-    normalisation : Normalisation
-        Centroid and characteristic length used for every rank decision.
-    singular_values : ndarray (min(m, 6),)
-        Singular values of the normalised, row-equilibrated ``J``, descending.
-    rank : int
-    condition_number : float
-        ``s_1 / s_6`` of the normalised ``J`` (``inf`` when fewer than 6 rows
-        or rank-deficient).
-    constraint_rank : int
-        Rank of the constraint rows.
-    constraint_condition_number : float
-        ``s_1 / s_(6-n)`` of the normalised constraint rows (1 when ``n >= 6``,
-        ``inf`` when there are fewer than ``6 - n`` constraint rows).
+    scale : ndarray (N, m)
+    points : ndarray (N, m, 3)
+        A point of each row's line, NaN for couples and for rows that are not forces.
+    origin : ndarray (N, 3)
+        The platform centre ``o`` at each pose.
+    conditioning : Conditioning
     threshold : float
-        Condition number above which the pose is singular.
+    single : bool
+    leg_provider : callable, optional
+        ``i -> tuple of Leg``: the placed legs at pose ``i``.
     """
 
-    J: np.ndarray
-    rows: tuple = field(repr=False)
+    matrix: np.ndarray
+    info: tuple
     n_actuated: int
-    legs: tuple = field(repr=False)
-    analyses: tuple = field(repr=False)
-    o: np.ndarray = field(repr=False)
-    normalisation: Normalisation = field(repr=False)
-    singular_values: np.ndarray
-    rank: int
-    condition_number: float
-    constraint_rank: int
-    constraint_condition_number: float
-    threshold: float
-    _Jn: np.ndarray = field(repr=False)
-    _row_norms: np.ndarray = field(repr=False)
-    _Vt: np.ndarray = field(repr=False)
+    scale: np.ndarray
+    points_: np.ndarray = field(repr=False)
+    origin: np.ndarray = field(repr=False)
+    conditioning: Conditioning = field(repr=False)
+    threshold: float = COND_THRESHOLD
+    single: bool = True
+    leg_provider: object = field(default=None, repr=False)
+    given_analyses: tuple = field(default=None, repr=False)
+
+    @classmethod
+    def from_rows(cls, rows, origin, *, threshold=COND_THRESHOLD, single=False,
+                  leg_provider=None, analyses=None):
+        cond = condition(rows.J, rows.n_actuated, rows.leg_points)[0]
+        return cls(rows.J, rows.info, rows.n_actuated, rows.scale, rows.points,
+                   np.asarray(origin, float), cond, float(threshold), bool(single),
+                   leg_provider, analyses)
+
+    def normalised(self):
+        """The normalised, row-equilibrated rows ``Jn (N, m, 6)`` and row norms ``d (N, m)``."""
+        return self.conditioning.normalised(self.matrix)
+
+    def __len__(self) -> int:
+        return self.matrix.shape[0]
+
+    def __getitem__(self, i) -> "JacobianResult":
+        """The Jacobian at pose ``i`` (a one-pose result)."""
+        if self.single:
+            raise TypeError("a one-pose JacobianResult cannot be indexed")
+        i = int(np.arange(len(self))[i])
+        sl = slice(i, i + 1)
+        cond = self.conditioning.take(sl)
+        prov = self.leg_provider
+        return JacobianResult(self.matrix[sl], self.info, self.n_actuated, self.scale[sl],
+                              self.points_[sl], self.origin[sl], cond, self.threshold, True,
+                              (lambda _, i=i: prov(i)) if prov else None)
 
     def __repr__(self) -> str:
-        return (f"JacobianResult({self.n_rows}x6, {self.n_actuated} actuation rows, rank {self.rank}, "
-                f"condition {self.condition_number:.4g}"
+        if not self.single:
+            return (f"JacobianResult({len(self)} poses, {self.n_rows}x6, {self.n_actuated} "
+                    f"actuation rows, {int(np.sum(self.singular_mask))} singular)")
+        return (f"JacobianResult({self.n_rows}x6, {self.n_actuated} actuation rows, rank "
+                f"{self.rank}, condition {self.condition_number:.4g}"
                 + (f", {self.singularity_kind} singularity" if self.singular else "") + ")")
 
-    # -- blocks -----------------------------------------------------------------
+    # -- arrays -----------------------------------------------------------------------
+    @property
+    def J(self) -> np.ndarray:
+        """``(m, 6)`` for one pose, ``(N, m, 6)`` for several."""
+        return _squeeze(self.matrix, self.single)
+
     @property
     def J_a(self) -> np.ndarray:
-        """Actuation rows, shape (n, 6)."""
-        return self.J[: self.n_actuated]
+        return self.J[..., : self.n_actuated, :]
 
     @property
     def J_c(self) -> np.ndarray:
-        """Constraint rows, shape (m - n, 6)."""
-        return self.J[self.n_actuated:]
+        return self.J[..., self.n_actuated:, :]
 
     @property
     def n_rows(self) -> int:
-        return len(self.J)
+        return self.matrix.shape[1]
 
     @property
     def kinds(self) -> tuple:
-        """Row kinds (``"actuation"``, ``"force"``, ``"couple"``, ``"screw"``)."""
-        return tuple(r.kind for r in self.rows)
+        return tuple(r.kind for r in self.info)
+
+    @property
+    def labels(self) -> tuple:
+        return tuple(r.label for r in self.info)
 
     @cached_property
     def leg_of_row(self) -> np.ndarray:
-        """Leg index of every row, shape (m,)."""
-        return np.array([r.leg for r in self.rows], dtype=int)
+        return np.array([r.leg for r in self.info], dtype=int)
 
     def leg_rows(self, i: int) -> np.ndarray:
         """Indices of the rows of leg ``i`` (its actuation row first)."""
         return np.flatnonzero(self.leg_of_row == i)
 
-    # -- conditioning -----------------------------------------------------------
+    @property
+    def o(self) -> np.ndarray:
+        return _squeeze(self.origin, self.single)
+
+    @property
+    def directions(self) -> np.ndarray:
+        """Unit direction of each row's force or couple, ``(N, m, 3)`` (squeezed)."""
+        J = self.matrix
+        couple = np.array([r.member == "couple" for r in self.info])
+        part = np.where(couple[None, :, None], J[..., 3:], J[..., :3])
+        n = np.linalg.norm(part, axis=-1, keepdims=True)
+        return _squeeze(part / np.where(n > 0, n, 1.0), self.single)
+
+    @property
+    def points(self) -> np.ndarray:
+        return _squeeze(self.points_, self.single)
+
+    @cached_property
+    def rows(self) -> tuple:
+        """One :class:`JacobianRow` per row (one pose only)."""
+        self._one("rows")
+        out = []
+        D = self.directions
+        for k, r in enumerate(self.info):
+            p = self.points_[0, k]
+            has_point = r.member not in ("couple", "none") and np.all(np.isfinite(p))
+            if r.member not in ("couple", "none") and not has_point:
+                # a force without a named point: the point of its line nearest o
+                f, m = self.matrix[0, k, :3], self.matrix[0, k, 3:]
+                p = np.cross(f, m) / max(float(f @ f), 1e-300)
+                has_point = True
+            pitch = 0.0 if r.member == "force" else (np.inf if r.member == "couple" else
+                                                     float(np.nan))
+            if r.member == "screw":
+                w = self.matrix[0, k]
+                pitch = float(w[:3] @ w[3:] / max(float(w[:3] @ w[:3]), 1e-300))
+            out.append(JacobianRow(r.leg, r.leg_name, r.kind, r.member, D[k],
+                                   p if has_point else None, r.point_name, pitch,
+                                   float(self.scale[0, k]), r.joint, r.label))
+        return tuple(out)
+
+    def _one(self, what):
+        if not self.single:
+            raise TypeError(f"{what} is defined for one pose: index the result first (res[i])")
+
+    @property
+    def legs(self) -> tuple:
+        """The placed legs (one pose)."""
+        self._one("legs")
+        return self.leg_provider(0) if self.leg_provider else ()
+
+    @cached_property
+    def analyses(self) -> tuple:
+        """Each placed leg's :class:`~screwkit.legs.LegAnalysis` (one pose; computed on demand)."""
+        if self.given_analyses is not None:
+            return tuple(self.given_analyses)
+        return tuple(lg.analyze() for lg in self.legs)
+
+    @property
+    def normalisation(self):
+        """The :class:`~screwkit.screws.Normalisation` of the rank decisions (one pose)."""
+        from ..screws import Normalisation
+        self._one("normalisation")
+        return Normalisation(self.conditioning.centre[0], float(self.conditioning.length[0]))
+
+    # -- conditioning -----------------------------------------------------------------
+    @property
+    def singular_values(self):
+        return _squeeze(self.conditioning.singular_values, self.single)
+
+    @property
+    def rank(self):
+        r = self.conditioning.rank
+        return int(r[0]) if self.single else r
+
+    @property
+    def condition_number(self):
+        c = self.conditioning.condition_number
+        return float(c[0]) if self.single else c
+
+    @property
+    def constraint_rank(self):
+        r = self.conditioning.constraint_rank
+        return int(r[0]) if self.single else r
+
+    @property
+    def constraint_condition_number(self):
+        c = self.conditioning.constraint_condition_number
+        return float(c[0]) if self.single else c
+
     @property
     def expected_constraint_rank(self) -> int:
-        """``max(0, 6 - n)``: the constraint rank a PM with ``n`` actuators needs."""
         return max(0, 6 - self.n_actuated)
 
     @property
-    def dof(self) -> int:
-        """Degrees of freedom of the platform allowed by the constraint rows, ``6 - rank(J_c)``."""
+    def dof(self):
+        """``6 - rank(J_c)``: the platform freedoms the constraint rows allow."""
         return 6 - self.constraint_rank
 
     @property
-    def singular(self) -> bool:
-        """True when the normalised condition number exceeds the threshold."""
-        return not (self.condition_number <= self.threshold)
+    def singular_mask(self) -> np.ndarray:
+        return ~(self.conditioning.condition_number <= self.threshold)
 
     @property
-    def singularity_kind(self) -> str | None:
-        """``"constraint"``, ``"actuation"``, or None at a regular pose."""
-        if not self.singular:
-            return None
-        if self.expected_constraint_rank and not (self.constraint_condition_number <= self.threshold):
-            return "constraint"
-        return "actuation"
+    def singular(self):
+        m = self.singular_mask
+        return bool(m[0]) if self.single else m
 
     @property
-    def indeterminacy(self) -> int:
-        """Dimension of the self-stress space, ``m - rank``: 0 when statically determinate."""
-        return self.n_rows - self.rank
+    def kind_array(self) -> np.ndarray:
+        """``""``, ``"actuation"`` or ``"constraint"`` per pose, ``(N,)``."""
+        k = self.expected_constraint_rank
+        c = self.conditioning
+        con = (k > 0) & ~(c.constraint_condition_number <= self.threshold)
+        return np.where(~self.singular_mask, "", np.where(con, "constraint", "actuation"))
 
     @property
-    def indeterminate(self) -> bool:
-        """True when the legs' rows are more than the 6 independent ones (redundant
-        constraints or redundant actuation): the statics has a family of solutions."""
-        return self.indeterminacy > 0
+    def singularity_kind(self):
+        k = self.kind_array
+        if self.single:
+            return str(k[0]) or None
+        return k
+
+    @property
+    def indeterminacy(self):
+        """``m - rank``: the dimension of the self-stress space (0: determinate)."""
+        d = self.n_rows - self.conditioning.rank
+        return int(d[0]) if self.single else d
+
+    @property
+    def indeterminate(self):
+        d = self.indeterminacy
+        return d > 0 if self.single else d > 0
 
     @property
     def square(self) -> bool:
-        return self.J.shape == (6, 6)
+        return self.matrix.shape[1:] == (6, 6)
 
     @property
     def uncontrolled_twist(self) -> np.ndarray:
-        """Platform twist ``[v_O; w]`` (unit in normalised coordinates) that ``J`` maps
-        closest to zero: at a singularity, the motion nothing controls or resists."""
-        return self.normalisation.twists_back(self._Vt[-1])
+        """The platform twist ``[v_O; w]`` that ``J`` maps closest to zero (one pose)."""
+        self._one("uncontrolled_twist")
+        Jn = self.normalised()[0][0]
+        Vt = np.linalg.svd(Jn, full_matrices=True)[2]
+        return self.normalisation.twists_back(Vt[-1])
 
     def check(self) -> "JacobianResult":
-        """Return self, or raise :class:`SingularityError` at a singular pose."""
-        if self.singular:
-            kind = self.singularity_kind
-            if kind == "constraint":
-                why = (f"the constraint rows keep only rank {self.constraint_rank} "
-                       f"(condition {self.constraint_condition_number:.3g}) of the "
-                       f"{self.expected_constraint_rank} the {self.n_actuated} actuators need")
-            else:
-                why = ("the constraint rows keep their rank but the actuation rows do not "
-                       "complete them to 6 independent wrenches")
-            w = self.uncontrolled_twist
-            raise SingularityError(
-                f"{kind} singularity at o = {np.round(self.o, 9).tolist()}: normalised condition "
-                f"number {self.condition_number:.3g} > {self.threshold:.3g}; {why}; uncontrolled "
-                f"twist [v_O; w] ~ {np.round(w / max(np.abs(w).max(), 1e-300), 4).tolist()}",
-                kind=kind, condition_number=self.condition_number)
-        return self
+        """Return self, or raise :class:`SingularityError` at a singular pose (the first)."""
+        from ..errors import SingularityError
+        if not np.any(self.singular_mask):
+            return self
+        if not self.single:
+            i = int(np.flatnonzero(self.singular_mask)[0])
+            self[i].check()
+        kind = self.singularity_kind
+        if kind == "constraint":
+            why = (f"the constraint rows keep only rank {self.constraint_rank} "
+                   f"(condition {self.constraint_condition_number:.3g}) of the "
+                   f"{self.expected_constraint_rank} the {self.n_actuated} actuators need")
+        else:
+            why = ("the constraint rows keep their rank but the actuation rows do not "
+                   "complete them to 6 independent wrenches")
+        w = self.uncontrolled_twist
+        raise SingularityError(
+            f"{kind} singularity at o = {np.round(self.o, 9).tolist()}: normalised condition "
+            f"number {self.condition_number:.3g} > {self.threshold:.3g}; {why}; uncontrolled "
+            f"twist [v_O; w] ~ {np.round(w / max(np.abs(w).max(), 1e-300), 4).tolist()}",
+            kind=kind, condition_number=self.condition_number)
 
-    # -- other reference points -------------------------------------------------
     def rows_about(self, point) -> np.ndarray:
-        """``J`` with the moments taken about ``point``: rows ``[f; m - point x f]``.
-
-        About ``o`` these are the paper's rows ``[delta; e x delta]``,
-        ``[c; rho x c]``; they act on the twist ``[v_point; w]``.
-        """
-        p = as_vector3(point, "point")
-        return np.concatenate([self.J[:, :3], self.J[:, 3:] - np.cross(p, self.J[:, :3])], axis=1)
+        """``J`` with the moments about ``point``: rows ``[f; m - point x f]``."""
+        p = np.asarray(point, float)
+        J = self.J
+        return np.concatenate([J[..., :3], J[..., 3:] - np.cross(p, J[..., :3])], axis=-1)
 
     def describe(self) -> str:
+        self._one("describe")
         lines = [f"unified Jacobian: {self.n_rows} rows ({self.n_actuated} actuation, "
                  f"{self.n_rows - self.n_actuated} constraint), rank {self.rank}, "
                  f"normalised condition number {self.condition_number:.6g}"]
         lines += ["  " + r.describe() for r in self.rows]
         return "\n".join(lines)
-
-
-def _row_from_member(i, leg, kind, member, scale, joint) -> JacobianRow:
-    point = None if member.kind == "couple" or member.point is None else np.array(member.point, float)
-    return JacobianRow(i, leg.name, kind, member.kind, np.array(member.direction, float), point,
-                       member.point_name, float(member.pitch), float(scale), joint)
-
-
-def _check_legs(legs, analyses):
-    legs = tuple(legs)
-    if not legs:
-        raise InputError("unified_jacobian needs at least one leg")
-    for i, leg in enumerate(legs):
-        if not isinstance(leg, Leg):
-            raise InputError(f"legs[{i}] is a {type(leg).__name__}, not a screwkit Leg")
-    if analyses is None:
-        analyses = tuple(leg.analyze() for leg in legs)
-    else:
-        analyses = tuple(analyses)
-        if len(analyses) != len(legs):
-            raise InputError(f"{len(analyses)} analyses given for {len(legs)} legs")
-        for i, (leg, an) in enumerate(zip(legs, analyses)):
-            if getattr(an, "leg", None) is not leg:
-                raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
-    return legs, analyses
-
-
-def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOLD) -> JacobianResult:
-    """The unified Jacobian ``J = [J_a; J_c]`` of placed legs.
-
-    Parameters
-    ----------
-    legs : sequence of Leg
-        The legs at the pose (world = base frame, moments about its origin ``O``).
-    o : array_like (3,)
-        Platform centre: the reference point of the paper's rows and of the workload.
-    analyses : sequence of LegAnalysis, optional
-        Precomputed ``leg.analyze()`` results, one per leg (recomputed if omitted).
-    threshold : float
-        Normalised condition number above which the pose counts as singular.
-
-    Returns
-    -------
-    JacobianResult
-        Never raises at a singular pose: call :meth:`JacobianResult.check` (or use
-        :func:`screwkit.engine.statics`) to raise :class:`SingularityError`.
-        A leg whose actuated joint is dependent on its passive joints contributes a
-        zero actuation row (the Jacobian is then singular, kind ``"actuation"``).
-    """
-    o = as_vector3(o, "platform centre o")
-    if not (np.isfinite(threshold) and threshold > 1):
-        raise InputError(f"threshold must be a finite number > 1, got {threshold}")
-    legs, analyses = _check_legs(legs, analyses)
-
-    act_rows, act_meta, con_rows, con_meta = [], [], [], []
-    for i, (leg, an) in enumerate(zip(legs, analyses)):
-        aw = an.actuation
-        if aw is None:
-            d = leg.actuated_joint.direction
-            act_rows.append(np.zeros(6))
-            act_meta.append(JacobianRow(i, leg.name, "actuation", "none", np.array(d, float), None,
-                                        None, float("nan"), 0.0, leg.actuated_joint.name))
-        else:
-            act_rows.append(np.asarray(aw.wrench, float))
-            act_meta.append(_row_from_member(i, leg, "actuation", aw.member, aw.scale, aw.joint))
-        for c in an.constraints:
-            con_rows.append(np.asarray(c.wrench.vector, float))
-            con_meta.append(_row_from_member(i, leg, c.kind, c, 1.0, None))
-
-    J = np.array(act_rows + con_rows, float).reshape(-1, 6)
-    J.setflags(write=False)
-    n = len(act_rows)
-    pts = np.vstack([leg.points for leg in legs] + [o[None, :]])
-    norm = Normalisation.for_points(pts)
-
-    Jn = norm.wrenches(J)
-    row_norms = np.linalg.norm(Jn, axis=1)
-    safe = np.where(row_norms > 0, row_norms, 1.0)
-    Jn = Jn / safe[:, None]
-    _, s, Vt = np.linalg.svd(Jn, full_matrices=True)
-    rank = int(np.sum(s > RANK_RTOL * max(float(s[0]), 1e-300))) if s.size else 0
-    cond = float(s[0] / s[5]) if len(s) >= 6 and s[5] > 0 else float("inf")
-
-    k = max(0, 6 - n)
-    Jc = Jn[n:]
-    if len(Jc):
-        sc = np.linalg.svd(Jc, compute_uv=False)
-        c_rank = int(np.sum(sc > RANK_RTOL * max(float(sc[0]), 1e-300)))
-    else:
-        sc, c_rank = np.zeros(0), 0
-    if k == 0:
-        c_cond = 1.0
-    elif len(sc) >= k and sc[k - 1] > 0:
-        c_cond = float(sc[0] / sc[k - 1])
-    else:
-        c_cond = float("inf")
-
-    for a in (s, row_norms, Jn, Vt):
-        a.setflags(write=False)
-    return JacobianResult(J, tuple(act_meta + con_meta), n, legs, analyses, o, norm, s, rank, cond,
-                          c_rank, c_cond, float(threshold), Jn, row_norms, Vt)

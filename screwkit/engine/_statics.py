@@ -1,4 +1,4 @@
-"""Statics of a parallel manipulator from its unified Jacobian (paper eqs. 8-9, 13d-e).
+"""Statics of a PM from its unified Jacobian (paper eqs. 8-9, 13d-e), for N poses at once.
 
 A workload ``(F, T)`` applied to the platform at ``o`` (force ``F``, torque
 ``T`` about ``o``) is the wrench ``W = [F; T + o x F]`` about the base origin.
@@ -7,31 +7,26 @@ Virtual work, ``F_r . (J V) + W . V = 0`` for every twist ``V``, gives
 
 * ``F_r[:n]`` are the **active forces/torques** ``F_ai``, the efforts of the
   actuators conjugate to their joints' unit twists.  For a linear actuator whose
-  P axis points from ``A_i`` to ``a_i`` (every catalog leg), ``F_ai > 0`` pushes
-  the platform away from ``A_i`` along ``delta_i = (a_i - A_i) / r_i``.
-* ``F_r[n:]`` are the **constraint forces and couples** ``F_cj``, ``T_ck``: the
-  value times the row's unit direction is the force (couple) the leg applies to
-  the platform, on the row's line.  The sign of a value follows the sign of the
-  row's direction, which is a convention: compare constraint forces as vectors.
+  P axis points from ``A_i`` to ``a_i``, ``F_ai > 0`` pushes the platform away
+  from ``A_i``.
+* ``F_r[n:]`` are the **constraint forces and couples**: the value times the
+  row's unit direction is the force (couple) the leg applies to the platform, on
+  the row's line.
 * ``row_wrenches[r] = F_r[r] * J[r]``; a leg's **total wrench** is the sum of its
-  rows: the wrench the leg applies to the platform (about ``O``).  It does no
-  work on the leg's passive joints and its reciprocal product with the actuated
-  joint's unit twist is ``F_ai``.  Platform equilibrium: ``sum_i w_i + W = 0``.
+  rows (about ``O``).  Platform equilibrium: ``sum_i w_i + W = 0``.
 * ``T_r[i]`` (paper eq. 13e) is the moment of leg ``i``'s constraint wrench about
-  ``A_i`` along ``delta_i``: the torque the leg carries about its own axis.
+  ``A_i`` along ``delta_i = (a_i - A_i) / r_i``.
 
-When ``J`` has more than 6 rows (redundant constraints or redundant actuation)
-the statics is indeterminate: the result is the least-norm solution (norm of the
-length-normalised, row-equilibrated unknowns, i.e. forces and couples divided by
-the characteristic length, see :mod:`screwkit.engine._jacobian`), ``indeterminacy`` is
-``m - rank`` and ``self_stress`` a basis of the solutions of ``J^T x = 0`` that
-may be added to it.
+With more than 6 rows (redundant constraints or actuation) the statics is
+indeterminate: the result is the least-norm solution (in the normalised,
+row-equilibrated unknowns); ``self_stress`` spans the solutions of
+``J^T x = 0`` that may be added to it.
 
 Examples
 --------
->>> import numpy as np, screwkit
->>> from screwkit.legs import Placement
+>>> import screwkit
 >>> from screwkit.engine import solve_statics
+>>> from screwkit.legs import Placement
 >>> A = [[100, 0, 0], [-50, 86.6, 0], [-50, -86.6, 0], [100, 20, 0], [-50, 70, 0], [-50, -100, 0]]
 >>> a = [[40, 10, 80], [-30, 40, 80], [-10, -40, 80], [30, -40, 80], [-40, -10, 80], [10, 40, 80]]
 >>> legs = [screwkit.leg("SPS", Placement(A[i], a[i], o=[0, 0, 80])) for i in range(6)]
@@ -42,106 +37,151 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
-from ..errors import InputError
-from ..screws import RANK_RTOL, as_vector3
-from ._jacobian import COND_THRESHOLD, JacobianResult, unified_jacobian
+from ._conditioning import RANK_RTOL
+from ._jacobian import COND_THRESHOLD, JacobianResult
+from ._pipeline import derived_statics, legs_rows, statics_values, workload_about_origin
 
-__all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench"]
+__all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench", "unified_jacobian"]
+
+
+def _errors():
+    from ..errors import InputError
+    return InputError
 
 
 def _finite3(x, name) -> np.ndarray:
     a = np.asarray(x, dtype=float)
     if a.ndim == 0 or a.shape[-1] != 3:
-        raise InputError(f"{name} must have 3 components in its last axis, got shape {a.shape}")
+        raise _errors()(f"{name} must have 3 components in its last axis, got shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise InputError(f"{name} must be finite (no NaN or inf), got {a.tolist()}")
+        raise _errors()(f"{name} must be finite (no NaN or inf), got {a.tolist()}")
+    return a
+
+
+def _vector3(x, name) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape != (3,):
+        raise _errors()(f"{name} must have 3 components, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise _errors()(f"{name} must be finite, got {a.tolist()}")
     return a
 
 
 def workload_wrench(F, T, o) -> np.ndarray:
-    """The wrench about the base origin of a force ``F`` at ``o`` and a torque ``T``.
-
-    Parameters
-    ----------
-    F, T : array_like, shape (..., 3)
-        Force and torque (about ``o``), broadcast together.
-    o : array_like, shape (3,)
-
-    Returns
-    -------
-    ndarray, shape (..., 6)
-        ``[F; T + o x F]``.
-    """
+    """The wrench ``[F; T + o x F]`` about the base origin of a force ``F`` at ``o`` and a
+    torque ``T``; ``F, T (..., 3)`` broadcast together, ``o (3,)``."""
     F = _finite3(F, "workload force F")
     T = _finite3(T, "workload torque T")
-    o = as_vector3(o, "workload point o")
+    o = _vector3(o, "workload point o")
     F, T = np.broadcast_arrays(F, T)
     return np.concatenate([F, T + np.cross(o, F)], axis=-1)
 
 
+def _sq(x, single):
+    return x[0] if single else x
+
+
 @dataclass(frozen=True, eq=False)
 class StaticsResult:
-    """Active and constraint efforts balancing a workload (shapes for one workload;
-    a batch of workloads of shape (..., 3) prefixes every per-load array with ``...``).
+    """Active and constraint efforts balancing a workload at N poses.
+
+    Arrays have the poses first, except for a one-pose result (``jacobian.single``);
+    a batch of ``K`` workloads at one pose adds a leading ``K`` axis instead.
 
     Attributes
     ----------
     jacobian : JacobianResult
-    workload : ndarray (6,)
-        ``W = [F; T + o x F]`` about ``O``.
-    values : ndarray (m,)
-        ``F_r``, one value per row of ``J``.
-    row_wrenches : ndarray (m, 6)
-        ``values[r] * J[r]``: each row's wrench on the platform, about ``O``.
-    vectors : ndarray (m, 3)
-        Force vector (force, screw and force-type actuation rows) or couple vector
-        (couple rows) of each row: value times unit direction, on the row's line.
-    leg_wrenches : ndarray (n_legs, 6)
-        Total wrench each leg applies to the platform, about ``O``.
-    constraint_wrenches : ndarray (n_legs, 6)
-        The constraint part of each leg's wrench, about ``O``.
-    T_r : ndarray (n_legs,)
-        Moment of each leg's constraint wrench about ``A_i`` along
-        ``delta_i = (a_i - A_i)/|a_i - A_i|`` (paper eq. 13e).
-    equilibrium_residual : float
-        ``|sum_i w_i + W|`` over the largest of ``|W|`` and the row wrenches,
-        length-normalised (relative, unit-free; max over a batch).
-    singular : bool
-    singularity_kind : str or None
-    condition_number : float
-    indeterminacy : int
-        ``m - rank(J)``: dimension of the family of solutions (0 = determinate).
-    self_stress : ndarray (indeterminacy, m)
-        Basis of ``{x : J^T x = 0}`` (rows scaled to unit normalised norm).
+    F_r : ndarray (N, [K,] m)
+        The values ``F_r`` (NaN where ``valid`` is False).
+    W : ndarray (N, [K,] 6)
+        The workload about ``O``.
+    A : ndarray (n, 3) ; a : ndarray (N, n, 3)
+        The legs' end points (for ``T_r``).
+    valid : ndarray (N,) of bool
+        False where the values are not defined (a singular or unreachable pose of a batch).
     """
 
     jacobian: JacobianResult
-    workload: np.ndarray
-    values: np.ndarray
-    row_wrenches: np.ndarray
-    vectors: np.ndarray
-    leg_wrenches: np.ndarray
-    constraint_wrenches: np.ndarray
-    T_r: np.ndarray
-    equilibrium_residual: float
-    self_stress: np.ndarray
+    F_r: np.ndarray = field(repr=False)
+    W: np.ndarray = field(repr=False)
+    A: np.ndarray = field(repr=False)
+    a: np.ndarray = field(repr=False)
+    valid: np.ndarray = field(repr=False)
+
+    @cached_property
+    def _derived(self):
+        jac = self.jacobian
+        c = jac.conditioning
+        out = derived_statics(jac.matrix, jac.info, jac.n_actuated, self.F_r, self.W, self.A,
+                              self.a, c.centre, c.length)
+        for x in out:
+            x.setflags(write=False)
+        return out
+
+    def _sq(self, x):
+        return x[0] if self.jacobian.single else x
+
+    @property
+    def workload(self):
+        """``W = [F; T + o x F]`` about ``O``."""
+        return self._sq(self.W)
+
+    @property
+    def values(self):
+        """``F_r``: one value per row of ``J``, ``(..., m)``."""
+        return self._sq(self.F_r)
+
+    row_wrenches = property(lambda self: self._sq(self._derived[0]),
+                            doc="``values[r] * J[r]``: each row's wrench about O, (..., m, 6).")
+    vectors = property(lambda self: self._sq(self._derived[1]),
+                       doc="Force (couple) vector of each row on its line, (..., m, 3).")
+    leg_wrenches = property(lambda self: self._sq(self._derived[2]),
+                            doc="Total wrench each leg applies to the platform (about O).")
+    constraint_wrenches = property(lambda self: self._sq(self._derived[3]),
+                                   doc="The constraint part of each leg's wrench (about O).")
+    T_r = property(lambda self: self._sq(self._derived[4]),
+                   doc="Moment of each leg's constraint wrench about A_i along delta_i.")
+
+    @property
+    def equilibrium_residual(self):
+        """``|sum_i w_i + W|`` relative to the largest of ``|W|`` and the row wrenches,
+        length-normalised (max over a batch of workloads at one pose)."""
+        r = self._derived[5]
+        if self.jacobian.single:
+            r = r[0]
+            return float(np.max(r)) if np.ndim(r) else float(r)
+        return r
+
+    def __len__(self):
+        return len(self.jacobian)
+
+    def __getitem__(self, i) -> "StaticsResult":
+        if self.jacobian.single:
+            raise TypeError("a one-pose StaticsResult cannot be indexed")
+        i = int(np.arange(len(self))[i])
+        sl = slice(i, i + 1)
+        return StaticsResult(self.jacobian[i], self.F_r[sl], self.W[sl], self.A, self.a[sl],
+                             self.valid[sl])
 
     def __repr__(self) -> str:
+        if not self.jacobian.single:
+            return f"StaticsResult({len(self)} poses, {int(np.sum(~self.valid))} undefined)"
         return (f"StaticsResult(values={np.array2string(np.asarray(self.values), precision=6)}, "
                 f"equilibrium_residual={self.equilibrium_residual:.3g}, {self.jacobian!r})")
 
     @property
     def active(self) -> np.ndarray:
-        """Active forces/torques ``F_ai``, shape (..., n)."""
+        """Active forces/torques ``F_ai``, ``(..., n)``."""
         return self.values[..., : self.jacobian.n_actuated]
 
     @property
     def constraint(self) -> np.ndarray:
-        """Constraint force/couple values, shape (..., m - n)."""
+        """Constraint force/couple values, ``(..., m - n)``."""
         return self.values[..., self.jacobian.n_actuated:]
 
     @property
@@ -150,37 +190,38 @@ class StaticsResult:
 
     @property
     def points(self) -> np.ndarray:
-        """A point of each row's line, shape (m, 3) (NaN for couples)."""
-        return np.array([r.point if r.point is not None else np.full(3, np.nan)
-                         for r in self.jacobian.rows])
+        return self.jacobian.points
+
+    singular = property(lambda self: self.jacobian.singular)
+    singularity_kind = property(lambda self: self.jacobian.singularity_kind)
+    condition_number = property(lambda self: self.jacobian.condition_number)
+    indeterminacy = property(lambda self: self.jacobian.indeterminacy)
+    indeterminate = property(lambda self: self.jacobian.indeterminate)
 
     @property
-    def singular(self) -> bool:
-        return self.jacobian.singular
+    def success(self):
+        """Regular pose and equilibrium to ``sqrt(RANK_RTOL)``."""
+        r = np.asarray(self._derived[5])
+        r = r.reshape(r.shape[0], -1).max(axis=1)
+        ok = ~self.jacobian.singular_mask & (r <= np.sqrt(RANK_RTOL))
+        return bool(ok[0]) if self.jacobian.single else ok
 
-    @property
-    def singularity_kind(self) -> str | None:
-        return self.jacobian.singularity_kind
-
-    @property
-    def condition_number(self) -> float:
-        return self.jacobian.condition_number
-
-    @property
-    def indeterminacy(self) -> int:
-        return self.jacobian.indeterminacy
-
-    @property
-    def indeterminate(self) -> bool:
-        return self.jacobian.indeterminate
-
-    @property
-    def success(self) -> bool:
-        """Regular pose and equilibrium holds to ``sqrt(RANK_RTOL)``."""
-        return (not self.singular) and self.equilibrium_residual <= np.sqrt(RANK_RTOL)
+    @cached_property
+    def self_stress(self) -> np.ndarray:
+        """Basis ``(indeterminacy, m)`` of ``{x : J^T x = 0}`` (one pose)."""
+        jac = self.jacobian
+        jac._one("self_stress")
+        if jac.indeterminacy <= 0:
+            return np.zeros((0, jac.n_rows))
+        Jn, d = jac.normalised()
+        Vt = np.linalg.svd(Jn[0].T, full_matrices=True)[2]
+        N = Vt[jac.rank:] / d[0][None, :]
+        N.setflags(write=False)
+        return N
 
     def describe(self) -> str:
         jac = self.jacobian
+        jac._one("describe")
         if self.values.ndim != 1:
             return f"statics of {self.values.shape[:-1]} workloads (batched)"
         lines = [f"normalised condition number {jac.condition_number:.6g}; equilibrium residual "
@@ -192,85 +233,105 @@ class StaticsResult:
             lines.append(f"  {v: .6g}  {r.describe()}  -> vector "
                          f"({', '.join(f'{x:.6g}' for x in vec)})")
         for i, t in enumerate(self.T_r):
-            lines.append(f"  leg {i} ({jac.legs[i].name}): T_r = {t:.6g}")
+            lines.append(f"  leg {i} ({jac.info[jac.leg_rows(i)[0]].leg_name}): T_r = {t:.6g}")
         return "\n".join(lines)
 
 
-def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool = True) -> StaticsResult:
+def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool = True,
+            base_points=None, platform_points=None) -> StaticsResult:
     """Active and constraint efforts balancing the workload ``(F, T)`` applied at ``o``.
 
     Parameters
     ----------
     jacobian : JacobianResult
-        From :func:`screwkit.engine.unified_jacobian`.
-    F, T : array_like, shape (3,) or (..., 3)
-        Force and torque about ``o`` (same units as the legs' lengths for ``T``).
-    o : array_like (3,), optional
-        Where the workload is applied; default the Jacobian's platform centre.
+    F, T : array_like ``(3,)``, ``(K, 3)`` (K workloads at one pose) or ``(N, 3)``
+        (one per pose); force and torque about ``o``.
+    o : array_like (3,) or (N, 3), optional
+        Where the workload is applied; default the platform centre of each pose.
     raise_on_singular : bool
-        Raise :class:`SingularityError` (``kind`` and ``condition_number``
-        attributes) at a singular pose.  With False the result is returned with
-        ``singular`` and ``singularity_kind`` set (for trajectories); its values are
-        then the least-squares solution and ``equilibrium_residual`` says whether
-        they balance the load.
-
-    Returns
-    -------
-    StaticsResult
+        Raise :class:`SingularityError` at a singular pose (the first one); with False
+        singular poses get the least-squares values, flagged by ``singular``.
+    base_points, platform_points : ndarray (n, 3), (N, n, 3), optional
+        ``A_i`` and ``a_i`` (for ``T_r``); default the legs' end points.
     """
+    InputError = _errors()
     if not isinstance(jacobian, JacobianResult):
         raise InputError(f"statics needs a JacobianResult, got {type(jacobian).__name__}")
     if raise_on_singular:
         jacobian.check()
-    o = jacobian.o if o is None else as_vector3(o, "workload point o")
-    W = workload_wrench(F, T, o)
-    jac = jacobian
-    norm = jac.normalisation
-    J = jac.J
-    m = len(J)
-    d = np.where(jac._row_norms > 0, jac._row_norms, 1.0)
-    Jn = jac._Jn
-    # J^T x = -W  <=>  Jn^T (d * x) = -Wn   (Wn: moments about the centroid / L)
-    Wn = norm.wrenches(W)
-    # least-squares / least-norm with numpy's default cut-off (machine precision), so
-    # that near-singular poses give their true (large) values
-    pinvT = np.linalg.pinv(Jn.T, rcond=max(m, 6) * np.finfo(float).eps)   # (m, 6)
-    y = -np.einsum("mj,...j->...m", pinvT, Wn)
-    values = y / d
-    row_w = values[..., :, None] * J                                       # (..., m, 6)
-
-    kinds = [r.member for r in jac.rows]
-    couple = np.array([k == "couple" for k in kinds])
-    vectors = np.where(couple[:, None], row_w[..., 3:], row_w[..., :3])
-
-    n_legs = len(jac.legs)
-    P = np.zeros((n_legs, m))
-    P[jac.leg_of_row, np.arange(m)] = 1.0
-    Pc = P.copy()
-    Pc[:, : jac.n_actuated] = 0.0
-    leg_w = np.einsum("lm,...mj->...lj", P, row_w)
-    con_w = np.einsum("lm,...mj->...lj", Pc, row_w)
-    A = np.array([leg.A for leg in jac.legs])
-    delta = np.array([(leg.a - leg.A) / leg.length for leg in jac.legs])
-    moment_A = con_w[..., 3:] - np.cross(A, con_w[..., :3])
-    T_r = np.sum(moment_A * delta, axis=-1)
-
-    # equilibrium, length-normalised and relative
-    total = norm.wrenches(leg_w.sum(axis=-2) + W)
-    scale = np.maximum(np.linalg.norm(Wn, axis=-1),
-                       np.max(np.linalg.norm(norm.wrenches(row_w), axis=-1), axis=-1, initial=0.0))
-    scale = np.where(scale > 0, scale, 1.0)
-    resid = float(np.max(np.linalg.norm(total, axis=-1) / scale))
-
-    if jac.indeterminacy > 0:
-        # null space of Jn^T (unit rows in the normalised unknowns y = d x), back to x
-        Vt = np.linalg.svd(Jn.T, full_matrices=True)[2]
-        N = Vt[jac.rank:] / d[None, :]
+    N = len(jacobian)
+    F = _finite3(F, "workload force F")
+    T = _finite3(T, "workload torque T")
+    if o is None:
+        o = jacobian.origin
     else:
-        N = np.zeros((0, m))
-    for arr in (W, values, row_w, vectors, leg_w, con_w, T_r, N):
-        arr.setflags(write=False)
-    return StaticsResult(jac, W, values, row_w, vectors, leg_w, con_w, T_r, resid, N)
+        o = np.asarray(o, float)
+        if o.shape == (3,):
+            o = _vector3(o, "workload point o")
+        o = np.broadcast_to(_finite3(o, "workload point o"), (N, 3))
+    if jacobian.single:
+        F, T = np.broadcast_arrays(F, T)
+        F, T = F[None], T[None]
+    else:
+        F = np.broadcast_to(F, (N, 3)) if F.ndim == 1 else F
+        T = np.broadcast_to(T, (N, 3)) if T.ndim == 1 else T
+    if base_points is None:
+        legs = jacobian.legs
+        A = np.array([lg.A for lg in legs])
+        a = np.array([[lg.a for lg in legs]])
+    else:
+        A, a = np.asarray(base_points, float), np.asarray(platform_points, float)
+    W = workload_about_origin(F, T, o)
+    Jn, d = jacobian.normalised()
+    values = statics_values(Jn, d, jacobian.conditioning.singular_values,
+                            jacobian.conditioning, W)
+    for x in (W, values):
+        x.setflags(write=False)
+    return StaticsResult(jacobian, values, W, A, a, np.ones(N, bool))
+
+
+def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOLD) -> JacobianResult:
+    """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
+
+    Parameters
+    ----------
+    legs : sequence of Leg
+        The legs at the pose (world = base frame, moments about its origin ``O``).
+    o : array_like (3,)
+        Platform centre: the reference point of the paper's rows and of the workload.
+    analyses : sequence of LegAnalysis, optional
+        Each leg's analysis (computed if omitted): it decides what each row is.
+    threshold : float
+        Normalised condition number above which the pose counts as singular.
+
+    Returns
+    -------
+    JacobianResult
+        Never raises at a singular pose (see :meth:`JacobianResult.check`).
+    """
+    from ..legs import Leg
+    InputError = _errors()
+    o = _vector3(o, "platform centre o")
+    if not (np.isfinite(threshold) and threshold > 1):
+        raise InputError(f"threshold must be a finite number > 1, got {threshold}")
+    legs = tuple(legs)
+    if not legs:
+        raise InputError("unified_jacobian needs at least one leg")
+    for i, leg in enumerate(legs):
+        if not isinstance(leg, Leg):
+            raise InputError(f"legs[{i}] is a {type(leg).__name__}, not a screwkit Leg")
+    if analyses is None:
+        analyses = tuple(leg.analyze() for leg in legs)
+    else:
+        analyses = tuple(analyses)
+        if len(analyses) != len(legs):
+            raise InputError(f"{len(analyses)} analyses given for {len(legs)} legs")
+        for i, (leg, an) in enumerate(zip(legs, analyses)):
+            if getattr(an, "leg", None) is not leg:
+                raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
+    rows = legs_rows(legs, o, analyses)
+    return JacobianResult.from_rows(rows, o[None], threshold=threshold, single=True,
+                                    leg_provider=lambda _: legs, analyses=analyses)
 
 
 def solve_statics(legs, o, F, T, *, analyses=None, raise_on_singular: bool = True,

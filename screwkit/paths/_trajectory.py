@@ -53,14 +53,12 @@ from __future__ import annotations
 
 import csv
 import io
-from bisect import bisect_left
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..engine import CONVERGED, LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE, PARAMS, solve_pose
-from ..errors import InputError, ScrewkitError
-from ..screws import GEOMETRY_RTOL
+from ..engine import LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE, PARAMS
+from ..errors import InputError
 from ._pathspec import PathSpec
 
 __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
@@ -68,9 +66,6 @@ __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
 #: The values of :attr:`TrajectoryResult.status`.
 STATUSES = ("ok", "singular", "unreachable")
 
-_ROW_SYMBOL = {"force": "F_c", "couple": "T_c", "screw": "W_c"}
-#: Ratio of the sample spacings of two successive refinement levels (see :func:`run_trajectory`).
-_REFINE = 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -332,9 +327,9 @@ def _check_path(model, path) -> PathSpec:
 
 
 def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE,
-                   progress=None, *, overrides: dict | None = None, anchor_every: int = 256,
-                   chunk: int = 1024, vectorised: bool = True) -> TrajectoryResult:
-    """Inverse displacement and statics at every sample of a path.
+                   progress=None, *, overrides: dict | None = None, anchor_every=None,
+                   chunk: int = 4096, vectorised: bool = True, workers=None) -> TrajectoryResult:
+    """Inverse displacement and statics at every sample of a path (the batched engine).
 
     Parameters
     ----------
@@ -349,20 +344,21 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
         Called as samples are completed (``done`` increases to ``total = N``).
     overrides : dict, optional
         Dimension overrides when ``model`` is a name.
-    anchor_every : int
-        Spacing of the anchor samples solved one by one (>= 1; 1 solves every
-        sample by :func:`screwkit.engine.solve_pose`); at most N // 8.
+    anchor_every : int, optional
+        Spacing of the anchor samples solved one after the other (>= 1); the others are
+        solved level by level from their neighbours (:func:`screwkit.engine.solve`);
+        default about 64 anchors.
     chunk : int
-        Samples processed together (bounds the memory of the vectorised steps).
+        Samples per chunk of the rows and statics (bounds the memory).
     vectorised : bool
-        False: every sample by the per-pose pipeline (:func:`analyze_pm`'s steps,
+        False: every sample solved on its own by the engine (one pose at a time, each
         warm-started from the previous sample).  Slow; for checks.
 
     Returns
     -------
     TrajectoryResult
     """
-    from ..engine import load_assembled_pm
+    from ..engine import analyze, load_assembled_pm
     from ..pm import PMModel
 
     if not isinstance(model, PMModel):
@@ -370,329 +366,111 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     path = _check_path(model, path)
     try:
-        K = int(anchor_every)
+        K = None if anchor_every is None else int(anchor_every)
         C = int(chunk)
     except (TypeError, ValueError):
         raise InputError("anchor_every and chunk must be integers") from None
-    if K < 1 or C < 1:
+    if (K is not None and K < 1) or C < 1:
         raise InputError(f"anchor_every ({anchor_every}) and chunk ({chunk}) must be >= 1")
-    run = _Run(model, path, F, T)
     N = len(path)
-    if not vectorised:
-        for i in range(N):
-            run.per_pose(i)
-            if progress:
-                progress(i + 1, N)
-    else:
-        K = min(K, max(1, N // 8))          # at least ~8 anchor intervals on a short path
-        anchors = sorted(set(range(0, N, K)) | {N - 1})
-        step = max(K, (C // K) * K)
-        for c0 in range(0, N, step):
-            c1 = min(c0 + step, N)
-            run.chunk(c0, c1, [a for a in anchors if c0 <= a <= c1])
-            if progress:
-                progress(c1, N)
-    return run.result()
+    pose = {k: np.asarray(path.values[k], float) for k in model.independent}
+    if vectorised:
+        res = analyze(model, pose, force=F, torque=T, path=True, anchor_every=K, chunk=C,
+                      workers=workers, progress=progress)
+        return _result(model, path, res, F, T, res.diagnostics)
+    parts, prev = [], None
+    for i in range(N):
+        r = analyze(model, {k: v[i:i + 1] for k, v in pose.items()}, force=F, torque=T,
+                    guess=prev)
+        if bool(r.solution.reachable_mask[0]):
+            prev = r.solution
+        parts.append(r)
+        if progress:
+            progress(i + 1, N)
+    return _result(model, path, _Stacked(parts), F, T,
+                   {"anchors": 0, "batched": 0, "per_pose": N})
 
 
-class _Run:
-    """State of one run: the outputs, the per-pose solutions kept as warm starts."""
+class _Stacked:
+    """Per-sample analyses of the per-pose mode, read like one batched analysis."""
 
-    def __init__(self, model, path, F, T):
-        from ..engine import LegTemplate, unified_jacobian
+    def __init__(self, parts):
+        self.parts = parts
 
-        self.model, self.path, self.F, self.T = model, path, F, T
-        N, n = len(path), model.n_legs
-        self.fixed = {k: np.asarray(path.values[k], float) for k in model.independent}
-        analyses = [lg.analyze() for lg in model.home_legs]
-        self.templates = [LegTemplate(lg, an) for lg, an in zip(model.home_legs, analyses)]
-        self.trackable = all(t.trackable for t in self.templates)
-        _, oh = model.platform_home
-        home_rows = unified_jacobian(model.home_legs, oh, analyses).rows
-        self.layout = tuple((r.leg, r.kind) for r in home_rows if r.kind != "actuation")
-        self.kinds_at = {}      # sample -> constraint kinds where they differ from home
-        k = len(self.layout)
-        self.leg_of_row = np.array(list(range(n)) + [leg for leg, _ in self.layout], int)
-        nan = np.nan
-        self.out = {
-            "status": np.full(N, "unreachable", dtype=object),
-            "params": {p: np.full(N, nan) for p in PARAMS},
-            "extensions": np.full((N, n), nan), "actuator_values": np.full((N, n), nan),
-            "active": np.full((N, n), nan), "constraint": np.full((N, k), nan),
-            "T_r": np.full((N, n), nan), "leg_wrenches": np.full((N, n, 6), nan),
-            "condition_number": np.full(N, nan), "closure_residual": np.full(N, nan),
-            "equilibrium_residual": np.full(N, nan), "singularity": np.full(N, "", dtype=object),
-            "message": np.full(N, "", dtype=object),
-        }
-        for p, v in self.fixed.items():
-            self.out["params"][p][:] = v
-        self.core = {}          # sample -> PoseSolution (or None when unreachable)
-        self.core_keys = []     # sorted keys of solved samples
-        self.diag = {"batched": 0, "per_pose_kinematics": 0, "per_pose_rows": 0,
-                     "anchors": 0, "trackable_legs": sum(t.trackable for t in self.templates)}
-        self.messages = {}
+    def __len__(self):
+        return len(self.parts)
 
-    # -- per-pose pieces ----------------------------------------------------------------------
-    def _independent(self, i):
-        return {k: float(v[i]) for k, v in self.fixed.items()}
+    def __getitem__(self, i):
+        return self.parts[i][0]
 
-    def _guess(self, i):
-        j = bisect_left(self.core_keys, i) - 1
-        while j >= 0:
-            s = self.core[self.core_keys[j]]
-            if s is not None:
-                return s
-            j -= 1
-        return None
+    def column(self, get):
+        return np.concatenate([np.asarray(get(p)) for p in self.parts], axis=0)
 
-    def core_solve(self, i):
-        """The inverse displacement (:func:`screwkit.engine.solve_pose`) at sample i, warm-started from the nearest earlier solved sample."""
-        if i in self.core:
-            return self.core[i]
-        try:
-            sol = solve_pose(self.model, self._independent(i), self._guess(i))
-        except ScrewkitError as exc:
-            sol = None
-            res = getattr(exc, "residual", None)
-            self.messages[i] = (f"unreachable: closure residual {res:.3g}" if res is not None
-                                else f"unreachable: {exc}")
-        self.core[i] = sol
-        self.core_keys.insert(bisect_left(self.core_keys, i), i)
-        return sol
 
-    def per_pose(self, i):
-        """Sample i by the per-pose pipeline (solve_pose, Leg.analyze, unified_jacobian)."""
-        sol = self.core_solve(i)
-        self.diag["per_pose_kinematics"] += 1
-        if sol is None:
-            self.out["message"][i] = self.messages.get(i, "unreachable")
-            return
-        o = self.out
-        for p in PARAMS:
-            o["params"][p][i] = sol.params[p]
-        o["extensions"][i] = sol.extensions
-        o["actuator_values"][i] = sol.actuator_values
-        o["closure_residual"][i] = sol.residual
-        self.full_rows(i, sol.legs, sol.position, "; ".join(sol.notes))
+def _result(model, path, res, F, T, diag) -> TrajectoryResult:
+    """The :class:`TrajectoryResult` of a batched analysis along the path."""
+    from ..engine import CONVERGED
 
-    def full_rows(self, i, legs, position, note=""):
-        from ..engine import statics, unified_jacobian
+    parts = res.parts if isinstance(res, _Stacked) else [res]
 
-        o = self.out
-        jac = unified_jacobian(legs, position)
-        o["condition_number"][i] = jac.condition_number
-        layout = tuple((r.leg, r.kind) for r in jac.rows if r.kind != "actuation")
-        same_legs = [leg for leg, _ in layout] == [leg for leg, _ in self.layout]
-        if jac.singular or not same_legs:
-            o["status"][i] = "singular"
-            kind = jac.singularity_kind or "constraint"
-            o["singularity"][i] = kind
-            why = (f"{kind} singularity (condition number {jac.condition_number:.3g})"
-                   if jac.singular else "the legs' constraint wrenches change type here "
-                   f"({', '.join(k for _, k in layout) or 'none'})")
-            o["message"][i] = "; ".join(x for x in (why, note) if x)
-            return
-        if layout != self.layout:
-            self.kinds_at[i] = tuple(k for _, k in layout)
-        st = statics(jac, self.F, self.T, raise_on_singular=False)
-        n = self.model.n_legs
-        o["status"][i] = "ok"
-        o["active"][i] = st.values[:n]
-        o["constraint"][i] = st.values[n:]
-        o["T_r"][i] = st.T_r
-        o["leg_wrenches"][i] = st.leg_wrenches
-        o["equilibrium_residual"][i] = st.equilibrium_residual
-        o["message"][i] = note
+    def col(get):
+        return np.concatenate([np.asarray(get(p)) for p in parts], axis=0)
 
-    # -- vectorised chunk -------------------------------------------------------------------------
-    def _rep_singular(self, beta):
-        """Samples where beta is at the representation singularity with alpha/gamma dependent."""
-        order = self.model.order
-        dep_pair = any(p in self.model.dependent for p in ("alpha", "gamma"))
-        if not dep_pair:
-            return np.zeros(len(beta), bool)
-        proper = order[0].lower() == order[2].lower()
-        return np.abs(np.sin(beta) if proper else np.cos(beta)) <= GEOMETRY_RTOL * 1e3
-
-    def _x_of(self, sol):
-        return np.concatenate([[sol.params[p] for p in self.model.dependent]]
-                              + [np.asarray(q, float) for q in sol.joint_values])
-
-    def chunk(self, c0, c1, anchors):
-        """Samples c0..c1-1: core-solve the anchors (and sample c1 when it is one, for the
-        interpolation), then refine level by level (spacing / _REFINE) with the batched
-        Newton started from the linear interpolation of the samples already solved."""
-        from ..engine import BatchProblem, assemble_batch
-
-        model = self.model
-        end = min(c1, len(self.path) - 1)
-        idx = np.arange(c0, end + 1)                       # c1 included for interpolation
-        nx = len(model.dependent) + sum(len(lg.joints) for lg in model.home_legs)
-        X = np.full((len(idx), nx), np.nan)
-        have = np.zeros(len(idx), bool)
-        beta_fixed = "beta" in self.fixed
-        rep = (self._rep_singular(self.fixed["beta"][idx]) if beta_fixed
-               else np.zeros(len(idx), bool))
-        for a in anchors:
-            sol = self.core_solve(a)
-            if sol is not None:
-                X[a - c0], have[a - c0] = self._x_of(sol), True
-        self.diag["anchors"] += sum(1 for a in anchors if a < c1)
-        spacing = max(1, anchors[1] - anchors[0]) if len(anchors) > 1 else 1
-        while spacing > 1:
-            spacing = max(1, spacing // _REFINE)
-            targets = np.flatnonzero((idx % spacing == 0) & ~have & ~rep)
-            self._refine(idx, X, have, targets)
-        if not beta_fixed and "beta" in model.dependent:
-            jb = model.dependent.index("beta")
-            have &= ~self._rep_singular(np.where(np.isfinite(X[:, jb]), X[:, jb], 1.0))
-        inside = idx < c1
-        S = np.flatnonzero(have & ~rep & inside)
-        if S.size:
-            prob = BatchProblem(model, {k: v[idx] for k, v in self.fixed.items()})
-            kb = assemble_batch(model, prob, X[S], rows=S)
-            self._batch_rows(idx[S], kb)
-        for j in np.flatnonzero(~(have & ~rep) & inside):
-            self.per_pose(int(idx[j]))
-
-    def _refine(self, idx, X, have, targets):
-        """Solve ``targets`` (positions in idx) from the interpolation of their solved
-        neighbours; a sample that fails (no convergence, or a step from the guess larger
-        than half the change between its neighbours: another branch) is core-solved."""
-        from ..engine import newton_batch
-
-        if targets.size == 0:
-            return
-        t = self.path.t[idx]
-        known = np.flatnonzero(have)
-        pos = np.searchsorted(known, targets)
-        both = (pos > 0) & (pos < len(known))
-        lo = known[np.clip(pos - 1, 0, len(known) - 1)]
-        hi = known[np.clip(pos, 0, len(known) - 1)]
-        s = np.where(both, (t[targets] - t[lo]) / np.where(hi != lo, t[hi] - t[lo], 1.0), 0.0)
-        X0 = X[lo] + s[:, None] * (X[hi] - X[lo])
-        scale = self._scale()
-        span = np.max(np.abs(X[hi] - X[lo]) / scale, axis=1)
-        good = np.zeros(len(targets), bool)
-        cand = np.flatnonzero(both)
-        if cand.size:
-            fixed = {k: v[idx[targets[cand]]] for k, v in self.fixed.items()}
-            Xc, res, _ = newton_batch(self.model, fixed, X0[cand])
-            dev = np.max(np.abs(Xc - X0[cand]) / scale, axis=1)
-            ok = (res <= CONVERGED) & (dev <= 0.5 * span[cand] + 1e-8)
-            X[targets[cand[ok]]] = Xc[ok]
-            have[targets[cand[ok]]] = True
-            good[cand[ok]] = True
-        for j in targets[~good]:
-            sol = self.core_solve(int(idx[j]))
-            if sol is not None:
-                X[j], have[j] = self._x_of(sol), True
-
-    def _scale(self):
-        L = self.model.normalisation.length
-        sc = [L if p in LENGTH_PARAMS else 1.0 for p in self.model.dependent]
-        for lg in self.model.home_legs:
-            sc += [L if j.kind == "P" else 1.0 for j in lg.joints]
-        return np.array(sc)
-
-    def _legs_at(self, kb, s):
-        """Leg objects of batch sample s (for the per-pose rows)."""
-        from ..legs import Joint, Leg
-
-        legs = []
-        for i, h in enumerate(self.model.home_legs):
-            joints = tuple(Joint(j.spec, kb.Dc[i][s, k], kb.Pc[i][s, k], j.pitch)
-                           for k, j in enumerate(h.joints))
-            legs.append(Leg(h.string, joints, kb.A[i], kb.a[s, i], h.name))
-        return tuple(legs)
-
-    def _batch_rows(self, samples, kb):
-        from ..engine import jacobian_statics_batch
-
-        o = self.out
-        M = len(samples)
-        n = self.model.n_legs
-        for p in PARAMS:
-            o["params"][p][samples] = kb.params[p]
-        o["extensions"][samples] = np.linalg.norm(kb.a - kb.A[None], axis=2)
-        o["actuator_values"][samples] = np.column_stack(
-            [kb.q[i][:, h.actuated_index] for i, h in enumerate(self.model.home_legs)])
-        o["closure_residual"][samples] = kb.residual
-        rows_ok = np.full(M, self.trackable)
-        if self.trackable:
-            act, cons = [], []
-            for i, tpl in enumerate(self.templates):
-                a_row, _, c_rows, ok = tpl.rows(kb.Dc[i], kb.Pc[i], kb.A[i], kb.a[:, i])
-                act.append(a_row)
-                cons.append(c_rows)
-                rows_ok &= ok
-            J = np.concatenate([np.stack(act, axis=1)] + cons, axis=1)
-            pts = np.concatenate(
-                [np.concatenate([np.broadcast_to(kb.A[i], (M, 1, 3)), kb.a[:, i, None],
-                                 kb.Pc[i]], axis=1) for i in range(n)] + [kb.o[:, None]], axis=1)
-            sel = np.flatnonzero(rows_ok)
-            if sel.size:
-                bs = jacobian_statics_batch(J[sel], self.leg_of_row, n, pts[sel], kb.A,
-                                            kb.a[sel], kb.o[sel], self.F, self.T)
-                g = samples[sel]
-                o["condition_number"][g] = bs.condition_number
-                o["status"][g] = np.where(bs.singular, "singular", "ok")
-                o["singularity"][g] = bs.kind
-                o["message"][g] = [f"{k} singularity (condition number {c:.3g})" if k else ""
-                                   for k, c in zip(bs.kind, bs.condition_number)]
-                o["active"][g] = bs.values[:, :n]
-                o["constraint"][g] = bs.values[:, n:]
-                o["T_r"][g] = bs.T_r
-                o["leg_wrenches"][g] = bs.leg_wrenches
-                o["equilibrium_residual"][g] = bs.equilibrium_residual
-                self.diag["batched"] += int(sel.size)
-        for s in np.flatnonzero(~rows_ok):
-            self.diag["per_pose_rows"] += 1
-            self.full_rows(int(samples[s]), self._legs_at(kb, s), kb.o[s])
-
-    def _columns(self, o):
-        """Kind and label of each constraint column: the kind found at most ok samples
-        (the kinds at home otherwise); samples where a row has another kind say so."""
-        home = tuple(k for _, k in self.layout)
-        ok = np.flatnonzero(o["status"] == "ok")
-        kinds = []
-        for j, hk in enumerate(home):
-            seen = [self.kinds_at.get(int(i), home)[j] for i in ok]
-            kinds.append(max(set(seen), key=seen.count) if seen else hk)
-        kinds = tuple(kinds)
-        for i, ks in self.kinds_at.items():
-            if ks != kinds:
-                txt = "constraint rows here: " + ", ".join(ks)
-                o["message"][i] = "; ".join(x for x in (o["message"][i], txt) if x)
-        labels = [f"{_ROW_SYMBOL.get(k, 'W_c')}{leg + 1}" for (leg, _), k in zip(self.layout, kinds)]
-        dup = {lab for lab in labels if labels.count(lab) > 1}
-        seen = {}
-        for j, lab in enumerate(labels):
-            if lab in dup:
-                seen[lab] = seen.get(lab, 0) + 1
-                labels[j] = f"{lab}.{seen[lab]}"
-        return kinds, tuple(labels)
-
-    def result(self) -> TrajectoryResult:
-        o = self.out
-        arrays = {}
-        for k, v in o.items():
-            if k == "params":
-                continue
-            if v.dtype == object:
-                v = v.astype(str)
-            v.setflags(write=False)
-            arrays[k] = v
-        for v in o["params"].values():
-            v.setflags(write=False)
-        kinds, labels = self._columns(o)
-        legs = tuple(leg for leg, _ in self.layout)
-        t = np.array(self.path.t, float)
-        t.setflags(write=False)
-        return TrajectoryResult(self.model.name, tuple(self.model.independent), t,
-                                arrays["status"], o["params"], arrays["extensions"],
-                                arrays["actuator_values"], arrays["active"], arrays["constraint"],
-                                arrays["T_r"], arrays["leg_wrenches"], arrays["condition_number"],
-                                arrays["closure_residual"], arrays["equilibrium_residual"],
-                                arrays["singularity"], arrays["message"], labels, kinds, legs,
-                                self.F.copy(), self.T.copy(), dict(self.diag))
+    N, n = len(path), model.n_legs
+    sols = [p.solution for p in parts]
+    reach = col(lambda p: p.solution.reachable_mask)
+    resid = col(lambda p: p.solution.closures.residual)
+    sing_mask = col(lambda p: p.jacobian.singular_mask) & reach
+    kinds_arr = col(lambda p: p.jacobian.kind_array)
+    cond = col(lambda p: p.jacobian.conditioning.condition_number)
+    status = np.where(~reach, "unreachable", np.where(sing_mask, "singular", "ok"))
+    params = {k: col(lambda p, k=k: p.solution._params[k]) for k in PARAMS}
+    ext = col(lambda p: p.solution._extensions)
+    ext[~reach] = np.nan
+    act_v = col(lambda p: np.asarray(p.solution.actuator_values).reshape(len(p), n))
+    st_ok = reach & ~sing_mask
+    vals = col(lambda p: p.statics.F_r)
+    legw = col(lambda p: p.statics._derived[2])
+    Tr = col(lambda p: p.statics._derived[4])
+    eq = col(lambda p: p.statics._derived[5])
+    nact = n
+    cond = np.where(reach, cond, np.nan)
+    message = []
+    notes = [p.solution.notes if not p.solution.single else (p.solution.notes,) for p in parts]
+    flat_notes = [x for group in notes for x in group]
+    for i in range(N):
+        msg = []
+        if not reach[i]:
+            msg.append(f"unreachable: closure residual {resid[i]:.3g}")
+        elif sing_mask[i]:
+            msg.append(f"{kinds_arr[i]} singularity (condition number {cond[i]:.3g})")
+        elif resid[i] > CONVERGED:
+            msg.append(f"not converged: closure residual {resid[i]:.3g}")
+        msg += [t for t in flat_notes[i] if "taken from the default pose" not in t]
+        message.append("; ".join(msg))
+    info = parts[0].jacobian.info
+    cons_info = [r for r in info if r.kind != "actuation"]
+    labels = tuple(r.label for r in cons_info)
+    kinds = tuple(r.kind for r in cons_info)
+    legs = tuple(r.leg for r in cons_info)
+    out = {
+        "status": status.astype(str), "extensions": ext, "actuator_values": act_v,
+        "active": vals[:, :nact], "constraint": vals[:, nact:], "T_r": Tr,
+        "leg_wrenches": legw, "condition_number": cond, "closure_residual": resid,
+        "equilibrium_residual": np.where(st_ok, eq, np.nan),
+        "singularity": np.where(sing_mask, kinds_arr, "").astype(str),
+        "message": np.array(message, dtype=str),
+    }
+    for k in ("active", "constraint", "T_r", "leg_wrenches"):
+        out[k] = np.array(out[k], float)
+        out[k][~st_ok] = np.nan
+    for v in list(out.values()) + list(params.values()):
+        v.setflags(write=False)
+    t = np.array(path.t, float)
+    t.setflags(write=False)
+    return TrajectoryResult(model.name, tuple(model.independent), t, out["status"], params,
+                            out["extensions"], out["actuator_values"], out["active"],
+                            out["constraint"], out["T_r"], out["leg_wrenches"],
+                            out["condition_number"], out["closure_residual"],
+                            out["equilibrium_residual"], out["singularity"], out["message"],
+                            labels, kinds, legs, F.copy(), T.copy(), dict(diag))

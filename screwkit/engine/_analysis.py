@@ -1,0 +1,259 @@
+"""A PM analysed at N poses: inverse displacement, unified Jacobian, conditioning, statics.
+
+This is what ``screwkit analyze`` prints; :meth:`PMAnalysis.to_dict` is its JSON.
+One pose is N = 1: scalar pose parameters give a one-pose result whose arrays
+have no pose axis; arrays of N values give a result whose arrays start with N,
+with per-pose flags (``ok``, ``singular``, ``unreachable``) instead of errors.
+
+Examples
+--------
+>>> import screwkit
+>>> res = screwkit.analyze("3RRPRR", pose={"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+>>> res.mobility.dof, res.mobility.motion_type
+(3, '1T2R')
+>>> bool(res.statics.equilibrium_residual < 1e-9)
+True
+>>> many = screwkit.analyze("3RRPRR", pose={"alpha": [0, 5], "beta": [0, -3], "Zo": [80, 80]},
+...                         degrees=True)
+>>> many.statics.active.shape, many.ok.tolist()
+((2, 3), [True, True])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ._jacobian import COND_THRESHOLD, JacobianResult
+from ._run import CHUNK, compute
+from ._solution import PoseSolution, check_reachable, make_solution, prepare
+from ._statics import StaticsResult
+
+__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
+
+#: The paper's workload (section 5.1): F in kN, T in kN.cm, applied at o.
+PAPER_FORCE = (-20.0, -30.0, -60.0)
+PAPER_TORQUE = (-30.0, -30.0, 100.0)
+
+
+@dataclass(frozen=True, eq=False)
+class PMAnalysis:
+    """Everything screwkit says about a PM at N poses under one workload.
+
+    Attributes
+    ----------
+    model : PMModel
+    solution : PoseSolution
+    jacobian : JacobianResult
+    statics : StaticsResult or None
+        None for one singular pose analysed with ``raise_on_singular=False``; for N poses
+        the values of singular and unreachable poses are NaN (flagged).
+    force, torque : ndarray (3,)
+        The workload applied at ``o``.
+    """
+
+    model: object
+    solution: PoseSolution
+    jacobian: JacobianResult
+    statics: StaticsResult | None
+    force: np.ndarray
+    torque: np.ndarray
+    diagnostics: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def single(self) -> bool:
+        return self.solution.single
+
+    def __len__(self) -> int:
+        return len(self.solution)
+
+    def __getitem__(self, i) -> "PMAnalysis":
+        """Pose ``i`` as a one-pose analysis."""
+        if self.single:
+            raise TypeError("a one-pose PMAnalysis cannot be indexed")
+        st = self.statics[i] if self.statics is not None else None
+        return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
+                          self.torque, self.diagnostics)
+
+    # -- per-pose flags -----------------------------------------------------------------
+    @property
+    def unreachable(self):
+        u = ~self.solution.reachable_mask
+        return bool(u[0]) if self.single else u
+
+    @property
+    def singular(self):
+        s = self.jacobian.singular_mask & self.solution.reachable_mask
+        return bool(s[0]) if self.single else s
+
+    @property
+    def ok(self):
+        """Reachable, converged, regular, and the statics balance the load."""
+        r = self.solution.closures.residual
+        from ._closure import CONVERGED
+        good = (r <= CONVERGED) & ~self.jacobian.singular_mask
+        if self.statics is not None:
+            eq = np.asarray(self.statics._derived[5])
+            good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
+        else:
+            good &= False
+        return bool(good[0]) if self.single else good
+
+    @property
+    def residual(self):
+        return self.solution.residual
+
+    @cached_property
+    def mobility(self):
+        """Instantaneous mobility at the pose (one pose): :func:`screwkit.pm.mobility`."""
+        if not self.single:
+            raise TypeError("mobility is defined for one pose: index the result first (res[i])")
+        from ..pm import mobility
+        return mobility(self.solution)
+
+    def __repr__(self) -> str:
+        if self.single:
+            return (f"PMAnalysis({self.model.name}, residual {self.solution.residual:.2g}, "
+                    f"{self.jacobian!r})")
+        return (f"PMAnalysis({self.model.name}: {len(self)} poses, {int(np.sum(self.ok))} ok, "
+                f"{int(np.sum(self.singular))} singular, {int(np.sum(self.unreachable))} "
+                "unreachable)")
+
+    def to_dict(self) -> dict:
+        """JSON-ready report of one pose (angles in degrees, model units)."""
+        if not self.single:
+            raise TypeError("to_dict describes one pose: index the result first (res[i])")
+        sol, jac, st = self.solution, self.jacobian, self.statics
+        p = sol.params_degrees()
+        legs = []
+        for i, leg in enumerate(sol.legs):
+            rows = [k for k, r in enumerate(jac.rows) if r.leg == i]
+            act = [k for k in rows if jac.rows[k].kind == "actuation"]
+            cons = []
+            for k in rows:
+                r = jac.rows[k]
+                if r.kind == "actuation":
+                    continue
+                c = {"kind": r.kind, "label": r.label, "direction": r.direction,
+                     "unit_wrench": jac.J[k]}
+                if st is not None:
+                    c["value"] = st.values[k]
+                    c["vector"] = st.vectors[k]
+                if r.point is not None:
+                    c["point"] = r.point
+                    c["point_name"] = r.point_name
+                cons.append(c)
+            entry = {
+                "index": i + 1, "leg": leg.name, "string": leg.string.marked,
+                "A": leg.A, "a": leg.a, "extension": sol.extensions[i],
+                "actuator_value": sol.actuator_values[i],
+                "joint_values": sol.joint_values[i],
+                "constraints": cons,
+            }
+            if act:
+                r = jac.rows[act[0]]
+                entry["actuation"] = {"kind": r.member, "direction": r.direction, "point": r.point,
+                                      "joint": r.joint, "unit_wrench": jac.J[act[0]]}
+                if st is not None:
+                    entry["active"] = st.values[act[0]]
+            if st is not None:
+                entry["torque"] = st.T_r[i]
+                entry["wrench"] = st.leg_wrenches[i]
+            legs.append(entry)
+        m = self.mobility
+        out = {
+            "pm": self.model.name,
+            "pose": {k: p[k] for k in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")},
+            "independent": list(self.model.independent),
+            "order": self.model.order,
+            "closure_residual": sol.residual,
+            "notes": list(sol.notes),
+            "legs": legs,
+            "extensions": sol.extensions,
+            "jacobian": jac.J,
+            "condition_number": jac.condition_number,
+            "singular": jac.singular,
+            "singularity_kind": jac.singularity_kind,
+            "mobility": {"dof": m.dof, "motion_type": m.motion_type, "redundant": m.redundant,
+                         "common": m.common, "constraint_rank": m.constraint_rank,
+                         "n_constraints": m.n_constraints, "gruebler": m.gruebler,
+                         "stated_dof": self.model.stated_dof},
+            "workload": {"force": self.force, "torque": self.torque},
+        }
+        if st is not None:
+            out["statics"] = {
+                "active": st.active, "constraint": st.constraint, "values": st.values,
+                "T_r": st.T_r, "equilibrium_residual": st.equilibrium_residual,
+                "indeterminacy": st.indeterminacy,
+            }
+        return out
+
+
+def _vec3(x, name):
+    from ..errors import InputError
+    a = np.asarray(x, dtype=float).reshape(-1)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
+    return a
+
+
+def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
+            guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
+            path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
+            progress=None) -> PMAnalysis:
+    """Analyse a PM model at one or N poses.
+
+    Parameters
+    ----------
+    model : PMModel
+    pose : dict or DataFrame, optional
+        Independent pose parameters: numbers (one pose) or arrays ``(N,)``; missing ones
+        from the default pose.
+    force, torque : array_like (3,)
+        Workload at ``o`` (default: the paper's F = [-20, -30, -60] kN,
+        T = [-30, -30, 100] kN.cm).
+    degrees : bool
+        Angles of ``pose`` in degrees.
+    guess : PoseSolution or dict, optional
+        Warm start.
+    raise_on_singular : bool
+        One pose: raise :class:`SingularityError` at a singular pose (default) or return
+        the analysis with ``statics=None``.  N poses never raise: singular and unreachable
+        poses are flagged and their statics are NaN.
+    path : bool
+        The poses are successive samples of a continuous path: each is warm-started from
+        its neighbours (:func:`~screwkit.engine.solve`).
+    chunk, workers : int
+        Poses per chunk and threads (default: 2 threads when there are many chunks).
+    progress : callable(done, total), optional
+    """
+    F, T = _vec3(force, "force"), _vec3(torque, "torque")
+    fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
+    comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
+                   F=F, T=T, chunk=chunk, workers=workers, progress=progress)
+    sol = make_solution(model, comp.closures, single, notes, side)
+    if single:
+        check_reachable(sol)
+    cond = comp.conditioning
+    jac = JacobianResult(comp.J, comp.info, comp.n_actuated, comp.scale, comp.points,
+                         comp.origin, cond, float(threshold), bool(single), sol.legs_at)
+    if single and raise_on_singular:
+        jac.check()
+    st = None
+    if not (single and jac.singular):
+        st = StaticsResult(jac, comp.values, comp.W, sol.base_points, comp.platform_points,
+                           np.ones(N, bool))
+        bad = ~sol.reachable_mask | jac.singular_mask
+        if bad.any():
+            st = _mask(st, bad)
+    return PMAnalysis(model, sol, jac, st, F, T, comp.diagnostics or {})
+
+
+def _mask(st: StaticsResult, bad) -> StaticsResult:
+    """The statics with NaN values where ``bad`` (flagged poses of a batch)."""
+    F_r = np.array(st.F_r, float)
+    F_r[bad] = np.nan
+    F_r.setflags(write=False)
+    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad)

@@ -1,0 +1,200 @@
+"""Batched Gauss-Newton on the loop closures (private).
+
+Unknowns per pose: the dependent pose parameters (lengths divided by ``L``),
+then every leg's joint values slot by slot (P joints divided by ``L``).  The
+equations: each leg's closure error ``e_i = [d / L; w]`` vanishes.  Linearised,
+``P dx - T_i dq_i = -e_i`` for every leg ``i`` (``P``: platform twists of the
+dependent parameters, ``T_i``: the leg's joint twists, both length-normalised).
+
+The step is solved leg by leg (a Schur complement): with ``G_i = T_i^T T_i``,
+``dq_i = G_i^-1 T_i^T (e_i + P dx)``, and ``dx`` makes every ``e_i + P dx`` lie
+in the span of ``T_i``: ``sum_i P^T (I - T_i G_i^-1 T_i^T) (P dx + e_i) = 0``.
+For a square, regular system this is the Gauss-Newton step; for a leg with
+more joints than its rank (the spin of an S-S leg) a small Tikhonov shift of
+``G_i`` gives the least-norm joint motion.  Every pose has its own convergence
+test and step halving; a pose whose residual stalls is flagged, not dropped.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _algebra as alg
+from ._chains import Chains, forward, normalised_twists, platform_columns
+
+__all__ = ["CONVERGED", "ACCEPTED", "newton_step", "gauss_newton", "NewtonResult"]
+
+#: Length-normalised closure residual regarded as converged (success).
+CONVERGED = 1e-10
+#: Largest residual returned as a (poor) solution rather than unreachable.
+ACCEPTED = 1e-6
+#: Residual at which the iteration stops.
+STOP = 1e-12
+#: Relative Tikhonov shift of a leg's Gram matrix (exact legs) and of a leg with
+#: more joints than twist-space dimensions (idle motions: least-norm steps).
+_SHIFT, _SHIFT_IDLE = 1e-13, 1e-7
+_HALVINGS = 6
+#: Shift of the reduced system: only guards against a zero pivot (a representation
+#: singularity is resolved before, see _solve.py), so that ill-conditioned poses keep
+#: their digits.
+_SHIFT_REDUCED = 1e-20
+
+
+def _gram(ch: Chains, T):
+    """Lower triangle of every leg's Gram matrix ``T^T T`` (padded slots: identity)."""
+    m = ch.m
+    G = [[None] * m for _ in range(m)]
+    pad = ~ch.real
+    for i in range(m):
+        for j in range(i + 1):
+            g = (T[i] * T[j]).sum(0)
+            if i == j and pad[:, i].any():
+                g = g + pad[:, i, None]
+            G[i][j] = g
+    tr = sum(G[i][i] for i in range(m))
+    idle = (np.array(ch.sizes) > 6)[:, None]
+    shift = tr / np.array(ch.sizes)[:, None] * np.where(idle, _SHIFT_IDLE, _SHIFT)
+    return G, shift
+
+
+def newton_step(ch: Chains, fr, e=None):
+    """The Gauss-Newton step ``dX (n_unknowns, N)`` at the frames ``fr``.
+
+    ``e (6, n, N)`` replaces the closure error (the sensitivities of the
+    predictor solve the same system for other right-hand sides).
+    """
+    nu, n, m = len(ch.unknown), ch.n, ch.m
+    e = fr.error if e is None else e
+    N = e.shape[-1]
+    T = normalised_twists(ch, fr)                                  # (m, 6, n, N)
+    Pt = platform_columns(ch, fr, ch.unknown)[:, :, None]          # (6, nu, 1, N)
+    G, shift = _gram(ch, T)
+    B = []
+    for j in range(m):                                             # T_j^T [e | P]: (1 + nu, n, N)
+        b = np.empty((1 + nu, n, N))
+        np.sum(T[j] * e, axis=0, out=b[0])
+        for a in range(nu):
+            np.sum(T[j] * Pt[:, a], axis=0, out=b[1 + a])
+        B.append(b)
+    Xs, _ = alg.spd_solve(G, B, shift)
+    if nu:
+        A = [[None] * nu for _ in range(nu)]
+        r = []
+        for a in range(nu):
+            for b in range(a + 1):
+                s = (Pt[:, a, 0] * Pt[:, b, 0]).sum(0) * n
+                for j in range(m):
+                    s = s - (B[j][1 + a] * Xs[j][1 + b]).sum(0)
+                A[a][b] = s
+            s = (Pt[:, a] * e).sum(0).sum(0)
+            for j in range(m):
+                s = s - (Xs[j][1 + a] * B[j][0]).sum(0)
+            r.append(-s)
+        trA = sum(A[a][a] for a in range(nu))
+        dx, _ = alg.spd_solve(A, r, trA * (_SHIFT_REDUCED / nu))
+        dq = [Xs[j][0] + sum(Xs[j][1 + a] * dx[a] for a in range(nu)) for j in range(m)]
+        dx = np.stack(dx)
+    else:
+        dx, dq = np.zeros((0, N)), [Xs[j][0] for j in range(m)]
+    dq = np.stack(dq, axis=1)                                      # (n, m, N)
+    return np.concatenate([dx, dq.reshape(n * m, N)])
+
+
+class NewtonResult:
+    """Solutions of N loop-closure problems.
+
+    Attributes
+    ----------
+    X : ndarray (n_unknowns, N)
+    residual : ndarray (N,)
+        Largest length-normalised closure error.
+    iterations : ndarray (N,) of int
+    stalled : ndarray (N,) of bool
+        The residual stopped decreasing before reaching :data:`STOP`.
+    """
+
+    def __init__(self, X, residual, iterations, stalled):
+        self.X, self.residual, self.iterations, self.stalled = X, residual, iterations, stalled
+
+
+def _take(fixed, idx):
+    return {k: v[idx] for k, v in fixed.items()}
+
+
+def _sq(e):
+    return (e * e).sum(axis=(0, 1))
+
+
+def gauss_newton(ch: Chains, fixed: dict, X0, *, tol: float = STOP, max_iter: int = 30):
+    """Solve the loop closures of ``N`` poses from the starts ``X0 (n_unknowns, N)``.
+
+    Returns
+    -------
+    NewtonResult
+    """
+    X = np.array(X0, float)
+    N = X.shape[1]
+    tol = np.broadcast_to(np.asarray(tol, float), (N,))
+    tol_a = tol
+    res = np.full(N, np.inf)
+    its = np.zeros(N, int)
+    stalled = np.zeros(N, bool)
+    idx = np.arange(N)
+    fx = fixed
+    fr = forward(ch, fx, X)
+    f = fr.residual
+    res[:] = f
+    for _ in range(max_iter):
+        keep = np.isfinite(f) & (f > tol_a)
+        stalled[idx[~np.isfinite(f)]] = True
+        if not keep.any():
+            break
+        if not keep.all():
+            idx = idx[keep]
+            fx = _take(fx, keep)
+            fr = _subset(fr, keep)
+            tol_a = tol_a[keep]
+        Xa = X[:, idx]
+        step = newton_step(ch, fr)
+        e2 = _sq(fr.error)
+        Xn = Xa + step
+        frn = forward(ch, fx, Xn)
+        ok = np.isfinite(frn.error).all(axis=(0, 1)) & (_sq(frn.error) < e2)
+        for _ in range(_HALVINGS):
+            if ok.all():
+                break
+            bad = ~ok
+            step[:, bad] *= 0.5
+            Xb = Xa[:, bad] + step[:, bad]
+            frb = forward(ch, _take(fx, bad), Xb)
+            okb = np.isfinite(frb.error).all(axis=(0, 1)) & (_sq(frb.error) < e2[bad])
+            where = np.flatnonzero(bad)[okb]
+            Xn[:, where] = Xb[:, okb]
+            frn = _assign(frn, where, _subset(frb, okb))
+            ok[where] = True
+        X[:, idx[ok]] = Xn[:, ok]
+        its[idx] += 1
+        stalled[idx[~ok]] = True
+        # poses that could not decrease keep their last values and leave
+        if not ok.all():
+            idx, fx, frn, tol_a = idx[ok], _take(fx, ok), _subset(frn, ok), tol_a[ok]
+        fr = frn
+        f = fr.residual
+        res[idx] = f
+    out = NewtonResult(X, res, its, stalled & (res > tol))
+    return out
+
+
+def _subset(fr, mask):
+    from ._chains import Frames
+    return Frames({k: v[..., mask] for k, v in fr.params.items()}, fr.q[..., mask],
+                  fr.axes[..., mask], fr.points[..., mask], fr.R_p[..., mask], fr.o[..., mask],
+                  fr.E[..., mask], fr.error[..., mask])
+
+
+def _assign(fr, where, other):
+    for k in fr.params:
+        fr.params[k][..., where] = other.params[k]
+    for name in ("q", "axes", "points", "R_p", "o", "E", "error"):
+        getattr(fr, name)[..., where] = getattr(other, name)
+    return fr

@@ -1,0 +1,91 @@
+"""Length-normalised conditioning of stacks of Jacobians, and their least-norm statics (private).
+
+Rows ``[f; m]`` (moments about the base origin) are moved to the centroid ``c``
+of the geometry and their moments divided by its characteristic length ``L``
+(RMS distance of the points from ``c``), then scaled to unit norm.  The
+condition number ``s_1 / s_6`` of that matrix is unit-free and frame-free.
+
+The singular values come from the eigenvalues of ``Jn^T Jn`` (6x6, one LAPACK
+call per pose); where that loses digits (condition above :data:`REFINE`) they
+are recomputed by an SVD.  The statics solves ``Jn^T y = -W_n`` in the least-norm
+sense through the same ``Jn^T Jn`` (Cholesky), again with an SVD where the
+condition exceeds :data:`REFINE`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["RANK_RTOL", "REFINE", "normalise_rows", "singular_values", "least_norm"]
+
+#: Relative threshold on singular values below which a direction counts as lost.
+RANK_RTOL = 1e-8
+#: Above this condition number the fast paths are replaced by an SVD.
+REFINE = 1e4
+
+
+def normalisation(points):
+    """Centroid ``(N, 3)`` and characteristic length ``(N,)`` of point sets ``(N, p, 3)``."""
+    c = points.mean(axis=1)
+    L = np.sqrt(np.mean(np.sum((points - c[:, None]) ** 2, axis=2), axis=1))
+    big = np.max(np.abs(points), axis=(1, 2))
+    L = np.where(L <= 1e-12 * big, big, L)
+    return c, np.where(L > 0, L, 1.0)
+
+
+def normalise_rows(J, c, L):
+    """Normalised, row-equilibrated rows ``Jn (N, m, 6)`` and the row norms ``d (N, m)``
+    (``J[r] = d[r] * (back-transformed Jn[r])``)."""
+    f = J[..., :3]
+    m = (J[..., 3:] - np.cross(c[:, None, :], f)) / L[:, None, None]
+    Jn = np.concatenate([f, m], axis=-1)
+    d = np.linalg.norm(Jn, axis=-1)
+    d = np.where(d > 0, d, 1.0)
+    return Jn / d[..., None], d
+
+
+def normalise_wrench(W, c, L):
+    """``[f; (m - c x f) / L]`` for wrenches ``(N, ..., 6)``."""
+    sh = (-1,) + (1,) * (W.ndim - 2) + (3,)
+    f = W[..., :3]
+    return np.concatenate([f, (W[..., 3:] - np.cross(c.reshape(sh), f)) /
+                           L.reshape(sh[:-1] + (1,))], axis=-1)
+
+
+def singular_values(Jn):
+    """Singular values ``(N, min(m, 6))`` of ``Jn (N, m, 6)``, descending."""
+    N, m, _ = Jn.shape
+    k = min(m, 6)
+    if N == 0 or m == 0:
+        return np.zeros((N, k))
+    # the smaller Gram matrix: J J^T (m x m) when m < 6, J^T J (6 x 6) otherwise
+    M = np.einsum("nri,nsi->nrs", Jn, Jn) if m < 6 else np.einsum("nri,nrj->nij", Jn, Jn)
+    lam = np.linalg.eigvalsh(M)[:, ::-1][:, :k]
+    s = np.sqrt(np.maximum(lam, 0.0))
+    bad = ~(s[:, k - 1] * REFINE > s[:, 0])
+    if bad.any():
+        s[bad] = np.linalg.svd(Jn[bad], compute_uv=False)[:, :k]
+    return s
+
+
+def least_norm(Jn, Wn, s):
+    """Least-norm ``y (N, m)`` with ``Jn^T y = -Wn`` (least squares where it has no solution).
+
+    ``s`` are the singular values of :func:`singular_values`; poses whose condition
+    exceeds :data:`REFINE` are solved by the pseudo-inverse (numpy's cut-off).
+    """
+    N, m, _ = Jn.shape
+    y = np.zeros((N, m))
+    if N == 0 or m == 0:
+        return y
+    well = (s.shape[1] == 6) & (s[:, -1] * REFINE > s[:, 0]) if s.shape[1] == 6 else \
+        np.zeros(N, bool)
+    if well.any():
+        M = np.einsum("nri,nrj->nij", Jn[well], Jn[well])
+        z = np.linalg.solve(M, -Wn[well][..., None])[..., 0]
+        y[well] = np.einsum("nrj,nj->nr", Jn[well], z)
+    ill = ~well
+    if ill.any():
+        P = np.linalg.pinv(np.transpose(Jn[ill], (0, 2, 1)), rcond=max(m, 6) * np.finfo(float).eps)
+        y[ill] = -np.einsum("nmj,nj->nm", P, Wn[ill])
+    return y

@@ -1,0 +1,288 @@
+"""From solved closures to the unified Jacobian, its conditioning and the statics (private).
+
+Every function takes and returns arrays with the poses on the leading axis.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _algebra as alg
+from ._conditioning import (RANK_RTOL, least_norm, normalisation, normalise_rows,
+                            normalise_wrench, singular_values)
+from ._geometry import LegGeometry, geometry_of
+from ._rows import RowTemplate
+
+__all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "Conditioning", "condition",
+           "StaticsArrays", "solve_statics_arrays", "COND_THRESHOLD"]
+
+#: Largest normalised condition number of ``J`` still treated as regular.
+COND_THRESHOLD = 1.0 / RANK_RTOL
+
+
+@dataclass(frozen=True)
+class RowInfo:
+    """What a row of the unified Jacobian is (the same at every pose).
+
+    ``leg`` (0-based), ``leg_name``, ``kind`` (``actuation``, ``force``, ``couple``,
+    ``screw``), ``member`` (the geometric kind of the wrench), ``point_name`` (the
+    named point of the leg on the force line, or None), ``joint`` (the actuated joint
+    of an actuation row), ``label`` (``F_a1``, ``F_c2``, ``T_c3``...).
+    """
+
+    leg: int
+    leg_name: str
+    kind: str
+    member: str
+    point_name: str | None
+    joint: str | None
+    label: str
+
+
+@dataclass(frozen=True, eq=False)
+class Rows:
+    """The rows of ``J`` at N poses.
+
+    Attributes
+    ----------
+    J : ndarray (N, m, 6)
+        Actuation rows (one per leg, in leg order) then constraint rows, ``[f; m]`` about O.
+    info : tuple of RowInfo
+    n_actuated : int
+    scale : ndarray (N, m)
+        Row = scale x unit member (1 for constraint rows).
+    points : ndarray (N, m, 3)
+        A point of each row's line (the named point), NaN for couples.
+    leg_points : ndarray (N, p, 3)
+        Every leg's points (A, a, joint points) then ``o``: the normalisation's points.
+    structure_ok : ndarray (N, n) of bool
+        False where a leg's constraint structure is not the one of home (the generic
+        rule was used there).
+    ok : ndarray (N,) of bool
+        False where a row could not be formed (a dependent actuator, a degenerate basis).
+    """
+
+    J: np.ndarray
+    info: tuple
+    n_actuated: int
+    scale: np.ndarray
+    points: np.ndarray
+    leg_points: np.ndarray
+    structure_ok: np.ndarray
+    ok: np.ndarray
+
+
+_TEMPLATES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def templates_of(model) -> tuple:
+    """One :class:`RowTemplate` per leg of ``model``, built at home (cached)."""
+    t = _TEMPLATES.get(model)
+    if t is None:
+        R0, p0 = model.frame
+        Rh, oh = model.platform_home
+        refs = getattr(model, "constraint_references", None) or {}
+        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs.get(i, ()))
+                  for i, lg in enumerate(model.home_legs))
+        _TEMPLATES[model] = t
+    return t
+
+
+def _labels(templates):
+    info_a, info_c = [], []
+    kc = 0
+    for i, t in enumerate(templates):
+        info_a.append(RowInfo(i, t.name, "actuation",
+                              "force" if t.actuation.kind in ("line", "least-norm") else "none",
+                              None, t.names[t.actuated], f"F_a{i + 1}"))
+        for kind, pname in t.member_kinds:
+            kc += 1
+            sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")
+            info_c.append(RowInfo(i, t.name, kind, kind, pname, None, f"{sym}{i + 1}"))
+    # number repeated labels of one leg: F_c1.1, F_c1.2
+    out = info_a + info_c
+    counts = {}
+    for r in info_c:
+        counts[r.label] = counts.get(r.label, 0) + 1
+    seen = {}
+    final = list(info_a)
+    for r in info_c:
+        if counts[r.label] > 1:
+            seen[r.label] = seen.get(r.label, 0) + 1
+            r = RowInfo(r.leg, r.leg_name, r.kind, r.member, r.point_name, r.joint,
+                        f"{r.label}.{seen[r.label]}")
+        final.append(r)
+    return tuple(final)
+
+
+def leg_geometry(model, frames, i: int) -> LegGeometry:
+    """Leg ``i`` of the model at the poses of ``frames`` (pose axis last)."""
+    ch_sizes = [len(lg.joints) for lg in model.home_legs]
+    m = ch_sizes[i]
+    R0, p0 = model.frame
+    a = np.einsum("ij...,j->i...", frames.R_p, model.platform_points[i]) + frames.o
+    t = model.home_legs[i]
+    rot = np.array([0.0 if j.kind == "P" else 1.0 for j in t.joints])
+    tra = np.array([1.0 if j.kind == "P" else (j.pitch if j.kind == "H" else 0.0)
+                    for j in t.joints])
+    return LegGeometry(frames.axes[:m, :, i], frames.points[:m, :, i], rot, tra,
+                       np.asarray(model.world_base_points[i], float), a, np.asarray(R0, float),
+                       np.asarray(p0, float), frames.R_p, frames.o)
+
+
+def model_rows(model, frames, templates=None) -> Rows:
+    """The rows of ``J`` at every pose of ``frames`` (:class:`~._chains.Frames`)."""
+    templates = templates_of(model) if templates is None else templates
+    geos = [leg_geometry(model, frames, i) for i in range(len(templates))]
+    return assemble_rows(templates, geos, frames.o)
+
+
+def legs_rows(legs, o, analyses) -> Rows:
+    """The rows of ``J`` of placed legs at one pose (the base frame is the world)."""
+    o = np.asarray(o, float)
+    templates, geos = [], []
+    for lg, an in zip(legs, analyses):
+        t = RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o)
+        templates.append(t)
+        geos.append(geometry_of(lg, np.eye(3), np.zeros(3), np.eye(3), o))
+    return assemble_rows(templates, geos, o[:, None])
+
+
+def assemble_rows(templates, geos, o) -> Rows:
+    """Stack every leg's rows (actuation rows first) at the poses of ``geos``."""
+    N = o.shape[-1]
+    acts, scales_a, cons, pts_a, pts_c, struct, ok = [], [], [], [], [], [], np.ones(N, bool)
+    leg_pts = []
+    for t, geo in zip(templates, geos):
+        act, member, scale, c, good, sok = t.rows(geo)
+        acts.append(act)
+        scales_a.append(scale)
+        cons.append(c)
+        struct.append(sok)
+        ok &= good
+        pts_a.append(t.actuation_point(geo))
+        pts_c.append(t.member_points(geo, c))
+        leg_pts += [np.broadcast_to(geo.A[:, None], (3, N)), geo.a] + list(geo.points)
+    leg_pts.append(o)
+    J = np.concatenate([np.stack(acts)] + [c for c in cons if len(c)], axis=0)   # (m, 6, N)
+    P = np.concatenate([np.stack(pts_a)] + [p for p in pts_c if len(p)], axis=0)
+    n = len(templates)
+    scale = np.concatenate([np.stack(scales_a), np.ones((J.shape[0] - n, N))], axis=0)
+    return Rows(np.ascontiguousarray(J.transpose(2, 0, 1)), _labels(templates), n,
+                scale.T.copy(), np.ascontiguousarray(P.transpose(2, 0, 1)),
+                np.ascontiguousarray(np.stack(leg_pts).transpose(2, 0, 1)),
+                np.stack(struct, axis=1), ok)
+
+
+@dataclass(frozen=True, eq=False)
+class Conditioning:
+    """Rank and conditioning of N Jacobians (arrays with the poses first).
+
+    ``centre (N, 3)``, ``length (N,)``: the normalisation (centroid and characteristic
+    length of the legs' points and ``o``); ``singular_values (N, min(m, 6))`` of the
+    normalised, row-equilibrated ``J``; ``rank``; ``condition_number``;
+    ``constraint_rank``; ``constraint_condition_number``.
+    """
+
+    centre: np.ndarray
+    length: np.ndarray
+    singular_values: np.ndarray
+    rank: np.ndarray
+    condition_number: np.ndarray
+    constraint_rank: np.ndarray
+    constraint_condition_number: np.ndarray
+
+    def normalised(self, J):
+        """``(Jn, d)`` of :func:`~._conditioning.normalise_rows` for these poses."""
+        return normalise_rows(J, self.centre, self.length)
+
+    def take(self, sl) -> "Conditioning":
+        return Conditioning(*(getattr(self, f)[sl] for f in self.__dataclass_fields__))
+
+
+def condition(J, n_actuated, points):
+    """Conditioning of ``J (N, m, 6)`` with the normalisation of ``points (N, p, 3)``;
+    returns ``(Conditioning, Jn, d)``."""
+    N, m, _ = J.shape
+    c, L = normalisation(points)
+    Jn, d = normalise_rows(J, c, L)
+    s = singular_values(Jn)
+    top = np.maximum(s[:, 0], 1e-300) if s.shape[1] else np.ones(N)
+    rank = np.sum(s > RANK_RTOL * top[:, None], axis=1)
+    cond = np.full(N, np.inf)
+    if s.shape[1] >= 6:
+        pos = s[:, 5] > 0
+        cond[pos] = s[pos, 0] / s[pos, 5]
+    k = max(0, 6 - n_actuated)
+    Jc = Jn[:, n_actuated:]
+    if Jc.shape[1]:
+        sc = singular_values(Jc)
+        c_rank = np.sum(sc > RANK_RTOL * np.maximum(sc[:, :1], 1e-300), axis=1)
+    else:
+        sc, c_rank = np.zeros((N, 0)), np.zeros(N, int)
+    if k == 0:
+        c_cond = np.ones(N)
+    elif sc.shape[1] >= k:
+        c_cond = np.full(N, np.inf)
+        pos = sc[:, k - 1] > 0
+        c_cond[pos] = sc[pos, 0] / sc[pos, k - 1]
+    else:
+        c_cond = np.full(N, np.inf)
+    return Conditioning(c, L, s, rank, cond, c_rank, c_cond), Jn, d
+
+
+def workload_about_origin(F, T, o):
+    """``W = [F; T + o x F]`` for ``F, T (N, ..., 3)`` and ``o (N, 3)``: ``(N, ..., 6)``."""
+    F, T = np.broadcast_arrays(np.asarray(F, float), np.asarray(T, float))
+    osh = o.reshape((o.shape[0],) + (1,) * (F.ndim - 2) + (3,))
+    return np.concatenate([F, T + np.cross(osh, F)], axis=-1)
+
+
+def statics_values(Jn, d, s, cond: Conditioning, W):
+    """Least-norm ``F_r (N, ..., m)`` with ``J^T F_r = -W`` for ``W (N, ..., 6)``."""
+    N, m, _ = Jn.shape
+    extra = W.shape[1:-1]
+    Wf = W.reshape(N, -1, 6)
+    K = Wf.shape[1]
+    Wn = normalise_wrench(Wf, cond.centre, cond.length)
+    if K > 1:
+        Jn, s = np.repeat(Jn, K, axis=0), np.repeat(s, K, axis=0)
+    y = least_norm(Jn, Wn.reshape(N * K, 6), s).reshape(N, K, m)
+    return (y / d[:, None, :]).reshape((N,) + extra + (m,))
+
+
+def derived_statics(J, info, n_actuated, values, W, A, a, centre, length):
+    """Row wrenches, vectors, leg wrenches, constraint wrenches, ``T_r`` and the relative
+    equilibrium residual from the values (all with the leading axes of ``values``)."""
+    lead = values.shape[:-1]
+    N, m = J.shape[0], J.shape[1]
+    extra = lead[1:]
+    Jb = J.reshape((N,) + (1,) * len(extra) + (m, 6))
+    row_w = values[..., None] * Jb
+    couple = np.array([r.member == "couple" for r in info])
+    vectors = np.where(couple[:, None], row_w[..., 3:], row_w[..., :3])
+    n = len(A)
+    legs = np.array([r.leg for r in info])
+    Pm = np.zeros((n, m))
+    Pm[legs, np.arange(m)] = 1.0
+    Pc = Pm.copy()
+    Pc[:, :n_actuated] = 0.0
+    leg_w = np.einsum("lm,...mj->...lj", Pm, row_w)
+    con_w = np.einsum("lm,...mj->...lj", Pc, row_w)
+    ab = a.reshape((N,) + (1,) * len(extra) + a.shape[1:])
+    delta = ab - A
+    delta = delta / np.linalg.norm(delta, axis=-1, keepdims=True)
+    moment_A = con_w[..., 3:] - np.cross(A, con_w[..., :3])
+    T_r = np.sum(moment_A * delta, axis=-1)
+    Wf = W.reshape(N, -1, 6)
+    K = Wf.shape[1]
+    total = normalise_wrench(leg_w.reshape(N, K, n, 6).sum(axis=2) + Wf, centre, length)
+    Wn = normalise_wrench(Wf, centre, length)
+    rw_n = normalise_wrench(row_w.reshape(N, K * m, 6), centre, length).reshape(N, K, m, 6)
+    scale = np.maximum(np.linalg.norm(Wn, axis=-1),
+                       np.max(np.linalg.norm(rw_n, axis=-1), axis=-1, initial=0.0))
+    resid = (np.linalg.norm(total, axis=-1) / np.where(scale > 0, scale, 1.0)).reshape(lead)
+    return row_w, vectors, leg_w, con_w, T_r, resid

@@ -1,0 +1,433 @@
+"""The PM assembled at N poses: :class:`PoseSolution` and :func:`solve` (inverse displacement).
+
+Each leg's end pose is the product of exponentials of its joints in the world
+frame, ``T_end(q) = exp(xi_1 q_1) ... exp(xi_m q_m) T_end_home``, with
+``T_end_home`` the platform pose at home and ``xi_i`` the home unit twists
+``[v; w]`` (joint values 0 at home; radians for R and H, lengths for P).  The
+inverse displacement solves, for given independent pose parameters, the
+dependent ones and every leg's joint values so that every ``T_end_i`` equals
+the platform pose (:mod:`screwkit.engine._closure`); the residual is the
+largest component of the length-normalised error twist ``[d / L; w]``.
+
+Examples
+--------
+>>> import screwkit
+>>> pm = screwkit.load_pm("3RRPRR")
+>>> sol = screwkit.solve(pm, {"alpha": [5, 6], "beta": [-3, -3], "Zo": [80, 81]}, degrees=True)
+>>> sol.extensions.shape, bool(sol.success.all())
+((2, 3), True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ._chains import LENGTH_PARAMS, PARAMS, chains_of
+from ._closure import ACCEPTED, CONVERGED
+from ._solve import Closures
+
+__all__ = ["PoseSolution", "Closures", "solve", "pose_arrays", "STATUSES", "STRUCTURE_TOL"]
+
+#: Largest structure-check residual regarded as satisfied (dimensionless).
+STRUCTURE_TOL = 1e-7
+#: Per-pose status of a solution.
+STATUSES = ("ok", "not converged", "unreachable")
+
+
+def _errors():
+    from .. import errors
+    return errors
+
+
+def pose_arrays(model, pose, degrees: bool = False):
+    """Validate independent pose parameters; return ``(dict of (N,) arrays, N, single, notes)``.
+
+    ``pose``: a mapping (or a pandas DataFrame) of the model's independent parameters
+    to numbers or 1-D arrays of one length; missing ones take the model's default.
+    """
+    err = _errors()
+    if pose is None:
+        pose = {}
+    if hasattr(pose, "columns") and hasattr(pose, "to_numpy"):      # a pandas DataFrame
+        pose = {str(c): pose[c].to_numpy() for c in pose.columns}
+    if not isinstance(pose, dict):
+        raise err.InputError(f"{model.name}: the independent pose parameters must be a mapping "
+                             f"name -> value of {', '.join(model.independent)}")
+    vals, single, n = {}, True, None
+    for k, v in pose.items():
+        if k not in PARAMS:
+            raise err.InputError(f"{model.name}: unknown pose parameter {k!r} (one of "
+                                 f"{', '.join(PARAMS)})")
+        if k not in model.independent:
+            raise err.InputError(f"{model.name}: {k} is a dependent pose parameter; give "
+                                 f"{', '.join(model.independent)}")
+        if isinstance(v, (bool, np.bool_)):
+            raise err.InputError(f"{model.name}: pose parameter {k} must be a number, got {v!r}")
+        try:
+            a = np.asarray(v, dtype=float)
+        except (TypeError, ValueError):
+            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or an array "
+                                 f"of numbers, got {v!r}") from None
+        if a.ndim > 1:
+            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or a 1-D "
+                                 f"array, got shape {a.shape}")
+        if a.ndim == 1:
+            single = False
+            if n is not None and a.size != n:
+                raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values, "
+                                     f"the others {n}")
+            n = a.size
+        if not np.all(np.isfinite(a)):
+            bad = a if a.ndim == 0 else a[~np.isfinite(a)][0]
+            raise err.InputError(f"{model.name}: pose parameter {k} is {float(bad)} "
+                                 "(must be finite)")
+        vals[k] = np.radians(a) if (degrees and k not in LENGTH_PARAMS) else a
+    N = 1 if n is None else n
+    if N == 0:
+        raise err.InputError(f"{model.name}: no poses given (empty arrays)")
+    notes = []
+    missing = [k for k in model.independent if k not in vals]
+    for k in missing:
+        vals[k] = np.asarray(model.default_pose[k], float)
+    if missing:
+        notes.append(f"{', '.join(missing)} taken from the default pose")
+    return {k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single, notes
+
+
+@dataclass(frozen=True, eq=False)
+class PoseSolution:
+    """The PM assembled at N poses (``single``: one pose, no pose axis on the arrays).
+
+    Attributes
+    ----------
+    model : PMModel
+    closures : Closures
+        The solver's unknowns and residuals.
+    single : bool
+    common_notes : tuple of str
+        Notes that hold for every pose (defaults used...).
+    pose_notes : dict int -> tuple of str
+        Notes of particular poses (a representation singularity resolved...).
+    """
+
+    model: object
+    closures: Closures = field(repr=False)
+    single: bool = True
+    common_notes: tuple = ()
+    pose_notes: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return self.closures.residual.shape[0]
+
+    def _sq(self, x):
+        return x[0] if self.single else x
+
+    @cached_property
+    def _params(self) -> dict:
+        c = self.closures
+        ch = c.chains
+        bad = ~self.reachable_mask
+        out = {}
+        for k in PARAMS:
+            if k in c.fixed:
+                v = np.array(c.fixed[k], float)
+            else:
+                j = ch.unknown.index(k)
+                v = c.X[j] * ch.x_scale[j]
+                v[bad] = np.nan
+            v.setflags(write=False)
+            out[k] = v
+        return out
+
+    @property
+    def params(self) -> dict:
+        """``Xo Yo Zo alpha beta gamma`` (model lengths, radians): floats for one pose,
+        ``(N,)`` arrays otherwise (NaN for the dependent ones of an unreachable pose)."""
+        if self.single:
+            return {k: float(v[0]) for k, v in self._params.items()}
+        return dict(self._params)
+
+    def params_degrees(self) -> dict:
+        return {k: (v if k in LENGTH_PARAMS else np.degrees(v)) for k, v in self.params.items()}
+
+    @cached_property
+    def _platform(self):
+        from ._chains import platform_pose
+        Rp, o, _ = platform_pose(self.closures.chains, self._params)
+        R = np.ascontiguousarray(Rp.transpose(2, 0, 1))
+        o = np.ascontiguousarray(o.T)
+        a = np.einsum("nij,kj->nki", R, self.model.platform_points) + o[:, None, :]
+        for x in (R, o, a):
+            x.setflags(write=False)
+        return R, o, a
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """World <- platform rotation ``(3, 3)`` / ``(N, 3, 3)``."""
+        return self._sq(self._platform[0])
+
+    @property
+    def position(self) -> np.ndarray:
+        """The platform centre ``o`` (world) ``(3,)`` / ``(N, 3)``."""
+        return self._sq(self._platform[1])
+
+    @property
+    def platform_points(self) -> np.ndarray:
+        """``a_i`` (world), ``(n, 3)`` / ``(N, n, 3)``."""
+        return self._sq(self._platform[2])
+
+    @property
+    def base_points(self) -> np.ndarray:
+        """``A_i`` (world), ``(n, 3)`` (the same at every pose)."""
+        return np.asarray(self.model.world_base_points, float)
+
+    @cached_property
+    def _extensions(self):
+        e = np.linalg.norm(self._platform[2] - self.base_points[None], axis=2)
+        e.setflags(write=False)
+        return e
+
+    @property
+    def extensions(self) -> np.ndarray:
+        """``r_i = |a_i - A_i|``, ``(n,)`` / ``(N, n)``."""
+        return self._sq(self._extensions)
+
+    @cached_property
+    def _q(self):
+        ch = self.closures.chains
+        nu = len(ch.unknown)
+        q = self.closures.X[nu:].reshape(ch.n, ch.m, -1) * ch.q_scale[:, :, None]
+        q[:, :, ~self.reachable_mask] = np.nan
+        return q
+
+    @property
+    def joint_values(self) -> tuple:
+        """Each leg's joint values (0 at home): ``(m_i,)`` / ``(N, m_i)`` arrays."""
+        out = []
+        for i, lg in enumerate(self.model.home_legs):
+            v = np.ascontiguousarray(self._q[i, :len(lg.joints)].T)
+            v.setflags(write=False)
+            out.append(self._sq(v))
+        return tuple(out)
+
+    @property
+    def actuator_values(self) -> np.ndarray:
+        """Each leg's actuated joint value (displacement from home), ``(n,)`` / ``(N, n)``."""
+        ch = self.closures.chains
+        v = np.ascontiguousarray(self._q[np.arange(ch.n), ch.actuated].T)
+        v.setflags(write=False)
+        return self._sq(v)
+
+    @property
+    def residual(self):
+        """Largest length-normalised closure error."""
+        r = self.closures.residual
+        return float(r[0]) if self.single else r
+
+    @property
+    def reachable_mask(self) -> np.ndarray:
+        return self.closures.residual <= ACCEPTED
+
+    @property
+    def success(self):
+        """Residual at most :data:`CONVERGED`."""
+        s = self.closures.residual <= CONVERGED
+        return bool(s[0]) if self.single else s
+
+    @property
+    def status(self):
+        """``ok``, ``not converged`` (residual above CONVERGED, below ACCEPTED) or
+        ``unreachable``, per pose."""
+        r = self.closures.residual
+        s = np.where(r <= CONVERGED, "ok", np.where(r <= ACCEPTED, "not converged", "unreachable"))
+        return str(s[0]) if self.single else s
+
+    @property
+    def iterations(self):
+        it = self.closures.iterations
+        return int(it[0]) if self.single else it
+
+    @property
+    def notes(self) -> tuple:
+        """Notes of the pose (one pose), or of every pose (tuple of tuples)."""
+        if self.single:
+            return tuple(self.common_notes) + tuple(self.pose_notes.get(0, ()))
+        return tuple(tuple(self.common_notes) + tuple(self.pose_notes.get(i, ()))
+                     for i in range(len(self)))
+
+    def legs_at(self, i: int) -> tuple:
+        """Every leg placed at pose ``i``: joints on their current axes, ``A``, ``a`` (world)."""
+        from ..legs import Joint, Leg
+        fr = self.closures.frames(slice(i, i + 1))
+        out = []
+        for k, lg in enumerate(self.model.home_legs):
+            joints = tuple(Joint(j.spec, fr.axes[s, :, k, 0], fr.points[s, :, k, 0], j.pitch)
+                           for s, j in enumerate(lg.joints))
+            out.append(Leg(lg.string, joints, self.base_points[k], self._platform[2][i, k],
+                           lg.name))
+        return tuple(out)
+
+    @cached_property
+    def legs(self) -> tuple:
+        """The placed legs (one pose; see :meth:`legs_at` for several)."""
+        if not self.single:
+            raise TypeError("legs is defined for one pose: use legs_at(i) or sol[i]")
+        return self.legs_at(0)
+
+    def __getitem__(self, i) -> "PoseSolution":
+        """Pose ``i`` as a one-pose solution."""
+        if self.single:
+            raise TypeError("a one-pose PoseSolution cannot be indexed")
+        i = int(np.arange(len(self))[i])
+        return PoseSolution(self.model, self.closures.take(slice(i, i + 1)), True,
+                            self.common_notes,
+                            {0: self.pose_notes[i]} if i in self.pose_notes else {})
+
+    def __repr__(self) -> str:
+        if not self.single:
+            st = self.status
+            return (f"PoseSolution({self.model.name}: {len(self)} poses, "
+                    f"{int(np.sum(st == 'ok'))} ok, {int(np.sum(st == 'unreachable'))} unreachable)")
+        p = ", ".join(f"{k}={v:.6g}" for k, v in self.params_degrees().items())
+        return (f"PoseSolution({self.model.name}: {p}; residual {self.residual:.2g}, "
+                f"{'ok' if self.success else 'NOT converged'})")
+
+
+def _start_of(model, guess, N):
+    """Warm starts ``(X (n_unknowns, N), side)`` from a guess, or ``(None, None)``."""
+    err = _errors()
+    if guess is None:
+        return None, None
+    ch = chains_of(model)
+    if isinstance(guess, PoseSolution):
+        if guess.model is not model and [len(lg.joints) for lg in guess.model.home_legs] != \
+                [len(lg.joints) for lg in model.home_legs]:
+            raise err.InputError(f"{model.name}: the guess is a solution of another PM")
+        X = guess.closures.X
+        b = guess._params["beta"]
+        if X.shape[1] == 1 and N > 1:
+            X, b = np.repeat(X, N, axis=1), np.repeat(b, N)
+        if X.shape[1] != N:
+            raise err.InputError(f"{model.name}: the guess has {X.shape[1]} poses for {N}")
+        return X.copy(), b
+    if isinstance(guess, dict):
+        X = ch.home_vector(N)
+        for k, v in guess.items():
+            if k not in PARAMS:
+                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}")
+            try:
+                a = np.broadcast_to(np.asarray(v, float), (N,))
+            except (TypeError, ValueError):
+                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}") from None
+            if not np.all(np.isfinite(a)):
+                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}")
+            if k in ch.unknown:
+                X[ch.unknown.index(k)] = a / ch.x_scale[ch.unknown.index(k)]
+        return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float), (N,))
+    raise err.InputError(f"{model.name}: guess must be a PoseSolution or a dict of pose parameters")
+
+
+def prepare(model, pose, guess, degrees):
+    """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side)``."""
+    fixed, N, one, notes = pose_arrays(model, pose, degrees)
+    X0, bside = _start_of(model, guess, N)
+    side = None
+    if bside is not None and "beta" in fixed:
+        d = np.asarray(bside) - fixed["beta"]
+        side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
+    return fixed, N, one, notes, X0, side
+
+
+def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = False,
+          single=None, raise_unreachable=None, **kwargs) -> PoseSolution:
+    """Unified inverse displacement at N poses (see the module docstring).
+
+    Parameters
+    ----------
+    model : PMModel
+    pose : dict or DataFrame
+        Independent parameters: numbers (one pose) or 1-D arrays (N poses); missing ones
+        from the default pose.  Angles in radians unless ``degrees``.
+    guess : PoseSolution or dict, optional
+        Warm start (the previous pose along a path); default: home.
+    path : bool
+        The poses are successive samples of a continuous path (warm starts from the
+        neighbours).
+    raise_unreachable : bool, optional
+        Raise :class:`UnreachablePoseError` for an unreachable pose (default for one
+        pose); a batch flags it instead (``status``).
+
+    Returns
+    -------
+    PoseSolution
+    """
+    from ._run import compute
+
+    fixed, N, one, notes, X0, side = prepare(model, pose, guess, degrees)
+    single = one if single is None else single
+    comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)
+    sol = make_solution(model, comp.closures, single, notes, side)
+    if (single if raise_unreachable is None else raise_unreachable):
+        check_reachable(sol)
+    return sol
+
+
+def make_solution(model, closures: Closures, single, notes, side=None) -> PoseSolution:
+    """The :class:`PoseSolution` of solved closures, with the notes of each pose."""
+    ch = closures.chains
+    pose_notes = {}
+    fixed = closures.fixed
+    for i in np.flatnonzero(closures.singular_beta):
+        pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
+        b = np.degrees(fixed["beta"][i])
+        how = ("the one-sided limit from the warm start's side" if side is not None and side[i]
+               else "the limit beta -> " + f"{b:.6g} deg (average of both sides)")
+        txt = ", ".join(f"{p} = {np.degrees(closures.X[ch.unknown.index(p), i]):.6g} deg"
+                        for p in pair)
+        pose_notes[int(i)] = (
+            f"beta = {b:.6g} deg is a representation singularity of {model.order} (alpha and "
+            f"gamma turn about the same axis): {' and '.join(pair)} resolved by continuity as "
+            f"{how}: {txt}",)
+    sol = PoseSolution(model, closures, bool(single), tuple(notes), pose_notes)
+    if single and sol.reachable_mask.all():
+        extra = _structure_notes(model, sol)
+        if extra:
+            sol = PoseSolution(model, closures, True, tuple(notes),
+                               {0: pose_notes.get(0, ()) + tuple(extra)})
+    return sol
+
+
+def _structure_notes(model, sol):
+    """Legs whose catalog structure checks do not hold at the pose (one pose)."""
+    from ..legs import structure_vector
+    out = []
+    pose = sol.params
+    for i, (r, lg) in enumerate(zip(model.leg_rules, sol.legs)):
+        if not r.structure:
+            continue
+        v = structure_vector(r, model.placement(i, pose), lg)
+        if v.size and float(np.max(np.abs(v))) > STRUCTURE_TOL:
+            out.append(f"leg {i + 1} ({r.name}): its structure checks do not hold here (residual "
+                       f"{float(np.max(np.abs(v))):.3g}); its constraint wrenches are those of "
+                       "the actual geometry")
+    return out
+
+
+def check_reachable(sol: PoseSolution):
+    """Raise :class:`UnreachablePoseError` for the first unreachable pose."""
+    err = _errors()
+    if sol.reachable_mask.all():
+        return
+    i = int(np.flatnonzero(~sol.reachable_mask)[0])
+    f = float(sol.closures.residual[i])
+    given = ", ".join(f"{k}={_fmt(k, sol.closures.fixed[k][i])}" for k in sol.model.independent)
+    raise err.UnreachablePoseError(
+        f"{sol.model.name}: pose {given} is unreachable from the home assembly: the loop "
+        f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g})", residual=f)
+
+
+def _fmt(k, v):
+    return f"{v:.6g}" if k in LENGTH_PARAMS else f"{np.degrees(v):.6g} deg"
