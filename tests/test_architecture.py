@@ -43,13 +43,8 @@ FORBIDDEN_EDGES = {
     ("synthesis", "engine"): "the synthesis needs legs and the catalog (pm), not the solvers",
 }
 
-#: Modules allowed over MAX_LINES: the OLD engine, which the one-engine rewrite replaces.
-#: Remove each entry when its module is replaced (or split).
-ALLOWED_LONG_MODULES = {
-    "engine/_kinematics.py",    # old per-pose inverse displacement
-    "engine/_batch.py",         # old batched path kinematics/statics
-    "paths/_trajectory.py",     # old trajectory driver (per-pose + batched pipelines)
-}
+#: Modules allowed over MAX_LINES (none).
+ALLOWED_LONG_MODULES: set = set()
 MAX_LINES = 400
 #: .py files directly in screwkit/: __init__, __main__, errors, api.
 MAX_TOP_LEVEL_FILES = 4

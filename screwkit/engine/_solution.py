@@ -27,74 +27,15 @@ import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 from ._closure import ACCEPTED, CONVERGED
+from ._inputs import prepare
 from ._solve import Closures
 
-__all__ = ["PoseSolution", "Closures", "solve", "pose_arrays", "STATUSES", "STRUCTURE_TOL"]
+__all__ = ["PoseSolution", "Closures", "solve", "STATUSES", "STRUCTURE_TOL"]
 
 #: Largest structure-check residual regarded as satisfied (dimensionless).
 STRUCTURE_TOL = 1e-7
 #: Per-pose status of a solution.
 STATUSES = ("ok", "not converged", "unreachable")
-
-
-def _errors():
-    from .. import errors
-    return errors
-
-
-def pose_arrays(model, pose, degrees: bool = False):
-    """Validate independent pose parameters; return ``(dict of (N,) arrays, N, single, notes)``.
-
-    ``pose``: a mapping (or a pandas DataFrame) of the model's independent parameters
-    to numbers or 1-D arrays of one length; missing ones take the model's default.
-    """
-    err = _errors()
-    if pose is None:
-        pose = {}
-    if hasattr(pose, "columns") and hasattr(pose, "to_numpy"):      # a pandas DataFrame
-        pose = {str(c): pose[c].to_numpy() for c in pose.columns}
-    if not isinstance(pose, dict):
-        raise err.InputError(f"{model.name}: the independent pose parameters must be a mapping "
-                             f"name -> value of {', '.join(model.independent)}")
-    vals, single, n = {}, True, None
-    for k, v in pose.items():
-        if k not in PARAMS:
-            raise err.InputError(f"{model.name}: unknown pose parameter {k!r} (one of "
-                                 f"{', '.join(PARAMS)})")
-        if k not in model.independent:
-            raise err.InputError(f"{model.name}: {k} is a dependent pose parameter; give "
-                                 f"{', '.join(model.independent)}")
-        if isinstance(v, (bool, np.bool_)):
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number, got {v!r}")
-        try:
-            a = np.asarray(v, dtype=float)
-        except (TypeError, ValueError):
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or an array "
-                                 f"of numbers, got {v!r}") from None
-        if a.ndim > 1:
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or a 1-D "
-                                 f"array, got shape {a.shape}")
-        if a.ndim == 1:
-            single = False
-            if n is not None and a.size != n:
-                raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values, "
-                                     f"the others {n}")
-            n = a.size
-        if not np.all(np.isfinite(a)):
-            bad = a if a.ndim == 0 else a[~np.isfinite(a)][0]
-            raise err.InputError(f"{model.name}: pose parameter {k} is {float(bad)} "
-                                 "(must be finite)")
-        vals[k] = np.radians(a) if (degrees and k not in LENGTH_PARAMS) else a
-    N = 1 if n is None else n
-    if N == 0:
-        raise err.InputError(f"{model.name}: no poses given (empty arrays)")
-    notes = []
-    missing = [k for k in model.independent if k not in vals]
-    for k in missing:
-        vals[k] = np.asarray(model.default_pose[k], float)
-    if missing:
-        notes.append(f"{', '.join(missing)} taken from the default pose")
-    return {k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single, notes
 
 
 @dataclass(frozen=True, eq=False)
@@ -296,51 +237,6 @@ class PoseSolution:
                 f"{'ok' if self.success else 'NOT converged'})")
 
 
-def _start_of(model, guess, N):
-    """Warm starts ``(X (n_unknowns, N), side)`` from a guess, or ``(None, None)``."""
-    err = _errors()
-    if guess is None:
-        return None, None
-    ch = chains_of(model)
-    if isinstance(guess, PoseSolution):
-        if guess.model is not model and [len(lg.joints) for lg in guess.model.home_legs] != \
-                [len(lg.joints) for lg in model.home_legs]:
-            raise err.InputError(f"{model.name}: the guess is a solution of another PM")
-        X = guess.closures.X
-        b = guess._params["beta"]
-        if X.shape[1] == 1 and N > 1:
-            X, b = np.repeat(X, N, axis=1), np.repeat(b, N)
-        if X.shape[1] != N:
-            raise err.InputError(f"{model.name}: the guess has {X.shape[1]} poses for {N}")
-        return X.copy(), b
-    if isinstance(guess, dict):
-        X = ch.home_vector(N)
-        for k, v in guess.items():
-            if k not in PARAMS:
-                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}")
-            try:
-                a = np.broadcast_to(np.asarray(v, float), (N,))
-            except (TypeError, ValueError):
-                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}") from None
-            if not np.all(np.isfinite(a)):
-                raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}")
-            if k in ch.unknown:
-                X[ch.unknown.index(k)] = a / ch.x_scale[ch.unknown.index(k)]
-        return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float), (N,))
-    raise err.InputError(f"{model.name}: guess must be a PoseSolution or a dict of pose parameters")
-
-
-def prepare(model, pose, guess, degrees):
-    """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side)``."""
-    fixed, N, one, notes = pose_arrays(model, pose, degrees)
-    X0, bside = _start_of(model, guess, N)
-    side = None
-    if bside is not None and "beta" in fixed:
-        d = np.asarray(bside) - fixed["beta"]
-        side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
-    return fixed, N, one, notes, X0, side
-
-
 def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = False,
           single=None, raise_unreachable=None, **kwargs) -> PoseSolution:
     """Unified inverse displacement at N poses (see the module docstring).
@@ -418,7 +314,7 @@ def _structure_notes(model, sol):
 
 def check_reachable(sol: PoseSolution):
     """Raise :class:`UnreachablePoseError` for the first unreachable pose."""
-    err = _errors()
+    from .. import errors as err
     if sol.reachable_mask.all():
         return
     i = int(np.flatnonzero(~sol.reachable_mask)[0])

@@ -1,0 +1,258 @@
+"""The result of a trajectory: :class:`TrajectoryResult` and its CSV, JSON and plots."""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..engine import LENGTH_PARAMS, PARAMS
+from ..errors import InputError
+
+__all__ = ["TrajectoryResult", "STATUSES"]
+
+#: The values of :attr:`TrajectoryResult.status`.
+STATUSES = ("ok", "singular", "unreachable")
+
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryResult:
+    """A PM's statics sampled along a path.
+
+    Every per-sample array has the samples on its first axis (N).
+
+    Attributes
+    ----------
+    pm : str
+        The PM's name.
+    independent : tuple of str
+    t : ndarray (N,)
+    status : ndarray (N,) of str
+        ``ok``, ``singular`` or ``unreachable`` (see the module docstring).
+    params : dict str -> ndarray (N,)
+        ``Xo Yo Zo alpha beta gamma`` (model length unit, radians).
+    extensions : ndarray (N, n)
+        ``r_i = |a_i - A_i|``.
+    actuator_values : ndarray (N, n)
+        Displacement of each actuated joint from home.
+    active : ndarray (N, n)
+        Active forces ``F_ai`` (> 0 pushes the platform away from ``A_i``).
+    constraint : ndarray (N, k)
+        Constraint force / couple values, columns :attr:`constraint_labels`
+        (the value times the row's unit direction is the force on its line).
+    T_r : ndarray (N, n)
+        Constraint torque each leg carries about its own axis (paper eq. 13e).
+    leg_wrenches : ndarray (N, n, 6)
+        Total wrench ``[f; m]`` (about ``O``) each leg applies to the platform.
+    condition_number : ndarray (N,)
+        Normalised condition number of the unified Jacobian.
+    closure_residual : ndarray (N,)
+        Length-normalised loop-closure residual.
+    equilibrium_residual : ndarray (N,)
+        Relative residual of the platform's equilibrium.
+    singularity : ndarray (N,) of str
+        ``""``, ``"actuation"`` or ``"constraint"``.
+    message : ndarray (N,) of str
+        Why a sample is flagged (and notes such as a representation singularity).
+    constraint_labels, constraint_kinds : tuple of str
+        Name (``F_c2``, ``T_c1``) and kind (``force``, ``couple``) of each constraint column.
+    constraint_legs : tuple of int
+        Leg index (0-based) of each constraint column.
+    force, torque : ndarray (3,)
+        The workload at ``o``.
+    diagnostics : dict
+        How the samples were computed (``batched``, ``per_pose_kinematics``,
+        ``per_pose_rows``), for benchmarks.
+    """
+
+    pm: str
+    independent: tuple
+    t: np.ndarray
+    status: np.ndarray
+    params: dict
+    extensions: np.ndarray
+    actuator_values: np.ndarray
+    active: np.ndarray
+    constraint: np.ndarray
+    T_r: np.ndarray
+    leg_wrenches: np.ndarray
+    condition_number: np.ndarray
+    closure_residual: np.ndarray
+    equilibrium_residual: np.ndarray
+    singularity: np.ndarray
+    message: np.ndarray
+    constraint_labels: tuple
+    constraint_kinds: tuple
+    constraint_legs: tuple
+    force: np.ndarray
+    torque: np.ndarray
+    diagnostics: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def __repr__(self) -> str:
+        c = self.counts()
+        return (f"TrajectoryResult({self.pm}: {len(self)} samples, " +
+                ", ".join(f"{v} {k}" for k, v in c.items() if v) + ")")
+
+    @property
+    def n_legs(self) -> int:
+        return self.extensions.shape[1]
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True at the samples with status ``ok``."""
+        return self.status == "ok"
+
+    @property
+    def flagged(self) -> np.ndarray:
+        """True at singular or unreachable samples."""
+        return self.status != "ok"
+
+    def counts(self) -> dict:
+        """Number of samples of each status."""
+        return {s: int(np.sum(self.status == s)) for s in STATUSES}
+
+    def params_degrees(self) -> dict:
+        """:attr:`params` with the angles in degrees."""
+        return {k: (v if k in LENGTH_PARAMS else np.degrees(v)) for k, v in self.params.items()}
+
+    # -- export ------------------------------------------------------------------------------
+    def columns(self) -> list:
+        """``(name, (N,) array)`` pairs of the CSV, in order (angles in degrees)."""
+        n = self.n_legs
+        p = self.params_degrees()
+        cols = [("t", self.t)]
+        cols += [(k, p[k]) for k in PARAMS]
+        cols += [(f"r{i + 1}", self.extensions[:, i]) for i in range(n)]
+        cols += [(f"F_a{i + 1}", self.active[:, i]) for i in range(n)]
+        cols += [(lab, self.constraint[:, j]) for j, lab in enumerate(self.constraint_labels)]
+        cols += [(f"T_r{i + 1}", self.T_r[:, i]) for i in range(n)]
+        cols += [("condition_number", self.condition_number),
+                 ("closure_residual", self.closure_residual),
+                 ("equilibrium_residual", self.equilibrium_residual)]
+        return cols
+
+    def to_csv(self, out=None) -> str | None:
+        """CSV with a header row: ``t, status``, the pose (angles in degrees), ``r_i``,
+        ``F_ai``, the constraint columns, ``T_ri``, the condition number and residuals,
+        ``message``.  NaN is written ``nan``.  Returns the text when ``out`` is None,
+        else writes to ``out`` (a path or a text file object)."""
+        cols = self.columns()
+        buf = io.StringIO()
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow([cols[0][0], "status"] + [c for c, _ in cols[1:]] + ["message"])
+        for i in range(len(self)):
+            w.writerow([_fmt(cols[0][1][i]), self.status[i]]
+                       + [_fmt(v[i]) for _, v in cols[1:]] + [self.message[i]])
+        return _write(buf.getvalue(), out)
+
+    def to_dict(self) -> dict:
+        """JSON-ready, column-oriented (angles in degrees; NaN stays NaN until
+        :func:`screwkit.cli._commands._common.to_jsonable` makes it null)."""
+        p = self.params_degrees()
+        return {
+            "pm": self.pm,
+            "independent": list(self.independent),
+            "units": {"angles": "deg", "lengths": "model length unit",
+                      "forces": "model force unit", "torques": "force x length"},
+            "workload": {"force": self.force, "torque": self.torque, "applied_at": "o"},
+            "n_samples": len(self),
+            "counts": self.counts(),
+            "t": self.t,
+            "status": self.status.tolist(),
+            "pose": {k: p[k] for k in PARAMS},
+            "extensions": self.extensions,
+            "active": self.active,
+            "constraint": {"labels": list(self.constraint_labels),
+                           "kinds": list(self.constraint_kinds),
+                           "legs": [i + 1 for i in self.constraint_legs],
+                           "values": self.constraint},
+            "T_r": self.T_r,
+            "condition_number": self.condition_number,
+            "singularity": self.singularity.tolist(),
+            "closure_residual": self.closure_residual,
+            "equilibrium_residual": self.equilibrium_residual,
+            "message": self.message.tolist(),
+        }
+
+    def plot(self, out=None, *, title=None, units=None, dpi: int = 150):
+        """The panels of the paper's Fig. 5 (:func:`screwkit.viz.plot_fig5`).
+
+        (a) the independent pose parameters, (b) the extensions ``r_i``, (c) the
+        active forces ``F_ai``, (d) the constraint forces and torques (``F_c``,
+        couples ``T_c`` and the ``T_ri``, which are left out when they vanish
+        identically, e.g. legs whose constraint force passes through ``A_i``).
+        Flagged samples are shaded grey.
+        """
+        from ..viz import plot_fig5
+
+        p = self.params_degrees()
+        pose = {k: p[k] for k in self.independent}
+        force_cols = [j for j, k in enumerate(self.constraint_kinds) if k != "couple"]
+        couple_cols = [j for j, k in enumerate(self.constraint_kinds) if k == "couple"]
+        Fc = self.constraint[:, force_cols] if force_cols else None
+        torques, tlabels = [], []
+        for j in couple_cols:
+            torques.append(self.constraint[:, j])
+            tlabels.append(_math(self.constraint_labels[j]))
+        Tr = self.T_r
+        scale = max(float(np.nanmax(np.abs(self.leg_wrenches), initial=0.0)), 1e-300)
+        zero_tr = bool(np.all(~np.isfinite(Tr) | (np.abs(Tr) <= 1e-9 * scale)))
+        note = ""
+        if not zero_tr:
+            for i in range(self.n_legs):
+                torques.append(Tr[:, i])
+                tlabels.append(f"$T_{{r{i + 1}}}$")
+        elif self.ok.any():
+            note = "all $T_{ri}$ = 0 (constraint forces through $A_i$)"
+        Tc = np.column_stack(torques) if torques else None
+        labels = {"extensions": [f"$r_{{{i + 1}}}$" for i in range(self.n_legs)],
+                  "active": [f"$F_{{a{i + 1}}}$" for i in range(self.n_legs)]}
+        if Fc is not None:
+            labels["constraint_forces"] = [_math(self.constraint_labels[j]) for j in force_cols]
+        if Tc is not None:
+            labels["constraint_torques"] = tlabels
+        if title is None:
+            from ..viz import DEFAULT_UNITS
+            u = {**DEFAULT_UNITS, **(units or {})}
+            F, T = self.force, self.torque
+            title = (f"{self.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
+                     f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")
+        if note:
+            title = f"{title}\n{note}"
+        return plot_fig5(self.t, pose, self.extensions, self.active, Fc, Tc, labels=labels,
+                         units=units, flags=self.flagged, out=out, title=title, dpi=dpi)
+
+
+def _math(label: str) -> str:
+    """``F_c2`` -> ``$F_{c2}$``; ``F_c1.2`` -> ``$F_{c1,2}$``."""
+    head, _, sub = label.partition("_")
+    return f"${head}_{{{sub.replace('.', ',')}}}$"
+
+
+def _fmt(v) -> str:
+    """12 significant digits; ``nan``, ``inf``, ``-inf`` as such."""
+    return f"{float(v):.12g}"
+
+
+def _write(text: str, out):
+    if out is None:
+        return text
+    if hasattr(out, "write"):
+        out.write(text)
+        return None
+    try:
+        with open(out, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+    except OSError as exc:
+        raise InputError(f"cannot write {str(out)!r}: {exc}") from None
+    return None
+
+
+# ----------------------------------------------------------------------------- the run
+
