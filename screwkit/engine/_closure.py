@@ -142,6 +142,7 @@ def gauss_newton(ch: Chains, fixed: dict, X0, *, tol: float = STOP, max_iter: in
     idx = np.arange(N)
     fx = fixed
     fr = forward(ch, fx, X)
+    final = fr                              # frames of every pose at its last iterate
     f = fr.residual
     res[:] = f
     for _ in range(max_iter):
@@ -170,9 +171,11 @@ def gauss_newton(ch: Chains, fixed: dict, X0, *, tol: float = STOP, max_iter: in
             okb = np.isfinite(frb.error).all(axis=(0, 1)) & (_sq(frb.error) < e2[bad])
             where = np.flatnonzero(bad)[okb]
             Xn[:, where] = Xb[:, okb]
-            frn = _assign(frn, where, _subset(frb, okb))
+            frn = _assign(frn, where, _subset(frb, okb), fixed)
             ok[where] = True
         X[:, idx[ok]] = Xn[:, ok]
+        final = _assign(final, idx[ok], _subset(frn, ok), fixed) if not ok.all() or idx.size < N \
+            else frn
         its[idx] += 1
         stalled[idx[~ok]] = True
         # poses that could not decrease keep their last values and leave
@@ -182,6 +185,7 @@ def gauss_newton(ch: Chains, fixed: dict, X0, *, tol: float = STOP, max_iter: in
         f = fr.residual
         res[idx] = f
     out = NewtonResult(X, res, its, stalled & (res > tol))
+    out.frames = final
     return out
 
 
@@ -192,9 +196,10 @@ def _subset(fr, mask):
                   fr.E[..., mask], fr.error[..., mask])
 
 
-def _assign(fr, where, other):
+def _assign(fr, where, other, skip=()):
     for k in fr.params:
-        fr.params[k][..., where] = other.params[k]
+        if k not in skip:               # the given parameters are the same in both
+            fr.params[k][..., where] = other.params[k]
     for name in ("q", "axes", "points", "R_p", "o", "E", "error"):
         getattr(fr, name)[..., where] = getattr(other, name)
     return fr

@@ -191,11 +191,15 @@ class PoseSolution:
         it = self.closures.iterations
         return int(it[0]) if self.single else it
 
-    @property
+    @cached_property
     def notes(self) -> tuple:
-        """Notes of the pose (one pose), or of every pose (tuple of tuples)."""
+        """Notes of the pose (one pose), or of every pose (tuple of tuples).
+
+        For one pose they include the legs whose catalog structure checks do not hold
+        there (computed when first read)."""
         if self.single:
-            return tuple(self.common_notes) + tuple(self.pose_notes.get(0, ()))
+            extra = _structure_notes(self.model, self) if self.reachable_mask.all() else []
+            return tuple(self.common_notes) + tuple(self.pose_notes.get(0, ())) + tuple(extra)
         return tuple(tuple(self.common_notes) + tuple(self.pose_notes.get(i, ()))
                      for i in range(len(self)))
 
@@ -287,13 +291,7 @@ def make_solution(model, closures: Closures, single, notes, side=None) -> PoseSo
             f"beta = {b:.6g} deg is a representation singularity of {model.order} (alpha and "
             f"gamma turn about the same axis): {' and '.join(pair)} resolved by continuity as "
             f"{how}: {txt}",)
-    sol = PoseSolution(model, closures, bool(single), tuple(notes), pose_notes)
-    if single and sol.reachable_mask.all():
-        extra = _structure_notes(model, sol)
-        if extra:
-            sol = PoseSolution(model, closures, True, tuple(notes),
-                               {0: pose_notes.get(0, ()) + tuple(extra)})
-    return sol
+    return PoseSolution(model, closures, bool(single), tuple(notes), pose_notes)
 
 
 def _structure_notes(model, sol):

@@ -1,9 +1,10 @@
 """Inverse displacement of N poses: starts, continuation, representation singularities (private).
 
-Starts.  A pose without a warm start begins at a quadratic model of the
-solution around home, fitted once per model to exact solutions on a small grid
-of independent parameters (:func:`home_predictor`): it is the home assembly,
-two Newton steps ahead.  A pose with a warm start (the neighbour on a path, a
+Starts.  A pose without a warm start begins at a polynomial model of the
+solution around home (cubic in up to four independent parameters, quadratic
+beyond), fitted once per model to exact solutions on a small grid of
+independent parameters (:func:`home_predictor`): the home assembly, carried
+close to the pose, from where Newton converges in two or three steps.  A pose with a warm start (the neighbour on a path, a
 previous solution) begins there.
 
 Continuation.  A pose whose Newton iteration does not converge is solved again
@@ -32,9 +33,9 @@ from ._closure import ACCEPTED, CONVERGED, STOP, gauss_newton
 __all__ = ["Closure", "Closures", "solve_closures", "home_predictor", "is_representation_singular"]
 
 _SING_STEP = 1e-4
-_SING_TOL = 1e-7
+_SING_TOL = 1e-6
 #: Half-width of the predictor's fitting grid: radians, and fractions of ``L``.
-_FIT_SPAN = 0.1
+_FIT_SPAN = 0.15
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -107,7 +108,11 @@ def home_predictor(ch: Chains):
     nf = len(ch.fixed)
     home = np.array([ch.home[p] for p in ch.fixed])
     span = np.array([_FIT_SPAN * ch.length if p in LENGTH_PARAMS else _FIT_SPAN for p in ch.fixed])
-    levels = np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0])       # beta never exactly at home's
+    # cubic fit on 4 levels up to 4 parameters, quadratic on 3 beyond (grid sizes 4^4, 3^6);
+    # no level at 0, so that no fitting pose sits at a representation singularity of home
+    degree = 3 if nf <= 4 else 2
+    levels = (np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0]) if degree == 3
+              else np.array([-1.0, 0.1, 1.0]))
     Z = np.array(list(itertools.product(levels, repeat=nf)))
     fixed = {p: home[k] + span[k] * Z[:, k] for k, p in enumerate(ch.fixed)}
     res = _newton_with_continuation(ch, fixed, ch.home_vector(len(Z)))
@@ -117,6 +122,9 @@ def home_predictor(ch: Chains):
     def features(Zs):
         cols = [np.ones(Zs.shape[0])] + [Zs[:, k] for k in range(nf)]
         cols += [Zs[:, a] * Zs[:, b] for a in range(nf) for b in range(a, nf)]
+        if degree == 3:
+            cols += [Zs[:, a] * Zs[:, b] * Zs[:, c] for a in range(nf) for b in range(a, nf)
+                     for c in range(b, nf)]
         return np.stack(cols, axis=1)
 
     if good.sum() >= 2 * features(Z[:1]).shape[1]:
@@ -218,9 +226,9 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
     if sing.any():
         Xs, rs, its_s, how_s = _resolve_singular(ch, fixed, X0, sing, pair, side)
         X[:, sing], residual[sing], its[sing], how[sing] = Xs, rs, its_s, how_s
-    frames = forward(ch, fixed, X)
-    residual = frames.residual
-    return Closure(ch, X, frames, residual, its, how, sing)
+    frames = res.frames if (res is not None and not sing.any() and not (how == 1).any()) \
+        else forward(ch, fixed, X)
+    return Closure(ch, X, frames, frames.residual, its, how, sing)
 
 
 def _resolve_singular(ch, fixed, X0, sing, pair, side):
