@@ -41,17 +41,14 @@ _SHIFT_REDUCED = 1e-20
 
 
 def _gram(ch: Chains, T):
-    """Lower triangle of every leg's Gram matrix ``T^T T`` (padded slots: identity)."""
-    m = ch.m
-    G = [[None] * m for _ in range(m)]
+    """Every leg's Gram matrix ``T^T T`` ``(m, m, n, N)`` (padded slots: identity) and its
+    Tikhonov shift ``(n, N)``."""
+    G = np.einsum("ialN,jalN->ijlN", T, T)
     pad = ~ch.real
-    for i in range(m):
-        for j in range(i + 1):
-            g = (T[i] * T[j]).sum(0)
-            if i == j and pad[:, i].any():
-                g = g + pad[:, i, None]
-            G[i][j] = g
-    tr = sum(G[i][i] for i in range(m))
+    if pad.any():
+        idx = np.arange(ch.m)
+        G[idx, idx] += pad.T[:, :, None]
+    tr = np.einsum("iilN->lN", G)
     idle = (np.array(ch.sizes) > 6)[:, None]
     shift = tr / np.array(ch.sizes)[:, None] * np.where(idle, _SHIFT_IDLE, _SHIFT)
     return G, shift
@@ -67,37 +64,26 @@ def newton_step(ch: Chains, fr, e=None):
     e = fr.error if e is None else e
     N = e.shape[-1]
     T = normalised_twists(ch, fr)                                  # (m, 6, n, N)
-    Pt = platform_columns(ch, fr, ch.unknown)[:, :, None]          # (6, nu, 1, N)
+    Pt = platform_columns(ch, fr, ch.unknown)                      # (6, nu, N)
     G, shift = _gram(ch, T)
-    B = []
-    for j in range(m):                                             # T_j^T [e | P]: (1 + nu, n, N)
-        b = np.empty((1 + nu, n, N))
-        np.sum(T[j] * e, axis=0, out=b[0])
-        for a in range(nu):
-            np.sum(T[j] * Pt[:, a], axis=0, out=b[1 + a])
-        B.append(b)
-    Xs, _ = alg.spd_solve(G, B, shift)
+    B = np.empty((m, 1 + nu, n, N))                                # T_j^T [e | P]
+    B[:, 0] = np.einsum("jalN,alN->jlN", T, e)
     if nu:
-        A = [[None] * nu for _ in range(nu)]
-        r = []
-        for a in range(nu):
-            for b in range(a + 1):
-                s = (Pt[:, a, 0] * Pt[:, b, 0]).sum(0) * n
-                for j in range(m):
-                    s = s - (B[j][1 + a] * Xs[j][1 + b]).sum(0)
-                A[a][b] = s
-            s = (Pt[:, a] * e).sum(0).sum(0)
-            for j in range(m):
-                s = s - (Xs[j][1 + a] * B[j][0]).sum(0)
-            r.append(-s)
-        trA = sum(A[a][a] for a in range(nu))
-        dx, _ = alg.spd_solve(A, r, trA * (_SHIFT_REDUCED / nu))
-        dq = [Xs[j][0] + sum(Xs[j][1 + a] * dx[a] for a in range(nu)) for j in range(m)]
+        B[:, 1:] = np.einsum("jalN,akN->jklN", T, Pt)
+    Xs, _ = alg.spd_solve(G, list(B), shift)
+    Xs = np.stack(Xs)                                              # (m, 1 + nu, n, N)
+    if nu:
+        # reduced system: sum_i P^T (I - T_i G_i^-1 T_i^T) (P dx + e_i) = 0
+        A = n * np.einsum("akN,abN->kbN", Pt, Pt) - np.einsum("jalN,jblN->abN", B[:, 1:],
+                                                                Xs[:, 1:])
+        r = np.einsum("akN,alN->kN", Pt, e) - np.einsum("jalN,jlN->aN", Xs[:, 1:], B[:, 0])
+        trA = np.einsum("aaN->N", A)
+        dx, _ = alg.spd_solve(A, list(-r), trA * (_SHIFT_REDUCED / nu))
         dx = np.stack(dx)
+        dq = Xs[:, 0] + np.einsum("jalN,aN->jlN", Xs[:, 1:], dx)  # (m, n, N)
     else:
-        dx, dq = np.zeros((0, N)), [Xs[j][0] for j in range(m)]
-    dq = np.stack(dq, axis=1)                                      # (n, m, N)
-    return np.concatenate([dx, dq.reshape(n * m, N)])
+        dx, dq = np.zeros((0, N)), Xs[:, 0]
+    return np.concatenate([dx, dq.transpose(1, 0, 2).reshape(n * m, N)])
 
 
 class NewtonResult:

@@ -59,13 +59,46 @@ def singular_values(Jn):
     if N == 0 or m == 0:
         return np.zeros((N, k))
     # the smaller Gram matrix: J J^T (m x m) when m < 6, J^T J (6 x 6) otherwise
-    M = np.einsum("nri,nsi->nrs", Jn, Jn) if m < 6 else np.einsum("nri,nrj->nij", Jn, Jn)
-    lam = np.linalg.eigvalsh(M)[:, ::-1][:, :k]
+    Jt = np.swapaxes(Jn, 1, 2)
+    M = Jn @ Jt if m < 6 else Jt @ Jn
+    closed = M.shape[1] <= 3
+    lam = (_eigvalsh3(M) if closed else np.linalg.eigvalsh(M))[:, ::-1][:, :k]
     s = np.sqrt(np.maximum(lam, 0.0))
-    bad = ~(s[:, k - 1] * REFINE > s[:, 0])
+    # the closed form keeps ~1e-14 absolute on the eigenvalues: refine from a ratio of 30
+    bad = ~(s[:, k - 1] * (30.0 if closed else REFINE) > s[:, 0])
     if bad.any():
         s[bad] = np.linalg.svd(Jn[bad], compute_uv=False)[:, :k]
     return s
+
+
+def _eigvalsh3(M):
+    """Ascending eigenvalues of symmetric ``(N, k, k)`` matrices, ``k <= 3``, in closed form
+    (the trigonometric solution of the characteristic cubic); the SVD refinement of
+    :func:`singular_values` takes over where it loses digits."""
+    k = M.shape[1]
+    if k == 1:
+        return M[:, :, 0].copy()
+    if k == 2:
+        a, b, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 1]
+        h = np.sqrt(0.25 * (a - d) ** 2 + b * b)
+        mid = 0.5 * (a + d)
+        return np.stack([mid - h, mid + h], axis=1)
+    a11, a22, a33 = M[:, 0, 0], M[:, 1, 1], M[:, 2, 2]
+    a12, a13, a23 = M[:, 0, 1], M[:, 0, 2], M[:, 1, 2]
+    q = (a11 + a22 + a33) / 3.0
+    p1 = a12 ** 2 + a13 ** 2 + a23 ** 2
+    p2 = (a11 - q) ** 2 + (a22 - q) ** 2 + (a33 - q) ** 2 + 2.0 * p1
+    p = np.sqrt(p2 / 6.0)
+    ps = np.where(p > 0, p, 1.0)
+    b11, b22, b33 = (a11 - q) / ps, (a22 - q) / ps, (a33 - q) / ps
+    b12, b13, b23 = a12 / ps, a13 / ps, a23 / ps
+    r = 0.5 * (b11 * (b22 * b33 - b23 * b23) - b12 * (b12 * b33 - b23 * b13)
+               + b13 * (b12 * b23 - b22 * b13))
+    phi = np.arccos(np.clip(r, -1.0, 1.0)) / 3.0
+    e1 = q + 2.0 * p * np.cos(phi)
+    e3 = q + 2.0 * p * np.cos(phi + 2.0 * np.pi / 3.0)
+    e2 = 3.0 * q - e1 - e3
+    return np.stack([e3, e2, e1], axis=1)
 
 
 def least_norm(Jn, Wn, s):

@@ -33,7 +33,7 @@ from ._closure import ACCEPTED, CONVERGED, STOP, gauss_newton
 __all__ = ["Closure", "Closures", "solve_closures", "home_predictor", "is_representation_singular"]
 
 _SING_STEP = 1e-4
-_SING_TOL = 1e-6
+_SING_TOL = 1e-7
 #: Half-width of the predictor's fitting grid: radians, and fractions of ``L``.
 _FIT_SPAN = 0.15
 
@@ -304,12 +304,22 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     how = np.full(N, 2)
     sing = np.zeros(N, bool)
     prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
+    last = []                                   # the last two solved anchors (index, X)
     for i in anchors:
-        c = solve_closures(model, {p: v[i:i + 1] for p, v in fixed.items()}, prev)
+        fx = {p: v[i:i + 1] for p, v in fixed.items()}
+        X0 = prev
+        if len(last) == 2:
+            # the secant through the last two anchors, where it starts closer than the last one
+            (i1, X1), (i2, X2) = last
+            cand = np.concatenate([X2, X2 + (X2 - X1) * ((i - i2) / (i2 - i1))], axis=1)
+            fr = forward(ch, {p: np.repeat(v, 2) for p, v in fx.items()}, cand)
+            X0 = cand[:, int(np.argmin(fr.residual))][:, None]
+        c = solve_closures(model, fx, X0)
         X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \
             c.how[0], c.singular_beta[0]
         if c.residual[0] <= ACCEPTED:
             prev = c.X
+            last = (last + [(i, c.X)])[-2:]
     if progress:
         progress(len(anchors), N)
     retried = 0
