@@ -34,6 +34,10 @@ __all__ = ["Closure", "Closures", "solve_closures", "home_predictor", "is_repres
 
 _SING_STEP = 1e-4
 _SING_TOL = 1e-7
+#: Within this |sin beta| (|cos beta|) of the singularity the closures determine the dependent
+#: angle of the pair only to about residual / |sin beta|: it is interpolated between the
+#: solutions at +-_SING_STEP instead (an error of order _SING_STEP^2).
+_NEAR_TOL = 1e-5
 #: Half-width of the predictor's fitting grid: radians, and fractions of ``L``.
 _FIT_SPAN = 0.15
 
@@ -213,20 +217,21 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
     N = len(next(iter(fixed.values())))
     X0 = home_predictor(ch)(fixed) if start is None else np.array(start, float)
-    sing = np.zeros(N, bool)
+    sing = near = np.zeros(N, bool)
     pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
     if "beta" in ch.fixed and pair:
         sing = is_representation_singular(ch.order, fixed["beta"])
-    res = _newton_with_continuation(ch, fixed, X0) if not sing.all() else None
+        near = is_representation_singular(ch.order, fixed["beta"], _NEAR_TOL)
+    res = _newton_with_continuation(ch, fixed, X0) if not near.all() else None
     if res is None:
         X = X0.copy()
         residual, its, how = np.full(N, np.inf), np.zeros(N, int), np.full(N, 2)
     else:
         X, residual, its, how = res.X, res.residual, res.iterations, res.how
-    if sing.any():
-        Xs, rs, its_s, how_s = _resolve_singular(ch, fixed, X0, sing, pair, side)
-        X[:, sing], residual[sing], its[sing], how[sing] = Xs, rs, its_s, how_s
-    frames = res.frames if (res is not None and not sing.any() and not (how == 1).any()) \
+    if near.any():
+        Xs, rs, its_s, how_s = _resolve_singular(ch, fixed, X0, near, pair, side)
+        X[:, near], residual[near], its[near], how[near] = Xs, rs, its_s, how_s
+    frames = res.frames if (res is not None and not near.any() and not (how == 1).any()) \
         else forward(ch, fixed, X)
     return Closure(ch, X, frames, frames.residual, its, how, sing)
 
@@ -235,16 +240,21 @@ def _resolve_singular(ch, fixed, X0, sing, pair, side):
     idx = np.flatnonzero(sing)
     sub = {p: v[idx] for p, v in fixed.items()}
     sd = np.zeros(idx.size) if side is None else np.sign(np.asarray(side, float)[idx])
-    b0 = sub["beta"]
+    beta = sub["beta"]
+    proper = ch.order[0].lower() == ch.order[2].lower()
+    off = 0.0 if proper else 0.5 * np.pi
+    b0 = np.round((beta - off) / np.pi) * np.pi + off          # the singular value nearby
+    u = beta - b0
     lims = {}
-    both = sd == 0
+    both = (sd == 0) | ~is_representation_singular(ch.order, beta)
     vals = {}
     for db in (_SING_STEP, -_SING_STEP, 2 * _SING_STEP, -2 * _SING_STEP):
         fx = dict(sub, beta=b0 + db)
         r = _newton_with_continuation(ch, fx, X0[:, idx])
         vals[db] = {p: r.X[ch.unknown.index(p)] for p in pair}
     for p in pair:
-        avg = 0.5 * (vals[_SING_STEP][p] + vals[-_SING_STEP][p])
+        avg = 0.5 * (vals[_SING_STEP][p] + vals[-_SING_STEP][p]) + \
+            (vals[_SING_STEP][p] - vals[-_SING_STEP][p]) * (u / (2 * _SING_STEP))
         one = np.where(sd > 0, 2 * vals[_SING_STEP][p] - vals[2 * _SING_STEP][p],
                        2 * vals[-_SING_STEP][p] - vals[-2 * _SING_STEP][p])
         lims[p] = np.where(both, avg, one)
@@ -259,6 +269,15 @@ def _resolve_singular(ch, fixed, X0, sing, pair, side):
         X[k] = lims[u] if u in pair else r.X[keep.index(k)]
     X[len(ch.unknown):] = r.X[len(keep):]
     return X, r.residual, r.iterations, r.how
+
+
+def _lagrange(ts, j, t):
+    """Weight of node ``j`` of the cubic through the nodes ``ts (4, K)`` at ``t (K,)``."""
+    w = np.ones_like(t)
+    for i in range(4):
+        if i != j:
+            w = w * (t - ts[i]) / (ts[j] - ts[i])
+    return w
 
 
 _DERIVED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -327,14 +346,22 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     solved[anchors] = True
     while not solved.all():
         idx = np.flatnonzero(solved)
-        left, right = idx[:-1], idx[1:]
-        far = right - left > 1
-        left, right = left[far], right[far]
+        k = np.flatnonzero(idx[1:] - idx[:-1] > 1)
+        left, right = idx[k], idx[k + 1]
         mid = (left + right) // 2
-        w = ((mid - left) / (right - left))[None]
-        good_l, good_r = res[left] <= ACCEPTED, res[right] <= ACCEPTED
+        good = res <= ACCEPTED
+        good_l, good_r = good[left], good[right]
         Xl, Xr = X[:, left], X[:, right]
+        w = ((mid - left) / (right - left))[None]
         Xs = np.where(good_l & good_r, (1 - w) * Xl + w * Xr, np.where(good_l, Xl, Xr))
+        # the cubic through the two solved neighbours on each side, where all four are good
+        k0, k3 = np.maximum(k - 1, 0), np.minimum(k + 2, len(idx) - 1)
+        p0, p3 = idx[k0], idx[k3]
+        four = (k0 < k) & (k3 > k + 1) & good_l & good_r & good[p0] & good[p3]
+        if four.any():
+            ts = np.stack([p0, left, right, p3]).astype(float)[:, four]
+            t = mid[four].astype(float)
+            Xs[:, four] = sum(_lagrange(ts, j, t) * X[:, ts[j].astype(int)] for j in range(4))
         fx = {p: v[mid] for p, v in fixed.items()}
         c = solve_closures(model, fx, Xs)
         Xm, rm, hm = c.X, c.residual, c.how

@@ -1,0 +1,203 @@
+"""The batched engine: one pose is N = 1, a batch equals a loop over its poses, flagged
+poses are kept, inputs in every accepted form; Euler angles pinned to scipy.
+
+Independent references: scipy's ``Rotation.from_euler`` (the definition of the 24 Euler
+conventions), finite differences of it (the angular Jacobian), the engine's own per-pose
+results (each pose solved alone, from home) against the batch.
+"""
+
+import os
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import screwkit
+from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
+from screwkit.engine._algebra import euler_matrices
+from screwkit.errors import InputError, SingularityError, UnreachablePoseError
+from screwkit.pm import pm_names
+
+#: Poses per PM of the loop comparison (SCREWKIT_TEST_POSES raises it, e.g. to 1000).
+N_LOOP = int(os.environ.get("SCREWKIT_TEST_POSES", "40"))
+
+
+def _random_pose(pm, n, seed, span=8.0, frac=0.08):
+    rng = np.random.default_rng(seed)
+    c = pm.default_pose
+    z = abs(c.get("Zo", 0.0)) or 1.0
+    return {p: c[p] + (rng.uniform(-frac, frac, n) * z if p in ("Xo", "Yo", "Zo")
+                       else np.radians(rng.uniform(-span, span, n))) for p in pm.independent}
+
+
+@pytest.mark.parametrize("name", pm_names())
+def test_batch_equals_a_loop_of_single_poses(name):
+    pm = screwkit.load_pm(name)
+    pose = _random_pose(pm, N_LOOP, 7)
+    res = screwkit.analyze(pm, pose)
+    assert res.statics.active.shape == (N_LOOP, pm.n_legs)
+    assert res.jacobian.matrix.shape[:2] == (N_LOOP, res.jacobian.n_rows)
+    L = pm.normalisation.length
+    for i in range(N_LOOP):
+        one = {p: float(v[i]) for p, v in pose.items()}
+        try:
+            a = screwkit.analyze(pm, one)
+        except (SingularityError, UnreachablePoseError):
+            assert not res.ok[i]
+            continue
+        assert res.ok[i]
+        fs = np.abs(a.statics.values).max()
+        tol = 1e-10 * max(1.0, a.jacobian.condition_number / 100)
+        for p in a.solution.params:
+            scale = L if p in ("Xo", "Yo", "Zo") else 1.0
+            assert abs(res.solution.params[p][i] - a.solution.params[p]) <= 1e-10 * scale
+        np.testing.assert_allclose(res.statics.values[i], a.statics.values, rtol=0, atol=tol * fs)
+        np.testing.assert_allclose(res.statics.T_r[i], a.statics.T_r, rtol=0, atol=tol * fs * L)
+        assert res.jacobian.condition_number[i] == pytest.approx(a.jacobian.condition_number,
+                                                                 rel=1e-8)
+        # the one-pose view of the batch is the one-pose analysis
+        b = res[i]
+        np.testing.assert_allclose(b.statics.values, a.statics.values, rtol=0, atol=tol * fs)
+        assert b.jacobian.rows[0].describe() == a.jacobian.rows[0].describe()
+
+
+def test_one_pose_is_n_equals_one():
+    pm = screwkit.load_pm("3RRPRR")
+    one = screwkit.analyze(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+    batch = screwkit.analyze(pm, {"alpha": [5], "beta": [-3], "Zo": [80]}, degrees=True)
+    assert one.single and not batch.single and len(batch) == 1
+    assert one.statics.active.shape == (3,) and batch.statics.active.shape == (1, 3)
+    assert one.jacobian.J.shape == (6, 6) and batch.jacobian.matrix.shape == (1, 6, 6)
+    np.testing.assert_array_equal(batch.statics.values[0], one.statics.values)
+    assert isinstance(one.solution.params["Zo"], float)
+    assert batch.solution.params["Zo"].shape == (1,)
+    # scalars broadcast against arrays (another batch size: the same numbers up to rounding)
+    mixed = screwkit.analyze(pm, {"alpha": [5, 6, 7], "beta": -3, "Zo": 80}, degrees=True)
+    np.testing.assert_allclose(mixed.statics.values[0], one.statics.values, rtol=1e-12)
+
+
+def test_unreachable_poses_are_flagged_and_the_others_stand():
+    pm = screwkit.load_pm("3RSR")             # fixed-length links: the platform cannot rise far
+    good = {"alpha": 0.02, "beta": -0.01, "Zo": pm.default_pose["Zo"]}
+    far = dict(good, Zo=400.0)
+    batch = {k: np.array([good[k], far[k], good[k]]) for k in good}
+    res = screwkit.analyze(pm, batch)
+    assert len(res) == 3 and res.ok.tolist() == [True, False, True]
+    assert res.unreachable.tolist() == [False, True, False]
+    assert res.solution.status.tolist() == ["ok", "unreachable", "ok"]
+    assert res.solution.residual[1] > 1e-6
+    assert np.isnan(res.statics.values[1]).all() and np.isnan(res.solution.params["Xo"][1])
+    assert res.solution.params["Zo"][1] == 400.0                 # the given values are kept
+    ref = screwkit.analyze(pm, good)
+    for i in (0, 2):
+        np.testing.assert_allclose(res.statics.values[i], ref.statics.values, rtol=1e-12)
+    with pytest.raises(UnreachablePoseError):
+        screwkit.analyze(pm, far)
+
+
+def test_singular_poses_are_flagged_and_the_others_stand():
+    pm = screwkit.load_pm("2SPS+2SPR")
+    good = {"alpha": 0.02, "beta": 0.01, "gamma": -0.03, "Zo": 80.0}
+
+    # the actuation singularity at beta = 0, Zo = 80, alpha = gamma (NOTES.md: alpha + gamma
+    # near 17.2 deg): bisect det J of single-pose analyses
+    def det(t):
+        a = screwkit.analyze(pm, {"alpha": t / 2, "beta": 0.0, "gamma": t / 2, "Zo": 80.0},
+                             raise_on_singular=False)
+        return np.linalg.det(a.jacobian.J)
+    lo, hi = np.radians(10.0), np.radians(25.0)
+    assert np.sign(det(lo)) != np.sign(det(hi))
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if np.sign(det(mid)) == np.sign(det(lo)) else (lo, mid)
+    sing = {"alpha": lo / 2, "beta": 0.0, "gamma": lo / 2, "Zo": 80.0}
+    batch = {k: np.array([good[k], sing[k], good[k]]) for k in good}
+    res = screwkit.analyze(pm, batch)
+    assert res.ok.tolist() == [True, False, True]
+    assert res.singular.tolist() == [False, True, False]
+    assert res.jacobian.singularity_kind[1] == "actuation"
+    assert np.isnan(res.statics.values[1]).all()
+    assert np.isfinite(res.solution.extensions[1]).all()     # the singular pose is assembled
+    ref = screwkit.analyze(pm, good)
+    for i in (0, 2):
+        np.testing.assert_allclose(res.statics.values[i], ref.statics.values, rtol=1e-12)
+    with pytest.raises(SingularityError):
+        screwkit.analyze(pm, sing)
+
+
+@pytest.mark.parametrize("bad, words", [
+    ({"alpha": [0.1, np.nan], "beta": 0, "Zo": 80}, "finite"),
+    ({"alpha": [0.1, 0.2], "beta": [0, 0, 0], "Zo": 80}, "has 3 values"),
+    ({"alpha": [[0.1]], "beta": 0, "Zo": 80}, "1-D"),
+    ({"alpha": [], "beta": 0, "Zo": 80}, "no poses"),
+    ({"alpha": True, "beta": 0, "Zo": 80}, "number"),
+    ({"gamma": [0.1], "beta": 0, "Zo": 80}, "dependent"),
+])
+def test_bad_pose_arrays_raise_input_errors(bad, words):
+    pm = screwkit.load_pm("3RRPRR")
+    with pytest.raises(InputError, match=words):
+        screwkit.analyze(pm, bad)
+
+
+def test_a_dataframe_of_poses():
+    pd = pytest.importorskip("pandas")
+    pm = screwkit.load_pm("3RRPRR")
+    df = pd.DataFrame({"alpha": [0.05, 0.1], "beta": [-0.02, 0.03], "Zo": [75.0, 85.0]})
+    res = screwkit.analyze(pm, df)
+    ref = screwkit.analyze(pm, {k: df[k].to_numpy() for k in df.columns})
+    np.testing.assert_array_equal(res.statics.values, ref.statics.values)
+
+
+def test_path_warm_starts_give_the_poses_of_cold_starts():
+    pm = screwkit.load_pm("3RRPRR")
+    s = np.linspace(0, 1, 500)
+    path = {"alpha": 0.15 * np.sin(2 * np.pi * s), "beta": 0.12 * np.cos(2 * np.pi * s),
+            "Zo": 70 + 20 * s}
+    warm = screwkit.analyze(pm, path, path=True)
+    cold = screwkit.analyze(pm, path)
+    assert warm.ok.all() and cold.ok.all()
+    assert warm.diagnostics["anchors"] < 100
+    fs = np.abs(cold.statics.values).max()
+    np.testing.assert_allclose(warm.statics.values, cold.statics.values, rtol=0, atol=1e-9 * fs)
+    assert warm.solution.iterations.mean() < cold.solution.iterations.mean()
+
+
+def test_threads_do_not_change_a_bit_and_chunks_only_rounding():
+    pm = screwkit.load_pm("3RPS")
+    pose = _random_pose(pm, 300, 3)
+    a = screwkit.analyze(pm, pose, chunk=37, workers=1)
+    b = screwkit.analyze(pm, pose, chunk=37, workers=2)
+    np.testing.assert_array_equal(a.statics.values, b.statics.values)
+    np.testing.assert_array_equal(a.jacobian.condition_number, b.jacobian.condition_number)
+    c = screwkit.analyze(pm, pose, chunk=4096, workers=1)
+    np.testing.assert_allclose(c.statics.values, a.statics.values, rtol=1e-11,
+                               atol=1e-11 * np.abs(a.statics.values).max())
+
+
+@pytest.mark.parametrize("order", ["XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ", "XYZ", "XZY", "YXZ",
+                                   "YZX", "ZXY", "ZYX"])
+@pytest.mark.parametrize("extrinsic", [False, True])
+def test_batched_euler_rotations_are_scipys(order, extrinsic):
+    o = order.lower() if extrinsic else order
+    rng = np.random.default_rng(1)
+    ang = rng.uniform(-np.pi, np.pi, (50, 3))
+    R, E = euler_matrices(o, ang[:, 0], ang[:, 1], ang[:, 2])
+    ref = Rotation.from_euler(o, ang).as_matrix()
+    np.testing.assert_allclose(R.transpose(2, 0, 1), ref, atol=1e-14)
+    # omega = E @ d(angles)/dt: skew(omega) = dR/dt R^T, by central differences of scipy
+    h = 1e-6
+    for k in range(3):
+        d = np.zeros(3)
+        d[k] = h
+        dR = (Rotation.from_euler(o, ang + d).as_matrix()
+              - Rotation.from_euler(o, ang - d).as_matrix()) / (2 * h)
+        W = dR @ np.transpose(ref, (0, 2, 1))
+        w = np.stack([W[:, 2, 1], W[:, 0, 2], W[:, 1, 0]], axis=1)
+        np.testing.assert_allclose(E[:, k].T, w, atol=1e-8)
+
+
+def test_workloads_default_to_the_papers():
+    pm = screwkit.load_pm("3RRPRR")
+    a = screwkit.analyze(pm)
+    b = screwkit.analyze(pm, force=PAPER_FORCE, torque=PAPER_TORQUE)
+    np.testing.assert_array_equal(a.statics.values, b.statics.values)
