@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 
 import screwkit
 from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
-from screwkit.engine._algebra import euler_matrices
+from screwkit.screws import euler_matrices
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
 from screwkit.pm import pm_names
 

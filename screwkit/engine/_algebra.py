@@ -14,9 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["cross", "dot", "norm", "matvec", "matmul", "matmul_t", "rodrigues",
-           "axis_rotation", "euler_matrices", "rotation_vector", "spd_solve", "unit"]
+           "rotation_vector", "spd_solve", "unit"]
 
-_AXIS = {"x": 0, "y": 1, "z": 2}
 
 
 def cross(a, b):
@@ -81,51 +80,6 @@ def rodrigues(d, angle):
     np.multiply(z, zv, out=R[2, 2])
     R[2, 2] += c
     return R
-
-
-def axis_rotation(axis: int, angle):
-    """Rotations about a coordinate axis (0, 1, 2) by ``angle (...)``."""
-    angle = np.asarray(angle, float)
-    c, s = np.cos(angle), np.sin(angle)
-    one, zero = np.ones_like(angle), np.zeros_like(angle)
-    j, k = (axis + 1) % 3, (axis + 2) % 3
-    R = np.empty((3, 3) + angle.shape)
-    R[axis, axis] = one
-    R[axis, j] = R[axis, k] = R[j, axis] = R[k, axis] = zero
-    R[j, j] = R[k, k] = c
-    R[k, j], R[j, k] = s, -s
-    return R
-
-
-def euler_matrices(order: str, alpha, beta, gamma):
-    """Rotation matrices and angular Jacobians of Euler angles, batched.
-
-    The definitions are scipy's ``Rotation.from_euler(order, ...)``: an upper-case
-    order is intrinsic (``R = R1(alpha) R2(beta) R3(gamma)`` about the moving axes),
-    a lower-case one extrinsic (``R = R3(gamma) R2(beta) R1(alpha)``); the tests pin
-    the two to each other.
-
-    Returns
-    -------
-    R : ndarray (3, 3, ...)
-        World <- platform rotations.
-    E : ndarray (3, 3, ...)
-        Columns ``d omega / d(alpha, beta, gamma)`` (world frame).
-    """
-    ax = [_AXIS[ch] for ch in order.lower()]
-    a, b, g = np.broadcast_arrays(*(np.asarray(x, float) for x in (alpha, beta, gamma)))
-    eye = np.broadcast_to(np.eye(3)[:, :, None], (3, 3, a.size)).reshape((3, 3) + a.shape)
-    if order.isupper():
-        R1 = axis_rotation(ax[0], a)
-        R12 = matmul(R1, axis_rotation(ax[1], b))
-        R = matmul(R12, axis_rotation(ax[2], g))
-        E = np.stack([eye[:, ax[0]], R1[:, ax[1]], R12[:, ax[2]]], axis=1)
-    else:
-        R3 = axis_rotation(ax[2], g)
-        R32 = matmul(R3, axis_rotation(ax[1], b))
-        R = matmul(R32, axis_rotation(ax[0], a))
-        E = np.stack([R32[:, ax[0]], R3[:, ax[1]], eye[:, ax[2]]], axis=1)
-    return R, E
 
 
 def rotation_vector(R):

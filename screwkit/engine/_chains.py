@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
+from ..screws import euler_matrices
 from . import _algebra as alg
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "ANGLE_PARAMS", "Chains", "chains_of", "Frames",
@@ -193,7 +194,7 @@ class Frames:
 
 def platform_pose(ch: Chains, params: dict):
     """World <- platform rotation ``(3, 3, N)``, centre ``(3, N)`` and Euler Jacobian."""
-    Rb, E = alg.euler_matrices(ch.order, params["alpha"], params["beta"], params["gamma"])
+    Rb, E = euler_matrices(ch.order, params["alpha"], params["beta"], params["gamma"])
     R0, p0 = ch.frame
     Rp = np.einsum("ij,jk...->ik...", R0, Rb)
     E = np.einsum("ij,jk...->ik...", R0, E)

@@ -252,7 +252,8 @@ def load_catalog(path) -> Catalog:
     except OSError as exc:
         raise CatalogError(f"cannot read catalog: {exc.strerror}", source=str(p)) from None
     try:
-        data = yaml.safe_load(text)
+        # libyaml's loader when present: ~10x faster on the catalog than the pure-Python one
+        data = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""

@@ -139,9 +139,11 @@ def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
     dof = 6 - rank
     C = np.vstack(complements)
     common = 0 if any(d == 0 for d in dims) else 6 - _rank(C, rtol)[0]
-    g = linkage_graph(legs)
-    n_links, n_joints = g.number_of_nodes(), g.number_of_edges()
-    f = sum(d["f"] for _, _, d in g.edges(data=True))
+    # the linkage graph (linkage_graph) has base, platform and each leg's m - 1 inner links as
+    # nodes and the m equivalent 1-DOF joints of each leg as edges: count it directly
+    n_joints = sum(len(lg.joints) for lg in legs)
+    n_links = 2 + sum(len(lg.joints) - 1 for lg in legs)
+    f = n_joints
     gruebler = 6 * (n_links - n_joints - 1) + f
     loops = n_joints - n_links + 1
     n_con = int(sum(dims))

@@ -20,7 +20,7 @@ from ._screw import (Twist, Wrench, couple_wrench, force_wrench, helical_twist, 
 from ._reciprocal import (Normalisation, ReciprocalSystem, independent_subset, reciprocal_system,
                           same_span, span_contains)
 from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check_order,
-                     euler_angles, is_singular, rotation_matrix)
+                     euler_angles, euler_matrices, is_singular, rotation_matrix)
 
 __all__ = [
     # primitives
@@ -34,5 +34,5 @@ __all__ = [
     "RANK_RTOL", "GEOMETRY_RTOL", "characteristic_length",
     # Euler angles
     "ORDERS", "EulerAngles", "check_order", "rotation_matrix", "euler_angles", "is_singular",
-    "angular_jacobian", "axis_rotation",
+    "angular_jacobian", "axis_rotation", "euler_matrices",
 ]

@@ -31,13 +31,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
 from ._tolerance import GEOMETRY_RTOL
 
-__all__ = ["ORDERS", "EulerAngles", "check_order", "rotation_matrix", "euler_angles",
-           "is_singular", "angular_jacobian", "axis_rotation"]
+__all__ = ["ORDERS", "EulerAngles", "check_order", "rotation_matrix", "euler_matrices",
+           "euler_angles", "is_singular", "angular_jacobian", "axis_rotation"]
 
 _AX = {"x": 0, "y": 1, "z": 2}
 #: The 12 intrinsic orders (their lower-case forms are the extrinsic ones).
@@ -63,21 +62,68 @@ def _angles(alpha, beta, gamma, degrees):
     return np.radians(a) if degrees else a
 
 
-def axis_rotation(axis: int, angle: float) -> np.ndarray:
-    """Rotation matrix about base axis ``axis`` (0, 1, 2) by ``angle`` (radians)."""
+def axis_rotation(axis: int, angle):
+    """Rotation matrices about base axis ``axis`` (0, 1, 2) by ``angle`` (radians).
+
+    ``angle`` a number: ``(3, 3)``; an array of shape ``S``: ``(3, 3) + S`` (the components
+    first, as the engine's batched algebra keeps them).
+    """
+    angle = np.asarray(angle, float)
     c, s = np.cos(angle), np.sin(angle)
-    i, j, k = axis, (axis + 1) % 3, (axis + 2) % 3
-    R = np.eye(3)
+    j, k = (axis + 1) % 3, (axis + 2) % 3
+    R = np.zeros((3, 3) + angle.shape)
+    R[axis, axis] = 1.0
     R[j, j] = R[k, k] = c
     R[k, j], R[j, k] = s, -s
     return R
+
+
+def _mm(R, S):
+    return np.einsum("ik...,kj...->ij...", R, S)
+
+
+def euler_matrices(order: str, alpha, beta, gamma):
+    """Rotation matrices and angular Jacobians of Euler angles, batched.
+
+    The definitions are scipy's ``Rotation.from_euler(order, ...)``: an upper-case
+    order is intrinsic (``R = R1(alpha) R2(beta) R3(gamma)`` about the moving axes), a
+    lower-case one extrinsic (``R = R3(gamma) R2(beta) R1(alpha)``); the tests pin the two
+    to each other.  scipy itself is not imported (its import costs ~0.3 s).
+
+    Parameters
+    ----------
+    order : str
+    alpha, beta, gamma : array_like (broadcast to a shape ``S``), radians
+
+    Returns
+    -------
+    R : ndarray (3, 3) + S
+        World <- platform rotations.
+    E : ndarray (3, 3) + S
+        Columns ``d omega / d(alpha, beta, gamma)`` (world frame).
+    """
+    ax = [_AX[ch] for ch in order.lower()]
+    a, b, g = np.broadcast_arrays(*(np.asarray(x, float) for x in (alpha, beta, gamma)))
+    eye = np.broadcast_to(np.eye(3).reshape((3, 3) + (1,) * a.ndim), (3, 3) + a.shape)
+    if order.isupper():
+        R1 = axis_rotation(ax[0], a)
+        R12 = _mm(R1, axis_rotation(ax[1], b))
+        R = _mm(R12, axis_rotation(ax[2], g))
+        E = np.stack([eye[:, ax[0]], R1[:, ax[1]], R12[:, ax[2]]], axis=1)
+    else:
+        R3 = axis_rotation(ax[2], g)
+        R32 = _mm(R3, axis_rotation(ax[1], b))
+        R = _mm(R32, axis_rotation(ax[0], a))
+        E = np.stack([R32[:, ax[0]], R3[:, ax[1]], eye[:, ax[2]]], axis=1)
+    return R, E
 
 
 def rotation_matrix(order: str, alpha: float, beta: float, gamma: float,
                     degrees: bool = False) -> np.ndarray:
     """World <- platform rotation matrix, shape (3, 3), from three Euler angles."""
     check_order(order)
-    return Rotation.from_euler(order, _angles(alpha, beta, gamma, degrees)).as_matrix()
+    a, b, g = _angles(alpha, beta, gamma, degrees)
+    return euler_matrices(order, a, b, g)[0]
 
 
 def is_singular(order: str, beta: float, degrees: bool = False, tol: float = GEOMETRY_RTOL) -> bool:
@@ -96,16 +142,7 @@ def angular_jacobian(order: str, alpha: float, beta: float, gamma: float) -> np.
     velocity.  Its determinant vanishes at the representation singularity.
     """
     check_order(order)
-    ax = [_AX[c] for c in order.lower()]
-    ang = [alpha, beta, gamma]
-    e = np.eye(3)
-    if order.isupper():   # R = R1(a) R2(b) R3(g)
-        R1 = axis_rotation(ax[0], ang[0])
-        R12 = R1 @ axis_rotation(ax[1], ang[1])
-        return np.column_stack([e[ax[0]], R1 @ e[ax[1]], R12 @ e[ax[2]]])
-    R3 = axis_rotation(ax[2], ang[2])  # R = R3(g) R2(b) R1(a)
-    R32 = R3 @ axis_rotation(ax[1], ang[1])
-    return np.column_stack([R32 @ e[ax[0]], R3 @ e[ax[1]], e[ax[2]]])
+    return euler_matrices(order, alpha, beta, gamma)[1]
 
 
 @dataclass(frozen=True)
@@ -153,6 +190,8 @@ def euler_angles(R, order: str, degrees: bool = False, reference=None,
     if R.shape != (3, 3) or not np.all(np.isfinite(R)):
         raise InputError("R must be a finite 3x3 matrix")
     ax = [_AX[c] for c in order.lower()]
+    from scipy.spatial.transform import Rotation   # only here: its import is slow
+
     rot = Rotation.from_matrix(R)
     # beta from scipy's robust extraction without the gimbal-lock warning path
     import warnings
