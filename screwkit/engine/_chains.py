@@ -20,6 +20,7 @@ import numpy as np
 from ..pm import LENGTH_PARAMS, PARAMS
 from ..screws import euler_matrices
 from . import _algebra as alg
+from ..screws import cross
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "ANGLE_PARAMS", "Chains", "chains_of", "Frames",
            "chain_forward", "forward", "leg_forward", "normalised_twists", "platform_columns"]
@@ -305,7 +306,7 @@ def leg_forward(home_leg, q, platform_home=None):
     axes, points, R, t = chain_forward(D, P, rot, tra, q[None, :, None])
     d, p = axes[:, :, 0, 0], points[:, :, 0, 0]
     w = rot[0][:, None] * d
-    twists = np.concatenate([np.cross(p, w) + tra[0][:, None] * d, w], axis=1)
+    twists = np.concatenate([cross(p, w) + tra[0][:, None] * d, w], axis=1)
     R, t = R[:, :, 0, 0], t[:, 0, 0]
     if platform_home is None:
         return twists, (R, t)

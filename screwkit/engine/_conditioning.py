@@ -15,6 +15,7 @@ condition exceeds :data:`REFINE`.
 from __future__ import annotations
 
 import numpy as np
+from ..screws import cross
 
 __all__ = ["RANK_RTOL", "REFINE", "normalise_rows", "singular_values", "least_norm"]
 
@@ -37,7 +38,7 @@ def normalise_rows(J, c, L):
     """Normalised, row-equilibrated rows ``Jn (N, m, 6)`` and the row norms ``d (N, m)``
     (``J[r] = d[r] * (back-transformed Jn[r])``)."""
     f = J[..., :3]
-    m = (J[..., 3:] - np.cross(c[:, None, :], f)) / L[:, None, None]
+    m = (J[..., 3:] - cross(c[:, None, :], f)) / L[:, None, None]
     Jn = np.concatenate([f, m], axis=-1)
     d = np.linalg.norm(Jn, axis=-1)
     d = np.where(d > 0, d, 1.0)
@@ -48,7 +49,7 @@ def normalise_wrench(W, c, L):
     """``[f; (m - c x f) / L]`` for wrenches ``(N, ..., 6)``."""
     sh = (-1,) + (1,) * (W.ndim - 2) + (3,)
     f = W[..., :3]
-    return np.concatenate([f, (W[..., 3:] - np.cross(c.reshape(sh), f)) /
+    return np.concatenate([f, (W[..., 3:] - cross(c.reshape(sh), f)) /
                            L.reshape(sh[:-1] + (1,))], axis=-1)
 
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _algebra as alg
 from ._geometry import REF_FLAG, REF_MIN, LegGeometry, leg_centroid, leg_length
+from ..screws import cross
 
 __all__ = ["generic_references", "generic_members", "subset_geometry"]
 
@@ -80,14 +81,14 @@ def _project_references(B, R):
 def _to_norm(W, c, L):
     """Physical wrenches ``(N, r, 6)`` to normalised about ``c (3, N)``, ``L (N,)``."""
     f = W[..., :3]
-    m = (W[..., 3:] - np.cross(c.T[:, None], f)) / L[:, None, None]
+    m = (W[..., 3:] - cross(c.T[:, None], f)) / L[:, None, None]
     Wn = np.concatenate([f, m], axis=-1)
     return Wn / np.maximum(np.linalg.norm(Wn, axis=-1, keepdims=True), 1e-300)
 
 
 def _from_norm(Wn, c, L):
     f = Wn[..., :3]
-    m = Wn[..., 3:] * L[:, None, None] + np.cross(c.T[:, None], f)
+    m = Wn[..., 3:] * L[:, None, None] + cross(c.T[:, None], f)
     W = np.concatenate([f, m], axis=-1)
     nf = np.linalg.norm(f, axis=-1, keepdims=True)
     nm = np.linalg.norm(W[..., 3:], axis=-1, keepdims=True)

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _algebra as alg
+from ..screws import cross
 
 #: Smallest |cosine| (or Gram-Schmidt remainder) of a reference direction chosen at home.
 REF_MIN = 0.2
@@ -83,7 +84,7 @@ class LegGeometry:
         elif r in ("platform.oa", "platform.ao"):
             d = (self.a - self.o) * (1 if r == "platform.oa" else -1)
         elif r == "base.tangent":
-            d = np.broadcast_to(np.cross(self.base_rotation[:, 2], self.A - self.O)[:, None], (3, N))
+            d = np.broadcast_to(cross(self.base_rotation[:, 2], self.A - self.O)[:, None], (3, N))
         elif r == "platform.tangent":
             d = alg.cross(self.platform_rotation[:, 2], self.a - self.o)
         elif r in names:

@@ -38,6 +38,7 @@ from functools import cached_property
 import numpy as np
 
 from ._pipeline import COND_THRESHOLD, Conditioning, RowInfo, condition
+from ..screws import cross
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
@@ -243,7 +244,7 @@ class JacobianResult:
             if r.member not in ("couple", "none") and not has_point:
                 # a force without a named point: the point of its line nearest o
                 f, m = self.matrix[0, k, :3], self.matrix[0, k, 3:]
-                p = np.cross(f, m) / max(float(f @ f), 1e-300)
+                p = cross(f, m) / max(float(f @ f), 1e-300)
                 has_point = True
             pitch = 0.0 if r.member == "force" else (np.inf if r.member == "couple" else
                                                      float(np.nan))
@@ -387,7 +388,7 @@ class JacobianResult:
         """``J`` with the moments about ``point``: rows ``[f; m - point x f]``."""
         p = np.asarray(point, float)
         J = self.J
-        return np.concatenate([J[..., :3], J[..., 3:] - np.cross(p, J[..., :3])], axis=-1)
+        return np.concatenate([J[..., :3], J[..., 3:] - cross(p, J[..., :3])], axis=-1)
 
     def describe(self) -> str:
         self._one("describe")

@@ -15,6 +15,7 @@ from ._conditioning import (RANK_RTOL, least_norm, normalisation, normalise_rows
                             normalise_wrench, singular_values)
 from ._geometry import LegGeometry, geometry_of
 from ._rows import RowTemplate
+from ..screws import cross
 
 __all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "Conditioning", "condition",
            "StaticsArrays", "solve_statics_arrays", "COND_THRESHOLD"]
@@ -238,7 +239,7 @@ def workload_about_origin(F, T, o):
     """``W = [F; T + o x F]`` for ``F, T (N, ..., 3)`` and ``o (N, 3)``: ``(N, ..., 6)``."""
     F, T = np.broadcast_arrays(np.asarray(F, float), np.asarray(T, float))
     osh = o.reshape((o.shape[0],) + (1,) * (F.ndim - 2) + (3,))
-    return np.concatenate([F, T + np.cross(osh, F)], axis=-1)
+    return np.concatenate([F, T + cross(osh, F)], axis=-1)
 
 
 def statics_values(Jn, d, s, cond: Conditioning, W):
@@ -275,7 +276,7 @@ def derived_statics(J, info, n_actuated, values, W, A, a, centre, length):
     ab = a.reshape((N,) + (1,) * len(extra) + a.shape[1:])
     delta = ab - A
     delta = delta / np.linalg.norm(delta, axis=-1, keepdims=True)
-    moment_A = con_w[..., 3:] - np.cross(A, con_w[..., :3])
+    moment_A = con_w[..., 3:] - cross(A, con_w[..., :3])
     T_r = np.sum(moment_A * delta, axis=-1)
     Wf = W.reshape(N, -1, 6)
     K = Wf.shape[1]

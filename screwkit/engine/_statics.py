@@ -45,6 +45,7 @@ import numpy as np
 from ._conditioning import RANK_RTOL
 from ._jacobian import COND_THRESHOLD, JacobianResult
 from ._pipeline import derived_statics, legs_rows, statics_values, workload_about_origin
+from ..screws import cross
 
 __all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench", "unified_jacobian"]
 
@@ -79,7 +80,7 @@ def workload_wrench(F, T, o) -> np.ndarray:
     T = _finite3(T, "workload torque T")
     o = _vector3(o, "workload point o")
     F, T = np.broadcast_arrays(F, T)
-    return np.concatenate([F, T + np.cross(o, F)], axis=-1)
+    return np.concatenate([F, T + cross(o, F)], axis=-1)
 
 
 def _sq(x, single):

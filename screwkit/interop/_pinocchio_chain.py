@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import GeometryError, InputError
 from ..legs import Leg
+from ..screws import cross
 
 __all__ = ["JointBlock", "LegChain", "sphere_angles", "as_pose"]
 
@@ -220,11 +221,11 @@ def sphere_angles(R, axes, hint=None) -> np.ndarray:
         # signed angle about u taking x to y (projections onto the plane normal to u)
         x = x - (x @ u) * u
         y = y - (y @ u) * u
-        return float(np.arctan2(u @ np.cross(x, y), x @ y))
+        return float(np.arctan2(u @ cross(x, y), x @ y))
 
     d23, d12 = u2 @ u3, u1 @ u2
     A = u1 @ u3 - d23 * d12
-    B = u1 @ np.cross(u2, u3)
+    B = u1 @ cross(u2, u3)
     rho = float(np.hypot(A, B))
     if rho < 1e-12:
         raise GeometryError("spherical joint axes are degenerate (u2 parallel to u1 or u3)")
@@ -235,12 +236,12 @@ def sphere_angles(R, axes, hint=None) -> np.ndarray:
         b = near(b, h[1])
         v = _rot(u2, b) @ u3
         x = R @ u3
-        if np.linalg.norm(np.cross(u1, v)) < 1e-9:      # gimbal lock: a and c share an axis
+        if np.linalg.norm(cross(u1, v)) < 1e-9:      # gimbal lock: a and c share an axis
             a = h[0]
         else:
             a = near(angle_about(u1, v, x), h[0])
         M = (_rot(u1, a) @ _rot(u2, b)).T @ R
-        w = np.cross(u3, u1 if np.linalg.norm(np.cross(u3, u1)) > 0.1 else u2)
+        w = cross(u3, u1 if np.linalg.norm(cross(u3, u1)) > 0.1 else u2)
         c = near(angle_about(u3, w, M @ w), h[2])
         sol = np.array([a, b, c])
         err = np.abs(_rot(u1, a) @ _rot(u2, b) @ _rot(u3, c) - R).max()

@@ -22,6 +22,7 @@ from ..screws import (GEOMETRY_RTOL, Line, ReciprocalSystem, couple_wrench, forc
                       independent_subset, reciprocal_system, same_span)
 from ._decompose import decompose, reciprocity_residual
 from ._observation import ConstraintWrench, RuleNote, candidate_points, explain_couple, explain_force
+from ..screws import cross
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``actuated_index``, ``A``, ``a``, ``length``, ``centres()``):
@@ -195,7 +196,7 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
     f, m = w[:3], w[3:]
     if kind == "force":
         d = f / np.linalg.norm(f)
-        p0 = np.cross(f, m) / (f @ f)
+        p0 = cross(f, m) / (f @ f)
         nm, p = next(((n, q) for n, q in pts.items() if Line.through(p0, d).distance_to_point(q) <= tol),
                      (None, p0))
         unit_w = force_wrench(d, p).vector
@@ -212,7 +213,7 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
         from ..screws import Wrench, screw_pitch
         unit_w = w / np.linalg.norm(f if np.linalg.norm(f) > 0 else m)
         member = ConstraintWrench("screw", Wrench(unit_w), unit_w[:3] / max(np.linalg.norm(unit_w[:3]), 1e-300),
-                                  np.cross(f, m) / max(f @ f, 1e-300), None,
+                                  cross(f, m) / max(f @ f, 1e-300), None,
                                   float(screw_pitch(unit_w, "wrench")),
                                   (RuleNote("-", None, "no pure force or couple actuates this joint", True),),
                                   reciprocity_residual(unit_w, Tp, norm))

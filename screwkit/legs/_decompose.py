@@ -16,6 +16,7 @@ from ..screws import (GEOMETRY_RTOL, RANK_RTOL, Normalisation, Wrench, couple_wr
                       screw_pitch)
 from ._observation import (ConstraintWrench, RuleNote, _point_name, candidate_points, explain_couple,
                            explain_force)
+from ..screws import cross
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
@@ -140,7 +141,7 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
     pts = candidate_points(leg, tol_dist)
     dirs = [j.direction for j in leg.joints]
     for (i, j) in combinations(range(len(leg.joints)), 2):
-        c = np.cross(leg.joints[i].direction, leg.joints[j].direction)
+        c = cross(leg.joints[i].direction, leg.joints[j].direction)
         if np.linalg.norm(c) > 1e-6:
             dirs.append(c / np.linalg.norm(c))
     for p in pts.values():
@@ -215,7 +216,7 @@ def _make(w, kind, leg: "Leg", norm: Normalisation, tol_dist) -> ConstraintWrenc
         return ConstraintWrench("couple", wr, d, None, None, float("inf"), explain_couple(d, leg),
                                 reciprocity_residual(wr.vector, leg.twists, norm))
     d = f / np.linalg.norm(f)
-    p0 = np.cross(f, m) / (f @ f)
+    p0 = cross(f, m) / (f @ f)
     if kind == "force":
         # name a point of the line where one is known
         name, p = _point_name(p0, d, candidate_points(leg, tol_dist), tol_dist)

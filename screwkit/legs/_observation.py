@@ -22,6 +22,7 @@ from itertools import combinations
 import numpy as np
 
 from ..screws import GEOMETRY_RTOL, Line, Wrench, force_wrench
+from ..screws import cross
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
@@ -200,7 +201,7 @@ def explain_force(direction, point, leg: "Leg", tol_angle: float = GEOMETRY_RTOL
                                   abs(c) <= tol_angle))
         elif j.kind == "R":
             jl = j.line
-            s = float(np.linalg.norm(np.cross(d, j.direction)))
+            s = float(np.linalg.norm(cross(d, j.direction)))
             if s <= tol_angle:
                 notes.append(RuleNote(j.name, 2, f"parallel to {j.name}", True))
                 continue

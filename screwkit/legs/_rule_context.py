@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import GeometryError
 from ..screws import GEOMETRY_RTOL, Line
 from ._placement import Placement
+from ..screws import cross
 
 # ``rules`` arguments are :class:`screwkit.legs.LegRules` (the rules module imports this one).
 
@@ -59,9 +60,9 @@ class _Context:
         if ref == "platform.oa":
             return -self.frame_dir("platform.ao")
         if ref == "base.tangent":
-            return self._unit(np.cross(Rb[:, 2], pl.A - pl.O), "base.tangent")
+            return self._unit(cross(Rb[:, 2], pl.A - pl.O), "base.tangent")
         if ref == "platform.tangent":
-            return self._unit(np.cross(Rp[:, 2], pl.a - pl.o), "platform.tangent")
+            return self._unit(cross(Rp[:, 2], pl.a - pl.o), "platform.tangent")
         raise KeyError(ref)
 
     def direction(self, ref) -> np.ndarray:
@@ -106,7 +107,7 @@ class _Context:
                 if not (isinstance(v, (list, tuple)) and len(v) == 2):
                     self.fail(f"'perpendicular' needs two references, got {v!r}")
                 d1, d2 = self.direction(v[0]), self.direction(v[1])
-                c = np.cross(d1, d2)
+                c = cross(d1, d2)
                 if np.linalg.norm(c) < 1e-9:
                     self.fail(f"{v[0]} and {v[1]} are parallel here: their common perpendicular "
                               "is undefined")

@@ -56,6 +56,7 @@ from ._parsing import JOINT_DOF, LegString, parse_leg
 from ._placement import Placement
 from ._rule_context import _FRAME_REFS, _POINT_NAMES, _Context, _Unresolved
 from ._structure import structure_residuals
+from ..screws import cross
 
 __all__ = ["JointRule", "LegRules", "build_leg", "generic_leg"]
 
@@ -217,7 +218,7 @@ def _place(jr: JointRule, ctx: _Context, specs, by_pos, placed, pl: Placement):
     M = np.array(dirs)
     if jr.letter == "S" and abs(np.linalg.det(M)) < 1e-6:
         ctx.fail(f"the three axes of {base_name} are coplanar")
-    if jr.letter == "U" and np.linalg.norm(np.cross(*dirs)) < 1e-6:
+    if jr.letter == "U" and np.linalg.norm(cross(*dirs)) < 1e-6:
         ctx.fail(f"the two axes of {base_name} are parallel")
     for i, d in zip(idx, dirs):
         placed[i] = Joint(specs[i], d, centre)

@@ -15,6 +15,7 @@ from ..screws import Line
 from ._chain import Leg
 from ._placement import Placement
 from ._rule_context import _Context, _Unresolved
+from ..screws import cross
 
 __all__ = ["structure_residuals", "structure_vector"]
 
@@ -44,7 +45,7 @@ def structure_residuals(rules: "LegRules", placement: Placement, leg: Leg) -> li
             if k == "perpendicular":
                 r = float(np.dot(ctx.direction(v[0]), ctx.direction(v[1])))
             elif k == "parallel":
-                r = float(np.linalg.norm(np.cross(ctx.direction(v[0]), ctx.direction(v[1]))))
+                r = float(np.linalg.norm(cross(ctx.direction(v[0]), ctx.direction(v[1]))))
             elif k == "meets":
                 l1 = Line.through(ctx.point(v[0]), ctx.direction(v[0]))
                 l2 = Line.through(ctx.point(v[1]), ctx.direction(v[1]))
@@ -77,10 +78,10 @@ def structure_vector(rules: "LegRules", placement: Placement, leg) -> np.ndarray
         if k == "perpendicular":
             out.append([float(ctx.direction(v[0]) @ ctx.direction(v[1]))])
         elif k == "parallel":
-            out.append(np.cross(ctx.direction(v[0]), ctx.direction(v[1])))
+            out.append(cross(ctx.direction(v[0]), ctx.direction(v[1])))
         elif k == "meets":
             d1, d2 = ctx.direction(v[0]), ctx.direction(v[1])
-            n = np.cross(d1, d2)
+            n = cross(d1, d2)
             nn = np.linalg.norm(n)
             out.append([0.0 if nn < 1e-9 else float(n @ (ctx.point(v[1]) - ctx.point(v[0]))) / nn / L])
         else:

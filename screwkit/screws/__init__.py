@@ -12,6 +12,7 @@ parallel manipulators.
 """
 
 from ._tolerance import GEOMETRY_RTOL, RANK_RTOL, characteristic_length
+from ._vector import cross
 from ._primitives import (as_vector3, reciprocal_product, screw_axis_point, screw_pitch,
                           transform_twists, transform_wrenches, unit)
 from ._line import Line
@@ -23,6 +24,7 @@ from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check
                      euler_angles, euler_matrices, is_singular, rotation_matrix)
 
 __all__ = [
+    "cross",
     # primitives
     "Line", "Twist", "Wrench", "as_vector3", "unit", "revolute_twist", "prismatic_twist",
     "helical_twist", "force_wrench", "couple_wrench", "reciprocal_product", "transform_twists",

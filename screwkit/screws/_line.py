@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._primitives import as_vector3, unit
+from ._vector import cross
 
 __all__ = ["Line"]
 
@@ -41,7 +42,7 @@ class Line:
         """The line through ``point`` with ``direction``."""
         p = as_vector3(point, "point")
         d = unit(direction)
-        return cls(d, np.cross(p, d))
+        return cls(d, cross(p, d))
 
     @classmethod
     def joining(cls, p, q) -> "Line":
@@ -52,12 +53,12 @@ class Line:
     @property
     def point(self) -> np.ndarray:
         """The point of the line closest to the origin."""
-        return np.cross(self.direction, self.moment)
+        return cross(self.direction, self.moment)
 
     def distance_to_point(self, x) -> float:
         """Distance from point ``x`` to the line."""
         x = as_vector3(x, "point")
-        return float(np.linalg.norm(np.cross(x - self.point, self.direction)))
+        return float(np.linalg.norm(cross(x - self.point, self.direction)))
 
     def contains(self, x, atol: float) -> bool:
         """True when ``x`` lies on the line within absolute distance ``atol``."""
@@ -65,11 +66,11 @@ class Line:
 
     def is_parallel(self, other: "Line", rtol: float = 1e-7) -> bool:
         """True when the directions are parallel or antiparallel (``|d1 x d2| <= rtol``)."""
-        return float(np.linalg.norm(np.cross(self.direction, other.direction))) <= rtol
+        return float(np.linalg.norm(cross(self.direction, other.direction))) <= rtol
 
     def distance_to_line(self, other: "Line") -> float:
         """Shortest distance between two lines."""
-        c = np.cross(self.direction, other.direction)
+        c = cross(self.direction, other.direction)
         n = float(np.linalg.norm(c))
         if n < 1e-12:
             return other.distance_to_point(self.point)
@@ -79,14 +80,14 @@ class Line:
         """Closest points ``(x1 on self, x2 on other)``; for parallel lines ``x1`` is ``self.point``."""
         p1, d1 = self.point, self.direction
         p2, d2 = other.point, other.direction
-        c = np.cross(d1, d2)
+        c = cross(d1, d2)
         n2 = float(np.dot(c, c))
         if n2 < 1e-24:
             x1 = p1
             x2 = p2 + np.dot(p1 - p2, d2) * d2
             return x1, x2
-        t1 = np.dot(np.cross(p2 - p1, d2), c) / n2
-        t2 = np.dot(np.cross(p2 - p1, d1), c) / n2
+        t1 = np.dot(cross(p2 - p1, d2), c) / n2
+        t2 = np.dot(cross(p2 - p1, d1), c) / n2
         return p1 + t1 * d1, p2 + t2 * d2
 
     def transformed(self, rotation, translation) -> "Line":

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import GeometryError, InputError
+from ._vector import cross
 
 __all__ = ["as_vector3", "unit", "reciprocal_product", "transform_twists", "transform_wrenches",
            "screw_pitch", "screw_axis_point"]
@@ -103,7 +104,7 @@ def transform_twists(rotation, translation, twists) -> np.ndarray:
     R, p = _rotation_and_translation(rotation, translation)
     V = np.asarray(twists, float)
     w = np.einsum("...ij,...j->...i", R, V[..., 3:])
-    v = np.einsum("...ij,...j->...i", R, V[..., :3]) + np.cross(p, w)
+    v = np.einsum("...ij,...j->...i", R, V[..., :3]) + cross(p, w)
     return np.concatenate([v, w], axis=-1)
 
 
@@ -116,7 +117,7 @@ def transform_wrenches(rotation, translation, wrenches) -> np.ndarray:
     R, p = _rotation_and_translation(rotation, translation)
     W = np.asarray(wrenches, float)
     f = np.einsum("...ij,...j->...i", R, W[..., :3])
-    m = np.einsum("...ij,...j->...i", R, W[..., 3:]) + np.cross(p, f)
+    m = np.einsum("...ij,...j->...i", R, W[..., 3:]) + cross(p, f)
     return np.concatenate([f, m], axis=-1)
 
 
@@ -150,10 +151,10 @@ def screw_axis_point(screws, kind: str = "twist") -> np.ndarray:
     d, sec = (ang, lin) if kind == "twist" else (lin, ang)
     if kind == "twist":
         # v = p x w + h w  ->  p = w x v / |w|^2
-        num = np.cross(d, sec)
+        num = cross(d, sec)
     else:
         # m = p x f + h f  ->  p = f x m / |f|^2
-        num = np.cross(d, sec)
+        num = cross(d, sec)
     den = np.sum(d * d, axis=-1)[..., None]
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._tolerance import RANK_RTOL, characteristic_length
+from ._vector import cross
 
 __all__ = [
     "Normalisation",
@@ -62,25 +63,25 @@ class Normalisation:
     def twists(self, T) -> np.ndarray:
         T = np.asarray(T, float)
         w = T[..., 3:]
-        v = (T[..., :3] - np.cross(self.centre, w)) / self.length
+        v = (T[..., :3] - cross(self.centre, w)) / self.length
         return np.concatenate([v, w], axis=-1)
 
     def wrenches(self, W) -> np.ndarray:
         W = np.asarray(W, float)
         f = W[..., :3]
-        m = (W[..., 3:] - np.cross(self.centre, f)) / self.length
+        m = (W[..., 3:] - cross(self.centre, f)) / self.length
         return np.concatenate([f, m], axis=-1)
 
     def wrenches_back(self, Wn) -> np.ndarray:
         Wn = np.asarray(Wn, float)
         f = Wn[..., :3]
-        m = Wn[..., 3:] * self.length + np.cross(self.centre, f)
+        m = Wn[..., 3:] * self.length + cross(self.centre, f)
         return np.concatenate([f, m], axis=-1)
 
     def twists_back(self, Tn) -> np.ndarray:
         Tn = np.asarray(Tn, float)
         w = Tn[..., 3:]
-        v = Tn[..., :3] * self.length + np.cross(self.centre, w)
+        v = Tn[..., :3] * self.length + cross(self.centre, w)
         return np.concatenate([v, w], axis=-1)
 
 
@@ -182,7 +183,7 @@ def reciprocal_system(twists, points=None, length: float | None = None,
     if points is None:
         w = T[:, 3:]
         ww = np.sum(w * w, axis=1)
-        pts = [np.cross(w[i], T[i, :3]) / ww[i] for i in range(len(T)) if ww[i] > 0]
+        pts = [cross(w[i], T[i, :3]) / ww[i] for i in range(len(T)) if ww[i] > 0]
         points = np.array(pts) if pts else np.zeros((1, 3))
     norm = Normalisation.for_points(points, length)
     Tn = _unit_rows(norm.twists(T))

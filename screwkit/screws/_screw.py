@@ -14,6 +14,7 @@ from ..errors import InputError
 from ._line import Line
 from ._primitives import (_as_screw6, as_vector3, reciprocal_product, screw_axis_point, screw_pitch,
                           transform_twists, transform_wrenches, unit)
+from ._vector import cross
 
 __all__ = ["Twist", "Wrench", "revolute_twist", "prismatic_twist", "helical_twist", "force_wrench",
            "couple_wrench"]
@@ -128,7 +129,7 @@ class Wrench(_Screw):
 
     def moment_about(self, point) -> np.ndarray:
         """Moment of the wrench about ``point``: ``m - point x f``."""
-        return self.moment - np.cross(as_vector3(point, "point"), self.force)
+        return self.moment - cross(as_vector3(point, "point"), self.force)
 
     def transformed(self, rotation, translation) -> "Wrench":
         """This wrench expressed in frame {a} when ``x_a = R x_b + p`` (self in {b})."""
@@ -150,7 +151,7 @@ def revolute_twist(direction, point) -> Twist:
     """Unit twist of a revolute joint: ``[p x u; u]`` (``v = w x (O - p)``)."""
     u = unit(direction, "revolute axis")
     p = as_vector3(point, "revolute point")
-    return Twist(np.concatenate([np.cross(p, u), u]))
+    return Twist(np.concatenate([cross(p, u), u]))
 
 
 def prismatic_twist(direction) -> Twist:
@@ -166,14 +167,14 @@ def helical_twist(direction, point, pitch: float) -> Twist:
     h = float(pitch)
     if not np.isfinite(h):
         raise InputError("helical pitch must be finite")
-    return Twist(np.concatenate([np.cross(p, u) + h * u, u]))
+    return Twist(np.concatenate([cross(p, u) + h * u, u]))
 
 
 def force_wrench(direction, point, magnitude: float = 1.0) -> Wrench:
     """A pure force of ``magnitude`` along ``direction`` through ``point``: ``[f; p x f]``."""
     f = float(magnitude) * unit(direction, "force direction")
     p = as_vector3(point, "force point")
-    return Wrench(np.concatenate([f, np.cross(p, f)]))
+    return Wrench(np.concatenate([f, cross(p, f)]))
 
 
 def couple_wrench(direction, magnitude: float = 1.0) -> Wrench:

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..screws import couple_wrench, force_wrench
 from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
+from ..screws import cross
 
 __all__ = ["LAYOUTS", "Locus", "Layout", "compositions", "layouts_for", "make_layout"]
 
@@ -184,19 +185,19 @@ def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:
         X = near()
         c1, c2 = random_unit(rng), random_unit(rng)
         lines = [(X, c1), (X, c2)]
-        loci += [Locus("X", "point", X), Locus("pi", "plane", X, unit(np.cross(c1, c2)))]
+        loci += [Locus("X", "point", X), Locus("pi", "plane", X, unit(cross(c1, c2)))]
         words = "2 forces L1, L2 meeting at X (plane pi)"
     elif comp == (2, 0) and name == "parallel":
         c = random_unit(rng)
         u = perpendicular_unit(rng, c)
         q = near()
         lines = [(q - 0.2 * scale * u, c), (q + 0.2 * scale * u, c)]
-        loci.append(Locus("pi", "plane", q, unit(np.cross(c, u))))
+        loci.append(Locus("pi", "plane", q, unit(cross(c, u))))
         words = "2 parallel forces L1, L2 (plane pi)"
     elif comp == (2, 0):  # skew
         q1, q2 = near(), near()
         c1, c2 = random_unit(rng), random_unit(rng)
-        n = unit(np.cross(c1, c2))
+        n = unit(cross(c1, c2))
         # feet of the common perpendicular N
         A = np.array([[c1 @ c1, -(c1 @ c2)], [c1 @ c2, -(c2 @ c2)]])
         s, t = np.linalg.solve(A, [(q2 - q1) @ c1, (q2 - q1) @ c2])
@@ -236,7 +237,7 @@ def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:
     elif comp == (2, 1):
         X = near()
         c1, c2 = random_unit(rng), random_unit(rng)
-        n = unit(np.cross(c1, c2))
+        n = unit(cross(c1, c2))
         t = random_unit(rng) if name == "concurrent" else n
         lines, couples = [(X, c1), (X, c2)], [t]
         loci += [Locus("X", "point", X), Locus("pi", "plane", X, n)]
@@ -249,7 +250,7 @@ def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:
             words = "1 force on L and 2 couples t1, t2"
         else:
             couples = [perpendicular_unit(rng, c)]
-            couples.append(unit(np.cross(c, couples[0])))
+            couples.append(unit(cross(c, couples[0])))
             words = "1 force on L and 2 couples t1, t2 perpendicular to L"
         lines = [(q, c)]
         loci.append(Locus("L", "line", q, c))

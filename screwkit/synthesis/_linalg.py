@@ -7,19 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..screws import cross
+
 __all__ = ["NULL_RTOL", "cross", "unit", "random_unit", "perpendicular_unit", "null_basis"]
 
 #: Relative tolerance of the null spaces of the rule matrices (built exactly from the
 #: target geometry, so only rounding separates a zero from a non-zero singular value).
 NULL_RTOL = 1e-9
-
-
-def cross(a, b):
-    """``a x b`` for 3-vectors (rows of b), without numpy's generic overhead."""
-    b = np.asarray(b, float)
-    return np.stack([a[1] * b[..., 2] - a[2] * b[..., 1],
-                     a[2] * b[..., 0] - a[0] * b[..., 2],
-                     a[0] * b[..., 1] - a[1] * b[..., 0]], axis=-1)
 
 
 def unit(v):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._figure import DEFAULT_VIEW
+from ..screws import cross
 
 
 @dataclass(frozen=True)
@@ -25,12 +26,12 @@ class _View:
 
     @property
     def right(self) -> np.ndarray:
-        r = np.cross([0.0, 0.0, 1.0], self.sight)
+        r = cross([0.0, 0.0, 1.0], self.sight)
         return r / np.linalg.norm(r)
 
     @property
     def up(self) -> np.ndarray:
-        u = np.cross(self.sight, self.right)
+        u = cross(self.sight, self.right)
         return u / np.linalg.norm(u)
 
     def project(self, v) -> np.ndarray:
@@ -46,7 +47,7 @@ class _View:
 
     def side(self, d) -> np.ndarray:
         """Unit 3D vector perpendicular to ``d`` and to the line of sight."""
-        n = np.cross(np.asarray(d, float), self.sight)
+        n = cross(np.asarray(d, float), self.sight)
         nn = np.linalg.norm(n)
         return n / nn if nn > 1e-9 else self.right
 
