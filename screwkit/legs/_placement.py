@@ -9,6 +9,7 @@ the base and the platform (world <- frame).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -98,6 +99,12 @@ class Placement:
                          self.base_rotation, self.platform_rotation, k * self.C)
 
 
+@lru_cache(maxsize=64)
+def _default_placement(s: float) -> Placement:
+    return Placement(A=[s, 0.0, 0.0], a=[0.5 * s, 0.0, 0.8 * s], O=[0.0, 0.0, 0.0],
+                     o=[0.0, 0.0, 0.8 * s])
+
+
 def default_placement(scale: float = 100.0) -> Placement:
     """The default placement used to analyse a single leg.
 
@@ -105,6 +112,4 @@ def default_placement(scale: float = 100.0) -> Placement:
     platform parallel to the base at height ``0.8 scale`` with its centre above
     ``O`` and ``a`` at half the base radius, in the radial plane of ``A``.
     """
-    s = float(scale)
-    return Placement(A=[s, 0.0, 0.0], a=[0.5 * s, 0.0, 0.8 * s], O=[0.0, 0.0, 0.0],
-                     o=[0.0, 0.0, 0.8 * s])
+    return _default_placement(float(scale))      # immutable: built once per scale

@@ -24,6 +24,8 @@ Examples
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import GeometryError, InputError
@@ -40,7 +42,7 @@ def as_vector3(x, name: str = "vector") -> np.ndarray:
     a = np.asarray(x, dtype=float)
     if a.shape != (3,):
         raise InputError(f"{name} must have 3 components, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
+    if not all(map(math.isfinite, a.tolist())):
         raise InputError(f"{name} must be finite, got {a.tolist()}")
     return a
 
@@ -48,8 +50,9 @@ def as_vector3(x, name: str = "vector") -> np.ndarray:
 def unit(x, name: str = "direction") -> np.ndarray:
     """Normalise a 3-vector; raise :class:`GeometryError` for a zero vector."""
     a = as_vector3(x, name)
-    n = float(np.linalg.norm(a))
-    if n <= _EPS * max(1.0, float(np.max(np.abs(a)))) or n == 0.0:
+    x0, x1, x2 = a.tolist()
+    n = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    if n <= _EPS * max(1.0, abs(x0), abs(x1), abs(x2)) or n == 0.0:
         raise GeometryError(f"{name} is the zero vector and has no direction")
     return a / n
 
