@@ -8,14 +8,30 @@ moments about the base origin, reciprocal product ``f.v + m.w`` (see
 from .errors import (CatalogError, GeometryError, InputError, ParseError, ScrewkitError,
                      SingularityError, UnreachablePoseError)
 from .screws import Line, Twist, Wrench
-from .legs import parse_leg, parse_pm
+from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
 
 __version__ = "0.1.0"
 
+#: Names of the engine, imported on first use (``import screwkit`` stays light).
+_ENGINE = ("PMAnalysis", "PoseSolution", "JacobianResult", "JacobianRow", "StaticsResult",
+           "unified_jacobian", "statics", "solve_statics", "PAPER_FORCE", "PAPER_TORQUE")
+
 __all__ = [
+    # errors
     "ScrewkitError", "ParseError", "CatalogError", "GeometryError", "InputError",
     "SingularityError", "UnreachablePoseError",
-    "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "leg", "define_leg", "load_legs",
-    "extend_catalog", "load_pm", "solve", "solve_path", "analyze", "__version__",
+    # screws and legs
+    "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
+    "leg_from_joints", "leg", "define_leg", "load_legs", "extend_catalog",
+    # PMs and the engine
+    "load_pm", "solve", "solve_path", "analyze", *_ENGINE,
+    "__version__",
 ]
+
+
+def __getattr__(name):
+    if name in _ENGINE:
+        from . import engine
+        return getattr(engine, name)
+    raise AttributeError(f"module 'screwkit' has no attribute {name!r}")

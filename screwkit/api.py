@@ -188,19 +188,23 @@ def _model(pm, overrides=None, catalog=None):
     return pm if isinstance(pm, PMModel) else load_pm(pm, overrides, catalog=catalog)
 
 
-def solve(pm, independent: dict, guess=None, degrees: bool = False):
-    """Unified inverse displacement of a PM at the given independent pose parameters.
+def solve(pm, independent=None, guess=None, degrees: bool = False, **kwargs):
+    """Unified inverse displacement of a PM at one pose or N poses.
 
     Parameters
     ----------
     pm : PMModel or str
         A loaded model, or a name or path for :func:`load_pm`.
-    independent : dict
-        Values of ``pm.independent`` (missing ones are taken from the default
-        pose, with a note); angles in radians unless ``degrees``.
+    independent : dict or DataFrame
+        Values of ``pm.independent``: numbers (one pose) or 1-D arrays of one length N
+        (N poses; numbers broadcast); missing ones are taken from the default pose, with
+        a note.  Angles in radians unless ``degrees``.
     guess : PoseSolution or dict, optional
         Warm start (e.g. the previous pose along a path); default home.
     degrees : bool
+    **kwargs
+        ``path=True`` (the poses are successive samples of a path: warm starts from the
+        neighbours), ``chunk``, ``workers``: see :func:`screwkit.engine.solve`.
 
     Returns
     -------
@@ -211,7 +215,8 @@ def solve(pm, independent: dict, guess=None, degrees: bool = False):
     InputError
         Unknown, dependent or non-finite parameters.
     UnreachablePoseError
-        The loop closures cannot be satisfied (``residual`` attribute).
+        One pose whose loop closures cannot be satisfied (``residual`` attribute); N poses
+        are flagged instead (``status``, ``residual``).
 
     Examples
     --------
@@ -221,9 +226,9 @@ def solve(pm, independent: dict, guess=None, degrees: bool = False):
     >>> bool(sol.success), sol.legs[0].name
     (True, 'RRPRR')
     """
-    from .engine import solve_pose
+    from .engine import solve as _solve
 
-    return solve_pose(_model(pm), independent, guess, degrees)
+    return _solve(_model(pm), independent, guess, degrees, **kwargs)
 
 
 def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
@@ -244,8 +249,15 @@ def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
     return _solve_path(_model(pm), poses, guess, degrees)
 
 
-def analyze(pm, pose: dict | None = None, **kwargs):
-    """Analyse a PM at a pose: see :func:`screwkit.engine.analyze_pm`.
+def analyze(pm, pose=None, **kwargs):
+    """Analyse a PM at one pose or N poses: closures, unified Jacobian, conditioning, statics.
+
+    ``pose`` holds numbers (one pose: a result without a pose axis, errors raised) or
+    arrays of shape ``(N,)`` / a pandas DataFrame (N poses: every array of the result starts
+    with N, flagged poses are kept: ``res.ok``, ``res.singular``, ``res.unreachable``);
+    ``res[i]`` is the one-pose analysis of pose ``i``.  Keywords: ``force``, ``torque``,
+    ``degrees``, ``guess``, ``overrides``, ``raise_on_singular``, ``path``, ``chunk``,
+    ``workers``, ``progress`` (see :func:`screwkit.engine.analyze`).
 
     Examples
     --------

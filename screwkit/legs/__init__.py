@@ -1,7 +1,8 @@
 """Leg layer: leg strings, placed equivalent chains, catalog rules, and the analysis of a leg.
 
 * parsing of leg and PM strings (:func:`parse_leg`, :func:`parse_pm`);
-* the placed equivalent chain of a leg (:class:`Joint`, :class:`Leg`) and its
+* the placed equivalent chain of a leg (:class:`Joint`, :class:`Leg`, built from
+  explicit joints by :func:`leg_from_joints`) and its
   end points and frames (:class:`Placement`);
 * the placement rules of the catalog (:class:`LegRules`, :func:`build_leg`,
   :func:`generic_leg`) and their structure checks (:func:`structure_residuals`,
@@ -14,6 +15,7 @@
 from ._parsing import (JOINT_DOF, JOINT_LETTERS, EquivalentJoint, LegString, PMString, PMTerm,
                        parse_leg, parse_pm)
 from ._chain import Joint, Leg
+from ._explicit import leg_from_joints
 from ._placement import Placement, default_placement
 from ._rules import JointRule, LegRules, build_leg, generic_leg
 from ._structure import structure_residuals, structure_vector
@@ -27,7 +29,7 @@ __all__ = [
     "JOINT_LETTERS", "JOINT_DOF", "EquivalentJoint", "LegString", "PMTerm", "PMString",
     "parse_leg", "parse_pm",
     # placed chains
-    "Joint", "Leg", "Placement", "default_placement",
+    "Joint", "Leg", "leg_from_joints", "Placement", "default_placement",
     # catalog rules
     "JointRule", "LegRules", "build_leg", "generic_leg", "structure_residuals",
     "structure_vector",
