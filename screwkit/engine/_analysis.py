@@ -27,7 +27,8 @@ from functools import cached_property
 import numpy as np
 
 from ._jacobian import COND_THRESHOLD, JacobianResult
-from ._run import CHUNK, compute
+from ._pipeline import workload_about_origin
+from ._run import CHUNK, compute, row_points
 from ._solution import PoseSolution, check_reachable, make_solution, prepare
 from ._statics import StaticsResult
 
@@ -95,7 +96,8 @@ class PMAnalysis:
         from ._closure import CONVERGED
         good = (r <= CONVERGED) & ~self.jacobian.singular_mask
         if self.statics is not None:
-            eq = np.asarray(self.statics._derived[5])
+            eq = np.asarray(self.statics.equilibrium_residual if not self.single
+                            else [self.statics.equilibrium_residual])
             good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
         else:
             good &= False
@@ -237,14 +239,20 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     if single:
         check_reachable(sol)
     cond = comp.conditioning
-    jac = JacobianResult(comp.J, comp.info, comp.n_actuated, comp.scale, comp.points,
-                         comp.origin, cond, float(threshold), bool(single), sol.legs_at)
+    jac = JacobianResult(comp.J, comp.info, comp.n_actuated, comp.scale,
+                         lambda sl: row_points(model, sol.closures.take(sl), chunk),
+                         lambda: sol._platform[1], cond,
+                         float(threshold), bool(single), sol.legs_at)
     if single and raise_on_singular:
         jac.check()
     st = None
     if not (single and jac.singular):
-        st = StaticsResult(jac, comp.values, comp.W, sol.base_points, comp.platform_points,
-                           np.ones(N, bool))
+        st = StaticsResult(jac, comp.values,
+                           lambda: workload_about_origin(np.broadcast_to(F, (N, 3)),
+                                                         np.broadcast_to(T, (N, 3)),
+                                                         sol._platform[1]),
+                           sol.base_points, lambda: sol._platform[2], np.ones(N, bool),
+                           comp.equilibrium)
         bad = ~sol.reachable_mask | jac.singular_mask
         if bad.any():
             st = _mask(st, bad)
@@ -256,4 +264,5 @@ def _mask(st: StaticsResult, bad) -> StaticsResult:
     F_r = np.array(st.F_r, float)
     F_r[bad] = np.nan
     F_r.setflags(write=False)
-    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad)
+    eq = None if st.eq is None else np.where(bad, np.nan, st.eq)
+    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad, eq)

@@ -38,72 +38,10 @@ from functools import cached_property
 import numpy as np
 
 from ._pipeline import COND_THRESHOLD, Conditioning, RowInfo, condition
+from ._row import JacobianRow
 from ..screws import cross
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
-
-
-def _point_label(name):
-    from ..legs import point_label
-    return point_label(name)
-
-
-@dataclass(frozen=True)
-class JacobianRow:
-    """What one row of the unified Jacobian is, at one pose.
-
-    Attributes
-    ----------
-    leg : int
-        Index of the leg (0-based).
-    leg_name : str
-    kind : str
-        ``"actuation"``, ``"force"``, ``"couple"`` or ``"screw"``.
-    member : str
-        Geometric kind of the row's wrench (``"none"`` for the zero row of a
-        dependent actuator).
-    direction : ndarray (3,)
-        Unit direction of the force or couple.
-    point : ndarray (3,) or None
-        A point of the force line (the named point where there is one); None for a couple.
-    point_name : str or None
-    pitch : float
-        0 for a force, ``inf`` for a couple.
-    scale : float
-        Row = scale x unit member (1 for constraint rows).
-    joint : str or None
-        The actuated joint of an actuation row.
-    label : str
-        ``F_a1``, ``F_c2``, ``T_c3``...
-    """
-
-    leg: int
-    leg_name: str
-    kind: str
-    member: str
-    direction: np.ndarray
-    point: np.ndarray | None
-    point_name: str | None
-    pitch: float
-    scale: float
-    joint: str | None
-    label: str = ""
-
-    def describe(self) -> str:
-        """One line, e.g. ``leg 0 (RRPRR) force along (...) through Q (where R1 meets R5)``."""
-        d = "(" + ", ".join(f"{x:.6g}" for x in np.where(np.abs(self.direction) < 5e-13, 0.0,
-                                                          self.direction)) + ")"
-        if self.member == "couple":
-            what = f"couple about {d}"
-        elif self.member == "none":
-            what = "zero row (the actuated joint is dependent on the passive ones)"
-        else:
-            where = _point_label(self.point_name) or (
-                "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")" if self.point is not None
-                else "?")
-            what = f"{self.member} along {d} through {where}"
-        head = f"leg {self.leg} ({self.leg_name}) "
-        return head + (f"actuation of {self.joint}: {what}" if self.kind == "actuation" else what)
 
 
 def _squeeze(x, single):
@@ -138,8 +76,8 @@ class JacobianResult:
     info: tuple
     n_actuated: int
     scale: np.ndarray
-    points_: np.ndarray = field(repr=False)
-    origin: np.ndarray = field(repr=False)
+    points_: object = field(repr=False)
+    origin_: object = field(repr=False)
     conditioning: Conditioning = field(repr=False)
     threshold: float = COND_THRESHOLD
     single: bool = True
@@ -169,8 +107,10 @@ class JacobianResult:
         sl = slice(i, i + 1)
         cond = self.conditioning.take(sl)
         prov = self.leg_provider
+        pts = self.points_
+        pts = (lambda s2, base=pts, sl=sl: base(sl)[s2]) if callable(pts) else pts[sl]
         return JacobianResult(self.matrix[sl], self.info, self.n_actuated, self.scale[sl],
-                              self.points_[sl], self.origin[sl], cond, self.threshold, True,
+                              pts, self.origin[sl], cond, self.threshold, True,
                               (lambda _, i=i: prov(i)) if prov else None)
 
     def __repr__(self) -> str:
@@ -215,6 +155,11 @@ class JacobianResult:
         """Indices of the rows of leg ``i`` (its actuation row first)."""
         return np.flatnonzero(self.leg_of_row == i)
 
+    @cached_property
+    def origin(self) -> np.ndarray:
+        """The platform centre ``o`` at each pose, ``(N, 3)``."""
+        return self.origin_() if callable(self.origin_) else self.origin_
+
     @property
     def o(self) -> np.ndarray:
         return _squeeze(self.origin, self.single)
@@ -228,9 +173,16 @@ class JacobianResult:
         n = np.linalg.norm(part, axis=-1, keepdims=True)
         return _squeeze(part / np.where(n > 0, n, 1.0), self.single)
 
+    @cached_property
+    def _points(self) -> np.ndarray:
+        p = self.points_(slice(None)) if callable(self.points_) else self.points_
+        p.setflags(write=False)
+        return p
+
     @property
     def points(self) -> np.ndarray:
-        return _squeeze(self.points_, self.single)
+        """A point of each row's line (its named point), ``(N, m, 3)``; NaN for couples."""
+        return _squeeze(self._points, self.single)
 
     @cached_property
     def rows(self) -> tuple:
@@ -239,7 +191,7 @@ class JacobianResult:
         out = []
         D = self.directions
         for k, r in enumerate(self.info):
-            p = self.points_[0, k]
+            p = self._points[0, k]
             has_point = r.member not in ("couple", "none") and np.all(np.isfinite(p))
             if r.member not in ("couple", "none") and not has_point:
                 # a force without a named point: the point of its line nearest o

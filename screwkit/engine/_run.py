@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._chains import chains_of, forward
-from ._pipeline import (Conditioning, condition, model_rows, statics_values, templates_of,
-                        workload_about_origin, _labels)
+from ._pipeline import (Conditioning, _labels, condition, derived_statics, model_rows,
+                        statics_values, templates_of, workload_about_origin)
 from ._solve import Closures, solve_closures, solve_path
 
 __all__ = ["CHUNK", "Computed", "compute"]
@@ -29,22 +29,20 @@ CHUNK = 4096
 @dataclass(frozen=True, eq=False)
 class Computed:
     """Compact arrays of N poses (poses first): the closures; and, when rows were asked
-    for, ``J (N, m, 6)``, ``scale``, ``points (N, m, 3)``, the conditioning, ``values``
-    (statics, when a workload was given) and ``W``."""
+    for, ``J (N, m, 6)``, ``scale (N, m)``, the conditioning, the validity of the rows and
+    of each leg's structure, and, with a workload, the values ``F_r`` and the equilibrium
+    residuals."""
 
     closures: Closures
     info: tuple
     n_actuated: int
     J: np.ndarray = None
     scale: np.ndarray = None
-    points: np.ndarray = None
-    origin: np.ndarray = None
-    platform_points: np.ndarray = None
     conditioning: Conditioning = None
     rows_ok: np.ndarray = None
     structure_ok: np.ndarray = None
     values: np.ndarray = None
-    W: np.ndarray = None
+    equilibrium: np.ndarray = None
     diagnostics: dict = None
 
 
@@ -52,72 +50,94 @@ def _chunks(N, size):
     return [slice(s, min(s + size, N)) for s in range(0, N, size)]
 
 
+def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
+    """A point of each row's line at every pose of ``closures``, ``(N, m, 3)`` (recomputed)."""
+    templates = templates_of(model)
+    N = closures.residual.shape[0]
+    out = None
+    for sl in _chunks(N, chunk):
+        r = model_rows(model, closures.frames(sl), templates)
+        if out is None:
+            out = np.empty((N,) + r.points.shape[1:])
+        out[sl] = r.points
+    return out
+
+
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
             rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None) -> Computed:
-    """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses."""
+    """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
+
+    The outputs are allocated once and filled chunk by chunk (no concatenation)."""
     ch = chains_of(model)
     N = len(next(iter(fixed.values())))
     templates = templates_of(model) if rows else None
     diag = {}
     if path:
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, progress=progress)
-        X, res, its, how, sing = c.X, c.residual, c.iterations, c.how, c.singular_beta
+        X, its, how, sing = c.X, c.iterations, c.how, c.singular_beta
         diag = dict(c.diagnostics)
+    else:
+        X = np.empty((ch.n_unknowns, N))
+        its, how, sing = np.empty(N, np.int32), np.empty(N, np.int8), np.empty(N, bool)
+    res = np.empty(N)
+    out = {}
     slices = _chunks(N, max(1, int(chunk)))
+
+    def put(key, sl, value):
+        if key not in out:
+            out[key] = np.empty((N,) + value.shape[1:], value.dtype)
+        out[key][sl] = value
 
     def work(sl):
         fx = {k: v[sl] for k, v in fixed.items()}
         if path:
             fr = forward(ch, fx, X[:, sl])
-            part = {"X": X[:, sl], "residual": fr.residual, "iterations": its[sl],
-                    "how": how[sl], "sing": sing[sl]}
         else:
             cl = solve_closures(model, fx, None if X0 is None else X0[:, sl],
                                 side=None if side is None else side[sl])
             fr = cl.frames
-            part = {"X": cl.X, "residual": cl.residual, "iterations": cl.iterations,
-                    "how": cl.how, "sing": cl.singular_beta}
-        if rows:
-            r = model_rows(model, fr, templates)
-            cond, Jn, d = condition(r.J, r.n_actuated, r.leg_points)
+            X[:, sl], its[sl], how[sl], sing[sl] = cl.X, cl.iterations, cl.how, cl.singular_beta
+        res[sl] = fr.residual
+        if not rows:
+            return None
+        r = model_rows(model, fr, templates)
+        cond, Jn, d = condition(r.J, r.n_actuated, r.leg_points)
+        part = {"J": r.J, "scale": r.scale, "rows_ok": r.ok, "structure_ok": r.structure_ok}
+        part.update({f"cond.{f}": getattr(cond, f) for f in Conditioning.__dataclass_fields__})
+        if F is not None:
+            n = sl.stop - sl.start
             o = fr.o.T
+            W = workload_about_origin(np.broadcast_to(F, (n, 3)), np.broadcast_to(T, (n, 3)), o)
+            values = statics_values(Jn, d, cond.singular_values, cond, W)
             a = np.einsum("ijn,kj->nki", fr.R_p, model.platform_points) + o[:, None]
-            part.update(J=r.J, scale=r.scale, points=r.points, origin=o, a=a, cond=cond,
-                        rows_ok=r.ok, structure_ok=r.structure_ok)
-            if F is not None:
-                n = len(sl.indices(N)) if False else (sl.stop - sl.start)
-                W = workload_about_origin(np.broadcast_to(F, (n, 3)), np.broadcast_to(T, (n, 3)), o)
-                part.update(values=statics_values(Jn, d, cond.singular_values, cond, W), W=W)
+            eq = derived_statics(r.J, r.info, r.n_actuated, values, W, ch.base_points, a,
+                                 cond.centre, cond.length)[5]
+            part.update(values=values, equilibrium=eq)
         return part
+
+    def store(sl, part):
+        if part is not None:
+            for key, value in part.items():
+                put(key, sl, value)
 
     nw = workers if workers is not None else (min(2, os.cpu_count() or 1) if N >= 4 * chunk
                                               else 1)
     if nw > 1 and len(slices) > 1:
         with ThreadPoolExecutor(max_workers=nw) as pool:
-            parts = []
-            for k, p in enumerate(pool.map(work, slices)):
-                parts.append(p)
+            for sl, part in zip(slices, pool.map(work, slices)):
+                store(sl, part)
                 if progress and not path:
-                    progress(slices[k].stop, N)
+                    progress(sl.stop, N)
     else:
-        parts = []
         for sl in slices:
-            parts.append(work(sl))
+            store(sl, work(sl))
             if progress and not path:
                 progress(sl.stop, N)
-
-    def cat(key, axis=0):
-        return np.concatenate([p[key] for p in parts], axis=axis)
-
-    closures = Closures(ch, cat("X", 1), {k: np.asarray(v, float) for k, v in fixed.items()},
-                        cat("residual"), cat("iterations"), cat("how"), cat("sing"))
+    closures = Closures(ch, X, {k: np.asarray(v, float) for k, v in fixed.items()}, res, its,
+                        how, sing)
     if not rows:
         return Computed(closures, (), ch.n, diagnostics=diag)
-    conds = [p["cond"] for p in parts]
-    cond = Conditioning(*(np.concatenate([getattr(c, f) for c in conds])
-                          for f in Conditioning.__dataclass_fields__))
-    vals = cat("values") if F is not None else None
-    W = cat("W") if F is not None else None
-    return Computed(closures, _labels(templates), ch.n, cat("J"), cat("scale"), cat("points"),
-                    cat("origin"), cat("a"), cond, cat("rows_ok"), cat("structure_ok"), vals, W,
-                    diag)
+    cond = Conditioning(*(out[f"cond.{f}"] for f in Conditioning.__dataclass_fields__))
+    return Computed(closures, _labels(templates), ch.n, out["J"], out["scale"], cond,
+                    out["rows_ok"], out["structure_ok"], out.get("values"),
+                    out.get("equilibrium"), diag)

@@ -99,27 +99,41 @@ class StaticsResult:
     jacobian : JacobianResult
     F_r : ndarray (N, [K,] m)
         The values ``F_r`` (NaN where ``valid`` is False).
-    W : ndarray (N, [K,] 6)
-        The workload about ``O``.
-    A : ndarray (n, 3) ; a : ndarray (N, n, 3)
+    W : ndarray (N, [K,] 6) or callable
+        The workload about ``O`` (or a function returning it, called when first needed).
+    A : ndarray (n, 3) ; a : ndarray (N, n, 3) or callable
         The legs' end points (for ``T_r``).
     valid : ndarray (N,) of bool
         False where the values are not defined (a singular or unreachable pose of a batch).
+    eq : ndarray (N,), optional
+        The equilibrium residuals, when the engine computed them chunk by chunk.
+
+    Only ``F_r`` is kept for a batch; the row wrenches, vectors, leg wrenches and ``T_r``
+    are formed when first read (memory linear in N with a small constant).
     """
 
     jacobian: JacobianResult
     F_r: np.ndarray = field(repr=False)
-    W: np.ndarray = field(repr=False)
+    W: object = field(repr=False)
     A: np.ndarray = field(repr=False)
-    a: np.ndarray = field(repr=False)
+    a: object = field(repr=False)
     valid: np.ndarray = field(repr=False)
+    eq: np.ndarray = field(default=None, repr=False)
+
+    @cached_property
+    def _W(self):
+        return self.W() if callable(self.W) else self.W
+
+    @cached_property
+    def _a(self):
+        return self.a() if callable(self.a) else self.a
 
     @cached_property
     def _derived(self):
         jac = self.jacobian
         c = jac.conditioning
-        out = derived_statics(jac.matrix, jac.info, jac.n_actuated, self.F_r, self.W, self.A,
-                              self.a, c.centre, c.length)
+        out = derived_statics(jac.matrix, jac.info, jac.n_actuated, self.F_r, self._W, self.A,
+                              self._a, c.centre, c.length)
         for x in out:
             x.setflags(write=False)
         return out
@@ -130,7 +144,7 @@ class StaticsResult:
     @property
     def workload(self):
         """``W = [F; T + o x F]`` about ``O``."""
-        return self._sq(self.W)
+        return self._sq(self._W)
 
     @property
     def values(self):
@@ -152,7 +166,7 @@ class StaticsResult:
     def equilibrium_residual(self):
         """``|sum_i w_i + W|`` relative to the largest of ``|W|`` and the row wrenches,
         length-normalised (max over a batch of workloads at one pose)."""
-        r = self._derived[5]
+        r = self._derived[5] if self.eq is None else self.eq
         if self.jacobian.single:
             r = r[0]
             return float(np.max(r)) if np.ndim(r) else float(r)
@@ -166,8 +180,8 @@ class StaticsResult:
             raise TypeError("a one-pose StaticsResult cannot be indexed")
         i = int(np.arange(len(self))[i])
         sl = slice(i, i + 1)
-        return StaticsResult(self.jacobian[i], self.F_r[sl], self.W[sl], self.A, self.a[sl],
-                             self.valid[sl])
+        return StaticsResult(self.jacobian[i], self.F_r[sl], self._W[sl], self.A, self._a[sl],
+                             self.valid[sl], None if self.eq is None else self.eq[sl])
 
     def __repr__(self) -> str:
         if not self.jacobian.single:
@@ -202,7 +216,7 @@ class StaticsResult:
     @property
     def success(self):
         """Regular pose and equilibrium to ``sqrt(RANK_RTOL)``."""
-        r = np.asarray(self._derived[5])
+        r = np.asarray(self._derived[5] if self.eq is None else self.eq)
         r = r.reshape(r.shape[0], -1).max(axis=1)
         ok = ~self.jacobian.singular_mask & (r <= np.sqrt(RANK_RTOL))
         return bool(ok[0]) if self.jacobian.single else ok
