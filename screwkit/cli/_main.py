@@ -44,6 +44,14 @@ def main(argv=None) -> int:
         return int(args.func(args) or 0)
     except ScrewkitError as exc:
         print(f"screwkit {args.command}: error: {exc}", file=sys.stderr)
+        if getattr(args, "json", False):       # --json always prints a JSON object
+            import json
+            err = {"type": type(exc).__name__, "message": str(exc)}
+            for k in ("kind", "condition_number", "residual"):
+                v = getattr(exc, k, None)
+                if isinstance(v, (int, float, str)) and v == v and v not in (float("inf"),):
+                    err[k] = v
+            print(json.dumps({"error": err}, indent=2))
         return 2
     except BrokenPipeError:  # e.g. piped into head
         return 0

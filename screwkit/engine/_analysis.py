@@ -108,6 +108,26 @@ class PMAnalysis:
         return self.solution.residual
 
     @cached_property
+    def quality(self):
+        """How much to trust each pose: condition level, force amplification, the sign of
+        ``det J`` against home (:mod:`screwkit.engine._quality`)."""
+        from ._quality import quality
+        return quality(self, analyze)
+
+    @property
+    def level(self):
+        """``ok``, ``ill-conditioned``, ``near-singular`` or ``singular`` per pose."""
+        lev = self.quality.level
+        return str(lev[0]) if self.single else lev
+
+    @property
+    def warnings(self) -> tuple:
+        """One line per warning of the pose (one pose): level, assembly mode, notes."""
+        if not self.single:
+            raise TypeError("warnings describe one pose: index the result first (res[i])")
+        return self.quality.warnings(0)
+
+    @cached_property
     def mobility(self):
         """Instantaneous mobility at the pose (one pose): :func:`screwkit.pm.mobility`."""
         if not self.single:
@@ -176,6 +196,7 @@ class PMAnalysis:
             "extensions": sol.extensions,
             "jacobian": jac.J,
             "condition_number": jac.condition_number,
+            "conditioning": self.quality.as_dict(0),
             "singular": jac.singular,
             "singularity_kind": jac.singularity_kind,
             "mobility": {"dof": m.dof, "motion_type": m.motion_type, "redundant": m.redundant,

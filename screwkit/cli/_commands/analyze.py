@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from ...errors import InputError
@@ -94,6 +96,8 @@ def run(args) -> int:
     res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
                      force=parse_triple(args.force, "--force"),
                      torque=parse_triple(args.torque, "--torque"))
+    for w in res.warnings:                           # one line each, on stderr
+        print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:
         print(dump_json(res.to_dict()))
         return 0
@@ -120,8 +124,12 @@ def print_text(res) -> None:
     for n in sol.notes:
         print(f"  note: {n}")
     print("extensions r_i: " + "  ".join(f"r{i}={fmt_num(r)}" for i, r in enumerate(sol.extensions, 1)))
+    q = res.quality.as_dict(0)
     print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O), normalised condition number "
           f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
+    print(f"  conditioning: {q['level']}; efforts up to {q['force_amplification']:.3g} times the "
+          f"load; det J sign {q['det_sign']:+d} (home {q['home_det_sign']:+d})"
+          + ("  BEYOND A SINGULAR SURFACE FROM HOME" if q["beyond_singular_surface"] else ""))
     for r, row in zip(jac.rows, jac.J):
         print(f"  {' '.join(f'{x:10.5g}' for x in row)}   leg {r.leg + 1} {r.kind}")
     F, T = res.force, res.torque

@@ -1,0 +1,140 @@
+"""How much to trust each pose: condition level, force amplification, assembly mode (private).
+
+* ``condition_number``: the normalised one of :mod:`screwkit.engine._jacobian`;
+* ``amplification``: the largest effort over the size of the workload, in consistent
+  units: forces as they are, couples and rotary-actuator torques divided by the
+  characteristic length ``L`` of the pose (the normalisation's), the workload's size
+  ``sqrt(|F|^2 + |T / L|^2)``; 1 means the legs carry no more than the load;
+* ``level``: ``singular`` above :data:`~screwkit.engine.COND_THRESHOLD`; else
+  ``near-singular`` when the condition number exceeds :data:`NEAR_SINGULAR_COND` or the
+  amplification :data:`NEAR_SINGULAR_AMPLIFICATION`; else ``ill-conditioned`` above
+  :data:`ILL_CONDITIONED_COND` or :data:`ILL_CONDITIONED_AMPLIFICATION`; else ``ok``;
+* ``det_sign``: the sign of ``det J`` (square ``J`` only, else 0) and ``home_det_sign``
+  the one at the model's home pose; a pose whose sign differs lies beyond a singular
+  surface from home: in another assembly (working) mode of the actuators, reached only
+  through a singularity.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["LEVELS", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+           "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
+           "quality", "home_det_sign"]
+
+#: The levels, from best to worst.
+LEVELS = ("ok", "ill-conditioned", "near-singular", "singular")
+ILL_CONDITIONED_COND = 1e2
+NEAR_SINGULAR_COND = 1e3
+ILL_CONDITIONED_AMPLIFICATION = 2.0
+NEAR_SINGULAR_AMPLIFICATION = 5.0
+
+
+@dataclass(frozen=True, eq=False)
+class Quality:
+    """Per-pose trust report (arrays ``(N,)``; see the module docstring)."""
+
+    condition_number: np.ndarray
+    amplification: np.ndarray
+    level: np.ndarray
+    det_sign: np.ndarray
+    home_det_sign: int
+    beyond_singular_surface: np.ndarray
+
+    def take(self, sl) -> "Quality":
+        return Quality(self.condition_number[sl], self.amplification[sl], self.level[sl],
+                       self.det_sign[sl], self.home_det_sign, self.beyond_singular_surface[sl])
+
+    def warnings(self, i: int = 0) -> tuple:
+        """One line per thing worth a warning at pose ``i``."""
+        out = []
+        lev = str(self.level[i])
+        if lev in ("near-singular", "singular"):
+            out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}, "
+                       f"efforts up to {self.amplification[i]:.3g} times the load")
+        elif lev == "ill-conditioned":
+            out.append(f"ill-conditioned pose: normalised condition number "
+                       f"{self.condition_number[i]:.3g}, efforts up to "
+                       f"{self.amplification[i]:.3g} times the load")
+        if self.beyond_singular_surface[i]:
+            out.append("det J has the opposite sign to the home pose's: this pose lies beyond a "
+                       "singular surface from home (another assembly mode of the actuators)")
+        return tuple(out)
+
+    def as_dict(self, i: int = 0) -> dict:
+        return {"condition_number": float(self.condition_number[i]),
+                "force_amplification": float(self.amplification[i]),
+                "level": str(self.level[i]),
+                "det_sign": int(self.det_sign[i]), "home_det_sign": int(self.home_det_sign),
+                "beyond_singular_surface": bool(self.beyond_singular_surface[i]),
+                "thresholds": {"ill_conditioned": {"condition_number": ILL_CONDITIONED_COND,
+                                                   "amplification": ILL_CONDITIONED_AMPLIFICATION},
+                               "near_singular": {"condition_number": NEAR_SINGULAR_COND,
+                                                 "amplification": NEAR_SINGULAR_AMPLIFICATION},
+                               "singular": {"condition_number": 1e8}}}
+
+
+def levels(cond, amp, singular):
+    """The level of each pose from its condition number, amplification and singular flag."""
+    lev = np.full(cond.shape, "ok", dtype="<U15")
+    ill = (cond > ILL_CONDITIONED_COND) | (amp > ILL_CONDITIONED_AMPLIFICATION)
+    near = (cond > NEAR_SINGULAR_COND) | (amp > NEAR_SINGULAR_AMPLIFICATION)
+    lev[ill] = "ill-conditioned"
+    lev[near] = "near-singular"
+    lev[singular] = "singular"
+    return lev
+
+
+def amplification(values, info, W, L):
+    """Largest |effort| over the workload's size, consistent units (module docstring)."""
+    torque = np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
+                                                and r.joint[0] in "RH") for r in info])
+    div = np.where(torque[None, :], L[:, None], 1.0)
+    eff = np.abs(values.reshape(len(L), -1, values.shape[-1])) / div[:, None, :]
+    Wf = W.reshape(len(L), -1, 6)
+    size = np.sqrt(np.sum(Wf[..., :3] ** 2, axis=-1) + np.sum(Wf[..., 3:] ** 2, axis=-1) /
+                   L[:, None] ** 2)
+    return np.nanmax(eff, axis=(1, 2), initial=0.0) / np.maximum(np.max(size, axis=1), 1e-300)
+
+
+_HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def home_det_sign(model, analyze) -> int:
+    """Sign of ``det J`` at the model's home pose (0 for a non-square ``J``), cached."""
+    s = _HOME.get(model)
+    if s is None:
+        home = {p: model.home_pose[p] for p in model.independent}
+        res = analyze(model, home, raise_on_singular=False)
+        J = res.jacobian.J
+        s = int(np.sign(np.linalg.det(J))) if J.shape == (6, 6) else 0
+        _HOME[model] = s
+    return s
+
+
+def quality(analysis, analyze) -> Quality:
+    """The :class:`Quality` of every pose of an analysis (``analyze``: the engine's analysis
+    function, for the home pose's sign)."""
+    jac, st = analysis.jacobian, analysis.statics
+    c = jac.conditioning
+    N = len(jac)
+    cond = c.condition_number
+    if st is not None:
+        W = st._W
+        amp = amplification(st.F_r, jac.info, W, c.length)
+    else:
+        amp = np.full(N, np.inf)
+    sing = jac.singular_mask
+    amp = np.where(sing, np.inf, amp)
+    lev = levels(cond, amp, sing)
+    if jac.matrix.shape[1:] == (6, 6):
+        det = np.sign(np.linalg.det(jac.matrix)).astype(int)
+    else:
+        det = np.zeros(N, int)
+    home = home_det_sign(analysis.model, analyze)
+    beyond = (det != 0) & (home != 0) & (det != home) & ~sing
+    return Quality(cond, amp, lev, det, home, beyond)
