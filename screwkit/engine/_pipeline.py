@@ -85,8 +85,8 @@ def templates_of(model) -> tuple:
     if t is None:
         R0, p0 = model.frame
         Rh, oh = model.platform_home
-        refs = getattr(model, "constraint_references", None) or {}
-        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs.get(i, ()))
+        refs = tuple(model.constraint_references) or ((),) * len(model.home_legs)
+        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i])
                   for i, lg in enumerate(model.home_legs))
         _TEMPLATES[model] = t
     return t

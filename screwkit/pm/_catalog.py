@@ -38,7 +38,12 @@ __all__ = ["LegSpec", "Catalog", "load_catalog", "default_catalog", "catalog_pat
            "leg_spec_from_mapping"]
 
 _LEG_KEYS = {"name", "string", "summary", "joints", "structure", "placement", "expect",
-             "actuation", "used_by", "note"}
+             "actuation", "used_by", "note", "constraint_basis"}
+#: Direction references allowed in ``constraint_basis`` (with joint names and
+#: ``{perpendicular: [REF, REF]}``; a leading ``-`` reverses one).
+_BASIS_REFS = {"leg", "base.X", "base.Y", "base.Z", "platform.x", "platform.y", "platform.z",
+               "base.OA", "base.AO", "platform.oa", "platform.ao", "base.tangent",
+               "platform.tangent"}
 _EXPECT_KEYS = {"forces", "couples", "screws", "words", "force_lines", "couples_along"}
 
 
@@ -52,6 +57,7 @@ class LegSpec:
     expect: dict = field(default_factory=dict)
     used_by: tuple = ()
     note: str = ""
+    basis: tuple = ()
 
     @property
     def name(self) -> str:
@@ -172,8 +178,41 @@ def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> Leg
     for k in ("summary", "note"):
         if not isinstance(d.get(k, ""), str):
             raise CatalogError("must be a string", name, k, source)
+    basis = _basis(d.get("constraint_basis") or [], rules, name, source)
     return LegSpec(rules, str(d.get("summary", "")), pl, dict(expect), tuple(used_by),
-                   str(d.get("note", "")))
+                   str(d.get("note", "")), basis)
+
+
+def _basis(raw, rules, name, source) -> tuple:
+    """``constraint_basis``: the ordered reference directions of the leg's constraint members
+    (see :mod:`screwkit.engine._rows`), validated."""
+    if not isinstance(raw, list):
+        raise CatalogError("must be a list of direction references", name, "constraint_basis",
+                           source)
+    joints = {s.name for s in rules.string.equivalent}
+
+    def ok(ref):
+        if isinstance(ref, str):
+            r = ref[1:] if ref.startswith("-") else ref
+            return r in _BASIS_REFS or r in joints
+        if isinstance(ref, dict) and list(ref) == ["perpendicular"]:
+            v = ref["perpendicular"]
+            return isinstance(v, list) and len(v) == 2 and all(map(ok, v))
+        return False
+
+    for i, ref in enumerate(raw):
+        if not ok(ref):
+            raise CatalogError(f"{ref!r} is not a direction reference (one of "
+                               f"{', '.join(sorted(_BASIS_REFS))}, a joint name, or "
+                               "{perpendicular: [REF, REF]})", name, f"constraint_basis[{i}]",
+                               source)
+    return tuple(_freeze(r) for r in raw)
+
+
+def _freeze(ref):
+    if isinstance(ref, dict):
+        return {"perpendicular": tuple(_freeze(x) for x in ref["perpendicular"])}
+    return ref
 
 
 class Catalog:

@@ -321,7 +321,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         raise ctx.err("must be a list with one leg per vertex", "legs")
     if not (len(raw_legs) == n == len(plat)):
         raise ctx.err(f"{len(raw_legs)} legs for {n} base and {len(plat)} platform vertices", "legs")
-    names, rules = [], []
+    names, rules, bases = [], [], []
     for i, entry in enumerate(raw_legs):
         fld = f"legs[{i}]"
         axes = None
@@ -340,6 +340,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
             r = _override(r, axes, base, plat, ctx, f"{fld}.axes")
         names.append(spec.name)
         rules.append(r)
+        bases.append(tuple(spec.basis))
     string = str(d.get("string", name))
     try:
         pms = parse_pm(string)
@@ -390,4 +391,5 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     # (screwkit.engine.check_default_pose, called by screwkit.load_pm)
     default = {k: float(v) for k, v in pose.items()}
     return dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
+                               constraint_references=tuple(bases),
                                default_pose=default, notes=tuple(notes))

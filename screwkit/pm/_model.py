@@ -64,6 +64,10 @@ class PMModel:
     frame : tuple (R0 (3, 3), p0 (3,))
         World <- base frame (identity unless :meth:`moved`).
     notes : tuple of str
+    constraint_references : tuple of tuple
+        Per leg, the reference directions its catalog entry declares for the basis and
+        signs of its constraint wrenches (``constraint_basis``; empty: the default rule of
+        :mod:`screwkit.engine._rows`).
     """
 
     name: str
@@ -88,6 +92,7 @@ class PMModel:
     note: str = ""
     notes: tuple = ()
     source: str = ""
+    constraint_references: tuple = ()
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
