@@ -62,6 +62,7 @@ class PMAnalysis:
     force: np.ndarray
     torque: np.ndarray
     diagnostics: dict = field(default_factory=dict, repr=False)
+    stiffness: object = field(default=None, repr=False)
 
     @property
     def single(self) -> bool:
@@ -76,7 +77,7 @@ class PMAnalysis:
             raise TypeError("a one-pose PMAnalysis cannot be indexed")
         st = self.statics[i] if self.statics is not None else None
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
-                          self.torque, self.diagnostics)
+                          self.torque, self.diagnostics, self.stiffness)
 
     # -- per-pose flags -----------------------------------------------------------------
     @property
@@ -163,6 +164,7 @@ class PMAnalysis:
                 if st is not None:
                     c["value"] = st.values[k]
                     c["vector"] = st.vectors[k]
+                    c["determined"] = bool(st.determined[k])
                 if r.point is not None:
                     c["point"] = r.point
                     c["point_name"] = r.point_name
@@ -210,7 +212,13 @@ class PMAnalysis:
                 "active": st.active, "constraint": st.constraint, "values": st.values,
                 "T_r": st.T_r, "equilibrium_residual": st.equilibrium_residual,
                 "indeterminacy": st.indeterminacy,
+                "determined": st.determined,
+                "solution": ("unique" if not st.indeterminate else
+                             "compliance-weighted" if self.stiffness is not None else
+                             "least-norm"),
             }
+            if st.indeterminate:
+                out["statics"]["self_stress"] = st.self_stress
         return out
 
 
@@ -225,7 +233,7 @@ def _vec3(x, name):
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
-            progress=None) -> PMAnalysis:
+            progress=None, stiffness=None) -> PMAnalysis:
     """Analyse a PM model at one or N poses.
 
     Parameters
@@ -251,11 +259,18 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     chunk, workers : int
         Poses per chunk and threads (default: 2 threads when there are many chunks).
     progress : callable(done, total), optional
+    stiffness : mapping or array_like (m,), optional
+        Stiffness of each row of ``J`` (a mapping by row label, ``{"F_a1": 2e3, "T_c1": 5e6}``,
+        unnamed rows keeping the least-norm weight, or one value per row), in model units:
+        a statically indeterminate PM takes the compliance-weighted solution
+        (:func:`~screwkit.engine.statics`).
     """
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
+    compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
-                   F=F, T=T, chunk=chunk, workers=workers, progress=progress)
+                   F=F, T=T, chunk=chunk, workers=workers, progress=progress,
+                   compliance=compliance)
     sol = make_solution(model, comp.closures, single, notes, side)
     if single:
         check_reachable(sol)
@@ -277,7 +292,27 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         bad = ~sol.reachable_mask | jac.singular_mask
         if bad.any():
             st = _mask(st, bad)
-    return PMAnalysis(model, sol, jac, st, F, T, comp.diagnostics or {})
+    return PMAnalysis(model, sol, jac, st, F, T, comp.diagnostics or {}, stiffness)
+
+
+def _compliance(model, stiffness, N):
+    """Compliances ``(N, m)`` from a stiffness mapping (by row label) or array."""
+    from ..errors import InputError
+    from ._pipeline import _labels, default_compliance, templates_of
+    from ._statics import compliance_of
+    info = _labels(templates_of(model))
+    labels = [r.label for r in info]
+    if isinstance(stiffness, dict):
+        bad = sorted(set(stiffness) - set(labels))
+        if bad:
+            raise InputError(f"{model.name}: no row {bad[0]!r} to give a stiffness; the rows are "
+                             f"{', '.join(labels)}")
+        L = np.full(1, float(model.normalisation.length))
+        k = 1.0 / default_compliance(info, L)[0]
+        for lab, v in stiffness.items():
+            k[labels.index(lab)] = v
+        stiffness = k
+    return compliance_of(stiffness, len(labels), N)
 
 
 def _mask(st: StaticsResult, bad) -> StaticsResult:

@@ -115,9 +115,12 @@ def least_norm(Jn, Wn, s):
     well = (s.shape[1] == 6) & (s[:, -1] * REFINE > s[:, 0]) if s.shape[1] == 6 else \
         np.zeros(N, bool)
     if well.any():
-        M = np.einsum("nri,nrj->nij", Jn[well], Jn[well])
-        z = np.linalg.solve(M, -Wn[well][..., None])[..., 0]
-        y[well] = np.einsum("nrj,nj->nr", Jn[well], z)
+        if m == 6:          # square: the unique solution, without squaring the condition
+            y[well] = np.linalg.solve(np.swapaxes(Jn[well], 1, 2), -Wn[well][..., None])[..., 0]
+        else:
+            M = np.einsum("nri,nrj->nij", Jn[well], Jn[well])
+            z = np.linalg.solve(M, -Wn[well][..., None])[..., 0]
+            y[well] = np.einsum("nrj,nj->nr", Jn[well], z)
     ill = ~well
     if ill.any():
         P = np.linalg.pinv(np.transpose(Jn[ill], (0, 2, 1)), rcond=max(m, 6) * np.finfo(float).eps)

@@ -242,17 +242,40 @@ def workload_about_origin(F, T, o):
     return np.concatenate([F, T + cross(osh, F)], axis=-1)
 
 
-def statics_values(Jn, d, s, cond: Conditioning, W):
-    """Least-norm ``F_r (N, ..., m)`` with ``J^T F_r = -W`` for ``W (N, ..., 6)``."""
+def default_compliance(info, length):
+    """The compliances ``(N, m)`` of the least-norm solution: 1 for a force (or a linear
+    actuator), ``1 / L^2`` for a couple (or a rotary actuator), ``L`` the characteristic
+    length of each pose: ``sum F^2 + sum (C / L)^2`` is minimal (unit-free, frame-free)."""
+    torque = np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
+                                                and r.joint[0] in "RH") for r in info])
+    return np.where(torque[None, :], 1.0 / length[:, None] ** 2, 1.0)
+
+
+def statics_values(Jn, d, s, cond: Conditioning, W, compliance=None):
+    """``F_r (N, ..., m)`` with ``J^T F_r = -W`` for ``W (N, ..., 6)``.
+
+    Square ``J``: the unique solution.  More rows than 6 (statically indeterminate): the
+    one that minimises ``sum_k c_k F_k^2`` with the compliances ``c (N, m)`` (``1 /
+    stiffness``; default :func:`default_compliance`); the row scaling below turns it into
+    a least-norm problem.
+    """
     N, m, _ = Jn.shape
     extra = W.shape[1:-1]
     Wf = W.reshape(N, -1, 6)
     K = Wf.shape[1]
     Wn = normalise_wrench(Wf, cond.centre, cond.length)
+    if m > 6:
+        if compliance is None:
+            raise ValueError("the compliances of an indeterminate system are needed")
+        g = d / np.sqrt(np.broadcast_to(compliance, (N, m)))     # u = sqrt(c) F, y = d F
+        Jw = Jn * g[:, :, None]
+    else:
+        g, Jw = None, Jn
     if K > 1:
-        Jn, s = np.repeat(Jn, K, axis=0), np.repeat(s, K, axis=0)
-    y = least_norm(Jn, Wn.reshape(N * K, 6), s).reshape(N, K, m)
-    return (y / d[:, None, :]).reshape((N,) + extra + (m,))
+        Jw, s = np.repeat(Jw, K, axis=0), np.repeat(s, K, axis=0)
+    y = least_norm(Jw, Wn.reshape(N * K, 6), s).reshape(N, K, m)
+    F = y * (g / d)[:, None, :] if g is not None else y / d[:, None, :]
+    return F.reshape((N,) + extra + (m,))
 
 
 def derived_statics(J, info, n_actuated, values, W, A, a, centre, length):

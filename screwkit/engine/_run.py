@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._chains import chains_of, forward
-from ._pipeline import (Conditioning, _labels, condition, derived_statics, model_rows,
+from ._pipeline import (Conditioning, _labels, condition, default_compliance, derived_statics,
+                        model_rows,
                         statics_values, templates_of, workload_about_origin)
 from ._solve import Closures, solve_closures, solve_path
 
@@ -64,7 +65,8 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
 
 
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
-            rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None) -> Computed:
+            rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None,
+            compliance=None) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
     The outputs are allocated once and filled chunk by chunk (no concatenation)."""
@@ -108,7 +110,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             n = sl.stop - sl.start
             o = fr.o.T
             W = workload_about_origin(np.broadcast_to(F, (n, 3)), np.broadcast_to(T, (n, 3)), o)
-            values = statics_values(Jn, d, cond.singular_values, cond, W)
+            comp = compliance if compliance is not None else default_compliance(r.info,
+                                                                                  cond.length)
+            values = statics_values(Jn, d, cond.singular_values, cond, W, comp)
             a = np.einsum("ijn,kj->nki", fr.R_p, model.platform_points) + o[:, None]
             eq = derived_statics(r.J, r.info, r.n_actuated, values, W, ch.base_points, a,
                                  cond.centre, cond.length)[5]

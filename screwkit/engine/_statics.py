@@ -44,7 +44,8 @@ import numpy as np
 
 from ._conditioning import RANK_RTOL
 from ._jacobian import COND_THRESHOLD, JacobianResult
-from ._pipeline import derived_statics, legs_rows, statics_values, workload_about_origin
+from ._pipeline import (default_compliance, derived_statics, legs_rows, statics_values,
+                        workload_about_origin)
 from ..screws import cross
 
 __all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench", "unified_jacobian"]
@@ -234,6 +235,22 @@ class StaticsResult:
         N.setflags(write=False)
         return N
 
+    @cached_property
+    def determined(self) -> np.ndarray:
+        """Per row: True where statics alone fixes the value, False where a self-stress can
+        change it (the least-norm or compliance-weighted choice), ``(..., m)``."""
+        jac = self.jacobian
+        Jn, d = jac.normalised()
+        N, m = Jn.shape[0], Jn.shape[1]
+        out = np.ones((N, m), bool)
+        ind = np.flatnonzero(np.atleast_1d(jac.n_rows - jac.conditioning.rank) > 0)
+        for i in ind:
+            r = int(jac.conditioning.rank[i])
+            Vt = np.linalg.svd(Jn[i].T, full_matrices=True)[2]
+            S = Vt[r:]                                   # self-stresses in normalised rows
+            out[i] = np.max(np.abs(S), axis=0) <= 1e-9
+        return out[0] if jac.single else out
+
     def describe(self) -> str:
         jac = self.jacobian
         jac._one("describe")
@@ -244,16 +261,17 @@ class StaticsResult:
                  + (f"; statically indeterminate of dimension {jac.indeterminacy} (least-norm "
                     "solution)" if jac.indeterminate else "")
                  + (f"; SINGULAR ({jac.singularity_kind})" if jac.singular else "")]
-        for r, v, vec in zip(jac.rows, self.values, self.vectors):
+        for r, v, vec, det in zip(jac.rows, self.values, self.vectors, self.determined):
             lines.append(f"  {v: .6g}  {r.describe()}  -> vector "
-                         f"({', '.join(f'{x:.6g}' for x in vec)})")
+                         f"({', '.join(f'{x:.6g}' for x in vec)})"
+                         + ("" if det else "  [not determined by statics]"))
         for i, t in enumerate(self.T_r):
             lines.append(f"  leg {i} ({jac.info[jac.leg_rows(i)[0]].leg_name}): T_r = {t:.6g}")
         return "\n".join(lines)
 
 
 def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool = True,
-            base_points=None, platform_points=None) -> StaticsResult:
+            base_points=None, platform_points=None, stiffness=None) -> StaticsResult:
     """Active and constraint efforts balancing the workload ``(F, T)`` applied at ``o``.
 
     Parameters
@@ -268,6 +286,11 @@ def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool =
         singular poses get the least-squares values, flagged by ``singular``.
     base_points, platform_points : ndarray (n, 3), (N, n, 3), optional
         ``A_i`` and ``a_i`` (for ``T_r``); default the legs' end points.
+    stiffness : array_like (m,) or (N, m), optional
+        Stiffness of each row (force / length for forces and linear actuators, torque /
+        radian for couples and rotary actuators, model units): a statically indeterminate
+        system then takes the compliance-weighted solution, ``sum_k F_k^2 / k_k`` minimal.
+        Default: the least-norm one, ``sum F^2 + sum (C / L)^2`` minimal.
     """
     InputError = _errors()
     if not isinstance(jacobian, JacobianResult):
@@ -298,11 +321,24 @@ def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool =
         A, a = np.asarray(base_points, float), np.asarray(platform_points, float)
     W = workload_about_origin(F, T, o)
     Jn, d = jacobian.normalised()
+    comp = default_compliance(jacobian.info, jacobian.conditioning.length) if stiffness is None \
+        else compliance_of(stiffness, jacobian.n_rows, N)
     values = statics_values(Jn, d, jacobian.conditioning.singular_values,
-                            jacobian.conditioning, W)
+                            jacobian.conditioning, W, comp)
     for x in (W, values):
         x.setflags(write=False)
     return StaticsResult(jacobian, values, W, A, a, np.ones(N, bool))
+
+
+def compliance_of(stiffness, m, N):
+    """Validated compliances ``1 / k`` ``(N, m)`` of row stiffnesses ``(m,)`` or ``(N, m)``."""
+    InputError = _errors()
+    k = np.asarray(stiffness, dtype=float)
+    if k.shape not in ((m,), (N, m)):
+        raise InputError(f"stiffness must have one value per row of J ({m}), got shape {k.shape}")
+    if not (np.all(np.isfinite(k)) and np.all(k > 0)):
+        raise InputError("stiffness values must be positive and finite")
+    return np.broadcast_to(1.0 / k, (N, m))
 
 
 def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOLD) -> JacobianResult:

@@ -85,6 +85,10 @@ def register(sub):
                        description=HELP)
     add_pm_arguments(p)
     add_load_arguments(p)
+    p.add_argument("--stiffness", metavar="ROW=K", action="append", default=[],
+                   help="stiffness of a row of J by label (F_a1, T_c2 ...; force/length for "
+                        "forces, torque/rad for couples): an indeterminate PM then takes the "
+                        "compliance-weighted solution (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.set_defaults(func=run)
 
@@ -93,9 +97,10 @@ def run(args) -> int:
     from ...engine import analyze_pm
 
     model = resolve_model(args)
+    stiffness = parse_assignments(getattr(args, "stiffness", []), "--stiffness") or None
     res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
                      force=parse_triple(args.force, "--force"),
-                     torque=parse_triple(args.torque, "--torque"))
+                     torque=parse_triple(args.torque, "--torque"), stiffness=stiffness)
     for w in res.warnings:                           # one line each, on stderr
         print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:
@@ -137,15 +142,21 @@ def print_text(res) -> None:
     if st is None:
         print("  not solved: singular pose")
         return
+    det = st.determined
     if st.indeterminate:
-        print(f"  statically indeterminate: {st.indeterminacy} redundant rows; least-norm solution")
+        how = "compliance-weighted" if res.stiffness is not None else "least-norm"
+        print(f"  statically indeterminate: {st.indeterminacy} redundant rows; the values marked "
+              f"* are not determined by statics ({how} solution)")
     for k, (r, v, vec) in enumerate(zip(jac.rows, st.values, st.vectors)):
         label = {"actuation": "active", "force": "constraint force", "couple": "constraint couple",
                  "screw": "constraint wrench"}[r.kind]
         where = ""
         if r.point is not None:
             where = f" on the line through {point_label(r.point_name) or fmt_vec(r.point)}"
-        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}   vector {fmt_vec(vec)}{where}")
+        mark = " " if det[k] else "*"
+        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}{mark}  vector {fmt_vec(vec)}{where}")
+    undet = [not all(det[k] for k in jac.leg_rows(i)) for i in range(len(st.T_r))]
     print("  constraint torques T_ri carried about each leg's axis: " +
-          "  ".join(f"T_r{i}={fmt_num(t)}" for i, t in enumerate(st.T_r, 1)))
+          "  ".join(f"T_r{i}={fmt_num(t)}{'*' if u else ''}"
+                    for i, (t, u) in enumerate(zip(st.T_r, undet), 1)))
     print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")
