@@ -144,82 +144,11 @@ class PMAnalysis:
                 f"{int(np.sum(self.singular))} singular, {int(np.sum(self.unreachable))} "
                 "unreachable)")
 
-    def to_dict(self) -> dict:
-        """JSON-ready report of one pose (angles in degrees, model units)."""
-        if not self.single:
-            raise TypeError("to_dict describes one pose: index the result first (res[i])")
-        sol, jac, st = self.solution, self.jacobian, self.statics
-        p = sol.params_degrees()
-        legs = []
-        for i, leg in enumerate(sol.legs):
-            rows = [k for k, r in enumerate(jac.rows) if r.leg == i]
-            act = [k for k in rows if jac.rows[k].kind == "actuation"]
-            cons = []
-            for k in rows:
-                r = jac.rows[k]
-                if r.kind == "actuation":
-                    continue
-                c = {"kind": r.kind, "label": r.label, "direction": r.direction,
-                     "unit_wrench": jac.J[k]}
-                if st is not None:
-                    c["value"] = st.values[k]
-                    c["vector"] = st.vectors[k]
-                    c["determined"] = bool(st.determined[k])
-                if r.point is not None:
-                    c["point"] = r.point
-                    c["point_name"] = r.point_name
-                cons.append(c)
-            entry = {
-                "index": i + 1, "leg": leg.name, "string": leg.string.marked,
-                "A": leg.A, "a": leg.a, "extension": sol.extensions[i],
-                "actuator_value": sol.actuator_values[i],
-                "joint_values": sol.joint_values[i],
-                "constraints": cons,
-            }
-            if act:
-                r = jac.rows[act[0]]
-                entry["actuation"] = {"kind": r.member, "direction": r.direction, "point": r.point,
-                                      "joint": r.joint, "unit_wrench": jac.J[act[0]]}
-                if st is not None:
-                    entry["active"] = st.values[act[0]]
-            if st is not None:
-                entry["torque"] = st.T_r[i]
-                entry["wrench"] = st.leg_wrenches[i]
-            legs.append(entry)
-        m = self.mobility
-        out = {
-            "pm": self.model.name,
-            "pose": {k: p[k] for k in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")},
-            "independent": list(self.model.independent),
-            "order": self.model.order,
-            "closure_residual": sol.residual,
-            "notes": list(sol.notes),
-            "legs": legs,
-            "extensions": sol.extensions,
-            "jacobian": jac.J,
-            "condition_number": jac.condition_number,
-            "conditioning": self.quality.as_dict(0),
-            "singular": jac.singular,
-            "singularity_kind": jac.singularity_kind,
-            "mobility": {"dof": m.dof, "motion_type": m.motion_type, "redundant": m.redundant,
-                         "common": m.common, "constraint_rank": m.constraint_rank,
-                         "n_constraints": m.n_constraints, "gruebler": m.gruebler,
-                         "stated_dof": self.model.stated_dof},
-            "workload": {"force": self.force, "torque": self.torque},
-        }
-        if st is not None:
-            out["statics"] = {
-                "active": st.active, "constraint": st.constraint, "values": st.values,
-                "T_r": st.T_r, "equilibrium_residual": st.equilibrium_residual,
-                "indeterminacy": st.indeterminacy,
-                "determined": st.determined,
-                "solution": ("unique" if not st.indeterminate else
-                             "compliance-weighted" if self.stiffness is not None else
-                             "least-norm"),
-            }
-            if st.indeterminate:
-                out["statics"]["self_stress"] = st.self_stress
-        return out
+    def to_dict(self, units: str | None = None) -> dict:
+        """JSON-ready report of one pose (angles in degrees; the model's units, or SI with
+        ``units="SI"``): see :func:`screwkit.engine._report.report`."""
+        from ._report import report
+        return report(self, units)
 
 
 def _vec3(x, name):

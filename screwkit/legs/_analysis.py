@@ -29,7 +29,7 @@ from ..screws import cross
 # the chain module is not imported, so that ``Leg.analyze`` can import this module
 # without an import cycle.
 
-__all__ = ["LegAnalysis", "ActuationWrench", "analyze_leg", "actuation_wrench"]
+__all__ = ["LegAnalysis", "ActuationWrench", "analyze_leg", "actuation_wrench", "has_actuation_wrench"]
 
 
 @dataclass(frozen=True)
@@ -134,14 +134,8 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
     system = system or reciprocal_system(leg.twists, leg.points)
     norm = system.normalisation
     ia = leg.actuated_index
-    passive = [j for i, j in enumerate(leg.joints) if i != ia]
-    xi = leg.joints[ia].twist.vector
-    Tp = np.array([j.twist.vector for j in passive]).reshape(-1, 6)
-    ps = reciprocal_system(Tp, leg.points, length=norm.length)
-    N = ps.wrenches                       # reciprocal to the passive joints
-    prod = N @ xi
-    scale_ref = np.linalg.norm(norm.twists(xi)) * norm.length
-    if np.max(np.abs(prod), initial=0.0) <= 1e-9 * scale_ref:
+    xi, Tp, N, scale_ref = _passive_system(leg, system)
+    if N is None:
         return None                        # the actuated joint is dependent on the passive ones
     L = max(leg.length, norm.length)
     tol = GEOMETRY_RTOL * 10 * L
@@ -225,6 +219,30 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
                                   member.point_name, 0.0, member.rules, member.reciprocity)
         unit_w, k = -unit_w, -k
     return ActuationWrench(member, k * unit_w, k, leg.joints[ia].name)
+
+
+def _passive_system(leg: "Leg", system: ReciprocalSystem):
+    """``(xi, Tp, N, scale_ref)``: the actuated twist, the passive twists, the wrenches
+    reciprocal to the passive joints (None when none of them works on the actuated
+    joint: it depends on the passive ones) and the scale of the test."""
+    norm = system.normalisation
+    ia = leg.actuated_index
+    T = leg.twists                         # rows are the joints' unit twists
+    xi = T[ia]
+    Tp = np.delete(T, ia, axis=0)
+    N = reciprocal_system(Tp, leg.points, length=norm.length).wrenches
+    prod = N @ xi
+    scale_ref = np.linalg.norm(norm.twists(xi)) * norm.length
+    if np.max(np.abs(prod), initial=0.0) <= 1e-9 * scale_ref:
+        return xi, Tp, None, scale_ref
+    return xi, Tp, N, scale_ref
+
+
+def has_actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> bool:
+    """Whether :func:`actuation_wrench` finds a wrench (the actuated joint is independent
+    of the passive ones), without choosing and explaining it."""
+    system = system or reciprocal_system(leg.twists, leg.points)
+    return _passive_system(leg, system)[2] is not None
 
 
 class _PassiveView:

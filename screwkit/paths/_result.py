@@ -63,6 +63,10 @@ class TrajectoryResult:
         Leg index (0-based) of each constraint column.
     force, torque : ndarray (3,)
         The workload at ``o``.
+    units : Units
+        The model's units (:class:`screwkit.pm.Units`).
+    rotary : tuple of bool
+        Per leg: its actuator is rotary (its ``F_ai`` is a torque).
     diagnostics : dict
         How the samples were computed (``batched``, ``per_pose_kinematics``,
         ``per_pose_rows``), for benchmarks.
@@ -90,6 +94,8 @@ class TrajectoryResult:
     force: np.ndarray
     torque: np.ndarray
     diagnostics: dict = field(default_factory=dict)
+    units: object = None
+    rotary: tuple = ()
 
     def __len__(self) -> int:
         return len(self.t)
@@ -158,8 +164,9 @@ class TrajectoryResult:
         return {
             "pm": self.pm,
             "independent": list(self.independent),
-            "units": {"angles": "deg", "lengths": "model length unit",
-                      "forces": "model force unit", "torques": "force x length"},
+            "units": self._units().as_dict(),
+            "active_units": [self._units().torque if r else self._units().force
+                             for r in (self.rotary or (False,) * self.n_legs)],
             "workload": {"force": self.force, "torque": self.torque, "applied_at": "o"},
             "n_samples": len(self),
             "counts": self.counts(),
@@ -180,6 +187,10 @@ class TrajectoryResult:
             "message": self.message.tolist(),
         }
 
+    def _units(self):
+        from ..pm import UNDECLARED
+        return self.units if self.units is not None else UNDECLARED
+
     def plot(self, out=None, *, title=None, units=None, dpi: int = 150):
         """The panels of the paper's Fig. 5 (:func:`screwkit.viz.plot_fig5`).
 
@@ -191,6 +202,14 @@ class TrajectoryResult:
         """
         from ..viz import plot_fig5
 
+        mu = self._units()
+        rot = self.rotary or (False,) * self.n_legs
+        plot_units = {"length": mu.length, "force": mu.force, "torque": mu.torque.replace(".", "·"),
+                      "active": (mu.force if not any(rot) else
+                                 mu.torque.replace(".", "·") if all(rot) else
+                                 f"{mu.force} or {mu.torque.replace('.', '·')}")}
+        plot_units.update(units or {})
+        units = plot_units
         p = self.params_degrees()
         pose = {k: p[k] for k in self.independent}
         force_cols = [j for j, k in enumerate(self.constraint_kinds) if k != "couple"]
@@ -218,8 +237,7 @@ class TrajectoryResult:
         if Tc is not None:
             labels["constraint_torques"] = tlabels
         if title is None:
-            from ..viz import DEFAULT_UNITS
-            u = {**DEFAULT_UNITS, **(units or {})}
+            u = plot_units
             F, T = self.force, self.torque
             title = (f"{self.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
                      f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")

@@ -214,4 +214,5 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
                             out["constraint"], out["T_r"], out["leg_wrenches"],
                             out["condition_number"], out["closure_residual"],
                             out["equilibrium_residual"], out["singularity"], out["message"],
-                            labels, kinds, legs, F.copy(), T.copy(), dict(diag))
+                            labels, kinds, legs, F.copy(), T.copy(), dict(diag), model.units,
+                            tuple(lg.actuated_joint.kind != "P" for lg in model.home_legs))

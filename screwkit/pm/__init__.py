@@ -6,6 +6,7 @@
   and pose parametrisation (:data:`PARAMS`), a constant description that the
   solvers of :mod:`screwkit.engine` take as input (this layer never imports the
   engine; :func:`screwkit.load_pm` also checks that the default pose assembles);
+* the units a model declares (:class:`Units`);
 * the mobility of an assembled PM (:func:`mobility`);
 * the safe expressions of the dimensions and paths (:func:`parse_expression`).
 """
@@ -14,6 +15,7 @@ from ._expressions import (CONSTANTS, FUNCTIONS, MAX_LENGTH, Expression, evaluat
                            parse_expression)
 from ._catalog import (Catalog, LegSpec, catalog_path, default_catalog, leg_spec_from_mapping,
                        load_catalog)
+from ._units import FORCE_UNITS, LENGTH_UNITS, UNDECLARED, Units, units_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 from ._loader import load_pm, pm_names
 from ._mobility import Mobility, linkage_graph, mobility, mobility_of_legs, motion_type
@@ -25,6 +27,8 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    # units
+    "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility
     "Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph",
     # expressions

@@ -251,6 +251,10 @@ class Catalog:
         pms = data.get("pms", {}) or {}
         if not isinstance(pms, dict):
             raise CatalogError("must be a mapping of PM name to definition", None, "pms", source)
+        if data.get("units") is not None:
+            # the file's units apply to each of its PMs that does not declare its own
+            pms = {k: ({"units": data["units"], **v} if isinstance(v, dict) else v)
+                   for k, v in pms.items()}
         return cls(legs, table1, pms, source)
 
     def find_leg(self, name: str) -> LegSpec | None:

@@ -34,12 +34,13 @@ from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import LegRules, build_leg
 from ..screws import Normalisation, check_order
 from ._home import _solve_home
+from ._units import units_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 
 __all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
-            "independent", "pose", "home", "guess", "dof", "motion", "note", "source"}
+            "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units"}
 _SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
                "points", "z"}
 
@@ -392,4 +393,5 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     default = {k: float(v) for k, v in pose.items()}
     return dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
                                constraint_references=tuple(bases),
+                               units=units_from_mapping(d.get("units"), name, src),
                                default_pose=default, notes=tuple(notes))

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..legs import Placement, build_leg
 from ..screws import Normalisation, rotation_matrix
+from ._units import UNDECLARED, Units
 
 __all__ = ["PMModel", "PARAMS", "LENGTH_PARAMS"]
 
@@ -64,6 +65,9 @@ class PMModel:
     frame : tuple (R0 (3, 3), p0 (3,))
         World <- base frame (identity unless :meth:`moved`).
     notes : tuple of str
+    units : Units
+        The length and force units the definition declares (``units:``; the catalog's
+        are cm and kN); torques are force x length.
     constraint_references : tuple of tuple
         Per leg, the reference directions its catalog entry declares for the basis and
         signs of its constraint wrenches (``constraint_basis``; empty: the default rule of
@@ -93,6 +97,7 @@ class PMModel:
     notes: tuple = ()
     source: str = ""
     constraint_references: tuple = ()
+    units: Units = UNDECLARED
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "

@@ -24,7 +24,8 @@ from ._figure import new_figure, save_figure
 __all__ = ["plot_fig5", "DEFAULT_UNITS", "POSE_LABELS"]
 
 #: Units printed on the axes unless overridden (``units=`` of :func:`plot_fig5`).
-DEFAULT_UNITS = {"t": "", "angle": "deg", "length": "cm", "force": "kN", "torque": "kN·cm"}
+DEFAULT_UNITS = {"t": "", "angle": "deg", "length": "cm", "force": "kN", "torque": "kN·cm",
+                 "active": None}
 
 #: Mathtext names of the pose parameters.
 POSE_LABELS = {"Xo": "$X_o$", "Yo": "$Y_o$", "Zo": "$Z_o$", "alpha": r"$\alpha$",
@@ -185,6 +186,8 @@ def plot_fig5(t, pose, extensions, active, constraint_forces=None, constraint_to
     if unknown:
         raise InputError(f"unknown unit keys {sorted(unknown)}; known: {sorted(U)}")
     U.update(units or {})
+    if U["active"] is None:               # the actuators' efforts: forces unless rotary
+        U["active"] = U["force"]
     pose_names = {**POSE_LABELS, **((labels or {}).get("pose") or {})}
 
     def masked(a):
@@ -229,7 +232,7 @@ def plot_fig5(t, pose, extensions, active, constraint_forces=None, constraint_to
     panels = [(axes[1], R, "extensions", "$r_{{{}}}$", "(b) leg extensions $r_i$",
                f"$r_i${_unit(U['length'])}"),
               (axes[2], Fa, "active", "$F_{{a{}}}$", "(c) active forces $F_{ai}$",
-               f"$F_{{ai}}${_unit(U['force'])}")]
+               f"$F_{{ai}}${_unit(U['active'])}")]
     for ax, data, key, deflab, ttl, ylab in panels:
         names = _labels_for(labels, key, data.shape[1], deflab)
         for i in range(data.shape[1]):

@@ -55,8 +55,11 @@ def _check_rows(rows, values, n_legs):
         elif kind != "couple":
             raise InputError(f"wrench row {i}: a {kind} needs a point on its line")
         v = float(values[i]) if values is not None else float(r.get("value", np.nan))
+        q = r.get("quantity")
+        if q not in (None, "force", "torque"):
+            raise InputError(f"wrench row {i}: quantity must be 'force' or 'torque', got {q!r}")
         out.append(dict(kind=kind, leg=int(leg), direction=d, point=p, value=v,
-                        label=r.get("label")))
+                        label=r.get("label"), quantity=q))
     return out
 
 
@@ -183,19 +186,19 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
     max_len = 0.6 * size
     vmax = {}
     for r in rows:
-        key = "torque" if r["kind"] == "couple" else "force"
+        key = r.get("quantity") or ("torque" if r["kind"] == "couple" else "force")
         if np.isfinite(r["value"]):
             vmax[key] = max(vmax.get(key, 0.0), abs(r["value"]))
     lines = []
     for irow, r in enumerate(rows):
         leg = legs[r["leg"]]
         is_couple = r["kind"] == "couple"
-        key = "torque" if is_couple else "force"
+        key = r.get("quantity") or ("torque" if is_couple else "force")
         val = r["value"]
         color = COLORS["actuation"] if r["kind"] == "actuation" else \
             COLORS["couple"] if is_couple else COLORS["force"]
         kinds.add(r["kind"])
-        unit = torque_unit if is_couple else force_unit
+        unit = torque_unit if key == "torque" else force_unit
         text = f"{r['label']} = {value_format.format(val)} {unit}" if np.isfinite(val) \
             else f"{r['label']} = n/a"
         top = vmax.get(key, 0.0)

@@ -90,6 +90,9 @@ def register(sub):
                         "forces, torque/rad for couples): an indeterminate PM then takes the "
                         "compliance-weighted solution (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the JSON report: the model's (default) or SI (m, N, N.m; "
+                        "needs pint)")
     p.set_defaults(func=run)
 
 
@@ -104,14 +107,19 @@ def run(args) -> int:
     for w in res.warnings:                           # one line each, on stderr
         print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:
-        print(dump_json(res.to_dict()))
+        print(dump_json(res.to_dict(None if args.units == "model" else args.units)))
         return 0
+    if args.units != "model":
+        raise InputError("--units SI applies to the --json report")
     print_text(res)
     return 0
 
 
 def print_text(res) -> None:
+    from ...engine._report import row_quantity
+
     model, sol, mob, jac, st = res.model, res.solution, res.mobility, res.jacobian, res.statics
+    u = model.units
     print(f"PM {model.name}  ({len(sol.legs)} legs, Euler order {model.order}, "
           f"independent {', '.join(model.independent)})")
     if getattr(model, "summary", ""):
@@ -123,12 +131,15 @@ def print_text(res) -> None:
           f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "
           f"Grubler-Kutzbach count {mob.gruebler}")
     p = sol.params_degrees()
-    print("pose (deg, model units): " + "  ".join(f"{k}={fmt_num(p[k])}" for k in
-                                                 ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")))
+    print(f"units: lengths {u.length}, forces {u.force}, torques {u.torque}, angles deg"
+          + ("" if u.declared else " (the model declares no units)"))
+    print(f"pose (deg, {u.length}): " + "  ".join(f"{k}={fmt_num(p[k])}" for k in
+                                                  ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")))
     print(f"  closure residual {sol.residual:.2e} (length-normalised)")
     for n in sol.notes:
         print(f"  note: {n}")
-    print("extensions r_i: " + "  ".join(f"r{i}={fmt_num(r)}" for i, r in enumerate(sol.extensions, 1)))
+    print(f"extensions r_i ({u.length}): " +
+          "  ".join(f"r{i}={fmt_num(r)}" for i, r in enumerate(sol.extensions, 1)))
     q = res.quality.as_dict(0)
     print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O), normalised condition number "
           f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
@@ -138,7 +149,7 @@ def print_text(res) -> None:
     for r, row in zip(jac.rows, jac.J):
         print(f"  {' '.join(f'{x:10.5g}' for x in row)}   leg {r.leg + 1} {r.kind}")
     F, T = res.force, res.torque
-    print(f"statics for F = {fmt_vec(F)} and T = {fmt_vec(T)} at o:")
+    print(f"statics for F = {fmt_vec(F)} {u.force} and T = {fmt_vec(T)} {u.torque} at o:")
     if st is None:
         print("  not solved: singular pose")
         return
@@ -154,9 +165,15 @@ def print_text(res) -> None:
         if r.point is not None:
             where = f" on the line through {point_label(r.point_name) or fmt_vec(r.point)}"
         mark = " " if det[k] else "*"
-        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}{mark}  vector {fmt_vec(vec)}{where}")
+        unit = u.of(row_quantity(r))
+        vunit = u.torque if r.member == "couple" else u.force
+        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}{mark} {unit:<6} vector "
+              f"{fmt_vec(vec)} {vunit}{where}")
     undet = [not all(det[k] for k in jac.leg_rows(i)) for i in range(len(st.T_r))]
-    print("  constraint torques T_ri carried about each leg's axis: " +
-          "  ".join(f"T_r{i}={fmt_num(t)}{'*' if u else ''}"
-                    for i, (t, u) in enumerate(zip(st.T_r, undet), 1)))
+    linear = [lg.actuated_joint.kind == "P" for lg in sol.legs]
+    if any(linear):
+        print(f"  T_ri, the moment of each linear leg's constraint wrench about its axis "
+              f"({u.torque}): " +
+              "  ".join(f"T_r{i}={fmt_num(t)}{'*' if bad else ''}"
+                        for i, (t, bad, lin) in enumerate(zip(st.T_r, undet, linear), 1) if lin))
     print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")

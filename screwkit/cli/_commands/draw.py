@@ -28,8 +28,8 @@ def register(sub):
                         "A_i, a_i or o hides behind a leg)")
     p.add_argument("--joint-labels", action="store_true", help="label every joint")
     p.add_argument("--title", help="figure title (default: PM, pose and workload)")
-    p.add_argument("--length-unit", default="cm", help="length unit printed (cm)")
-    p.add_argument("--force-unit", default="kN", help="force unit printed (kN)")
+    p.add_argument("--length-unit", help="length unit printed (default: the model's)")
+    p.add_argument("--force-unit", help="force unit printed (default: the model's)")
     p.add_argument("--dpi", type=int, default=150, help="resolution (default 150)")
     p.set_defaults(func=run)
 
@@ -52,9 +52,13 @@ def wrench_rows(analysis, values: bool = True):
     for r, v in zip(jac.rows, vals):
         i = r.leg + 1
         if r.kind == "actuation":
+            rotary = r.joint is not None and r.joint[0] in "RH"
             if r.member == "force":
+                # a rotary actuator's effort is a torque: its row is the force it transmits
                 rows.append(dict(kind="actuation", leg=r.leg, direction=r.direction,
-                                 point=r.point, value=v, label=f"$F_{{a{i}}}$"))
+                                 point=r.point, value=v,
+                                 label=f"$T_{{a{i}}}$" if rotary else f"$F_{{a{i}}}$",
+                                 quantity="torque" if rotary else "force"))
             elif r.member == "couple":
                 rows.append(dict(kind="couple", leg=r.leg, direction=r.direction, point=None,
                                  value=v, label=f"$T_{{a{i}}}$"))
@@ -112,10 +116,11 @@ def run(args) -> int:
     sol = res.solution
     singular = res.jacobian.singular
     rows, skipped = wrench_rows(res)
-    title = args.title or _title(res, args.force_unit, args.length_unit, singular)
+    fu = args.force_unit or model.units.force
+    lu = args.length_unit or model.units.length
+    title = args.title or _title(res, fu, lu, singular)
     draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position, rows, out=args.out,
-            title=title, force_unit=args.force_unit,
-            torque_unit=f"{args.force_unit}·{args.length_unit}", length_unit=args.length_unit,
+            title=title, force_unit=fu, torque_unit=f"{fu}·{lu}", length_unit=lu,
             dpi=args.dpi, joint_labels=args.joint_labels, view=view)
     for s in skipped:
         print(f"screwkit draw: not drawn: {s}", file=sys.stderr)

@@ -41,8 +41,8 @@ def register(sub):
     p.add_argument("--out", metavar="FILE", help="write the table to FILE instead of stdout")
     p.add_argument("--plot", metavar="PNG", help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", help="title of the plot")
-    p.add_argument("--length-unit", default="cm", help="length unit printed on the plot (cm)")
-    p.add_argument("--force-unit", default="kN", help="force unit printed on the plot (kN)")
+    p.add_argument("--length-unit", help="length unit printed on the plot (default: the model's)")
+    p.add_argument("--force-unit", help="force unit printed on the plot (default: the model's)")
     p.add_argument("--no-progress", action="store_true",
                    help="no progress bar (it is shown on a terminal only, for long runs)")
     p.set_defaults(func=run)
@@ -107,9 +107,12 @@ def run(args) -> int:
     else:
         sys.stdout.write(text)
     if args.plot:
-        units = {"length": args.length_unit, "force": args.force_unit,
-                 "torque": f"{args.force_unit}·{args.length_unit}"}
-        res.plot(args.plot, title=args.title, units=units)
+        units = {}
+        if args.length_unit or args.force_unit:
+            mu = model.units
+            lu, fu = args.length_unit or mu.length, args.force_unit or mu.force
+            units = {"length": lu, "force": fu, "torque": f"{fu}·{lu}"}
+        res.plot(args.plot, title=args.title, units=units or None)
         print(f"wrote {args.plot}", file=sys.stderr)
     c = res.counts()
     if c["singular"] or c["unreachable"]:

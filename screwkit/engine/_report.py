@@ -1,0 +1,154 @@
+"""The report of one analysed pose (``screwkit analyze --json``), with a unit on every number.
+
+Every quantity is reported in the model's units (``model.units``: the catalog's cm and
+kN, torques in kN.cm) or, on request, in SI (m, N, N.m) through pint.  A row's value is a
+force (``force``, linear actuators) or a torque (``couple``, rotary actuators); its
+``vector`` is always the force (or couple) it applies, on its line.  ``T_r`` is reported
+for legs with a linear actuator only, where it is the moment of the leg's constraint
+wrench about the leg's own axis (the paper's eq. 13e).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["report", "row_quantity"]
+
+_POSE = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
+
+
+def row_quantity(r) -> str:
+    """``"torque"`` for a couple row or the effort of a rotary (R, H) actuator, else ``"force"``."""
+    if r.member == "couple":
+        return "torque"
+    if r.kind == "actuation" and r.joint is not None and r.joint[0] in "RH":
+        return "torque"
+    return "force"
+
+
+def _scales(model, units):
+    u = model.units
+    if units is None:
+        return u.as_dict(), {"length": 1.0, "force": 1.0, "torque": 1.0}
+    if str(units).upper() != "SI":
+        raise InputError(f"units must be the model's (default) or 'SI', got {units!r}")
+    if not u.declared:
+        raise InputError(f"{model.name} declares no units (add 'units: {{length: .., force: ..}}' "
+                         "to its definition): they cannot be converted")
+    f = u.si_factors()
+    return {"length": "m", "force": "N", "torque": "N.m", "angle": "deg", "declared": True}, f
+
+
+def report(analysis, units=None) -> dict:
+    """The JSON-ready report of a one-pose :class:`~screwkit.engine.PMAnalysis`."""
+    if not analysis.single:
+        raise TypeError("to_dict describes one pose: index the result first (res[i])")
+    sol, jac, st, model = analysis.solution, analysis.jacobian, analysis.statics, analysis.model
+    ublock, k = _scales(model, units)
+    kl, kf, kt = k["length"], k["force"], k["torque"]
+    p = sol.params_degrees()
+    det = st.determined if st is not None else None
+    linear = [lg.actuated_joint.kind == "P" for lg in sol.legs]
+    legs = []
+    for i, leg in enumerate(sol.legs):
+        rows = [k_ for k_, r in enumerate(jac.rows) if r.leg == i]
+        act = [k_ for k_ in rows if jac.rows[k_].kind == "actuation"]
+        cons = []
+        for k_ in rows:
+            r = jac.rows[k_]
+            if r.kind == "actuation":
+                continue
+            q = row_quantity(r)
+            c = {"kind": r.kind, "label": r.label, "direction": r.direction,
+                 "unit_wrench": _wrench(jac.J[k_], kl, kf, kt, unit=True),
+                 "unit": ublock[q]}
+            if st is not None:
+                c["value"] = st.values[k_] * (kt if q == "torque" else kf)
+                c["vector"] = st.vectors[k_] * (kt if q == "torque" else kf)
+                c["determined"] = bool(det[k_])
+            if r.point is not None:
+                c["point"] = r.point * kl
+                c["point_name"] = r.point_name
+            cons.append(c)
+        entry = {
+            "index": i + 1, "leg": leg.name, "string": leg.string.marked,
+            "A": leg.A * kl, "a": leg.a * kl, "extension": sol.extensions[i] * kl,
+            "actuator_value": sol.actuator_values[i] * (kl if linear[i] else 1.0),
+            "actuator_value_unit": ublock["length"] if linear[i] else "rad",
+            "joint_values": sol.joint_values[i],
+            "constraints": cons,
+        }
+        if act:
+            r = jac.rows[act[0]]
+            q = row_quantity(r)
+            entry["actuation"] = {"kind": r.member, "direction": r.direction,
+                                  "point": None if r.point is None else r.point * kl,
+                                  "joint": r.joint, "effort": q, "unit": ublock[q],
+                                  "unit_wrench": _wrench(jac.J[act[0]], kl, kf, kt, unit=True)}
+            if st is not None:
+                entry["active"] = st.values[act[0]] * (kt if q == "torque" else kf)
+                entry["active_unit"] = ublock[q]
+        if st is not None:
+            if linear[i]:
+                entry["torque"] = st.T_r[i] * kt
+                entry["torque_name"] = "T_r: moment of the leg's constraint wrench about its axis"
+                entry["torque_unit"] = ublock["torque"]
+                entry["torque_determined"] = bool(all(det[k_] for k_ in rows))
+            entry["wrench"] = _wrench(st.leg_wrenches[i], kl, kf, kt)
+        legs.append(entry)
+    m = analysis.mobility
+    out = {
+        "pm": model.name,
+        "units": ublock,
+        "pose": {n: (p[n] * kl if n in ("Xo", "Yo", "Zo") else p[n]) for n in _POSE},
+        "independent": list(model.independent),
+        "order": model.order,
+        "closure_residual": sol.residual,
+        "notes": list(sol.notes),
+        "warnings": list(analysis.warnings),
+        "legs": legs,
+        "extensions": sol.extensions * kl,
+        "jacobian": jac.J,
+        "jacobian_convention": "rows [f; m] about O in the model's units, acting on [v_O; w]",
+        "condition_number": jac.condition_number,
+        "conditioning": analysis.quality.as_dict(0),
+        "singular": jac.singular,
+        "singularity_kind": jac.singularity_kind,
+        "mobility": {"dof": m.dof, "motion_type": m.motion_type, "redundant": m.redundant,
+                     "common": m.common, "constraint_rank": m.constraint_rank,
+                     "n_constraints": m.n_constraints, "gruebler": m.gruebler,
+                     "stated_dof": model.stated_dof},
+        "workload": {"force": analysis.force * kf, "torque": analysis.torque * kt,
+                     "applied_at": "o", "force_unit": ublock["force"],
+                     "torque_unit": ublock["torque"]},
+    }
+    if st is not None:
+        scale = np.array([kt if row_quantity(r) == "torque" else kf for r in jac.info])
+        vals = st.values * scale
+        n = jac.n_actuated
+        out["statics"] = {
+            "labels": list(jac.labels),
+            "units": [ublock[row_quantity(r)] for r in jac.info],
+            "active": vals[:n], "constraint": vals[n:], "values": vals,
+            "T_r": [st.T_r[i] * kt if linear[i] else None for i in range(len(linear))],
+            "equilibrium_residual": st.equilibrium_residual,
+            "indeterminacy": st.indeterminacy,
+            "determined": st.determined,
+            "solution": ("unique" if not st.indeterminate else
+                         "compliance-weighted" if analysis.stiffness is not None else
+                         "least-norm"),
+        }
+        if st.indeterminate:
+            out["statics"]["self_stress"] = st.self_stress
+    return out
+
+
+def _wrench(w, kl, kf, kt, unit=False):
+    """A wrench ``[f; m]`` in the output units (a unit row keeps ``|f| = 1`` or ``|m| = 1``:
+    only its moment arm scales)."""
+    w = np.asarray(w, float)
+    if unit:
+        return np.concatenate([w[..., :3], w[..., 3:] * kl]) if kl != 1.0 else w
+    return np.concatenate([w[..., :3] * kf, w[..., 3:] * kt])

@@ -1,0 +1,101 @@
+"""The units a model declares (``units: {length: cm, force: kN}``), and conversions to SI.
+
+Every number screwkit computes is in the model's own consistent units: lengths in its
+length unit, forces in its force unit, couples and rotary actuators' torques in force x
+length, angles in radians in the Python API (degrees at the command line).  The catalog
+declares the paper's cm and kN.  A conversion (``--units SI``) scales the outputs through
+pint, imported only when one is asked for.
+
+Examples
+--------
+>>> u = Units("cm", "kN")
+>>> u.torque, u.of("torque"), u.of("force"), u.of("angle")
+('kN.cm', 'kN.cm', 'kN', 'deg')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import CatalogError, InputError
+
+__all__ = ["Units", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping", "UNDECLARED"]
+
+#: Length and force units a model may declare.
+LENGTH_UNITS = ("mm", "cm", "dm", "m", "in", "ft")
+FORCE_UNITS = ("N", "kN", "MN", "lbf")
+
+
+@dataclass(frozen=True)
+class Units:
+    """A model's units: ``length`` and ``force`` (``torque`` is force.length).
+
+    ``declared`` is False for a model that declares none: its numbers are in whatever
+    consistent units its dimensions were written in, and are labelled so.
+    """
+
+    length: str = "cm"
+    force: str = "kN"
+    declared: bool = True
+
+    @property
+    def torque(self) -> str:
+        return f"{self.force}.{self.length}"
+
+    def of(self, quantity: str) -> str:
+        """The unit of a quantity: ``length``, ``force``, ``torque``, ``angle`` (degrees at the
+        command line), ``stiffness`` (force/length), ``angular stiffness`` (torque/rad)."""
+        table = {"length": self.length, "force": self.force, "torque": self.torque,
+                 "angle": "deg", "stiffness": f"{self.force}/{self.length}",
+                 "angular stiffness": f"{self.torque}/rad", "": ""}
+        try:
+            return table[quantity]
+        except KeyError:
+            raise InputError(f"unknown quantity {quantity!r}") from None
+
+    def as_dict(self) -> dict:
+        return {"length": self.length, "force": self.force, "torque": self.torque,
+                "angle": "deg", "declared": self.declared}
+
+    def si_factors(self) -> dict:
+        """Factors to metres, newtons and newton metres (through pint)."""
+        try:
+            import pint
+        except ImportError:
+            raise InputError("unit conversions need the 'pint' package "
+                             "(pip install 'screwkit[units]')") from None
+        ureg = _registry(pint)
+        lf = float(ureg.Quantity(1.0, self.length).to("m").magnitude)
+        ff = float(ureg.Quantity(1.0, self.force).to("N").magnitude)
+        return {"length": lf, "force": ff, "torque": lf * ff, "angle": 1.0}
+
+
+_REG = []
+
+
+def _registry(pint):
+    if not _REG:
+        _REG.append(pint.UnitRegistry())
+    return _REG[0]
+
+
+#: The units of a model that declares none (labelled as such).
+UNDECLARED = Units("length unit", "force unit", False)
+
+
+def units_from_mapping(raw, where: str = "", source=None, default: Units | None = None) -> Units:
+    """Validate a ``units:`` mapping (``{length: cm, force: kN}``)."""
+    if raw is None:
+        return default if default is not None else UNDECLARED
+    if not isinstance(raw, dict) or set(raw) - {"length", "force"} or not raw:
+        raise CatalogError("must be a mapping {length: UNIT, force: UNIT}", where, "units",
+                           source)
+    length = raw.get("length", (default or Units()).length)
+    force = raw.get("force", (default or Units()).force)
+    if length not in LENGTH_UNITS:
+        raise CatalogError(f"unknown length unit {length!r} (one of {', '.join(LENGTH_UNITS)})",
+                           where, "units.length", source)
+    if force not in FORCE_UNITS:
+        raise CatalogError(f"unknown force unit {force!r} (one of {', '.join(FORCE_UNITS)})",
+                           where, "units.force", source)
+    return Units(length, force, True)
