@@ -18,7 +18,8 @@ from ._catalog import (Catalog, LegSpec, catalog_path, default_catalog, leg_spec
 from ._units import FORCE_UNITS, LENGTH_UNITS, UNDECLARED, Units, units_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 from ._loader import load_pm, pm_names
-from ._mobility import Mobility, linkage_graph, mobility, mobility_of_legs, motion_type
+from ._mobility import (Mobility, describe_twist_space, linkage_graph, mobility, mobility_of_legs,
+                        motion_type)
 from ..legs import structure_vector    # re-exported: it was screwkit.pm.structure_vector
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility
     "Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph",
+    "describe_twist_space",
     # expressions
     "Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
 ]

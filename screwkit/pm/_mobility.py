@@ -40,7 +40,16 @@ class Mobility:
     ----------
     dof : int
     motion_type : str
-        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...
+        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...: the finite motion type of the PM (the one
+        its definition states, which does not change with the pose), or, for legs
+        without a model, the instantaneous one.
+    instantaneous_type : str
+        The same count for the twist space at this pose (pure translations and the rank
+        of the rotations): it can differ at special poses (a tilt removes the pure
+        translation of a 1T2R platform whose rotations then couple with it...).
+    instantaneous : str
+        The twist space classified by its screws: translations (directions), rotations
+        (about lines through a common point when they are), helical motions (pitch).
     translations, rotations : int
     constraint_rank : int
         Rank of the union of the legs' constraint wrenches.
@@ -82,6 +91,8 @@ class Mobility:
     twists: np.ndarray
     wrenches: np.ndarray
     notes: tuple = ()
+    instantaneous: str = ""
+    instantaneous_type: str = ""
 
 
 def linkage_graph(legs):
@@ -160,6 +171,82 @@ def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
                     wrenches, tuple(notes))
 
 
+def describe_twist_space(twists, length: float, rtol: float = 1e-8) -> str:
+    """Classify a basis of platform twists ``[v; w]`` (about O) by its screws.
+
+    First the pure translations (the twists with ``w = 0``); then, for the rest, rotations
+    about lines through one point when every remaining twist is one (modulo the
+    translations), else the principal pitches of the remaining screw system (the
+    stationary values of ``w . v / w . w``: zero for rotations, non-zero for helical
+    motions), which do not depend on the basis.
+    """
+    T = np.asarray(twists, float).reshape(-1, 6)
+    if len(T) == 0:
+        return "no motion"
+    W = T[:, 3:]
+    _, sv, Vh = np.linalg.svd(W.T, full_matrices=True)
+    k = int(np.sum(sv > rtol * max(1.0, float(sv[0]) if sv.size else 1.0)))
+    trans = (Vh[k:] @ T)[:, :3]
+    rot = Vh[:k] @ T                                     # twists with independent rotations
+    parts = []
+    Q = np.linalg.qr(trans.T)[0][:, :len(trans)] if len(trans) else np.zeros((3, 0))
+    if len(trans) == 1:
+        parts.append("translation along " + _fmt(_signed(Q[:, 0])))
+    elif len(trans) == 2:
+        parts.append("2 translations in the plane normal to " + _fmt(np.cross(Q[:, 0], Q[:, 1])))
+    elif len(trans) == 3:
+        parts.append("3 translations")
+    if len(rot):
+        Pt = np.eye(3) - Q @ Q.T                          # off the translations
+        v, w = rot[:, :3] @ Pt.T, rot[:, 3:]
+        n = len(rot)
+        many = f"{n} rotation{'s' * (n > 1)}"
+        if len(trans) == 3:
+            wq = np.linalg.qr(w.T)[0][:, :n]
+            parts.append(f"{many} about any line along " + (_fmt(_signed(wq[:, 0])) if n == 1 else
+                         "every direction" if n == 3 else
+                         "the plane normal to " + _fmt(np.cross(wq[:, 0], wq[:, 1]))))
+            return " + ".join(parts)
+        # principal pitches: stationary values of (w.v)/(w.w) over the combinations
+        B = w @ w.T
+        A = 0.5 * ((w @ v.T) + (w @ v.T).T)
+        lb, Ub = np.linalg.eigh(B)
+        Bm = Ub @ np.diag(lb ** -0.5) @ Ub.T
+        pitches = np.linalg.eigvalsh(Bm @ A @ Bm)
+        # rotations about lines through one point P: v - P x w = 0 (modulo translations)
+        M = np.vstack([Pt @ _skew(wk) for wk in w])
+        b = -np.concatenate(list(v))
+        P, *_ = np.linalg.lstsq(M, b, rcond=None)
+        res = np.linalg.norm(M @ P - b) / max(np.linalg.norm(b), length * np.sqrt(n), 1e-300)
+        full = np.linalg.matrix_rank(M, tol=1e-9 * max(1.0, np.abs(M).max())) == 3
+        if res <= 1e-7 and full:
+            parts.append(f"{many} about lines through {_fmt(P)}")
+        elif np.all(np.abs(pitches) <= 1e-7 * length):
+            parts.append(f"{many} about lines that do not meet at one point")
+        else:
+            big = np.abs(pitches) > 1e3 * length          # w nearly 0: almost a translation
+            parts.append(f"{n} screw motion{'s' * (n > 1)} of principal pitches "
+                         + ", ".join(f"{h:.4g}" + (" (nearly a translation)" if g else "")
+                                     for h, g in zip(pitches, big)) + " (length/rad)")
+    return " + ".join(parts)
+
+
+def _signed(d):
+    """A direction with its largest component positive (a sign that does not depend on the
+    basis the SVD returned)."""
+    return d if d[np.argmax(np.abs(d))] >= 0 else -d
+
+
+def _skew(p):
+    return np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
+
+
+def _fmt(v):
+    v = np.asarray(v, float)
+    v = np.where(np.abs(v) < 5e-13, 0.0, v)
+    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+
+
 def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
     """Mobility of a PM at a solved pose (:class:`~screwkit.engine.PoseSolution`).
 
@@ -167,9 +254,20 @@ def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
     singular pose or a geometry that cannot have the stated mobility).
     """
     res = mobility_of_legs(solution.legs, rtol)
-    stated = getattr(getattr(solution, "model", None), "stated_dof", None)
+    model = getattr(solution, "model", None)
+    stated = getattr(model, "stated_dof", None)
+    fields = dict(res.__dict__)
+    L = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
+    fields["instantaneous"] = describe_twist_space(res.twists, L)
+    fields["instantaneous_type"] = res.motion_type
     if stated is not None and stated != res.dof:
-        res = Mobility(**{**res.__dict__, "notes": res.notes + (
+        fields["notes"] = res.notes + (
             f"the definition states {stated} DOF: this pose is singular or the geometry "
-            "does not have the stated mobility",)})
-    return res
+            "does not have the stated mobility",)
+    elif getattr(model, "motion", "") and model.motion != res.motion_type:
+        # the finite motion type is the model's; the twist space here counts differently
+        fields["motion_type"] = model.motion
+        fields["notes"] = res.notes + (
+            f"at this pose the twist space counts as {res.motion_type} ({fields['instantaneous']}); "
+            f"the finite motion type is {model.motion}",)
+    return Mobility(**fields)

@@ -130,6 +130,7 @@ def print_text(res) -> None:
     print(f"mobility: {mob.dof} DOF ({mob.motion_type}); constraint rank {mob.constraint_rank} of "
           f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "
           f"Grubler-Kutzbach count {mob.gruebler}")
+    print(f"  twist space here ({mob.instantaneous_type}): {mob.instantaneous}")
     p = sol.params_degrees()
     print(f"units: lengths {u.length}, forces {u.force}, torques {u.torque}, angles deg"
           + ("" if u.declared else " (the model declares no units)"))
