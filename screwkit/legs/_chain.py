@@ -8,6 +8,7 @@ observation rules, actuation wrench) is in :mod:`screwkit.legs._analysis`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -71,9 +72,9 @@ class Joint:
             return prismatic_twist(self.direction)
         return helical_twist(self.direction, self.point, self.pitch)
 
-    @property
+    @cached_property
     def line(self) -> Line:
-        """The joint axis as a line."""
+        """The joint axis as a line (immutable, computed once)."""
         return Line.through(self.point, self.direction)
 
     def moved(self, rotation, translation, scale: float = 1.0) -> "Joint":
@@ -81,6 +82,25 @@ class Joint:
         R = np.asarray(rotation, float)
         return Joint(self.spec, R @ self.direction, R @ (scale * self.point) + translation,
                      self.pitch * scale)
+
+
+def _unit_twist_row(j: Joint) -> list:
+    """``j.twist.vector`` as a list, on Python floats operation for operation as
+    :func:`~screwkit.screws.revolute_twist` (and the prismatic and helical ones) compute it,
+    without building and validating a :class:`~screwkit.screws.Twist` per joint."""
+    d0, d1, d2 = j.direction.tolist()
+    n = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # the twist constructors normalise again
+    u0, u1, u2 = d0 / n, d1 / n, d2 / n
+    if j.kind == "P":
+        return [u0, u1, u2, 0.0, 0.0, 0.0]
+    p0, p1, p2 = j.point.tolist()
+    v = [p1 * u2 - p2 * u1, p2 * u0 - p0 * u2, p0 * u1 - p1 * u0]
+    if j.kind != "R":                                 # helical: p x u + h u
+        h = float(j.pitch)
+        if not math.isfinite(h):
+            return j.twist.vector.tolist()            # raises the constructor's InputError
+        v = [v[0] + h * u0, v[1] + h * u1, v[2] + h * u2]
+    return v + [u0, u1, u2]
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,7 +138,7 @@ class Leg:
     @cached_property
     def twists(self) -> np.ndarray:
         """Joint twists, shape (m, 6), in chain order (read-only, computed once)."""
-        T = np.array([j.twist.vector for j in self.joints]).reshape(-1, 6)
+        T = np.array([_unit_twist_row(j) for j in self.joints]).reshape(-1, 6)
         T.setflags(write=False)
         return T
 

@@ -8,6 +8,7 @@ finite-pitch screws; each member is explained by the observation rules
 
 from __future__ import annotations
 
+import math
 from itertools import combinations
 
 import numpy as np
@@ -41,6 +42,19 @@ def _null(M, rtol=1e-9):
     return Vt[r:]
 
 
+def _nulls(Ms, rtol=1e-9) -> list:
+    """:func:`_null` of each matrix of a list of same-shape matrices, in one SVD call
+    (numpy's stacked SVD runs the same LAPACK routine per matrix: the same bases)."""
+    if not Ms:
+        return []
+    _, S, VT = np.linalg.svd(np.array(Ms), full_matrices=True)
+    out = []
+    for s, Vt in zip(S.tolist(), VT):
+        tol = rtol * max(1.0, s[0] if s else 1.0)
+        out.append(Vt[sum(x > tol for x in s):])
+    return out
+
+
 def _skew(p):
     return np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
 
@@ -69,14 +83,22 @@ def reciprocity_residual(w, twists, norm: Normalisation) -> float:
 
 def _forces_through(Wbasis, p):
     """Coefficients of forces through point p in span(Wbasis): m - p x f = 0."""
-    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
-    return _null(M - _skew(p) @ F)
+    return _null(_through_matrix(Wbasis, p))
 
 
 def _forces_parallel(Wbasis, d):
     """Coefficients of zero-pitch wrenches with f parallel to d: d x f = 0, d . m = 0."""
+    return _null(_parallel_matrix(Wbasis, d))
+
+
+def _through_matrix(Wbasis, p):
     F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
-    return _null(np.vstack([_skew(d) @ F, d @ M]))
+    return M - _skew(p) @ F
+
+
+def _parallel_matrix(Wbasis, d):
+    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
+    return np.vstack([_skew(d) @ F, d @ M])
 
 
 def _zero_pitch_roots(w1, w2):
@@ -139,25 +161,24 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
             try_add(w, "couple")
     # 2. forces on observable lines: through named / meeting points, parallel to axes
     pts = candidate_points(leg, tol_dist)
-    dirs = [j.direction for j in leg.joints]
-    for (i, j) in combinations(range(len(leg.joints)), 2):
-        c = cross(leg.joints[i].direction, leg.joints[j].direction)
-        if np.linalg.norm(c) > 1e-6:
-            dirs.append(c / np.linalg.norm(c))
-    for p in pts.values():
-        if len(chosen) == k:
-            break
-        for c in _forces_through(W, p):
-            w = c @ W
-            if np.linalg.norm(w[:3]) > 1e-9 * np.linalg.norm(norm.wrenches(w)):
-                try_add(w, "force")
-    for d in dirs:
-        if len(chosen) == k:
-            break
-        for c in _forces_parallel(W, d):
-            w = c @ W
-            if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
-                try_add(w, "force")
+    # the null spaces of every candidate point (then direction) in one SVD call each;
+    # they do not depend on what is chosen, only the loops stop early
+    if len(chosen) < k:
+        for c_p in _nulls([_through_matrix(W, p) for p in pts.values()]):
+            if len(chosen) == k:
+                break
+            for c in c_p:
+                w = c @ W
+                if np.linalg.norm(w[:3]) > 1e-9 * np.linalg.norm(norm.wrenches(w)):
+                    try_add(w, "force")
+    if len(chosen) < k:
+        for c_d in _nulls([_parallel_matrix(W, d) for d in _candidate_directions(leg)]):
+            if len(chosen) == k:
+                break
+            for c in c_d:
+                w = c @ W
+                if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
+                    try_add(w, "force")
     # 3. randomised search on the zero-pitch quadric f.m = 0 of the system: along random
     #    lines w1 + s w2 of the (normalised, orthonormal) basis, so no combination vanishes
     if k >= 2 and len(chosen) < k:
@@ -187,6 +208,17 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
         for v in Vt[: k - len(chosen)]:
             try_add(norm.wrenches_back(v), "screw")
     return tuple(out)
+
+
+def _candidate_directions(leg) -> list:
+    """Joint axes, then the unit common normals of pairs of non-parallel axes."""
+    dirs = [j.direction for j in leg.joints]
+    for (i, j) in combinations(range(len(leg.joints)), 2):
+        c = cross(leg.joints[i].direction, leg.joints[j].direction)
+        n = math.sqrt(c.dot(c))                  # == np.linalg.norm(c)
+        if n > 1e-6:
+            dirs.append(c / n)
+    return dirs
 
 
 def _orientation_sign(d, leg) -> float:

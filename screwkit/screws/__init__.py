@@ -18,8 +18,8 @@ from ._primitives import (as_vector3, reciprocal_product, screw_axis_point, scre
 from ._line import Line
 from ._screw import (Twist, Wrench, couple_wrench, force_wrench, helical_twist, prismatic_twist,
                      revolute_twist)
-from ._reciprocal import (Normalisation, ReciprocalSystem, independent_subset, reciprocal_system,
-                          same_span, span_contains)
+from ._reciprocal import (Normalisation, ReciprocalSystem, compare_spans, independent_subset,
+                          reciprocal_system, same_span, span_contains, twist_rank)
 from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check_order,
                      euler_angles, euler_matrices, is_singular, rotation_matrix)
 
@@ -31,7 +31,7 @@ __all__ = [
     "transform_wrenches", "screw_pitch", "screw_axis_point",
     # reciprocal screw systems
     "Normalisation", "ReciprocalSystem", "reciprocal_system", "independent_subset", "same_span",
-    "span_contains",
+    "span_contains", "compare_spans", "twist_rank",
     # tolerances
     "RANK_RTOL", "GEOMETRY_RTOL", "characteristic_length",
     # Euler angles

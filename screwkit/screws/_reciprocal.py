@@ -20,12 +20,13 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
-from ._tolerance import RANK_RTOL, characteristic_length
+from ._tolerance import RANK_RTOL, _spread_length
 from ._vector import cross
 
 __all__ = [
@@ -35,6 +36,8 @@ __all__ = [
     "independent_subset",
     "same_span",
     "span_contains",
+    "compare_spans",
+    "twist_rank",
 ]
 
 
@@ -55,34 +58,76 @@ class Normalisation:
     def for_points(cls, points, length: float | None = None) -> "Normalisation":
         p = np.asarray(points, dtype=float).reshape(-1, 3)
         c = p.mean(axis=0) if p.size else np.zeros(3)
-        L = characteristic_length(p) if length is None else float(length)
+        L = _spread_length(p, c) if length is None else float(length)
         if not (np.isfinite(L) and L > 0):
             raise InputError(f"characteristic length must be positive and finite, got {L}")
         return cls(c, L)
 
     def twists(self, T) -> np.ndarray:
         T = np.asarray(T, float)
+        if _small(T, self.length):
+            return _shifted(T, self.centre, self.length, True, False)
         w = T[..., 3:]
         v = (T[..., :3] - cross(self.centre, w)) / self.length
         return np.concatenate([v, w], axis=-1)
 
     def wrenches(self, W) -> np.ndarray:
         W = np.asarray(W, float)
+        if _small(W, self.length):
+            return _shifted(W, self.centre, self.length, False, False)
         f = W[..., :3]
         m = (W[..., 3:] - cross(self.centre, f)) / self.length
         return np.concatenate([f, m], axis=-1)
 
     def wrenches_back(self, Wn) -> np.ndarray:
         Wn = np.asarray(Wn, float)
+        if _small(Wn, self.length):
+            return _shifted(Wn, self.centre, self.length, False, True)
         f = Wn[..., :3]
         m = Wn[..., 3:] * self.length + cross(self.centre, f)
         return np.concatenate([f, m], axis=-1)
 
     def twists_back(self, Tn) -> np.ndarray:
         Tn = np.asarray(Tn, float)
+        if _small(Tn, self.length):
+            return _shifted(Tn, self.centre, self.length, True, True)
         w = Tn[..., 3:]
         v = Tn[..., :3] * self.length + cross(self.centre, w)
         return np.concatenate([v, w], axis=-1)
+
+
+#: Up to this many screws, the maps of :class:`Normalisation` and :func:`_unit_rows` work
+#: on Python floats: numpy's per-call overhead dominates on a handful of 6-vectors.
+_SMALL_ROWS = 16
+
+
+def _small(S: np.ndarray, length) -> bool:
+    # a zero length would raise ZeroDivisionError on floats where numpy gives inf/nan
+    return ((S.ndim == 1 and S.shape == (6,)) or
+            (S.ndim == 2 and S.shape[1] == 6 and 0 < len(S) <= _SMALL_ROWS)) and length != 0
+
+
+def _shifted(S: np.ndarray, centre, length, moved_first: bool, back: bool) -> np.ndarray:
+    """The maps of :class:`Normalisation` on Python floats, operation for operation the
+    same as the array expressions (so bit for bit the same results).
+
+    ``moved_first``: the first three components move (twists), else the last three
+    (wrenches); ``back``: ``x L + c x r`` instead of ``(x - c x r) / L``."""
+    c0, c1, c2 = np.asarray(centre, float).tolist()
+    L = float(length)
+    out = []
+    for row in (S.tolist() if S.ndim == 2 else [S.tolist()]):
+        if moved_first:
+            x0, x1, x2, r0, r1, r2 = row
+        else:
+            r0, r1, r2, x0, x1, x2 = row
+        m0, m1, m2 = c1 * r2 - c2 * r1, c2 * r0 - c0 * r2, c0 * r1 - c1 * r0   # c x r
+        if back:
+            y = [x0 * L + m0, x1 * L + m1, x2 * L + m2]
+        else:
+            y = [(x0 - m0) / L, (x1 - m1) / L, (x2 - m2) / L]
+        out.append(y + [r0, r1, r2] if moved_first else [r0, r1, r2] + y)
+    return np.array(out if S.ndim == 2 else out[0])
 
 
 @dataclass(frozen=True)
@@ -138,7 +183,7 @@ def _check_matrix(T, name: str) -> np.ndarray:
         T = T.reshape(0, 6)
     if T.ndim != 2 or T.shape[1] != 6:
         raise InputError(f"{name} must have shape (m, 6), got {T.shape}")
-    if not np.all(np.isfinite(T)):
+    if not np.isfinite(T).all():
         raise InputError(f"{name} contains NaN or infinite entries")
     return T
 
@@ -154,6 +199,14 @@ def _unit_rows(M) -> np.ndarray:
     M = np.asarray(M, float)
     if M.size == 0:
         return M
+    if M.ndim == 2 and M.shape[1] == 6 and len(M) <= _SMALL_ROWS:
+        # Python floats: the same sum of squares in the same order as numpy's row norm
+        out = []
+        for row in M.tolist():
+            a0, a1, a2, a3, a4, a5 = row
+            n = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3 + a4 * a4 + a5 * a5)
+            out.append([x / n for x in row] if n > 0 else row)
+        return np.array(out)
     n = np.linalg.norm(M, axis=-1, keepdims=True)
     return M / np.where(n > 0, n, 1.0)
 
@@ -195,12 +248,26 @@ def reciprocal_system(twists, points=None, length: float | None = None,
     else:
         _, s, Vt = np.linalg.svd(Tn, full_matrices=True)
         tol = rtol * max(1.0, float(s[0]))
-        rank = int(np.sum(s > tol))
+        rank = sum(x > tol for x in s.tolist())
     basis_n = Vt[rank:]
     W = norm.wrenches_back(basis_n)
-    residual = float(np.max(np.abs(Tn @ basis_n.T))) if basis_n.size and len(Tn) else 0.0
+    residual = float(np.abs(Tn @ basis_n.T).max()) if basis_n.size and len(Tn) else 0.0
     W.setflags(write=False)
     return ReciprocalSystem(W, s, rank, len(T), tol, norm, residual)
+
+
+def twist_rank(twists, points=None, length: float | None = None, rtol: float = RANK_RTOL) -> int:
+    """``reciprocal_system(twists, points, length, rtol).rank`` without the wrench basis."""
+    T = _check_matrix(twists, "twists")
+    if points is None:
+        return reciprocal_system(T, None, length, rtol).rank
+    norm = Normalisation.for_points(points, length)
+    Tn = _unit_rows(norm.twists(T))
+    if len(Tn) == 0:
+        return 0
+    s = np.linalg.svd(Tn, compute_uv=False).tolist()
+    tol = rtol * max(1.0, s[0])
+    return sum(x > tol for x in s)
 
 
 def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[list[int], list[int]]:
@@ -220,6 +287,10 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
     Tn = _unit_rows(norm.twists(T))
     independent: list[int] = []
     dependent: list[int] = []
+    if _orth_rank(Tn, rtol) == len(Tn):
+        # every subset of independent rows is independent: the singular values of a
+        # subset of rows are no smaller (interlacing) and its threshold no larger
+        return list(range(len(Tn))), []
     for i in range(len(Tn)):
         trial = Tn[independent + [i]]
         s = np.linalg.svd(trial, compute_uv=False)
@@ -234,8 +305,21 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
 def _orth_rank(M, rtol):
     if M.size == 0:
         return 0
-    s = np.linalg.svd(_unit_rows(M), compute_uv=False)
-    return int(np.sum(s > rtol * max(1.0, float(s[0]))))
+    s = np.linalg.svd(_unit_rows(M), compute_uv=False).tolist()
+    tol = rtol * max(1.0, s[0])
+    return sum(x > tol for x in s)
+
+
+def _orth_ranks(M, rtol) -> list:
+    """:func:`_orth_rank` of each matrix of a stack (n, r, 6), in one SVD call."""
+    if M.size == 0:
+        return [0] * len(M)
+    n = np.linalg.norm(M, axis=-1, keepdims=True)
+    out = []
+    for s in np.linalg.svd(M / np.where(n > 0, n, 1.0), compute_uv=False).tolist():
+        tol = rtol * max(1.0, s[0])
+        out.append(sum(x > tol for x in s))
+    return out
 
 
 def same_span(A, B, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:
@@ -245,6 +329,30 @@ def same_span(A, B, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench
     Bn = f(_check_matrix(B, "B")) if len(B) else np.zeros((0, 6))
     ra, rb = _orth_rank(An, rtol), _orth_rank(Bn, rtol)
     return ra == rb == _orth_rank(np.vstack([An, Bn]), rtol)
+
+
+def compare_spans(A, W, norm: Normalisation, rtol: float = 1e-7,
+                  kind: str = "wrench") -> tuple[tuple, bool]:
+    """Whether each row of ``W`` lies in the span of the rows of ``A``, and whether the two
+    sets span the same subspace: :func:`span_contains` for each row and :func:`same_span`,
+    with the rank of ``A`` computed once and the containment tests in one SVD call.
+
+    Returns
+    -------
+    contained : tuple of bool
+    same : bool
+    """
+    f = norm.wrenches if kind == "wrench" else norm.twists
+    An = f(_check_matrix(A, "A")) if len(A) else np.zeros((0, 6))
+    Wr = np.asarray(W, float).reshape(-1, 6)
+    Wn = f(_check_matrix(Wr, "B")) if len(Wr) else np.zeros((0, 6))
+    ra = _orth_rank(An, rtol)
+    # each row scaled as span_contains scales its screw
+    rows = [wn / max(math.sqrt(wn.dot(wn)), 1e-300) for wn in Wn]
+    stack = np.array([np.vstack([An, wn[None]]) for wn in rows]).reshape(len(rows), len(An) + 1, 6)
+    contained = tuple(r == ra for r in _orth_ranks(stack, rtol))
+    same = _orth_rank(Wn, rtol) == ra == _orth_rank(np.vstack([Wn, An]), rtol)
+    return contained, same
 
 
 def span_contains(A, w, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:

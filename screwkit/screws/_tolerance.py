@@ -10,6 +10,8 @@ literals that decide ranks; every function takes them as overridable arguments.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -44,11 +46,19 @@ def characteristic_length(points) -> float:
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if p.size == 0:
         return 1.0
-    spread = float(np.sqrt(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=1))))
-    if not np.isfinite(spread):
+    return _spread_length(p, p.mean(axis=0))
+
+
+def _spread_length(p: np.ndarray, centroid: np.ndarray) -> float:
+    """:func:`characteristic_length` of the points ``p``, shape (n, 3), given their centroid."""
+    if p.size == 0:
+        return 1.0
+    spread = float(np.sqrt(np.mean(np.sum((p - centroid) ** 2, axis=1))))
+    if not math.isfinite(spread):
         return 1.0
     # coincident points: no spread to measure, fall back to the distance from the origin
     # (so the result still scales with the units) or to 1 for points at the origin
-    if spread <= 1e-12 * float(np.max(np.abs(p))):
-        spread = float(np.max(np.abs(p)))
+    biggest = float(np.abs(p).max())
+    if spread <= 1e-12 * biggest:
+        spread = biggest
     return spread if spread > 0 else 1.0

@@ -12,10 +12,10 @@ import numpy as np
 
 from ..legs import LegString, Placement
 from ._layouts import Layout
-from ._linalg import cross, null_basis, unit
+from ._linalg import cross, null_basis, null_dimension, unit
 
-__all__ = ["Letter", "admissible_directions", "place_letter", "joint_twist", "letters_of",
-           "options_for", "choice_words"]
+__all__ = ["Letter", "admissible", "admissible_directions", "place_letter", "joint_twist",
+           "twist_row", "letters_of", "options_for", "choice_words"]
 
 _NEED = {"R": 1, "H": 1, "U": 2, "S": 3, "C": 1, "P": 1}
 
@@ -32,20 +32,32 @@ class Letter:
         return len(self.specs)
 
 
+def _rule_matrix(letter, layout: Layout, p, pitch: float, M_p=None) -> np.ndarray:
+    """The matrix whose null space holds the admissible directions of ``letter`` at p."""
+    Mp = layout.moment_matrix(p) if M_p is None else M_p
+    if letter in ("R", "U", "S"):
+        return Mp
+    if letter == "H":
+        return Mp + pitch * layout.force_matrix()
+    if letter == "C":
+        return np.vstack([layout.force_matrix(), Mp])
+    raise AssertionError(letter)
+
+
+def admissible(letter, layout: Layout, p, pitch: float, rng) -> bool:
+    """Whether :func:`admissible_directions` finds directions, drawing the same random
+    numbers from ``rng`` (discarded) without computing a basis of the null space."""
+    n = null_dimension(_rule_matrix(letter, layout, p, pitch))
+    if n < _NEED[letter]:
+        return False
+    # the draws of admissible_directions, so that rng continues as it would after it
+    rng.standard_normal((3, 3) if letter == "S" else (2, n) if letter == "U" else n)
+    return True
+
+
 def admissible_directions(letter, layout: Layout, p, pitch: float, rng, M_p=None):
     """Random admissible directions for ``letter`` at point p, or None."""
-    F = layout.force_matrix()
-    Mp = layout.moment_matrix(p) if M_p is None else M_p
-    if letter == "R":
-        N = null_basis(Mp)
-    elif letter == "H":
-        N = null_basis(Mp + pitch * F)
-    elif letter in ("U", "S"):
-        N = null_basis(Mp)
-    elif letter == "C":
-        N = null_basis(np.vstack([F, Mp]))
-    else:
-        raise AssertionError(letter)
+    N = null_basis(_rule_matrix(letter, layout, p, pitch, M_p))
     if len(N) < _NEED[letter]:
         return None
     if letter == "S":
@@ -63,7 +75,7 @@ def place_letter(letter: Letter, option, layout, rng, scale, prior_p):
     before; option ``"span"`` puts a P in their span (a deliberate dependence, so
     that an unavoidably dependent leg keeps its actuated joint independent)."""
     if letter.letter == "P":
-        N = null_basis(layout.force_matrix())
+        N = layout.force_null()
         if option == "span":
             if len(prior_p) == 0:
                 return None
@@ -84,6 +96,21 @@ def joint_twist(kind, d, p, pitch):
     if kind == "P":
         return np.concatenate([d, np.zeros(3)])
     return np.concatenate([cross(p, d) + pitch * d, d])
+
+
+def twist_row(kind, d, p, pitch, centre, length) -> list:
+    """``Normalisation(centre, length).twists(joint_twist(kind, d, p, pitch))`` as a list of
+    floats, operation for operation (so the same values, without numpy's per-call cost)."""
+    d0, d1, d2 = d.tolist()
+    c0, c1, c2 = centre
+    if kind == "P":
+        return [d0 / length, d1 / length, d2 / length, 0.0, 0.0, 0.0]
+    p0, p1, p2 = p.tolist()
+    v0 = (p1 * d2 - p2 * d1) + pitch * d0
+    v1 = (p2 * d0 - p0 * d2) + pitch * d1
+    v2 = (p0 * d1 - p1 * d0) + pitch * d2
+    return [(v0 - (c1 * d2 - c2 * d1)) / length, (v1 - (c2 * d0 - c0 * d2)) / length,
+            (v2 - (c0 * d1 - c1 * d0)) / length, d0, d1, d2]
 
 
 def letters_of(ls: LegString, placement: Placement):

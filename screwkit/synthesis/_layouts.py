@@ -15,7 +15,6 @@ import numpy as np
 from ..errors import InputError
 from ..screws import couple_wrench, force_wrench
 from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
-from ..screws import cross
 
 __all__ = ["LAYOUTS", "Locus", "Layout", "compositions", "layouts_for", "make_layout"]
 
@@ -108,6 +107,16 @@ class Layout:
         W = np.array(rows, float).reshape(-1, 6)
         W.setflags(write=False)
         object.__setattr__(self, "_W", W)
+        object.__setattr__(self, "_rows", W.tolist())     # for moment_matrix on floats
+        object.__setattr__(self, "_cache", {})            # derived immutable arrays
+
+    def _cached(self, key, make):
+        out = self._cache.get(key)
+        if out is None:
+            out = self._cache[key] = make()
+            if isinstance(out, np.ndarray):
+                out.setflags(write=False)
+        return out
 
     @property
     def k(self) -> int:
@@ -121,15 +130,25 @@ class Layout:
     @property
     def force_rank(self) -> int:
         """Rank of the force directions (the system's forces span this many directions)."""
+        return self._cached("force_rank", self._force_rank)
+
+    def _force_rank(self) -> int:
         if not self.force_lines:
             return 0
         D = np.array([d for _, d in self.force_lines])
         s = np.linalg.svd(D, compute_uv=False)
         return int(np.sum(s > NULL_RTOL * s[0]))
 
+    def force_null(self) -> np.ndarray:
+        """``null_basis(F)``: the directions perpendicular to every force (read-only)."""
+        return self._cached("force_null", lambda: null_basis(self._W[:, :3]))
+
     def couple_space(self) -> np.ndarray:
         """Orthonormal basis (rows) of the directions of the couples in the system's span
         (the combinations with zero force), shape (c, 3)."""
+        return self._cached("couple_space", self._couple_space).copy()
+
+    def _couple_space(self) -> np.ndarray:
         F = self._W[:, :3]
         _, s, Vt = np.linalg.svd(F.T, full_matrices=True)
         r = int(np.sum(s > NULL_RTOL * max(1.0, float(s[0]) if s.size else 1.0)))
@@ -144,8 +163,11 @@ class Layout:
 
     def moment_matrix(self, p) -> np.ndarray:
         """``M_p``: moments of the target wrenches about ``p``, shape (k, 3)."""
-        W = self._W
-        return W[:, 3:] - cross(np.asarray(p, float), W[:, :3])
+        # on floats, operation for operation ``W[:, 3:] - cross(p, W[:, :3])``
+        p0, p1, p2 = np.asarray(p, float).tolist()
+        return np.array([[m0 - (p1 * f2 - p2 * f1), m1 - (p2 * f0 - p0 * f2),
+                          m2 - (p0 * f1 - p1 * f0)]
+                         for f0, f1, f2, m0, m1, m2 in self._rows]).reshape(-1, 3)
 
 
 def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:

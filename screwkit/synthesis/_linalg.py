@@ -5,11 +5,14 @@ Everything here works on exact target geometry (``NULL_RTOL`` only absorbs round
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..screws import cross
 
-__all__ = ["NULL_RTOL", "cross", "unit", "random_unit", "perpendicular_unit", "null_basis"]
+__all__ = ["NULL_RTOL", "cross", "unit", "random_unit", "perpendicular_unit", "null_basis",
+           "null_dimension"]
 
 #: Relative tolerance of the null spaces of the rule matrices (built exactly from the
 #: target geometry, so only rounding separates a zero from a non-zero singular value).
@@ -18,6 +21,10 @@ NULL_RTOL = 1e-9
 
 def unit(v):
     v = np.asarray(v, float)
+    if v.ndim == 1:
+        # np.linalg.norm of a vector is sqrt(x.dot(x)) on its contiguous ravel: the same value
+        x = v.ravel(order="K")
+        return v / math.sqrt(x.dot(x))
     return v / np.linalg.norm(v)
 
 
@@ -40,6 +47,19 @@ def null_basis(M, rtol=NULL_RTOL) -> np.ndarray:
     if len(M) == 0:
         return np.eye(3)
     _, s, Vt = np.linalg.svd(M, full_matrices=True)
-    scale = max(1.0, float(np.max(np.linalg.norm(M, axis=1))))
-    r = int(np.sum(s > rtol * scale))
-    return Vt[r:]
+    return Vt[_rank(M, s.tolist(), rtol):]
+
+
+def null_dimension(M, rtol=NULL_RTOL) -> int:
+    """``len(null_basis(M, rtol))`` from the singular values alone (no basis computed)."""
+    M = np.asarray(M, float).reshape(-1, 3)
+    if len(M) == 0:
+        return 3
+    return 3 - _rank(M, np.linalg.svd(M, compute_uv=False).tolist(), rtol)
+
+
+def _rank(M, s, rtol) -> int:
+    # threshold relative to the largest row norm (not below 1)
+    scale = max(1.0, max(math.sqrt(a * a + b * b + c * c) for a, b, c in M.tolist()))
+    tol = rtol * scale
+    return sum(x > tol for x in s)

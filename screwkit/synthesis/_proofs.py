@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..legs import LegString, parse_leg
-from ._joints import Letter, admissible_directions
+from ._joints import Letter, admissible
 from ._layouts import Layout
 from ._linalg import null_basis
 
@@ -31,13 +31,13 @@ def counting_rank(string: str | LegString) -> int:
 def rule_reason(letter: Letter, layout: Layout, rng, scale) -> str | None:
     """Why no placement of ``letter`` satisfies the rules in ``layout`` (None if one does)."""
     if letter.letter == "P":
-        if len(null_basis(layout.force_matrix())) == 0:
+        if len(layout.force_null()) == 0:
             return (f"P{letter.position}: a force must be perpendicular to every P (rule 1), "
                     "and the forces span every direction")
         return None
     for locus in layout.loci:
         p = locus.sample(letter.nominal, rng, scale)
-        if admissible_directions(letter.letter, layout, p, letter.pitch, rng) is not None:
+        if admissible(letter.letter, layout, p, letter.pitch, rng):
             return None
     nf, nc = layout.composition
     name = f"{letter.letter}{letter.position}"

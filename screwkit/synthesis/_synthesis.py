@@ -74,7 +74,7 @@ import numpy as np
 from ..errors import InputError
 from ..legs import Joint, Leg, LegString, Placement, default_placement, parse_leg
 from ..screws import Normalisation, RANK_RTOL
-from ._joints import choice_words, joint_twist, letters_of, options_for, place_letter
+from ._joints import choice_words, letters_of, options_for, place_letter, twist_row
 from ._layouts import LAYOUTS, Layout, Locus, compositions, layouts_for, make_layout
 from ._linalg import NULL_RTOL
 from ._proofs import counting_rank, counting_reason, rank_bound, rule_reason
@@ -159,15 +159,22 @@ class Synthesis:
 
 # --------------------------------------------------------------------------- search
 class _Ranker:
+    """Rank of normalised twist rows (lists of floats, see :func:`twist_row`)."""
+
     def __init__(self, norm: Normalisation, rtol=RANK_RTOL):
         self.norm, self.rtol = norm, rtol
+        self.centre = np.asarray(norm.centre, float).tolist()
+        self.length = float(norm.length)
+
+    def row(self, kind, d, p, h) -> list:
+        return twist_row(kind, d, p, h, self.centre, self.length)
 
     def __call__(self, rows) -> int:
         if not rows:
             return 0
-        Tn = self.norm.twists(np.array(rows))
-        s = np.linalg.svd(Tn, compute_uv=False)
-        return int(np.sum(s > self.rtol * max(1.0, float(s[0]))))
+        s = np.linalg.svd(np.array(rows), compute_uv=False).tolist()
+        tol = self.rtol * max(1.0, s[0])
+        return sum(x > tol for x in s)
 
 
 def _search(letters, layout, rng, scale, ranker, target_rank, actuated):
@@ -177,9 +184,9 @@ def _search(letters, layout, rng, scale, ranker, target_rank, actuated):
     best = [0, ""]
     need_actuation = sum(lt.dof for lt in letters) > target_rank
 
-    def finish(placed):
-        rows = [joint_twist(s.kind, d, p, h) for s, d, p, h in placed]
-        if ranker(rows) != target_rank:
+    def finish(placed, rows, rank):
+        # ``rank`` is the rank of ``rows``, the twists of ``placed``
+        if rank != target_rank:
             return False
         if need_actuation:
             passive = [r for (s, *_), r in zip(placed, rows) if s.name != actuated]
@@ -188,27 +195,27 @@ def _search(letters, layout, rng, scale, ranker, target_rank, actuated):
                 return False
         return True
 
-    def dfs(i, placed_opts, rows):
+    def dfs(i, placed_opts, rows, rank):
         if i == n:
             flat = [j for js, _ in placed_opts for j in js]
-            return placed_opts if finish(flat) else None
+            return placed_opts if finish(flat, rows, rank) else None
         prior = [d for js, _ in placed_opts for s, d, _p, _h in js
                  if s.kind == "P" and s.name != actuated]
         for opt in options_for(letters[i], layout, need_actuation):
             js = place_letter(letters[i], opt, layout, rng, scale, prior)
             if js is None:
                 continue
-            new_rows = rows + [joint_twist(s.kind, d, p, h) for s, d, p, h in js]
+            new_rows = rows + [ranker.row(s.kind, d, p, h) for s, d, p, h in js]
             r = ranker(new_rows)
             best[0] = max(best[0], r)
             if r + remaining[i + 1] < target_rank:
                 continue
-            out = dfs(i + 1, placed_opts + [(js, opt)], new_rows)
+            out = dfs(i + 1, placed_opts + [(js, opt)], new_rows, r)
             if out is not None:
                 return out
         return None
 
-    return dfs(0, [], []), best[0], best[1]
+    return dfs(0, [], [], 0), best[0], best[1]
 
 
 def synthesize_composition(string, composition, layout_name: str, rng,

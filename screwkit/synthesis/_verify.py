@@ -13,8 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..legs import Leg, actuation_wrench
-from ..screws import independent_subset, reciprocal_system, same_span, span_contains
+from ..legs import Leg
+from ..legs._analysis import has_actuation_wrench
+from ..screws import compare_spans, independent_subset, reciprocal_system, twist_rank
 
 __all__ = ["Verification", "verify"]
 
@@ -108,9 +109,10 @@ def verify(leg: Leg, predicted, allow_dependent: bool = False,
     T, pts = leg.twists, leg.points
     system = reciprocal_system(T, pts)
     norm = system.normalisation
-    contained = tuple(bool(span_contains(system.wrenches, w, norm)) for w in W)
-    same = bool(same_span(W, system.wrenches, norm)) if len(W) or system.dimension == 0 else False
-    _, dep = independent_subset(T, pts)
+    contained, same = compare_spans(system.wrenches, W, norm)
+    same = same if len(W) or system.dimension == 0 else False
+    # independent twists (full rank) have no dependent prefix: skip the greedy search
+    dep = [] if system.rank == len(T) else independent_subset(T, pts)[1]
     Tn = norm.twists(T)
     Wn = norm.wrenches(W)
     if len(W) and len(Tn):
@@ -120,11 +122,11 @@ def verify(leg: Leg, predicted, allow_dependent: bool = False,
     else:
         residual = 0.0
     if actuation == "wrench":
-        act = actuation_wrench(leg, system) is not None
+        act = has_actuation_wrench(leg, system)
     elif actuation == "rank":
         ia = leg.actuated_index
         passive = np.delete(T, ia, axis=0)
-        act = reciprocal_system(passive, pts, length=norm.length).rank < system.rank
+        act = twist_rank(passive, pts, length=norm.length) < system.rank
     else:
         raise InputError(f"actuation must be 'wrench' or 'rank', got {actuation!r}")
     return Verification(system.dimension, len(W), contained, same,
