@@ -2,13 +2,16 @@
 
 Run: python benchmarks/bench_trajectory.py [--samples N] [--full]   (prints figures, asserts nothing)
 
-Three ways of computing the same table (tests/test_trajectory.py checks they agree):
+Three ways of computing the same table with the one engine (tests/test_trajectory.py checks
+they agree):
 
-* ``analyze_pm`` per sample, warm-started from the previous pose: the straightforward loop
-  (solve + mobility + leg analyses + Jacobian + statics), i.e. before this work;
-* ``run_trajectory(vectorised=False)``: the per-pose pipeline without the mobility;
-* ``run_trajectory()``: anchors solved one by one, the other samples by the vectorised
-  Gauss-Newton, every leg's rows from its analysis template, batched statics.
+* ``analyze_pm`` per sample, warm-started from the previous pose (one pose at a time, with
+  the mobility of each pose);
+* ``run_trajectory(vectorised=False)``: one pose at a time, each warm-started from the
+  previous sample, without the mobility;
+* ``run_trajectory()``: the batched engine along the path (about 64 anchors solved in
+  order, the other samples level by level from their neighbours, then rows, conditioning
+  and statics of all samples in chunks).
 
 The two per-pose variants are timed on the first 300 samples (all of them with --full) and
 their rate is extrapolated.

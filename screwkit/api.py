@@ -232,8 +232,9 @@ def solve(pm, independent=None, guess=None, degrees: bool = False, **kwargs):
 
 
 def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
-    """:func:`solve` at each of a sequence of independent-parameter dicts, each warm-started
-    from the previous solution (``guess`` warm-starts the first).
+    """:func:`solve` at each of a sequence of independent-parameter dicts, as successive
+    samples of a path (``path=True``: each warm-started from its solved neighbours;
+    ``guess`` warm-starts the first).
 
     Returns
     -------

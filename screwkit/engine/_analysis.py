@@ -76,8 +76,12 @@ class PMAnalysis:
         if self.single:
             raise TypeError("a one-pose PMAnalysis cannot be indexed")
         st = self.statics[i] if self.statics is not None else None
+        diag = dict(self.diagnostics)
+        for key in ("rows_ok", "structure_ok"):
+            if diag.get(key) is not None:
+                diag[key] = diag[key][i:i + 1]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
-                          self.torque, self.diagnostics, self.stiffness)
+                          self.torque, diag, self.stiffness)
 
     # -- per-pose flags -----------------------------------------------------------------
     @property
@@ -91,11 +95,28 @@ class PMAnalysis:
         return bool(s[0]) if self.single else s
 
     @property
+    def rows_ok(self):
+        """False where a row of ``J`` could not be formed as its template says (a dependent
+        actuator, a basis whose reference directions degenerate): flagged, see ``ok``."""
+        r = self.diagnostics.get("rows_ok")
+        r = np.ones(len(self), bool) if r is None else r
+        return bool(r[0]) if self.single else r
+
+    @property
+    def structure_ok(self):
+        """Per pose and leg: True where the leg's constraint members have the structure
+        they have at home; False where the generic rule of :mod:`screwkit.engine._generic`
+        gave them (a leg that lost its catalog structure: a note, not an error)."""
+        s = self.diagnostics.get("structure_ok")
+        s = np.ones((len(self), self.model.n_legs), bool) if s is None else s
+        return s[0] if self.single else s
+
+    @property
     def ok(self):
-        """Reachable, converged, regular, and the statics balance the load."""
+        """Reachable, converged, regular, rows formed, and the statics balance the load."""
         r = self.solution.closures.residual
         from ._closure import CONVERGED
-        good = (r <= CONVERGED) & ~self.jacobian.singular_mask
+        good = (r <= CONVERGED) & ~self.jacobian.singular_mask & np.atleast_1d(self.rows_ok)
         if self.statics is not None:
             eq = np.asarray(self.statics.equilibrium_residual if not self.single
                             else [self.statics.equilibrium_residual])
@@ -123,10 +144,18 @@ class PMAnalysis:
 
     @property
     def warnings(self) -> tuple:
-        """One line per warning of the pose (one pose): level, assembly mode, notes."""
+        """One line per warning of the pose (one pose): level, assembly mode, rows."""
         if not self.single:
             raise TypeError("warnings describe one pose: index the result first (res[i])")
-        return self.quality.warnings(0)
+        out = list(self.quality.warnings(0))
+        if not self.rows_ok:
+            out.append("a row of J could not be formed as its leg's template says (see the "
+                       "notes): the pose is flagged")
+        for i, good in enumerate(self.structure_ok):
+            if not good:
+                out.append(f"leg {i + 1}: its constraint members do not have their home "
+                           "structure here; the generic rule gave them")
+        return tuple(out)
 
     @cached_property
     def mobility(self):
@@ -221,7 +250,8 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         bad = ~sol.reachable_mask | jac.singular_mask
         if bad.any():
             st = _mask(st, bad)
-    return PMAnalysis(model, sol, jac, st, F, T, comp.diagnostics or {}, stiffness)
+    diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok)
+    return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness)
 
 
 def _compliance(model, stiffness, N):

@@ -35,7 +35,9 @@ class Chains:
 
     Attributes
     ----------
-    model : PMModel
+    name : str
+        The model's name (the arrays keep no reference to the model, so that the caches
+        keyed by it release it).
     n, m : int
     sizes : tuple of int
         Joints of each leg.
@@ -71,7 +73,7 @@ class Chains:
         The home pose (radians, model lengths).
     """
 
-    model: object
+    name: str
     n: int
     m: int
     sizes: tuple
@@ -145,7 +147,7 @@ def _build(model) -> Chains:
     unknown = tuple(p for p in PARAMS if p not in model.independent)
     R0, p0 = (np.asarray(x, float) for x in model.frame)
     Rh, ph = (np.asarray(x, float) for x in model.platform_home)
-    out = Chains(model, n, m, sizes, D, P, rot, tra, real, qs,
+    out = Chains(model.name, n, m, sizes, D, P, rot, tra, real, qs,
                  np.array([lg.actuated_index for lg in legs]),
                  np.asarray(model.normalisation.centre, float), L, (Rh, ph), (R0, p0),
                  np.asarray(model.world_base_points, float),

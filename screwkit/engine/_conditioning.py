@@ -5,10 +5,11 @@ of the geometry and their moments divided by its characteristic length ``L``
 (RMS distance of the points from ``c``), then scaled to unit norm.  The
 condition number ``s_1 / s_6`` of that matrix is unit-free and frame-free.
 
-The singular values come from the eigenvalues of ``Jn^T Jn`` (6x6, one LAPACK
-call per pose); where that loses digits (condition above :data:`REFINE`) they
-are recomputed by an SVD.  The statics solves ``Jn^T y = -W_n`` in the least-norm
-sense through the same ``Jn^T Jn`` (Cholesky), again with an SVD where the
+The singular values come from the eigenvalues of the smaller Gram matrix (``Jn^T Jn``
+6x6, one LAPACK call per pose; ``Jn Jn^T`` in closed form for up to 3 rows); where that
+loses digits (condition above :data:`REFINE`, or 30 for the closed form) they are
+recomputed by an SVD.  The statics solves ``Jn^T y = -W_n``: by LU for a square ``Jn``,
+in the least-norm sense through ``Jn^T Jn`` for more rows, by the pseudo-inverse where the
 condition exceeds :data:`REFINE`.
 """
 

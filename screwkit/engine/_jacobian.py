@@ -37,7 +37,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ._pipeline import COND_THRESHOLD, Conditioning, RowInfo, condition
+from ._pipeline import COND_THRESHOLD, Conditioning, condition
 from ._row import JacobianRow
 from ..screws import cross
 
@@ -198,12 +198,18 @@ class JacobianResult:
                 f, m = self.matrix[0, k, :3], self.matrix[0, k, 3:]
                 p = cross(f, m) / max(float(f @ f), 1e-300)
                 has_point = True
-            pitch = 0.0 if r.member == "force" else (np.inf if r.member == "couple" else
-                                                     float(np.nan))
-            if r.member == "screw":
-                w = self.matrix[0, k]
+            w = self.matrix[0, k]
+            if r.member == "couple":
+                pitch = np.inf
+            elif r.member == "none":
+                pitch = float("nan")
+            else:                 # read off the row: 0 to rounding for a force
                 pitch = float(w[:3] @ w[3:] / max(float(w[:3] @ w[:3]), 1e-300))
-            out.append(JacobianRow(r.leg, r.leg_name, r.kind, r.member, D[k],
+            member = r.member
+            if member in ("force", "screw"):
+                zero = abs(pitch) <= 1e-9 * float(self.conditioning.length[0])
+                member, pitch = ("force", 0.0) if zero else ("screw", pitch)
+            out.append(JacobianRow(r.leg, r.leg_name, r.kind, member, D[k],
                                    p if has_point else None, r.point_name, pitch,
                                    float(self.scale[0, k]), r.joint, r.label))
         return tuple(out)

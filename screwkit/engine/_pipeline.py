@@ -10,15 +10,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _algebra as alg
 from ._conditioning import (RANK_RTOL, least_norm, normalisation, normalise_rows,
                             normalise_wrench, singular_values)
 from ._geometry import LegGeometry, geometry_of
 from ._rows import RowTemplate
 from ..screws import cross
 
-__all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "Conditioning", "condition",
-           "StaticsArrays", "solve_statics_arrays", "COND_THRESHOLD"]
+__all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "legs_rows", "assemble_rows",
+           "Conditioning", "condition", "default_compliance", "statics_values",
+           "derived_statics", "workload_about_origin", "COND_THRESHOLD"]
 
 #: Largest normalised condition number of ``J`` still treated as regular.
 COND_THRESHOLD = 1.0 / RANK_RTOL
@@ -96,15 +96,15 @@ def _labels(templates):
     info_a, info_c = [], []
     kc = 0
     for i, t in enumerate(templates):
-        info_a.append(RowInfo(i, t.name, "actuation",
-                              "force" if t.actuation.kind in ("line", "least-norm") else "none",
-                              None, t.names[t.actuated], f"F_a{i + 1}"))
+        a = t.actuation
+        info_a.append(RowInfo(i, t.name, "actuation", a.member if a.kind != "none" else "none",
+                              a.names[0] if a.names else None, t.names[t.actuated],
+                              f"F_a{i + 1}"))
         for kind, pname in t.member_kinds:
             kc += 1
             sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")
             info_c.append(RowInfo(i, t.name, kind, kind, pname, None, f"{sym}{i + 1}"))
     # number repeated labels of one leg: F_c1.1, F_c1.2
-    out = info_a + info_c
     counts = {}
     for r in info_c:
         counts[r.label] = counts.get(r.label, 0) + 1

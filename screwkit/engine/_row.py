@@ -60,6 +60,10 @@ class JacobianRow:
             what = f"couple about {d}"
         elif self.member == "none":
             what = "zero row (the actuated joint is dependent on the passive ones)"
+        elif self.member == "screw":
+            where = "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")" \
+                if self.point is not None else "?"
+            what = f"screw of pitch {self.pitch:.6g} along {d} through {where}"
         else:
             where = point_label(self.point_name) or (
                 "(" + ", ".join(f"{x:.6g}" for x in self.point) + ")" if self.point is not None

@@ -119,13 +119,15 @@ class Group:
 
 @dataclass(frozen=True)
 class Actuation:
-    """How the actuation member is found: ``kind`` ``"line"`` (the force on the line
-    through two named points), ``"point"`` (a force through one named point),
-    ``"couple"`` or ``"generic"``."""
+    """How the actuation member is found: ``kind`` ``"line"`` (the force on the line through
+    the two named points ``names``, at ``points``), ``"least-norm"`` (the passive-reciprocal
+    wrench orthogonal to the constraint system; ``member`` ``"force"`` when its pitch is
+    zero at home, else ``"screw"``) or ``"none"`` (the actuated joint is dependent)."""
 
     kind: str
     points: tuple = ()
-    refs: tuple = ()
+    names: tuple = ()
+    member: str = "force"
 
 
 class RowTemplate:
@@ -222,8 +224,13 @@ class RowTemplate:
                     d = named[n2] - named[n1]
                     if all(abs(float(d @ leg.joints[j].direction)) <= tol * np.linalg.norm(d)
                            for j in passive if leg.joints[j].kind == "P"):
-                        return Actuation("line", pts)
-        return Actuation("least-norm")
+                        return Actuation("line", pts, (n1, n2))
+        # the least-norm member at home: a force when its pitch vanishes
+        v, w = geo.twist(self.actuated)
+        member, _ = self._least_norm(geo, np.concatenate([v, w]), passive, leg_length(geo))
+        f, m = member[:3, 0], member[3:, 0]
+        pitch = abs(float(f @ m)) / max(float(f @ f), 1e-300)
+        return Actuation("least-norm", member="force" if pitch <= 1e-9 * leg.length else "screw")
 
     # -- evaluation ------------------------------------------------------------------
     def rows(self, geo: LegGeometry):
@@ -235,11 +242,16 @@ class RowTemplate:
             Actuation row ``[f; m]`` (about ``O``), scaled so that its reciprocal product
             with the actuated joint's unit twist is 1 (0 where the actuator is dependent).
         act_member : ndarray (6, N)
-            The unit member (``|f| = 1`` or ``|m| = 1``) and ``act_scale (N,)`` its factor.
+            The unit member (``|f| = 1`` or ``|m| = 1``).
+        act_scale : ndarray (N,)
+            Its factor (``act = act_scale * act_member``).
         cons : ndarray (k, 6, N)
             Unit constraint members, group by group.
         ok : ndarray (N,) of bool
-            False where a structural decision of the template does not hold.
+            False where a row could not be formed (a dependent actuator, a degenerate basis).
+        structure_ok : ndarray (N,) of bool
+            False where the home structure of the members does not hold (the generic rule
+            gave them there).
         """
         N = geo.N
         ok = np.ones(N, bool)

@@ -19,7 +19,8 @@ from ._chains import chains_of, forward
 from ._pipeline import (Conditioning, _labels, condition, default_compliance, derived_statics,
                         model_rows,
                         statics_values, templates_of, workload_about_origin)
-from ._solve import Closures, solve_closures, solve_path
+from ._path import solve_path
+from ._solve import Closures, solve_closures
 
 __all__ = ["CHUNK", "Computed", "compute"]
 
@@ -76,7 +77,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     diag = {}
     if path:
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, progress=progress)
-        X, its, how, sing = c.X, c.iterations, c.how, c.singular_beta
+        X, its, how, sing, path_res = c.X, c.iterations, c.how, c.singular_beta, c.residual
         diag = dict(c.diagnostics)
     else:
         X = np.empty((ch.n_unknowns, N))
@@ -94,12 +95,15 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         fx = {k: v[sl] for k, v in fixed.items()}
         if path:
             fr = forward(ch, fx, X[:, sl])
+            # a pose the solver gave up (inf: e.g. an unreachable side of a representation
+            # singularity) stays unreachable whatever its frames' residual
+            res[sl] = np.where(np.isfinite(path_res[sl]), fr.residual, np.inf)
         else:
             cl = solve_closures(model, fx, None if X0 is None else X0[:, sl],
                                 side=None if side is None else side[sl])
             fr = cl.frames
             X[:, sl], its[sl], how[sl], sing[sl] = cl.X, cl.iterations, cl.how, cl.singular_beta
-        res[sl] = fr.residual
+            res[sl] = cl.residual
         if not rows:
             return None
         r = model_rows(model, fr, templates)

@@ -25,7 +25,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ._chains import LENGTH_PARAMS, PARAMS, chains_of
+from ._chains import LENGTH_PARAMS, PARAMS
 from ._closure import ACCEPTED, CONVERGED
 from ._inputs import prepare
 from ._solve import Closures

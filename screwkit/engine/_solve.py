@@ -28,7 +28,7 @@ import weakref
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS, Chains, chains_of, forward
-from ._closure import ACCEPTED, CONVERGED, STOP, gauss_newton
+from ._closure import ACCEPTED, CONVERGED, STOP, _assign, gauss_newton
 
 __all__ = ["Closure", "Closures", "solve_closures", "home_predictor", "is_representation_singular"]
 
@@ -104,7 +104,8 @@ _PREDICTORS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 def home_predictor(ch: Chains):
-    """A function ``fixed (dict of (N,)) -> X0 (n_unknowns, N)``: a quadratic fit of the
+    """A function ``fixed (dict of (N,)) -> X0 (n_unknowns, N)``: a polynomial fit (cubic up
+    to four independent parameters, quadratic beyond) of the
     solutions around home (see the module docstring), cached per model."""
     pred = _PREDICTORS.get(ch)
     if pred is not None:
@@ -231,9 +232,20 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
     if near.any():
         Xs, rs, its_s, how_s = _resolve_singular(ch, fixed, X0, near, pair, side)
         X[:, near], residual[near], its[near], how[near] = Xs, rs, its_s, how_s
-    frames = res.frames if (res is not None and not near.any() and not (how == 1).any()) \
-        else forward(ch, fixed, X)
-    return Closure(ch, X, frames, frames.residual, its, how, sing)
+    # the frames of Newton's last iterates, recomputed where something else set the unknowns
+    redo = near | (how == 1) if res is not None else np.ones(N, bool)
+    if redo.all():
+        frames = forward(ch, fixed, X)
+    else:
+        frames = res.frames
+        if redo.any():
+            idx = np.flatnonzero(redo)
+            frames = _assign(frames, idx, forward(ch, {p: v[idx] for p, v in fixed.items()},
+                                                  X[:, idx]), tuple(fixed))
+    resid = frames.residual
+    if near.any():                 # an unreachable side makes the limit meaningless
+        resid = np.where(near & ~np.isfinite(residual), np.inf, resid)
+    return Closure(ch, X, frames, resid, its, how, sing)
 
 
 def _resolve_singular(ch, fixed, X0, sing, pair, side):
@@ -248,10 +260,15 @@ def _resolve_singular(ch, fixed, X0, sing, pair, side):
     lims = {}
     both = (sd == 0) | ~is_representation_singular(ch.order, beta)
     vals = {}
-    for db in (_SING_STEP, -_SING_STEP, 2 * _SING_STEP, -2 * _SING_STEP):
-        fx = dict(sub, beta=b0 + db)
-        r = _newton_with_continuation(ch, fx, X0[:, idx])
-        vals[db] = {p: r.X[ch.unknown.index(p)] for p in pair}
+    steps = (_SING_STEP, -_SING_STEP, 2 * _SING_STEP, -2 * _SING_STEP)
+    k = idx.size
+    # the four neighbouring solves as one batch
+    fx = {p: np.tile(v, 4) for p, v in sub.items()}
+    fx["beta"] = np.concatenate([b0 + db for db in steps])
+    r = _newton_with_continuation(ch, fx, np.tile(X0[:, idx], 4))
+    side_ok = np.all((r.residual <= ACCEPTED).reshape(4, k), axis=0)
+    for m, db in enumerate(steps):
+        vals[db] = {p: r.X[ch.unknown.index(p), m * k:(m + 1) * k] for p in pair}
     for p in pair:
         avg = 0.5 * (vals[_SING_STEP][p] + vals[-_SING_STEP][p]) + \
             (vals[_SING_STEP][p] - vals[-_SING_STEP][p]) * (u / (2 * _SING_STEP))
@@ -268,16 +285,9 @@ def _resolve_singular(ch, fixed, X0, sing, pair, side):
     for k, u in enumerate(ch.unknown):
         X[k] = lims[u] if u in pair else r.X[keep.index(k)]
     X[len(ch.unknown):] = r.X[len(keep):]
-    return X, r.residual, r.iterations, r.how
-
-
-def _lagrange(ts, j, t):
-    """Weight of node ``j`` of the cubic through the nodes ``ts (4, K)`` at ``t (K,)``."""
-    w = np.ones_like(t)
-    for i in range(4):
-        if i != j:
-            w = w * (t - ts[i]) / (ts[j] - ts[i])
-    return w
+    residual = np.where(side_ok, r.residual, np.inf)
+    how = np.where(side_ok, r.how, 2)
+    return X, residual, r.iterations, how
 
 
 _DERIVED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -293,95 +303,3 @@ def _with_fixed(ch: Chains, extra: tuple) -> Chains:
             ch, fixed=fixed, unknown=unknown,
             x_scale=np.array([ch.length if u in LENGTH_PARAMS else 1.0 for u in unknown]))
     return table[extra]
-
-
-#: Anchors of a path: about this many samples are solved one after the other.
-PATH_ANCHORS = 64
-
-
-def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None) -> Closure:
-    """Solve N samples of a continuous path, each warm-started from its neighbours.
-
-    About :data:`PATH_ANCHORS` anchor samples are solved in order, each from the
-    previous one (the first from ``start`` or home, with continuation where Newton
-    fails); the samples between two solved ones are then solved level by level,
-    halving the spacing, from the linear interpolation of their solved neighbours,
-    all of a level at once.  A sample whose solution is not close to that
-    interpolation (a jump to another branch) or that does not converge is solved
-    again from its left neighbour alone.
-    """
-    ch = chains_of(model)
-    fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
-    N = len(next(iter(fixed.values())))
-    K = max(1, -(-N // PATH_ANCHORS)) if anchor_every is None else max(1, int(anchor_every))
-    anchors = list(range(0, N, K))
-    if anchors[-1] != N - 1:
-        anchors.append(N - 1)
-    X = np.zeros((ch.n_unknowns, N))
-    res = np.full(N, np.inf)
-    its = np.zeros(N, int)
-    how = np.full(N, 2)
-    sing = np.zeros(N, bool)
-    prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
-    last = []                                   # the last two solved anchors (index, X)
-    for i in anchors:
-        fx = {p: v[i:i + 1] for p, v in fixed.items()}
-        X0 = prev
-        if len(last) == 2:
-            # the secant through the last two anchors, where it starts closer than the last one
-            (i1, X1), (i2, X2) = last
-            cand = np.concatenate([X2, X2 + (X2 - X1) * ((i - i2) / (i2 - i1))], axis=1)
-            fr = forward(ch, {p: np.repeat(v, 2) for p, v in fx.items()}, cand)
-            X0 = cand[:, int(np.argmin(fr.residual))][:, None]
-        c = solve_closures(model, fx, X0)
-        X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \
-            c.how[0], c.singular_beta[0]
-        if c.residual[0] <= ACCEPTED:
-            prev = c.X
-            last = (last + [(i, c.X)])[-2:]
-    if progress:
-        progress(len(anchors), N)
-    retried = 0
-    solved = np.zeros(N, bool)
-    solved[anchors] = True
-    while not solved.all():
-        idx = np.flatnonzero(solved)
-        k = np.flatnonzero(idx[1:] - idx[:-1] > 1)
-        left, right = idx[k], idx[k + 1]
-        mid = (left + right) // 2
-        good = res <= ACCEPTED
-        good_l, good_r = good[left], good[right]
-        Xl, Xr = X[:, left], X[:, right]
-        w = ((mid - left) / (right - left))[None]
-        Xs = np.where(good_l & good_r, (1 - w) * Xl + w * Xr, np.where(good_l, Xl, Xr))
-        # the cubic through the two solved neighbours on each side, where all four are good
-        k0, k3 = np.maximum(k - 1, 0), np.minimum(k + 2, len(idx) - 1)
-        p0, p3 = idx[k0], idx[k3]
-        four = (k0 < k) & (k3 > k + 1) & good_l & good_r & good[p0] & good[p3]
-        if four.any():
-            ts = np.stack([p0, left, right, p3]).astype(float)[:, four]
-            t = mid[four].astype(float)
-            Xs[:, four] = sum(_lagrange(ts, j, t) * X[:, ts[j].astype(int)] for j in range(4))
-        fx = {p: v[mid] for p, v in fixed.items()}
-        c = solve_closures(model, fx, Xs)
-        Xm, rm, hm = c.X, c.residual, c.how
-        # a branch jump: the solution moved more than its neighbours differ
-        span = np.max(np.abs(Xr - Xl), axis=0)
-        moved = np.max(np.abs(Xm - Xs), axis=0)
-        jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
-        X[:, mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
-            c.singular_beta
-        for k in np.flatnonzero(jump | ~(rm <= CONVERGED)):
-            i = mid[k]
-            src = left[k] if res[left[k]] <= ACCEPTED else right[k]
-            c1 = solve_closures(model, {p: v[i:i + 1] for p, v in fixed.items()},
-                                X[:, src:src + 1])
-            retried += 1
-            if c1.residual[0] <= res[i] or jump[k]:
-                X[:, i], res[i], its[i], how[i], sing[i] = c1.X[:, 0], c1.residual[0], \
-                    c1.iterations[0], c1.how[0], c1.singular_beta[0]
-        solved[mid] = True
-        if progress:
-            progress(int(solved.sum()), N)
-    diag = {"anchors": len(anchors), "batched": N, "retried": retried}
-    return Closure(ch, X, None, res, its, how, sing, diag)

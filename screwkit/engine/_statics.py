@@ -314,6 +314,9 @@ def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool =
         F = np.broadcast_to(F, (N, 3)) if F.ndim == 1 else F
         T = np.broadcast_to(T, (N, 3)) if T.ndim == 1 else T
     if base_points is None:
+        if not jacobian.single:
+            raise InputError("statics of a batch of poses needs base_points (n, 3) and "
+                             "platform_points (N, n, 3); screwkit.analyze passes them")
         legs = jacobian.legs
         A = np.array([lg.A for lg in legs])
         a = np.array([[lg.a for lg in legs]])

@@ -243,7 +243,7 @@ def _is_analysis(x) -> bool:
 
 def check_pm(solution, statics=None, *, mobility=None, expected_dof=None, checker=None,
              rtol: float = CHECK_RTOL) -> CheckReport:
-    """Cross-check a :mod:`screwkit.pm` pose solution (and optionally its statics).
+    """Cross-check a :class:`screwkit.engine.PoseSolution` (and optionally its statics).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Euler angles of the platform: the 12 orders through :mod:`scipy.spatial.transform`.
+"""Euler angles of the platform: the 12 orders of :mod:`scipy.spatial.transform`.
 
 An order is a three-letter string in the scipy convention: upper case
 (``"XYX"``, ``"XYZ"``) is *intrinsic* (rotations about the moving axes, the

@@ -1,0 +1,113 @@
+"""Solving the samples of a continuous path, each warm-started from its neighbours (private)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._chains import chains_of, forward
+from ._closure import ACCEPTED, CONVERGED
+from ._solve import Closure, solve_closures
+
+__all__ = ["PATH_ANCHORS", "solve_path"]
+
+
+#: Anchors of a path: about this many samples are solved one after the other.
+PATH_ANCHORS = 64
+
+
+def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None) -> Closure:
+    """Solve N samples of a continuous path, each warm-started from its neighbours.
+
+    About :data:`PATH_ANCHORS` anchor samples are solved in order, each from the
+    previous one (the first from ``start`` or home, with continuation where Newton
+    fails); the samples between two solved ones are then solved level by level,
+    halving the spacing, from the cubic through their two solved neighbours on each side
+    (the linear interpolation where those are not all available),
+    all of a level at once.  A sample whose solution is not close to that
+    interpolation (a jump to another branch) or that does not converge is solved
+    again from its left neighbour alone (the right one when the left is unreachable).
+    """
+    ch = chains_of(model)
+    fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
+    N = len(next(iter(fixed.values())))
+    K = max(1, -(-N // PATH_ANCHORS)) if anchor_every is None else max(1, int(anchor_every))
+    anchors = list(range(0, N, K))
+    if anchors[-1] != N - 1:
+        anchors.append(N - 1)
+    X = np.zeros((ch.n_unknowns, N))
+    res = np.full(N, np.inf)
+    its = np.zeros(N, int)
+    how = np.full(N, 2)
+    sing = np.zeros(N, bool)
+    prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
+    last = []                                   # the last two solved anchors (index, X)
+    for i in anchors:
+        fx = {p: v[i:i + 1] for p, v in fixed.items()}
+        X0 = prev
+        if len(last) == 2:
+            # the secant through the last two anchors, where it starts closer than the last one
+            (i1, X1), (i2, X2) = last
+            cand = np.concatenate([X2, X2 + (X2 - X1) * ((i - i2) / (i2 - i1))], axis=1)
+            fr = forward(ch, {p: np.repeat(v, 2) for p, v in fx.items()}, cand)
+            X0 = cand[:, int(np.argmin(fr.residual))][:, None]
+        c = solve_closures(model, fx, X0)
+        X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \
+            c.how[0], c.singular_beta[0]
+        if c.residual[0] <= ACCEPTED:
+            prev = c.X
+            last = (last + [(i, c.X)])[-2:]
+    if progress:
+        progress(len(anchors), N)
+    retried = 0
+    solved = np.zeros(N, bool)
+    solved[anchors] = True
+    while not solved.all():
+        idx = np.flatnonzero(solved)
+        k = np.flatnonzero(idx[1:] - idx[:-1] > 1)
+        left, right = idx[k], idx[k + 1]
+        mid = (left + right) // 2
+        good = res <= ACCEPTED
+        good_l, good_r = good[left], good[right]
+        Xl, Xr = X[:, left], X[:, right]
+        w = ((mid - left) / (right - left))[None]
+        Xs = np.where(good_l & good_r, (1 - w) * Xl + w * Xr, np.where(good_l, Xl, Xr))
+        # the cubic through the two solved neighbours on each side, where all four are good
+        k0, k3 = np.maximum(k - 1, 0), np.minimum(k + 2, len(idx) - 1)
+        p0, p3 = idx[k0], idx[k3]
+        four = (k0 < k) & (k3 > k + 1) & good_l & good_r & good[p0] & good[p3]
+        if four.any():
+            ts = np.stack([p0, left, right, p3]).astype(float)[:, four]
+            t = mid[four].astype(float)
+            Xs[:, four] = sum(_lagrange(ts, j, t) * X[:, ts[j].astype(int)] for j in range(4))
+        fx = {p: v[mid] for p, v in fixed.items()}
+        c = solve_closures(model, fx, Xs)
+        Xm, rm, hm = c.X, c.residual, c.how
+        # a branch jump: the solution moved more than its neighbours differ
+        span = np.max(np.abs(Xr - Xl), axis=0)
+        moved = np.max(np.abs(Xm - Xs), axis=0)
+        jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
+        X[:, mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
+            c.singular_beta
+        for k in np.flatnonzero(jump | ~(rm <= CONVERGED)):
+            i = mid[k]
+            src = left[k] if res[left[k]] <= ACCEPTED else right[k]
+            c1 = solve_closures(model, {p: v[i:i + 1] for p, v in fixed.items()},
+                                X[:, src:src + 1])
+            retried += 1
+            if c1.residual[0] <= res[i] or jump[k]:
+                X[:, i], res[i], its[i], how[i], sing[i] = c1.X[:, 0], c1.residual[0], \
+                    c1.iterations[0], c1.how[0], c1.singular_beta[0]
+        solved[mid] = True
+        if progress:
+            progress(int(solved.sum()), N)
+    diag = {"anchors": len(anchors), "batched": N, "retried": retried}
+    return Closure(ch, X, None, res, its, how, sing, diag)
+
+
+def _lagrange(ts, j, t):
+    """Weight of node ``j`` of the cubic through the nodes ``ts (4, K)`` at ``t (K,)``."""
+    w = np.ones_like(t)
+    for i in range(4):
+        if i != j:
+            w = w * (t - ts[i]) / (ts[j] - ts[i])
+    return w
