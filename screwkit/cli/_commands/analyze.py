@@ -163,7 +163,9 @@ def print_text(res) -> None:
         label = {"actuation": "active", "force": "constraint force", "couple": "constraint couple",
                  "screw": "constraint wrench"}[r.kind]
         where = ""
-        if r.point is not None:
+        if r.point is not None and r.member == "screw":
+            where = f" on the screw axis through {fmt_vec(r.point)}, pitch {fmt_num(r.pitch)} {u.length}"
+        elif r.point is not None:
             where = f" on the line through {point_label(r.point_name) or fmt_vec(r.point)}"
         mark = " " if det[k] else "*"
         unit = u.of(row_quantity(r))
