@@ -20,7 +20,7 @@ import numpy as np
 
 from ..screws import (GEOMETRY_RTOL, Line, ReciprocalSystem, couple_wrench, force_wrench,
                       independent_subset, reciprocal_system, same_span)
-from ._decompose import decompose, reciprocity_residual
+from ._decompose import constraint_kinds, decompose, reciprocity_residual
 from ._observation import ConstraintWrench, RuleNote, candidate_points, explain_couple, explain_force
 from ..screws import cross
 
@@ -106,14 +106,29 @@ class LegAnalysis:
                 and all(c.explained for c in self.constraints))
 
     def summary(self) -> str:
-        parts = []
-        if self.n_forces:
-            parts.append(f"{self.n_forces} force{'s' * (self.n_forces > 1)}")
-        if self.n_couples:
-            parts.append(f"{self.n_couples} couple{'s' * (self.n_couples > 1)}")
-        if self.n_screws:
-            parts.append(f"{self.n_screws} finite-pitch wrench{'es' * (self.n_screws > 1)}")
-        return " + ".join(parts) if parts else "no constraint wrench"
+        return _summary_of(c.kind for c in self.constraints)
+
+    def kinds_summary(self) -> str:
+        """:meth:`summary` from the kinds of the members alone (the same search, without
+        building and explaining the members, unless they are already built)."""
+        if "constraints" in self.__dict__:
+            return self.summary()
+        return _summary_of(constraint_kinds(self.system.wrenches, self.leg,
+                                            self.system.normalisation))
+
+
+def _summary_of(kinds) -> str:
+    """``"1 force + 2 couples"``... from the kinds (``"force"``, ``"couple"``, ``"screw"``)."""
+    kinds = tuple(kinds)
+    nf, nc, ns = kinds.count("force"), kinds.count("couple"), kinds.count("screw")
+    parts = []
+    if nf:
+        parts.append(f"{nf} force{'s' * (nf > 1)}")
+    if nc:
+        parts.append(f"{nc} couple{'s' * (nc > 1)}")
+    if ns:
+        parts.append(f"{ns} finite-pitch wrench{'es' * (ns > 1)}")
+    return " + ".join(parts) if parts else "no constraint wrench"
 
 
 def analyze_leg(leg: "Leg") -> LegAnalysis:

@@ -142,10 +142,13 @@ class Leg:
         T.setflags(write=False)
         return T
 
-    @property
+    @cached_property
     def points(self) -> np.ndarray:
-        """Joint points and end points, shape (m + 2, 3): the geometry's extent."""
-        return np.vstack([self.A, self.a] + [j.point for j in self.joints])
+        """Joint points and end points, shape (m + 2, 3): the geometry's extent (read-only,
+        computed once)."""
+        P = np.vstack([self.A, self.a] + [j.point for j in self.joints])
+        P.setflags(write=False)
+        return P
 
     @property
     def length(self) -> float:

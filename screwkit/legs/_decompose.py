@@ -18,25 +18,26 @@ from ..screws import (GEOMETRY_RTOL, RANK_RTOL, Normalisation, Wrench, couple_wr
 from ._observation import (ConstraintWrench, RuleNote, _point_name, candidate_points, explain_couple,
                            explain_force)
 from ..screws import cross
+from ..screws._svd import svd_full, svd_values
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
 # the chain module is not imported, so that ``Leg.analyze`` can import this module
 # without an import cycle.
 
-__all__ = ["decompose", "reciprocity_residual"]
+__all__ = ["decompose", "constraint_kinds", "reciprocity_residual"]
 
 
 def _rank(Mn, rtol=RANK_RTOL):
     if len(Mn) == 0:
         return 0
-    s = np.linalg.svd(np.asarray(Mn), compute_uv=False)
+    s = svd_values(np.asarray(Mn, float))
     return int(np.sum(s > rtol * 1e2 * max(1.0, s[0])))
 
 
 def _null(M, rtol=1e-9):
     M = np.atleast_2d(M)
-    _, s, Vt = np.linalg.svd(M, full_matrices=True)
+    _, s, Vt = svd_full(M)
     tol = rtol * max(1.0, s[0] if s.size else 1.0)
     r = int(np.sum(s > tol))
     return Vt[r:]
@@ -47,7 +48,7 @@ def _nulls(Ms, rtol=1e-9) -> list:
     (numpy's stacked SVD runs the same LAPACK routine per matrix: the same bases)."""
     if not Ms:
         return []
-    _, S, VT = np.linalg.svd(np.array(Ms), full_matrices=True)
+    _, S, VT = svd_full(np.array(Ms, float))
     out = []
     for s, Vt in zip(S.tolist(), VT):
         tol = rtol * max(1.0, s[0] if s else 1.0)
@@ -101,12 +102,15 @@ def _parallel_matrix(Wbasis, d):
     return np.vstack([_skew(d) @ F, d @ M])
 
 
+def _pitch_quadratic(w1, w2):
+    """``(a, b, c)``: the pitch condition of ``w1 + s w2`` is ``f.m = a s^2 + b s + c``."""
+    f1, m1, f2, m2 = w1[:3], w1[3:], w2[:3], w2[3:]
+    return float(f2 @ m2), float(f1 @ m2 + f2 @ m1), float(f1 @ m1)
+
+
 def _zero_pitch_roots(w1, w2):
     """s such that w1 + s w2 has f.m = 0 (quadratic); returns real roots."""
-    f1, m1, f2, m2 = w1[:3], w1[3:], w2[:3], w2[3:]
-    a = float(f2 @ m2)
-    b = float(f1 @ m2 + f2 @ m1)
-    c = float(f1 @ m1)
+    a, b, c = _pitch_quadratic(w1, w2)
     if abs(a) < 1e-15 * max(1.0, abs(b), abs(c)):
         return [-c / b] if abs(b) > 1e-15 else []
     disc = b * b - 4 * a * c
@@ -135,6 +139,17 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
     tuple of ConstraintWrench
         Couples first, then forces, then screws; together they span the system.
     """
+    return _decompose(wrenches, leg, norm, seed, _make)
+
+
+def constraint_kinds(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple:
+    """``tuple(c.kind for c in decompose(wrenches, leg, norm, seed))`` without building and
+    explaining the members (the search is the same: building them does not steer it)."""
+    return _decompose(wrenches, leg, norm, seed, lambda w, kind, *args: kind)
+
+
+def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
+    """:func:`decompose`, each member made by ``make(w, kind, leg, norm, tol_dist)``."""
     W = np.asarray(wrenches, float).reshape(-1, 6)
     k = len(W)
     if k == 0:
@@ -143,14 +158,14 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
     tol_dist = GEOMETRY_RTOL * 10 * max(leg.length, L)
     Wn = norm.wrenches(W)
     chosen: list[np.ndarray] = []          # normalised rows
-    out: list[ConstraintWrench] = []
+    out: list = []
 
     def try_add(w, kind):
         wn = norm.wrenches(w)
         wn = wn / np.linalg.norm(wn)
         if _rank(np.array(chosen + [wn])) == len(chosen) + 1:
             chosen.append(wn)
-            out.append(_make(w, kind, leg, norm, tol_dist))
+            out.append(make(w, kind, leg, norm, tol_dist))
             return True
         return False
 
@@ -189,12 +204,20 @@ def decompose(wrenches, leg: "Leg", norm: Normalisation, seed: int = 0) -> tuple
                 break
             c = np.linalg.qr(rng.standard_normal((k, 2)))[0].T   # two orthonormal coefficient rows
             u1, u2 = c @ Wn_basis
-            for s_ in _zero_pitch_roots(norm.wrenches_back(u1), norm.wrenches_back(u2)):
+            w1, w2 = norm.wrenches_back(u1), norm.wrenches_back(u2)
+            for s_ in _zero_pitch_roots(w1, w2):
                 un = (u1 + s_ * u2) / np.sqrt(1 + s_ * s_)      # unit norm in normalised space
                 w = norm.wrenches_back(un)
                 fn = np.linalg.norm(un[:3])
                 if fn > 1e-6 and abs(un[:3] @ un[3:]) <= 1e-9 * fn:
                     try_add(w, "force")
+            if k == 2:
+                # the lines span the whole 2-system, and the discriminant b^2 - 4ac of the
+                # pitch quadratic is -4 det of the form f.m on it in an orthonormal basis:
+                # the same for every line.  Clearly negative: no draw has a root, stop.
+                a, b, c0 = _pitch_quadratic(w1, w2)
+                if b * b - 4 * a * c0 < -1e-9 * (b * b + 4 * abs(a * c0)):
+                    break
     elif k == 1 and len(chosen) == 0:
         un = Wn[0] / np.linalg.norm(Wn[0])
         fn = np.linalg.norm(un[:3])

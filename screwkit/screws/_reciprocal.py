@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ._tolerance import RANK_RTOL, _spread_length
+from ._tolerance import RANK_RTOL, _centroid_and_length
+from ._svd import svd_full, svd_values
 from ._vector import cross
 
 __all__ = [
@@ -57,8 +58,12 @@ class Normalisation:
     @classmethod
     def for_points(cls, points, length: float | None = None) -> "Normalisation":
         p = np.asarray(points, dtype=float).reshape(-1, 3)
-        c = p.mean(axis=0) if p.size else np.zeros(3)
-        L = _spread_length(p, c) if length is None else float(length)
+        if length is not None:
+            c, L = (p.mean(axis=0) if p.size else np.zeros(3)), float(length)
+        elif p.size:
+            c, L = _centroid_and_length(p)
+        else:
+            c, L = np.zeros(3), 1.0          # characteristic_length of no points
         if not (np.isfinite(L) and L > 0):
             raise InputError(f"characteristic length must be positive and finite, got {L}")
         return cls(c, L)
@@ -246,7 +251,7 @@ def reciprocal_system(twists, points=None, length: float | None = None,
         Vt = np.eye(6)
         tol = rtol
     else:
-        _, s, Vt = np.linalg.svd(Tn, full_matrices=True)
+        _, s, Vt = svd_full(Tn)
         tol = rtol * max(1.0, float(s[0]))
         rank = sum(x > tol for x in s.tolist())
     basis_n = Vt[rank:]
@@ -265,7 +270,7 @@ def twist_rank(twists, points=None, length: float | None = None, rtol: float = R
     Tn = _unit_rows(norm.twists(T))
     if len(Tn) == 0:
         return 0
-    s = np.linalg.svd(Tn, compute_uv=False).tolist()
+    s = svd_values(Tn).tolist()
     tol = rtol * max(1.0, s[0])
     return sum(x > tol for x in s)
 
@@ -293,7 +298,7 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
         return list(range(len(Tn))), []
     for i in range(len(Tn)):
         trial = Tn[independent + [i]]
-        s = np.linalg.svd(trial, compute_uv=False)
+        s = svd_values(trial)
         tol = rtol * max(1.0, float(s[0]))
         if int(np.sum(s > tol)) == len(independent) + 1:
             independent.append(i)
@@ -305,21 +310,9 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
 def _orth_rank(M, rtol):
     if M.size == 0:
         return 0
-    s = np.linalg.svd(_unit_rows(M), compute_uv=False).tolist()
+    s = svd_values(_unit_rows(M)).tolist()
     tol = rtol * max(1.0, s[0])
     return sum(x > tol for x in s)
-
-
-def _orth_ranks(M, rtol) -> list:
-    """:func:`_orth_rank` of each matrix of a stack (n, r, 6), in one SVD call."""
-    if M.size == 0:
-        return [0] * len(M)
-    n = np.linalg.norm(M, axis=-1, keepdims=True)
-    out = []
-    for s in np.linalg.svd(M / np.where(n > 0, n, 1.0), compute_uv=False).tolist():
-        tol = rtol * max(1.0, s[0])
-        out.append(sum(x > tol for x in s))
-    return out
 
 
 def same_span(A, B, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:
@@ -335,7 +328,7 @@ def compare_spans(A, W, norm: Normalisation, rtol: float = 1e-7,
                   kind: str = "wrench") -> tuple[tuple, bool]:
     """Whether each row of ``W`` lies in the span of the rows of ``A``, and whether the two
     sets span the same subspace: :func:`span_contains` for each row and :func:`same_span`,
-    with the rank of ``A`` computed once and the containment tests in one SVD call.
+    every rank they need taken from one stacked SVD call.
 
     Returns
     -------
@@ -346,13 +339,19 @@ def compare_spans(A, W, norm: Normalisation, rtol: float = 1e-7,
     An = f(_check_matrix(A, "A")) if len(A) else np.zeros((0, 6))
     Wr = np.asarray(W, float).reshape(-1, 6)
     Wn = f(_check_matrix(Wr, "B")) if len(Wr) else np.zeros((0, 6))
-    ra = _orth_rank(An, rtol)
-    # each row scaled as span_contains scales its screw
-    rows = [wn / max(math.sqrt(wn.dot(wn)), 1e-300) for wn in Wn]
-    stack = np.array([np.vstack([An, wn[None]]) for wn in rows]).reshape(len(rows), len(An) + 1, 6)
-    contained = tuple(r == ra for r in _orth_ranks(stack, rtol))
-    same = _orth_rank(Wn, rtol) == ra == _orth_rank(np.vstack([Wn, An]), rtol)
-    return contained, same
+    a, w = _unit_rows(An).tolist(), _unit_rows(Wn).tolist()
+    # rank(A), rank(W), rank([W; A]) and each rank([A; w_i]) in one stacked SVD: the
+    # matrices padded with zero rows, which add only zero singular values
+    mats = [a, w, w + a] + [a + [wi] for wi in w]
+    height = max(1, len(a) + len(w))
+    zero = [0.0] * 6
+    stack = np.array([m + [zero] * (height - len(m)) for m in mats])
+    ranks = []
+    for sv in svd_values(stack).tolist():
+        tol = rtol * max(1.0, sv[0])
+        ranks.append(sum(x > tol for x in sv))
+    ra, rw, raw = ranks[:3]
+    return tuple(r == ra for r in ranks[3:]), rw == ra == raw
 
 
 def span_contains(A, w, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:

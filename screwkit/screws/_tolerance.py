@@ -46,14 +46,63 @@ def characteristic_length(points) -> float:
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if p.size == 0:
         return 1.0
-    return _spread_length(p, p.mean(axis=0))
+    return _centroid_and_length(p)[1]
+
+
+#: Up to this many points, :func:`_centroid_and_length` works on Python floats.
+_SMALL_POINTS = 64
+
+
+def _pairwise_sum(a: list) -> float:
+    """``numpy.add.reduce`` of a short 1-D float array, in numpy's order (pairwise summation
+    with eight accumulators from eight terms on, up to its block of 128)."""
+    n = len(a)
+    if n < 8:
+        res = 0.0
+        for x in a:
+            res += x
+        return res
+    r = a[:8]
+    i = 8
+    while i + 8 <= n:
+        for j in range(8):
+            r[j] += a[i + j]
+        i += 8
+    res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
+    for x in a[i:]:
+        res += x
+    return res
+
+
+def _centroid_and_length(p: np.ndarray):
+    """``(p.mean(axis=0), characteristic_length(p))`` for points ``p`` (n, 3), n >= 1.
+
+    A few points are summed on Python floats in numpy's order (the same values bit for bit,
+    without a dozen numpy calls)."""
+    if len(p) > _SMALL_POINTS:
+        c = p.mean(axis=0)
+        return c, _spread_length(p, c)
+    rows = p.tolist()
+    n = len(rows)
+    s0 = s1 = s2 = 0.0                  # numpy sums a column sequentially
+    for x, y, z in rows:
+        s0 += x
+        s1 += y
+        s2 += z
+    c0, c1, c2 = s0 / n, s1 / n, s2 / n
+    sq = [(x - c0) * (x - c0) + (y - c1) * (y - c1) + (z - c2) * (z - c2) for x, y, z in rows]
+    spread = math.sqrt(_pairwise_sum(sq) / n)
+    return np.array([c0, c1, c2]), _finish_length(spread, p)
 
 
 def _spread_length(p: np.ndarray, centroid: np.ndarray) -> float:
     """:func:`characteristic_length` of the points ``p``, shape (n, 3), given their centroid."""
     if p.size == 0:
         return 1.0
-    spread = float(np.sqrt(np.mean(np.sum((p - centroid) ** 2, axis=1))))
+    return _finish_length(float(np.sqrt(np.mean(np.sum((p - centroid) ** 2, axis=1)))), p)
+
+
+def _finish_length(spread: float, p: np.ndarray) -> float:
     if not math.isfinite(spread):
         return 1.0
     # coincident points: no spread to measure, fall back to the distance from the origin

@@ -113,7 +113,24 @@ def twist_row(kind, d, p, pitch, centre, length) -> list:
             (v2 - (c0 * d1 - c1 * d0)) / length, d0, d1, d2]
 
 
+#: ``{(id(string), id(placement)): (string, placement, letters)}``: both are immutable, and
+#: every draw of every layout of a string places the same letters.
+_LETTERS: dict = {}
+
+
 def letters_of(ls: LegString, placement: Placement):
+    key = (id(ls), id(placement))
+    hit = _LETTERS.get(key)
+    if hit is not None and hit[0] is ls and hit[1] is placement:
+        return list(hit[2])
+    if len(_LETTERS) >= 256:
+        _LETTERS.clear()
+    out = _letters_of(ls, placement)
+    _LETTERS[key] = (ls, placement, tuple(out))
+    return out
+
+
+def _letters_of(ls: LegString, placement: Placement):
     n = len(ls.text)
     out = []
     L = placement.length

@@ -8,13 +8,16 @@ joint centre of that layout (derived by hand, see ``docs/validation.md``);
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 from ..screws import couple_wrench, force_wrench
-from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
+from ..screws._svd import svd_full, svd_values
+from ._linalg import (NULL_RTOL, cross, null_basis, null_dimension, perpendicular_unit,
+                      random_unit, unit)
 
 __all__ = ["LAYOUTS", "Locus", "Layout", "compositions", "layouts_for", "make_layout"]
 
@@ -102,8 +105,8 @@ class Layout:
     words: str
 
     def __post_init__(self):
-        rows = [force_wrench(d, p).vector for p, d in self.force_lines]
-        rows += [couple_wrench(t).vector for t in self.couples]
+        rows = [_force_row(d, p) for p, d in self.force_lines]
+        rows += [_couple_row(t) for t in self.couples]
         W = np.array(rows, float).reshape(-1, 6)
         W.setflags(write=False)
         object.__setattr__(self, "_W", W)
@@ -136,8 +139,14 @@ class Layout:
         if not self.force_lines:
             return 0
         D = np.array([d for _, d in self.force_lines])
-        s = np.linalg.svd(D, compute_uv=False)
+        s = svd_values(D)
         return int(np.sum(s > NULL_RTOL * s[0]))
+
+    def force_null_dimension(self) -> int:
+        """``len(force_null())``, from the singular values alone."""
+        if "force_null" in self._cache:
+            return len(self._cache["force_null"])
+        return self._cached("force_null_dim", lambda: null_dimension(self._W[:, :3]))
 
     def force_null(self) -> np.ndarray:
         """``null_basis(F)``: the directions perpendicular to every force (read-only)."""
@@ -150,7 +159,7 @@ class Layout:
 
     def _couple_space(self) -> np.ndarray:
         F = self._W[:, :3]
-        _, s, Vt = np.linalg.svd(F.T, full_matrices=True)
+        _, s, Vt = svd_full(F.T)
         r = int(np.sum(s > NULL_RTOL * max(1.0, float(s[0]) if s.size else 1.0)))
         M = Vt[r:] @ self._W[:, 3:]
         if len(M) == 0:
@@ -168,6 +177,31 @@ class Layout:
         return np.array([[m0 - (p1 * f2 - p2 * f1), m1 - (p2 * f0 - p0 * f2),
                           m2 - (p0 * f1 - p1 * f0)]
                          for f0, f1, f2, m0, m1, m2 in self._rows]).reshape(-1, 3)
+
+
+def _unit_floats(d):
+    # screws.unit on floats (the same sum of squares); None where unit would raise
+    x0, x1, x2 = np.asarray(d, float).tolist()
+    n = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    return (x0 / n, x1 / n, x2 / n) if n > 1e-12 * max(1.0, abs(x0), abs(x1), abs(x2)) and \
+        math.isfinite(n) else None
+
+
+def _force_row(d, p) -> list:
+    """``force_wrench(d, p).vector`` as a list, operation for operation."""
+    u = _unit_floats(d)
+    q = np.asarray(p, float)
+    if u is None or q.shape != (3,) or not np.isfinite(q).all():
+        return force_wrench(d, p).vector.tolist()          # raises its error
+    f0, f1, f2 = u
+    p0, p1, p2 = q.tolist()
+    return [f0, f1, f2, p1 * f2 - p2 * f1, p2 * f0 - p0 * f2, p0 * f1 - p1 * f0]
+
+
+def _couple_row(t) -> list:
+    """``couple_wrench(t).vector`` as a list."""
+    u = _unit_floats(t)
+    return [0.0, 0.0, 0.0, *u] if u is not None else couple_wrench(t).vector.tolist()
 
 
 def make_layout(composition, name: str, rng, centre, scale: float) -> Layout:

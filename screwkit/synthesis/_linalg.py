@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from ..screws import cross
+from ..screws._svd import small_singular_values, svd_full, svd_values
 
 __all__ = ["NULL_RTOL", "cross", "unit", "random_unit", "perpendicular_unit", "null_basis",
            "null_dimension"]
@@ -46,7 +47,7 @@ def null_basis(M, rtol=NULL_RTOL) -> np.ndarray:
     M = np.asarray(M, float).reshape(-1, 3)
     if len(M) == 0:
         return np.eye(3)
-    _, s, Vt = np.linalg.svd(M, full_matrices=True)
+    _, s, Vt = svd_full(M)
     return Vt[_rank(M, s.tolist(), rtol):]
 
 
@@ -55,7 +56,8 @@ def null_dimension(M, rtol=NULL_RTOL) -> int:
     M = np.asarray(M, float).reshape(-1, 3)
     if len(M) == 0:
         return 3
-    return 3 - _rank(M, np.linalg.svd(M, compute_uv=False).tolist(), rtol)
+    s = small_singular_values(M.tolist())
+    return 3 - _rank(M, svd_values(M).tolist() if s is None else s, rtol)
 
 
 def _rank(M, s, rtol) -> int:

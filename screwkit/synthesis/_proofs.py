@@ -31,7 +31,7 @@ def counting_rank(string: str | LegString) -> int:
 def rule_reason(letter: Letter, layout: Layout, rng, scale) -> str | None:
     """Why no placement of ``letter`` satisfies the rules in ``layout`` (None if one does)."""
     if letter.letter == "P":
-        if len(layout.force_null()) == 0:
+        if layout.force_null_dimension() == 0:
             return (f"P{letter.position}: a force must be perpendicular to every P (rule 1), "
                     "and the forces span every direction")
         return None

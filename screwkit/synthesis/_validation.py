@@ -106,7 +106,7 @@ def validate_string(string, draws: int = DEFAULT_DRAWS, seed: int = 0,
                 first = s
         targets.append(TargetResult(comp, first.realizable, first.layout.name, first.layout.words,
                                     first.how, first.reason, first.proof, tuple(results)))
-    return LegValidation(ls, r, k, g.summary(), g.dependent_joints, cnt, tuple(targets),
+    return LegValidation(ls, r, k, g.kinds_summary(), g.dependent_joints, cnt, tuple(targets),
                          tuple(notes), tuple(problems))
 
 

@@ -1,0 +1,88 @@
+"""Singular values of one- and two-row matrices in closed form, for rank decisions (private).
+
+A rank decision counts the singular values above a tolerance.  The Table I validation makes
+thousands of them on a single row or a pair of rows (the moment matrix of a one- or
+two-wrench target, the first joints of a search), where ``numpy.linalg.svd``'s per-call
+overhead is most of the cost.  For such matrices the singular values have closed forms
+that are as accurate as LAPACK's (an absolute error of a few ulps of the largest one):
+
+* one row ``r``: ``|r|``;
+* two rows ``r1, r2``: ``s1 s2 = |r1 ^ r2|`` (the wedge product, summed over pairs of
+  components: no cancellation) and ``s1^2 = (a + b + sqrt((a - b)^2 + 4 c^2)) / 2`` with
+  ``a = |r1|^2``, ``b = |r2|^2``, ``c = r1 . r2`` (a sum of squares under the root), so
+  ``s2 = |r1 ^ r2| / s1``.
+
+The thresholds of the rank decisions (``1e-9`` and more, relative) are far above these
+errors, so the decisions are those of the SVD.
+
+For larger matrices, and wherever the singular vectors are needed, :func:`svd_values` and
+:func:`svd_full` call the SVD gufuncs of ``numpy.linalg`` directly: the same LAPACK routine
+on the same data (the same results, bit for bit), without ``numpy.linalg.svd``'s argument
+checks and result wrapping (about half its cost on a 3- or 6-column matrix).  Should the
+routine fail to converge (NaN results), ``numpy.linalg.svd`` is called to raise its error.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+try:  # the gufuncs behind numpy.linalg.svd (singular values only; full U, s, Vt)
+    from numpy.linalg import _umath_linalg
+    _VALUES, _FULL = _umath_linalg.svd, _umath_linalg.svd_f
+except (ImportError, AttributeError):      # another numpy layout: use the public function
+    _VALUES = _FULL = None
+
+__all__ = ["small_singular_values", "svd_values", "svd_full"]
+
+
+def _direct(M) -> bool:
+    return (_VALUES is not None and isinstance(M, np.ndarray) and M.dtype == np.float64
+            and M.ndim >= 2 and M.shape[-1] > 0 and M.shape[-2] > 0)
+
+
+def svd_values(M) -> np.ndarray:
+    """``numpy.linalg.svd(M, compute_uv=False)`` (M a float64 matrix or a stack of them)."""
+    if not _direct(M):
+        return np.linalg.svd(M, compute_uv=False)
+    with np.errstate(all="ignore"):
+        s = _VALUES(M, signature="d->d")
+    if math.isnan(s.sum()):
+        return np.linalg.svd(M, compute_uv=False)       # raises LinAlgError
+    return s
+
+
+def svd_full(M):
+    """``numpy.linalg.svd(M, full_matrices=True)`` as a tuple ``(U, s, Vt)``."""
+    if not _direct(M):
+        return tuple(np.linalg.svd(M, full_matrices=True))
+    with np.errstate(all="ignore"):
+        u, s, vt = _FULL(M, signature="d->ddd")
+    if math.isnan(s.sum()):
+        return tuple(np.linalg.svd(M, full_matrices=True))
+    return u, s, vt
+
+
+def small_singular_values(rows) -> list | None:
+    """Singular values (descending) of a matrix of one or two rows (lists of floats).
+
+    Returns None for more rows (or none): the caller uses the SVD.
+    """
+    if len(rows) == 1:
+        return [math.sqrt(sum(x * x for x in rows[0]))]
+    if len(rows) != 2:
+        return None
+    r1, r2 = rows
+    a = sum(x * x for x in r1)
+    b = sum(y * y for y in r2)
+    c = sum(x * y for x, y in zip(r1, r2))
+    n = len(r1)
+    w2 = 0.0
+    for i in range(n):
+        xi, yi = r1[i], r2[i]
+        for j in range(i + 1, n):
+            t = xi * r2[j] - r1[j] * yi
+            w2 += t * t
+    s1 = math.sqrt(0.5 * (a + b + math.sqrt((a - b) * (a - b) + 4.0 * c * c)))
+    return [s1, math.sqrt(w2) / s1 if s1 > 0 else 0.0]
