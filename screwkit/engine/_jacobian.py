@@ -87,7 +87,7 @@ class JacobianResult:
     @classmethod
     def from_rows(cls, rows, origin, *, threshold=COND_THRESHOLD, single=False,
                   leg_provider=None, analyses=None):
-        cond = condition(rows.J, rows.n_actuated, rows.leg_points)[0]
+        cond = condition(rows.J, rows.n_actuated, rows.centre, rows.length)[0]
         return cls(rows.J, rows.info, rows.n_actuated, rows.scale, rows.points,
                    np.asarray(origin, float), cond, float(threshold), bool(single),
                    leg_provider, analyses)

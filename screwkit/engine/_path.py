@@ -6,21 +6,22 @@ import numpy as np
 
 from ._chains import chains_of, forward
 from ._closure import ACCEPTED, CONVERGED
-from ._solve import Closure, solve_closures
+from ._solve import Closure, home_predictor, solve_closures
 
 __all__ = ["PATH_ANCHORS", "solve_path"]
 
 
 #: Anchors of a path: about this many samples are solved one after the other.
-PATH_ANCHORS = 64
+PATH_ANCHORS = 32
 
 
 def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None) -> Closure:
     """Solve N samples of a continuous path, each warm-started from its neighbours.
 
     About :data:`PATH_ANCHORS` anchor samples are solved in order, each from the
-    previous one (the first from ``start`` or home, with continuation where Newton
-    fails); the samples between two solved ones are then solved level by level,
+    start among the previous one, the secant through the last two and the home
+    predictor (where it lies within one anchor step of the secant) that closes best (the first from ``start`` or home, with continuation
+    where Newton fails); the samples between two solved ones are then solved level by level,
     halving the spacing, from the cubic through their two solved neighbours on each side
     (the linear interpolation where those are not all available),
     all of a level at once.  A sample whose solution is not close to that
@@ -41,14 +42,23 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     sing = np.zeros(N, bool)
     prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
     last = []                                   # the last two solved anchors (index, X)
+    predict = home_predictor(ch)
     for i in anchors:
         fx = {p: v[i:i + 1] for p, v in fixed.items()}
         X0 = prev
         if len(last) == 2:
-            # the secant through the last two anchors, where it starts closer than the last one
+            # of the last anchor, the secant through the last two and the home predictor,
+            # the start with the least closure residual; the predictor only where it lies
+            # within one anchor step of the secant (the branch followed stays)
             (i1, X1), (i2, X2) = last
-            cand = np.concatenate([X2, X2 + (X2 - X1) * ((i - i2) / (i2 - i1))], axis=1)
-            fr = forward(ch, {p: np.repeat(v, 2) for p, v in fx.items()}, cand)
+            step = X2 - X1
+            secant = X2 + step * ((i - i2) / (i2 - i1))
+            cand = [X2, secant]
+            guess = predict(fx)
+            if np.max(np.abs(guess - secant)) <= np.max(np.abs(step)):
+                cand.append(guess)
+            cand = np.concatenate(cand, axis=1)
+            fr = forward(ch, {p: np.repeat(v, cand.shape[1]) for p, v in fx.items()}, cand)
             X0 = cand[:, int(np.argmin(fr.residual))][:, None]
         c = solve_closures(model, fx, X0)
         X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \

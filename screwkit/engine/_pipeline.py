@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._conditioning import (RANK_RTOL, least_norm, normalisation, normalise_rows,
+from ._conditioning import (RANK_RTOL, least_norm, normalise_rows,
                             normalise_wrench, singular_values)
 from ._geometry import LegGeometry, geometry_of
 from ._rows import RowTemplate
@@ -18,7 +18,7 @@ from ..screws import cross
 
 __all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "legs_rows", "assemble_rows",
            "Conditioning", "condition", "default_compliance", "statics_values",
-           "derived_statics", "workload_about_origin", "COND_THRESHOLD"]
+           "derived_statics", "equilibrium_residual", "workload_about_origin", "COND_THRESHOLD"]
 
 #: Largest normalised condition number of ``J`` still treated as regular.
 COND_THRESHOLD = 1.0 / RANK_RTOL
@@ -57,8 +57,9 @@ class Rows:
         Row = scale x unit member (1 for constraint rows).
     points : ndarray (N, m, 3)
         A point of each row's line (the named point), NaN for couples.
-    leg_points : ndarray (N, p, 3)
-        Every leg's points (A, a, joint points) then ``o``: the normalisation's points.
+    centre, length : ndarray (N, 3), (N,)
+        The normalisation: centroid and RMS spread of every leg's points (``A``, ``a``, the
+        joint points) and ``o`` (the characteristic length).
     structure_ok : ndarray (N, n) of bool
         False where a leg's constraint structure is not the one of home (the generic
         rule was used there).
@@ -71,7 +72,8 @@ class Rows:
     n_actuated: int
     scale: np.ndarray
     points: np.ndarray
-    leg_points: np.ndarray
+    centre: np.ndarray
+    length: np.ndarray
     structure_ok: np.ndarray
     ok: np.ndarray
 
@@ -168,14 +170,27 @@ def assemble_rows(templates, geos, o) -> Rows:
         pts_c.append(t.member_points(geo, c))
         leg_pts += [np.broadcast_to(geo.A[:, None], (3, N)), geo.a] + list(geo.points)
     leg_pts.append(o)
+    c, L = _spread(leg_pts)
     J = np.concatenate([np.stack(acts)] + [c for c in cons if len(c)], axis=0)   # (m, 6, N)
     P = np.concatenate([np.stack(pts_a)] + [p for p in pts_c if len(p)], axis=0)
     n = len(templates)
     scale = np.concatenate([np.stack(scales_a), np.ones((J.shape[0] - n, N))], axis=0)
     return Rows(np.ascontiguousarray(J.transpose(2, 0, 1)), _labels(templates), n,
-                scale.T.copy(), np.ascontiguousarray(P.transpose(2, 0, 1)),
-                np.ascontiguousarray(np.stack(leg_pts).transpose(2, 0, 1)),
+                scale.T.copy(), np.ascontiguousarray(P.transpose(2, 0, 1)), c, L,
                 np.stack(struct, axis=1), ok)
+
+
+def _spread(points):
+    """Centroid ``(N, 3)`` and RMS distance ``(N,)`` of a list of point arrays ``(3, N)``
+    (:func:`~._conditioning.normalisation`, without stacking them)."""
+    k = len(points)
+    s = sum(points) / k
+    q = sum((p * p).sum(axis=0) for p in points) / k
+    L2 = np.maximum(q - (s * s).sum(axis=0), 0.0)
+    L = np.sqrt(L2)
+    big = np.max(np.stack([np.abs(p).max(axis=0) for p in points]), axis=0)
+    L = np.where(L <= 1e-12 * big, big, L)
+    return np.ascontiguousarray(s.T), np.where(L > 0, L, 1.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -204,11 +219,10 @@ class Conditioning:
         return Conditioning(*(getattr(self, f)[sl] for f in self.__dataclass_fields__))
 
 
-def condition(J, n_actuated, points):
-    """Conditioning of ``J (N, m, 6)`` with the normalisation of ``points (N, p, 3)``;
+def condition(J, n_actuated, c, L):
+    """Conditioning of ``J (N, m, 6)`` with the normalisation ``c (N, 3)``, ``L (N,)``;
     returns ``(Conditioning, Jn, d)``."""
     N, m, _ = J.shape
-    c, L = normalisation(points)
     Jn, d = normalise_rows(J, c, L)
     s = singular_values(Jn)
     top = np.maximum(s[:, 0], 1e-300) if s.shape[1] else np.ones(N)
@@ -301,12 +315,21 @@ def derived_statics(J, info, n_actuated, values, W, A, a, centre, length):
     delta = delta / np.linalg.norm(delta, axis=-1, keepdims=True)
     moment_A = con_w[..., 3:] - cross(A, con_w[..., :3])
     T_r = np.sum(moment_A * delta, axis=-1)
+    resid = equilibrium_residual(J, values, W, centre, length)
+    return row_w, vectors, leg_w, con_w, T_r, resid
+
+
+def equilibrium_residual(J, values, W, centre, length):
+    """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and of the row wrenches
+    ``|F_r J_r|``, all length-normalised about the centroid (unit-free, frame-free)."""
+    lead = values.shape[:-1]
+    N, m = J.shape[0], J.shape[1]
     Wf = W.reshape(N, -1, 6)
     K = Wf.shape[1]
-    total = normalise_wrench(leg_w.reshape(N, K, n, 6).sum(axis=2) + Wf, centre, length)
-    Wn = normalise_wrench(Wf, centre, length)
-    rw_n = normalise_wrench(row_w.reshape(N, K * m, 6), centre, length).reshape(N, K, m, 6)
-    scale = np.maximum(np.linalg.norm(Wn, axis=-1),
-                       np.max(np.linalg.norm(rw_n, axis=-1), axis=-1, initial=0.0))
-    resid = (np.linalg.norm(total, axis=-1) / np.where(scale > 0, scale, 1.0)).reshape(lead)
-    return row_w, vectors, leg_w, con_w, T_r, resid
+    v = values.reshape(N, K, m)
+    total = normalise_wrench(np.einsum("nkm,nmj->nkj", v, J) + Wf, centre, length)
+    Jn = normalise_wrench(J, centre, length)
+    rows = np.abs(v) * np.linalg.norm(Jn, axis=-1)[:, None, :]       # |F_r J_r| normalised
+    scale = np.maximum(np.linalg.norm(normalise_wrench(Wf, centre, length), axis=-1),
+                       np.max(rows, axis=-1, initial=0.0))
+    return (np.linalg.norm(total, axis=-1) / np.where(scale > 0, scale, 1.0)).reshape(lead)

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._chains import chains_of, forward
-from ._pipeline import (Conditioning, _labels, condition, default_compliance, derived_statics,
-                        model_rows,
+from ._pipeline import (Conditioning, _labels, condition, default_compliance,
+                        equilibrium_residual, model_rows,
                         statics_values, templates_of, workload_about_origin)
 from ._path import solve_path
 from ._solve import Closures, solve_closures
@@ -107,7 +107,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         if not rows:
             return None
         r = model_rows(model, fr, templates)
-        cond, Jn, d = condition(r.J, r.n_actuated, r.leg_points)
+        cond, Jn, d = condition(r.J, r.n_actuated, r.centre, r.length)
         part = {"J": r.J, "scale": r.scale, "rows_ok": r.ok, "structure_ok": r.structure_ok}
         part.update({f"cond.{f}": getattr(cond, f) for f in Conditioning.__dataclass_fields__})
         if F is not None:
@@ -117,9 +117,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             comp = compliance if compliance is not None else default_compliance(r.info,
                                                                                   cond.length)
             values = statics_values(Jn, d, cond.singular_values, cond, W, comp)
-            a = np.einsum("ijn,kj->nki", fr.R_p, model.platform_points) + o[:, None]
-            eq = derived_statics(r.J, r.info, r.n_actuated, values, W, ch.base_points, a,
-                                 cond.centre, cond.length)[5]
+            eq = equilibrium_residual(r.J, values, W, cond.centre, cond.length)
             part.update(values=values, equilibrium=eq)
         return part
 

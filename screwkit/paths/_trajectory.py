@@ -14,7 +14,7 @@ at every sample, with a per-sample ``status``:
   given parameters is NaN.
 
 A flagged sample never aborts the run.  Every sample is a pose of the batched
-engine (:func:`screwkit.engine.analyze` with ``path=True``): about 64 anchor
+engine (:func:`screwkit.engine.analyze` with ``path=True``): about 32 anchor
 samples are solved one after the other, each warm-started from the previous
 one; the samples between are solved level by level, all of a level at once,
 from the interpolation of their solved neighbours (a sample that jumps to
@@ -88,7 +88,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     anchor_every : int, optional
         Spacing of the anchor samples solved one after the other (>= 1); the others are
         solved level by level from their neighbours (:func:`screwkit.engine.solve`);
-        default about 64 anchors.
+        default about 32 anchors.
     chunk : int
         Samples per chunk of the rows and statics (bounds the memory).
     vectorised : bool
