@@ -11,12 +11,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..screws import Line, Twist, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
 from ._parsing import EquivalentJoint, LegString
+
+if TYPE_CHECKING:
+    from ._analysis import LegAnalysis
 
 __all__ = ["Joint", "Leg"]
 
@@ -43,10 +48,13 @@ class Joint:
     pitch: float = 0.0
 
     def __post_init__(self):
-        d = unit(self.direction, f"axis of {self.spec.name}")
-        p = as_vector3(self.point, f"point of {self.spec.name}")
+        d = _unit3(self.direction)
+        if d is None:                      # not a finite non-zero 3-vector: say so
+            d = unit(self.direction, f"axis of {self.spec.name}")
+        p = np.array(self.point, dtype=float)
+        if p.shape != (3,) or not all(map(math.isfinite, p.tolist())):
+            p = as_vector3(self.point, f"point of {self.spec.name}").copy()
         d.setflags(write=False)
-        p = p.copy()
         p.setflags(write=False)
         object.__setattr__(self, "direction", d)
         object.__setattr__(self, "point", p)
@@ -77,11 +85,23 @@ class Joint:
         """The joint axis as a line (immutable, computed once)."""
         return Line.through(self.point, self.direction)
 
-    def moved(self, rotation, translation, scale: float = 1.0) -> "Joint":
+    def moved(self, rotation: ArrayLike, translation: ArrayLike, scale: float = 1.0) -> "Joint":
         """The joint after ``x -> R (scale x) + p``."""
         R = np.asarray(rotation, float)
-        return Joint(self.spec, R @ self.direction, R @ (scale * self.point) + translation,
-                     self.pitch * scale)
+        return Joint(self.spec, R @ self.direction,
+                     R @ (scale * self.point) + np.asarray(translation, float), self.pitch * scale)
+
+
+def _unit3(x):
+    """``screws.unit(x)`` (the same values) for a finite non-zero 3-vector, else None."""
+    a = np.asarray(x, dtype=float)
+    if a.shape != (3,):
+        return None
+    x0, x1, x2 = a.tolist()
+    n = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    if not (math.isfinite(n) and n > 1e-12 * max(1.0, abs(x0), abs(x1), abs(x2))):
+        return None
+    return a / n
 
 
 def _unit_twist_row(j: Joint) -> list:
@@ -173,20 +193,20 @@ class Leg:
 
     def centres(self) -> dict:
         """Centres of the S and U joints: ``{"S1": point, ...}``."""
-        out = {}
+        out: dict[str, np.ndarray] = {}
         for j in self.joints:
             if j.spec.origin in "SU":
                 out.setdefault(f"{j.spec.origin}{j.spec.position}", j.point)
         return out
 
-    def moved(self, rotation, translation, scale: float = 1.0) -> "Leg":
+    def moved(self, rotation: ArrayLike, translation: ArrayLike, scale: float = 1.0) -> "Leg":
         """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units)."""
         R = np.asarray(rotation, float)
         p = as_vector3(translation, "translation")
         return Leg(self.string, tuple(j.moved(R, p, scale) for j in self.joints),
                    R @ (scale * self.A) + p, R @ (scale * self.a) + p, self.name)
 
-    def analyze(self):
+    def analyze(self) -> LegAnalysis:
         """Screw-theoretic analysis of the leg (see :func:`screwkit.legs.analyze_leg`)."""
         from ._analysis import analyze_leg
         return analyze_leg(self)

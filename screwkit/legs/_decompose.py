@@ -18,7 +18,7 @@ from ..screws import (GEOMETRY_RTOL, RANK_RTOL, Normalisation, Wrench, couple_wr
 from ._observation import (ConstraintWrench, RuleNote, _point_name, candidate_points, explain_couple,
                            explain_force)
 from ..screws import cross
-from ..screws._svd import svd_full, svd_values
+from ..screws._svd import decided_count, small_rank, small_singular_values, svd_full, svd_values
 
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
@@ -31,8 +31,12 @@ __all__ = ["decompose", "constraint_kinds", "reciprocity_residual"]
 def _rank(Mn, rtol=RANK_RTOL):
     if len(Mn) == 0:
         return 0
-    s = svd_values(np.asarray(Mn, float))
-    return int(np.sum(s > rtol * 1e2 * max(1.0, s[0])))
+    Mn = np.asarray(Mn, float)
+    r = small_rank(Mn.tolist(), rtol * 1e2)
+    if r is None:
+        s = svd_values(Mn)
+        r = int(np.sum(s > rtol * 1e2 * max(1.0, s[0])))
+    return r
 
 
 def _null(M, rtol=1e-9):
@@ -54,6 +58,28 @@ def _nulls(Ms, rtol=1e-9) -> list:
         tol = rtol * max(1.0, s[0] if s else 1.0)
         out.append(Vt[sum(x > tol for x in s):])
     return out
+
+
+def _surely_empty(cols) -> bool:
+    """Whether the null space that :func:`_null` finds for the matrix of columns ``cols``
+    (one or two lists of floats) is surely empty: every singular value clearly above its
+    threshold.  Most candidate lines fail this way; the others get the SVD."""
+    s = small_singular_values(cols)
+    return s is not None and decided_count(s, 1e-9 * max(1.0, s[0])) == len(cols)
+
+
+def _through_rows(Fl, Ml, p) -> list:
+    # the columns m - p x f of _through_matrix, on floats
+    p0, p1, p2 = np.asarray(p, float).tolist()
+    return [[m0 - (p1 * f2 - p2 * f1), m1 - (p2 * f0 - p0 * f2), m2 - (p0 * f1 - p1 * f0)]
+            for (f0, f1, f2), (m0, m1, m2) in zip(Fl, Ml)]
+
+
+def _parallel_rows(Fl, Ml, d) -> list:
+    # the columns [d x f; d . m] of _parallel_matrix, on floats
+    d0, d1, d2 = np.asarray(d, float).tolist()
+    return [[d1 * f2 - d2 * f1, d2 * f0 - d0 * f2, d0 * f1 - d1 * f0, d0 * m0 + d1 * m1 + d2 * m2]
+            for (f0, f1, f2), (m0, m1, m2) in zip(Fl, Ml)]
 
 
 def _skew(p):
@@ -159,6 +185,7 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
     Wn = norm.wrenches(W)
     chosen: list[np.ndarray] = []          # normalised rows
     out: list = []
+    Fl, Ml = W[:, :3].tolist(), W[:, 3:].tolist()
 
     def try_add(w, kind):
         wn = norm.wrenches(w)
@@ -170,7 +197,7 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
         return False
 
     # 1. couples: f(c) = 0
-    for c in _null(W[:, :3].T) if k else []:
+    for c in _null(W[:, :3].T) if not _surely_empty(Fl) else []:
         w = c @ W
         if np.linalg.norm(w[3:]) > 0:
             try_add(w, "couple")
@@ -179,7 +206,8 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
     # the null spaces of every candidate point (then direction) in one SVD call each;
     # they do not depend on what is chosen, only the loops stop early
     if len(chosen) < k:
-        for c_p in _nulls([_through_matrix(W, p) for p in pts.values()]):
+        cand = [p for p in pts.values() if not _surely_empty(_through_rows(Fl, Ml, p))]
+        for c_p in _nulls([_through_matrix(W, p) for p in cand]):
             if len(chosen) == k:
                 break
             for c in c_p:
@@ -187,7 +215,9 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
                 if np.linalg.norm(w[:3]) > 1e-9 * np.linalg.norm(norm.wrenches(w)):
                     try_add(w, "force")
     if len(chosen) < k:
-        for c_d in _nulls([_parallel_matrix(W, d) for d in _candidate_directions(leg)]):
+        cand = [d for d in _candidate_directions(leg)
+                if not _surely_empty(_parallel_rows(Fl, Ml, d))]
+        for c_d in _nulls([_parallel_matrix(W, d) for d in cand]):
             if len(chosen) == k:
                 break
             for c in c_d:

@@ -16,6 +16,7 @@ products) and say which rule makes each joint do no work.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from itertools import combinations
 
@@ -141,7 +142,7 @@ def candidate_points(leg: "Leg", tol: float) -> dict:
     pts = named_points(leg)
     rs = [j for j in leg.joints if j.kind == "R"]
     for j1, j2 in combinations(rs, 2):
-        if j1.spec.position == j2.spec.position:
+        if j1.spec.position == j2.spec.position or _surely_apart(j1, j2, tol):
             continue
         l1, l2 = j1.line, j2.line
         if l1.is_parallel(l2):
@@ -152,6 +153,22 @@ def candidate_points(leg: "Leg", tol: float) -> dict:
     for j in leg.joints:
         pts.setdefault(j.name, j.point)
     return pts
+
+
+def _surely_apart(j1, j2, tol: float) -> bool:
+    """Whether the axes of two joints are clearly neither parallel nor within ``tol`` of
+    each other (their distance ``|(p2 - p1) . n| / |n|``, ``n = d1 x d2``, on floats):
+    most pairs are, and skip the exact closest points.  Doubtful pairs (nearly parallel,
+    or near the tolerance) get the exact test."""
+    a0, a1, a2 = j1.direction.tolist()
+    b0, b1, b2 = j2.direction.tolist()
+    n0, n1, n2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+    nn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    if not nn > 1e-3:
+        return False
+    p0, p1, p2 = j1.point.tolist()
+    q0, q1, q2 = j2.point.tolist()
+    return abs((q0 - p0) * n0 + (q1 - p1) * n1 + (q2 - p2) * n2) / nn > 1.001 * tol
 
 
 def _point_name(point, direction, pts: dict, tol: float):

@@ -9,9 +9,10 @@ the base and the platform (world <- frame).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import GeometryError, InputError
 from ..screws import as_vector3
@@ -79,30 +80,38 @@ class Placement:
 
     @property
     def centre(self) -> np.ndarray:
-        return self.C
+        """``C`` (never None once the placement is made)."""
+        return self._filled(self.C)
 
-    @property
+    @staticmethod
+    def _filled(v: np.ndarray | None) -> np.ndarray:
+        assert v is not None, "o and C are filled in by __post_init__"
+        return v
+
+    @cached_property
     def length(self) -> float:
-        """Distance from ``A`` to ``a``: the leg's characteristic length."""
+        """Distance from ``A`` to ``a``: the leg's characteristic length (computed once)."""
         return float(np.linalg.norm(self.a - self.A))
 
-    def transformed(self, rotation, translation) -> "Placement":
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Placement":
         """The placement moved rigidly by ``x -> R x + p``."""
         R = np.asarray(rotation, float)
         p = as_vector3(translation, "translation")
-        return Placement(R @ self.A + p, R @ self.a + p, R @ self.O + p, R @ self.o + p,
-                         R @ self.base_rotation, R @ self.platform_rotation, R @ self.C + p)
+        o, C = self._filled(self.o), self._filled(self.C)
+        return Placement(R @ self.A + p, R @ self.a + p, R @ self.O + p, R @ o + p,
+                         R @ self.base_rotation, R @ self.platform_rotation, R @ C + p)
 
     def scaled(self, k: float) -> "Placement":
         """All lengths multiplied by ``k``."""
-        return Placement(k * self.A, k * self.a, k * self.O, k * self.o,
-                         self.base_rotation, self.platform_rotation, k * self.C)
+        o, C = self._filled(self.o), self._filled(self.C)
+        return Placement(k * self.A, k * self.a, k * self.O, k * o,
+                         self.base_rotation, self.platform_rotation, k * C)
 
 
 @lru_cache(maxsize=64)
 def _default_placement(s: float) -> Placement:
-    return Placement(A=[s, 0.0, 0.0], a=[0.5 * s, 0.0, 0.8 * s], O=[0.0, 0.0, 0.0],
-                     o=[0.0, 0.0, 0.8 * s])
+    return Placement(A=np.array([s, 0.0, 0.0]), a=np.array([0.5 * s, 0.0, 0.8 * s]),
+                     O=np.zeros(3), o=np.array([0.0, 0.0, 0.8 * s]))
 
 
 def default_placement(scale: float = 100.0) -> Placement:

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._tolerance import RANK_RTOL, _centroid_and_length
-from ._svd import svd_full, svd_values
+from ._svd import small_rank, svd_full, svd_values
 from ._vector import cross
 
 __all__ = [
@@ -297,10 +297,7 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
         # subset of rows are no smaller (interlacing) and its threshold no larger
         return list(range(len(Tn))), []
     for i in range(len(Tn)):
-        trial = Tn[independent + [i]]
-        s = svd_values(trial)
-        tol = rtol * max(1.0, float(s[0]))
-        if int(np.sum(s > tol)) == len(independent) + 1:
+        if _rank_of(Tn[independent + [i]], rtol) == len(independent) + 1:
             independent.append(i)
         else:
             dependent.append(i)
@@ -310,9 +307,18 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
 def _orth_rank(M, rtol):
     if M.size == 0:
         return 0
-    s = svd_values(_unit_rows(M)).tolist()
-    tol = rtol * max(1.0, s[0])
-    return sum(x > tol for x in s)
+    return _rank_of(_unit_rows(M), rtol)
+
+
+def _rank_of(M: np.ndarray, rtol) -> int:
+    """Singular values of M above ``rtol * max(1, s_max)``: in closed form for one or two
+    rows (the same decisions, see :mod:`screwkit.screws._svd`), else by the SVD."""
+    r = small_rank(M.tolist(), rtol) if len(M) <= 2 else None
+    if r is None:
+        s = svd_values(M).tolist()
+        tol = rtol * max(1.0, s[0])
+        r = sum(x > tol for x in s)
+    return r
 
 
 def same_span(A, B, norm: Normalisation, rtol: float = 1e-7, kind: str = "wrench") -> bool:
@@ -343,6 +349,9 @@ def compare_spans(A, W, norm: Normalisation, rtol: float = 1e-7,
     # rank(A), rank(W), rank([W; A]) and each rank([A; w_i]) in one stacked SVD: the
     # matrices padded with zero rows, which add only zero singular values
     mats = [a, w, w + a] + [a + [wi] for wi in w]
+    ranks = [0 if not m else small_rank(m, rtol) for m in mats]
+    if None not in ranks:              # one or two rows each: closed forms
+        return tuple(r == ranks[0] for r in ranks[3:]), ranks[1] == ranks[0] == ranks[2]
     height = max(1, len(a) + len(w))
     zero = [0.0] * 6
     stack = np.array([m + [zero] * (height - len(m)) for m in mats])

@@ -13,7 +13,8 @@ that are as accurate as LAPACK's (an absolute error of a few ulps of the largest
   ``s2 = |r1 ^ r2| / s1``.
 
 The thresholds of the rank decisions (``1e-9`` and more, relative) are far above these
-errors, so the decisions are those of the SVD.
+errors; :func:`decided_count` defers to LAPACK the rare values close to a threshold, so
+the decisions are always those of the SVD.
 
 For larger matrices, and wherever the singular vectors are needed, :func:`svd_values` and
 :func:`svd_full` call the SVD gufuncs of ``numpy.linalg`` directly: the same LAPACK routine
@@ -34,7 +35,7 @@ try:  # the gufuncs behind numpy.linalg.svd (singular values only; full U, s, Vt
 except (ImportError, AttributeError):      # another numpy layout: use the public function
     _VALUES = _FULL = None
 
-__all__ = ["small_singular_values", "svd_values", "svd_full"]
+__all__ = ["small_singular_values", "decided_count", "small_rank", "svd_values", "svd_full"]
 
 
 def _direct(M) -> bool:
@@ -62,6 +63,29 @@ def svd_full(M):
     if math.isnan(s.sum()):
         return tuple(np.linalg.svd(M, full_matrices=True))
     return u, s, vt
+
+
+def decided_count(s, tol: float, margin: float = 1e-3) -> int | None:
+    """How many of the closed-form singular values ``s`` exceed ``tol``; None when one of
+    them lies within ``margin * tol`` of it, where a closed form and LAPACK could disagree
+    (their errors are ~1e-15 of the largest value, the thresholds 1e-9 of it or more):
+    the caller then asks LAPACK, so the decision is always the SVD's."""
+    lo, hi = tol * (1.0 - margin), tol * (1.0 + margin)
+    n = 0
+    for x in s:
+        if x > hi:
+            n += 1
+        elif x >= lo:
+            return None
+    return n
+
+
+def small_rank(rows, rtol: float, floor: float = 1.0) -> int | None:
+    """The number of singular values above ``rtol * max(floor, s_max)`` of a matrix of
+    one or two rows (lists of floats), or None (more rows, or a value too close to the
+    threshold): the caller then counts LAPACK's singular values."""
+    s = small_singular_values(rows)
+    return None if s is None else decided_count(s, rtol * max(floor, s[0]))
 
 
 def small_singular_values(rows) -> list | None:

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..screws import couple_wrench, force_wrench
-from ..screws._svd import svd_full, svd_values
+from ..screws._svd import small_rank, svd_full, svd_values
 from ._linalg import (NULL_RTOL, cross, null_basis, null_dimension, perpendicular_unit,
                       random_unit, unit)
 
@@ -139,8 +139,11 @@ class Layout:
         if not self.force_lines:
             return 0
         D = np.array([d for _, d in self.force_lines])
-        s = svd_values(D)
-        return int(np.sum(s > NULL_RTOL * s[0]))
+        r = small_rank(D.tolist(), NULL_RTOL, 0.0)
+        if r is None:
+            s = svd_values(D)
+            r = int(np.sum(s > NULL_RTOL * s[0]))
+        return r
 
     def force_null_dimension(self) -> int:
         """``len(force_null())``, from the singular values alone."""

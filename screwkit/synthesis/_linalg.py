@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from ..screws import cross
-from ..screws._svd import small_singular_values, svd_full, svd_values
+from ..screws._svd import decided_count, small_singular_values, svd_full, svd_values
 
 __all__ = ["NULL_RTOL", "cross", "unit", "random_unit", "perpendicular_unit", "null_basis",
            "null_dimension"]
@@ -56,12 +56,17 @@ def null_dimension(M, rtol=NULL_RTOL) -> int:
     M = np.asarray(M, float).reshape(-1, 3)
     if len(M) == 0:
         return 3
-    s = small_singular_values(M.tolist())
-    return 3 - _rank(M, svd_values(M).tolist() if s is None else s, rtol)
+    rows = M.tolist()
+    s = small_singular_values(rows)
+    r = None if s is None else decided_count(s, _tol(rows, rtol))
+    return 3 - (_rank(M, svd_values(M).tolist(), rtol) if r is None else r)
+
+
+def _tol(rows, rtol) -> float:
+    # threshold relative to the largest row norm (not below 1)
+    return rtol * max(1.0, max(math.sqrt(a * a + b * b + c * c) for a, b, c in rows))
 
 
 def _rank(M, s, rtol) -> int:
-    # threshold relative to the largest row norm (not below 1)
-    scale = max(1.0, max(math.sqrt(a * a + b * b + c * c) for a, b, c in M.tolist()))
-    tol = rtol * scale
+    tol = _tol(M.tolist(), rtol)
     return sum(x > tol for x in s)

@@ -74,7 +74,7 @@ import numpy as np
 from ..errors import InputError
 from ..legs import Joint, Leg, LegString, Placement, default_placement, parse_leg
 from ..screws import Normalisation, RANK_RTOL
-from ..screws._svd import small_singular_values, svd_values
+from ..screws._svd import decided_count, small_singular_values, svd_values
 from ._joints import choice_words, letters_of, options_for, place_letter, twist_row
 from ._layouts import LAYOUTS, Layout, Locus, compositions, layouts_for, make_layout
 from ._linalg import NULL_RTOL
@@ -173,9 +173,13 @@ class _Ranker:
     def __call__(self, rows) -> int:
         if not rows:
             return 0
-        s = small_singular_values(rows) or svd_values(np.array(rows)).tolist()
-        tol = self.rtol * max(1.0, s[0])
-        return sum(x > tol for x in s)
+        s = small_singular_values(rows)
+        r = None if s is None else decided_count(s, self.rtol * max(1.0, s[0]))
+        if r is None:
+            s = svd_values(np.array(rows)).tolist()
+            tol = self.rtol * max(1.0, s[0])
+            r = sum(x > tol for x in s)
+        return r
 
 
 def _search(letters, layout, rng, scale, ranker, target_rank, actuated):

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..legs import Placement, analyze_leg, generic_leg, parse_leg
+from ..legs._analysis import has_actuation_wrench
 from ._reports import (CatalogCheck, DrawResult, LegValidation, TargetResult, ValidationReport,
                        composition_label)
 from ._synthesis import Synthesis, compositions, counting_rank, layouts_for, synthesize
@@ -149,7 +150,7 @@ def validate_catalog(catalog=None, known: dict | None = None, draws: int = 1,
         problems += list(spec.check_expectation(an))
         if not an.agrees():
             problems.append("the decomposition does not agree with the observation rules")
-        if an.actuation is None:
+        if not has_actuation_wrench(leg, an.system):     # the test of an.actuation is None
             problems.append("the actuated joint has no actuation wrench")
         v = known.get(spec.string.marked)
         if v is None:
@@ -169,7 +170,7 @@ def validate_catalog(catalog=None, known: dict | None = None, draws: int = 1,
 
 
 def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
-                    strings=None, check_catalog: bool = True) -> ValidationReport:
+                    strings=None, check_catalog: bool = True, progress=None) -> ValidationReport:
     """Validate the paper's Table I (101 distinct strings) and the catalog legs.
 
     Parameters
@@ -181,13 +182,23 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
         Validate these strings instead of Table I.
     check_catalog : bool
         Also run :func:`validate_catalog`.
+    progress : callable(done, total), optional
+        Called after each string (``total``: the strings, plus one step for the catalog).
     """
     from ..pm import default_catalog
 
     t0 = time.perf_counter()
     cat = catalog if catalog is not None else default_catalog()
     todo = list(dict.fromkeys(strings)) if strings is not None else cat.table1_distinct()
-    legs = tuple(validate_string(s, draws=draws, seed=seed) for s in todo)
+    total = len(todo) + bool(check_catalog)
+    done = []
+    for s in todo:
+        done.append(validate_string(s, draws=draws, seed=seed))
+        if progress is not None:
+            progress(len(done), total)
+    legs = tuple(done)
     known = {v.string.marked: v for v in legs}
     checks = validate_catalog(cat, known, draws=draws, seed=seed) if check_catalog else ()
+    if progress is not None and check_catalog:
+        progress(total, total)
     return ValidationReport(legs, checks, int(draws), int(seed), time.perf_counter() - t0)
