@@ -1,0 +1,104 @@
+"""Throughput and memory of ``screwkit.map`` on the 3RRPRR, serial and on 2 local Dask workers.
+
+Prints, side by side in one run (the machines are noisy):
+
+* ``analyze (reference)``: one plain ``screwkit.analyze`` call on ``--n`` random poses of
+  the same box (the engine alone, no map);
+* ``map serial``: ``screwkit.map`` over a 100 x 100 x 100 grid (``--n`` cells: alpha and
+  beta in +-15 deg, Zo in 60..100 cm), blocks of 65,536 cells, 2 threads per block;
+* ``map dask 2 workers``: the same map on a LocalCluster of 2 worker processes (loopback,
+  one thread each; the cluster's start is timed apart) and a check that it equals the serial
+  map bit for bit;
+
+each with cells per second and the peak resident memory of the process that ran it (the
+Dask workers' own peak is reported by the workers).  Targets (issue 11): 1,000,000 cells in
+<= 20 s serial on 2 cores, peak memory under 2 GB.
+
+Run: ``python benchmarks/bench_map.py [--n 1000000] [--no-dask]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import time
+
+
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _run(mode: str, n: int) -> None:
+    """One case in this (fresh) process: prints 'seconds peak_MB [extra]'."""
+    import numpy as np
+
+    import screwkit
+    side = max(2, round(n ** (1 / 3)))
+    grid = {"alpha": (-15.0, 15.0, side), "beta": (-15.0, 15.0, side), "Zo": (60.0, 100.0, side)}
+    pm = screwkit.load_pm("3RRPRR")
+    screwkit.analyze(pm, {"alpha": np.zeros(8), "beta": np.zeros(8), "Zo": np.full(8, 80.0)})
+    if mode == "analyze":
+        rng = np.random.default_rng(0)
+        N = side ** 3
+        pose = {"alpha": np.radians(rng.uniform(-15, 15, N)),
+                "beta": np.radians(rng.uniform(-15, 15, N)), "Zo": rng.uniform(60, 100, N)}
+        t = time.perf_counter()
+        res = screwkit.analyze(pm, pose)
+        dt = time.perf_counter() - t
+        print(dt, _peak_mb(), N, int(res.ok.sum()))
+        return
+    if mode == "serial":
+        t = time.perf_counter()
+        ds = screwkit.map(pm, grid, degrees=True)
+        dt = time.perf_counter() - t
+        ds.to_netcdf("/tmp/bench_map_serial.nc", engine="scipy")
+        print(dt, _peak_mb(), ds["ok"].size, int(ds["ok"].sum()))
+        return
+    import distributed
+    t0 = time.perf_counter()
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  host="127.0.0.1", dashboard_address=None) as cl, \
+            distributed.Client(cl) as client:
+        start = time.perf_counter() - t0
+        t = time.perf_counter()
+        ds = screwkit.map(pm, grid, degrees=True, cluster=client)
+        dt = time.perf_counter() - t
+        worker_mb = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+    import xarray as xr
+    ref = xr.open_dataset("/tmp/bench_map_serial.nc").load()
+    same = all(np.array_equal(ref[k].values, ds[k].values, equal_nan=True)
+               for k in ds.data_vars)
+    print(dt, _peak_mb(), ds["ok"].size, int(ds["ok"].sum()), start,
+          max(worker_mb.values()), same)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=1_000_000, help="cells (a cube grid)")
+    ap.add_argument("--no-dask", action="store_true")
+    ap.add_argument("--_case", help=argparse.SUPPRESS)
+    a = ap.parse_args(argv)
+    if a._case:
+        _run(a._case, a.n)
+        return 0
+    cases = ["analyze", "serial"] + ([] if a.no_dask else ["dask"])
+    print(f"screwkit.map, 3RRPRR, about {a.n} cells (each case in a fresh process)")
+    print(f"{'case':<24} {'seconds':>8} {'cells/s':>10} {'peak MB':>8}  notes")
+    for c in cases:
+        out = subprocess.run([sys.executable, __file__, "--n", str(a.n), "--_case", c],
+                             capture_output=True, text=True, check=True).stdout.split()
+        dt, mb, n = float(out[0]), float(out[1]), int(out[2])
+        note = f"{out[3]} ok"
+        if c == "dask":
+            note += (f"; cluster start {float(out[4]):.1f} s; worker peak {float(out[5]):.0f} MB;"
+                     f" equal to serial bit for bit: {out[6]}")
+        label = {"analyze": "analyze (reference)", "serial": "map serial",
+                 "dask": "map dask 2 workers"}[c]
+        print(f"{label:<24} {dt:8.2f} {n / dt:10.0f} {mb:8.0f}  {note}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

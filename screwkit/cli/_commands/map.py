@@ -1,0 +1,196 @@
+"""``screwkit map PM``: a PM over a grid of poses (workspace, conditioning, forces, loci)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ...errors import InputError
+from .._progress import add_quiet_argument, progress_bar
+from ._common import dump_json, fmt_num
+from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple
+
+HELP = """Analyse a PM at every cell of a grid of 1 to 3 independent pose parameters
+(--grid NAME=START:STOP:COUNT, angles in degrees; the other independent parameters from --fix
+NAME=VALUE or the default pose), or at --samples N random poses in the box --grid NAME=LOW:HIGH.
+Every cell: reachable, closure residual, condition number, sign of det J, singularity kind and
+trust level, active and constraint forces, T_r, extensions, actuated joint values, and the
+model's limits. Where det J changes sign between neighbouring cells the crossing is refined by
+bisection (to 1e-6 of the cell size) and classified (actuation or constraint singularity).
+Output: --out map.nc | map.zarr | map.csv (long format, one row per cell), --plot map.png
+(heatmaps of --quantity), a summary on stdout (--json: with 'singular_locus' and
+'extremes'). --workers N runs the cells on a local Dask cluster of N processes (loopback),
+--scheduler tcp://HOST:PORT on a running one; the result equals the serial run bit for bit."""
+
+EPILOG = """examples:
+  screwkit map 3RRPRR --grid alpha=-15:15:61 --grid beta=-15:15:61 --fix Zo=80 \\
+      --out map.nc --plot map.png --quantity forces --quantity conditioning
+  screwkit map 2SPS+2SPR --grid alpha=-10:30:81 --grid gamma=-10:30:81 --fix beta=0 \\
+      --fix Zo=75 --plot locus.png --json
+  screwkit map 3RRPRR --samples 100000 --grid alpha=-10:10 --grid beta=-10:10 \\
+      --grid Zo=60:100 --out samples.csv --workers 2"""
+
+
+def add_map_arguments(p):
+    """The cells, workload and cluster arguments shared by map and size."""
+    add_pm_arguments(p, pose=False)
+    p.add_argument("--grid", metavar="NAME=START:STOP:COUNT", action="append", default=[],
+                   help="a grid parameter (degrees for angles; repeatable, 1 to 3; with "
+                        "--samples: NAME=LOW:HIGH, the sampling box)")
+    p.add_argument("--fix", metavar="NAME=VALUE", action="append", default=[],
+                   help="fix another independent parameter (default: the model's default pose)")
+    p.add_argument("--samples", type=int, metavar="N",
+                   help="N random poses uniform in the --grid box instead of a grid")
+    p.add_argument("--seed", type=int, default=0, help="seed of --samples (default 0)")
+    add_load_arguments(p)
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="run the cells on a local Dask cluster of N worker processes "
+                        "(127.0.0.1; needs screwkit[dask])")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the cells on a running Dask scheduler")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="threads of each block's analysis (as analyze's workers; default: 2 "
+                        "for large blocks)")
+    p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    add_quiet_argument(p)
+
+
+def grid_of(args) -> dict:
+    from ...maps import parse_range
+    if not args.grid:
+        raise InputError("give at least one --grid NAME=START:STOP:COUNT")
+    out = {}
+    for g in args.grid:
+        name, rng = parse_range(g)
+        if name in out:
+            raise InputError(f"--grid {name} is given twice")
+        if args.samples is None and len(rng) != 3:
+            raise InputError(f"--grid {g!r}: a grid needs START:STOP:COUNT (LOW:HIGH is a "
+                             "--samples box)")
+        if args.samples is not None and len(rng) != 2:
+            raise InputError(f"--grid {g!r}: with --samples give the box NAME=LOW:HIGH")
+        out[name] = rng
+    return out
+
+
+def map_keywords(args, progress=None) -> dict:
+    """Keywords of :func:`screwkit.map` / :func:`screwkit.size` from the arguments."""
+    if args.workers is not None and args.scheduler:
+        raise InputError("give either --workers N or --scheduler ADDRESS")
+    return dict(fix=parse_assignments(args.fix, "--fix"), samples=args.samples,
+                seed=args.seed, degrees=True, force=parse_triple(args.force, "--force"),
+                torque=parse_triple(args.torque, "--torque"), workers=args.threads,
+                cluster=args.workers, scheduler=args.scheduler,
+                progress=progress)
+
+
+def register(sub):
+    p = sub.add_parser("map", help="a PM over a grid of poses: workspace, conditioning, "
+                       "forces, singular loci", description=HELP, epilog=EPILOG,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_map_arguments(p)
+    p.add_argument("--out", metavar="FILE", help="write the map: .nc (NetCDF), .zarr, .csv")
+    p.add_argument("--plot", metavar="PNG", help="draw heatmaps of --quantity")
+    p.add_argument("--quantity", action="append", default=[],
+                   help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
+                        "forces, constraints or conditioning (repeatable; default: forces and "
+                        "conditioning)")
+    p.add_argument("--at", metavar="NAME=VALUE", action="append", default=[],
+                   help="the slice of a 3-D map that --plot draws (default: the middle)")
+    p.set_defaults(func=run)
+
+
+def summary(ds) -> dict:
+    """The JSON summary of a map (counts, loci, extremes)."""
+    import numpy as np
+
+    from ...maps import LEVEL_CODES, extremes, locus_list
+    lev = ds["level"].values.reshape(-1)
+    counts = {"cells": int(lev.size), "reachable": int(ds["reachable"].sum()),
+              "ok": int(ds["ok"].sum()),
+              "levels": {name: int(np.sum(lev == k)) for k, name in enumerate(LEVEL_CODES)},
+              "singular_actuation": int(np.sum(ds["singular_kind"].values == 1)),
+              "singular_constraint": int(np.sum(ds["singular_kind"].values == 2)),
+              "other_assembly_mode": int(np.sum((ds["det_sign"].values != 0) &
+                                                (ds["det_sign"].values != ds.attrs["home_det_sign"]))),
+              }
+    if "within_limits" in ds:
+        counts["outside_limits"] = int(np.sum(ds["reachable"].values & ~ds["within_limits"].values))
+    dims = ds["ok"].dims
+    grid = {d: {"count": int(ds.sizes[d]), "start": float(ds[d].values[0]),
+                "stop": float(ds[d].values[-1]), "unit": ds[d].attrs["units"]}
+            for d in dims if d != "sample"}
+    return {"pm": ds.attrs["pm"],
+            "units": {"length": ds.attrs["units_length"], "force": ds.attrs["units_force"],
+                      "torque": ds.attrs["units_torque"], "angle": ds.attrs["units_angle"]},
+            "grid": grid, "fixed": {k: float(ds[k].values) for k in ds.coords if ds[k].ndim == 0},
+            "workload": {"force": ds.attrs["force"], "torque": ds.attrs["torque"],
+                         "applied_at": "o"},
+            "counts": counts, "locus": ds.attrs.get("locus"),
+            "singular_locus": locus_list(ds),
+            "other_sign_changes": locus_list(ds, singular_only=False),
+            "extremes": extremes(ds)}
+
+
+def run(args) -> int:
+    from ...api import map as map_pm
+    from ...maps import plot_map, write
+
+    if args.plot:
+        from ...viz import require_matplotlib
+        require_matplotlib()                     # fail before a long run, not after it
+    from .analyze import resolve_model
+    model = resolve_model(args)
+    grid = grid_of(args)
+    with progress_bar(args, "map", "cell") as progress:
+        ds = map_pm(model, grid, **map_keywords(args, progress))
+    if args.out:
+        write(ds, args.out)
+        print(f"wrote {args.out}", file=sys.stderr)
+    if args.plot:
+        plot_map(ds, args.plot, args.quantity or ["forces", "conditioning"],
+                 at=parse_assignments(args.at, "--at"))
+        print(f"wrote {args.plot}", file=sys.stderr)
+    s = summary(ds)
+    if args.json:
+        print(dump_json(s))
+        return 0
+    print_summary(s)
+    return 0
+
+
+def print_summary(s) -> None:
+    u = s["units"]
+    c = s["counts"]
+    grid = ", ".join(f"{d} {g['start']:g}..{g['stop']:g} {g['unit']} ({g['count']})"
+                     for d, g in s["grid"].items()) or "random samples"
+    fixed = ", ".join(f"{k} = {fmt_num(v)}" for k, v in s["fixed"].items())
+    print(f"map of {s['pm']}: {grid}" + (f"; fixed {fixed}" if fixed else ""))
+    print(f"  units: lengths {u['length']}, forces {u['force']}, torques {u['torque']}, "
+          f"angles {u['angle']}")
+    lv = c["levels"]
+    print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; levels ok "
+          f"{lv['ok']}, ill-conditioned {lv['ill-conditioned']}, near-singular "
+          f"{lv['near-singular']}, singular {lv['singular']}, unreachable {lv['unreachable']}")
+    print(f"  det J of the other sign than home's: {c['other_assembly_mode']} cells"
+          + (f"; outside the limits: {c['outside_limits']} cells" if "outside_limits" in c
+             else ""))
+    loc = s["singular_locus"]
+    kinds = {k: sum(1 for x in loc if x["kind"] == k) for k in ("actuation", "constraint")}
+    print(f"  singular locus: {len(loc)} crossings refined to 1e-6 of a cell "
+          f"({kinds['actuation']} actuation, {kinds['constraint']} constraint); "
+          f"{len(s['other_sign_changes'])} other det J sign changes"
+          if s["locus"] == "refined" else f"  singular locus: {s['locus']}")
+    for x in loc[:5]:
+        print("    " + ", ".join(f"{k} = {fmt_num(v, 9)}" for k, v in x["pose"].items())
+              + f"  ({x['kind']}, condition {x['condition_number']:.3g})")
+    if len(loc) > 5:
+        print(f"    ... {len(loc) - 5} more (--json lists them)")
+    ex = s["extremes"]
+    print(f"  largest |value| over the {ex['usable_cells']} ok cells:")
+    for r in ex["rows"]:
+        if r["max_abs"] is None:
+            continue
+        print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
+              + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
+              + f"  ({r['level']})")

@@ -1,0 +1,79 @@
+"""``screwkit size PM``: the largest force of every actuator and leg over a map and workloads."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .._progress import progress_bar
+from ._common import dump_json, fmt_num
+from .map import add_map_arguments, grid_of, map_keywords
+
+HELP = """Size a PM's actuators and legs: over every cell of a grid (or random samples; the
+arguments of 'screwkit map') and every workload of --workloads FILE.csv (columns Fx,Fy,Fz,
+Tx,Ty,Tz in the model's force and torque units at o, optionally name; default: --force and
+--torque), the largest |value| of each actuator's force or torque, of each constraint force
+or couple, and of each linear leg's T_r, with the signed value, the pose and the workload
+where it occurs and the cell's trust level; and the range of each extension r_i and actuated
+joint value q_ai (the strokes). Only cells that are ok, within the model's limits and of
+--max-level or better count.
+--json prints the table under the key 'extremes'."""
+
+EPILOG = """examples:
+  screwkit size 3RRPRR --grid alpha=-10:10:41 --grid beta=-10:10:41 --grid Zo=70:90:21
+  screwkit size 2SPS+2SPR --grid alpha=-5:5:21 --grid gamma=-5:5:21 --fix beta=0 \\
+      --fix Zo=80 --workloads loads.csv --json"""
+
+
+def register(sub):
+    p = sub.add_parser("size", help="actuator and leg sizing: largest forces over a map and "
+                       "workloads", description=HELP, epilog=EPILOG,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_map_arguments(p)
+    p.add_argument("--max-level", choices=("ok", "ill-conditioned", "near-singular"),
+                   default="near-singular",
+                   help="count only cells of this trust level or better (default: every "
+                        "regular cell; near-singular cells need efforts > 5x the load)")
+    p.add_argument("--workloads", metavar="CSV",
+                   help="workloads to size for (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, "
+                        "--torque")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ...api import size
+    from ...maps import read_workloads
+    from .analyze import resolve_model
+
+    model = resolve_model(args)
+    grid = grid_of(args)
+    with progress_bar(args, "size", "cell") as progress:
+        kw = map_keywords(args, progress)
+        F, T = kw.pop("force"), kw.pop("torque")
+        loads = read_workloads(args.workloads) if args.workloads else \
+            [("--force/--torque", F, T)]
+        res = size(model, grid, workloads=loads, max_level=args.max_level, **kw)
+    if args.json:
+        print(dump_json(res.to_dict()))
+        return 0
+    u = res.units
+    print(f"sizing of {res.pm} over {res.usable_cells} usable cells of {res.cells} (ok, within "
+          f"the limits, level {res.max_level} or better) and {len(res.workloads)} workload(s); "
+          f"lengths {u['length']}, forces {u['force']}, torques {u['torque']}, angles "
+          f"{u['angle']}")
+    if not res.usable_cells:
+        print("  no usable cell: nothing to size", file=sys.stderr)
+        return 0
+    print(f"  {'row':<6} {'max |value|':>12} {'unit':<6} {'signed':>12}  workload / pose / level")
+    for r in res.rows:
+        if r["max_abs"] is None:
+            continue
+        pose = ", ".join(f"{k}={fmt_num(v)}" for k, v in r["pose"].items())
+        print(f"  {r['name']:<6} {fmt_num(r['max_abs']):>12} {r['unit']:<6} "
+              f"{fmt_num(r['value']):>12}  {r['workload']} / {pose} / {r['level']}")
+    print("  ranges (strokes):")
+    for r in res.ranges:
+        if r["min"] is None:
+            continue
+        print(f"  {r['name']:<6} {fmt_num(r['min']):>12} .. {fmt_num(r['max']):<12} {r['unit']}")
+    return 0

@@ -1,0 +1,85 @@
+"""The actuator values a forward kinematics is asked for (private): arrays or ``q<i>`` /
+``r<i>`` mappings, and which legs' extensions are their actuators' values."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["actuator_targets", "extension_offset"]
+
+
+def actuator_targets(model, actuators, degrees=False):
+    """The actuated joint values ``(N, n)`` (displacements from home) of ``actuators``:
+    an array ``(n,)`` / ``(N, n)``, or a mapping ``q<i>`` (the joint value) / ``r<i>`` (the
+    extension ``|a_i - A_i|`` of a leg whose actuator is a P joint on the line ``A_i a_i``)
+    -> number or array.  Returns ``(values, single)``."""
+    from ..errors import InputError
+    n = model.n_legs
+    rot = np.array([lg.actuated_joint.kind != "P" for lg in model.home_legs])
+    if isinstance(actuators, dict):
+        cols, N, single = {}, None, True
+        for k, v in actuators.items():
+            name = str(k)
+            if len(name) < 2 or name[0] not in "qr" or not name[1:].isdigit() or \
+                    not 1 <= int(name[1:]) <= n:
+                raise InputError(f"{model.name}: actuator {name!r}: use q1..q{n} (actuated "
+                                 f"joint values from home) or r1..r{n} (leg extensions)")
+            a = np.asarray(v, float)
+            if a.ndim > 1 or not np.all(np.isfinite(a)):
+                raise InputError(f"{model.name}: actuator {name} must be finite numbers")
+            single &= a.ndim == 0
+            i = int(name[1:]) - 1
+            if i in cols:
+                raise InputError(f"{model.name}: leg {i + 1}'s actuator is given twice")
+            if name[0] == "r":
+                r0 = extension_offset(model, i)
+                a = a - r0
+            elif degrees and rot[i]:
+                a = np.radians(a)
+            cols[i] = a
+        missing = [f"q{i + 1}" for i in range(n) if i not in cols]
+        if missing:
+            raise InputError(f"{model.name}: no value for {', '.join(missing)} (one per leg)")
+        shapes = {np.shape(v) for v in cols.values() if np.ndim(v)}
+        if len(shapes) > 1:
+            raise InputError(f"{model.name}: the actuator arrays have different lengths")
+        N = shapes.pop()[0] if shapes else 1
+        out = np.stack([np.broadcast_to(cols[i], (N,)) for i in range(n)], axis=1)
+        return out.astype(float), single
+    a = np.asarray(actuators, float)
+    if a.shape[-1:] != (n,) or a.ndim > 2 or not np.all(np.isfinite(a)):
+        raise InputError(f"{model.name}: give {n} finite actuated joint values (one per leg), "
+                         f"shape (n,) or (N, n); got shape {a.shape}")
+    single = a.ndim == 1
+    a = np.atleast_2d(a).copy()
+    if degrees:
+        a[:, rot] = np.radians(a[:, rot])
+    return a, single
+
+
+def extension_offset(model, i, rtol=1e-9):
+    """``r_i`` at home, for a leg whose extension is its actuated P joint's value + ``r0``."""
+    from ..errors import InputError
+    lg = model.home_legs[i]
+    A, a = np.asarray(lg.A, float), np.asarray(lg.a, float)
+    r0 = float(np.linalg.norm(a - A))
+    j = lg.actuated_index
+    jt = lg.joints[j]
+    L = float(model.normalisation.length)
+
+    def on_line(p, jn):
+        d = np.asarray(jn.direction, float)
+        x = p - np.asarray(jn.point, float)
+        return np.linalg.norm(x - (x @ d) * d) <= rtol * L
+
+    ok = jt.kind == "P" and r0 > 0 and \
+        np.linalg.norm(np.cross(np.asarray(jt.direction, float), (a - A) / r0)) <= rtol and \
+        all(on_line(A, lg.joints[k]) for k in range(j)) and \
+        all(on_line(a, lg.joints[k]) for k in range(j + 1, len(lg.joints)))
+    if not ok:
+        raise InputError(f"{model.name}: leg {i + 1}'s extension is not its actuator's value "
+                         f"(its actuated joint is not a P on the line A{i + 1} a{i + 1} "
+                         f"between joints through A{i + 1} and a{i + 1}): give q{i + 1}")
+    return r0
+
+

@@ -1,0 +1,330 @@
+"""Forward kinematics (direct displacement) of N poses: the platform pose from the actuators.
+
+The loop closures of :mod:`screwkit.engine._closure` are solved the other way round: the
+actuated joint values are given (frozen) and the unknowns are the platform's pose and
+every passive joint.  The platform moves by its own twist (the six columns of the
+identity, length-normalised about the model's centroid), so the iteration has no
+representation singularity; the pose is read off as the model's Euler angles at the end.
+The Gauss-Newton step is the engine's (:func:`~screwkit.engine._closure.newton_step` with
+the platform's twist and the actuated joints frozen), with per-pose convergence and step
+halving.
+
+Starts.  From home (or a guess: a pose, a :class:`PoseSolution`), the actuated values move
+from the start's to the targets in steps of at most :data:`STEP` (continuation), each step
+started from the last, then in 4 times as many steps where that fails, then by Newton
+straight from the start, and last by a seed search (:mod:`screwkit.engine._modes`) keeping
+the solution nearest the start's pose: those may be other assembly modes, and the result
+says how each pose was found (``steps``, ``tracked``).  The solution found
+from home is the assembly mode connected to home along that path; :func:`assembly_modes`
+(:mod:`screwkit.engine._modes`) searches many seeds at once for the others.
+
+At the solutions the PM is analysed by :func:`screwkit.engine.analyze` (warm-started from
+the forward solution), which gives the conditioning and the sign of ``det J``.
+"""
+
+from __future__ import annotations
+
+import warnings
+import weakref
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._chains import LENGTH_PARAMS, PARAMS, chains_of
+from ._closure import CONVERGED
+from ._fk_inputs import actuator_targets
+from ._fk_newton import STEP, continuation
+
+__all__ = ["ForwardResult", "forward_kinematics", "actuator_targets", "reference", "finish",
+           "split_singular", "STEP"]
+
+
+
+@dataclass(frozen=True, eq=False)
+class ForwardResult:
+    """Platform poses solved from actuated joint values (N poses; ``single``: one).
+
+    Attributes
+    ----------
+    model : PMModel
+    params : dict str -> ndarray (N,)
+        The six pose parameters (radians, model lengths).
+    rotation : ndarray (N, 3, 3) ; position : ndarray (N, 3)
+        World <- platform, and ``o``.
+    actuators : ndarray (N, n)
+        The actuated joint values asked for (from home).
+    residual : ndarray (N,)
+        Length-normalised closure residual.
+    success : ndarray (N,) of bool
+        Converged and confirmed by the analysis at the pose.
+    iterations : ndarray (N,)
+    steps : ndarray (N,)
+        Continuation steps that solved the pose: 0 Newton straight from the start, -2 a seed
+        search (no path from the start: the solution nearest the start's pose), -1 not
+        solved.
+    condition_number : ndarray (N,)
+        Normalised condition number of ``J`` at the solution.
+    det_sign : ndarray (N,) ; reference_det_sign : int
+        Signs of ``det J`` (0: not square) at the solutions and at the start without a
+        guess (:func:`reference`: home, or the default pose where home is singular); a sign
+        unlike the reference's is another assembly mode.
+    reference : str
+        ``"home"`` or ``"the default pose"``.
+    analysis : PMAnalysis
+        The engine's analysis at the solved poses.
+    notes : tuple of str
+    """
+
+    model: object
+    params: dict
+    rotation: np.ndarray
+    position: np.ndarray
+    actuators: np.ndarray
+    residual: np.ndarray
+    success: np.ndarray
+    iterations: np.ndarray
+    steps: np.ndarray
+    condition_number: np.ndarray
+    det_sign: np.ndarray
+    reference_det_sign: int
+    analysis: object = field(repr=False)
+    notes: tuple = ()
+    single: bool = False
+    reference: str = "home"
+
+    def __len__(self):
+        return len(self.residual)
+
+    @property
+    def independent(self) -> dict:
+        """The model's independent pose parameters (radians, model lengths)."""
+        return {k: self.params[k] for k in self.model.independent}
+
+    @property
+    def tracked(self) -> np.ndarray:
+        """Solved by continuation from the start along the straight actuator path (the
+        start's assembly mode, unless the path crosses a singularity)."""
+        return self.steps > 0
+
+    @property
+    def same_mode_as_reference(self) -> np.ndarray:
+        """``det J`` has the reference's sign (its assembly mode; True where undefined)."""
+        return (self.det_sign == self.reference_det_sign) | (self.det_sign == 0) | \
+            (self.reference_det_sign == 0)
+
+    def pose(self, i: int = 0, degrees: bool = True) -> dict:
+        """The six pose parameters of solution ``i`` (degrees for angles by default)."""
+        return {k: float(np.degrees(v[i]) if (degrees and k not in LENGTH_PARAMS) else v[i])
+                for k, v in self.params.items()}
+
+    def to_dict(self, i: int = 0) -> dict:
+        """JSON-ready description of solution ``i`` (degrees, model units)."""
+        u = self.model.units
+        return {"pose": self.pose(i), "units": u.as_dict(),
+                "residual": float(self.residual[i]), "success": bool(self.success[i]),
+                "condition_number": float(self.condition_number[i]),
+                "det_sign": int(self.det_sign[i]),
+                "reference": self.reference, "reference_det_sign": int(self.reference_det_sign),
+                "same_assembly_mode_as_reference": bool(self.same_mode_as_reference[i]),
+                "level": str(np.atleast_1d(self.analysis.level)[i]),
+                "extensions": np.atleast_2d(self.analysis.solution.extensions)[i].tolist(),
+                "continuation_steps": int(self.steps[i]), "tracked": bool(self.tracked[i]),
+                "iterations": int(self.iterations[i])}
+
+    def __repr__(self):
+        return (f"ForwardResult({self.model.name}: {len(self)} poses, "
+                f"{int(np.sum(self.success))} solved)")
+
+
+_REFERENCE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def reference(model):
+    """Where the forward kinematics starts without a guess: ``(name, pose, det_sign)`` of
+    home, or of the model's default pose where home is near-singular (for instance a
+    platform similar to its base: the architecture is singular at the symmetric home)."""
+    out = _REFERENCE.get(model)
+    if out is None:
+        from ._analysis import analyze
+        from ._quality import NEAR_SINGULAR_COND
+        for name, pose in (("home", {p: model.home_pose[p] for p in model.independent}),
+                           ("the default pose", dict(model.default_pose))):
+            an = analyze(model, {p: np.array([v]) for p, v in pose.items()},
+                         raise_on_singular=False)
+            cond = float(an.jacobian.condition_number[0])
+            if cond <= NEAR_SINGULAR_COND and bool(an.ok[0]):
+                break
+        out = (name, pose, int(an.quality.det_sign[0]))
+        _REFERENCE[model] = out
+    return out
+
+
+def _start_state(model, ch, guess, N):
+    """``(R, o, q)`` of the start and its actuated values ``(n, N)``."""
+    from ..errors import InputError
+    if guess is None and reference(model)[0] != "home":
+        guess = reference(model)[1]
+    if guess is None:
+        Rh, ph = (np.asarray(x, float) for x in model.platform_home)
+        R = np.repeat(Rh[:, :, None], N, axis=2)
+        o = np.repeat(ph[:, None], N, axis=1)
+        q = np.zeros((ch.n, ch.m, N))
+        return (R, o, q), np.zeros((ch.n, N))
+    from ._solution import solve
+    sol = guess if hasattr(guess, "closures") else None
+    if sol is None:
+        if not isinstance(guess, dict):
+            raise InputError(f"{model.name}: guess must be a pose (dict of the independent "
+                             "parameters, radians) or a PoseSolution")
+        sol = solve(model, {k: np.atleast_1d(np.asarray(v, float)) for k, v in guess.items()},
+                    raise_unreachable=True)
+    c = sol.closures
+    if not np.all(c.residual <= CONVERGED):
+        raise InputError(f"{model.name}: the guess does not assemble")
+    nu = len(ch.unknown)
+    q = c.X[nu:].reshape(ch.n, ch.m, -1) * ch.q_scale[:, :, None]
+    Rp = np.ascontiguousarray(np.atleast_3d(sol._platform[0]).transpose(1, 2, 0))
+    o = np.ascontiguousarray(np.atleast_2d(sol._platform[1]).T)
+    if q.shape[-1] == 1 and N > 1:
+        q, Rp, o = (np.repeat(x, N, axis=-1) for x in (q, Rp, o))
+    if q.shape[-1] != N:
+        raise InputError(f"{model.name}: the guess has {q.shape[-1]} poses for {N}")
+    return (Rp, o, q), q[np.arange(ch.n), ch.actuated]
+
+
+def pose_params(model, ch, R, o, reference):
+    """The six pose parameters of platform poses ``R (3, 3, N)``, ``o (3, N)``: Euler angles
+    of the model's order (moved by 2 pi towards ``reference``), and where the order is at
+    its representation singularity the model's split of the determined combination."""
+    from scipy.spatial.transform import Rotation
+    R0, p0 = ch.frame
+    Rb = np.einsum("ji,jkN->Nik", R0, R)
+    ob = (R0.T @ (o - p0[:, None]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ang = Rotation.from_matrix(Rb).as_euler(model.order).T
+    ref = np.array([reference[p] for p in ("alpha", "beta", "gamma")])
+    ref = ref[:, None] if ref.ndim == 1 else ref
+    # the two sets of angles of one rotation; the one nearer the reference (mod 2 pi)
+    proper = model.order[0].lower() == model.order[2].lower()
+    alt = np.stack([ang[0] + np.pi, -ang[1] if proper else np.pi - ang[1], ang[2] + np.pi])
+    sets = [a + 2 * np.pi * np.round((ref - a) / (2 * np.pi)) for a in (ang, alt)]
+    near = np.sum((sets[1] - ref) ** 2, axis=0) < np.sum((sets[0] - ref) ** 2, axis=0)
+    ang = np.where(near, sets[1], sets[0])
+    params = {"Xo": ob[0], "Yo": ob[1], "Zo": ob[2], "alpha": ang[0], "beta": ang[1],
+              "gamma": ang[2]}
+    from ._solve import is_representation_singular
+    sing = is_representation_singular(model.order, params["beta"], 1e-9)
+    if sing.any():
+        split_singular(model, params, np.flatnonzero(sing))
+    return params, sing
+
+
+def forward_kinematics(model, actuators, guess=None, *, degrees: bool = False):
+    """Forward kinematics: the platform poses where the actuated joints take ``actuators``.
+
+    Parameters
+    ----------
+    model : PMModel
+    actuators : array_like (n,) or (N, n), or mapping
+        Actuated joint values, displacements from home (radians for rotary actuators unless
+        ``degrees``, model lengths for linear ones); a mapping ``q1..qn`` / ``r1..rn`` (leg
+        extensions ``|a_i - A_i|`` where that is the actuator's value + a constant).
+    guess : dict or PoseSolution, optional
+        Start (default: home), then continuation (module docstring).
+
+    Returns
+    -------
+    ForwardResult
+    """
+    ch = chains_of(model)
+    target, single = actuator_targets(model, actuators, degrees)
+    N = target.shape[0]
+    start, qa0 = _start_state(model, ch, guess, N)
+    R, o, q, res, its, how = continuation(ch, start, qa0, target.T)
+    lost = np.flatnonzero(~(res <= CONVERGED))
+    if lost.size:                    # no path from the start: the nearest solution of a search
+        from ._fk_newton import nearest_solutions
+        Rn, on, qn, rn, itn = nearest_solutions(model, ch, target[lost], start, lost)
+        better = rn < res[lost]
+        k = lost[better]
+        R[..., k], o[:, k], q[..., k], res[k], its[k] = Rn[..., better], on[:, better], \
+            qn[..., better], rn[better], its[k] + itn[better]
+        how[k] = -2
+    ref = {p: (np.full(N, model.home_pose[p]) if guess is None or not isinstance(guess, dict)
+               else np.full(N, float(np.asarray(guess.get(p, model.home_pose[p])).ravel()[0])))
+           for p in ("alpha", "beta", "gamma")}
+    return finish(model, ch, R, o, q, res, its, how, target, single, ref)
+
+
+def finish(model, ch, R, o, q, res, its, how, target, single, ref, notes=()):
+    """Pose parameters, the analysis at the solutions and the :class:`ForwardResult`."""
+    from ._analysis import analyze
+    from ._solution import make_solution
+    from ._solve import Closures
+    N = res.shape[0]
+    params, sing = pose_params(model, ch, R, o, ref)
+    nu = len(ch.unknown)
+    X = np.empty((ch.n_unknowns, N))
+    for k, u in enumerate(ch.unknown):
+        X[k] = params[u] / ch.x_scale[k]
+    X[nu:] = (q / ch.q_scale[:, :, None]).reshape(ch.n * ch.m, N)
+    fixed = {p: np.nan_to_num(params[p]) for p in ch.fixed}
+    guess = make_solution(model, Closures(ch, X, fixed, res, its, np.zeros(N, int),
+                                          np.zeros(N, bool)), False, [])
+    an = analyze(model, fixed, guess=guess, raise_on_singular=False)
+    sol = an.solution
+    same = (np.max(np.abs(sol._platform[0] - R.transpose(2, 0, 1)), axis=(1, 2)) <= 1e-8) & \
+        (np.max(np.abs(sol._platform[1] - o.T), axis=1) <= 1e-8 * ch.length)
+    ok = (res <= CONVERGED) & sol.reachable_mask & same
+    q_an = np.nan_to_num(np.asarray(sol.actuator_values), nan=np.inf)
+    ok &= np.max(np.abs(q_an - target) / np.where(np.array(
+        [lg.actuated_joint.kind == "P" for lg in model.home_legs]), ch.length, 1.0), axis=1) <= 1e-8
+    det = an.quality.det_sign
+    out = ForwardResult(model, {p: params[p] for p in PARAMS}, R.transpose(2, 0, 1).copy(),
+                        o.T.copy(), target, res, ok, its, how,
+                        np.asarray(an.jacobian.conditioning.condition_number), det,
+                        reference(model)[2], an,
+                        tuple(notes) + (("beta at a representation singularity of "
+                                         f"{model.order}: the determined combination of alpha "
+                                         "and gamma split as the model does",) if sing.any()
+                                        else ()), single, reference(model)[0])
+    return out
+
+
+def split_singular(model, params: dict, idx) -> None:
+    """Set the independent one of ``alpha``, ``gamma`` at the singular poses ``idx`` of
+    ``params`` (in place; see the module docstring)."""
+    from ..screws import angular_jacobian
+    from ._solution import solve
+    ind = model.independent
+    if ("alpha" in ind) == ("gamma" in ind):       # both given or both solved: any split
+        return
+    x_name, y_name = ("alpha", "gamma") if "alpha" in ind else ("gamma", "alpha")
+    k = np.asarray(idx)
+    E = angular_jacobian(model.order, 0.0, float(params["beta"][k[0]]), 0.0)
+    sgn = 1.0 if float(E[:, 0] @ E[:, 2]) > 0 else -1.0
+    s = params["alpha"][k] + sgn * params["gamma"][k]          # the determined combination
+    base = {p: params[p][k] for p in ind}
+
+    def f(x):
+        pose = dict(base, **{x_name: x})
+        sol = solve(model, pose, single=False, raise_unreachable=False)
+        y = np.asarray(sol._params[y_name])
+        a, g = (x, y) if x_name == "alpha" else (y, x)
+        return a + sgn * g - s
+
+    share = 0.5 if x_name == "alpha" else 0.5 * sgn
+    x0, x1 = share * s, share * s + 1e-3
+    f0 = f(x0)
+    for _ in range(6):
+        f1 = f(x1)
+        den = np.where(f1 != f0, f1 - f0, 1.0)
+        x2 = np.where(np.isfinite(f1) & (f1 != f0), x1 - f1 * (x1 - x0) / den, x1)
+        x0, f0, x1 = x1, f1, x2
+        if np.all(np.abs(f1) <= 1e-14):
+            break
+    if x_name == "alpha":
+        params["alpha"][k], params["gamma"][k] = x1, sgn * (s - x1)
+    else:
+        params["gamma"][k], params["alpha"][k] = x1, s - sgn * x1

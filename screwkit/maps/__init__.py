@@ -1,0 +1,29 @@
+"""Maps layer: a PM over a grid of poses, its singular loci, actuator sizing.
+
+* :func:`map_pm` (``screwkit.map``) -> an :class:`xarray.Dataset`: every cell of a grid of
+  1 to 3 independent pose parameters (or random samples in a box) analysed by the batched
+  engine, in blocks, serially or on a Dask cluster (bit for bit the same);
+* the singular loci: sign changes of ``det J`` refined by batched bisection
+  (:func:`locus_list`);
+* sizing (:func:`size`): the largest value of every actuator and constraint row over a map
+  and a list of workloads (:func:`read_workloads`), with the pose where it occurs;
+* files: :func:`write` (NetCDF, Zarr, CSV long format);
+* pictures: :func:`plot_map` (heatmaps through :mod:`screwkit.viz`).
+
+xarray (``screwkit[maps]``) and dask (``screwkit[dask]``) are optional and imported on
+first use.
+"""
+
+from ._grid import MAX_CELLS, MAX_GRID_DIMS, Grid, make_grid, parse_range
+from ._compute import BLOCK, KIND_CODES, LEVEL_CODES
+from ._locus import LOCUS_KINDS, REFINE, locus_list
+from ._dataset import FORMATS, to_csv, write
+from ._map import map_pm
+from ._plot import plot_map, quantity_names
+from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
+
+__all__ = [
+    "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
+    "LEVEL_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
+    "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
+]

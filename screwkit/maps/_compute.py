@@ -1,0 +1,194 @@
+"""Every cell of a map is a pose of the batched engine: blocks of cells, serial or on Dask.
+
+The cells are cut into blocks of :data:`BLOCK` poses (a multiple of the engine's chunk);
+each block is one call of :func:`screwkit.engine.analyze` (threads inside it, as analyze's
+``workers``), and :func:`evaluate` keeps only the compact per-cell arrays of the map.  With
+a Dask cluster the same function runs on the workers, one block per task, so a distributed
+map equals the serial one bit for bit (the same code on the same inputs); results are
+stored as the blocks finish.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..engine import CONVERGED, analyze
+from ..engine._report import row_quantity
+
+__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "compute"]
+
+#: Cells per block (16 engine chunks of 4096 poses).
+BLOCK = 16 * 4096
+#: ``level`` codes of a map (the engine's levels, then unreachable).
+LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
+#: ``singular_kind`` codes.
+KIND_CODES = ("regular", "actuation", "constraint")
+
+
+@dataclass(frozen=True)
+class Meta:
+    """What the rows and legs of a model's maps are (the same at every cell).
+
+    Attributes
+    ----------
+    labels : tuple of str
+        The rows of ``J`` (``F_a1`` ... ``F_c1``, ``T_c2``).
+    quantities : tuple of str
+        ``force`` or ``torque`` per row.
+    kinds : tuple of str
+        ``actuation`` or the constraint member (``force``, ``couple``, ``screw``) per row.
+    legs : tuple of int
+        The leg (0-based) of each row.
+    n_actuated : int
+    linear : tuple of bool
+        Per leg: a linear actuator (``T_r`` is defined for it).
+    dependent : tuple of str
+    home_det_sign : int
+    square : bool
+        ``J`` is 6 x 6 (``det J`` has a sign).
+    """
+
+    labels: tuple
+    quantities: tuple
+    kinds: tuple
+    legs: tuple
+    n_actuated: int
+    linear: tuple
+    dependent: tuple
+    home_det_sign: int
+    square: bool
+
+
+def meta_of(model) -> Meta:
+    """The :class:`Meta` of a model (one analysis at its default pose)."""
+    from ..engine._quality import home_det_sign
+    res = analyze(model, {p: np.array([v]) for p, v in model.default_pose.items()},
+                  raise_on_singular=False)
+    jac = res.jacobian
+    info = jac.info
+    return Meta(tuple(r.label for r in info), tuple(row_quantity(r) for r in info),
+                tuple(r.kind for r in info), tuple(r.leg for r in info), jac.n_actuated,
+                tuple(lg.actuated_joint.kind == "P" for lg in model.home_legs),
+                tuple(model.dependent), home_det_sign(model, analyze), jac.square)
+
+
+def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) -> dict:
+    """The map's arrays at N poses (radians, model lengths): one engine analysis.
+
+    Returns
+    -------
+    dict str -> ndarray
+        ``(N,)`` per cell, or ``(N, m)`` / ``(N, n)`` per row / leg (see :func:`compute`).
+    """
+    res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
+                  workers=threads, stiffness=stiffness)
+    sol, jac, st = res.solution, res.jacobian, res.statics
+    reach = sol.reachable_mask
+    c = jac.conditioning
+    q = res.quality
+    lev = _codes(q.level)
+    lev[~reach] = LEVEL_CODES.index("unreachable")
+    kind = np.zeros(len(reach), np.int8)
+    ka = jac.kind_array
+    kind[(ka == "actuation") & reach] = 1
+    kind[(ka == "constraint") & reach] = 2
+    nan_unreach = lambda x: np.where(reach, x, np.nan)            # noqa: E731
+    out = {
+        "residual": np.asarray(sol.closures.residual, float),
+        "reachable": reach.copy(),
+        "converged": sol.closures.residual <= CONVERGED,
+        "ok": np.asarray(res.ok, bool),
+        "condition_number": nan_unreach(c.condition_number),
+        "constraint_condition_number": nan_unreach(c.constraint_condition_number),
+        "det_sign": np.where(reach, q.det_sign, 0).astype(np.int8),
+        "singular": np.asarray(res.singular, bool),
+        "singular_kind": kind,
+        "level": lev.astype(np.int8),
+        "amplification": nan_unreach(q.amplification),
+        "equilibrium_residual": np.asarray(st.equilibrium_residual, float),
+        "values": np.asarray(st.F_r, float),
+        "T_r": np.where(np.array(_linear(model))[None, :], st.T_r, np.nan),
+        "extensions": np.asarray(sol._extensions, float),
+        "actuators": np.asarray(sol.actuator_values, float),
+    }
+    for p in model.dependent:
+        out[f"dep.{p}"] = np.asarray(sol._params[p], float)
+    lim = model.limits
+    if lim.declared:
+        chk = lim.check(sol.joint_values, out["actuators"], out["extensions"],
+                        sol.base_points, sol._platform[2])
+        out["within_limits"] = chk["within"]
+        if lim.min_leg_distance is not None:
+            out["min_leg_distance"] = chk["min_leg_distance"]
+    return out
+
+
+def _codes(levels):
+    out = np.zeros(levels.shape, np.int8)
+    for k, name in enumerate(LEVEL_CODES[:4]):
+        out[levels == name] = k
+    return out
+
+
+def _linear(model):
+    return [lg.actuated_joint.kind == "P" for lg in model.home_legs]
+
+
+def _blocks(N, size):
+    return [slice(s, min(s + size, N)) for s in range(0, N, size)]
+
+
+def _remote_block(model, grid, sl, force, torque, stiffness):
+    """One block on a Dask worker (one thread: the worker's processes give the parallelism)."""
+    return evaluate(model, grid.poses(sl), force, torque, stiffness, threads=1)
+
+
+def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster=None,
+            progress=None, block: int = BLOCK) -> dict:
+    """The arrays of every cell of ``grid`` (flattened, C order), filled block by block.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Threads of each block's analysis (as :func:`screwkit.engine.analyze`).
+    cluster : int, str or distributed.Client, optional
+        Dask: ``N`` starts a local cluster of N worker processes on loopback; an address
+        ``tcp://HOST:PORT`` connects to a running scheduler; a ``Client`` is used as it is.
+    progress : callable(done, total), optional
+    block : int
+        Cells per block (rounded up to a multiple of 4096).
+    """
+    from ..errors import InputError
+    N = grid.size
+    if isinstance(block, bool) or int(block) < 1:
+        raise InputError(f"block must be a positive number of cells, got {block!r}")
+    size = -(-int(block) // 4096) * 4096
+    slices = _blocks(N, size)
+    out = {}
+
+    def store(sl, part):
+        for k, v in part.items():
+            if k not in out:
+                out[k] = np.empty((N,) + v.shape[1:], v.dtype)
+            out[k][sl] = v
+        if progress:
+            done[0] += sl.stop - sl.start
+            progress(done[0], N)
+
+    done = [0]
+    if cluster is None:
+        for sl in slices:
+            store(sl, evaluate(model, grid.poses(sl), force, torque, stiffness, workers))
+        return out
+    from ._dask import client_for
+    with client_for(cluster) as client:
+        from distributed import as_completed
+        m, g = client.scatter([model, grid], broadcast=True)
+        futures = {client.submit(_remote_block, m, g, sl, force, torque, stiffness,
+                                 pure=False): sl for sl in slices}
+        for fut in as_completed(futures):
+            store(futures[fut], fut.result())
+            fut.release()
+    return out

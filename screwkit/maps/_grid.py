@@ -1,0 +1,219 @@
+"""The cells of a map: a grid of independent pose parameters, or random samples in a box.
+
+A :class:`Grid` is what :func:`screwkit.maps.map_pm` evaluates: 1 to 3 independent pose
+parameters on a regular grid (``{"alpha": (-10, 10, 41), "Zo": [60, 70, 80]}``: a
+``(start, stop, count)`` triple or explicit values), the other independent parameters
+fixed (``fix``, else the model's default pose), or ``samples`` random poses uniform in a box
+(``{"alpha": (-10, 10), ...}``: low and high).  Angles are in radians unless
+``degrees=True``; lengths in the model's unit.  The cells are flattened in C order (the
+last grid parameter varies fastest), which is also the order of the pose axis that the
+engine sees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..engine import LENGTH_PARAMS, PARAMS
+from ..errors import InputError
+
+__all__ = ["Grid", "make_grid", "MAX_CELLS", "MAX_GRID_DIMS", "parse_range"]
+
+#: Largest number of cells of one map (about 0.5 kB of results per cell).
+MAX_CELLS = 10_000_000
+#: At most this many grid parameters.
+MAX_GRID_DIMS = 3
+
+
+@dataclass(frozen=True, eq=False)
+class Grid:
+    """The cells of a map (see the module docstring).
+
+    Attributes
+    ----------
+    dims : tuple of str
+        The grid parameters (``("sample",)`` for random samples).
+    coords : dict str -> ndarray
+        The values of each grid parameter, in the units given (``degrees``): ``(count,)``
+        per grid parameter, or ``(N,)`` per sampled parameter along ``sample``.
+    fixed : dict str -> float
+        The other independent parameters, in the units given.
+    defaults : tuple of str
+        The independent parameters taken from the model's default pose.
+    degrees : bool
+        Angles of ``coords`` and ``fixed`` in degrees.
+    samples : bool
+        Random samples in a box (no neighbours: no singular loci).
+    seed : int or None
+    """
+
+    dims: tuple
+    coords: dict
+    fixed: dict
+    defaults: tuple
+    degrees: bool
+    samples: bool = False
+    seed: int | None = None
+
+    @property
+    def shape(self) -> tuple:
+        if self.samples:
+            return (len(next(iter(self.coords.values()))),)
+        return tuple(len(self.coords[d]) for d in self.dims)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    @property
+    def params(self) -> tuple:
+        """The varied parameters (grid or sampled)."""
+        return tuple(self.coords)
+
+    def _to_api(self, name, v):
+        v = np.asarray(v, float)
+        return np.radians(v) if (self.degrees and name not in LENGTH_PARAMS) else v
+
+    def poses(self, sl: slice = slice(None)) -> dict:
+        """The independent parameters of the cells ``sl`` of the flattened grid, radians and
+        model lengths, ``(n,)`` each (the engine's input)."""
+        idx = np.arange(self.size)[sl]
+        out = {}
+        if self.samples:
+            for k, v in self.coords.items():
+                out[k] = self._to_api(k, v[idx])
+        else:
+            sub = np.unravel_index(idx, self.shape)
+            for k, ix in zip(self.dims, sub):
+                out[k] = self._to_api(k, self.coords[k][ix])
+        for k, v in self.fixed.items():
+            out[k] = np.full(idx.size, float(self._to_api(k, v)))
+        return out
+
+    def pose_of(self, flat: int) -> dict:
+        """The independent parameters of one cell in the units given (degrees for angles
+        when ``degrees``)."""
+        p = self.poses(slice(flat, flat + 1))
+        return {k: float(np.degrees(v[0]) if (self.degrees and k not in LENGTH_PARAMS)
+                         else v[0]) for k, v in p.items()}
+
+
+def parse_range(text: str, what: str = "--grid"):
+    """``"NAME=START:STOP:COUNT"`` -> ``(NAME, (start, stop, count))``; ``"NAME=LOW:HIGH"``
+    -> ``(NAME, (low, high))`` (a sampling box)."""
+    name, sep, rng = str(text).partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise InputError(f"{what} {text!r} must look like NAME=START:STOP:COUNT")
+    parts = rng.split(":")
+    try:
+        nums = [float(p) for p in parts]
+    except ValueError:
+        raise InputError(f"{what} {name}: {rng!r} must be START:STOP:COUNT (numbers)") from None
+    if len(nums) not in (2, 3):
+        raise InputError(f"{what} {name}: {rng!r} must be START:STOP:COUNT (or LOW:HIGH for "
+                         "--samples)")
+    if len(nums) == 3:
+        if nums[2] != int(nums[2]):
+            raise InputError(f"{what} {name}: the count {parts[2]!r} must be an integer")
+        nums[2] = int(nums[2])
+    return name, tuple(nums)
+
+
+def _values(name, spec, model):
+    if isinstance(spec, tuple) and len(spec) == 3 and isinstance(spec[2], (int, np.integer)) \
+            and not isinstance(spec[2], bool):
+        a, b, n = spec
+        if not (np.isfinite(a) and np.isfinite(b)):
+            raise InputError(f"{model.name}: grid {name}: start and stop must be finite")
+        if not 1 <= n <= MAX_CELLS:
+            raise InputError(f"{model.name}: grid {name}: the count must be 1 to {MAX_CELLS}, "
+                             f"got {n}")
+        return np.linspace(float(a), float(b), int(n))
+    try:
+        v = np.asarray(spec, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{model.name}: grid {name}: give (start, stop, count) or an array "
+                         f"of values, got {spec!r}") from None
+    if v.ndim != 1 or v.size == 0 or not np.all(np.isfinite(v)):
+        raise InputError(f"{model.name}: grid {name}: the values must be a non-empty 1-D "
+                         "array of finite numbers")
+    return v
+
+
+def _check_name(model, name, what):
+    if name not in PARAMS:
+        raise InputError(f"{model.name}: {what} {name!r} is not a pose parameter (one of "
+                         f"{', '.join(PARAMS)})")
+    if name not in model.independent:
+        raise InputError(f"{model.name}: {what} {name} is a dependent pose parameter; the "
+                         f"independent ones are {', '.join(model.independent)}")
+
+
+def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> Grid:
+    """Validate a map's cells (see the module docstring) and return a :class:`Grid`.
+
+    Parameters
+    ----------
+    model : PMModel
+    grid : mapping str -> (start, stop, count) or array_like, or (with ``samples``)
+        str -> (low, high)
+    fix : mapping str -> float, optional
+    samples : int, optional
+        Random poses, uniform in the box ``grid``.
+    seed : int
+        Seed of the random samples (reproducible maps).
+    degrees : bool
+
+    Raises
+    ------
+    InputError
+        Unknown or dependent parameters, a parameter both varied and fixed, more than
+        three grid parameters, more than :data:`MAX_CELLS` cells.
+    """
+    if not isinstance(grid, dict) or not grid:
+        raise InputError(f"{model.name}: a map needs at least one grid parameter, e.g. "
+                         "{'alpha': (-10, 10, 41)}")
+    fix = dict(fix or {})
+    for k in grid:
+        _check_name(model, k, "grid parameter")
+    for k, v in fix.items():
+        _check_name(model, k, "fixed parameter")
+        if k in grid:
+            raise InputError(f"{model.name}: {k} is both a grid parameter and fixed")
+        if isinstance(v, bool) or not np.isfinite(np.asarray(v, float)).all() \
+                or np.ndim(v) != 0:
+            raise InputError(f"{model.name}: fixed parameter {k} must be one finite number, "
+                             f"got {v!r}")
+    defaults = tuple(p for p in model.independent if p not in grid and p not in fix)
+    for p in defaults:
+        d = model.default_pose[p]
+        fix[p] = float(np.degrees(d)) if (degrees and p not in LENGTH_PARAMS) else float(d)
+    fix = {p: float(fix[p]) for p in model.independent if p in fix}
+    if samples is not None:
+        if isinstance(samples, bool) or int(samples) != samples or not 1 <= samples <= MAX_CELLS:
+            raise InputError(f"{model.name}: samples must be an integer from 1 to {MAX_CELLS}, "
+                             f"got {samples!r}")
+        rng = np.random.default_rng(seed)
+        coords = {}
+        for k, box in grid.items():
+            try:
+                lo, hi = (float(x) for x in box)
+            except (TypeError, ValueError):
+                raise InputError(f"{model.name}: sampling box {k}: give (low, high), got "
+                                 f"{box!r}") from None
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
+                raise InputError(f"{model.name}: sampling box {k}: need finite low <= high")
+            coords[k] = rng.uniform(lo, hi, int(samples))
+        return Grid(("sample",), coords, fix, defaults, bool(degrees), True, int(seed))
+    if len(grid) > MAX_GRID_DIMS:
+        raise InputError(f"{model.name}: a map has 1 to {MAX_GRID_DIMS} grid parameters, got "
+                         f"{len(grid)} (fix the others, or use samples)")
+    dims = tuple(grid)                      # the caller's order: the first is the x axis
+    coords = {k: _values(k, grid[k], model) for k in dims}
+    size = int(np.prod([len(v) for v in coords.values()], dtype=float))
+    if size > MAX_CELLS:
+        raise InputError(f"{model.name}: the grid has {size} cells, more than {MAX_CELLS}")
+    return Grid(dims, coords, fix, defaults, bool(degrees))

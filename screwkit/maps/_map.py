@@ -1,0 +1,125 @@
+"""``screwkit.map``: a PM over a grid of poses (workspace, conditioning, forces, loci).
+
+Every cell is a pose of the batched engine (:func:`screwkit.engine.analyze`), solved from
+the home predictor exactly as ``screwkit.analyze`` solves that pose alone, so a cell equals
+the analysis at its pose.
+
+Examples
+--------
+>>> import screwkit
+>>> ds = screwkit.map("3RRPRR", {"alpha": (-10, 10, 5), "Zo": (70, 90, 3)},
+...                   fix={"beta": -3}, degrees=True)
+>>> ds["F_a1"].dims, ds["F_a1"].attrs["units"], int(ds["ok"].sum())
+(('alpha', 'Zo'), 'kN', 15)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..engine import PAPER_FORCE, PAPER_TORQUE
+from ..errors import InputError
+
+__all__ = ["map_pm", "resolve_model", "workload"]
+
+
+def resolve_model(pm, overrides=None):
+    """A model from a :class:`~screwkit.pm.PMModel`, a catalog name or a YAML path."""
+    from ..engine import load_assembled_pm
+    from ..pm import PMModel
+    if isinstance(pm, PMModel):
+        if overrides:
+            raise InputError("overrides apply to a PM given by name or path, not a model")
+        return pm
+    return load_assembled_pm(pm, overrides)
+
+
+def workload(force, torque):
+    """The workload as two validated 3-vectors."""
+    out = []
+    for x, name in ((force, "force"), (torque, "torque")):
+        a = np.asarray(x, dtype=float).reshape(-1) if np.ndim(x) else np.zeros(0)
+        if a.shape != (3,) or not np.all(np.isfinite(a)):
+            raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
+        out.append(a)
+    return out
+
+
+def _cluster(cluster, scheduler):
+    if cluster is not None and scheduler is not None:
+        raise InputError("give either cluster (workers or a Client) or scheduler (an "
+                         "address), not both")
+    return scheduler if scheduler is not None else cluster
+
+
+def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = False,
+           force=PAPER_FORCE, torque=PAPER_TORQUE, stiffness=None, locus: bool = True,
+           workers=None, cluster=None, scheduler=None, progress=None, block=None,
+           overrides=None):
+    """A map of a PM: every cell of a grid of independent pose parameters analysed.
+
+    Parameters
+    ----------
+    pm : PMModel or str
+    grid : mapping str -> (start, stop, count) or array_like
+        1 to 3 independent pose parameters (radians, model lengths; degrees with
+        ``degrees``).  With ``samples``: ``str -> (low, high)``, the box of random poses.
+    fix : mapping str -> float, optional
+        The other independent parameters (default: the model's default pose).
+    samples : int, optional
+        ``samples`` random poses uniform in the box ``grid`` (seed ``seed``).
+    force, torque : array_like (3,)
+        Workload at ``o`` (default: the paper's).
+    stiffness : optional
+        Row stiffnesses for indeterminate statics (as :func:`screwkit.analyze`).
+    locus : bool
+        Refine the sign changes of ``det J`` between neighbouring cells
+        (:mod:`screwkit.maps._locus`) into the ``crossing`` variables.
+    workers : int, optional
+        *Threads* of each block's analysis, as in :func:`screwkit.analyze`.
+    cluster : int or distributed.Client, optional
+        *Dask*: N starts a local cluster of N worker processes on loopback for this call; a
+        Client is used as it is.  The result equals the serial map bit for bit.
+    scheduler : str, optional
+        *Dask*: the address ``tcp://HOST:PORT`` of a running scheduler.
+    progress : callable(done, total), optional
+        Called as blocks finish.
+    block : int, optional
+        Cells per block (default :data:`~screwkit.maps._compute.BLOCK`).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions: the grid parameters (``sample`` for samples); per cell ``reachable``,
+        ``converged``, ``ok``, ``residual``, ``condition_number``,
+        ``constraint_condition_number``, ``det_sign``, ``singular``, ``singular_kind``,
+        ``level``, ``amplification``, ``equilibrium_residual``, the dependent pose
+        parameters, one variable per row of ``J`` (``F_a1`` ... in force or torque units),
+        ``T_r<i>`` for linear legs, extensions ``r<i>``, actuated joint values ``q_a<i>``,
+        and ``within_limits`` (``min_leg_distance``) when the model declares limits; the
+        refined loci along ``crossing`` (``locus_*``).  Units in every ``units`` attribute;
+        the model, its units and the workload in the Dataset's attributes.
+    """
+    from ._compute import BLOCK, compute, meta_of
+    from ._dataset import build_dataset, xarray
+    from ._grid import make_grid
+
+    xarray()                                        # fail before a long run, not after
+    model = resolve_model(pm, overrides)
+    F, T = workload(force, torque)
+    g = make_grid(model, grid, fix, samples=samples, seed=seed, degrees=degrees)
+    cl = _cluster(cluster, scheduler)
+    meta = meta_of(model)
+    arrays = compute(model, g, F, T, stiffness=stiffness, workers=workers, cluster=cl,
+                     progress=progress, block=BLOCK if block is None else block)
+    ds = build_dataset(model, g, arrays, meta, F, T, workers=workers, cluster=cl)
+    if locus and not g.samples and meta.square:
+        from ._locus import locus_variables, refine
+        loc = refine(model, ds, threads=workers)
+        ds = ds.assign(locus_variables(ds, loc))
+        ds.attrs["locus_truncated"] = int(loc["truncated"])
+    ds.attrs["locus"] = ("refined" if "locus_kind" in ds else
+                         "none: random samples have no neighbours" if g.samples else
+                         "none: J is not square (det J has no sign)" if not meta.square else
+                         "not asked for")
+    return ds

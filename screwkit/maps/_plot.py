@@ -1,0 +1,105 @@
+"""The picture of a map: heatmaps of chosen quantities, drawn by :mod:`screwkit.viz`.
+
+:func:`plot_map` takes a map's Dataset, picks a 1-D or 2-D slice (a 3-D map is cut at
+``at``, by default the middle of its last grid parameter), and passes plain arrays to
+:func:`screwkit.viz.plot_heatmaps`: the quantities (a variable name, or ``conditioning``,
+``forces`` for every actuator), the unreachable cells and the cells outside the limits
+(hatched), and the refined singular crossings of the slice (points, by kind).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["plot_map", "quantity_names"]
+
+_LOG = {"condition_number", "constraint_condition_number", "amplification", "residual"}
+
+
+def quantity_names(ds, quantity: str) -> list:
+    """The variables a ``--quantity`` names: a variable, ``forces`` (every actuator),
+    ``constraints`` (every constraint row), ``conditioning`` (condition number)."""
+    cell = ds["ok"].dims
+    rows = [k for k, v in ds.data_vars.items() if "row" in v.attrs]
+    if quantity == "forces":
+        return [k for k in rows if ds[k].attrs.get("kind") == "actuation"]
+    if quantity == "constraints":
+        return [k for k in rows if ds[k].attrs.get("kind") != "actuation"]
+    if quantity == "conditioning":
+        return ["condition_number"]
+    if quantity not in ds.data_vars or ds[quantity].dims != cell:
+        names = [k for k, v in ds.data_vars.items() if v.dims == cell]
+        raise InputError(f"no quantity {quantity!r} in the map; one of forces, constraints, "
+                         f"conditioning, {', '.join(names)}")
+    return [quantity]
+
+
+def _label(ds, name):
+    unit = ds[name].attrs.get("units", "1")
+    return f"{name} [{unit}]" if unit not in ("", "1") else name
+
+
+def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
+    """Draw heatmaps of ``quantities`` of a map to ``out`` (PNG); returns the figure.
+
+    ``at``: ``{parameter: value}`` picks the slice of a 3-D map (nearest grid value)."""
+    from ..viz import plot_heatmaps
+    from ._locus import LOCUS_KINDS
+    dims = ds["ok"].dims
+    if dims == ("sample",):
+        raise InputError("random samples have no grid to draw: plot a map made with --grid")
+    names = [n for q in quantities for n in quantity_names(ds, q)]
+    sel, note = {}, []
+    at = dict(at or {})
+    for d in list(at):
+        if d not in dims:
+            raise InputError(f"--at {d}: not a grid parameter of the map ({', '.join(dims)})")
+    if len(dims) == 3:
+        d = next((d for d in dims if d in at), dims[-1])
+        v = at.get(d, float(ds[d].values[len(ds[d]) // 2]))
+        k = int(np.argmin(np.abs(ds[d].values - v)))
+        sel[d] = k
+        note.append(f"{d} = {float(ds[d].values[k]):.6g} {ds[d].attrs.get('units', '')}")
+    sub = ds.isel(sel)
+    free = [d for d in dims if d not in sel]
+    x = sub[free[0]].values
+    y = sub[free[1]].values if len(free) > 1 else None
+
+    def arr(name):
+        a = sub[name].transpose(*free).values
+        return a.astype(float)
+
+    lev = sub["level"].transpose(*free).values
+    calm = lev <= 1                              # ok or ill-conditioned: the colour range
+    panels = [{"z": arr(n), "label": _label(ds, n), "log": n in _LOG,
+               "limits_from": None if n in _LOG else calm} for n in names]
+    masks = [(~sub["reachable"].transpose(*free).values, "unreachable")]
+    masks.append(((lev == 2) | (lev == 3), "near-singular (efforts > 5x the load, or "
+                                           "condition > 1e3)"))
+    if "within_limits" in sub:
+        masks.append(((~sub["within_limits"] & sub["reachable"]).transpose(*free).values,
+                      "outside the limits"))
+    points = []
+    if "locus_kind" in ds:
+        kind = ds["locus_kind"].values
+        keep = np.ones(kind.size, bool)
+        for d, k in sel.items():              # crossings in the drawn slice
+            keep &= np.isclose(ds[f"locus_{d}"].values, float(ds[d].values[k]))
+        for j, name in enumerate(LOCUS_KINDS[:2]):
+            m = keep & (kind == j)
+            xs = ds[f"locus_{free[0]}"].values[m]
+            ys = ds[f"locus_{free[1]}"].values[m] if y is not None else np.zeros(m.sum())
+            points.append((xs, ys, f"{name} singularity (det J = 0)"))
+    fixed = [f"{k} = {float(ds[k].values):.6g} {ds[k].attrs.get('units', '')}"
+             for k in ds.coords if ds[k].ndim == 0]
+    if title is None:
+        title = f"{ds.attrs.get('pm', '')}: " + ", ".join(fixed + note)
+        F = np.asarray(ds.attrs.get("force", []), float).round(6).tolist()
+        T = np.asarray(ds.attrs.get("torque", []), float).round(6).tolist()
+        title += f"\nload F = {F} {ds.attrs.get('units_force', '')}, T = {T} " \
+                 f"{ds.attrs.get('units_torque', '')} at o"
+    return plot_heatmaps(out, x, y, panels, xlabel=_label(ds, free[0]),
+                         ylabel=_label(ds, free[1]) if y is not None else "", masks=masks,
+                         points=points, title=title)

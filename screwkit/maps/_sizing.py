@@ -1,0 +1,237 @@
+"""Actuator and leg sizing: the largest value of every row over a map and a list of workloads.
+
+For every row of ``J`` (each actuator's force or torque, each constraint force or couple)
+and every linear leg's ``T_r``, :func:`extremes` finds the largest ``|value|`` over the
+usable cells of a map (``ok``, within the model's limits where it declares some, and no
+worse than a chosen trust level), with
+the signed value, the pose and the cell's trust level; the extensions ``r_i`` and actuated
+joint values ``q_ai`` get their range (the strokes).  :func:`size` does it for a list of
+workloads (one map per workload, the same cells) and keeps, per row, the worst workload.
+
+Workloads come from a CSV file (:func:`read_workloads`): a header with ``Fx, Fy, Fz, Tx,
+Ty, Tz`` (the model's force and torque units, at ``o``) and optionally ``name``.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..engine import PAPER_FORCE, PAPER_TORQUE
+from ..errors import InputError
+from ._compute import LEVEL_CODES
+
+__all__ = ["Sizing", "extremes", "size", "read_workloads", "MAX_WORKLOADS", "pose_at"]
+
+#: Largest number of workloads of one sizing.
+MAX_WORKLOADS = 1000
+_COLS = ("Fx", "Fy", "Fz", "Tx", "Ty", "Tz")
+
+
+def _cell_dims(ds):
+    return ds["ok"].dims
+
+
+def pose_at(ds, flat: int) -> dict:
+    """The independent pose parameters of cell ``flat`` (C order) of a map, in its units."""
+    dims = _cell_dims(ds)
+    idx = np.unravel_index(int(flat), tuple(ds.sizes[d] for d in dims))
+    out = {}
+    for p in str(ds.attrs["independent"]).split(","):
+        v = ds[p]
+        if v.ndim == 0:
+            out[p] = float(v.values)
+        elif dims == ("sample",):
+            out[p] = float(v.values[idx[0]])
+        else:
+            out[p] = float(v.values[idx[dims.index(p)]])
+    return out
+
+
+def usable(ds, max_level: str = "near-singular") -> np.ndarray:
+    """The cells a sizing counts: ``ok``, within the limits, and of a trust level no worse
+    than ``max_level`` (flattened)."""
+    if max_level not in LEVEL_CODES[:3]:
+        raise InputError(f"max_level must be one of {', '.join(LEVEL_CODES[:3])}, got "
+                         f"{max_level!r}")
+    u = ds["ok"].values.reshape(-1).copy()
+    u &= ds["level"].values.reshape(-1) <= LEVEL_CODES.index(max_level)
+    if "within_limits" in ds:
+        u &= ds["within_limits"].values.reshape(-1)
+    return u
+
+
+def extremes(ds, workload_name: str = "", max_level: str = "near-singular") -> dict:
+    """The largest ``|value|`` of each row and ``T_r`` and the range of each extension and
+    actuated joint value over the usable cells of a map (:func:`usable`; JSON-ready)."""
+    use = usable(ds, max_level)
+    lev = ds["level"].values.reshape(-1)
+    rows = []
+    names = [k for k, v in ds.data_vars.items() if "row" in v.attrs]
+    names += [k for k in ds.data_vars if k.startswith("T_r")]
+    for k in names:
+        v = ds[k]
+        a = np.where(use, np.abs(v.values.reshape(-1)), -np.inf)
+        entry = {"name": k, "kind": v.attrs.get("kind", "T_r"), "leg": int(v.attrs["leg"]),
+                 "unit": v.attrs["units"], "long_name": v.attrs["long_name"]}
+        if not use.any() or not np.isfinite(a).any():
+            entry.update(max_abs=None, value=None, pose=None, level=None, workload=None)
+        else:
+            i = int(np.argmax(a))
+            entry.update(max_abs=float(a[i]), value=float(v.values.reshape(-1)[i]),
+                         pose=pose_at(ds, i), level=LEVEL_CODES[int(lev[i])],
+                         workload=workload_name)
+        rows.append(entry)
+    ranges = []
+    for k in [k for k in ds.data_vars if k[:1] == "r" and k[1:].isdigit()] + \
+            [k for k in ds.data_vars if k.startswith("q_a")]:
+        v = ds[k].values.reshape(-1)
+        e = {"name": k, "unit": ds[k].attrs["units"], "leg": int(ds[k].attrs["leg"]),
+             "long_name": ds[k].attrs["long_name"]}
+        if use.any():
+            lo, hi = int(np.argmin(np.where(use, v, np.inf))), \
+                int(np.argmax(np.where(use, v, -np.inf)))
+            e.update(min=float(v[lo]), max=float(v[hi]), pose_min=pose_at(ds, lo),
+                     pose_max=pose_at(ds, hi))
+        else:
+            e.update(min=None, max=None, pose_min=None, pose_max=None)
+        ranges.append(e)
+    return {"rows": rows, "ranges": ranges, "usable_cells": int(use.sum()),
+            "cells": int(use.size), "max_level": max_level}
+
+
+def _merge(best: dict, new: dict):
+    for b, n in zip(best["rows"], new["rows"]):
+        if n["max_abs"] is not None and (b["max_abs"] is None or n["max_abs"] > b["max_abs"]):
+            b.update(n)
+
+
+@dataclass(frozen=True, eq=False)
+class Sizing:
+    """The sizing table of a PM over a map and a list of workloads.
+
+    Attributes
+    ----------
+    pm : str
+    rows : list of dict
+        Per row of ``J`` and ``T_r``: ``name``, ``kind``, ``leg``, ``unit``, ``max_abs``,
+        ``value`` (signed), ``pose``, ``level``, ``workload``.
+    ranges : list of dict
+        Per extension and actuated joint value: ``min``, ``max`` and their poses.
+    workloads : list of dict
+        ``name``, ``force``, ``torque``.
+    usable_cells, cells : int
+    max_level : str
+    units : dict
+    dataset : xarray.Dataset
+        The map of the first workload.
+    """
+
+    pm: str
+    rows: list
+    ranges: list
+    workloads: list
+    usable_cells: int
+    cells: int
+    max_level: str
+    units: dict
+    dataset: object = field(repr=False, default=None)
+
+    def to_dict(self) -> dict:
+        return {"pm": self.pm, "units": self.units, "workloads": self.workloads,
+                "cells": self.cells, "usable_cells": self.usable_cells,
+                "max_level": self.max_level,
+                "extremes": self.rows, "ranges": self.ranges}
+
+
+def read_workloads(path) -> list:
+    """Workloads from a CSV file (see the module docstring): a list of
+    ``(name, force (3,), torque (3,))``."""
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError as exc:
+        raise InputError(f"cannot read workloads {str(path)!r}: {exc}") from None
+    if not rows:
+        raise InputError(f"{path}: no workloads (a header Fx,Fy,Fz,Tx,Ty,Tz and one row each)")
+    head = [h.strip() for h in rows[0].keys() if h is not None]
+    missing = [c for c in _COLS if c not in head]
+    if missing:
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)} (need "
+                         f"{', '.join(_COLS)}, optionally name)")
+    if len(rows) > MAX_WORKLOADS:
+        raise InputError(f"{path}: {len(rows)} workloads, at most {MAX_WORKLOADS}")
+    out = []
+    for k, r in enumerate(rows, 2):
+        r = {str(a).strip(): b for a, b in r.items() if a is not None}
+        try:
+            v = np.array([float(r[c]) for c in _COLS])
+        except (TypeError, ValueError):
+            raise InputError(f"{path}, line {k}: Fx..Tz must be numbers") from None
+        if not np.all(np.isfinite(v)):
+            raise InputError(f"{path}, line {k}: Fx..Tz must be finite")
+        out.append((str(r.get("name") or f"workload {k - 1}").strip(), v[:3], v[3:]))
+    return out
+
+
+def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=False,
+         stiffness=None, workers=None, cluster=None, scheduler=None, progress=None,
+         overrides=None, max_level: str = "near-singular") -> Sizing:
+    """Size a PM's actuators and legs over a map (see the module docstring).
+
+    Parameters
+    ----------
+    pm, grid, fix, samples, seed, degrees, stiffness, workers, cluster, scheduler
+        As :func:`screwkit.map`.
+    workloads : list of (name, force, torque), optional
+        Default: the paper's workload.  At most :data:`MAX_WORKLOADS`.
+    progress : callable(done, total), optional
+        Over all workloads' cells.
+    max_level : str
+        The worst trust level of a counted cell: ``near-singular`` (every regular cell,
+        default), ``ill-conditioned`` or ``ok``.
+
+    Returns
+    -------
+    Sizing
+    """
+    from ._map import _cluster, resolve_model, workload
+
+    model = resolve_model(pm, overrides)
+    loads = workloads if workloads is not None else [("paper", PAPER_FORCE, PAPER_TORQUE)]
+    if not 1 <= len(loads) <= MAX_WORKLOADS:
+        raise InputError(f"1 to {MAX_WORKLOADS} workloads, got {len(loads)}")
+    loads = [(str(n),) + tuple(workload(F, T)) for n, F, T in loads]
+    cl = _cluster(cluster, scheduler)
+    if cl is None:
+        return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,
+                     None, progress, max_level)
+    from ._dask import client_for
+    with client_for(cl) as client:              # one cluster for every workload
+        return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,
+                     client, progress, max_level)
+
+
+def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, client,
+          progress, max_level):
+    from ._map import map_pm
+    best, first = None, None
+    K = len(loads)
+    for k, (name, F, T) in enumerate(loads):
+        prog = None if progress is None else \
+            (lambda d, t, k=k: progress(k * t + d, K * t))
+        ds = map_pm(model, grid, fix, samples=samples, seed=seed, degrees=degrees, force=F,
+                    torque=T, stiffness=stiffness, locus=False, workers=workers,
+                    cluster=client, progress=prog)
+        ex = extremes(ds, name, max_level)
+        if best is None:
+            best, first = ex, ds
+        else:
+            _merge(best, ex)
+    u = model.units
+    return Sizing(model.name, best["rows"], best["ranges"],
+                  [{"name": n, "force": F.tolist(), "torque": T.tolist()} for n, F, T in loads],
+                  best["usable_cells"], best["cells"], max_level,
+                  dict(u.as_dict(), angle=first.attrs["units_angle"]), first)

@@ -1,0 +1,196 @@
+"""Forward kinematics: round trips through the inverse displacement, and the assembly modes of
+the 3RPS counted independently.
+
+* Round trip: random regular poses of every catalog PM near the pose the forward kinematics
+  starts from (home, or the default pose where home is singular) -> inverse displacement
+  (``screwkit.analyze``) -> actuated joint values -> ``screwkit.forward`` from the start with
+  continuation.  Every pose comes back to 1e-9 (of the characteristic length, and of the
+  rotation matrix), or the forward solution is another valid assembly of the same actuator
+  values: its own inverse displacement gives those actuator values back and its pose differs.
+* 3RPS: the real solutions at one set of leg lengths are counted from the geometry alone:
+  each RPS leg keeps its S centre a_i in the plane through A_i normal to the base R axis (the
+  tangent of the base circle) at the distance r_i, a_i = A_i + r_i (cos t_i u_i + sin t_i z),
+  and the three centres must be the platform triangle: |a_i - a_j| = r sqrt(3).  For t_1 on a
+  fine grid, t_2 and t_3 follow in closed form from |a_1 - a_2| and |a_1 - a_3| (two branches
+  each), and the roots of |a_2 - a_3|^2 - 3 r^2 are bracketed and refined (brentq).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import screwkit
+from screwkit.engine._fk_inputs import extension_offset as _extension_leg
+from screwkit.engine._forward import reference
+from screwkit.pm import pm_names
+
+N_POSES = 1000
+
+
+def _random_poses(pm, ref, n, rng):
+    L = pm.normalisation.length
+    out = {}
+    for p in pm.independent:
+        v = ref[p]
+        out[p] = v + (rng.uniform(-0.05, 0.05, n) * L if p in ("Xo", "Yo", "Zo")
+                      else np.radians(rng.uniform(-5.0, 5.0, n)))
+    return out
+
+
+@pytest.mark.parametrize("name", pm_names())
+def test_round_trip_ik_fk(name):
+    pm = screwkit.load_pm(name)
+    L = pm.normalisation.length
+    rng = np.random.default_rng(7)
+    ref = reference(pm)[1]
+    ik = screwkit.analyze(pm, _random_poses(pm, ref, N_POSES, rng))
+    keep = ik.ok & np.isin(ik.level, ["ok", "ill-conditioned"])
+    assert keep.sum() >= 100, f"{name}: too few regular poses near the start"
+    act = ik.solution.actuator_values[keep]
+    fk = screwkit.forward(pm, act)
+    R0, o0 = ik.solution.rotation[keep], ik.solution.position[keep]
+    err = np.maximum(np.max(np.abs(fk.rotation - R0), axis=(1, 2)),
+                     np.max(np.abs(fk.position - o0), axis=1) / L)
+    back = err <= 1e-9
+    other = ~back
+    # every pose is solved: back to 1e-9, or another assembly of the same actuator values
+    assert np.all(fk.success), f"{name}: {int(np.sum(~fk.success))} poses not solved"
+    if other.any():
+        # another assembly of the same actuators: where the actuator is a P joint on the line
+        # A_i a_i, the leg lengths of the forward pose (from the geometry alone) are those of
+        # the inverse displacement; otherwise the analysis at the forward pose (warm-started
+        # there) gives the actuator values back
+        a = np.einsum("nij,kj->nki", fk.rotation[other], pm.platform_points) + \
+            fk.position[other][:, None, :]
+        r_fk = np.linalg.norm(a - pm.world_base_points[None], axis=2)
+        try:
+            [_extension_leg(pm, i) for i in range(pm.n_legs)]
+            np.testing.assert_allclose(r_fk, ik.solution.extensions[keep][other],
+                                       atol=1e-8 * L)
+        except screwkit.InputError:
+            np.testing.assert_allclose(np.asarray(fk.analysis.solution.actuator_values)[other],
+                                       act[other], atol=1e-8 * L)
+        assert np.all(err[other] > 1e-6), "a pose neither back nor distinct"
+    # most poses near the start come back; the others are other assembly modes: beyond a
+    # singular surface (det J of the other sign), or (3RSR, whose home lies next to its
+    # actuation singularity) valid distinct solutions of the same sign
+    assert back.mean() >= 0.75, f"{name}: only {back.mean():.0%} of the poses came back"
+    # the FK residual is far below the inverse displacement's
+    assert np.max(fk.residual) <= 1e-12
+
+
+def _rps_geometry():
+    R, r = 60.0, 30.0
+    ang = np.radians([-30.0, 90.0, 210.0])
+    u = np.stack([np.cos(ang), np.sin(ang), np.zeros(3)], axis=1)      # radial, outward
+    return R * u, u, r
+
+
+def _independent_3rps_solutions(ext):
+    """All (t1, t2, t3) with |a_i - a_j| = r sqrt(3), a_i = A_i + r_i (cos t u_i + sin t z)."""
+    A, u, r = _rps_geometry()
+    z = np.array([0.0, 0.0, 1.0])
+    side2 = 3.0 * r * r
+
+    def a_of(i, t):
+        t = np.asarray(t, float)
+        return A[i] + ext[i] * (np.cos(t)[..., None] * u[i] + np.sin(t)[..., None] * z)
+
+    def partner(t1, j, branch):
+        # |a1 - a_j|^2 = side2: P cos t + Q sin t = W with a1 given
+        a1 = a_of(0, t1)
+        d = a1 - A[j]
+        P = 2 * ext[j] * (d @ u[j])
+        Q = 2 * ext[j] * (d @ z)
+        W = np.sum(d * d, axis=-1) + ext[j] ** 2 - side2
+        rho = np.hypot(P, Q)
+        c = np.clip(W / np.where(rho > 0, rho, 1.0), -1.0, 1.0)
+        valid = np.abs(W) <= rho
+        return np.arctan2(Q, P) + branch * np.arccos(c), valid
+
+    def f(t1, b2, b3):
+        t2, v2 = partner(t1, 1, b2)
+        t3, v3 = partner(t1, 2, b3)
+        g = np.sum((a_of(1, t2) - a_of(2, t3)) ** 2, axis=-1) - side2
+        return g, v2 & v3
+
+    t = np.linspace(-np.pi, np.pi, 40001)
+    sols = []
+    for b2 in (-1, 1):
+        for b3 in (-1, 1):
+            g, v = f(t, b2, b3)
+            for k in np.flatnonzero(v[:-1] & v[1:] & (np.sign(g[:-1]) != np.sign(g[1:]))):
+                t1 = brentq(lambda x: f(np.array([x]), b2, b3)[0][0], t[k], t[k + 1],
+                            xtol=1e-14)
+                t2 = partner(np.array([t1]), 1, b2)[0][0]
+                t3 = partner(np.array([t1]), 2, b3)[0][0]
+                pts = np.array([a_of(0, t1), a_of(1, t2), a_of(2, t3)])
+                sols.append(pts.mean(axis=0))                 # the platform centre o
+    # distinct centres
+    out = []
+    for c in sols:
+        if not any(np.linalg.norm(c - d) < 1e-6 for d in out):
+            out.append(c)
+    return np.array(out)
+
+
+def test_3rps_assembly_modes_match_an_independent_count():
+    pm = screwkit.load_pm("3RPS")
+    sol = screwkit.solve(pm, dict(pm.default_pose))
+    ext = sol.extensions
+    indep = _independent_3rps_solutions(ext)
+    modes = screwkit.assembly_modes(pm, {f"r{i + 1}": ext[i] for i in range(3)}, seeds=1000)
+    found = modes.solutions.position
+    assert np.all(modes.solutions.success)
+    assert len(indep) >= 2 and len(modes) == len(indep), (len(modes), len(indep))
+    for c in indep:
+        assert np.min(np.linalg.norm(found - c, axis=1)) < 1e-7
+    # one of them is the pose the leg lengths came from, in the home assembly mode
+    d = np.linalg.norm(found - sol.position, axis=1)
+    i = int(np.argmin(d))
+    assert d[i] < 1e-9 * pm.normalisation.length
+    assert modes.solutions.det_sign[i] == modes.solutions.reference_det_sign
+
+
+def test_forward_by_extensions_and_errors():
+    pm = screwkit.load_pm("3RRPRR")
+    sol = screwkit.solve(pm, {"alpha": 4, "beta": -2, "Zo": 85}, degrees=True)
+    fk = screwkit.forward(pm, {f"r{i + 1}": r for i, r in enumerate(sol.extensions)})
+    assert fk.success[0]
+    assert fk.pose(0)["alpha"] == pytest.approx(4.0, abs=1e-9)
+    assert fk.pose(0)["Zo"] == pytest.approx(85.0, abs=1e-9)
+    with pytest.raises(screwkit.InputError, match="q3"):
+        screwkit.forward(pm, {"q1": 0.0, "q2": 0.0})
+    with pytest.raises(screwkit.InputError, match="3 finite"):
+        screwkit.forward(pm, [0.0, np.nan, 0.0])
+    with pytest.raises(screwkit.InputError, match="extension is not"):
+        screwkit.forward(screwkit.load_pm("3RSR"), {"r1": 50.0, "q2": 0.0, "q3": 0.0})
+
+
+def test_fk_at_a_representation_singularity_uses_the_models_split():
+    """3RRPRR at beta = 0 (XYX singular): gamma = alpha is the model's limit (NOTES.md)."""
+    pm = screwkit.load_pm("3RRPRR")
+    sol = screwkit.solve(pm, {"alpha": 6.0, "beta": 0.0, "Zo": 80.0}, degrees=True)
+    fk = screwkit.forward(pm, sol.actuator_values)
+    p = fk.pose(0)
+    assert fk.success[0]
+    assert p["alpha"] == pytest.approx(6.0, abs=1e-8) and p["gamma"] == pytest.approx(6.0, abs=1e-8)
+
+
+def test_cli_fk(capsys):
+    import json
+
+    from screwkit.cli import main
+    pm = screwkit.load_pm("3RPS")
+    ext = screwkit.solve(pm, dict(pm.default_pose)).extensions
+    arg = ",".join(f"r{i + 1}={e:.12f}" for i, e in enumerate(ext))
+    assert main(["fk", "3RPS", "--actuators", arg, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["count"] == 1 and out["solutions"][0]["pose"]["alpha"] == pytest.approx(5, abs=1e-7)
+    assert main(["fk", "3RPS", "--actuators", arg, "--all", "--seeds", "300", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["count"] >= 2 and {s["det_sign"] for s in out["solutions"]} == {-1, 1}
+    assert main(["fk", "3RPS", "--actuators", "r1=60"]) == 2
+    assert "no value for" in capsys.readouterr().err
