@@ -1,0 +1,54 @@
+"""``screwkit trajectory PM ... --dynamics``: the options and the run of the dynamic columns."""
+
+from __future__ import annotations
+
+import sys
+
+__all__ = ["add_dynamics_arguments", "run_dynamics"]
+
+
+def add_dynamics_arguments(p) -> None:
+    """``--dynamics``, ``--mass FILE``, ``--gravity``, ``--smoothing`` on a parser."""
+    g = p.add_argument_group("dynamics (t is time in seconds)")
+    g.add_argument("--dynamics", action="store_true",
+                   help="also the inverse dynamics: the static and the dynamic (gravity, "
+                        "inertia and friction of the platform and the legs) active forces and "
+                        "constraint values, actuator rates and accelerations, energy and power; "
+                        "the masses are the model's 'dynamics:' block or --mass FILE")
+    g.add_argument("--mass", metavar="FILE",
+                   help="a YAML file with a 'dynamics:' mapping (masses, inertias, friction, "
+                        "gravity; the schema of a PM's dynamics: block)")
+    g.add_argument("--gravity", metavar="GX,GY,GZ",
+                   help="gravity in the base frame, model length/s^2 (default: the mass "
+                        "model's, else standard gravity along -Z)")
+    g.add_argument("--smoothing", type=float, metavar="LAM",
+                   help="smoothing of the spline through a CSV path (0 interpolates; default: "
+                        "chosen by generalised cross-validation)")
+
+
+def run_dynamics(args, model, fmt, progress) -> int:
+    """The dynamic run of ``screwkit trajectory --dynamics`` (table, plot)."""
+    from ...dynamics import dynamics, motion_from_args
+    from ._common import dump_json, write_output
+    from .analyze import parse_triple
+
+    motion = motion_from_args(args, model.independent)
+    gravity = parse_triple(args.gravity, "--gravity") if args.gravity else None
+    res = dynamics(model, motion, params=args.mass, force=parse_triple(args.force, "--force"),
+                   torque=parse_triple(args.torque, "--torque"), gravity=gravity,
+                   progress=progress)
+    text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
+    if args.out:
+        write_output(args.out, text)
+        print(f"wrote {args.out}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    if args.plot:
+        res.plot(args.plot, title=args.title)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    c = res.counts()
+    flagged = {k: v for k, v in c.items() if k != "ok" and v}
+    if flagged:
+        print("screwkit trajectory: " + ", ".join(f"{v} {k}" for k, v in flagged.items())
+              + f" of {len(res)} samples (status column; their values are NaN)", file=sys.stderr)
+    return 0

@@ -1,0 +1,355 @@
+"""The result of :func:`screwkit.dynamics.dynamics`: :class:`DynamicsResult`, with static
+and dynamic columns, CSV, JSON and the Fig. 5-style plot."""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ..engine import LENGTH_PARAMS, PARAMS
+
+__all__ = ["DynamicsResult", "STATUSES"]
+
+#: The values of :attr:`DynamicsResult.status`.
+STATUSES = ("ok", "singular", "unreachable", "undetermined")
+
+
+def _ro(a):
+    a = np.array(a, float)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class DynamicsResult:
+    """Inverse dynamics of a PM along a motion (N samples; arrays have the samples first).
+
+    Attributes
+    ----------
+    model : PMModel
+    motion : Motion
+    params : DynamicsParameters
+    analysis : PMAnalysis
+        The engine's analysis along the motion; ``analysis.statics`` are the **static**
+        values (the external workload alone).
+    statics : StaticsResult
+        The unified statics under the **dynamic** workload (:attr:`workload`).
+    data : dict
+        The arrays of the chunks (see the properties).
+    flagged, undetermined : ndarray (N,) of bool
+    force, torque : ndarray (3,)
+        External workload at ``o``.
+
+    All values are in the model's units and seconds (angles in radians).
+    """
+
+    model: object
+    motion: object
+    params: object
+    analysis: object
+    statics: object
+    data: dict = field(repr=False)
+    flagged: np.ndarray = field(repr=False)
+    undetermined: np.ndarray = field(repr=False)
+    force: np.ndarray = field(repr=False)
+    torque: np.ndarray = field(repr=False)
+
+    def __len__(self) -> int:
+        return len(self.motion)
+
+    def __repr__(self) -> str:
+        c = self.counts()
+        return (f"DynamicsResult({self.model.name}: {len(self)} samples, "
+                + ", ".join(f"{v} {k}" for k, v in c.items() if v) + ")")
+
+    # -- status -----------------------------------------------------------------------
+    @property
+    def t(self) -> np.ndarray:
+        return self.motion.t
+
+    @cached_property
+    def status(self) -> np.ndarray:
+        """``ok``, ``singular`` (J singular), ``unreachable``, or ``undetermined`` (the rates
+        of the dependent parameters are not determined there: a representation singularity
+        of the Euler angles or a constraint singularity), per sample."""
+        an = self.analysis
+        s = np.where(~an.solution.reachable_mask, "unreachable",
+                     np.where(an.jacobian.singular_mask, "singular",
+                              np.where(self.undetermined, "undetermined", "ok")))
+        return s.astype(str)
+
+    @property
+    def ok(self) -> np.ndarray:
+        return self.status == "ok"
+
+    def counts(self) -> dict:
+        return {s: int(np.sum(self.status == s)) for s in STATUSES}
+
+    # -- kinematics ---------------------------------------------------------------------
+    @property
+    def params_values(self) -> dict:
+        """``Xo Yo Zo alpha beta gamma`` at every sample (radians)."""
+        return self.analysis.solution.params
+
+    @property
+    def rates(self) -> dict:
+        """Time derivatives of the six pose parameters (per s)."""
+        return {k: self.data["theta_dot"][:, i] for i, k in enumerate(PARAMS)}
+
+    @property
+    def accelerations(self) -> dict:
+        return {k: self.data["theta_ddot"][:, i] for i, k in enumerate(PARAMS)}
+
+    @property
+    def twist(self) -> np.ndarray:
+        """Platform twist ``[v; w]`` about ``O`` ``(N, 6)``."""
+        return self.data["twist"]
+
+    @property
+    def acceleration(self) -> np.ndarray:
+        """Platform spatial acceleration ``dV/dt`` about ``O`` ``(N, 6)``."""
+        return self.data["acceleration"]
+
+    @property
+    def velocity_o(self) -> np.ndarray:
+        """Velocity of the platform centre ``o`` ``(N, 3)``."""
+        V, o = self.twist, self.analysis.solution._platform[1]
+        return V[:, :3] + np.cross(V[:, 3:], o)
+
+    @property
+    def acceleration_o(self) -> np.ndarray:
+        """Acceleration of the platform centre ``o`` ``(N, 3)``."""
+        V, A, o = self.twist, self.acceleration, self.analysis.solution._platform[1]
+        w = V[:, 3:]
+        return A[:, :3] + np.cross(A[:, 3:], o) + np.cross(w, self.velocity_o)
+
+    def _per_leg(self, key):
+        return tuple(self.data[key][:, i, :len(lg.joints)]
+                     for i, lg in enumerate(self.model.home_legs))
+
+    @property
+    def joint_rates(self) -> tuple:
+        """Each leg's joint rates ``(N, m_i)``."""
+        return self._per_leg("qd")
+
+    @property
+    def joint_accelerations(self) -> tuple:
+        return self._per_leg("qdd")
+
+    @property
+    def joint_efforts(self) -> tuple:
+        """Each leg's joint efforts for its own links ``(N, m_i)``: inertia minus gravity,
+        plus friction (the leg's balance: with its wrench ``w`` on the platform, ``ID +
+        T^T w`` is 0 at every passive joint and ``F_a`` at the actuated one)."""
+        return self._per_leg("ID")
+
+    def _actuated(self, key):
+        act = [lg.actuated_index for lg in self.model.home_legs]
+        return self.data[key][:, np.arange(len(act)), act]
+
+    @property
+    def actuator_rates(self) -> np.ndarray:
+        """``(N, n)``: the actuated joints' rates."""
+        return self._actuated("qd")
+
+    @property
+    def actuator_accelerations(self) -> np.ndarray:
+        return self._actuated("qdd")
+
+    # -- forces -------------------------------------------------------------------------
+    def _mask(self, x):
+        x = np.array(x, float)
+        x[self.flagged] = np.nan
+        return x
+
+    @cached_property
+    def static_active(self) -> np.ndarray:
+        """Active forces under the external workload alone ``(N, n)``."""
+        return self._mask(self.analysis.statics.active)
+
+    @cached_property
+    def dynamic_active(self) -> np.ndarray:
+        """Active forces with gravity, inertia and friction ``(N, n)``."""
+        return self._mask(self.statics.active)
+
+    @cached_property
+    def static_constraint(self) -> np.ndarray:
+        return self._mask(self.analysis.statics.constraint)
+
+    @cached_property
+    def dynamic_constraint(self) -> np.ndarray:
+        """Constraint values of the dynamic statics ``(N, m - n)`` (of the static part
+        ``w_s`` of each leg's wrench; :attr:`leg_wrenches` adds the mapped part)."""
+        return self._mask(self.statics.constraint)
+
+    @cached_property
+    def leg_wrenches(self) -> np.ndarray:
+        """The wrench ``[f; m]`` about ``O`` each leg applies to the platform, inertia
+        included: ``w = sum_rows F_r J_r + u`` ``(N, n, 6)``."""
+        return self._mask(self.statics.leg_wrenches + self.data["mapped"])
+
+    @property
+    def mapped_wrenches(self) -> np.ndarray:
+        """Each leg's dynamics mapped into the workload, ``u`` ``(N, n, 6)``."""
+        return self.data["mapped"]
+
+    @property
+    def workload(self) -> np.ndarray:
+        """The dynamic workload about ``O``: ``W_ext - W_platform + sum u`` ``(N, 6)``."""
+        return self.data["workload"]
+
+    @property
+    def platform_wrench(self) -> np.ndarray:
+        """The wrench the platform needs for its motion (inertia minus gravity) ``(N, 6)``."""
+        return self.data["platform_wrench"]
+
+    @cached_property
+    def T_r(self) -> np.ndarray:
+        return self._mask(self.statics.T_r)
+
+    # -- energy -------------------------------------------------------------------------
+    @property
+    def kinetic_energy(self) -> np.ndarray:
+        return self.data["kinetic"]
+
+    @property
+    def potential_energy(self) -> np.ndarray:
+        """Gravity's potential energy ``-sum m g . c`` (zero at ``O``)."""
+        return self.data["potential"]
+
+    @cached_property
+    def actuator_power(self) -> np.ndarray:
+        """``sum_i F_ai rdot_i`` ``(N,)``."""
+        return np.sum(self.dynamic_active * self.actuator_rates, axis=1)
+
+    @cached_property
+    def external_power(self) -> np.ndarray:
+        """Power of the external workload on the platform ``W_ext . V`` ``(N,)``."""
+        o = self.analysis.solution._platform[1]
+        W = np.concatenate([np.broadcast_to(self.force, o.shape),
+                            self.torque + np.cross(o, self.force)], axis=1)
+        return np.sum(W * self.twist, axis=1)
+
+    # -- residuals ----------------------------------------------------------------------
+    @property
+    def residuals(self) -> dict:
+        """Per sample: closure ``velocity`` and ``acceleration`` residuals of the legs,
+        each leg's ``balance`` (``|ID + T^T u|`` relative), the dynamic statics'
+        ``equilibrium``, the ``kinematic_condition`` of the dependent-rate system."""
+        return {"velocity": self.data["velocity_residual"],
+                "acceleration": self.data["acceleration_residual"],
+                "balance": self.data["balance_residual"],
+                "equilibrium": self._mask(self.statics.equilibrium_residual),
+                "kinematic_condition": self.data["kinematic_condition"]}
+
+    # -- export -------------------------------------------------------------------------
+    @property
+    def rotary(self) -> tuple:
+        return tuple(lg.actuated_joint.kind != "P" for lg in self.model.home_legs)
+
+    def columns(self) -> list:
+        """``(name, (N,) array, unit)`` of the CSV (angles in degrees)."""
+        u = self.model.units
+        n = self.model.n_legs
+        sol = self.analysis.solution
+        cols = [("t", self.t, "s")]
+        for k in PARAMS:
+            v = self.params_values[k]
+            cols.append((k, v if k in LENGTH_PARAMS else np.degrees(v),
+                         u.length if k in LENGTH_PARAMS else "deg"))
+        ext = self._mask(sol._extensions)
+        cols += [(f"r{i + 1}", ext[:, i], u.length) for i in range(n)]
+        act_u = [u.torque if r else u.force for r in self.rotary]
+        rate_u = [f"{'rad' if r else u.length}/s" for r in self.rotary]
+        cols += [(f"rdot{i + 1}", self.actuator_rates[:, i], rate_u[i]) for i in range(n)]
+        acc_u = [f"{'rad' if r else u.length}/s^2" for r in self.rotary]
+        cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, i], acc_u[i])
+                 for i in range(n)]
+        cols += [(f"F_a{i + 1}", self.static_active[:, i], act_u[i]) for i in range(n)]
+        cols += [(f"F_a{i + 1}_dyn", self.dynamic_active[:, i], act_u[i]) for i in range(n)]
+        info = self.analysis.jacobian.info[n:]
+        cu = [u.torque if r.kind == "couple" else u.force for r in info]
+        cols += [(r.label, self.static_constraint[:, j], cu[j]) for j, r in enumerate(info)]
+        cols += [(f"{r.label}_dyn", self.dynamic_constraint[:, j], cu[j])
+                 for j, r in enumerate(info)]
+        e = f"{u.force}.{u.length}"
+        cols += [("kinetic_energy", self.kinetic_energy, e),
+                 ("potential_energy", self.potential_energy, e),
+                 ("actuator_power", self.actuator_power, f"{e}/s")]
+        return cols
+
+    def to_csv(self, out=None):
+        """CSV: a header row (``name [unit]``), ``status`` after ``t``; NaN as ``nan``."""
+        cols = self.columns()
+        buf = io.StringIO()
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow([f"{cols[0][0]} [s]", "status"] + [f"{c} [{un}]" for c, _, un in cols[1:]])
+        for i in range(len(self)):
+            w.writerow([f"{cols[0][1][i]:.12g}", self.status[i]]
+                       + [f"{float(v[i]):.12g}" for _, v, _ in cols[1:]])
+        text = buf.getvalue()
+        if out is None:
+            return text
+        _write(text, out)
+        return None
+
+    def to_dict(self) -> dict:
+        """JSON-ready (column-oriented; angles in degrees, a unit for every column)."""
+        cols = self.columns()
+        return {"pm": self.model.name, "n_samples": len(self), "counts": self.counts(),
+                "units": {**self.model.units.as_dict(), "time": "s",
+                          "mass": self.params.mass_unit},
+                "workload": {"force": self.force, "torque": self.torque, "applied_at": "o"},
+                "gravity": self.params.gravity, "motion": {"source": self.motion.source,
+                                                           "derivatives": self.motion.method},
+                "notes": list(self.params.notes) + list(self.motion.notes),
+                "status": self.status.tolist(),
+                "columns": {c: {"unit": un, "values": v} for c, v, un in cols},
+                "residuals": {k: v for k, v in self.residuals.items()}}
+
+    def plot(self, out=None, *, title=None, dpi: int = 150):
+        """Fig. 5-style panels with the dynamic curves beside the static ones
+        (:func:`screwkit.viz.plot_dynamics`)."""
+        from ..viz import plot_dynamics
+        u = self.model.units
+        p = self.params_values
+        pose = {k: (p[k] if k in LENGTH_PARAMS else np.degrees(p[k]))
+                for k in self.model.independent}
+        labels = [r.label for r in self.analysis.jacobian.info[self.model.n_legs:]]
+        kinds = [r.kind for r in self.analysis.jacobian.info[self.model.n_legs:]]
+        if title is None:
+            title = (f"{self.model.name}: static (dashed) and dynamic (solid); "
+                     f"F = [{', '.join(f'{x:g}' for x in self.force)}] {u.force}, "
+                     f"T = [{', '.join(f'{x:g}' for x in self.torque)}] {u.torque} at o, "
+                     f"platform mass {_kg(self.model.units, self.params.platform.mass)}")
+        return plot_dynamics(self.t, pose, self.static_active, self.dynamic_active,
+                             self.static_constraint, self.dynamic_constraint, labels, kinds,
+                             self.kinetic_energy + self.potential_energy, self.actuator_power,
+                             units={"length": u.length, "force": u.force, "torque": u.torque,
+                                    "energy": f"{u.force}·{u.length}"},
+                             flags=~self.ok, out=out, title=title, dpi=dpi)
+
+
+def _write(text: str, out) -> None:
+    from pathlib import Path
+    from ..errors import InputError
+    if hasattr(out, "write"):
+        out.write(text)
+        return
+    try:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
+        Path(out).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot write {str(out)!r}: {exc}") from None
+
+
+def _kg(units, mass) -> str:
+    """A mass in kg when the model's units convert (pint), else in the model's unit."""
+    try:
+        return f"{mass / units.factor('kg', 'mass'):.4g} kg"
+    except Exception:                       # no pint, or undeclared units
+        return f"{mass:.4g} {units.mass}"

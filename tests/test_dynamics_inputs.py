@@ -1,0 +1,174 @@
+"""Inputs of the dynamics: exact derivatives of path expressions (automatic differentiation),
+the mass model of the ``dynamics:`` block (units, cylinder and piston, errors), the CLI."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.dynamics import derivatives, motion_from_expressions
+from screwkit.pm import Units, cylinder_body, dynamics_for, parse_expression
+
+T = np.array([0.1, 0.3, 0.7, 1.3])
+
+# expression, f', f'' written by hand
+CASES = [
+    ("3*t**2 + 2*t - 1", lambda t: 6 * t + 2, lambda t: 6 + 0 * t),
+    ("sin(2*t)", lambda t: 2 * np.cos(2 * t), lambda t: -4 * np.sin(2 * t)),
+    ("cos(t)**3", lambda t: -3 * np.cos(t) ** 2 * np.sin(t),
+     lambda t: 6 * np.cos(t) * np.sin(t) ** 2 - 3 * np.cos(t) ** 3),
+    ("tan(t/2)", lambda t: 0.5 / np.cos(t / 2) ** 2,
+     lambda t: 0.5 * np.tan(t / 2) / np.cos(t / 2) ** 2),
+    ("asin(t/2)", lambda t: 1 / np.sqrt(4 - t ** 2), lambda t: t / (4 - t ** 2) ** 1.5),
+    ("acos(t/2)", lambda t: -1 / np.sqrt(4 - t ** 2), lambda t: -t / (4 - t ** 2) ** 1.5),
+    ("atan(t)", lambda t: 1 / (1 + t ** 2), lambda t: -2 * t / (1 + t ** 2) ** 2),
+    ("sqrt(t)", lambda t: 0.5 / np.sqrt(t), lambda t: -0.25 * t ** -1.5),
+    ("exp(-t)*t", lambda t: np.exp(-t) * (1 - t), lambda t: np.exp(-t) * (t - 2)),
+    ("log(1+t)", lambda t: 1 / (1 + t), lambda t: -1 / (1 + t) ** 2),
+    ("t/(1+t)", lambda t: 1 / (1 + t) ** 2, lambda t: -2 / (1 + t) ** 3),
+    ("t**t", lambda t: t ** t * (np.log(t) + 1),
+     lambda t: t ** t * ((np.log(t) + 1) ** 2 + 1 / t)),
+    ("atan2(t, 2)", lambda t: 2 / (4 + t ** 2), lambda t: -4 * t / (4 + t ** 2) ** 2),
+    ("abs(t-0.5)", lambda t: np.sign(t - 0.5), lambda t: 0 * t),
+    ("max(t, 0.5, t**2)", lambda t: np.where(t > 1, 2 * t, np.where(t > 0.5, 1, 0)),
+     lambda t: np.where(t > 1, 2.0, 0.0)),
+    ("-min(t, 2*pi*e)", lambda t: -1 + 0 * t, lambda t: 0 * t),
+]
+
+
+@pytest.mark.parametrize("text, d1, d2", CASES, ids=[c[0] for c in CASES])
+def test_jets_against_hand_derivatives(text, d1, d2):
+    f, g1, g2 = derivatives(parse_expression(text), T)
+    assert np.allclose(f, parse_expression(text)(T), rtol=1e-14, atol=0)
+    assert np.allclose(g1, d1(T), rtol=1e-13, atol=1e-14)
+    assert np.allclose(g2, d2(T), rtol=1e-12, atol=1e-13)
+
+
+def test_jets_against_the_complex_step():
+    """A second method for the first derivative: the complex step (exact to rounding)."""
+    text = "10*sin(2*pi*t+1)*exp(-t/3) + sqrt(4+t**2)/(2+cos(t))"
+    h = 1e-30
+    z = np.sin(2 * np.pi * (T + 1j * h) + 1) * 10 * np.exp(-(T + 1j * h) / 3) + \
+        np.sqrt(4 + (T + 1j * h) ** 2) / (2 + np.cos(T + 1j * h))
+    _, g1, g2 = derivatives(parse_expression(text), T)
+    assert np.allclose(g1, z.imag / h, rtol=1e-13)
+    e = 1e-4
+    _, a, _ = derivatives(parse_expression(text), T + e)
+    _, b, _ = derivatives(parse_expression(text), T - e)
+    assert np.allclose(g2, (a - b) / (2 * e), rtol=1e-6)
+
+
+def test_jet_errors():
+    with pytest.raises(screwkit.InputError, match="derivative is not finite"):
+        derivatives(parse_expression("sqrt(t)"), np.array([0.0, 1.0]))
+    # the power rule at 0 with integer exponents is finite
+    f, g1, g2 = derivatives(parse_expression("t**1 + t**2 + t**0"), np.array([0.0]))
+    assert (f[0], g1[0], g2[0]) == (1.0, 1.0, 2.0)
+
+
+def test_motion_in_degrees_is_converted_to_radians():
+    m = motion_from_expressions(["alpha=10*t**2", "beta=0", "Zo=80+3*t"],
+                                ("alpha", "beta", "Zo"), samples=3, t_range=(0, 2))
+    assert np.allclose(m.accelerations["alpha"], np.radians(20))
+    assert np.allclose(m.rates["Zo"], 3) and np.allclose(m.rates["beta"], 0)
+    assert "automatic differentiation" in m.method
+
+
+def test_units_factors():
+    u = Units("cm", "kN")
+    assert u.factor("kg", "mass") == pytest.approx(1e-5)          # 1 kN.s^2/cm = 1e5 kg
+    assert u.factor("m", "length") == pytest.approx(100)
+    assert u.factor("N", "force") == pytest.approx(1e-3)
+    assert u.of("mass") == "kN.s^2/cm"
+    assert Units("mm", "N").factor("kg", "mass") == pytest.approx(1e-3)
+    with pytest.raises(screwkit.InputError, match="cannot convert"):
+        u.factor("kg", "length")
+
+
+def test_mass_block_conversion_and_defaults():
+    pm = screwkit.load_pm("3RPS")
+    p = dynamics_for(pm, {"units": {"mass": "kg", "length": "m", "force": "N"},
+                          "gravity": [0, 0, -9.81],
+                          "platform": {"mass": 10, "com": [0.01, 0, 0.02], "inertia": [1, 2, 2.5]},
+                          "legs": {"cylinder": {"mass": 3, "length": 0.4, "radius": 0.03},
+                                   "piston": {"mass": 2, "length": 0.4}}})
+    assert p.gravity == pytest.approx([0, 0, -981.0])
+    assert p.platform.mass == pytest.approx(1e-4)
+    assert p.platform.com == pytest.approx([1.0, 0, 2.0])
+    assert np.diag(p.platform.inertia) == pytest.approx([0.1, 0.2, 0.25])   # kg.m^2 -> 0.1
+    leg = pm.home_legs[0]
+    d = (leg.a - leg.A) / np.linalg.norm(leg.a - leg.A)
+    (s_c, cyl), (s_p, pis) = p.legs[0].links
+    assert (s_c, s_p) == (0, 1)                # after R1 (the cylinder), after P2 (the piston)
+    assert cyl.com == pytest.approx(leg.A + 20 * d) and pis.com == pytest.approx(leg.a - 20 * d)
+    m, r, ln = 3e-5, 3.0, 40.0
+    assert d @ cyl.inertia @ d == pytest.approx(m * r ** 2 / 2)
+    e = np.cross(d, [0, 0, 1.0])
+    e /= np.linalg.norm(e)
+    assert e @ cyl.inertia @ e == pytest.approx(m * (3 * r ** 2 + ln ** 2) / 12)
+    q = dynamics_for(pm, {"platform": {"mass": 10}})
+    assert q.gravity == pytest.approx([0, 0, -980.665]) and "standard gravity" in q.notes[1]
+    assert q.massless_legs and q.total_mass() == pytest.approx(1e-4)
+
+
+def test_cylinder_body_formula():
+    b = cylinder_body(2.0, [0, 0, 0], [0, 0, 1], length=0.5, radius=0.1, inner_radius=0.05)
+    assert np.diag(b.inertia) == pytest.approx([2 * (3 * 0.0125 + 0.25) / 12] * 2
+                                               + [2 * 0.0125 / 2])
+
+
+@pytest.mark.parametrize("block, field", [
+    ({"platform": {"mass": -1}}, "dynamics.platform.mass"),
+    ({"platform": {"mass": 1, "inertia": [1, 1, 3]}}, "dynamics.platform.inertia"),
+    ({"platform": {"mass": 1, "inertai": [1, 1, 1]}}, "dynamics.platform"),
+    ({"legs": {"links": {"R9": {"mass": 1}}}}, "dynamics.legs.links"),
+    ({"legs": {"links": {"S3": {"mass": 1}}}}, "dynamics.legs.links.S3"),
+    ({"legs": [{}, {}]}, "dynamics.legs"),
+    ({"units": {"mass": "kilo"}}, "dynamics.units"),
+    ({"stiffness": {"actuator": 0}}, "dynamics.stiffness.actuator"),
+    ({"stiffness": {"beam": {"E": 1}}}, "dynamics.stiffness.beam"),
+    ({"gravity": [0, 0]}, "dynamics.gravity"),
+    ({"legs": {"friction": {"Q1": {"viscous": 1}}}}, "dynamics.legs.friction"),
+])
+def test_mass_block_errors_name_the_field(block, field):
+    pm = screwkit.load_pm("3RPS")
+    with pytest.raises(screwkit.CatalogError) as exc:
+        dynamics_for(pm, block)
+    assert exc.value.field == field
+
+
+def test_cylinder_needs_a_linear_actuator_along_the_leg():
+    pm = screwkit.load_pm("3RSR")
+    with pytest.raises(screwkit.CatalogError, match="actuated P joint along the leg line"):
+        dynamics_for(pm, {"legs": {"cylinder": {"mass": 1, "length": 10}}})
+
+
+def test_the_loader_reads_the_dynamics_block(tmp_path):
+    from pathlib import Path
+    pm = screwkit.load_pm(str(Path(__file__).parent / "data" / "stewart_6sps.yaml"))
+    assert pm.dynamics is not None and len(pm.dynamics.legs) == 6
+    assert pm.dynamics.legs[0].stiffness.actuator == pytest.approx(2e3)
+    assert screwkit.load_pm("3RRPRR").dynamics is None
+
+
+def test_trajectory_dynamics_cli(tmp_path, capsys):
+    from screwkit.cli import main
+    mass = tmp_path / "mass.yaml"
+    mass.write_text("dynamics:\n  platform: {mass: 40}\n  legs:\n"
+                    "    cylinder: {mass: 4, length: 50, radius: 4}\n"
+                    "    piston: {mass: 2, length: 50, radius: 2}\n")
+    png = tmp_path / "dyn.png"
+    args = ["trajectory", "3RRPRR", "--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=5",
+            "--expr", "Zo=80+10*t", "--samples", "21", "--dynamics", "--mass", str(mass)]
+    assert main(args + ["--plot", str(png)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 22 and "F_a1_dyn [kN]" in out[0] and "F_a1 [kN]" in out[0]
+    assert png.stat().st_size > 10000
+    assert main(args + ["--format", "json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["columns"]["F_a1_dyn"]["unit"] == "kN" and d["units"]["time"] == "s"
+    assert main(args[:-2]) == 2                       # no masses: one line, exit 2
+    assert "declares no masses" in capsys.readouterr().err

@@ -1,0 +1,195 @@
+"""Cartesian stiffness (screwkit.dynamics.stiffness): symmetry, rank, the Stewart platform's
+K = k J_a^T J_a, the deflection against the spring-leg equilibrium solved by the engine, the
+compliance-weighted statics, the beam formulas, the CLI."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import screwkit
+from screwkit.dynamics import row_stiffness, stiffness
+from screwkit.engine import PARAMS, link_frames
+
+STEWART = str(Path(__file__).parent / "data" / "stewart_6sps.yaml")
+
+
+@pytest.fixture(scope="module")
+def stewart():
+    return screwkit.load_pm(STEWART)
+
+
+def _rows_about_o(J, o):
+    return np.concatenate([J[:, :3], J[:, 3:] - np.cross(o, J[:, :3])], axis=1)
+
+
+def test_stewart_K_is_k_Ja_T_Ja(stewart):
+    st = stiffness(stewart)
+    k = stewart.dynamics.legs[0].stiffness.actuator
+    assert k == pytest.approx(2.0e6 * 1e-3)               # N/cm -> kN/cm
+    J = st.analysis.jacobian.J
+    Jo = _rows_about_o(J, st.analysis.solution.position)
+    assert np.allclose(st.K[0], k * Jo.T @ Jo, rtol=0, atol=1e-13 * np.abs(st.K[0]).max())
+    assert st.rank == 6
+    assert np.allclose(st.compliance[0] @ st.K[0], np.eye(6), atol=1e-10)
+
+
+@pytest.mark.parametrize("name, kwargs, rank", [
+    ("3RRPRR", {"actuator": 2e3}, 3),
+    ("3RRPRR", {"actuator": 2e3, "force_stiffness": 5e3}, 6),
+    ("3UPU", {"actuator": 2e3, "couple_stiffness": 1e7}, 6),
+    ("2SPS+2SPR", {"actuator": 2e3}, 4),
+    ("4UPU", {"actuator": 2e3, "couple_stiffness": 1e7}, 6),
+])
+def test_K_is_symmetric_psd_with_the_rank_of_its_rows(name, kwargs, rank):
+    st = stiffness(name, **kwargs)
+    K = st.K[0]
+    L = screwkit.load_pm(name).normalisation.length
+    S = np.diag([L, L, L, 1, 1, 1])
+    Kn = S @ K @ S
+    assert np.allclose(K, K.T, rtol=0, atol=1e-14 * np.abs(K).max())
+    ev = np.linalg.eigvalsh(Kn)
+    assert ev.min() >= -1e-12 * ev.max()
+    assert st.rank == rank == int(np.sum(ev > 1e-8 * ev.max()))
+    assert st.restrained[0]
+    C = st.compliance[0]
+    assert np.allclose(C, C.T, atol=1e-14 * np.abs(C).max())
+
+
+def test_rigid_rows_do_not_deflect():
+    st = stiffness("3RRPRR", actuator=2e3, force=[1, 2, 3], torque=[5, -4, 2])
+    J = st.analysis.jacobian.J
+    Jo = _rows_about_o(J, st.analysis.solution.position)
+    d = st.deflection[0]
+    assert np.allclose(Jo[3:] @ d, 0, atol=1e-14 * np.abs(d).max())     # rigid constraints
+    Fr = st.analysis.statics.values
+    assert np.allclose(Jo[:3] @ d, -Fr[:3] / 2e3, rtol=1e-9)             # springs: dr = -F/k
+
+
+def _spring_equilibrium(pm, F, T, k, start=None):
+    """Forward kinematics (Newton through the engine) of the Stewart platform whose legs are
+    springs: leg lengths r0 - F_a(X) / k (r0 at the default pose, unloaded) with F_a the
+    statics at the deflected pose.  Returns the deflection from ``start`` (default: the
+    default pose) and the deflected pose."""
+    names = pm.independent
+    x0 = dict(pm.default_pose)
+
+    def an(x):
+        return screwkit.analyze(pm, {n: np.array([x[n]]) for n in names}, force=F, torque=T)
+
+    r0 = an(x0).solution.extensions[0]
+    a0 = an(start if start is not None else x0)
+    x = dict(x0)
+    for _ in range(30):
+        a = an(x)
+        target = r0 - a.statics.active[0] / k
+        D = a.jacobian.matrix[0, :6] @ link_frames(a.solution).columns[:, :, 0]
+        step = np.linalg.solve(D, target - a.solution.extensions[0])
+        for j, p in enumerate(PARAMS):
+            x[p] += step[j]
+        if np.abs(step).max() < 1e-13:
+            break
+    a = an(x)
+    R0, R1 = a0.solution.rotation[0], a.solution.rotation[0]
+    return np.concatenate([a.solution.position[0] - a0.solution.position[0],
+                           Rotation.from_matrix(R1 @ R0.T).as_rotvec()]), x
+
+
+def test_deflection_equals_the_spring_leg_equilibrium_to_second_order(stewart):
+    k = stewart.dynamics.legs[0].stiffness.actuator
+    W = np.array([0.5, -0.3, 1.0, 2.0, 1.0, -3.0])
+    errs = []
+    for s in (1.0, 0.5, 0.25):
+        st = stiffness(stewart, force=s * W[:3], torque=s * W[3:])
+        exact, _ = _spring_equilibrium(stewart, s * W[:3], s * W[3:], k)
+        errs.append(np.abs(st.deflection[0] - exact).max() / np.abs(exact).max())
+    assert errs[0] < 1e-4
+    # the relative error is linear in the load: the absolute error is of second order
+    assert errs[0] / errs[1] == pytest.approx(2.0, rel=0.05)
+    assert errs[1] / errs[2] == pytest.approx(2.0, rel=0.05)
+
+
+def test_geometric_term_gives_the_tangent_stiffness_under_a_preload(stewart):
+    """Under the paper's workload as a preload, the deflection increment of a small extra load
+    is K_t^-1 dW to second order in dW with the geometric term; without it the error is of
+    first order (it stays as dW shrinks)."""
+    k = stewart.dynamics.legs[0].stiffness.actuator
+    W0 = np.array([20.0, -30.0, -60.0, -30.0, -30.0, 100.0])
+    _, x1 = _spring_equilibrium(stewart, W0[:3], W0[3:], k)
+    tangent = stiffness(stewart, x1, force=W0[:3], torque=W0[3:], geometric=True)
+    elastic = stiffness(stewart, x1, force=W0[:3], torque=W0[3:])
+    assert np.allclose(tangent.elastic, elastic.K) and tangent.geometric is not None
+    assert np.allclose(tangent.K, tangent.elastic + tangent.geometric)
+    err_t, err_e = [], []
+    for s in (0.1, 0.05):
+        dW = s * np.array([1.0, 2.0, -1.0, 10.0, -5.0, 3.0])
+        W = W0 + dW
+        exact, _ = _spring_equilibrium(stewart, W[:3], W[3:], k, start=x1)
+        scale = np.abs(exact).max()
+        err_t.append(np.abs(np.linalg.solve(tangent.K[0], dW) - exact).max() / scale)
+        err_e.append(np.abs(np.linalg.solve(elastic.K[0], dW) - exact).max() / scale)
+    assert err_t[0] < 1e-5 and err_t[0] / err_t[1] == pytest.approx(2.0, rel=0.05)
+    assert err_e[1] > 100 * err_t[1] and err_e[0] / err_e[1] == pytest.approx(1.0, rel=0.05)
+    assert "geometric" in tangent.to_dict() and "elastic" in tangent.to_dict()
+
+
+def test_compliance_weighted_statics_is_the_spring_solution():
+    """For the indeterminate 4UPU, the engine's stiffness-weighted statics equals the spring
+    solution F_r = -k_r J_r dX of the deflection."""
+    pm = screwkit.load_pm("4UPU")
+    k_rows = {"F_a1": 2e3, "F_a2": 3e3, "F_a3": 2.5e3, "F_a4": 2e3,
+              "T_c1": 1e7, "T_c2": 2e7, "T_c3": 1.5e7, "T_c4": 1e7}
+    st = stiffness(pm, rows=k_rows)
+    labels = st.analysis.jacobian.labels
+    an = screwkit.analyze(pm, stiffness=k_rows)
+    k = np.array([k_rows[lab] for lab in labels])
+    Jo = _rows_about_o(st.analysis.jacobian.J, st.analysis.solution.position)
+    springs = -k * (Jo @ st.deflection[0])
+    assert np.allclose(springs, an.statics.values, rtol=1e-8,
+                       atol=1e-10 * np.abs(an.statics.values).max())
+
+
+def test_beam_formulas(stewart):
+    """EA/l along the leg for the SPS actuation rows (hand formula)."""
+    from screwkit.pm import dynamics_for
+    E, A = 2.1e7, 12.0             # N/cm^2, cm^2 (the block's units: kg, cm, N)
+    p = dynamics_for(stewart, {"stiffness": {"beam": {"E": E, "G": 8e6, "area": A, "I": 40,
+                                                      "J": 80}}})
+    an = screwkit.analyze(stewart)
+    k = row_stiffness(an, p)
+    r = an.solution.extensions
+    assert np.allclose(k[0], E * 1e-3 * A / r, rtol=1e-12)           # N -> kN
+    rps = screwkit.load_pm("3RPS")
+    p = dynamics_for(rps, {"stiffness": {"actuator": 2e6, "beam": {"E": E, "G": 8e6,
+                                                                   "area": A, "I": 40,
+                                                                   "J": 80}}})
+    an = screwkit.analyze(rps)
+    k = row_stiffness(an, p)
+    assert np.allclose(k[0, :3], 2e3)
+    # the RPS constraint force is perpendicular to the leg: cantilever bending 3EI/l^3
+    f = an.jacobian.J[3:, :3]
+    d = an.solution.platform_points - an.solution.base_points
+    assert np.allclose(np.einsum("ij,ij->i", f, d), 0, atol=1e-9)
+    ell = an.solution.extensions
+    assert np.allclose(k[0, 3:], 3 * E * 1e-3 * 40 / ell ** 3, rtol=1e-10)
+
+
+def test_stiffness_cli(tmp_path, capsys):
+    from screwkit.cli import main
+    assert main(["stiffness", "--model", STEWART, "--force", "0,0,-1", "--torque", "0,0,0",
+                 "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert {"stiffness", "deflection", "units"} <= set(d)
+    assert np.array(d["stiffness"]).shape == (6, 6)
+    assert d["units"]["stiffness"]["f_per_v"] == "kN/cm"
+    assert d["units"]["deflection"] == {"translation": "cm", "rotation": "rad"}
+    assert main(["stiffness", "3RRPRR", "--pose", "alpha=5", "--k-actuator", "2000"]) == 0
+    out = capsys.readouterr().out
+    assert "rank 3" in out and "rigid" in out and "kN/cm" in out
+    assert main(["stiffness", "3RRPRR", "--k-actuator", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "positive" in err
