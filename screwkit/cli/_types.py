@@ -1,0 +1,82 @@
+"""Strict argument types of the command line (private): numbers in ASCII decimal with a
+limit on their size, bounded counts and seeds, labels and paths of bounded length.
+
+Each is an ``argparse`` ``type=``: a bad value gives the one-line error
+``screwkit CMD: error: argument --samples: ...`` with exit status 2 (see
+:class:`OneLineParser`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from ..legs._guards import (MAX_LABEL, argtype, check_path_text, parse_int, parse_number,
+                            shorten)
+from ..errors import InputError
+
+__all__ = ["number", "integer", "label", "path", "output", "OneLineParser", "UsageError"]
+
+
+def number(*, bound: float | None = None, lo: float | None = None, hi: float | None = None):
+    """A float option: ASCII decimal, finite, ``|x| <= bound``, ``lo <= x <= hi``."""
+    def convert(text):
+        x = parse_number(text, "value", bound=bound)
+        if lo is not None and x < lo or hi is not None and x > hi:
+            rng = f"from {lo:g} to {hi:g}" if lo is not None and hi is not None else \
+                (f"at least {lo:g}" if lo is not None else f"at most {hi:g}")
+            raise InputError(f"{text.strip()} is not {rng}")
+        return x
+    return argtype(convert, "number")
+
+
+def integer(lo: int | None = None, hi: int | None = None):
+    """An int option: ASCII digits, ``lo <= n <= hi``."""
+    return argtype(lambda text: parse_int(text, "value", lo, hi), "integer")
+
+
+def label(limit: int = MAX_LABEL):
+    """A text printed on a figure: at most ``limit`` characters, no control characters."""
+    def convert(text):
+        if len(text) > limit:
+            raise InputError(f"a text of {len(text)} characters is too long (at most {limit})")
+        bad = next((c for c in text if ord(c) < 32 and c not in "\n\t"), None)
+        if bad is not None:
+            raise InputError(f"control character {bad!r} in {shorten(text)}")
+        return text
+    return argtype(convert, "label")
+
+
+#: A file path: no NUL character, not over-long.
+path = argtype(lambda text: check_path_text(text, "value"), "path")
+
+
+def _output(text):
+    s = check_path_text(text, "value")
+    if os.path.isdir(s):
+        raise InputError(f"{shorten(s)} is a directory, not a file name")
+    return s
+
+
+#: A file to write: a :data:`path` that is not an existing directory.
+output = argtype(_output, "output")
+
+
+class UsageError(Exception):
+    """A command-line usage error: ``line`` is its one-line message (exit status 2)."""
+
+    def __init__(self, line: str):
+        super().__init__(line)
+        self.line = line
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An ``ArgumentParser`` whose usage errors are one line, ``PROG: error: MESSAGE (see
+    PROG --help)``, raised as :class:`UsageError` for :func:`screwkit.cli.main` to print and
+    return 2 (the usage itself is in ``--help``)."""
+
+    def error(self, message):
+        msg = " ".join(str(message).split())
+        if len(msg) > 400:
+            msg = msg[:397] + "..."
+        raise UsageError(f"{self.prog}: error: {msg} (see '{self.prog} --help')")

@@ -1,0 +1,106 @@
+"""Checks of a PM definition's names and dimensions (private, for :mod:`screwkit.pm._loader`):
+a name or a path, unknown keys with a did-you-mean, text fields, dimensions and overrides."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import CatalogError, InputError
+from ..legs._guards import (MAX_MAGNITUDE, MAX_NAME, MAX_PATH_CHARS, did_you_mean, parse_number,
+                            real, shorten)
+
+__all__ = ["split_path", "listing", "find_pm", "unknown_keys", "text_fields", "dimensions"]
+
+
+def split_path(name_or_path: str):
+    """``(path, pick)`` of ``path.yaml#NAME`` (or an existing file), else ``(None, None)``."""
+    s = str(name_or_path)
+    base, _, pm = s.partition("#")
+    if base.endswith((".yaml", ".yml")):
+        return base, (pm or None)
+    try:                       # a name such as 3RRPRR, or an over-long / odd string: no file
+        is_file = "\x00" not in base and len(base) <= MAX_PATH_CHARS and Path(base).is_file()
+    except (OSError, ValueError):
+        is_file = False
+    return (base, (pm or None)) if is_file else (None, None)
+
+
+def listing(names, limit: int = 12) -> str:
+    """``"a, b, c and 5 more"``: a list of names in a message, cut at ``limit``."""
+    names = sorted(map(str, names))
+    more = f" and {len(names) - limit} more" if len(names) > limit else ""
+    return ", ".join(names[:limit]) + more if names else "none"
+
+
+def find_pm(cat, name: str) -> str:
+    """The catalog key of PM ``name`` (``3-RPS`` finds ``3RPS``); a CatalogError with a hint
+    (upper-case joint letters, the closest name) otherwise."""
+    if name in cat.pms:
+        return name
+    if len(name) > MAX_NAME:
+        raise CatalogError(f"a PM name of {len(name)} characters is too long (at most {MAX_NAME}; "
+                           f"or a model file: PATH.yaml)", source=cat.source)
+    canon = name.replace("-", "").replace(" ", "")
+    for k in cat.pms:
+        kc = k.replace("-", "").replace(" ", "")
+        if kc == canon:
+            return k
+        if kc.lower() == canon.lower():
+            raise CatalogError(f"unknown PM {name!r}: joint letters are upper case: did you mean "
+                               f"{k!r}?", source=cat.source)
+    hint = did_you_mean(name, list(cat.pms))
+    raise CatalogError(f"unknown PM {shorten(name)}{hint}; known: {listing(cat.pms)}",
+                       source=cat.source)
+
+
+def unknown_keys(d: dict, known, err, fld, what: str = "key") -> None:
+    """``err(message, field)`` on the first key of ``d`` not in ``known``, with a
+    did-you-mean; the field is ``fld``, or the key itself when ``fld`` is None."""
+    bad = [k for k in d if k not in known]
+    if bad:
+        k = bad[0]
+        where = fld if fld is not None else (k if isinstance(k, str) else None)
+        raise err(f"unknown {what} {shorten(k, 40)}{did_you_mean(k, known)}; known: "
+                  f"{', '.join(sorted(known))}", where)
+
+
+def text_fields(d: dict, keys, name, src) -> None:
+    """Each of ``keys`` present in ``d`` is a text."""
+    for k in keys:
+        if d.get(k) is not None and not isinstance(d[k], str):
+            raise CatalogError(f"must be a text, got {shorten(d[k])}", name, k, src)
+
+
+def dimensions(dims_raw: dict, overrides, name, src) -> dict:
+    """The dimensions ``{name: positive length}`` with the overrides applied: names are
+    identifiers, values numbers (or decimal text such as ``"1e3"``), positive, at most
+    ``MAX_MAGNITUDE``; an override names an existing dimension."""
+    if not isinstance(overrides, dict):
+        raise InputError(f"{name}: overrides must be a mapping dimension -> value")
+    unknown = [k for k in overrides if k not in dims_raw]
+    if unknown:
+        raise InputError(f"{name}: unknown dimension {shorten(unknown[0], 40)}"
+                         f"{did_you_mean(unknown[0], list(dims_raw))}; the dimensions are "
+                         f"{listing(dims_raw)}")
+    dims = {}
+    for k, v in {**dims_raw, **overrides}.items():
+        if not isinstance(k, str) or not k.isidentifier() or len(k) > MAX_NAME:
+            raise CatalogError(f"a dimension name must be a name such as L or R1, got "
+                               f"{shorten(k)}", name, "dimensions", src)
+        if k in overrides:
+            def bad(m, k=k):
+                return InputError(f"{name}: override {k}: {m}")
+        else:
+            def bad(m, fld=f"dimensions.{k}"):
+                return CatalogError(m, name, fld, src)
+        if isinstance(v, str):            # "150", "1e3"
+            try:
+                x = parse_number(v, k, bound=MAX_MAGNITUDE)
+            except InputError as exc:
+                raise bad(str(exc).removeprefix(f"{k}: ")) from None
+        else:
+            x = real(v, k, bound=MAX_MAGNITUDE, error=bad)
+        if not x > 0:
+            raise bad(f"{k} = {x:g} must be a positive length")
+        dims[k] = x
+    return dims
