@@ -10,6 +10,7 @@ from .errors import (CatalogError, GeometryError, InputError, ParseError, Screwk
 from .screws import Line, Twist, Wrench
 from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
+from .api import assembly_modes, forward, map, size  # noqa: A004 (screwkit.map)
 
 __version__ = "0.1.0"
 
@@ -25,12 +26,17 @@ __all__ = [
     "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
     "leg_from_joints", "leg", "define_leg", "load_legs", "extend_catalog",
     # PMs and the engine
-    "load_pm", "solve", "solve_path", "analyze", *_ENGINE,
+    "load_pm", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
+    # maps, sizing, forward kinematics
+    "map", "size", "forward", "assembly_modes",
     "__version__",
 ]
 
 
 def __getattr__(name):
+    if name == "dynamics":              # the dynamics layer; callable: screwkit.dynamics(pm, ...)
+        import importlib
+        return importlib.import_module(".dynamics", __name__)
     if name in _ENGINE:
         from . import engine
         return getattr(engine, name)

@@ -2,13 +2,33 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Union
+
 from .legs import Leg, Placement, generic_leg
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    import xarray
+
+    from .engine import AssemblyModes, ForwardResult, PMAnalysis, PoseSolution
+    from .maps import Sizing
+    from .pm import Catalog, LegSpec, PMModel
+
+    #: A PM: a loaded model, or a catalog name, a YAML path or ``"path.yaml#NAME"``.
+    PMLike = Union[PMModel, str, os.PathLike]
+    #: Pose parameters: numbers (one pose), 1-D arrays of one length N, or a pandas
+    #: DataFrame with one column per parameter (any mapping of column names to columns).
+    PoseLike = Mapping[str, ArrayLike]
+
 __all__ = ["leg", "load_pm", "solve", "solve_path", "analyze", "define_leg", "load_legs",
-           "extend_catalog"]
+           "extend_catalog", "map", "size", "forward", "assembly_modes"]
 
 
-def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog=None) -> Leg:
+def leg(name: str, placement: Placement | None = None, *, seed: int = 0,
+        catalog: Catalog | None = None) -> Leg:
     """A placed leg: a catalog variant by name (``"UPU/couple"``, ``"RRPRR"``) or, for a
     string not in the catalog, the bare string with a generic geometry.
 
@@ -37,8 +57,10 @@ def leg(name: str, placement: Placement | None = None, *, seed: int = 0, catalog
 # user-defined leg types
 # ---------------------------------------------------------------------------
 
-def define_leg(name: str, string: str, joints, structure=(), expect=None, summary: str = "",
-               *, placement=None):
+def define_leg(name: str, string: str, joints: Sequence[Mapping[str, Any]],
+               structure: Sequence[Mapping[str, Any]] = (), expect: Mapping[str, Any] | None = None,
+               summary: str = "", *,
+               placement: Placement | Mapping[str, ArrayLike] | None = None) -> LegSpec:
     """A user-defined leg type, validated exactly like a ``legs_catalog.yaml`` entry.
 
     Parameters
@@ -75,7 +97,7 @@ def define_leg(name: str, string: str, joints, structure=(), expect=None, summar
 
     from .pm import leg_spec_from_mapping
 
-    d = {"name": name, "string": string, "joints": joints,
+    d: dict[str, Any] = {"name": name, "string": string, "joints": joints,
          "structure": list(structure or ()), "summary": summary}
     if expect is not None:
         d["expect"] = expect
@@ -86,7 +108,7 @@ def define_leg(name: str, string: str, joints, structure=(), expect=None, summar
     return replace(spec, placement=pl_obj) if pl_obj is not None else spec
 
 
-def load_legs(path) -> tuple:
+def load_legs(path: str | os.PathLike) -> tuple[LegSpec, ...]:
     """Leg types from a YAML file with a ``legs:`` list (the catalog's schema).
 
     Parameters
@@ -114,7 +136,8 @@ def load_legs(path) -> tuple:
     return tuple(cat.legs.values())
 
 
-def extend_catalog(legs, catalog=None, *, replace: bool = False):
+def extend_catalog(legs: LegSpec | Iterable[LegSpec] | Catalog, catalog: Catalog | None = None,
+                   *, replace: bool = False) -> Catalog:
     """A catalog with extra leg types, for ``screwkit.leg(name, catalog=...)``.
 
     Parameters
@@ -155,7 +178,8 @@ def extend_catalog(legs, catalog=None, *, replace: bool = False):
     return Catalog(merged, list(base.table1), dict(base.pms), base.source)
 
 
-def load_pm(name: str, overrides: dict | None = None, *, catalog=None):
+def load_pm(name: str | os.PathLike, overrides: Mapping[str, float] | None = None, *,
+            catalog: Catalog | None = None) -> PMModel:
     """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path, or
     ``"path.yaml#NAME"``; ``overrides`` changes dimensions (``{"L": 150}``).
 
@@ -179,16 +203,20 @@ def load_pm(name: str, overrides: dict | None = None, *, catalog=None):
     from .engine import check_default_pose
     from .pm import load_pm as _load
 
-    return check_default_pose(_load(name, overrides, catalog))
+    text = os.fspath(name) if isinstance(name, os.PathLike) else name     # a pathlib.Path too
+    return check_default_pose(_load(text, None if overrides is None else dict(overrides), catalog))
 
 
-def _model(pm, overrides=None, catalog=None):
+def _model(pm: PMLike, overrides: Mapping[str, float] | None = None,
+           catalog: Catalog | None = None) -> PMModel:
     from .pm import PMModel
 
     return pm if isinstance(pm, PMModel) else load_pm(pm, overrides, catalog=catalog)
 
 
-def solve(pm, independent=None, guess=None, degrees: bool = False, **kwargs):
+def solve(pm: PMLike, independent: PoseLike | None = None,
+          guess: PoseSolution | Mapping[str, float] | None = None, degrees: bool = False,
+          **kwargs: Any) -> PoseSolution:
     """Unified inverse displacement of a PM at one pose or N poses.
 
     Parameters
@@ -231,7 +259,9 @@ def solve(pm, independent=None, guess=None, degrees: bool = False, **kwargs):
     return _solve(_model(pm), independent, guess, degrees, **kwargs)
 
 
-def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
+def solve_path(pm: PMLike, poses: Sequence[Mapping[str, float]],
+               guess: PoseSolution | Mapping[str, float] | None = None,
+               degrees: bool = False) -> tuple[PoseSolution, ...]:
     """:func:`solve` at each of a sequence of independent-parameter dicts, as successive
     samples of a path (``path=True``: each warm-started from its solved neighbours;
     ``guess`` warm-starts the first).
@@ -250,7 +280,7 @@ def solve_path(pm, poses, guess=None, degrees: bool = False) -> tuple:
     return _solve_path(_model(pm), poses, guess, degrees)
 
 
-def analyze(pm, pose=None, **kwargs):
+def analyze(pm: PMLike, pose: PoseLike | None = None, **kwargs: Any) -> PMAnalysis:
     """Analyse a PM at one pose or N poses: closures, unified Jacobian, conditioning, statics.
 
     ``pose`` holds numbers (one pose: a result without a pose axis, errors raised) or
@@ -270,3 +300,70 @@ def analyze(pm, pose=None, **kwargs):
     from .engine import analyze_pm
 
     return analyze_pm(pm, pose, **kwargs)
+
+
+# ---------------------------------------------------------------------------
+# maps, sizing, forward kinematics
+# ---------------------------------------------------------------------------
+
+def map(pm: PMLike, grid: Mapping[str, Any], fix: Mapping[str, float] | None = None,  # noqa: A001
+        **kwargs: Any) -> xarray.Dataset:                # (screwkit.map, like xarray's map)
+    """A PM over a grid of independent pose parameters: an :class:`xarray.Dataset` with
+    reachability, conditioning, the sign of ``det J``, singularity kind and level, every row's
+    force, ``T_r``, extensions, actuated joint values, limits and the refined singular loci
+    (see :func:`screwkit.maps.map_pm` for the keywords: ``samples``, ``degrees``, ``force``,
+    ``torque``, ``workers`` (threads), ``cluster`` / ``scheduler`` (Dask), ``progress``).
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> ds = screwkit.map("3RRPRR", {"alpha": (-5, 5, 3)}, fix={"beta": 0, "Zo": 80},
+    ...                   degrees=True)
+    >>> ds["F_a1"].shape, bool(ds["ok"].all())
+    ((3,), True)
+    """
+    from .maps import map_pm
+
+    return map_pm(pm, grid, fix, **kwargs)
+
+
+def size(pm: PMLike, grid: Mapping[str, Any], fix: Mapping[str, float] | None = None,
+         **kwargs: Any) -> Sizing:
+    """The largest force of every actuator and constraint row (and ``T_r``) over a map and a
+    list of workloads, with the pose where it occurs: :func:`screwkit.maps.size`."""
+    from .maps import size as _size
+
+    return _size(pm, grid, fix, **kwargs)
+
+
+def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],
+            guess: PoseSolution | Mapping[str, float] | None = None, *, degrees: bool = False,
+            overrides: Mapping[str, float] | None = None) -> ForwardResult:
+    """Forward kinematics: the platform pose(s) where the actuated joints take ``actuators``
+    (displacements from home, an array ``(n,)`` / ``(N, n)`` or a mapping ``q1..`` /
+    ``r1..`` of leg extensions), by Newton on the loop closures from home (or ``guess``) with
+    continuation: :func:`screwkit.engine.forward_kinematics`.
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> pm = screwkit.load_pm("3RRPRR")
+    >>> sol = screwkit.solve(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
+    >>> fk = screwkit.forward(pm, sol.actuator_values)
+    >>> bool(fk.success[0]), round(fk.pose(0)["alpha"], 9), round(fk.pose(0)["Zo"], 9)
+    (True, 5.0, 80.0)
+    """
+    from .engine import forward_kinematics
+
+    return forward_kinematics(_model(pm, overrides), actuators, guess, degrees=degrees)
+
+
+def assembly_modes(pm: PMLike, actuators: ArrayLike | Mapping[str, float], *, seeds: int = 1000,
+                   seed: int = 0, degrees: bool = False,
+                   overrides: Mapping[str, float] | None = None) -> AssemblyModes:
+    """The distinct real forward-kinematics solutions found from ``seeds`` starts in one
+    batch, each with its ``det J`` sign: :func:`screwkit.engine.assembly_modes`."""
+    from .engine import assembly_modes as _modes
+
+    return _modes(_model(pm, overrides), actuators, seeds=seeds, seed=seed, degrees=degrees)
+

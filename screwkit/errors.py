@@ -38,7 +38,7 @@ class ParseError(ScrewkitError, ValueError):
         0-based index of the offending character, or None for whole-string errors.
     """
 
-    def __init__(self, message: str, text: str = "", position: int | None = None):
+    def __init__(self, message: str, text: str = "", position: int | None = None) -> None:
         self.text = text
         self.position = position
         if position is not None:
@@ -50,7 +50,7 @@ class CatalogError(ScrewkitError, ValueError):
     """The catalog (or a user model) is malformed: names the entry and field at fault."""
 
     def __init__(self, message: str, entry: str | None = None, field: str | None = None,
-                 source: str | None = None):
+                 source: str | None = None) -> None:
         self.entry, self.field, self.source = entry, field, source
         where = []
         if source:
@@ -78,7 +78,7 @@ class SingularityError(ScrewkitError, ArithmeticError):
     condition_number : float
     """
 
-    def __init__(self, message: str, kind: str = "", condition_number: float = float("inf")):
+    def __init__(self, message: str, kind: str = "", condition_number: float = float("inf")) -> None:
         self.kind = kind
         self.condition_number = condition_number
         super().__init__(message)
@@ -93,6 +93,6 @@ class UnreachablePoseError(ScrewkitError, ArithmeticError):
         Length-normalised closure residual reached by the solver.
     """
 
-    def __init__(self, message: str, residual: float = float("nan")):
+    def __init__(self, message: str, residual: float = float("nan")) -> None:
         self.residual = residual
         super().__init__(message)

@@ -27,7 +27,7 @@ LAYERS = {
     "legs": 2,
     "pm": 3,
     "engine": 4,
-    "paths": 5, "synthesis": 5, "viz": 5, "interop": 5,
+    "paths": 5, "synthesis": 5, "viz": 5, "interop": 5, "maps": 5, "dynamics": 5,
     "api": 6,
     "cli": 7,
 }
@@ -35,6 +35,10 @@ LAYERS = {
 #: Edges between peer layers that are allowed, with the reason.
 ALLOWED_PEER_EDGES = {
     ("paths", "viz"): "TrajectoryResult.plot draws the Fig. 5 panels with viz.plot_fig5",
+    ("maps", "viz"): "plot_map draws a map's heatmaps with viz.plot_heatmaps",
+    ("dynamics", "paths"): "a motion is read from the path inputs (PathSpec, CSV, expressions)",
+    ("dynamics", "viz"): "DynamicsResult.plot draws the dynamic panels with viz.plot_dynamics",
+    ("dynamics", "interop"): "check_dynamics builds the closed-loop Pinocchio model of interop",
 }
 
 #: Edges to a lower layer that are nevertheless forbidden.

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from screwkit.cli import main
-from screwkit.cli._commands.trajectory import ProgressBar
 
 EXPR = ["--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=6*sin(2*pi*t+1)", "--expr", "Zo=70+20*t"]
 
@@ -87,24 +86,6 @@ def test_errors_are_one_line_exit_2(capsys, argv, piece):
     rc, out, err = _cli(capsys, "trajectory", *argv)
     assert rc == 2 and out == ""
     assert err.count("\n") == 1 and piece in err and err.startswith("screwkit trajectory: error:")
-
-
-def test_progress_bar_draws_on_a_stream():
-    buf = io.StringIO()
-    bar = ProgressBar(buf, delay=0.0, width=10)
-    bar(5, 10)
-    bar(10, 10)
-    text = buf.getvalue()
-    assert "\r" in text and "[#####     ]  50% 5/10" in text
-    assert "[##########] 100% 10/10" in text and text.endswith("\n")
-
-
-def test_progress_bar_stays_silent_for_a_short_run():
-    buf = io.StringIO()
-    bar = ProgressBar(buf, delay=60.0)
-    bar(5, 10)
-    bar(10, 10)
-    assert buf.getvalue() == ""
 
 
 def test_user_model_file(capsys):

@@ -30,12 +30,7 @@ def test_readme_commands_are_commands():
         assert cmd in COMMANDS, f"README uses unknown command {cmd!r}: {line}"
 
 
-def test_readme_python_blocks_run():
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks
-    for code in blocks:
-        exec(compile(code, "README.md", "exec"), {})
+# README.md's code blocks (and every page of docs/): tests/test_docs_run.py
 
 
 def test_module_docstring_examples():

@@ -90,8 +90,9 @@ def test_leg_png_has_the_right_size_and_is_not_blank(drawn, name):
     w, h = fig.get_size_inches() * 80
     assert img.shape[:2] == (round(h), round(w))
     assert_not_blank(img)
-    # the chain and the P joint are drawn; the actuation wrench in red
-    assert colour_fraction(img, "#e08214") > 1e-4
+    # the P joint is drawn as a sleeve; the actuation wrench in red
+    sleeves = [c for c in fig.axes[0].collections if (c.get_gid() or "").startswith("joint:P")]
+    assert len(sleeves) == sum(j.kind == "P" for j in leg.joints) == 1
     assert colour_fraction(img, "#d6261e") > 1e-4
 
 
@@ -200,8 +201,12 @@ def test_drawing_is_invariant_under_translation_of_the_leg():
 
 def test_unwritable_output_is_an_input_error(tmp_path):
     leg = screwkit.leg("SPR")
+    blocker = tmp_path / "a-file"          # a file as the parent: unwritable even for root
+    blocker.write_text("not a directory")
     with pytest.raises(InputError, match="cannot write figure"):
-        draw_leg(leg, out=tmp_path / "missing-dir" / "x.png")
+        draw_leg(leg, out=blocker / "x.png")
+    draw_leg(leg, out=tmp_path / "new-dir" / "x.png")   # missing folders are created
+    assert (tmp_path / "new-dir" / "x.png").stat().st_size > 0
 
 
 def test_missing_matplotlib_says_how_to_install(monkeypatch):
@@ -235,6 +240,7 @@ def test_cli_leg_draw(tmp_path, capsys):
     import json
     assert json.loads(capsys.readouterr().out)["figure"] == str(out2)
     assert out2.exists()
+    (tmp_path / "no").write_text("a file, not a folder")
     assert main(["leg", "SPR", "--draw", str(tmp_path / "no" / "x.png")]) == 2
     assert "cannot write figure" in capsys.readouterr().err
 
@@ -331,9 +337,16 @@ def test_pm_couples_values_override_and_custom_units():
     fig = draw_pm(legs, B, P, o, rows, values=[-50.0, 100.0], torque_unit="N.m")
     heads = arrows(fig, "row:0")
     assert len(heads) == 2              # double head
-    mid = 0.5 * (legs[0].A + legs[0].a)
-    np.testing.assert_allclose(heads[0].xyz[0], mid)
-    assert heads[0].xyz[1][2] < mid[2]  # negative value: points down
+    tail, head = heads[0].xyz
+    # beside its leg (a free vector), clear of the joints: off the leg's line by 12-35 %
+    # of the base radius (100), between 25 % and 75 % of the leg's length
+    A, a = legs[0].A, legs[0].a
+    s = float(np.dot(tail - A, unit(a - A))) / np.linalg.norm(a - A)
+    off = np.linalg.norm(np.cross(tail - A, unit(a - A)))
+    assert 0.25 - 1e-9 <= s <= 0.75 + 1e-9 and 12.0 - 1e-9 <= off <= 35.0 + 1e-9
+    assert min(np.linalg.norm(tail - j.point) for j in legs[0].joints) > 10.0
+    assert head[2] < tail[2]            # negative value: points down
+    np.testing.assert_allclose(unit(head - tail), [0, 0, -1], atol=1e-12)
     (l0, l1) = (np.linalg.norm(np.subtract(*arrows(fig, f"row:{i}")[0].xyz)) for i in (0, 1))
     assert l0 / l1 == pytest.approx(0.5)
     texts = [t.get_text() for t in fig.axes[0].texts]

@@ -33,8 +33,10 @@ def test_marked_string_round_trip(case):
     assert ls.actuated_position == k + 1
     again = parse_leg(ls.marked)
     assert again == ls                       # frozen dataclasses: field-by-field equality
-    # lower case and the combining low line (the paper's underline) mean the same
-    assert parse_leg(text.lower()) == ls
+    # lower case is refused with the upper-case string as a hint; the combining low line
+    # (the paper's underline) means the same as '_'
+    with pytest.raises(ParseError, match=f"upper case: did you mean {text!r}"):
+        parse_leg(text.lower())
     assert parse_leg(s[:k + 1] + "\u0332" + s[k + 1:]).equivalent == ls.equivalent
 
 

@@ -145,6 +145,11 @@ def test_non_finite_values_break_the_curve():
     ({"t": T[::-1]}, "t must increase strictly"),
     ({"t": np.full(N, np.nan)}, "NaN"),
     ({"pose_angles_in": "grad"}, "pose_angles_in"),
+    ({"legs": {"active": [0, 1]}}, "legs['active'] has 2 leg indices for 3 columns"),
+    ({"legs": {"active": ["x", 1, 2]}}, "legs['active'] must be leg indices"),
+    ({"determined": {"active": np.ones(2, bool)}}, "determined['active'] must have shape"),
+    ({"condition_number": T[:3]}, "condition_number must have shape (N, k) with N = 41"),
+    ({"force_scale": "log"}, "force_scale must be 'auto', 'linear' or 'symlog'"),
 ])
 def test_bad_inputs_raise_input_errors(kwargs, piece):
     args = dict(t=T, pose=POSE, extensions=EXT, active=FA)
@@ -152,3 +157,61 @@ def test_bad_inputs_raise_input_errors(kwargs, piece):
     with pytest.raises(InputError) as info:
         plot_fig5(**args)
     assert piece in str(info.value), str(info.value)
+
+
+def test_leg_colours_markers_and_the_columns_legs():
+    """Column j of the constraint forces is drawn in the colour of the leg given for it,
+    the colour of that leg's r_i and F_ai; its torques dashed with open markers."""
+    fig = plot_fig5(T, POSE, EXT, FA, FC[:, :2], TR[:, :2],
+                    legs={"constraint_forces": [2, 1], "constraint_torques": [2, 0]})
+    c = curves(fig)
+    col = {i: c[f"$r_{{{i + 1}}}$"].get_color() for i in range(3)}
+    assert len(set(col.values())) == 3
+    for i in range(3):
+        assert c[f"$F_{{a{i + 1}}}$"].get_color() == col[i]
+        assert c[f"$F_{{a{i + 1}}}$"].get_marker() == c[f"$r_{{{i + 1}}}$"].get_marker()
+    assert c["$F_{c1}$"].get_color() == col[2] and c["$F_{c2}$"].get_color() == col[1]
+    t1, t2 = c["$T_{r1}$ (right axis)"], c["$T_{r2}$ (right axis)"]
+    assert t1.get_color() == col[2] and t2.get_color() == col[0]
+    assert t1.get_linestyle() == "--" and t1.get_markerfacecolor() == "white"
+
+
+def test_determined_flags_mark_the_names():
+    det = np.ones((N, 3), bool)
+    det[5, 1] = False
+    fig = plot_fig5(T, POSE, EXT, FA, FC, determined={"constraint_forces": det})
+    names = set(curves(fig))
+    assert "$F_{c2}$*" in names and "$F_{c1}$" in names and "$F_{c3}$" in names
+    titles = [ax.get_legend().get_title().get_text() for ax in fig.axes if ax.get_legend()]
+    assert any("not determined by statics" in t for t in titles)
+
+
+def test_symlog_near_a_singularity_and_the_condition_panel():
+    """A 1/distance spike with a spiking condition number: symmetric log axes whose linear
+    part ends at the power of ten below the median magnitude; a smooth path stays linear."""
+    d = np.abs(T - 1.0) + 0.02
+    spike = np.column_stack([30.0 / d, -25.0 / d, 20.0 + 0 * d])
+    cond = 3.0 / d
+    fig = plot_fig5(T, POSE, EXT, spike, condition_number=cond,
+                    condition_levels={"ill-conditioned": 1e2})
+    c = panel(fig, "c")
+    assert c.get_yscale() == "symlog"
+    lt = c.yaxis.get_transform().linthresh
+    med = np.median(np.abs(spike))
+    assert lt <= med < 10 * lt and float(np.log10(lt)).is_integer()
+    e = panel(fig, "d")                           # no constraint panel: (d) is the condition
+    assert e.get_yscale() == "log"
+    np.testing.assert_allclose(e.get_lines()[0].get_ydata(), cond)
+    assert "ill-conditioned" in " ".join(t.get_text() for t in e.texts)
+    smooth = plot_fig5(T, POSE, EXT, spike, condition_number=np.full(N, 3.0))
+    assert panel(smooth, "c").get_yscale() == "linear"   # no singularity: linear
+
+
+def test_equal_curves_stay_visible():
+    ext = EXT.copy()
+    ext[:, 2] = ext[:, 0]
+    fig = plot_fig5(T, POSE, ext, FA)
+    lines = [ln for ln in panel(fig, "b").get_lines() if ln.get_label().startswith("$r")]
+    assert lines[2].get_label() == "$r_{3}$ (= $r_{1}$)"
+    assert lines[2].get_zorder() > lines[0].get_zorder()
+    assert lines[2].get_linewidth() < lines[0].get_linewidth()

@@ -301,7 +301,7 @@ def test_plot_png_is_the_fig5_layout_and_not_blank(runs, tmp_path):
     assert img.shape[0] > 800 and img.shape[1] > 1200
     assert np.mean(np.any(img < 0.9, axis=2)) > 0.05          # not a blank page
     titles = [ax.get_title(loc="left") for ax in fig.axes if ax.get_title(loc="left")]
-    assert [t[:3] for t in titles] == ["(a)", "(b)", "(c)", "(d)"]
+    assert [t[:3] for t in titles] == ["(a)", "(b)", "(c)", "(d)", "(e)"]   # (e): conditioning
     ylabels = " ".join(ax.get_ylabel() for ax in fig.axes)
     for unit in ("[deg]", "[cm]", "[kN]", "[kN·cm]"):
         assert unit in ylabels
@@ -329,7 +329,8 @@ def test_progress_is_reported_up_to_the_total(models):
     seen = []
     run_trajectory(models["3RRPRR"], path, progress=lambda d, n: seen.append((d, n)), chunk=4,
                    anchor_every=2)
-    assert seen[-1] == (20, 20) and all(n == 20 for _, n in seen)
+    # 2 N steps: the closures of the path, then the rows and statics (run_trajectory's docstring)
+    assert seen[-1] == (40, 40) and all(n == 40 for _, n in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
 
 

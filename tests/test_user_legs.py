@@ -198,14 +198,4 @@ def test_load_legs_missing_file(tmp_path):
     with pytest.raises(screwkit.CatalogError, match="cannot read"):
         screwkit.load_legs(tmp_path / "none.yaml")
 
-
-def test_api_doc_examples_run(capsys):
-    """The code blocks of docs/api.md run in order, and their asserts hold."""
-    text = (ROOT / "docs" / "api.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
-    assert len(blocks) >= 5
-    ns: dict = {}
-    for i, block in enumerate(blocks):
-        exec(compile(block, f"docs/api.md[block {i}]", "exec"), ns)
-    out = capsys.readouterr().out
-    assert "1 force + 1 couple" in out and "field 'joints'" in out
+# docs/api.md's code blocks and the outputs they show: tests/test_docs_run.py

@@ -1,64 +1,72 @@
-"""Regenerate the PNG figures of the documentation.
+"""Regenerate the PNG figures of the documentation with the commands the docs show.
 
 Run from the repository root::
 
     python docs/figures/make_figures.py
 
-The 3-SPR example PM is symmetric: A_i on a circle of radius 100 cm at
-0/120/240 deg, a_i on a circle of radius 50 cm at height 80 cm.  The wrench
-values drawn on it are made up (for illustration only).
+Every console line ``$ screwkit ...`` of a Markdown file under ``docs/`` (and README.md)
+that writes into ``docs/figures/`` is run as shown (through :func:`screwkit.cli.main`), in
+a temporary folder so that the tables the commands also write do not land in the
+repository; the figures are then copied here.  A figure under ``docs/figures/`` that no
+page links is reported (it is stale).
 """
 
 from __future__ import annotations
 
+import os
+import re
+import shlex
+import shutil
+import sys
+import tempfile
 from pathlib import Path
 
-import numpy as np
-
-import screwkit
-from screwkit.pm import default_catalog
-from screwkit.viz import draw_leg, draw_pm
-from screwkit.legs import Placement
-
 HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
 
 
-def three_spr_example():
-    """Legs, base points, platform points, o and wrench rows of the example 3-SPR PM."""
-    spec = default_catalog().find_leg("SPR")
-    o = np.array([0.0, 0.0, 80.0])
-    legs, B, P = [], [], []
-    for k in range(3):
-        th = np.radians(120.0 * k)
-        A = np.array([100 * np.cos(th), 100 * np.sin(th), 0.0])
-        a = np.array([50 * np.cos(th), 50 * np.sin(th), 80.0])
-        legs.append(spec.build(Placement(A, a, O=np.zeros(3), o=o)))
-        B.append(A)
-        P.append(a)
-    made_up = {"actuation": [32.0, -12.5, 21.0], "force": [-8.0, 14.0, 5.5]}
-    rows = []
-    for i, leg in enumerate(legs):
-        res = leg.analyze()
-        act = res.actuation.member
-        rows.append({"kind": "actuation", "leg": i, "direction": act.direction,
-                     "point": act.point, "value": made_up["actuation"][i]})
-        c = res.constraints[0]
-        rows.append({"kind": "force", "leg": i, "direction": c.direction, "point": c.point,
-                     "value": made_up["force"][i]})
-    return legs, np.array(B), np.array(P), o, rows
+def commands():
+    """``(page, argv)`` of the documented commands that write a figure."""
+    pages = sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]
+    out = []
+    for page in pages:
+        for line in page.read_text(encoding="utf-8").splitlines():
+            if line.startswith("$ screwkit ") and "docs/figures/" in line:
+                out.append((page, shlex.split(line[2:])[1:]))
+    return out
 
 
-def main():
-    for name, fname in (("RRPRR", "leg_RRPRR.png"), ("UPU/couple", "leg_UPU_couple.png"),
-                        ("SPR", "leg_SPR.png")):
-        leg = screwkit.leg(name)
-        draw_leg(leg, leg.analyze(), out=HERE / fname)
-        print(HERE / fname)
-    legs, B, P, o, rows = three_spr_example()
-    draw_pm(legs, B, P, o, rows, out=HERE / "pm_example.png",
-            title="3-SPR at its symmetric home pose (made-up wrench values)")
-    print(HERE / "pm_example.png")
+def linked():
+    """Names of the figures the pages link (``figures/NAME.png``)."""
+    names = set()
+    for page in sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]:
+        names |= set(re.findall(r"figures/([\w.-]+\.png)", page.read_text(encoding="utf-8")))
+    return names
+
+
+def main() -> int:
+    from screwkit.cli import main as screwkit_main
+
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "docs" / "figures").mkdir(parents=True)
+        cwd = os.getcwd()
+        os.chdir(tmp)
+        try:
+            for page, argv in commands():
+                print(f"{page.relative_to(ROOT)}: screwkit {shlex.join(argv)}", file=sys.stderr)
+                if screwkit_main(argv) != 0:
+                    return 1
+        finally:
+            os.chdir(cwd)
+        for png in sorted((Path(tmp) / "docs" / "figures").glob("*.png")):
+            shutil.copy(png, HERE / png.name)
+            print(HERE / png.name)
+    stale = sorted(p.name for p in HERE.glob("*.png") if p.name not in linked())
+    for name in stale:
+        print(f"stale (linked from no page): docs/figures/{name}", file=sys.stderr)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

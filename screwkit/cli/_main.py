@@ -16,13 +16,16 @@ from ..errors import ScrewkitError
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: Sub-command modules, in the order of ``screwkit --help``.
-COMMANDS = ["leg", "catalog", "analyze", "check", "trajectory", "draw", "validate"]
+COMMANDS = ["leg", "catalog", "analyze", "check", "trajectory", "draw", "validate", "map", "size",
+            "fk", "stiffness"]
 
 
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
-    p = argparse.ArgumentParser(
+    from ._types import OneLineParser
+
+    p = OneLineParser(
         prog="screwkit",
         description="Screw-theory statics of limited-DOF parallel manipulators. "
                     "Twists [v; w] and wrenches [f; m] about the base origin; angles in "
@@ -34,19 +37,31 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _one_line(exc, limit: int = 2000) -> str:
+    """The message of an error on one line, at most ``limit`` characters."""
+    msg = " ".join(str(exc).split())
+    return msg if len(msg) <= limit else msg[: limit - 3] + "..."
+
+
 def main(argv=None) -> int:
+    from ._types import UsageError
+
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except UsageError as exc:                  # one line, exit status 2
+        print(exc.line, file=sys.stderr)
+        return 2
     if not getattr(args, "func", None):
         parser.print_help()
         return 1
     try:
         return int(args.func(args) or 0)
     except ScrewkitError as exc:
-        print(f"screwkit {args.command}: error: {exc}", file=sys.stderr)
+        print(f"screwkit {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         if getattr(args, "json", False):       # --json always prints a JSON object
             import json
-            err = {"type": type(exc).__name__, "message": str(exc)}
+            err: dict[str, str | int | float] = {"type": type(exc).__name__, "message": str(exc)}
             for k in ("kind", "condition_number", "residual"):
                 v = getattr(exc, k, None)
                 if isinstance(v, (int, float, str)) and v == v and v not in (float("inf"),):
@@ -59,7 +74,8 @@ def main(argv=None) -> int:
         import os
         if os.environ.get("SCREWKIT_DEBUG"):
             raise
-        print(f"screwkit {args.command}: internal error ({type(exc).__name__}: {exc}); "
+        print(f"screwkit {args.command}: internal error ({type(exc).__name__}: "
+              f"{_one_line(exc, 300)}); "
               "please report it (SCREWKIT_DEBUG=1 shows the traceback)", file=sys.stderr)
         return 3
     except KeyboardInterrupt:

@@ -19,18 +19,25 @@ from ..pm import LENGTH_PARAMS, PARAMS
 from ._chains import leg_forward
 from ._closure import ACCEPTED, CONVERGED
 from ._jacobian import COND_THRESHOLD, JacobianResult, JacobianRow
+from ._quality import ILL_CONDITIONED_COND, NEAR_SINGULAR_COND
 from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
 from ._statics import StaticsResult, solve_statics, statics, unified_jacobian, workload_wrench
 from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze
+from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
                         solve_path, solve_pose)
+from ._forward import ForwardResult, forward_kinematics
+from ._modes import AssemblyModes, assembly_modes
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD",
+    "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
     "PoseSolution", "solve", "solve_pose", "solve_path", "leg_forward",
     "RowInfo", "JacobianRow", "JacobianResult", "unified_jacobian",
     "StaticsResult", "statics", "solve_statics", "workload_wrench",
     "PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "analyze_pm",
     "load_assembled_pm", "check_default_pose", "default_full_pose",
+    "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
+    "LinkFrames", "link_frames",
 ]

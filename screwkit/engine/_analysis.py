@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +32,9 @@ from ._pipeline import workload_about_origin
 from ._run import CHUNK, compute, row_points
 from ._solution import PoseSolution, check_reachable, make_solution, prepare
 from ._statics import StaticsResult
+
+if TYPE_CHECKING:
+    from ..pm import PMModel
 
 __all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
 
@@ -55,7 +59,7 @@ class PMAnalysis:
         The workload applied at ``o``.
     """
 
-    model: object
+    model: PMModel
     solution: PoseSolution
     jacobian: JacobianResult
     statics: StaticsResult | None
@@ -181,11 +185,12 @@ class PMAnalysis:
 
 
 def _vec3(x, name):
-    from ..errors import InputError
-    a = np.asarray(x, dtype=float).reshape(-1)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
-    return a
+    """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
+    ``MAX_LOAD`` (1e12 in the model's units) in magnitude, so that the statics cannot
+    overflow to NaN or infinity."""
+    from ..legs._guards import MAX_LOAD, real_vector
+    return real_vector(np.asarray(x) if isinstance(x, np.ndarray) else x, name, 3,
+                       bound=MAX_LOAD)
 
 
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
@@ -217,6 +222,8 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     chunk, workers : int
         Poses per chunk and threads (default: 2 threads when there are many chunks).
     progress : callable(done, total), optional
+        Called as the work advances: ``done`` grows to ``total`` (N poses; 2 N steps with
+        ``path=True``: the closures of the path, then the rows and statics).
     stiffness : mapping or array_like (m,), optional
         Stiffness of each row of ``J`` (a mapping by row label, ``{"F_a1": 2e3, "T_c1": 5e6}``,
         unnamed rows keeping the least-norm weight, or one value per row), in model units:

@@ -205,7 +205,7 @@ def platform_pose(ch: Chains, params: dict):
     return Rp, o + p0.reshape((3,) + (1,) * (o.ndim - 1)), E
 
 
-def chain_forward(D, P, rotation, translation, q):
+def chain_forward(D, P, rotation, translation, q, slots: bool = False):
     """Product of exponentials of chains, slot by slot (the kinematics of every leg).
 
     Parameters
@@ -223,10 +223,15 @@ def chain_forward(D, P, rotation, translation, q):
         Current joint axes and points.
     R : ndarray (3, 3, n, N) ; t : ndarray (3, n, N)
         The displacement ``G = prod exp(xi_j q_j)`` as ``x -> R x + t``.
+    Rs, ts : ndarray (m, 3, 3, n, N), (m, 3, n, N)
+        With ``slots``, also the displacement after each slot, ``prod_{k <= j}
+        exp(xi_k q_k)``: how the link that follows joint ``j`` has moved from home.
     """
     n, m, N = q.shape
     axes = np.empty((m, 3, n, N))
     points = np.empty((m, 3, n, N))
+    if slots:
+        Rs, ts = np.empty((m, 3, 3, n, N)), np.empty((m, 3, n, N))
     R = t = None
     rotates = rotation.any(axis=0)
     for j in range(m):
@@ -251,6 +256,10 @@ def chain_forward(D, P, rotation, translation, q):
             R = np.broadcast_to(np.eye(3)[:, :, None, None], (3, 3, n, N))
         else:
             t = t + shift
+        if slots:
+            Rs[j], ts[j] = R, t
+    if slots:
+        return axes, points, R, t, Rs, ts
     return axes, points, R, t
 
 
@@ -267,15 +276,21 @@ def forward(ch: Chains, fixed: dict, X: np.ndarray) -> Frames:
     q = X[nu:].reshape(n, m, N) * ch.q_scale[:, :, None]
     Rp, o, E = platform_pose(ch, params)
     axes, points, R, t = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q)
+    err = closure_error(ch, Rp, o, R, t)
+    return Frames(params, q, axes, points, Rp, o, E, err)
+
+
+def closure_error(ch: Chains, Rp, o, R, t) -> np.ndarray:
+    """Each leg's length-normalised closure error ``[d / L; w]`` ``(6, n, N)``: the twist
+    carrying its end pose ``(R Rh, R ph + t)`` onto the platform pose ``(Rp (3, 3, N),
+    o (3, N))``; ``R (3, 3, n, N)``, ``t (3, n, N)`` from :func:`chain_forward`."""
     Rh, ph = ch.platform_home
-    # error twist carrying each leg's end pose (R Rh, R ph + t) onto the platform pose
     RpRh = np.einsum("ij...,kj->ik...", Rp, Rh)[:, :, None]          # Rp Rh^T  (3, 3, 1, N)
     Rd = alg.matmul_t(RpRh, R)                                           # Rp (R Rh)^T
     pe = alg.matvec(R, ph.reshape(3, 1, 1)) + t
     c = ch.centre.reshape(3, 1, 1)
     d = alg.matvec(Rd, c - pe) + o[:, None] - c
-    err = np.concatenate([d / ch.length, alg.rotation_vector(Rd)])
-    return Frames(params, q, axes, points, Rp, o, E, err)
+    return np.concatenate([d / ch.length, alg.rotation_vector(Rd)])
 
 
 def leg_forward(home_leg, q, platform_home=None):

@@ -40,11 +40,11 @@ _HALVINGS = 6
 _SHIFT_REDUCED = 1e-20
 
 
-def _gram(ch: Chains, T):
-    """Every leg's Gram matrix ``T^T T`` ``(m, m, n, N)`` (padded slots: identity) and its
-    Tikhonov shift ``(n, N)``."""
+def _gram(ch: Chains, T, frozen=None):
+    """Every leg's Gram matrix ``T^T T`` ``(m, m, n, N)`` (padded and frozen slots: identity)
+    and its Tikhonov shift ``(n, N)``."""
     G = np.einsum("ialN,jalN->ijlN", T, T)
-    pad = ~ch.real
+    pad = ~ch.real if frozen is None else ~ch.real | frozen
     if pad.any():
         idx = np.arange(ch.m)
         G[idx, idx] += pad.T[:, :, None]
@@ -54,18 +54,25 @@ def _gram(ch: Chains, T):
     return G, shift
 
 
-def newton_step(ch: Chains, fr, e=None):
+def newton_step(ch: Chains, fr, e=None, *, Pt=None, frozen=None):
     """The Gauss-Newton step ``dX (n_unknowns, N)`` at the frames ``fr``.
 
     ``e (6, n, N)`` replaces the closure error (the sensitivities of the
-    predictor solve the same system for other right-hand sides).
+    predictor solve the same system for other right-hand sides).  ``Pt (6, nu, N)``
+    replaces the platform columns of the dependent pose parameters, and the joints of
+    ``frozen (n, m)`` do not move (the forward kinematics, :mod:`screwkit.engine._forward`,
+    gives the platform's own twist and freezes the actuated joints).
     """
-    nu, n, m = len(ch.unknown), ch.n, ch.m
+    n, m = ch.n, ch.m
     e = fr.error if e is None else e
     N = e.shape[-1]
     T = normalised_twists(ch, fr)                                  # (m, 6, n, N)
-    Pt = platform_columns(ch, fr, ch.unknown)                      # (6, nu, N)
-    G, shift = _gram(ch, T)
+    if frozen is not None:
+        T = T * ~frozen.T[:, None, :, None]
+    if Pt is None:
+        Pt = platform_columns(ch, fr, ch.unknown)                  # (6, nu, N)
+    nu = Pt.shape[1]
+    G, shift = _gram(ch, T, frozen)
     B = np.empty((m, 1 + nu, n, N))                                # T_j^T [e | P]
     B[:, 0] = np.einsum("jalN,alN->jlN", T, e)
     if nu:

@@ -20,7 +20,10 @@ def pose_arrays(model, pose, degrees: bool = False):
 
     ``pose``: a mapping (or a pandas DataFrame) of the model's independent parameters
     to numbers or 1-D arrays of one length; missing ones take the model's default.
+    Angles are limited to +-3600 degrees, lengths to 1e12 times the model's size
+    (``screwkit._guards``); booleans, strings and non-finite values are refused.
     """
+    from ..legs._guards import MAX_BATCH, did_you_mean, real_array, shorten
     err = _errors()
     if pose is None:
         pose = {}
@@ -32,31 +35,24 @@ def pose_arrays(model, pose, degrees: bool = False):
     vals, single, n = {}, True, None
     for k, v in pose.items():
         if k not in PARAMS:
-            raise err.InputError(f"{model.name}: unknown pose parameter {k!r} (one of "
+            raise err.InputError(f"{model.name}: unknown pose parameter {shorten(k)}"
+                                 f"{did_you_mean(k, model.independent)} (one of "
                                  f"{', '.join(PARAMS)})")
         if k not in model.independent:
             raise err.InputError(f"{model.name}: {k} is a dependent pose parameter; give "
                                  f"{', '.join(model.independent)}")
-        if isinstance(v, (bool, np.bool_)):
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number, got {v!r}")
-        try:
-            a = np.asarray(v, dtype=float)
-        except (TypeError, ValueError):
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or an array "
-                                 f"of numbers, got {v!r}") from None
-        if a.ndim > 1:
-            raise err.InputError(f"{model.name}: pose parameter {k} must be a number or a 1-D "
-                                 f"array, got shape {a.shape}")
+        # numbers only (no booleans, strings, NaN, infinity, overflow), within the limits
+        a = real_array(v, f"{model.name}: pose parameter {k}")
         if a.ndim == 1:
+            if a.size > MAX_BATCH:
+                raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values: "
+                                     f"one call takes at most {MAX_BATCH} poses (split the batch)")
             single = False
             if n is not None and a.size != n:
                 raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values, "
                                      f"the others {n}")
             n = a.size
-        if not np.all(np.isfinite(a)):
-            bad = a if a.ndim == 0 else a[~np.isfinite(a)][0]
-            raise err.InputError(f"{model.name}: pose parameter {k} is {float(bad)} "
-                                 "(must be finite)")
+        _pose_bound(model, k, a, degrees)
         vals[k] = np.radians(a) if (degrees and k not in LENGTH_PARAMS) else a
     N = 1 if n is None else n
     if N == 0:
@@ -70,12 +66,35 @@ def pose_arrays(model, pose, degrees: bool = False):
     return {k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single, notes
 
 
+def _pose_bound(model, k, a, degrees):
+    """Refuse a pose value beyond the limits: angles +-3600 deg, lengths 1e12 model sizes."""
+    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
+    err = _errors()
+    m = float(np.max(np.abs(a))) if a.size else 0.0
+    if k in LENGTH_PARAMS:
+        norm = getattr(model, "normalisation", None)
+        size = float(getattr(norm, "length", 1.0) or 1.0)
+        lim = MAX_LENGTH_FACTOR * size
+        if m > lim:
+            raise err.InputError(f"{model.name}: pose parameter {k} = {m:g} is beyond the limit "
+                                 f"+-{lim:g} ({MAX_LENGTH_FACTOR:g} times the model's size "
+                                 f"{size:.4g})")
+    else:
+        deg = m if degrees else float(np.degrees(m))
+        if deg > MAX_ANGLE_DEG:
+            shown = f"{m:g} deg" if degrees else f"{m:g} rad"
+            raise err.InputError(f"{model.name}: pose angle {k} = {shown} is beyond the limit "
+                                 f"+-{MAX_ANGLE_DEG:g} deg (ten turns)")
+
+
 def _start_of(model, guess, N):
     """Warm starts ``(X (n_unknowns, N), side)`` from a guess, or ``(None, None)``."""
     err = _errors()
     if guess is None:
         return None, None
     ch = chains_of(model)
+    if hasattr(guess, "solution") and hasattr(guess, "statics"):   # a PMAnalysis: its poses
+        guess = guess.solution
     if hasattr(guess, "closures") and hasattr(guess, "_params"):   # a PoseSolution
         if guess.model is not model and [len(lg.joints) for lg in guess.model.home_legs] != \
                 [len(lg.joints) for lg in model.home_legs]:
@@ -101,7 +120,8 @@ def _start_of(model, guess, N):
             if k in ch.unknown:
                 X[ch.unknown.index(k)] = a / ch.x_scale[ch.unknown.index(k)]
         return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float), (N,))
-    raise err.InputError(f"{model.name}: guess must be a PoseSolution or a dict of pose parameters")
+    raise err.InputError(f"{model.name}: guess must be a PoseSolution, a PMAnalysis or a dict of pose "
+                         "parameters")
 
 
 def prepare(model, pose, guess, degrees):

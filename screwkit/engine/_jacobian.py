@@ -32,10 +32,13 @@ Examples
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._pipeline import COND_THRESHOLD, Conditioning, condition
 from ._row import JacobianRow
@@ -46,6 +49,16 @@ __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
 def _squeeze(x, single):
     return x[0] if single else x
+
+
+def _rows_of_pose(points: Callable[[slice], np.ndarray], pose: slice, rows: slice) -> np.ndarray:
+    """``points(pose)[rows]``: the lazily formed row points of one pose of a batch."""
+    return points(pose)[rows]
+
+
+def _legs_of_pose(legs: Callable[[int], tuple], pose: int, _index: int) -> tuple:
+    """``legs(pose)``: the placed legs of pose ``pose`` of a batch, for its one-pose result."""
+    return legs(pose)
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,13 +89,13 @@ class JacobianResult:
     info: tuple
     n_actuated: int
     scale: np.ndarray
-    points_: object = field(repr=False)
-    origin_: object = field(repr=False)
+    points_: np.ndarray | Callable[[slice], np.ndarray] = field(repr=False)
+    origin_: np.ndarray | Callable[[], np.ndarray] = field(repr=False)
     conditioning: Conditioning = field(repr=False)
     threshold: float = COND_THRESHOLD
     single: bool = True
-    leg_provider: object = field(default=None, repr=False)
-    given_analyses: tuple = field(default=None, repr=False)
+    leg_provider: Callable[[int], tuple] | None = field(default=None, repr=False)
+    given_analyses: tuple | None = field(default=None, repr=False)
 
     @classmethod
     def from_rows(cls, rows, origin, *, threshold=COND_THRESHOLD, single=False,
@@ -92,7 +105,7 @@ class JacobianResult:
                    np.asarray(origin, float), cond, float(threshold), bool(single),
                    leg_provider, analyses)
 
-    def normalised(self):
+    def normalised(self) -> tuple[np.ndarray, np.ndarray]:
         """The normalised, row-equilibrated rows ``Jn (N, m, 6)`` and row norms ``d (N, m)``."""
         return self.conditioning.normalised(self.matrix)
 
@@ -107,11 +120,15 @@ class JacobianResult:
         sl = slice(i, i + 1)
         cond = self.conditioning.take(sl)
         prov = self.leg_provider
-        pts = self.points_
-        pts = (lambda s2, base=pts, sl=sl: base(sl)[s2]) if callable(pts) else pts[sl]
+        base = self.points_
+        pts: np.ndarray | Callable[[slice], np.ndarray]
+        if callable(base):
+            pts = functools.partial(_rows_of_pose, base, sl)      # the points of pose i
+        else:
+            pts = base[sl]
         return JacobianResult(self.matrix[sl], self.info, self.n_actuated, self.scale[sl],
                               pts, self.origin[sl], cond, self.threshold, True,
-                              (lambda _, i=i: prov(i)) if prov else None)
+                              functools.partial(_legs_of_pose, prov, i) if prov else None)
 
     def __repr__(self) -> str:
         if not self.single:
@@ -192,7 +209,7 @@ class JacobianResult:
         D = self.directions
         for k, r in enumerate(self.info):
             p = self._points[0, k]
-            has_point = r.member not in ("couple", "none") and np.all(np.isfinite(p))
+            has_point = r.member not in ("couple", "none") and bool(np.all(np.isfinite(p)))
             if r.member not in ("couple", "none") and not has_point:
                 # a force without a named point: the point of its line nearest o
                 f, m = self.matrix[0, k, :3], self.matrix[0, k, 3:]
@@ -342,7 +359,7 @@ class JacobianResult:
             f"twist [v_O; w] ~ {np.round(w / max(np.abs(w).max(), 1e-300), 4).tolist()}",
             kind=kind, condition_number=self.condition_number)
 
-    def rows_about(self, point) -> np.ndarray:
+    def rows_about(self, point: ArrayLike) -> np.ndarray:
         """``J`` with the moments about ``point``: rows ``[f; m - point x f]``."""
         p = np.asarray(point, float)
         J = self.J

@@ -70,13 +70,17 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             compliance=None) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
-    The outputs are allocated once and filled chunk by chunk (no concatenation)."""
+    The outputs are allocated once and filled chunk by chunk (no concatenation).
+    ``progress(done, total)``: ``total = N``, or ``2 N`` for a path with rows (its closures
+    are solved first, then the rows and statics of every chunk)."""
     ch = chains_of(model)
     N = len(next(iter(fixed.values())))
     templates = templates_of(model) if rows else None
     diag = {}
+    steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     if path:
-        c = solve_path(model, fixed, X0, anchor_every=anchor_every, progress=progress)
+        c = solve_path(model, fixed, X0, anchor_every=anchor_every,
+                       progress=(lambda d, n: progress(d, steps)) if progress else None)
         X, its, how, sing, path_res = c.X, c.iterations, c.how, c.singular_beta, c.residual
         diag = dict(c.diagnostics)
     else:
@@ -132,13 +136,13 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         with ThreadPoolExecutor(max_workers=nw) as pool:
             for sl, part in zip(slices, pool.map(work, slices)):
                 store(sl, part)
-                if progress and not path:
-                    progress(sl.stop, N)
+                if progress and (rows or not path):
+                    progress(steps - N + sl.stop, steps)
     else:
         for sl in slices:
             store(sl, work(sl))
-            if progress and not path:
-                progress(sl.stop, N)
+            if progress and (rows or not path):
+                progress(steps - N + sl.stop, steps)
     closures = Closures(ch, X, {k: np.asarray(v, float) for k, v in fixed.items()}, res, its,
                         how, sing)
     if not rows:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +30,9 @@ from ._chains import LENGTH_PARAMS, PARAMS
 from ._closure import ACCEPTED, CONVERGED
 from ._inputs import prepare
 from ._solve import Closures
+
+if TYPE_CHECKING:
+    from ..pm import PMModel
 
 __all__ = ["PoseSolution", "Closures", "solve", "STATUSES", "STRUCTURE_TOL"]
 
@@ -54,7 +58,7 @@ class PoseSolution:
         Notes of particular poses (a representation singularity resolved...).
     """
 
-    model: object
+    model: PMModel
     closures: Closures = field(repr=False)
     single: bool = True
     common_notes: tuple = ()

@@ -76,7 +76,7 @@ class Closures:
     parameters, ``(N,)`` each), ``residual``, ``iterations``, ``how`` (0: Newton from the
     start, 1: continuation, 2: not solved), ``singular_beta``."""
 
-    chains: object
+    chains: Chains
     X: np.ndarray
     fixed: dict
     residual: np.ndarray

@@ -37,16 +37,22 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._conditioning import RANK_RTOL
 from ._jacobian import COND_THRESHOLD, JacobianResult
 from ._pipeline import (default_compliance, derived_statics, legs_rows, statics_values,
                         workload_about_origin)
-from ..screws import cross
+from ..screws import as_vector3, cross
+
+if TYPE_CHECKING:
+    from ..legs import Leg, LegAnalysis
 
 __all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench", "unified_jacobian"]
 
@@ -65,21 +71,12 @@ def _finite3(x, name) -> np.ndarray:
     return a
 
 
-def _vector3(x, name) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    if a.shape != (3,):
-        raise _errors()(f"{name} must have 3 components, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise _errors()(f"{name} must be finite, got {a.tolist()}")
-    return a
-
-
 def workload_wrench(F, T, o) -> np.ndarray:
     """The wrench ``[F; T + o x F]`` about the base origin of a force ``F`` at ``o`` and a
     torque ``T``; ``F, T (..., 3)`` broadcast together, ``o (3,)``."""
     F = _finite3(F, "workload force F")
     T = _finite3(T, "workload torque T")
-    o = _vector3(o, "workload point o")
+    o = as_vector3(o, "workload point o")
     F, T = np.broadcast_arrays(F, T)
     return np.concatenate([F, T + cross(o, F)], axis=-1)
 
@@ -119,7 +116,7 @@ class StaticsResult:
     A: np.ndarray = field(repr=False)
     a: object = field(repr=False)
     valid: np.ndarray = field(repr=False)
-    eq: np.ndarray = field(default=None, repr=False)
+    eq: np.ndarray | None = field(default=None, repr=False)
 
     @cached_property
     def _W(self):
@@ -270,8 +267,10 @@ class StaticsResult:
         return "\n".join(lines)
 
 
-def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool = True,
-            base_points=None, platform_points=None, stiffness=None) -> StaticsResult:
+def statics(jacobian: JacobianResult, F: ArrayLike, T: ArrayLike, o: ArrayLike | None = None, *,
+            raise_on_singular: bool = True, base_points: ArrayLike | None = None,
+            platform_points: ArrayLike | None = None,
+            stiffness: ArrayLike | None = None) -> StaticsResult:
     """Active and constraint efforts balancing the workload ``(F, T)`` applied at ``o``.
 
     Parameters
@@ -305,7 +304,7 @@ def statics(jacobian: JacobianResult, F, T, o=None, *, raise_on_singular: bool =
     else:
         o = np.asarray(o, float)
         if o.shape == (3,):
-            o = _vector3(o, "workload point o")
+            o = as_vector3(o, "workload point o")
         o = np.broadcast_to(_finite3(o, "workload point o"), (N, 3))
     if jacobian.single:
         F, T = np.broadcast_arrays(F, T)
@@ -344,7 +343,9 @@ def compliance_of(stiffness, m, N):
     return np.broadcast_to(1.0 / k, (N, m))
 
 
-def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOLD) -> JacobianResult:
+def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
+                     analyses: Sequence[LegAnalysis] | None = None, *,
+                     threshold: float = COND_THRESHOLD) -> JacobianResult:
     """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
 
     Parameters
@@ -365,7 +366,7 @@ def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOL
     """
     from ..legs import Leg
     InputError = _errors()
-    o = _vector3(o, "platform centre o")
+    o = as_vector3(o, "platform centre o")
     if not (np.isfinite(threshold) and threshold > 1):
         raise InputError(f"threshold must be a finite number > 1, got {threshold}")
     legs = tuple(legs)
@@ -388,7 +389,8 @@ def unified_jacobian(legs, o, analyses=None, *, threshold: float = COND_THRESHOL
                                     leg_provider=lambda _: legs, analyses=analyses)
 
 
-def solve_statics(legs, o, F, T, *, analyses=None, raise_on_singular: bool = True,
+def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
+                  analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
                   threshold: float = COND_THRESHOLD) -> StaticsResult:
     """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at ``o``."""
     jac = unified_jacobian(legs, o, analyses, threshold=threshold)

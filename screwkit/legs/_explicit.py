@@ -19,9 +19,14 @@ from __future__ import annotations
 
 import math
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..screws import as_vector3
 from ._chain import Joint, Leg
 from ._parsing import parse_leg
 
@@ -65,7 +70,8 @@ def _joint_entry(k, entry):
     return kind, axis, point, float(pitch)
 
 
-def leg_from_joints(joints, A=None, a=None, *, actuated: int = 0, name: str = "") -> Leg:
+def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: ArrayLike | None = None,
+                    a: ArrayLike | None = None, *, actuated: int = 0, name: str = "") -> Leg:
     """A placed leg from its equivalent 1-DOF joints, base to platform.
 
     Parameters
@@ -115,6 +121,6 @@ def leg_from_joints(joints, A=None, a=None, *, actuated: int = 0, name: str = ""
             out.append(Joint(spec, axis, point, pitch))
         except Exception as exc:          # GeometryError / InputError from the value checks
             raise InputError(f"joints[{k}]: {exc}") from None
-    A = out[0].point if A is None else A
-    a = out[-1].point if a is None else a
-    return Leg(ls, tuple(out), A, a, name or ls.marked)
+    A_ = out[0].point if A is None else as_vector3(A, "A")
+    a_ = out[-1].point if a is None else as_vector3(a, "a")
+    return Leg(ls, tuple(out), A_, a_, name or ls.marked)

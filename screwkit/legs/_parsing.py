@@ -1,6 +1,6 @@
 """Parsing of leg strings and PM strings, and expansion into equivalent R/P chains.
 
-Leg strings use the letters R (revolute), P (prismatic), H (helical),
+Leg strings use the upper-case letters R (revolute), P (prismatic), H (helical),
 U (universal), S (spherical) and C (cylindrical).  The actuated joint is marked
 by an underscore before its letter (``RR_PRR``, the ASCII form of the paper's
 underline); a letter followed by the combining low line U+0332 is accepted too.
@@ -25,8 +25,11 @@ Examples
 from __future__ import annotations
 
 import re
+import unicodedata
 from dataclasses import dataclass
 
+from ._guards import MAX_LEG_JOINTS, MAX_LEG_LETTERS, MAX_LEG_STRING, MAX_LEGS, \
+    MAX_PM_STRING, shorten
 from ..errors import ParseError
 
 __all__ = [
@@ -60,6 +63,7 @@ _EXPANSION = {
     "C": (("P", "p"), ("R", "r")),
 }
 _COMBINING_LOW_LINE = "\u0332"
+_LOWER = frozenset("rphusc")
 
 
 @dataclass(frozen=True)
@@ -171,8 +175,31 @@ def _expand(letters: str, actuated_position: int) -> tuple:
     return tuple(joints)
 
 
+def _letter_problem(ch: str, src: str) -> str:
+    """Why ``ch`` is not a joint letter, with a hint."""
+    if ch in _LOWER:
+        fixed = "".join(c.upper() if c in _LOWER else c for c in src)
+        return f"joint letters are upper case: did you mean {fixed!r}?"
+    if ch in "0123456789":
+        return (f"unknown joint letter {ch!r} (a leg count belongs to a PM string such as "
+                "'3RPS', not to a leg)")
+    if ch.isdigit() or ch.isnumeric():
+        return (f"{ch!r} (U+{ord(ch):04X}) is not an ASCII digit: a leg count is one of 1 to "
+                f"{MAX_LEGS}, before the joint letters")
+    if ord(ch) > 127 and (ch.upper() in _EXPANSION or
+                          unicodedata.normalize("NFKC", ch).upper() in _EXPANSION):
+        return (f"unknown joint letter {ch!r} (U+{ord(ch):04X}, not an ASCII letter; "
+                "expected one of R, P, H, U, S, C)")
+    return f"unknown joint letter {ch!r} (expected one of R, P, H, U, S, C)"
+
+
 def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegString:
     """Parse a leg string such as ``"RRPRR"``, ``"RR_PRR"`` or ``"_RPS"``.
+
+    Joint letters are upper case (``"rps"`` is refused with the hint ``did you mean
+    'RPS'?``); a leg has at most :data:`MAX_LEG_LETTERS` letters and
+    :data:`MAX_LEG_JOINTS` joints in its equivalent chain, and its string at most
+    :data:`MAX_LEG_STRING` characters.
 
     Parameters
     ----------
@@ -189,6 +216,9 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     """
     if not isinstance(text, str):
         raise ParseError(f"a leg string must be a str, got {type(text).__name__}")
+    if len(text) > MAX_LEG_STRING:
+        raise ParseError(f"a leg string of {len(text)} characters is too long (at most "
+                         f"{MAX_LEG_STRING}): {shorten(text, 40)}")
     src = source if source is not None else text
     if text.strip() == "":
         raise ParseError("empty leg string: expected joint letters from R, P, H, U, S, C", src,
@@ -199,7 +229,6 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     i = 0
     while i < len(text):
         ch = text[i]
-        up = ch.upper()
         if ch == "_":
             if actuated is not None or marker_pending:
                 raise ParseError("second actuation marker '_' (a leg has one actuated joint)",
@@ -209,15 +238,13 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
             if not letters or actuated is not None:
                 raise ParseError("misplaced underline mark", src, offset + i)
             actuated = len(letters)
-        elif up in _EXPANSION:
-            letters.append(up)
+        elif ch in _EXPANSION:
+            letters.append(ch)
             if marker_pending:
                 actuated = len(letters)
                 marker_pending = False
         else:
-            hint = " (a leg count belongs to a PM string such as '3RPS', not to a leg)" if ch.isdigit() else ""
-            raise ParseError(f"unknown joint letter {ch!r} (expected one of R, P, H, U, S, C){hint}",
-                             src, offset + i)
+            raise ParseError(_letter_problem(ch, src), src, offset + i)
         i += 1
     if marker_pending:
         raise ParseError("actuation marker '_' is not followed by a joint letter", src,
@@ -225,6 +252,13 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     if not letters:
         raise ParseError("leg string has no joint letters", src, offset)
     s = "".join(letters)
+    if len(s) > MAX_LEG_LETTERS:
+        raise ParseError(f"{len(s)} joint letters in leg {s!r}: a leg has at most "
+                         f"{MAX_LEG_LETTERS}", src, None)
+    n_joints = sum(JOINT_DOF[c] for c in s)
+    if n_joints > MAX_LEG_JOINTS:
+        raise ParseError(f"leg {s!r} has {n_joints} joints in its equivalent chain: a leg has "
+                         f"at most {MAX_LEG_JOINTS} (S = 3, U = C = 2)", src, None)
     explicit = actuated is not None
     if actuated is None:
         # default: first P of the equivalent chain (P or the P of a C), else its first R
@@ -239,11 +273,15 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     return LegString(s, marked, actuated, explicit, _expand(s, actuated))
 
 
-_TERM = re.compile(r"\s*(\d*)\s*(-?)\s*([^+]*)")
+# spaces (ASCII only) may surround the count and the dash: "3 - RPS + 2 SPR"
+_TERM = re.compile(r" *([0-9]*) *(-?) *([^+]*)")
 
 
 def parse_pm(text: str) -> PMString:
     """Parse a PM string such as ``"3RRPRR"``, ``"3-RPS"`` or ``"2SPS+2SPR"``.
+
+    A leg count is one ASCII digit from 1 to 6, a PM has at most :data:`MAX_LEGS`
+    legs and its string at most :data:`MAX_PM_STRING` characters.
 
     Raises
     ------
@@ -252,6 +290,9 @@ def parse_pm(text: str) -> PMString:
     """
     if not isinstance(text, str):
         raise ParseError(f"a PM string must be a str, got {type(text).__name__}")
+    if len(text) > MAX_PM_STRING:
+        raise ParseError(f"a PM string of {len(text)} characters is too long (at most "
+                         f"{MAX_PM_STRING}): {shorten(text, 40)}")
     if text.strip() == "":
         raise ParseError("empty PM string: expected e.g. '3RRPRR' or '2SPS+2SPR'", text, None)
     terms = []
@@ -259,21 +300,29 @@ def parse_pm(text: str) -> PMString:
     for chunk in text.split("+"):
         start = pos
         m = _TERM.fullmatch(chunk)
+        if m is None:                 # _TERM matches any chunk; a guard for the type checker
+            raise ParseError("not a PM term", text, start)
         count_txt, dash, leg_txt = m.group(1), m.group(2), m.group(3)
         leg_start = start + m.start(3)
-        if leg_txt.strip() == "":
+        if leg_txt.strip(" ") == "":
             where = start + len(chunk) - 1 if chunk else start
-            what = "a '+' with no leg after it" if not chunk.strip() else "a term with no leg letters"
+            what = "a '+' with no leg after it" if not chunk.strip(" ") else \
+                "a term with no leg letters"
             raise ParseError(f"{what}", text, max(0, min(where, len(text) - 1)))
+        if len(count_txt) > 1:
+            raise ParseError(f"leg count {shorten(count_txt, 20)}: a PM has 1 to {MAX_LEGS} "
+                             "legs of one type", text, start + m.start(1))
         count = int(count_txt) if count_txt else 1
         if count < 1:
             raise ParseError("leg count must be at least 1", text, start + m.start(1))
-        if count > 6:
-            raise ParseError(f"{count} legs of one type: a PM has at most 6 legs", text, start + m.start(1))
-        stripped = leg_txt.rstrip()
+        if count > MAX_LEGS:
+            raise ParseError(f"{count} legs of one type: a PM has at most {MAX_LEGS} legs", text,
+                             start + m.start(1))
+        stripped = leg_txt.rstrip(" ")
         terms.append(PMTerm(count, parse_leg(stripped, offset=leg_start, source=text)))
         pos = start + len(chunk) + 1
     pm = PMString(text, tuple(terms))
-    if len(pm.legs) > 6:
-        raise ParseError(f"{len(pm.legs)} legs in total: a PM has at most 6 legs", text, None)
+    n_legs = sum(t.count for t in terms)
+    if n_legs > MAX_LEGS:
+        raise ParseError(f"{n_legs} legs in total: a PM has at most {MAX_LEGS} legs", text, None)
     return pm

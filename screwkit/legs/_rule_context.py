@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._guards import MAX_MAGNITUDE, real, real_vector, shorten
 from ..errors import GeometryError
 from ..screws import GEOMETRY_RTOL, Line
 from ._placement import Placement
@@ -78,15 +79,14 @@ class _Context:
                 raise _Unresolved(r)
             return -d if neg else d
         if isinstance(ref, dict) and len(ref) == 1 and "toward" in ref:
-            p, q = (self.point(x) for x in ref["toward"])
+            p, q = (self.point(x) for x in self._pair(ref["toward"], "toward"))
             return self._unit(q - p, f"direction toward {ref['toward']}")
         if isinstance(ref, dict) and len(ref) == 1:
             (k, v), = ref.items()
-            try:
-                v = np.asarray(v, float)
-            except (TypeError, ValueError):
-                self.fail(f"cannot read direction reference {ref!r} (a direction rule such as "
-                          "'perpendicular' is not allowed here)")
+            if not (isinstance(v, (list, tuple)) and len(v) == 3):
+                self.fail(f"cannot read direction reference {shorten(ref)} (a direction rule such "
+                          "as 'perpendicular' is not allowed here)")
+            v = self._vector(v, k)
             if v.shape == (3,):
                 if k == "base":
                     return self._unit(self.pl.base_rotation @ v, "explicit base vector")
@@ -95,8 +95,8 @@ class _Context:
                 if k == "world":
                     return self._unit(v, "explicit world vector")
         if isinstance(ref, (list, tuple)) and len(ref) == 3:
-            return self._unit(np.asarray(ref, float), "explicit vector")
-        self.fail(f"cannot read direction reference {ref!r}")
+            return self._unit(self._vector(ref, "explicit vector"), "explicit vector")
+        self.fail(f"cannot read direction reference {shorten(ref)}")
 
     def direction_rule(self, rule) -> np.ndarray:
         if isinstance(rule, dict) and len(rule) == 1:
@@ -126,11 +126,13 @@ class _Context:
             raise _Unresolved(ref)
         if isinstance(ref, dict):
             if "between" in ref:
-                p, q = (self.point(x) for x in ref["between"])
-                t = float(ref.get("t", 0.5))
+                p, q = (self.point(x) for x in self._pair(ref["between"], "between"))
+                t = self._number(ref.get("t", 0.5), "t")
                 return (1 - t) * p + t * q
             if "meet" in ref:
-                j1, j2 = ref["meet"]
+                j1, j2 = self._pair(ref["meet"], "meet")
+                if not (isinstance(j1, str) and isinstance(j2, str)):
+                    self.fail(f"'meet' takes two joint names, got {shorten(ref['meet'])}")
                 l1 = Line.through(self.point(j1), self.direction(j1))
                 l2 = Line.through(self.point(j2), self.direction(j2))
                 if l1.is_parallel(l2):
@@ -142,8 +144,21 @@ class _Context:
             if "offset" in ref:
                 p = self.point(ref["offset"])
                 d = self.direction(ref.get("along", "leg"))
-                return p + float(ref.get("fraction", 0.0)) * pl.length * d
-        self.fail(f"cannot read point reference {ref!r}")
+                return p + self._number(ref.get("fraction", 0.0), "fraction") * pl.length * d
+        self.fail(f"cannot read point reference {shorten(ref)}")
+
+    def _pair(self, v, what):
+        if not (isinstance(v, (list, tuple)) and len(v) == 2):
+            self.fail(f"{what!r} takes two references, got {shorten(v)}")
+        return v
+
+    def _number(self, v, what) -> float:
+        """A number of a rule (``t``, ``fraction``): real, finite, at most 1e6 in magnitude."""
+        return real(v, what, bound=1e6, error=lambda m: GeometryError(f"leg {self.where}: {m}"))
+
+    def _vector(self, v, what) -> np.ndarray:
+        return real_vector(v, what, 3, bound=MAX_MAGNITUDE,
+                           error=lambda m: GeometryError(f"leg {self.where}: {m}"))
 
 
 class _Unresolved(Exception):

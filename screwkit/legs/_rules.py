@@ -49,7 +49,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CatalogError
+from ._guards import MAX_MAGNITUDE, MAX_STRUCTURE_CHECKS, did_you_mean, real, real_vector, shorten
+from ..errors import CatalogError, ScrewkitError
 from ..screws import GEOMETRY_RTOL
 from ._chain import Joint, Leg
 from ._parsing import JOINT_DOF, LegString, parse_leg
@@ -59,6 +60,8 @@ from ._structure import structure_residuals
 from ..screws import cross
 
 __all__ = ["JointRule", "LegRules", "build_leg", "generic_leg"]
+
+_JOINT_KEYS = ("axis", "axes", "at", "pitch", "note")
 
 @dataclass(frozen=True)
 class JointRule:
@@ -96,7 +99,7 @@ class LegRules:
         """Validate raw catalog data; raise :class:`CatalogError` naming the field at fault."""
         try:
             ls = parse_leg(string)
-        except Exception as exc:  # ParseError -> CatalogError with location
+        except ScrewkitError as exc:  # ParseError -> CatalogError with location
             raise CatalogError(str(exc), entry=name, field="string", source=source) from None
         if not isinstance(joints, (list, tuple)):
             raise CatalogError("must be a list with one entry per joint letter", name, "joints", source)
@@ -110,9 +113,11 @@ class LegRules:
                 entry = {}
             if not isinstance(entry, dict):
                 raise CatalogError("must be a mapping with 'axis'/'axes'/'at'", name, fld, source)
-            unknown = set(entry) - {"axis", "axes", "at", "pitch", "note"}
+            unknown = [k for k in entry if k not in _JOINT_KEYS]
             if unknown:
-                raise CatalogError(f"unknown keys {sorted(unknown)}", name, fld, source)
+                raise CatalogError(f"unknown key {shorten(unknown[0], 40)}"
+                                   f"{did_you_mean(unknown[0], _JOINT_KEYS)}; known: "
+                                   f"{', '.join(sorted(_JOINT_KEYS))}", name, fld, source)
             axis, axes = entry.get("axis"), entry.get("axes")
             if letter in "RPHC":
                 if axis is None:
@@ -125,12 +130,25 @@ class LegRules:
                 raise CatalogError("an S takes 'axes' with 3 direction rules (or none)", name, fld, source)
             if letter in "US" and entry.get("at") is None:
                 raise CatalogError(f"missing 'at' (the {letter} centre)", name, fld, source)
-            pitch = entry.get("pitch", 0.0)
-            if letter == "H" and not isinstance(pitch, (int, float)):
-                raise CatalogError("pitch must be a number", name, fld, source)
-            rules.append(JointRule(letter, k, axis, tuple(axes or ()), entry.get("at"), float(pitch or 0.0)))
+            pitch = real(entry.get("pitch", 0.0), "pitch", bound=1e6,
+                         error=lambda m: CatalogError(m, name, fld, source))
+            if letter != "H" and pitch != 0:
+                raise CatalogError(f"only an H joint has a pitch ({letter}{k} is not helical)",
+                                   name, fld, source)
+            for key in ("axis", "at"):
+                if isinstance(entry.get(key), bool):
+                    raise CatalogError(f"{key!r} must be a reference, not a boolean", name, fld,
+                                       source)
+            if axes is not None and not isinstance(axes, (list, tuple)):
+                raise CatalogError("'axes' must be a list of direction rules", name, fld, source)
+            for key in ("axis", "axes", "at"):
+                _check_rule_numbers(entry.get(key), f"{fld}.{key}", name, source)
+            rules.append(JointRule(letter, k, axis, tuple(axes or ()), entry.get("at"), pitch))
         if not isinstance(structure, (list, tuple)):
             raise CatalogError("must be a list of checks", name, "structure", source)
+        if len(structure) > MAX_STRUCTURE_CHECKS:
+            raise CatalogError(f"{len(structure)} checks: a leg type has at most "
+                               f"{MAX_STRUCTURE_CHECKS}", name, "structure", source)
         # names a check may use: frame references, end points, joints and S/U/C groups
         known = _FRAME_REFS | _POINT_NAMES | {"C"} | {j.name for j in ls.equivalent} | \
             {f"{j.origin}{j.position}" for j in ls.equivalent}
@@ -146,6 +164,38 @@ class LegRules:
                 raise CatalogError(f"unknown reference {bad[0]!r} (not a frame reference, end "
                                    f"point or joint of {ls.text!r})", name, f"structure[{i}]", source)
         return cls(name, ls, tuple(rules), tuple(structure))
+
+
+_VECTOR_KEYS = ("base", "platform", "world")
+
+
+def _check_rule_numbers(rule, fld, name, source, depth=0):
+    """The numbers of a rule (``t``, ``fraction``, explicit vectors) are finite reals, at load
+    time; the rule's structure itself is read when the leg is built."""
+    def err(m):
+        return CatalogError(m, name, fld, source)
+
+    if depth > 16:
+        raise err("a rule nested more than 16 levels deep")
+    if isinstance(rule, dict):
+        for k, v in rule.items():
+            if k in ("t", "fraction"):
+                real(v, k, bound=1e6, error=err)
+            elif k in _VECTOR_KEYS:
+                real_vector(v, k, 3, bound=MAX_MAGNITUDE, error=err)
+            else:
+                _check_rule_numbers(v, fld, name, source, depth + 1)
+    elif isinstance(rule, (list, tuple)):
+        if len(rule) > 16:
+            raise err(f"a list of {len(rule)} items in a rule (at most 16)")
+        if len(rule) == 3 and not any(isinstance(x, (str, dict, list, tuple)) for x in rule):
+            real_vector(rule, "vector", 3, bound=MAX_MAGNITUDE, error=err)
+        else:
+            for v in rule:
+                _check_rule_numbers(v, fld, name, source, depth + 1)
+    elif rule is not None and not isinstance(rule, str):
+        if isinstance(rule, bool) or not isinstance(rule, (int, float)):
+            raise err(f"{shorten(rule)} is not a reference")
 
 
 def build_leg(rules: LegRules, placement: Placement, check_structure: bool = True) -> Leg:

@@ -12,9 +12,10 @@
 from ._pathspec import (ANGLE_PARAMETERS, POSE_PARAMETERS, PathSpec, add_path_arguments,
                         parse_assignment, path_from_args, path_from_csv, path_from_expressions)
 from ._trajectory import STATUSES, TrajectoryResult, run_trajectory
+from ._plotting import plot_trajectory
 
 __all__ = [
     "PathSpec", "POSE_PARAMETERS", "ANGLE_PARAMETERS", "path_from_csv", "path_from_expressions",
     "parse_assignment", "add_path_arguments", "path_from_args",
-    "TrajectoryResult", "run_trajectory", "STATUSES",
+    "TrajectoryResult", "run_trajectory", "STATUSES", "plot_trajectory",
 ]

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import csv
 import difflib
-import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
+from ..legs._guards import (MAX_ANGLE_DEG, MAX_CSV_BYTES, MAX_MAGNITUDE, MAX_NAME, MAX_SAMPLES,
+                       check_path_text, decode_utf8, parse_number, read_limited, real, shorten)
 from ..errors import InputError
 from ..pm import parse_expression
 
@@ -171,12 +171,9 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
     """
     if angle_unit not in ("deg", "rad"):
         raise InputError(f"angle_unit must be 'deg' or 'rad', not {angle_unit!r}")
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read path file {str(p)!r}: {exc}") from None
-    where = str(p)
+    where = check_path_text(path, "path file")
+    label = f"path file {shorten(where)}"
+    text = decode_utf8(read_limited(where, MAX_CSV_BYTES, label), label)
     rows = []  # (line number, cells)
     header, header_line = None, None
     for lineno, cells in _csv_lines(text):
@@ -189,6 +186,9 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
                          f"{', '.join(independent)})")
     seen = set()
     for j, name in enumerate(header):
+        if len(name) > MAX_NAME:
+            raise InputError(f"{where}: line {header_line}: column {j + 1} has a name of "
+                             f"{len(name)} characters")
         if not name:
             raise InputError(f"{where}: line {header_line}: column {j + 1} has no name")
         if name in seen:
@@ -200,6 +200,12 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
     _check_names([n for n in header if n != "t"], independent, f"{where}: line {header_line}")
     if not rows:
         raise InputError(f"{where}: no data rows after the header")
+    if len(rows) > MAX_SAMPLES:
+        raise InputError(f"{where}: {len(rows)} data rows: a path has at most {MAX_SAMPLES} "
+                         "samples")
+    if len(header) > len(POSE_PARAMETERS) + 1:
+        raise InputError(f"{where}: line {header_line}: {len(header)} columns (t and at most "
+                         f"{len(POSE_PARAMETERS)} pose parameters)")
     data = np.empty((len(rows), len(header)))
     for i, (lineno, cells) in enumerate(rows):
         if len(cells) != len(header):
@@ -210,16 +216,9 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
             col = header[j]
             if not s:
                 raise InputError(f"{where}: line {lineno}, column {col!r}: empty cell")
-            try:
-                v = float(s)
-            except ValueError:
-                raise InputError(f"{where}: line {lineno}, column {col!r}: {s!r} is not a "
-                                 "number") from None
-            if math.isnan(v):
-                raise InputError(f"{where}: line {lineno}, column {col!r}: NaN")
-            if math.isinf(v):
-                raise InputError(f"{where}: line {lineno}, column {col!r}: infinite value")
-            data[i, j] = v
+            bound = MAX_ANGLE_DEG if (col in ANGLE_PARAMETERS and angle_unit == "deg") else \
+                (np.radians(MAX_ANGLE_DEG) if col in ANGLE_PARAMETERS else None)
+            data[i, j] = parse_number(s, f"{where}: line {lineno}, column {col!r}", bound=bound)
     lines = [ln for ln, _ in rows]
     t = data[:, header.index("t")]
     _check_t(t, where, line_of=lines)
@@ -287,18 +286,16 @@ def path_from_expressions(exprs, independent, *, samples: int = 51, t_range=(0.0
     if dup:
         raise InputError(f"expression given twice for {', '.join(dup)}")
     _check_names(names, independent, "path expressions")
-    try:
-        n = int(samples)
-    except (TypeError, ValueError):
-        raise InputError(f"samples must be an integer, not {samples!r}") from None
-    if n != samples or n < 1:
-        raise InputError(f"samples must be a positive integer, not {samples!r}")
-    try:
-        t0, t1 = (float(x) for x in t_range)
-    except (TypeError, ValueError):
-        raise InputError(f"t range must be two numbers, not {t_range!r}") from None
-    if not (math.isfinite(t0) and math.isfinite(t1)) or t1 < t0 or (t1 == t0 and n > 1):
-        raise InputError(f"t range [{t0:g}, {t1:g}] must be finite with t1 > t0")
+    if isinstance(samples, (bool, np.bool_)) or not isinstance(samples, (int, np.integer)):
+        raise InputError(f"samples must be an integer, not {shorten(samples)}")
+    n = int(samples)
+    if not 1 <= n <= MAX_SAMPLES:
+        raise InputError(f"samples must be from 1 to {MAX_SAMPLES}, not {n}")
+    if not (isinstance(t_range, (list, tuple)) and len(t_range) == 2):
+        raise InputError(f"t range must be two numbers, not {shorten(t_range)}")
+    t0, t1 = (real(x, "t range", bound=MAX_MAGNITUDE) for x in t_range)
+    if t1 < t0 or (t1 == t0 and n > 1):
+        raise InputError(f"t range [{t0:g}, {t1:g}] must have t1 > t0")
     t = np.linspace(t0, t1, n)
     values = {}
     for name, text in pairs:
@@ -306,6 +303,12 @@ def path_from_expressions(exprs, independent, *, samples: int = 51, t_range=(0.0
             v = parse_expression(text)(t)
         except InputError as exc:
             raise InputError(f"{name}: {exc}") from None
+        if name in ANGLE_PARAMETERS:
+            lim = MAX_ANGLE_DEG if angle_unit == "deg" else np.radians(MAX_ANGLE_DEG)
+            k = int(np.argmax(np.abs(v)))
+            if abs(v[k]) > lim:
+                raise InputError(f"{name}: the expression reaches {v[k]:g} {angle_unit} at t = "
+                                 f"{t[k]:g}, beyond the limit +-{lim:g} {angle_unit} (ten turns)")
         values[name] = np.radians(v) if (name in ANGLE_PARAMETERS and angle_unit == "deg") else v
     src = "; ".join(f"{k}={e.strip()}" for k, e in pairs)
     return PathSpec(t, values, src, tuple(independent))
@@ -315,14 +318,22 @@ def add_path_arguments(parser) -> None:
     """Add ``--path FILE``, ``--expr NAME=EXPR`` (repeatable), ``--samples N`` and
     ``--t-range T0 T1`` to an argparse parser (for a CLI sub-command)."""
     g = parser.add_argument_group("path (angles in degrees)")
-    g.add_argument("--path", metavar="FILE",
+    from ..legs._guards import argtype, parse_int
+
+    def integer(lo, hi):
+        return argtype(lambda text: parse_int(text, "value", lo, hi), "integer")
+
+    number = argtype(lambda text: parse_number(text, "value", bound=MAX_MAGNITUDE), "number")
+    path = argtype(lambda text: check_path_text(text, "value"), "path")
+    g.add_argument("--path", metavar="FILE", type=path,
                    help="CSV with a header row: t and the independent pose parameters")
     g.add_argument("--expr", action="append", metavar="NAME=EXPR", default=[],
                    help="a pose parameter as an expression in t, e.g. "
                         "'alpha=10*sin(2*pi*t)' (repeat for each parameter)")
-    g.add_argument("--samples", type=int, default=51, help="samples of t for --expr (default 51)")
-    g.add_argument("--t-range", type=float, nargs=2, default=(0.0, 1.0), metavar=("T0", "T1"),
-                   help="range of t for --expr (default 0 1)")
+    g.add_argument("--samples", type=integer(1, MAX_SAMPLES), default=51,
+                   help=f"samples of t for --expr (default 51, at most {MAX_SAMPLES})")
+    g.add_argument("--t-range", type=number, nargs=2, default=(0.0, 1.0),
+                   metavar=("T0", "T1"), help="range of t for --expr (default 0 1)")
 
 
 def path_from_args(args, independent) -> PathSpec:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -70,6 +71,12 @@ class TrajectoryResult:
     diagnostics : dict
         How the samples were computed (``batched``, ``per_pose_kinematics``,
         ``per_pose_rows``), for benchmarks.
+    determined : ndarray (N, n + k) of bool, optional
+        Per sample, for the active then the constraint columns: False where statics does
+        not determine the value (a statically indeterminate PM: the least-norm choice).
+    constraint_points : tuple of (str or None)
+        Where each constraint column's force passes (``"A_i"``, ``"a_i"``, or the name of
+        its point; None for a couple), found at the first regular sample.
     """
 
     pm: str
@@ -96,6 +103,8 @@ class TrajectoryResult:
     diagnostics: dict = field(default_factory=dict)
     units: object = None
     rotary: tuple = ()
+    determined: np.ndarray | None = None
+    constraint_points: tuple = ()
 
     def __len__(self) -> int:
         return len(self.t)
@@ -192,59 +201,11 @@ class TrajectoryResult:
         return self.units if self.units is not None else UNDECLARED
 
     def plot(self, out=None, *, title=None, units=None, dpi: int = 150):
-        """The panels of the paper's Fig. 5 (:func:`screwkit.viz.plot_fig5`).
+        """The panels of the paper's Fig. 5 (:func:`screwkit.viz.plot_fig5`) and the
+        condition number (see :func:`screwkit.paths.plot_trajectory`)."""
+        from ._plotting import plot_trajectory
 
-        (a) the independent pose parameters, (b) the extensions ``r_i``, (c) the
-        active forces ``F_ai``, (d) the constraint forces and torques (``F_c``,
-        couples ``T_c`` and the ``T_ri``, which are left out when they vanish
-        identically, e.g. legs whose constraint force passes through ``A_i``).
-        Flagged samples are shaded grey.
-        """
-        from ..viz import plot_fig5
-
-        mu = self._units()
-        rot = self.rotary or (False,) * self.n_legs
-        plot_units = {"length": mu.length, "force": mu.force, "torque": mu.torque.replace(".", "·"),
-                      "active": (mu.force if not any(rot) else
-                                 mu.torque.replace(".", "·") if all(rot) else
-                                 f"{mu.force} or {mu.torque.replace('.', '·')}")}
-        plot_units.update(units or {})
-        units = plot_units
-        p = self.params_degrees()
-        pose = {k: p[k] for k in self.independent}
-        force_cols = [j for j, k in enumerate(self.constraint_kinds) if k != "couple"]
-        couple_cols = [j for j, k in enumerate(self.constraint_kinds) if k == "couple"]
-        Fc = self.constraint[:, force_cols] if force_cols else None
-        torques, tlabels = [], []
-        for j in couple_cols:
-            torques.append(self.constraint[:, j])
-            tlabels.append(_math(self.constraint_labels[j]))
-        Tr = self.T_r
-        scale = max(float(np.nanmax(np.abs(self.leg_wrenches), initial=0.0)), 1e-300)
-        zero_tr = bool(np.all(~np.isfinite(Tr) | (np.abs(Tr) <= 1e-9 * scale)))
-        note = ""
-        if not zero_tr:
-            for i in range(self.n_legs):
-                torques.append(Tr[:, i])
-                tlabels.append(f"$T_{{r{i + 1}}}$")
-        elif self.ok.any():
-            note = "all $T_{ri}$ = 0 (constraint forces through $A_i$)"
-        Tc = np.column_stack(torques) if torques else None
-        labels = {"extensions": [f"$r_{{{i + 1}}}$" for i in range(self.n_legs)],
-                  "active": [f"$F_{{a{i + 1}}}$" for i in range(self.n_legs)]}
-        if Fc is not None:
-            labels["constraint_forces"] = [_math(self.constraint_labels[j]) for j in force_cols]
-        if Tc is not None:
-            labels["constraint_torques"] = tlabels
-        if title is None:
-            u = plot_units
-            F, T = self.force, self.torque
-            title = (f"{self.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
-                     f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")
-        if note:
-            title = f"{title}\n{note}"
-        return plot_fig5(self.t, pose, self.extensions, self.active, Fc, Tc, labels=labels,
-                         units=units, flags=self.flagged, out=out, title=title, dpi=dpi)
+        return plot_trajectory(self, out, title=title, units=units, dpi=dpi)
 
 
 def _math(label: str) -> str:
@@ -265,6 +226,7 @@ def _write(text: str, out):
         out.write(text)
         return None
     try:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)      # --out dir/file: make dir
         with open(out, "w", encoding="utf-8", newline="") as fh:
             fh.write(text)
     except OSError as exc:

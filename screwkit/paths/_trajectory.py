@@ -82,7 +82,8 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
         Workload at ``o`` (default: the paper's F = [-20, -30, -60] kN,
         T = [-30, -30, 100] kN.cm).
     progress : callable(done, total), optional
-        Called as samples are completed (``done`` increases to ``total = N``).
+        Called as the work advances (``done`` grows to ``total``: 2 N steps, the closures of
+        the path then the rows and statics; N samples with ``vectorised=False``).
     overrides : dict, optional
         Dimension overrides when ``model`` is a name.
     anchor_every : int, optional
@@ -194,6 +195,9 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     labels = tuple(r.label for r in cons_info)
     kinds = tuple(r.kind for r in cons_info)
     legs = tuple(r.leg for r in cons_info)
+    det = col(lambda p: np.asarray(p.statics.determined).reshape(len(p), -1))
+    det = np.where(st_ok[:, None], det, True)
+    det.setflags(write=False)
     out = {
         "status": status.astype(str), "extensions": ext, "actuator_values": act_v,
         "active": vals[:, :nact], "constraint": vals[:, nact:], "T_r": Tr,
@@ -215,4 +219,43 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
                             out["condition_number"], out["closure_residual"],
                             out["equilibrium_residual"], out["singularity"], out["message"],
                             labels, kinds, legs, F.copy(), T.copy(), dict(diag), model.units,
-                            tuple(lg.actuated_joint.kind != "P" for lg in model.home_legs))
+                            tuple(lg.actuated_joint.kind != "P" for lg in model.home_legs),
+                            determined=det,
+                            constraint_points=_constraint_points(model, parts, info, st_ok))
+
+
+def _constraint_points(model, parts, info, ok) -> tuple:
+    """Where each constraint column's force passes, at the first regular sample: ``"A_i"``
+    or ``"a_i"`` when its named point is the leg's base or platform point there, else the
+    point's name (``"Q (where R1 meets R5)"``); None for a couple (or no regular sample)."""
+    from ..legs import point_label
+
+    rows = [k for k, r in enumerate(info) if r.kind != "actuation"]
+    start = 0
+    for p in parts:
+        n = len(p)
+        hit = np.flatnonzero(ok[start:start + n])
+        if hit.size:
+            i = int(hit[0])
+            pts = np.asarray(p.jacobian.points).reshape(n, len(info), 3)[i]
+            A, a = (np.asarray(x, float) for x in (p.solution.base_points,
+                                                    p.solution.platform_points))
+            A = A if A.ndim == 2 else A.reshape(n, -1, 3)[i]      # the base is fixed
+            a = a if a.ndim == 2 else a.reshape(n, -1, 3)[i]
+            break
+        start += n
+    else:
+        return (None,) * len(rows)
+    tol = 1e-9 * model.normalisation.length
+    out = []
+    for k in rows:
+        r, q = info[k], pts[k]
+        if r.kind == "couple" or not np.all(np.isfinite(q)):
+            out.append(None)
+        elif np.linalg.norm(q - A[r.leg]) <= tol:
+            out.append("A_i")
+        elif np.linalg.norm(q - a[r.leg]) <= tol:
+            out.append("a_i")
+        else:
+            out.append(point_label(r.point_name) if r.point_name else None)
+    return tuple(out)

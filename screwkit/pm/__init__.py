@@ -17,6 +17,10 @@ from ._catalog import (Catalog, LegSpec, catalog_path, default_catalog, leg_spec
                        load_catalog)
 from ._units import FORCE_UNITS, LENGTH_UNITS, UNDECLARED, Units, units_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
+from ._limits import NO_LIMITS, Limits
+from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffness,
+                       check_inertia, cylinder_body)
+from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._loader import load_pm, pm_names
 from ._mobility import (Mobility, describe_twist_space, linkage_graph, mobility, mobility_of_legs,
                         motion_type)
@@ -28,6 +32,11 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    # limits
+    "Limits", "NO_LIMITS",
+    # masses, inertias, friction, stiffness (the dynamics: block)
+    "Body", "NO_BODY", "LegDynamics", "LegStiffness", "DynamicsParameters", "cylinder_body",
+    "check_inertia", "dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY",
     # units
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility

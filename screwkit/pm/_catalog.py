@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..legs._guards import MAX_ENTRIES, MAX_MAGNITUDE, MAX_NAME, did_you_mean, real_vector, shorten
 from ..errors import CatalogError, ScrewkitError
 from ..legs import Placement, default_placement
 from ..legs import LegRules, build_leg
@@ -45,6 +46,7 @@ _BASIS_REFS = {"leg", "base.X", "base.Y", "base.Z", "platform.x", "platform.y", 
                "base.OA", "base.AO", "platform.oa", "platform.ao", "base.tangent",
                "platform.tangent"}
 _EXPECT_KEYS = {"forces", "couples", "screws", "words", "force_lines", "couples_along"}
+_TOP_KEYS = {"version", "units", "legs", "table1", "pms"}
 
 
 @dataclass(frozen=True)
@@ -119,28 +121,39 @@ class LegSpec:
         return problems
 
 
+def _no_unknown(d: dict, known, entry, fld, source, what: str = "field", note: str = "") -> None:
+    """CatalogError on the first key of ``d`` not in ``known``, with a did-you-mean."""
+    bad = [k for k in d if k not in known]
+    if not bad:
+        return
+    k = bad[0]
+    where = fld or (k if isinstance(k, str) else None)
+    more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
+    raise CatalogError(f"unknown {what} {shorten(k, 40)}{did_you_mean(k, known)}{more}; "
+                       f"known: {', '.join(sorted(known))}{note}", entry, where, source)
+
+
 def _vec(v, entry, fld, source):
-    a = np.asarray(v, dtype=float) if isinstance(v, (list, tuple)) else None
-    if a is None or a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise CatalogError(f"must be a list of 3 finite numbers, got {v!r}", entry, fld, source)
-    return a
+    return real_vector(v, fld, 3, bound=MAX_MAGNITUDE,
+                       error=lambda m: CatalogError(m, entry, fld, source))
 
 
 def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> LegSpec:
     """Validate one ``legs`` entry (a mapping from YAML or from user code)."""
     where = d.get("name") if isinstance(d, dict) and isinstance(d.get("name"), str) \
         else f"legs[{index}]"
+    if len(where) > MAX_NAME:
+        where = shorten(where, 40)
     if not isinstance(d, dict):
         raise CatalogError("each leg entry must be a mapping", where, None, source)
     for req in ("name", "string", "joints"):
         if req not in d:
             raise CatalogError(f"missing required field {req!r}", where, req, source)
-    unknown = set(d) - _LEG_KEYS
-    if unknown:
-        raise CatalogError(f"unknown field(s) {sorted(unknown)}", where, sorted(unknown)[0], source)
+    _no_unknown(d, _LEG_KEYS, where, None, source)
     name = d["name"]
-    if not isinstance(name, str) or not name:
-        raise CatalogError("must be a non-empty string", where, "name", source)
+    if not isinstance(name, str) or not name.strip() or len(name) > MAX_NAME:
+        raise CatalogError(f"must be a non-empty name of at most {MAX_NAME} characters", where,
+                           "name", source)
     if not isinstance(d["string"], str):
         raise CatalogError("must be a string", name, "string", source)
     rules = LegRules.from_mapping(name, d["string"], d["joints"], d.get("structure") or (), source)
@@ -149,14 +162,16 @@ def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> Leg
         p = d["placement"]
         if not isinstance(p, dict) or not {"A", "a"} <= set(p):
             raise CatalogError("needs at least 'A' and 'a'", name, "placement", source)
+        _no_unknown(p, {"A", "a", "O", "o"}, name, "placement", source, "point")
         kw = {k: _vec(p[k], name, f"placement.{k}", source) for k in ("A", "a", "O", "o") if k in p}
-        pl = Placement(**kw)
+        try:
+            pl = Placement(**kw)
+        except ScrewkitError as exc:
+            raise CatalogError(str(exc), name, "placement", source) from None
     expect = d.get("expect") or {}
     if not isinstance(expect, dict):
         raise CatalogError("must be a mapping", name, "expect", source)
-    bad = set(expect) - _EXPECT_KEYS
-    if bad:
-        raise CatalogError(f"unknown key(s) {sorted(bad)}", name, "expect", source)
+    _no_unknown(expect, _EXPECT_KEYS, name, "expect", source, "key")
     for k in ("forces", "couples", "screws"):
         if k in expect and not (isinstance(expect[k], int) and not isinstance(expect[k], bool)
                                 and 0 <= expect[k] <= 6):
@@ -229,10 +244,18 @@ class Catalog:
         if not isinstance(data, dict):
             raise CatalogError("the catalog must be a mapping with 'legs', 'table1' and 'pms'",
                                source=source)
+        _no_unknown({k: v for k, v in data.items() if not str(k).startswith("x-")}, _TOP_KEYS,
+                    None, None, source, "top-level key",
+                    " (keys starting with 'x-' are free, e.g. for YAML anchors)")
         legs = {}
         raw = data.get("legs", [])
+        if raw is None:
+            raw = []
         if not isinstance(raw, list):
             raise CatalogError("must be a list of leg entries", None, "legs", source)
+        if len(raw) > MAX_ENTRIES:
+            raise CatalogError(f"{len(raw)} leg entries: a file has at most {MAX_ENTRIES}", None,
+                               "legs", source)
         for i, d in enumerate(raw):
             spec = leg_spec_from_mapping(d, source, i)
             if spec.name in legs:
@@ -241,6 +264,8 @@ class Catalog:
         table1 = data.get("table1", []) or []
         if not isinstance(table1, list):
             raise CatalogError("must be a list of rows of leg strings", None, "table1", source)
+        if sum(len(r) if isinstance(r, list) else 1 for r in table1) > MAX_ENTRIES:
+            raise CatalogError(f"more than {MAX_ENTRIES} cells", None, "table1", source)
         flat = []
         for i, row in enumerate(table1):
             for s in (row if isinstance(row, list) else [row]):
@@ -251,6 +276,13 @@ class Catalog:
         pms = data.get("pms", {}) or {}
         if not isinstance(pms, dict):
             raise CatalogError("must be a mapping of PM name to definition", None, "pms", source)
+        if len(pms) > MAX_ENTRIES:
+            raise CatalogError(f"{len(pms)} PMs: a file has at most {MAX_ENTRIES}", None, "pms",
+                               source)
+        for k in pms:
+            if not isinstance(k, str) or not k.strip() or len(k) > MAX_NAME:
+                raise CatalogError(f"a PM name must be a non-empty name of at most {MAX_NAME} "
+                                   f"characters, got {shorten(k)}", None, "pms", source)
         if data.get("units") is not None:
             # the file's units apply to each of its PMs that does not declare its own
             pms = {k: ({"units": data["units"], **v} if isinstance(v, dict) else v)
@@ -286,28 +318,21 @@ def catalog_path() -> Path:
 
 
 def load_catalog(path) -> Catalog:
-    """Load and validate a catalog file; raise :class:`CatalogError` naming entry and field."""
-    import yaml
+    """Load and validate a catalog file; raise :class:`CatalogError` naming entry and field.
 
-    p = Path(path)
+    The file is read strictly (:mod:`screwkit.pm._yaml`): at most 1 MiB of UTF-8 text, no
+    duplicate keys, no booleans, no NaN or infinity, aliases expanding to at most 100 000
+    nodes.
+    """
+    from ._yaml import load_yaml_file
+
+    data, source = load_yaml_file(path, "YAML file")
     try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise CatalogError(f"cannot read catalog: {exc.strerror}", source=str(p)) from None
-    try:
-        # libyaml's loader when present: ~10x faster on the catalog than the pure-Python one
-        data = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        raise CatalogError(f"invalid YAML{where}: {getattr(exc, 'problem', exc)}",
-                           source=str(p)) from None
-    try:
-        return Catalog.from_mapping(data, str(p))
+        return Catalog.from_mapping(data, source)
     except CatalogError:
         raise
     except ScrewkitError as exc:
-        raise CatalogError(str(exc), source=str(p)) from None
+        raise CatalogError(str(exc), source=source) from None
 
 
 @lru_cache(maxsize=1)

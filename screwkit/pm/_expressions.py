@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..legs._guards import MAX_NUMBER_CHARS, shorten
 from ..errors import InputError
 
 __all__ = ["Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS",
@@ -53,6 +54,8 @@ CONSTANTS = {"pi": float(np.pi), "e": float(np.e)}
 
 #: Longest accepted expression (characters): guards the parser's recursion.
 MAX_LENGTH = 2000
+
+_DECIMAL = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
 
 _BINOPS = {ast.Add: np.add, ast.Sub: np.subtract, ast.Mult: np.multiply,
            ast.Div: np.true_divide, ast.Pow: np.power}
@@ -76,7 +79,7 @@ def _fail(text: str, what: str, node=None, column: int | None = None) -> InputEr
     if node is not None and getattr(node, "col_offset", None) is not None:
         column = node.col_offset + 1
     where = f" (column {column})" if column is not None else ""
-    return InputError(f"expression {text!r}: {what}{where}")
+    return InputError(f"expression {shorten(text, 80)}: {what}{where}")
 
 
 def _token(text: str, node) -> str:
@@ -100,6 +103,19 @@ class _Checker:
             v = node.value
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise _fail(text, f"literal {_token(text, node)} is not a number", node)
+            lit = ast.get_source_segment(text, node) or ""
+            if len(lit) > MAX_NUMBER_CHARS:
+                raise _fail(text, f"a number of {len(lit)} characters is too long (at most "
+                                  f"{MAX_NUMBER_CHARS})", node)
+            if not _DECIMAL.fullmatch(lit):
+                raise _fail(text, f"number {_token(text, node)} is not written in decimal "
+                                  "digits (e.g. 12.5 or 1e-3)", node)
+            try:
+                x = float(v)
+            except OverflowError:
+                x = float("inf")
+            if not np.isfinite(x):
+                raise _fail(text, f"number {_token(text, node)} overflows", node)
             return
         if isinstance(node, ast.Name):
             if node.id in self.variables or node.id in CONSTANTS:

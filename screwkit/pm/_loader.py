@@ -26,21 +26,26 @@ True
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
+import os
 
 import numpy as np
 
+from ..legs._guards import MAX_ANGLE_DEG, MAX_LEGS, MAX_MAGNITUDE, did_you_mean, real, shorten
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import LegRules, build_leg
 from ..screws import Normalisation, check_order
+from ._checks import dimensions, find_pm, listing, split_path, text_fields, unknown_keys
 from ._home import _solve_home
 from ._units import units_from_mapping
+from ._limits import limits_from_mapping
+from ._physical import dynamics_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 
 __all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
-            "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units"}
+            "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units",
+            "limits", "dynamics"}
 _SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
                "points", "z"}
 
@@ -51,14 +56,6 @@ def pm_names(catalog=None) -> list:
     from ._catalog import default_catalog
     cat = catalog if catalog is not None else default_catalog()
     return sorted(cat.pms)
-
-
-def _split_path(name_or_path: str):
-    s = str(name_or_path)
-    base, _, pm = s.partition("#")
-    if base.endswith((".yaml", ".yml")) or Path(base).is_file():
-        return base, (pm or None)
-    return None, None
 
 
 def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> PMModel:
@@ -85,9 +82,11 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
     from ._catalog import Catalog, default_catalog, load_catalog
 
     cat = catalog if catalog is not None else default_catalog()
+    if isinstance(name_or_path, os.PathLike):
+        name_or_path = os.fspath(name_or_path)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         raise InputError("a PM name or a path to a YAML file is required")
-    path, pick = _split_path(name_or_path)
+    path, pick = split_path(name_or_path)
     if path is not None:
         user = load_catalog(path)
         if not user.pms:
@@ -95,25 +94,17 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
         cat = Catalog({**cat.legs, **user.legs}, cat.table1, user.pms, path)
         if pick is None:
             if len(user.pms) > 1:
-                raise CatalogError(f"the file defines {len(user.pms)} PMs ({', '.join(user.pms)}): "
+                raise CatalogError(f"the file defines {len(user.pms)} PMs ({listing(user.pms)}): "
                                    f"pick one with {path}#NAME", source=path)
             pick = next(iter(user.pms))
         name = pick
     else:
         name = name_or_path.strip()
-    key = _find(cat, name)
-    return _build(key, cat.pms[key], cat, overrides or {})
-
-
-def _find(cat, name):
-    if name in cat.pms:
-        return name
-    canon = name.replace("-", "").replace(" ", "")
-    for k in cat.pms:
-        if k.replace("-", "").replace(" ", "").lower() == canon.lower():
-            return k
-    raise CatalogError(f"unknown PM {name!r}; known: {', '.join(sorted(cat.pms)) or 'none'}",
-                       source=cat.source)
+    key = find_pm(cat, name)
+    try:
+        return _build(key, cat.pms[key], cat, overrides or {})
+    except GeometryError as exc:
+        raise CatalogError(f"the geometry cannot be built: {exc}", key, None, cat.source) from None
 
 
 class _Ctx:
@@ -127,20 +118,19 @@ class _Ctx:
 
     def num(self, v, fld) -> float:
         from ._expressions import parse_expression
-        if isinstance(v, bool):
-            raise self.err(f"must be a number or an expression, got {v!r}", fld)
-        if isinstance(v, (int, float)):
-            x = float(v)
-        elif isinstance(v, str):
+        if isinstance(v, str):
             try:
                 x = float(parse_expression(v, tuple(self.dims))(**self.dims))
             except InputError as exc:
                 raise self.err(str(exc), fld) from None
-        else:
-            raise self.err(f"must be a number or an expression, got {v!r}", fld)
-        if not np.isfinite(x):
-            raise self.err(f"is not finite ({x})", fld)
-        return x
+            if not abs(x) <= MAX_MAGNITUDE:
+                raise self.err(f"{shorten(v, 40)} = {x:g} is beyond the limit "
+                               f"+-{MAX_MAGNITUDE:g}", fld)
+            return x
+        if not isinstance(v, (int, float)) or isinstance(v, bool):
+            raise self.err(f"must be a number or an expression, got {shorten(v)}", fld)
+        return real(v, fld.rsplit(".", 1)[-1], bound=MAX_MAGNITUDE,
+                    error=lambda m: self.err(m, fld))
 
     def vec(self, v, fld) -> np.ndarray:
         if not (isinstance(v, (list, tuple)) and len(v) == 3):
@@ -151,10 +141,12 @@ class _Ctx:
 def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
     if not isinstance(spec, dict):
         raise ctx.err("must be a mapping with 'shape' (triangle, square, rectangle, circle, points)", fld)
-    bad = set(spec) - _SHAPE_KEYS
-    if bad:
-        raise ctx.err(f"unknown key(s) {sorted(bad)}", fld)
+    unknown_keys(spec, _SHAPE_KEYS, ctx.err, fld)
     shape = spec.get("shape", "points" if "points" in spec else None)
+    for k in ("angles", "points"):
+        if k in spec and not (isinstance(spec[k], list) and len(spec[k]) <= MAX_LEGS):
+            raise ctx.err(f"must be a list of at most {MAX_LEGS} items (one per leg)",
+                          f"{fld}.{k}")
 
     def need(k):
         if k not in spec:
@@ -189,8 +181,9 @@ def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
             ang = [ctx.num(x, f"{fld}.angles") for x in spec["angles"]]
         else:
             n = need("count")
-            if not (isinstance(n, int) and n >= 1):
-                raise ctx.err("must be a positive integer", f"{fld}.count")
+            if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_LEGS):
+                raise ctx.err(f"must be an integer from 1 to {MAX_LEGS} (one vertex per leg), "
+                              f"got {shorten(n)}", f"{fld}.count")
             st = ctx.num(spec.get("start", 0), f"{fld}.start")
             ang = [st + 360.0 * k / n for k in range(n)]
         pts = ring(r, ang)
@@ -200,8 +193,9 @@ def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
             raise ctx.err("must be a list of [x, y, z]", f"{fld}.points")
         pts = np.array([ctx.vec(p, f"{fld}.points[{k}]") for k, p in enumerate(raw)])
     else:
-        raise ctx.err(f"unknown shape {shape!r} (triangle, square, rectangle, circle, points)",
-                      f"{fld}.shape")
+        shapes = ("triangle", "square", "rectangle", "circle", "points")
+        raise ctx.err(f"unknown shape {shorten(shape)}{did_you_mean(shape, shapes)} "
+                      f"({', '.join(shapes)})", f"{fld}.shape")
     if "z" in spec:
         pts[:, 2] += ctx.num(spec["z"], f"{fld}.z")
     if len(pts) > 1 and np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)) <= 0:
@@ -240,9 +234,15 @@ def _override(rules: LegRules, axes, base_pts, plat_pts, ctx, fld) -> LegRules:
             kind = k.split("_")[0]
             rule = {kind: _vertex_vector(v, base_pts, plat_pts, ctx, f, kind)}
         jn = str(jname)
+        if not (isinstance(jname, str) and 2 <= len(jn) <= 8 and jn[0] in "RPHUSC"):
+            raise ctx.err(f"{shorten(jname)} is not a joint name of {rules.string.text} "
+                          "(R3, U1a, ...)", f)
         part = jn[-1] if jn[-1] in "abc" and len(jn) > 2 and not jn[-2].isalpha() else ""
+        digits = jn[1:len(jn) - len(part)]
         try:
-            pos = int(jn[1:len(jn) - len(part)])
+            if not (digits.isascii() and digits.isdigit()):
+                raise ValueError(digits)
+            pos = int(digits)
         except ValueError:
             raise ctx.err(f"not a joint name of {rules.string.text} (R3, U1a, ...)", f) from None
         if not (1 <= pos <= len(joints)) or joints[pos - 1].letter != jn[0]:
@@ -272,10 +272,13 @@ def _pose_values(raw, ctx, fld, names) -> dict:
     out = {}
     for k, v in raw.items():
         if k not in PARAMS:
-            raise ctx.err(f"unknown pose parameter {k!r} (one of {', '.join(PARAMS)})", fld)
+            raise ctx.err(f"unknown pose parameter {shorten(k)}{did_you_mean(k, PARAMS)} (one "
+                          f"of {', '.join(PARAMS)})", fld)
         if names is not None and k not in names:
             raise ctx.err(f"{k} is not one of {', '.join(names)}", fld)
         x = ctx.num(v, f"{fld}.{k}")
+        if k not in LENGTH_PARAMS and abs(x) > MAX_ANGLE_DEG:
+            raise ctx.err(f"{x:g} deg is beyond the limit +-{MAX_ANGLE_DEG:g} deg", f"{fld}.{k}")
         out[k] = x if k in LENGTH_PARAMS else np.radians(x)
     return out
 
@@ -286,9 +289,8 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     src = cat.source
     if not isinstance(d, dict):
         raise CatalogError("must be a mapping", name, None, src)
-    bad = set(d) - _PM_KEYS
-    if bad:
-        raise CatalogError(f"unknown field(s) {sorted(bad)}", name, sorted(bad)[0], src)
+    unknown_keys(d, _PM_KEYS, lambda m, f: CatalogError(m, name, f, src), None, "field")
+    text_fields(d, ("string", "summary", "note", "motion", "euler", "source"), name, src)
     for req in ("base", "platform", "legs", "independent", "dof"):
         if req not in d:
             raise CatalogError(f"missing required field {req!r}", name, req, src)
@@ -296,22 +298,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     dims_raw = d.get("dimensions") or {}
     if not isinstance(dims_raw, dict):
         raise CatalogError("must be a mapping name -> length", name, "dimensions", src)
-    if not isinstance(overrides, dict):
-        raise InputError(f"{name}: overrides must be a mapping dimension -> value")
-    unknown = set(overrides) - set(dims_raw)
-    if unknown:
-        raise InputError(f"{name}: unknown dimension(s) {sorted(unknown)}; the dimensions are "
-                         f"{', '.join(dims_raw) or 'none'}")
-    dims = {}
-    for k, v in {**dims_raw, **overrides}.items():
-        try:
-            x = float(v)
-        except (TypeError, ValueError):
-            raise CatalogError(f"must be a number, got {v!r}", name, f"dimensions.{k}", src) from None
-        if not (np.isfinite(x) and x > 0):
-            where = "override" if k in overrides else "dimension"
-            raise InputError(f"{name}: {where} {k} = {v!r} must be a positive finite length")
-        dims[str(k)] = x
+    dims = dimensions(dims_raw, overrides, name, src)
     ctx = _Ctx(name, src, dims)
     base = _vertices(d["base"], ctx, "base")
     plat = _vertices(d["platform"], ctx, "platform")
@@ -327,15 +314,19 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         fld = f"legs[{i}]"
         axes = None
         if isinstance(entry, dict):
-            extra = set(entry) - {"leg", "axes"}
+            extra = [k for k in entry if k not in ("leg", "axes")]
             if "leg" not in entry or extra:
-                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}}", fld)
+                hint = did_you_mean(extra[0], ("leg", "axes")) if extra else ""
+                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}}"
+                              + (f"; unknown key {shorten(extra[0], 40)}{hint}" if extra else ""),
+                              fld)
             axes, entry = entry.get("axes"), entry["leg"]
         if not isinstance(entry, str):
             raise ctx.err("must be a leg name", fld)
         spec = cat.find_leg(entry)
         if spec is None:
-            raise ctx.err(f"unknown leg {entry!r} (not in the catalog's legs)", fld)
+            raise ctx.err(f"unknown leg {shorten(entry)}{did_you_mean(entry, list(cat.legs))} "
+                          "(not in the catalog's legs)", fld)
         r = spec.rules
         if axes:
             r = _override(r, axes, base, plat, ctx, f"{fld}.axes")
@@ -356,12 +347,13 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     except InputError as exc:
         raise ctx.err(str(exc), "euler") from None
     ind = d["independent"]
-    if not (isinstance(ind, list) and ind and all(p in PARAMS for p in ind) and len(set(ind)) == len(ind)):
+    if not (isinstance(ind, list) and ind and all(isinstance(p, str) and p in PARAMS for p in ind)
+            and len(set(ind)) == len(ind)):
         raise ctx.err(f"must be a list of distinct names among {', '.join(PARAMS)}", "independent")
     ind = tuple(ind)
     dep = tuple(p for p in PARAMS if p not in ind)
     dof = d["dof"]
-    if not (isinstance(dof, int) and 1 <= dof <= 6):
+    if not (isinstance(dof, int) and not isinstance(dof, bool) and 1 <= dof <= 6):
         raise ctx.err("must be an integer from 1 to 6", "dof")
     if dof != len(ind):
         raise ctx.err(f"dof {dof} but {len(ind)} independent pose parameters", "independent")
@@ -391,7 +383,10 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     # the default pose is only the independent values: assembling it is the engine's job
     # (screwkit.engine.check_default_pose, called by screwkit.load_pm)
     default = {k: float(v) for k, v in pose.items()}
+    units = units_from_mapping(d.get("units"), name, src)
     return dataclasses.replace(proto, home_legs=legs, home_pose=home, normalisation=norm,
-                               constraint_references=tuple(bases),
-                               units=units_from_mapping(d.get("units"), name, src),
+                               constraint_references=tuple(bases), units=units,
+                               dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
+                                                              legs, units),
+                               limits=limits_from_mapping(d.get("limits"), ctx, legs),
                                default_pose=default, notes=tuple(notes))

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..legs import Placement, build_leg
 from ..screws import Normalisation, rotation_matrix
+from ._limits import NO_LIMITS, Limits
 from ._units import UNDECLARED, Units
 
 __all__ = ["PMModel", "PARAMS", "LENGTH_PARAMS"]
@@ -72,6 +73,12 @@ class PMModel:
         Per leg, the reference directions its catalog entry declares for the basis and
         signs of its constraint wrenches (``constraint_basis``; empty: the default rule of
         :mod:`screwkit.engine._rows`).
+    limits : Limits
+        The joint, stroke and leg-distance limits the definition declares (``limits:``,
+        :mod:`screwkit.pm._limits`); maps mark the poses outside them.
+    dynamics : DynamicsParameters or None
+        Masses, inertias, friction, gravity and stiffness (the definition's ``dynamics:``,
+        :mod:`screwkit.pm._physical`), used by :mod:`screwkit.dynamics`; None if not given.
     """
 
     name: str
@@ -98,6 +105,8 @@ class PMModel:
     source: str = ""
     constraint_references: tuple = ()
     units: Units = UNDECLARED
+    limits: Limits = NO_LIMITS
+    dynamics: object = None
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "

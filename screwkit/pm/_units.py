@@ -42,12 +42,19 @@ class Units:
     def torque(self) -> str:
         return f"{self.force}.{self.length}"
 
+    @property
+    def mass(self) -> str:
+        """The consistent mass unit, force.s^2/length (time in seconds): ``kN.s^2/cm`` is
+        1e5 kg, so that mass x acceleration is a force in the model's unit."""
+        return f"{self.force}.s^2/{self.length}"
+
     def of(self, quantity: str) -> str:
         """The unit of a quantity: ``length``, ``force``, ``torque``, ``angle`` (degrees at the
         command line), ``stiffness`` (force/length), ``angular stiffness`` (torque/rad)."""
         table = {"length": self.length, "force": self.force, "torque": self.torque,
                  "angle": "deg", "stiffness": f"{self.force}/{self.length}",
-                 "angular stiffness": f"{self.torque}/rad", "": ""}
+                 "angular stiffness": f"{self.torque}/rad", "mass": self.mass, "time": "s",
+                 "": ""}
         try:
             return table[quantity]
         except KeyError:
@@ -68,6 +75,30 @@ class Units:
         lf = float(ureg.Quantity(1.0, self.length).to("m").magnitude)
         ff = float(ureg.Quantity(1.0, self.force).to("N").magnitude)
         return {"length": lf, "force": ff, "torque": lf * ff, "angle": 1.0}
+
+
+    def factor(self, unit: str, dimension: str) -> float:
+        """How many of the model's units of ``dimension`` (``length``, ``force``, ``mass``,
+        ``time``) make one ``unit`` (a pint unit: ``kg``, ``m``, ``N``, ``s``), through pint;
+        e.g. ``Units("cm", "kN").factor("kg", "mass") == 1e-5``."""
+        target = {"length": self.length, "force": self.force, "time": "s",
+                  "mass": f"{self.force}*s**2/{self.length}"}.get(dimension)
+        if target is None:
+            raise InputError(f"unknown dimension {dimension!r} (length, force, mass, time)")
+        if not self.declared:
+            raise InputError("the model declares no units (units: {length: ..., force: ...}): "
+                             f"{unit} cannot be converted")
+        try:
+            import pint
+        except ImportError:
+            raise InputError("unit conversions need the 'pint' package "
+                             "(pip install 'screwkit[units]')") from None
+        ureg = _registry(pint)
+        try:
+            return float(ureg.Quantity(1.0, unit).to(target).magnitude)
+        except (pint.errors.PintError, AttributeError, TypeError, ValueError) as exc:
+            raise InputError(f"cannot convert {unit!r} to a {dimension} "
+                             f"({type(exc).__name__}: {exc})") from None
 
 
 _REG = []

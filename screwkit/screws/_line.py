@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._primitives import as_vector3, unit
 from ._vector import cross
@@ -55,12 +56,12 @@ class Line:
         """The point of the line closest to the origin."""
         return cross(self.direction, self.moment)
 
-    def distance_to_point(self, x) -> float:
+    def distance_to_point(self, x: ArrayLike) -> float:
         """Distance from point ``x`` to the line."""
         x = as_vector3(x, "point")
         return float(np.linalg.norm(cross(x - self.point, self.direction)))
 
-    def contains(self, x, atol: float) -> bool:
+    def contains(self, x: ArrayLike, atol: float) -> bool:
         """True when ``x`` lies on the line within absolute distance ``atol``."""
         return self.distance_to_point(x) <= atol
 
@@ -76,7 +77,7 @@ class Line:
             return other.distance_to_point(self.point)
         return abs(float(np.dot(self.direction, other.moment) + np.dot(other.direction, self.moment))) / n
 
-    def closest_points(self, other: "Line"):
+    def closest_points(self, other: "Line") -> tuple[np.ndarray, np.ndarray]:
         """Closest points ``(x1 on self, x2 on other)``; for parallel lines ``x1`` is ``self.point``."""
         p1, d1 = self.point, self.direction
         p2, d2 = other.point, other.direction
@@ -90,7 +91,7 @@ class Line:
         t2 = np.dot(cross(p2 - p1, d1), c) / n2
         return p1 + t1 * d1, p2 + t2 * d2
 
-    def transformed(self, rotation, translation) -> "Line":
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Line":
         """The line moved by ``x -> R x + p``."""
         R = np.asarray(rotation, float)
         return Line.through(R @ self.point + as_vector3(translation, "translation"), R @ self.direction)

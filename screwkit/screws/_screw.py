@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ._line import Line
@@ -83,7 +84,7 @@ class Twist(_Screw):
             return None
         return Line.through(screw_axis_point(self.vector, "twist"), self.omega)
 
-    def transformed(self, rotation, translation) -> "Twist":
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Twist":
         """This twist expressed in frame {a} when ``x_a = R x_b + p`` (self in {b})."""
         return Twist(transform_twists(rotation, translation, self.vector))
 
@@ -127,11 +128,11 @@ class Wrench(_Screw):
             return None
         return Line.through(screw_axis_point(self.vector, "wrench"), self.force)
 
-    def moment_about(self, point) -> np.ndarray:
+    def moment_about(self, point: ArrayLike) -> np.ndarray:
         """Moment of the wrench about ``point``: ``m - point x f``."""
         return self.moment - cross(as_vector3(point, "point"), self.force)
 
-    def transformed(self, rotation, translation) -> "Wrench":
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Wrench":
         """This wrench expressed in frame {a} when ``x_a = R x_b + p`` (self in {b})."""
         return Wrench(transform_wrenches(rotation, translation, self.vector))
 
@@ -147,20 +148,20 @@ class Wrench(_Screw):
 # constructors
 # ---------------------------------------------------------------------------
 
-def revolute_twist(direction, point) -> Twist:
+def revolute_twist(direction: ArrayLike, point: ArrayLike) -> Twist:
     """Unit twist of a revolute joint: ``[p x u; u]`` (``v = w x (O - p)``)."""
     u = unit(direction, "revolute axis")
     p = as_vector3(point, "revolute point")
     return Twist(np.concatenate([cross(p, u), u]))
 
 
-def prismatic_twist(direction) -> Twist:
+def prismatic_twist(direction: ArrayLike) -> Twist:
     """Unit twist of a prismatic joint: ``[u; 0]``."""
     u = unit(direction, "prismatic direction")
     return Twist(np.concatenate([u, np.zeros(3)]))
 
 
-def helical_twist(direction, point, pitch: float) -> Twist:
+def helical_twist(direction: ArrayLike, point: ArrayLike, pitch: float) -> Twist:
     """Unit twist of a helical joint of ``pitch`` (length per radian): ``[p x u + h u; u]``."""
     u = unit(direction, "helical axis")
     p = as_vector3(point, "helical point")
@@ -170,14 +171,14 @@ def helical_twist(direction, point, pitch: float) -> Twist:
     return Twist(np.concatenate([cross(p, u) + h * u, u]))
 
 
-def force_wrench(direction, point, magnitude: float = 1.0) -> Wrench:
+def force_wrench(direction: ArrayLike, point: ArrayLike, magnitude: float = 1.0) -> Wrench:
     """A pure force of ``magnitude`` along ``direction`` through ``point``: ``[f; p x f]``."""
     f = float(magnitude) * unit(direction, "force direction")
     p = as_vector3(point, "force point")
     return Wrench(np.concatenate([f, cross(p, f)]))
 
 
-def couple_wrench(direction, magnitude: float = 1.0) -> Wrench:
+def couple_wrench(direction: ArrayLike, magnitude: float = 1.0) -> Wrench:
     """A pure couple of ``magnitude`` about ``direction``: ``[0; t]``."""
     t = float(magnitude) * unit(direction, "couple direction")
     return Wrench(np.concatenate([np.zeros(3), t]))

@@ -7,9 +7,10 @@ overhead is most of the cost.  For such matrices the singular values have closed
 that are as accurate as LAPACK's (an absolute error of a few ulps of the largest one):
 
 * one row ``r``: ``|r|``;
-* two rows ``r1, r2``: ``s1 s2 = |r1 ^ r2|`` (the wedge product, summed over pairs of
-  components: no cancellation) and ``s1^2 = (a + b + sqrt((a - b)^2 + 4 c^2)) / 2`` with
-  ``a = |r1|^2``, ``b = |r2|^2``, ``c = r1 . r2`` (a sum of squares under the root), so
+* two rows ``r1, r2``: ``s1 s2 = |r1 ^ r2| = |r1| |r2 - (c / a) r1|`` (the component of
+  ``r2`` normal to ``r1``: an absolute error of a few ulps of ``|r2|``, no cancellation)
+  and ``s1^2 = (a + b + sqrt((a - b)^2 + 4 c^2)) / 2`` with ``a = |r1|^2``,
+  ``b = |r2|^2``, ``c = r1 . r2`` (a sum of squares under the root), so
   ``s2 = |r1 ^ r2| / s1``.
 
 The thresholds of the rank decisions (``1e-9`` and more, relative) are far above these
@@ -26,6 +27,7 @@ routine fail to converge (NaN results), ``numpy.linalg.svd`` is called to raise 
 from __future__ import annotations
 
 import math
+import operator
 
 import numpy as np
 
@@ -91,22 +93,22 @@ def small_rank(rows, rtol: float, floor: float = 1.0) -> int | None:
 def small_singular_values(rows) -> list | None:
     """Singular values (descending) of a matrix of one or two rows (lists of floats).
 
-    Returns None for more rows (or none): the caller uses the SVD.
+    Returns None for more rows (or none), or where the closed form would overflow or
+    underflow: the caller uses the SVD.
     """
     if len(rows) == 1:
-        return [math.sqrt(sum(x * x for x in rows[0]))]
+        s = math.hypot(*rows[0])
+        return [s] if math.isfinite(s) else None
     if len(rows) != 2:
         return None
     r1, r2 = rows
-    a = sum(x * x for x in r1)
-    b = sum(y * y for y in r2)
-    c = sum(x * y for x, y in zip(r1, r2))
-    n = len(r1)
-    w2 = 0.0
-    for i in range(n):
-        xi, yi = r1[i], r2[i]
-        for j in range(i + 1, n):
-            t = xi * r2[j] - r1[j] * yi
-            w2 += t * t
-    s1 = math.sqrt(0.5 * (a + b + math.sqrt((a - b) * (a - b) + 4.0 * c * c)))
-    return [s1, math.sqrt(w2) / s1 if s1 > 0 else 0.0]
+    n1, n2 = math.hypot(*r1), math.hypot(*r2)
+    if not (n1 > 1e-150 and n2 > 1e-150 and n1 < 1e150 and n2 < 1e150):
+        return None
+    c = sum(map(operator.mul, r1, r2))
+    t = c / (n1 * n1)
+    # |r1 ^ r2| = |r1| |r2 - t r1|: the component of r2 normal to r1, without cancellation
+    normal = math.hypot(*[y - t * x for x, y in zip(r1, r2)])
+    a, b = n1 * n1, n2 * n2
+    s1 = math.sqrt(0.5 * (a + b + math.hypot(a - b, 2.0 * c)))
+    return [s1, n1 * normal / s1]

@@ -219,14 +219,15 @@ class ValidationReport:
         return self.n_problems == 0
 
     def summary(self) -> str:
+        """One line of counts. It carries no run time (that is ``seconds``), so a table
+        generated with it is the same from run to run."""
         n = self.counts
         return (f"{n['strings']} strings: {n['force']} can exert a constraint force, "
                 f"{n['couple']} a constraint couple, {n['both']} both, {n['neither']} neither; "
                 f"{n['dependent']} always have dependent joints; {n['synthesized_legs']} "
                 f"synthesized legs verified by the solver; catalog: {n['catalog_legs']} legs; "
                 f"{n['disagreements']} disagreement{'s' * (n['disagreements'] != 1)} "
-                f"({self.draws} draw{'s' * (self.draws != 1)}, seed {self.seed}, "
-                f"{self.seconds:.2f} s)")
+                f"({self.draws} draw{'s' * (self.draws != 1)}, seed {self.seed})")
 
 
 # --------------------------------------------------------------------------- rows

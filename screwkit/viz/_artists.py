@@ -1,5 +1,5 @@
-"""Drawing primitives: 3D arrows (single and double headed), lines clipped to the drawing box,
-and the extent of the drawn points."""
+"""Drawing primitives: 3D arrows (single and double headed, filled or open heads), the sleeve
+of a prismatic joint, lines clipped to the drawing box, and the extent of the drawn points."""
 
 from __future__ import annotations
 
@@ -30,20 +30,52 @@ def _arrow3d_class():
     return Arrow3D
 
 
-def _arrow(ax, p0, p1, color, style="-|>", lw=2.0, scale=14, zorder=5, alpha=1.0, gid=None):
-    """A 3D arrow; ``gid`` tags it (``"force:..."``, ``"row:3"``...) for tests and users."""
+def _arrow(ax, p0, p1, color, style="-|>", lw=2.0, scale=14, zorder=5, alpha=1.0, gid=None,
+           hollow=False):
+    """A 3D arrow; ``gid`` tags it (``"force:..."``, ``"row:3"``...) for tests and users.
+    ``hollow``: an open (white-filled) head, the mark of a constraint wrench."""
     arrow = _arrow3d_class()(p0, p1, arrowstyle=style, mutation_scale=scale, lw=lw,
-                             color=color, shrinkA=0, shrinkB=0, zorder=zorder, alpha=alpha)
+                             edgecolor=color, facecolor="white" if hollow else color,
+                             shrinkA=0, shrinkB=0, zorder=zorder, alpha=alpha)
     arrow.set_gid(gid)
     ax.add_artist(arrow)
     return arrow
 
 
-def _double_head(ax, p0, p1, color, lw=2.0, scale=14, gid=None):
+def _double_head(ax, p0, p1, color, lw=2.0, scale=14, gid=None, hollow=False):
     """Couple symbol: an arrow with two heads at its tip."""
     p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
-    _arrow(ax, p0, p1, color, lw=lw, scale=scale, gid=gid)
-    _arrow(ax, p0, p0 + 0.8 * (p1 - p0), color, lw=lw, scale=scale, gid=gid)
+    _arrow(ax, p0, p1, color, lw=lw, scale=scale, gid=gid, hollow=hollow)
+    _arrow(ax, p0, p0 + 0.8 * (p1 - p0), color, lw=lw, scale=scale, gid=gid, hollow=hollow)
+
+
+def _perpendiculars(d):
+    """Two unit vectors completing the unit vector ``d`` to a right-handed frame."""
+    d = np.asarray(d, float) / np.linalg.norm(d)
+    t = np.eye(3)[int(np.argmin(np.abs(d)))]
+    e1 = np.cross(d, t)
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(d, e1)
+
+
+def _sleeve(ax, centre, d, half_length, half_width, edge, face, gid=None):
+    """A prismatic joint: a square sleeve (box) of ``2 half_length`` along ``d`` around its
+    centre; returns its 8 corners (4 at each end)."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    d = np.asarray(d, float) / np.linalg.norm(d)
+    e1, e2 = _perpendiculars(d)
+    ring = [half_width * (s1 * e1 + s2 * e2) for s1, s2 in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
+    c = np.asarray(centre, float)
+    lo = np.array([c - half_length * d + q for q in ring])
+    hi = np.array([c + half_length * d + q for q in ring])
+    faces = [[lo[k], lo[(k + 1) % 4], hi[(k + 1) % 4], hi[k]] for k in range(4)] + [lo, hi]
+    poly = Poly3DCollection(faces, facecolors=face, edgecolors=edge, linewidths=0.8,
+                            alpha=0.9)
+    poly.set_gid(gid)
+    poly.xyz = np.vstack([lo, hi])          # the corners in data coordinates (like arrows)
+    ax.add_collection3d(poly)
+    return poly.xyz
 
 
 def _clip_line(point, direction, lo, hi):

@@ -14,20 +14,29 @@ Drawing conventions
 -------------------
 * equivalent chain: grey polyline ``A -> joint points -> a``;
 * R (and H) axis: dark segment of a quarter of the leg length centred at its point;
-* P: orange double-headed arrow along its sliding direction;
+* P: a grey square sleeve along its sliding direction (the chain runs through it);
 * S centre: large purple ball; U centre: small purple dot (its two R axes drawn);
-* constraint force: blue arrow at its named point, its line dashed across the drawing;
+* constraint wrenches have open (white) heads, actuation wrenches filled heads;
+* constraint force: arrow at its named point, its line dashed across the drawing;
   where the point is the meeting point of two axes (``R1^R5``) the axes are
   extended to it (dotted);
-* constraint couple: green arrow with two heads (a free vector: drawn from the
-  leg's midpoint, or beside the leg when it is along the leg);
-* actuation wrench: red (a force is drawn where its line is closest to ``a``).
+* constraint couple: arrow with two heads (a free vector: drawn beside the leg where it
+  is clear of the joints, the chain and the other arrows, tied to the leg by a dotted
+  line);
+* actuation wrench: a force is drawn where its line is closest to ``a`` (its line
+  dash-dotted); an actuation couple has two filled heads;
+* one leg (:func:`draw_leg`): wrenches coloured by kind (blue constraint force, green
+  couple, magenta finite-pitch wrench, red actuation); a PM (:func:`draw_pm`): every
+  leg, its chain and its wrenches in the leg's colour (:func:`~screwkit.viz.leg_color`,
+  the colour of its curves in :func:`~screwkit.viz.plot_fig5`);
+* labels are placed by a pass on their screen boxes (:mod:`screwkit.viz._labels`): no
+  label covers another label or a marker; a label moved off its anchor gets a leader.
 
 Artists are tagged with matplotlib gids so that callers (and tests) can find
 them: arrows ``"force:k"``, ``"couple:k"``, ``"screw:k"`` (k-th constraint
-member), ``"actuation:<kind>"``, ``"joint:P2"`` (P joints), ``"row:i"`` (the
-i-th wrench row of :func:`draw_pm`); polygons ``"base"`` and ``"platform"``.
-Arrows carry their tail and head in data coordinates as ``arrow.xyz``.
+member), ``"actuation:<kind>"``, ``"row:i"`` (the i-th wrench row of :func:`draw_pm`);
+polygons ``"base"`` and ``"platform"``; the sleeve of a P joint ``"joint:P2"``; the labels
+``"label"``.  Arrows carry their tail and head in data coordinates as ``arrow.xyz``.
 """
 
 from __future__ import annotations
@@ -35,13 +44,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._artists import _Extent, _arrow, _clip_line, _double_head
+from ._artists import _Extent, _arrow, _clip_line, _double_head, _sleeve
 from ._axes import _check_3d_axes, _check_view, _finish_axes
 from ._figure import COLORS, new_figure, require_matplotlib, save_figure
 from ._labels import _Labeller
+from ._spots import couple_tail
 from ._view import _View, _choose_view
 
 __all__ = ["draw_leg"]
+
+#: The line of a force drawn across the drawing: dash-dot for an actuation force, dashed for
+#: a constraint force.
+_LINE_STYLE = {True: (0, (6, 2.5, 1.5, 2.5)), False: (0, (5, 4))}
 
 def _leg_direction_groups(leg, extra=()):
     """Directions drawn at each point of a leg (for the choice of view)."""
@@ -58,9 +72,19 @@ def _leg_direction_groups(leg, extra=()):
     return list(groups.values()) or [[legdir]]
 
 
+def _joint_name(name: str, tag) -> str:
+    """A joint's label; in a PM drawing it carries the leg number as a subscript (``R1₂``)."""
+    return name if tag is None else f"{name}$_{{{tag}}}$"
+
+
 def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
-                  end_labels=("A", "a"), label_size=7, labeller=None):
-    """Draw a leg's chain and joints; returns the set of element kinds drawn."""
+                  end_labels=("A", "a"), label_size=7, labeller=None, color=None, leg_tag=None):
+    """Draw a leg's chain and joints; returns the set of element kinds drawn.
+
+    ``color``: the chain's colour (default grey; a PM drawing passes the leg's colour);
+    ``leg_tag``: the leg number carried by the joint labels.  The joints, end points and
+    chain segments are registered with the labeller as obstacles of the labels.
+    """
     L = leg.length
     seg = 0.25 * L
     kinds = {"chain", "end"}
@@ -71,12 +95,13 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
         if np.linalg.norm(p - pts[-1]) > 1e-9 * L:
             pts.append(p)
     pts = np.array(pts)
-    ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=COLORS["chain"], lw=3.0, alpha=0.9,
-            solid_capstyle="round", zorder=1)
+    ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=color or COLORS["chain"], lw=3.0,
+            alpha=0.9 if color is None else 0.75, solid_capstyle="round", zorder=1)
     ext.add(pts)
     for i in range(len(pts) - 1):
         lab.block(pts[i], pts[i + 1] - pts[i])
         lab.block(pts[i + 1], pts[i] - pts[i + 1])
+        lab.segment(pts[i], pts[i + 1])
     centres_done, centre_labels = set(), []
     for j in leg.joints:
         origin = j.spec.origin
@@ -87,49 +112,58 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
                 centres_done.add(group)
                 ax.scatter(*j.point, s=140, color=COLORS["S"], depthshade=False, zorder=4,
                            edgecolors="white", linewidths=0.8)
+                lab.marker(j.point, 6.5)
                 kinds.add("S")
                 if joint_labels:
-                    centre_labels.append((j.point, group + act, COLORS["S"]))
+                    centre_labels.append((j.point, _joint_name(group, leg_tag) + act,
+                                          COLORS["S"]))
             continue
         if j.kind == "P":
             d = j.direction
-            p0, p1 = j.point - 0.15 * L * d, j.point + 0.15 * L * d
-            _arrow(ax, p0, p1, COLORS["P"], style="<|-|>", lw=2.2, scale=12,
-                   gid=f"joint:{j.name}")
-            ext.add(p0, p1)
+            corners = _sleeve(ax, j.point, d, 0.09 * L, 0.03 * L, COLORS["P"], COLORS["P_fill"],
+                              gid=f"joint:{j.name}")
+            ext.add(corners)
+            lab.segment(j.point - 0.09 * L * d, j.point + 0.09 * L * d)
+            lab.marker(j.point, 4.0)
             kinds.add("P")
             if joint_labels:
                 lab.block(j.point, d)
                 lab.block(j.point, -d)
-                lab.around(j.point, j.name + act, COLORS["P"], label_size, dist=0.04)
+                lab.around(j.point, _joint_name(j.name, leg_tag) + act, COLORS["P"], label_size,
+                           priority=2)
             continue
         # R or H axis (also the axes of U and C)
         p0, p1 = j.point - 0.5 * seg * j.direction, j.point + 0.5 * seg * j.direction
         ax.plot(*np.array([p0, p1]).T, color=COLORS["R"], lw=2.4, zorder=3,
                 solid_capstyle="butt")
         ext.add(p0, p1)
+        lab.segment(p0, p1)
         kinds.add("H" if j.kind == "H" else "R")
         if origin == "U" and group not in centres_done:
             centres_done.add(group)
             ax.scatter(*j.point, s=45, color=COLORS["U"], depthshade=False, zorder=4)
+            lab.marker(j.point, 3.5)
             kinds.add("U")
             if joint_labels:
-                centre_labels.append((j.point, group, COLORS["U"]))
+                centre_labels.append((j.point, _joint_name(group, leg_tag), COLORS["U"]))
         if joint_labels:
-            tag = j.name + ("" if j.kind == "R" else f" ({j.kind}, pitch {j.pitch:.3g})") + act
+            tag = _joint_name(j.name, leg_tag) + (
+                "" if j.kind == "R" else f" ({j.kind}, pitch {j.pitch:.3g})") + act
             sgn = lab.axis_end(j.point, j.direction)
             lab.tip(j.point + sgn * 0.5 * seg * j.direction, sgn * j.direction, tag,
-                    COLORS["R"], label_size, 0.02 * L)
+                    COLORS["R"], label_size)
         else:
             lab.block(j.point, j.direction)
             lab.block(j.point, -j.direction)
     ax.scatter(*np.array([leg.A, leg.a]).T, s=22, marker="s", color=COLORS["end"],
                depthshade=False, zorder=4)
+    lab.marker(leg.A, 2.5)
+    lab.marker(leg.a, 2.5)
     if end_labels:
         lab.around(leg.A, end_labels[0], "k", label_size + 1)
         lab.around(leg.a, end_labels[1], "k", label_size + 1)
-    for q, text, color in centre_labels:
-        lab.around(q, text, color, label_size)
+    for q, text, c in centre_labels:
+        lab.around(q, text, c, label_size, priority=2)
     return kinds
 
 
@@ -208,24 +242,31 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
     for kind, c, ckey, lab, gid in items:
         d = np.asarray(c.direction, float)
         color = COLORS[ckey]
-        if kind == "couple":  # a free vector: drawn beside the leg if along it
-            p0 = mid
-            if abs(float(np.dot(d, legdir))) > 0.5:
-                p0 = mid + 0.3 * L * v.side(legdir)
+        hollow = ckey != "actuation"          # open heads: constraint wrenches
+        if kind == "couple":  # a free vector: drawn beside the leg, away from the joints
+            p0, root = couple_tail(v, leg.A, leg.a, arrow_len * d, L,
+                                   [m[0] for m in labeller.markers], labeller.segments)
             p1 = p0 + arrow_len * d
-            _double_head(ax, p0, p1, color, gid=gid)
+            _double_head(ax, p0, p1, color, gid=gid, hollow=hollow)
+            ax.plot(*np.array([root, p0]).T, color=color, lw=0.8, ls=":", zorder=2)
+            labeller.segment(root, p0)
             ext.add(p0, p1)
-            labeller.tip(p1, d, lab, color, 8, 0.03 * L)
+            labeller.segment(p0, p1)
+            labeller.marker(p1, 5.0)
+            labeller.tip(p1, d, lab, color, 8, priority=0)
             kinds.add("actuation-couple" if ckey == "actuation" else "couple")
             continue
         p = np.asarray(c.point if c.point is not None else mid, float)
         if ckey == "actuation":  # drawn where it acts on the platform: nearest to a
             p = p + float(np.dot(leg.a - p, d)) * d
         p1 = p + arrow_len * d
-        _arrow(ax, p, p1, color, lw=2.2, gid=gid)
+        _arrow(ax, p, p1, color, lw=2.2, gid=gid, hollow=hollow)
         if kind == "screw":  # a second, thinner head marks the finite pitch
-            _arrow(ax, p, p + 0.8 * arrow_len * d, color, lw=1.0, scale=10, gid=gid)
+            _arrow(ax, p, p + 0.8 * arrow_len * d, color, lw=1.0, scale=10, gid=gid,
+                   hollow=hollow)
         ext.add(p, p1)
+        labeller.segment(p, p1)
+        labeller.marker(p1, 5.0)
         if c.point_name and "^" in c.point_name:  # show where the two axes meet
             for jn in c.point_name.split("^"):
                 try:
@@ -235,16 +276,18 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
                 ax.plot(*np.array([jp, c.point]).T, color=COLORS["R"], lw=0.9, ls=":",
                         zorder=2)
             ax.scatter(*c.point, s=14, color=color, depthshade=False, zorder=4)
+            labeller.marker(c.point, 2.5)
             kinds.add("meet")
         where = f" through {c.point_name.replace('^', '∩')}" if c.point_name else ""
-        labeller.beside(p1 - 0.1 * arrow_len * d, d, lab + where, color, 8, 0.04 * L)
-        lines.append((p, d, color))
+        labeller.beside(p1 - 0.1 * arrow_len * d, d, lab + where, color, 8)
+        lines.append((p, d, color, ckey == "actuation"))
         kinds.add(ckey)
     box = ext.box()
-    for p, d, color in lines:
+    for p, d, color, act in lines:
         seg = _clip_line(p, d, *box)
         if seg is not None:
-            ax.plot(*np.array(seg).T, color=color, lw=1.0, ls=(0, (5, 4)), alpha=0.8, zorder=2)
+            ax.plot(*np.array(seg).T, color=color, lw=1.0, ls=_LINE_STYLE[act], alpha=0.8,
+                    zorder=2)
     if title is None:
         title = f"leg {leg.name}  [{leg.string.marked}]"
         if analysis is not None:
@@ -254,5 +297,6 @@ def draw_leg(leg, analysis=None, ax=None, out=None, *, dpi: int = 150, title: st
                 title += f"; actuation: {a.member.kind} ({a.joint})"
     note = f"view: elevation {v.elev:g}°, azimuth {v.azim:g}°"
     _finish_axes(ax, box, v, length_unit, title, kinds, legend, own, note)
+    labeller.place()
     save_figure(fig, out, dpi)
     return fig

@@ -12,9 +12,10 @@ import numpy as np
 from ..errors import InputError
 from ._artists import _Extent, _arrow, _clip_line, _double_head
 from ._axes import _check_3d_axes, _check_view, _finish_axes
-from ._figure import COLORS, new_figure, require_matplotlib, save_figure
+from ._figure import COLORS, leg_color, new_figure, require_matplotlib, save_figure
 from ._labels import _Labeller
-from ._leg_drawing import _leg_geometry
+from ._leg_drawing import _LINE_STYLE, _leg_geometry
+from ._spots import couple_tail
 from ._view import _choose_pm_view
 
 __all__ = ["draw_pm"]
@@ -58,8 +59,14 @@ def _check_rows(rows, values, n_legs):
         q = r.get("quantity")
         if q not in (None, "force", "torque"):
             raise InputError(f"wrench row {i}: quantity must be 'force' or 'torque', got {q!r}")
+        det = r.get("determined", True)
+        act = r.get("actuation", kind == "actuation")
+        if not isinstance(det, (bool, np.bool_)) or not isinstance(act, (bool, np.bool_)):
+            raise InputError(f"wrench row {i}: 'determined' and 'actuation' must be True or "
+                             "False")
         out.append(dict(kind=kind, leg=int(leg), direction=d, point=p, value=v,
-                        label=r.get("label"), quantity=q))
+                        label=r.get("label"), quantity=q, determined=bool(det),
+                        actuation=bool(act)))
     return out
 
 
@@ -74,6 +81,18 @@ def _default_labels(rows):
             seen[b] = seen.get(b, 0) + 1
             b = b[:-1] + f",{seen[b]}}}"
         r["label"] = f"${b}$"
+
+
+def _three_digits(v: float) -> str:
+    """3 significant digits like ``{:.3g}`` (trailing zeros dropped), without an exponent
+    for 0.001 <= |v| < 1e5."""
+    a = abs(v)
+    if a == 0.0 or not 1e-3 <= a < 1e5:
+        return f"{v:.3g}"
+    r = float(f"{v:.3g}")
+    digits = 2 - int(np.floor(np.log10(abs(r))))
+    text = f"{r:.{max(digits, 0)}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 def _polygon(ax, pts, face, edge, alpha, ext, gid=None):
@@ -103,8 +122,13 @@ def _as_points(x, name):
 def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None, ax=None,
             out=None, title=None, *, force_unit: str = "kN", torque_unit: str = "kN.cm",
             length_unit: str = "cm", dpi: int = 150, joint_labels: bool = False,
-            value_format: str = "{:.3g}", view=None):
+            value_format: str | None = None, view=None, indeterminate_note: str | None = None):
     """Draw a PM at one pose with its wrench rows.
+
+    Every leg, its chain, its wrench arrows and their labels are drawn in the leg's colour
+    (:func:`~screwkit.viz.leg_color`, the colour of its curves in
+    :func:`~screwkit.viz.plot_fig5`); actuation wrenches have filled heads, constraint
+    wrenches open heads.
 
     Parameters
     ----------
@@ -120,14 +144,19 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         Wrenches to draw, each ``{"kind": "actuation"|"force"|"couple", "leg": i,
         "direction": (3,), "point": (3,) or None, "value": float}`` and
         optionally ``"label"`` (mathtext allowed; default ``F_a{i+1}``,
-        ``F_c{i+1}``, ``T_r{i+1}``).  The drawn vector is ``value * direction``
+        ``F_c{i+1}``, ``T_r{i+1}``), ``"quantity"`` (``"force"`` or ``"torque"``: the
+        unit of the value), ``"actuation"`` (a couple that is an actuation torque;
+        default: kind is ``"actuation"``) and ``"determined"`` (False: statics does not
+        fix the value, e.g. the least-norm couples of an indeterminate PM; its label gets
+        a ``*`` and the note explains it).  The drawn vector is ``value * direction``
         (direction normalised); arrow lengths are proportional to ``|value|``
         relative to the largest of the same unit (forces and couples scaled
         separately), with a floor of 15 % so that small values stay visible.
         A force is drawn on its line at the point nearest to its leg's
-        platform point ``a``, its line dashed; a couple as a double-headed
-        arrow from its leg's midpoint.  A NaN value is drawn at the floor
-        length and labelled ``n/a``.
+        platform point ``a``, its line dashed (dash-dotted for an actuation force);
+        a couple as a double-headed arrow beside its leg, where it is clear of the
+        joints, chains and other arrows, tied to the leg by a dotted line.  A NaN value
+        is drawn at the floor length and labelled ``n/a``.
     values : array_like (len(rows),), optional
         Values overriding the rows' ``"value"`` (e.g. a statics solution).
     ax : Axes3D, optional
@@ -138,12 +167,17 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         Units printed in the labels.
     dpi : int
     joint_labels : bool
-        Label every joint (cluttered for a whole PM; default off).
-    value_format : str
-        Format of the values in the labels.
+        Label every joint, with its leg number as a subscript (``R1`` of leg 2 is
+        ``R1₂``; cluttered for a whole PM; default off).
+    value_format : str, optional
+        Format of the values in the labels (default: 3 significant digits, written
+        without an exponent between 0.001 and 100000: ``1420``, ``2.37``).
     view : (elev, azim) in degrees, optional
         Default: the view nearest (20, -60) in which no point ``A_i``, ``a_i``,
         ``o`` hides behind another or behind a leg.
+    indeterminate_note : str, optional
+        The note explaining the ``*`` of undetermined values (default: "not determined
+        by statics (least-norm value)").
 
     Returns
     -------
@@ -174,60 +208,93 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         fig = ax.figure
     ext = _Extent()
     _polygon(ax, B, COLORS["base"], "#636363", 0.35, ext, gid="base")
-    _polygon(ax, Pw, COLORS["platform"], "#3182bd", 0.5, ext, gid="platform")
+    _polygon(ax, Pw, COLORS["platform"], "#525252", 0.45, ext, gid="platform")
     kinds = {"base", "platform"}
-    labeller = _Labeller(ax, v, size, span=3.0, width_pt=470.0)
+    labeller = _Labeller(ax, v, size)
     for i, leg in enumerate(legs):
         kinds |= _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels,
                                end_labels=(f"$A_{{{i + 1}}}$", f"$a_{{{i + 1}}}$"), label_size=7,
-                               labeller=labeller)
-    ax.scatter(*o, s=25, color="#3182bd", depthshade=False, zorder=4)
-    labeller.around(o, "o", "#08519c", 8, dist=0.04)
+                               labeller=labeller, color=leg_color(i), leg_tag=i + 1)
+    ax.scatter(*o, s=25, color="#252525", depthshade=False, zorder=4)
+    labeller.marker(o, 3.0)
+    labeller.around(o, "o", "#252525", 8)
+    drawn, floored = _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit,
+                                torque_unit, value_format)
+    kinds |= drawn
+    box = ext.box(pad=0.05)
+    for r in rows:
+        if r["kind"] != "couple":
+            seg = _clip_line(r["_p0"], r["direction"], *box)
+            if seg is not None:
+                ax.plot(*np.array(seg).T, color=leg_color(r["leg"]), lw=0.8,
+                        ls=_LINE_STYLE[r["actuation"]], alpha=0.6, zorder=2)
+    note = []
+    if rows:
+        note.append("arrow lengths proportional to |value|\n(forces and torques scaled "
+                    "separately)")
+        if floored:
+            note.append("drawn at 15 % of the largest\n(smaller or n/a): "
+                        + ", ".join(floored))
+    if any(not r["determined"] for r in rows):
+        note.append("* " + (indeterminate_note or
+                            "not determined by statics\n  (least-norm value)"))
+    leg_entries = [(leg_color(i), f"leg {i + 1} ({leg.name})") for i, leg in enumerate(legs)]
+    _finish_axes(ax, box, v, length_unit, title, kinds, True, own, "\n".join(note) or None,
+                 legs=leg_entries)
+    labeller.place()
+    save_figure(fig, out, dpi)
+    return fig
+
+
+def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, value_format):
+    """The wrench arrows of ``rows`` and their value labels; returns the kinds drawn and the
+    labels of the arrows drawn at the floor length."""
     max_len = 0.6 * size
-    vmax = {}
+    vmax, kinds, floored = {}, set(), []
     for r in rows:
         key = r.get("quantity") or ("torque" if r["kind"] == "couple" else "force")
         if np.isfinite(r["value"]):
             vmax[key] = max(vmax.get(key, 0.0), abs(r["value"]))
-    lines = []
     for irow, r in enumerate(rows):
         leg = legs[r["leg"]]
         is_couple = r["kind"] == "couple"
         key = r.get("quantity") or ("torque" if is_couple else "force")
         val = r["value"]
-        color = COLORS["actuation"] if r["kind"] == "actuation" else \
-            COLORS["couple"] if is_couple else COLORS["force"]
-        kinds.add(r["kind"])
+        color = leg_color(r["leg"])
+        hollow = not r["actuation"]
+        kinds.add(("actuation-couple" if r["actuation"] else "couple") if is_couple
+                  else "actuation" if r["actuation"] else "force")
         unit = torque_unit if key == "torque" else force_unit
-        text = f"{r['label']} = {value_format.format(val)} {unit}" if np.isfinite(val) \
+        star = "" if r["determined"] else "*"
+        shown = value_format.format(val) if value_format else _three_digits(val)
+        text = f"{r['label']} = {shown} {unit}{star}" if np.isfinite(val) \
             else f"{r['label']} = n/a"
         top = vmax.get(key, 0.0)
         if np.isfinite(val) and top > 0:
             frac, sgn = max(abs(val) / top, 0.15), (-1.0 if val < 0 else 1.0)
         else:
             frac, sgn = 0.15, 1.0
+        if not (np.isfinite(val) and top > 0 and abs(val) >= 0.15 * top):
+            floored.append(r["label"])
         vec = sgn * frac * max_len * r["direction"]
         if is_couple:
-            p0 = 0.5 * (leg.A + leg.a)
-            _double_head(ax, p0, p0 + vec, color, lw=2.0, scale=13, gid=f"row:{irow}")
+            p0, root = couple_tail(v, leg.A, leg.a, vec, size,
+                                   [m[0] for m in labeller.markers], labeller.segments)
+            _double_head(ax, p0, p0 + vec, color, lw=2.0, scale=13, gid=f"row:{irow}",
+                         hollow=hollow)
+            ax.plot(*np.array([root, p0]).T, color=color, lw=0.8, ls=":", zorder=2)
+            labeller.segment(root, p0)
         else:
             d, q = r["direction"], r["point"]
             p0 = q + float(np.dot(leg.a - q, d)) * d  # the line's point nearest to a
-            _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13, gid=f"row:{irow}")
-            lines.append((p0, d, color))
+            _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13, gid=f"row:{irow}", hollow=hollow)
+        r["_p0"] = p0
         ext.add(p0, p0 + vec)
+        labeller.segment(p0, p0 + vec)
+        labeller.marker(p0 + vec, 5.0)
+        u = vec / np.linalg.norm(vec)
         if is_couple:
-            labeller.tip(p0 + vec, vec / np.linalg.norm(vec), text, color, 7.5, 0.03 * size)
+            labeller.tip(p0 + vec, u, text, color, 7.5, priority=0)
         else:
-            labeller.beside(p0 + 0.75 * vec, vec / np.linalg.norm(vec), text, color, 7.5,
-                            0.05 * size)
-    box = ext.box(pad=0.05)
-    for p, d, color in lines:
-        seg = _clip_line(p, d, *box)
-        if seg is not None:
-            ax.plot(*np.array(seg).T, color=color, lw=0.8, ls=(0, (5, 4)), alpha=0.6, zorder=2)
-    _finish_axes(ax, box, v, length_unit, title, kinds, True, own,
-                 "arrow lengths proportional to |value|\n(forces and torques scaled separately)"
-                 if rows else None)
-    save_figure(fig, out, dpi)
-    return fig
+            labeller.beside(p0 + 0.75 * vec, u, text, color, 7.5)
+    return kinds, floored

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-__all__ = ["to_jsonable", "dump_json", "fmt_vec", "fmt_num"]
+__all__ = ["to_jsonable", "dump_json", "fmt_vec", "fmt_num", "write_output"]
 
 
 def to_jsonable(x):
@@ -44,3 +44,23 @@ def fmt_num(x: float, digits: int = 6) -> str:
 
 def fmt_vec(v, digits: int = 6) -> str:
     return "(" + ", ".join(fmt_num(float(c), digits) for c in np.asarray(v).ravel()) + ")"
+
+
+def write_output(path, text: str) -> None:
+    """Write ``text`` to the file ``path``, creating its missing parent folders.
+
+    Raises
+    ------
+    InputError
+        When the folder or the file cannot be written (named in the message).
+    """
+    from pathlib import Path
+
+    from ...errors import InputError
+
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        with open(path, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+    except OSError as exc:
+        raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from None

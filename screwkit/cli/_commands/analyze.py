@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 import numpy as np
 
+from ...legs._guards import MAX_LOAD, MAX_NAME, parse_number, shorten
 from ...errors import InputError
+from .._types import path
 from ...legs import point_label
 from ._common import dump_json, fmt_num, fmt_vec
 
@@ -16,40 +19,44 @@ F_r = -(J^-1)^T [F; T] for a workload (F, T) at the platform centre o. Angles in
 lengths in the model's units (the catalog's examples: cm, kN, kN.cm)."""
 
 
-def parse_assignments(items, what: str) -> dict:
-    """``["alpha=5", "Zo=80"]`` -> ``{"alpha": 5.0, "Zo": 80.0}`` (InputError on bad items)."""
+def parse_assignments(items, what: str, *, bound: float | None = None) -> dict:
+    """``["alpha=5", "Zo=80"]`` -> ``{"alpha": 5.0, "Zo": 80.0}`` (InputError on bad items).
+
+    Values are ASCII decimal numbers (no ``nan``, ``inf``, ``1_000`` or non-ASCII digits),
+    finite, at most ``bound`` in magnitude; a name given twice is refused."""
     out = {}
     for item in items or ():
         name, sep, val = item.partition("=")
         name = name.strip()
         if not sep or not name:
-            raise InputError(f"{what} {item!r} must look like NAME=VALUE")
-        try:
-            v = float(val)
-        except ValueError:
-            raise InputError(f"{what} {name}: {val!r} is not a number") from None
-        if not np.isfinite(v):
-            raise InputError(f"{what} {name} must be finite, got {val!r}")
-        out[name] = v
+            raise InputError(f"{what} {shorten(item)} must look like NAME=VALUE")
+        if len(name) > MAX_NAME or not name.isidentifier():
+            raise InputError(f"{what} {shorten(name)}: not a name (a dimension, pose parameter "
+                             "or row label such as L, alpha, F_a1)")
+        if name in out:
+            raise InputError(f"{what} {name} is given twice")
+        out[name] = parse_number(val, f"{what} {name}", bound=bound)
     return out
 
 
-def parse_triple(text: str, what: str):
-    parts = text.replace(" ", "").split(",")
-    try:
-        v = [float(p) for p in parts]
-    except ValueError:
-        raise InputError(f"{what} {text!r} must be three numbers X,Y,Z") from None
-    if len(v) != 3 or not np.all(np.isfinite(v)):
-        raise InputError(f"{what} {text!r} must be three finite numbers X,Y,Z")
-    return v
+def parse_triple(text: str, what: str, *, bound: float | None = MAX_LOAD):
+    """``"-20,-30,-60"`` -> three numbers (ASCII decimal, finite, at most ``bound``)."""
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise InputError(f"{what} {shorten(text)} must be three numbers X,Y,Z")
+    return [parse_number(p, f"{what} {'XYZ'[k]}", bound=bound) for k, p in enumerate(parts)]
+
+
+#: Largest stiffness of a row (--stiffness), in the model's units.
+MAX_STIFFNESS = 1e20
 
 
 def add_pm_arguments(p, pose=True):
     """Arguments shared by analyze, check, trajectory and draw."""
     p.add_argument("pm", nargs="?", help="catalog PM name (3RRPRR, 2SPS+2SPR, ...); "
                    "optional with --model")
-    p.add_argument("--model", metavar="FILE", help="a YAML model file (schema of the catalog's pms:)")
+    p.add_argument("--model", metavar="FILE", type=path,
+                   help="a YAML model file (schema of the catalog's pms:)")
     p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
                    help="override a dimension, e.g. --set L=150 (repeatable)")
     if pose:
@@ -72,6 +79,9 @@ def resolve_model(args):
     from ...api import load_pm
 
     overrides = parse_assignments(args.set, "--set")
+    if args.model and not os.path.isfile(args.model):
+        why = "not a regular file" if os.path.exists(args.model) else "no such file"
+        raise InputError(f"--model {shorten(args.model)}: {why}")
     if args.model:
         target = args.model if not args.pm else f"{args.model}#{args.pm}"
         return load_pm(target, overrides)
@@ -99,11 +109,13 @@ def register(sub):
 def run(args) -> int:
     from ...engine import analyze_pm
 
+    # the values first (a typo fails at once), then the model
+    stiffness = parse_assignments(getattr(args, "stiffness", []), "--stiffness",
+                                  bound=MAX_STIFFNESS) or None
+    pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
+    torque = parse_triple(args.torque, "--torque")
     model = resolve_model(args)
-    stiffness = parse_assignments(getattr(args, "stiffness", []), "--stiffness") or None
-    res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
-                     force=parse_triple(args.force, "--force"),
-                     torque=parse_triple(args.torque, "--torque"), stiffness=stiffness)
+    res = analyze_pm(model, pose, degrees=True, force=force, torque=torque, stiffness=stiffness)
     for w in res.warnings:                           # one line each, on stderr
         print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:

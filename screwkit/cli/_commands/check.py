@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...legs._guards import MAX_POSES, MAX_SEED
+from .._types import integer, number
 from ...errors import InputError
+from .._progress import add_quiet_argument, progress_bar
 from ._common import dump_json
 from .analyze import add_pm_arguments, parse_assignments, resolve_model
 
@@ -25,13 +28,14 @@ def register(sub):
                        description=HELP)
     add_pm_arguments(p)
     p.add_argument("--all", action="store_true", help="check every catalog PM")
-    p.add_argument("--poses", type=int, metavar="N", default=None,
+    p.add_argument("--poses", type=integer(1, MAX_POSES), metavar="N", default=None,
                    help="number of regular poses drawn per PM (default: 3 with --all; for one PM "
                         "the given or default pose only)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the pose draws (default 0)")
-    p.add_argument("--rtol", type=float, default=None, metavar="TOL",
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the pose draws (default 0)")
+    p.add_argument("--rtol", type=number(lo=0.0, hi=1.0), default=None, metavar="TOL",
                    help="relative tolerance of every deviation (default 1e-9)")
     p.add_argument("--json", action="store_true", help="print JSON (a list of reports) instead of text")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
@@ -61,7 +65,19 @@ def run(args) -> int:
         if args.pm or args.model or args.set or args.pose:
             raise InputError("--all checks the catalog's PMs at drawn poses: give no PM, --model, "
                              "--set or --pose with it")
-        reports = check_all(_poses(args, 3), args.seed, rtol=rtol)
+        from ...pm import pm_names
+
+        n = _poses(args, 3)
+        total = len(pm_names()) * n
+        with progress_bar(args, "check --all", "pose", total) as bar:
+            done = []
+
+            def step(report) -> None:
+                done.append(report)
+                if bar is not None:
+                    bar(len(done), total)
+
+            reports = check_all(n, args.seed, rtol=rtol, progress=step)
     else:
         model = resolve_model(args)
         pose = parse_assignments(args.pose, "--pose")

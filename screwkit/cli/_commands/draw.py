@@ -6,15 +6,20 @@ import sys
 
 import numpy as np
 
+from ...legs._guards import MAX_ANGLE_DEG, parse_number, shorten
+from .._types import integer, label, output
 from ...errors import InputError
 from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_triple,
                       resolve_model)
 
 HELP = """Draw a PM at a pose (the paper's Figs. 3b and 4b): base and platform polygons, the legs
-with their joints, the actuation forces on their lines (red), the constraint forces as arrows on
-their lines (blue, line dashed) and constraint couples as double-headed arrows (green), each
-arrow scaled by its value in the statics of the workload (F, T) at o and labelled with it.
-Angles in degrees, lengths and forces in the model's units."""
+with their joints (P joints as sleeves), the actuation forces on their lines (filled heads, line
+dash-dotted), the constraint forces as arrows on their lines (open heads, line dashed) and the
+constraint couples as double-headed arrows beside their legs, each arrow scaled by its value in
+the statics of the workload (F, T) at o and labelled with it; every leg and its wrenches in the
+leg's colour (the colours of `screwkit trajectory --plot`). Values that statics does not
+determine (an indeterminate PM) are marked *. Angles in degrees, lengths and forces in the
+model's units."""
 
 
 def register(sub):
@@ -22,15 +27,15 @@ def register(sub):
                        description=HELP)
     add_pm_arguments(p)
     add_load_arguments(p)
-    p.add_argument("-o", "--out", metavar="PNG", required=True, help="output image (PNG)")
+    p.add_argument("-o", "--out", metavar="PNG", required=True, type=output, help="output image (PNG)")
     p.add_argument("--view", metavar="ELEV,AZIM",
                    help="camera elevation and azimuth in degrees (default: chosen so that no "
                         "A_i, a_i or o hides behind a leg)")
     p.add_argument("--joint-labels", action="store_true", help="label every joint")
-    p.add_argument("--title", help="figure title (default: PM, pose and workload)")
-    p.add_argument("--length-unit", help="length unit printed (default: the model's)")
-    p.add_argument("--force-unit", help="force unit printed (default: the model's)")
-    p.add_argument("--dpi", type=int, default=150, help="resolution (default 150)")
+    p.add_argument("--title", type=label(), help="figure title (default: PM, pose and workload)")
+    p.add_argument("--length-unit", type=label(40), help="length unit printed (default: the model's)")
+    p.add_argument("--force-unit", type=label(40), help="force unit printed (default: the model's)")
+    p.add_argument("--dpi", type=integer(20, 1200), default=150, help="resolution (default 150)")
     p.set_defaults(func=run)
 
 
@@ -42,15 +47,20 @@ def wrench_rows(analysis, values: bool = True):
     rows : list of dict
         ``kind`` (actuation | force | couple), ``leg``, ``direction``, ``point``,
         ``value`` (the statics' value; NaN when singular or ``values`` is False),
-        ``label`` (``F_a1``, ``F_c2``, ``T_c3``; an actuation torque is ``T_a1``).
+        ``label`` (``F_a1``, ``F_c2``, ``T_c3``; an actuation torque is ``T_a1``),
+        ``determined`` (False where a self-stress of an indeterminate PM can change the
+        value: it is the least-norm or compliance-weighted choice).
     skipped : list of str
         Rows that cannot be drawn (finite-pitch wrenches, a dependent actuator).
     """
     jac, st = analysis.jacobian, analysis.statics
-    vals = st.values if (st is not None and values) else np.full(len(jac.rows), np.nan)
+    have = st is not None and values
+    vals = st.values if have else np.full(len(jac.rows), np.nan)
+    det = st.determined if have else np.ones(len(jac.rows), bool)
     rows, skipped = [], []
-    for r, v in zip(jac.rows, vals):
+    for r, v, dt in zip(jac.rows, vals, det):
         i = r.leg + 1
+        n0 = len(rows)
         if r.kind == "actuation":
             rotary = r.joint is not None and r.joint[0] in "RH"
             if r.member == "force":
@@ -61,7 +71,7 @@ def wrench_rows(analysis, values: bool = True):
                                  quantity="torque" if rotary else "force"))
             elif r.member == "couple":
                 rows.append(dict(kind="couple", leg=r.leg, direction=r.direction, point=None,
-                                 value=v, label=f"$T_{{a{i}}}$"))
+                                 value=v, label=f"$T_{{a{i}}}$", actuation=True))
             else:
                 skipped.append(f"leg {i}: actuation {r.member}")
         elif r.kind in ("force", "couple"):
@@ -70,6 +80,8 @@ def wrench_rows(analysis, values: bool = True):
                              value=v, label=f"${sym}{i}}}$"))
         else:
             skipped.append(f"leg {i}: constraint {r.kind}")
+        for row in rows[n0:]:
+            row["determined"] = bool(dt)
     labels = [r["label"] for r in rows]
     count = {}
     for r in rows:
@@ -81,8 +93,14 @@ def wrench_rows(analysis, values: bool = True):
 
 def _title(res, force_unit, length_unit, singular) -> str:
     p = res.solution.params_degrees()
+    scale = res.model.normalisation.length
+
+    def tidy(k):  # rounding noise of the solver (1e-16 deg) printed as 0
+        x = float(p[k])
+        return 0.0 if abs(x) < 1e-9 * (1.0 if k in ('alpha', 'beta', 'gamma') else scale) else x
+
     pose = ", ".join(
-        f"{k} = {p[k]:.4g}{'°' if k in ('alpha', 'beta', 'gamma') else ' ' + length_unit}"
+        f"{k} = {tidy(k):.4g}{'°' if k in ('alpha', 'beta', 'gamma') else ' ' + length_unit}"
         for k in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma"))
     F = ", ".join(f"{x:g}" for x in res.force)
     T = ", ".join(f"{x:g}" for x in res.torque)
@@ -91,6 +109,9 @@ def _title(res, force_unit, length_unit, singular) -> str:
          f"condition number {res.jacobian.condition_number:.3g}")
     if singular:
         t += f"\n{res.jacobian.singularity_kind.upper()} SINGULARITY: no statics (values n/a)"
+    elif res.jacobian.indeterminate:
+        t += (f"\nstatically indeterminate ({res.jacobian.indeterminacy} redundant rows): "
+              "values marked * are not determined by statics")
     return t
 
 
@@ -101,27 +122,29 @@ def run(args) -> int:
     require_matplotlib()
     view = None
     if args.view:
-        try:
-            view = tuple(float(x) for x in args.view.split(","))
-        except ValueError:
-            view = ()
-        if len(view) != 2 or not np.all(np.isfinite(view)):
-            raise InputError(f"--view {args.view!r} must be ELEV,AZIM in degrees")
+        parts = args.view.split(",")
+        if len(parts) != 2:
+            raise InputError(f"--view {shorten(args.view)} must be ELEV,AZIM in degrees")
+        view = tuple(parse_number(x, f"--view {w}", bound=MAX_ANGLE_DEG)
+                     for x, w in zip(parts, ("ELEV", "AZIM")))
     if args.dpi < 20 or args.dpi > 1200:
         raise InputError(f"--dpi {args.dpi} must be between 20 and 1200")
+    pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
+    torque = parse_triple(args.torque, "--torque")
     model = resolve_model(args)
-    res = analyze_pm(model, parse_assignments(args.pose, "--pose"), degrees=True,
-                     force=parse_triple(args.force, "--force"),
-                     torque=parse_triple(args.torque, "--torque"), raise_on_singular=False)
+    res = analyze_pm(model, pose, degrees=True, force=force, torque=torque,
+                     raise_on_singular=False)
     sol = res.solution
     singular = res.jacobian.singular
     rows, skipped = wrench_rows(res)
     fu = args.force_unit or model.units.force
     lu = args.length_unit or model.units.length
     title = args.title or _title(res, fu, lu, singular)
+    how = "compliance-weighted" if getattr(res, "stiffness", None) is not None else "least-norm"
     draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position, rows, out=args.out,
             title=title, force_unit=fu, torque_unit=f"{fu}·{lu}", length_unit=lu,
-            dpi=args.dpi, joint_labels=args.joint_labels, view=view)
+            dpi=args.dpi, joint_labels=args.joint_labels, view=view,
+            indeterminate_note=f"not determined by statics\n  ({how} value)")
     for s in skipped:
         print(f"screwkit draw: not drawn: {s}", file=sys.stderr)
     if singular:

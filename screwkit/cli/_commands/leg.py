@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from ...legs._guards import MAX_SEED
+from .._types import integer, output, path
 from ._common import dump_json, fmt_num, fmt_vec
 
 HELP = """Analyse one leg: a catalog variant by name (UPU/couple, RRPRR) or a bare leg
@@ -13,10 +15,10 @@ def register(sub):
                        description=HELP)
     p.add_argument("string", help="catalog name or leg string, e.g. RRPRR, UPU/couple, S_PR")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
-    p.add_argument("--seed", type=int, default=0,
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0,
                    help="seed of the generic geometry of a bare string (default 0)")
-    p.add_argument("--model", help="a YAML file with extra leg types (same schema as the catalog)")
-    p.add_argument("--draw", metavar="FILE",
+    p.add_argument("--model", type=path, help="a YAML file with extra leg types (same schema as the catalog)")
+    p.add_argument("--draw", metavar="FILE", type=output,
                    help="also save a 3D drawing of the leg and its wrenches (PNG; needs "
                         "matplotlib)")
     p.set_defaults(func=run)

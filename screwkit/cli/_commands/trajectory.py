@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import sys
-import time
 
-from ...errors import InputError
-from ._common import dump_json
+from .._types import label, output
+from .._progress import add_quiet_argument, progress_bar
+from ._common import dump_json, write_output
 from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
@@ -38,40 +38,16 @@ def register(sub):
     add_load_arguments(p)
     p.add_argument("--format", choices=("csv", "json"),
                    help="output format (default: from the --out suffix, else csv)")
-    p.add_argument("--out", metavar="FILE", help="write the table to FILE instead of stdout")
-    p.add_argument("--plot", metavar="PNG", help="also draw the panels of the paper's Fig. 5")
-    p.add_argument("--title", help="title of the plot")
-    p.add_argument("--length-unit", help="length unit printed on the plot (default: the model's)")
-    p.add_argument("--force-unit", help="force unit printed on the plot (default: the model's)")
-    p.add_argument("--no-progress", action="store_true",
-                   help="no progress bar (it is shown on a terminal only, for long runs)")
+    p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
+    p.add_argument("--plot", metavar="PNG", type=output, help="also draw the panels of the paper's Fig. 5")
+    p.add_argument("--title", type=label(), help="title of the plot")
+    p.add_argument("--length-unit", type=label(40), help="length unit printed on the plot (default: the model's)")
+    p.add_argument("--force-unit", type=label(40), help="force unit printed on the plot (default: the model's)")
+    add_quiet_argument(p)
+    p.add_argument("--no-progress", action="store_true", help=argparse.SUPPRESS)   # old --quiet
+    from ._dynamics_args import add_dynamics_arguments
+    add_dynamics_arguments(p)
     p.set_defaults(func=run)
-
-
-class ProgressBar:
-    """A one-line progress bar on a terminal's stderr, shown once a run lasts > 0.5 s."""
-
-    def __init__(self, stream=None, label="trajectory", delay=0.5, width=30):
-        self.stream = stream if stream is not None else sys.stderr
-        self.label, self.delay, self.width = label, delay, width
-        self.t0 = time.perf_counter()
-        self.shown = False
-
-    def __call__(self, done: int, total: int) -> None:
-        elapsed = time.perf_counter() - self.t0
-        if elapsed < self.delay and done < total:
-            return
-        if not self.shown and done >= total:
-            return                              # finished before the bar was due
-        self.shown = True
-        frac = done / max(total, 1)
-        bar = "#" * int(round(frac * self.width))
-        rate = done / elapsed if elapsed > 0 else 0.0
-        self.stream.write(f"\r{self.label} [{bar:<{self.width}}] {100 * frac:3.0f}% "
-                          f"{done}/{total} samples ({rate:.0f}/s)")
-        if done >= total:
-            self.stream.write("\n")
-        self.stream.flush()
 
 
 def _format(args) -> str:
@@ -87,22 +63,21 @@ def run(args) -> int:
     from ...paths import run_trajectory
 
     model = resolve_model(args)
-    path = path_from_args(args, model.independent)
     fmt = _format(args)
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
-    show = sys.stderr.isatty() and not args.no_progress
-    res = run_trajectory(model, path, parse_triple(args.force, "--force"),
-                         parse_triple(args.torque, "--torque"),
-                         progress=ProgressBar() if show else None)
+    if getattr(args, "dynamics", False):
+        from ._dynamics_args import run_dynamics
+        with progress_bar(args, "dynamics", "step") as progress:
+            return run_dynamics(args, model, fmt, progress)
+    path = path_from_args(args, model.independent)
+    with progress_bar(args, "trajectory", "step") as progress:
+        res = run_trajectory(model, path, parse_triple(args.force, "--force"),
+                             parse_triple(args.torque, "--torque"), progress=progress)
     text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
     if args.out:
-        try:
-            with open(args.out, "w", encoding="utf-8", newline="") as fh:
-                fh.write(text)
-        except OSError as exc:
-            raise InputError(f"cannot write {args.out!r}: {exc}") from None
+        write_output(args.out, text)
         print(f"wrote {args.out}", file=sys.stderr)
     else:
         sys.stdout.write(text)

@@ -7,7 +7,10 @@ import csv
 import io
 import sys
 
-from ._common import dump_json
+from ...legs._guards import MAX_DRAWS, MAX_ENTRIES, MAX_SEED
+from .._types import integer, output
+from .._progress import add_quiet_argument, progress_bar
+from ._common import dump_json, write_output
 
 HELP = """For every Table I string (or the STRINGs given): analyse a generic geometry, then
 for each target constraint system (one force, one couple; for legs with fewer than five
@@ -31,12 +34,13 @@ def register(sub):
                    help="leg strings to validate instead of Table I (e.g. UPU RR_PRR)")
     p.add_argument("--format", choices=("text", "markdown", "csv", "json"), default="text",
                    help="output format (default text)")
-    p.add_argument("--out", metavar="FILE", help="write the table to FILE (the summary line "
+    p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE (the summary line "
                    "still goes to standard output)")
-    p.add_argument("--draws", type=int, default=None,
+    p.add_argument("--draws", type=integer(1, MAX_DRAWS), default=None,
                    help="random draws per target (default 3)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random draws (default 0)")
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the random draws (default 0)")
     p.add_argument("--no-catalog", action="store_true", help="skip the catalog's legs")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
@@ -135,8 +139,11 @@ def run(args) -> int:
     draws = DEFAULT_DRAWS if args.draws is None else args.draws
     if draws < 1:
         raise InputError(f"--draws must be at least 1, got {draws}")
-    report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
-                             check_catalog=not args.no_catalog)
+    if len(args.strings) > MAX_ENTRIES:
+        raise InputError(f"{len(args.strings)} leg strings: validate takes at most {MAX_ENTRIES}")
+    with progress_bar(args, "validate", "string") as progress:
+        report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
+                                 check_catalog=not args.no_catalog, progress=progress)
     rows, cat_rows = report_rows(report), catalog_rows(report)
     if args.format == "json":
         text = dump_json(report_json(report)) + "\n"
@@ -147,11 +154,7 @@ def run(args) -> int:
     else:
         text = render_text(report, rows, cat_rows)
     if args.out:
-        try:
-            with open(args.out, "w", encoding="utf-8") as fh:
-                fh.write(text)
-        except OSError as exc:
-            raise InputError(f"cannot write {args.out}: {exc.strerror}") from None
+        write_output(args.out, text)
         print(report.summary())
     else:
         sys.stdout.write(text)

@@ -1,0 +1,46 @@
+"""Commands that write files create the folders they write to (a fresh folder, as a new user
+runs the tutorial), and say what they wrote."""
+
+from __future__ import annotations
+
+import pytest
+
+from screwkit.cli import COMMANDS, main
+
+EXPR = ["--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=6*sin(2*pi*t+1)", "--expr", "Zo=70+20*t"]
+
+CASES = [
+    ("validate", ["validate", "UPU", "--no-catalog", "--format", "markdown", "--out", "{d}/t.md"]),
+    ("trajectory", ["trajectory", "3RRPRR", *EXPR, "--samples", "5", "--out", "{d}/p.csv",
+                    "--plot", "{d}/fig/p.png"]),
+    ("draw", ["draw", "3RRPRR", "-o", "{d}/d.png"]),
+    ("leg", ["leg", "SPR", "--draw", "{d}/leg.png"]),
+    ("map", ["map", "3RRPRR", "--grid", "alpha=-2:2:3", "--out", "{d}/m.csv"]),
+]
+
+
+@pytest.mark.parametrize("cmd,argv", CASES, ids=[c for c, _ in CASES])
+def test_missing_output_folders_are_created(cmd, argv, tmp_path, monkeypatch, capsys):
+    if cmd not in COMMANDS:
+        pytest.skip(f"no {cmd} command")
+    if any(a.endswith(".png") for a in argv):
+        pytest.importorskip("matplotlib")
+    if cmd == "map":
+        pytest.importorskip("xarray")
+    monkeypatch.chdir(tmp_path)
+    d = "new/deeper"
+    args = [a.format(d=d) for a in argv]
+    rc = main(args)
+    captured = capsys.readouterr()
+    assert rc == 0, captured.err
+    for a in args:
+        if a.startswith(d):
+            assert (tmp_path / a).is_file() and (tmp_path / a).stat().st_size > 0, a
+
+
+def test_an_unwritable_output_is_one_line_exit_2(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    rc = main(["validate", "UPU", "--no-catalog", "--out", str(blocker / "t.md")])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "cannot write" in err
