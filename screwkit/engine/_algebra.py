@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["cross", "dot", "norm", "matvec", "matmul", "matmul_t", "rodrigues",
-           "rotation_vector", "spd_solve", "unit"]
+           "rotation_vector", "spd_solve", "sym_solve", "unit"]
 
 
 
@@ -111,7 +111,8 @@ def spd_solve(G, B, shift=0.0):
     G : sequence of sequences of ndarray
         ``G[i][j]`` for ``j <= i`` (the lower triangle), each of batch shape ``...``.
     B : sequence of ndarray
-        ``B[i]`` of shape ``(r, ...)`` or ``...``: the right-hand sides, row by row.
+        ``B[i]`` of shape ``(r, ...)`` or ``...``: the right-hand sides, row by row (the
+        products of the factor with them have the shape of ``B[i]``).
     shift : float or ndarray
         Added to the diagonal (Tikhonov regularisation of singular systems: the
         solution tends to the least-norm one).
@@ -126,27 +127,72 @@ def spd_solve(G, B, shift=0.0):
     m = len(B)
     Lo = [[None] * m for _ in range(m)]
     inv, piv = [None] * m, [None] * m
+    # in-place updates of the fresh arrays that the first operation of each entry makes
+    # (the same operations as ``s = s - a * b``, without the temporaries)
     for j in range(m):
         s = G[j][j] + shift
         for k in range(j):
-            s = s - Lo[j][k] * Lo[j][k]
+            s -= Lo[j][k] * Lo[j][k]
         piv[j] = s
         inv[j] = 1.0 / np.sqrt(np.maximum(s, 1e-300))
         for i in range(j + 1, m):
-            s = G[i][j]
-            for k in range(j):
-                s = s - Lo[i][k] * Lo[j][k]
-            Lo[i][j] = s * inv[j]
+            if j == 0:
+                Lo[i][j] = G[i][j] * inv[j]
+                continue
+            s = G[i][j] - Lo[i][0] * Lo[j][0]
+            for k in range(1, j):
+                s -= Lo[i][k] * Lo[j][k]
+            s *= inv[j]
+            Lo[i][j] = s
     Y = [None] * m
     for i in range(m):
-        s = B[i]
-        for k in range(i):
-            s = s - Lo[i][k] * Y[k]
-        Y[i] = s * inv[i]
+        if i == 0:
+            Y[i] = B[i] * inv[i]
+            continue
+        s = B[i] - Lo[i][0] * Y[0]
+        for k in range(1, i):
+            s -= Lo[i][k] * Y[k]
+        s *= inv[i]
+        Y[i] = s
     X = [None] * m
     for i in range(m - 1, -1, -1):
-        s = Y[i]
+        s = Y[i]                  # owned by this loop (no other reference is kept)
         for k in range(i + 1, m):
-            s = s - Lo[k][i] * X[k]
-        X[i] = s * inv[i]
+            s -= Lo[k][i] * X[k]
+        s *= inv[i]
+        X[i] = s
     return X, piv
+
+
+#: Largest batch (product of the batch axes) that :func:`sym_solve` hands to LAPACK in one
+#: call; beyond it the component-wise Cholesky of :func:`spd_solve` is faster.
+_LAPACK_BATCH = 64
+
+
+def sym_solve(G, B, shift=0.0):
+    """The solution rows of :func:`spd_solve` (``G X = B`` with ``shift`` on the diagonal),
+    without the pivots.
+
+    ``G`` is an array ``(m, m, ...)`` (both triangles filled) and ``B`` a sequence of ``m``
+    right-hand-side rows.  A small batch (one pose) is solved by one batched LAPACK call
+    instead of the ~m^3 component operations of the Cholesky loops (the same linear system;
+    the solutions agree to round-off); a large batch, a zero pivot or a non-finite entry
+    takes :func:`spd_solve`.
+    """
+    G = np.asarray(G)
+    m = G.shape[0]
+    batch = G.shape[2:]
+    if m and int(np.prod(batch)) <= _LAPACK_BATCH:
+        Bs = np.stack([np.asarray(b, float) for b in B])    # (m, [r,] ...)
+        A = np.moveaxis(G, (0, 1), (-2, -1)) + np.multiply.outer(
+            np.broadcast_to(np.asarray(shift, float), batch), np.eye(m))
+        if np.all(np.isfinite(A)) and np.all(np.isfinite(Bs)):
+            rhs = np.moveaxis(Bs.reshape((m, -1) + batch), (0, 1), (-2, -1))
+            try:
+                X = np.linalg.solve(A, rhs)                   # (..., m, r)
+            except np.linalg.LinAlgError:
+                X = None
+            if X is not None and np.all(np.isfinite(X)):
+                X = np.moveaxis(X, (-2, -1), (0, 1)).reshape(Bs.shape)
+                return list(X)
+    return spd_solve(G, B, shift)[0]

@@ -77,7 +77,7 @@ def newton_step(ch: Chains, fr, e=None, *, Pt=None, frozen=None):
     B[:, 0] = np.einsum("jalN,alN->jlN", T, e)
     if nu:
         B[:, 1:] = np.einsum("jalN,akN->jklN", T, Pt)
-    Xs, _ = alg.spd_solve(G, list(B), shift)
+    Xs = alg.sym_solve(G, list(B), shift)
     Xs = np.stack(Xs)                                              # (m, 1 + nu, n, N)
     if nu:
         # reduced system: sum_i P^T (I - T_i G_i^-1 T_i^T) (P dx + e_i) = 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -50,16 +51,31 @@ class LegGeometry:
     def N(self) -> int:
         return self.a.shape[-1]
 
+    @cached_property
+    def twists(self):
+        """Every joint's unit twist about the base origin, ``(v, w)`` each ``(3, m, N)``
+        (formed once per geometry, every joint at once)."""
+        d = self.axes.transpose(1, 0, 2)                 # (3, m, N)
+        p = self.points.transpose(1, 0, 2)
+        w = np.asarray(self.rotation, float)[:, None] * d
+        return alg.cross(p, w) + np.asarray(self.translation, float)[:, None] * d, w
+
     def twist(self, j):
         """Joint ``j``'s unit twist ``(v (3, N), w (3, N))`` about the base origin."""
-        d, p = self.axes[j], self.points[j]
-        w = self.rotation[j] * d
-        return alg.cross(p, w) + self.translation[j] * d, w
+        v, w = self.twists
+        return v[:, j], w[:, j]
 
     def point_velocity(self, j, X):
         """Velocity of the point ``X (3, N)`` under joint ``j``'s unit twist."""
         v, w = self.twist(j)
         return v - alg.cross(X, w)
+
+    def point_velocities(self, joints, X):
+        """Velocities ``(3, len(joints), N)`` of the point ``X (3, N)`` under the unit twists
+        of ``joints`` (a sequence of slots)."""
+        v, w = self.twists
+        idx = list(joints)
+        return v[:, idx] - alg.cross(X[:, None], w[:, idx])
 
     def direction(self, ref, names):
         """A reference direction ``(3, N)`` (see :data:`DEFAULT_REFERENCES`), unit."""
@@ -119,6 +135,16 @@ def _slot(leg, name):
 
 
 def named_point(geo: LegGeometry, ref):
+    """The named point ``ref`` (:func:`point_ref`) at every pose, ``(3, N)`` (formed once
+    per geometry; read it, do not write to it)."""
+    memo = geo.__dict__.setdefault("_named_points", {})
+    p = memo.get(ref)
+    if p is None:
+        p = memo[ref] = _named_point(geo, ref)
+    return p
+
+
+def _named_point(geo: LegGeometry, ref):
     if ref[0] == "A":
         return np.broadcast_to(geo.A[:, None], (3, geo.N))
     if ref[0] == "a":

@@ -94,7 +94,24 @@ def templates_of(model) -> tuple:
     return t
 
 
+_LABELS: dict = {}
+
+
 def _labels(templates):
+    """The :class:`RowInfo` of every row (memoised per templates tuple: the templates of
+    a model are built once and kept, so the labels are too)."""
+    key = id(templates)
+    hit = _LABELS.get(key)
+    if hit is not None and hit[0] is templates:
+        return hit[1]
+    out = _make_labels(templates)
+    if len(_LABELS) > 256:
+        _LABELS.clear()
+    _LABELS[key] = (templates, out)
+    return out
+
+
+def _make_labels(templates):
     info_a, info_c = [], []
     kc = 0
     for i, t in enumerate(templates):
@@ -121,19 +138,34 @@ def _labels(templates):
     return tuple(final)
 
 
+_LEG_CONSTANTS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _leg_constants(model):
+    """Per leg: joints, rotation and translation per unit joint value, ``A``, ``a`` in the
+    platform frame; and the base frame (built once per model)."""
+    c = _LEG_CONSTANTS.get(model)
+    if c is None:
+        R0, p0 = model.frame
+        legs = []
+        for i, t in enumerate(model.home_legs):
+            rot = np.array([0.0 if j.kind == "P" else 1.0 for j in t.joints])
+            tra = np.array([1.0 if j.kind == "P" else (j.pitch if j.kind == "H" else 0.0)
+                            for j in t.joints])
+            legs.append((len(t.joints), rot, tra, np.asarray(model.world_base_points[i], float),
+                         np.asarray(model.platform_points[i], float)))
+        c = (tuple(legs), np.asarray(R0, float), np.asarray(p0, float))
+        _LEG_CONSTANTS[model] = c
+    return c
+
+
 def leg_geometry(model, frames, i: int) -> LegGeometry:
     """Leg ``i`` of the model at the poses of ``frames`` (pose axis last)."""
-    ch_sizes = [len(lg.joints) for lg in model.home_legs]
-    m = ch_sizes[i]
-    R0, p0 = model.frame
-    a = np.einsum("ij...,j->i...", frames.R_p, model.platform_points[i]) + frames.o
-    t = model.home_legs[i]
-    rot = np.array([0.0 if j.kind == "P" else 1.0 for j in t.joints])
-    tra = np.array([1.0 if j.kind == "P" else (j.pitch if j.kind == "H" else 0.0)
-                    for j in t.joints])
-    return LegGeometry(frames.axes[:m, :, i], frames.points[:m, :, i], rot, tra,
-                       np.asarray(model.world_base_points[i], float), a, np.asarray(R0, float),
-                       np.asarray(p0, float), frames.R_p, frames.o)
+    legs, R0, p0 = _leg_constants(model)
+    m, rot, tra, A, ap = legs[i]
+    a = np.einsum("ij...,j->i...", frames.R_p, ap) + frames.o
+    return LegGeometry(frames.axes[:m, :, i], frames.points[:m, :, i], rot, tra, A, a, R0, p0,
+                       frames.R_p, frames.o)
 
 
 def model_rows(model, frames, templates=None) -> Rows:
@@ -184,11 +216,12 @@ def _spread(points):
     """Centroid ``(N, 3)`` and RMS distance ``(N,)`` of a list of point arrays ``(3, N)``
     (:func:`~._conditioning.normalisation`, without stacking them)."""
     k = len(points)
-    s = sum(points) / k
-    q = sum((p * p).sum(axis=0) for p in points) / k
+    Ps = np.stack(np.broadcast_arrays(*points))                        # (k, 3, N)
+    s = Ps.sum(axis=0) / k
+    q = (Ps * Ps).sum(axis=1).sum(axis=0) / k
     L2 = np.maximum(q - (s * s).sum(axis=0), 0.0)
     L = np.sqrt(L2)
-    big = np.max(np.stack([np.abs(p).max(axis=0) for p in points]), axis=0)
+    big = np.abs(Ps).max(axis=(0, 1))
     L = np.where(L <= 1e-12 * big, big, L)
     return np.ascontiguousarray(s.T), np.where(L > 0, L, 1.0)
 

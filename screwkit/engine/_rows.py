@@ -35,72 +35,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _algebra as alg
+from ._nullspace import ZERO as _ZERO, canonical_basis as _basis, null_space as _null
 from ._generic import generic_members, generic_references, subset_geometry
 from ._geometry import (REF_FLAG, REF_MIN, LegGeometry, geometry_of, leg_centroid, leg_length, named_point,
                         point_ref)
 
 __all__ = ["RowTemplate", "LegGeometry", "REF_MIN", "DEFAULT_REFERENCES"]
 
-#: Relative size below which a null-space test quantity counts as zero.
-_ZERO = 1e-8
 #: Default reference directions (tried in order): the leg line, the base normal, the
 #: joint axes in chain order, the base axes.
 DEFAULT_REFERENCES = ("leg", "base.Z", "joints", "base.X", "base.Y")
-
-
-# --------------------------------------------------------------------------- null spaces
-
-def _null(rows, g):
-    """The null space of dimension ``g`` of dimensionless rows (list of ``(3, N)``).
-
-    Returns ``(vec, ok)``: for ``g = 1`` the unit null vector, for ``g = 2`` the unit
-    normal of the null plane, for ``g = 3`` None; ``ok (N,)`` is False where the rows
-    do not leave a null space of exactly dimension ``g`` (within :data:`_ZERO`).
-    """
-    R = np.stack(rows) if rows else np.zeros((0, 3, 1))
-    N = R.shape[-1]
-    nrm = alg.norm(R.transpose(1, 0, 2)) if len(R) else np.zeros((0, N))   # (r, N)
-    if g >= 3:
-        return None, np.max(nrm, axis=0, initial=0.0) < _ZERO
-    if g == 2:
-        k = np.argmax(nrm, axis=0)
-        n = R[k, :, np.arange(N)].T
-        n = n / np.maximum(alg.norm(n), 1e-300)
-        off = np.max(alg.norm(alg.cross(R.transpose(1, 0, 2), n[:, None])), axis=0)
-        return n, (np.max(nrm, axis=0) > 1e-6) & (off < _ZERO)
-    r = len(R)
-    if r < 2:
-        return np.full((3, N), np.nan), np.zeros(N, bool)
-    i1, i2 = np.triu_indices(r, 1)
-    C = alg.cross(R[i1].transpose(1, 0, 2), R[i2].transpose(1, 0, 2))   # (3, pairs, N)
-    size = alg.norm(C)                       # rows are dimensionless: the largest cross wins
-    k = np.argmax(size, axis=0)
-    cols = np.arange(N)
-    best = C[:, k, cols]
-    brel = size[k, cols] / np.maximum(nrm[i1[k], cols] * nrm[i2[k], cols], 1e-300)
-    u = best / np.maximum(alg.norm(best), 1e-300)
-    res = np.max(np.abs(alg.dot(R.transpose(1, 0, 2), u[:, None])), axis=0)
-    return u, (brel > 1e-6) & (res < _ZERO)
-
-
-def _basis(g, vec, refs):
-    """Canonical basis (list of ``(3, N)``) of a null space from its reference directions,
-    and the smallest Gram-Schmidt remainder (N,)."""
-    out, worst = [], None
-    for r in refs[:g]:
-        if g == 1:
-            c = alg.dot(vec, r)
-            e = vec * np.where(c < 0, -1.0, 1.0)
-            rem = np.abs(c)
-        else:
-            p = r - vec * alg.dot(vec, r) if g == 2 else r
-            for b in out:
-                p = p - b * alg.dot(b, p)
-            rem = alg.norm(p)
-            e = p / np.maximum(rem, 1e-300)
-        out.append(e)
-        worst = rem if worst is None else np.minimum(worst, rem)
-    return out, worst
 
 
 # --------------------------------------------------------------------------- the template
@@ -191,10 +135,13 @@ class RowTemplate:
                     rows.append(geo.axes[j])
             return rows
         X = named_point(geo, pref)
-        for j in joints:
-            v = geo.point_velocity(j, X)
-            rows.append(v / (L if self.kinds[j] != "P" else 1.0))
-        return rows
+        joints = list(joints)
+        if not joints:
+            return rows
+        V = geo.point_velocities(joints, X)                       # (3, r, N)
+        size = np.array([1.0 if self.kinds[j] == "P" else np.nan for j in joints])[:, None]
+        V = V / np.where(np.isnan(size), L, size)
+        return list(V.transpose(1, 0, 2))
 
     def _space(self, geo, kind, pref, dim, joints=None):
         joints = range(len(self.names)) if joints is None else joints
@@ -324,9 +271,16 @@ class RowTemplate:
             X, Y = (named_point(geo, r) for r in a.points)
             d = alg.unit(Y - X)
             member = np.concatenate([d, alg.cross(X, d)])
-            res = max((np.abs(alg.dot(geo.point_velocity(j, X), d)) /
-                       (L if self.kinds[j] != "P" else 1.0) for j in passive),
-                      key=lambda x: float(np.max(x)), default=np.zeros(N))
+            if passive:
+                # the passive joint whose velocity of X has the largest component along the
+                # line (at its worst pose): that joint's value at every pose
+                V = geo.point_velocities(passive, X)              # (3, r, N)
+                P = np.array([self.kinds[j] == "P" for j in passive])[:, None]
+                res_all = np.abs(alg.dot(V, d[:, None])) / np.where(P, 1.0, L)
+                worst = res_all.max(axis=1).tolist()
+                res = res_all[max(range(len(worst)), key=worst.__getitem__)]
+            else:
+                res = np.zeros(N)
             ok = res < _ZERO
         else:
             member, ok = self._least_norm(geo, xi, passive, L)
