@@ -1,0 +1,18 @@
+"""Design layer: type synthesis of whole PMs for a motion pattern, verified by the engine.
+
+The combinatorial half (motion patterns, the leg pool, compositions, model definitions)
+is in :mod:`screwkit.synthesis`, which never calls the solvers; this layer loads each
+candidate as a model and checks it with the engine (``docs/synthesis.md``):
+
+* :func:`synthesize_motion` -> :class:`TypeSynthesis` (ranked :class:`SynthesizedPM`);
+* :func:`verify_model` -> :class:`Verdict`: full-cycle mobility along a finite motion
+  from home (:func:`verification_path`), the pattern's finite invariant, ``J`` at home.
+"""
+
+from ._verify import (CHECK_POSES, FINITE_RTOL, PATH_SAMPLES, PoseCheck, Verdict, verification_path,
+                      verify_model)
+from ._search import MAX_LEGS, SynthesizedPM, TypeSynthesis, synthesize_motion
+
+__all__ = ["CHECK_POSES", "FINITE_RTOL", "MAX_LEGS", "PATH_SAMPLES", "PoseCheck",
+           "SynthesizedPM", "TypeSynthesis", "Verdict", "synthesize_motion",
+           "verification_path", "verify_model"]

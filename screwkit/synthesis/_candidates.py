@@ -1,0 +1,270 @@
+"""Candidate PMs for a motion pattern: leg types, their compositions, model definitions.
+
+This is the combinatorial half of the type synthesis of PMs (the engine-checked half
+is :mod:`screwkit.design`).  For a :class:`~screwkit.synthesis.MotionPattern`:
+
+1. **Leg pool** (:func:`leg_pool`).  Every leg type of the catalog (the accepted
+   arrangements of Table I strings, `docs/catalog.md`) and the extra arrangements of
+   :data:`EXTRA_LEGS` is built at its default placement and its constraint system is
+   computed by the reciprocal-screw solver (:meth:`screwkit.legs.Leg.analyze`): the
+   numbers of pure forces, couples and finite-pitch wrenches.  A leg type is kept when
+   those fit in the motion's complementary wrench system
+   (:meth:`MotionPattern.admits`); legs with no constraint (SPS, UPS, SPU) are kept
+   as unconstrained actuated legs.
+2. **Compositions** (:func:`compositions_for`).  ``n`` actuated legs (``n`` = the DOF,
+   one actuator per leg): symmetric (``n`` legs of one type) and asymmetric (``k`` legs
+   of one type, ``n - k`` of another, the more constraining type first), whose constraint
+   dimensions add up to at least the ``6 - dof`` of the complementary system (the legs'
+   systems can span it only then).
+3. **Model definitions** (:func:`pm_definition`).  A composition is placed on one of the
+   standard geometries (:data:`GEOMETRIES`: triangle, rectangle, pentagon) as a ``pms:``
+   entry, the schema of `docs/pm_models.md` (the default pose is home, where the
+   engine has checked ``J``); :func:`model_yaml` writes it (with the
+   extra leg types it uses) as a model YAML that ``screwkit.load_pm`` reads.
+
+Whether the legs' systems really span the complementary system, at home and along a
+finite motion, is decided by the engine in :mod:`screwkit.design`, not here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import yaml
+
+from ._motions import MotionPattern
+
+__all__ = ["EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate", "LegKind", "compositions_for",
+           "extra_legs", "leg_pool", "model_yaml", "pm_definition", "synthesis_catalog"]
+
+#: Arrangements the type synthesis adds to the catalog's: the PRRR leg turned so that its
+#: P and its three parallel R axes point from the base vertex towards the platform centre
+#: (one leg of the translational 3-PRRR; Kong and Gosselin, Type Synthesis of Parallel
+#: Mechanisms, Springer 2007, ch. 5: a PRRR leg with P parallel to the R axes exerts two
+#: couples normal to them).
+EXTRA_LEGS_YAML = """
+legs:
+  - name: PRRR/translational
+    string: _PRRR
+    summary: "P along A->o (home), then three R axes parallel to P, not coplanar: two couples normal to them"
+    joints:
+      - {axis: {toward: [A, o]}}
+      - {axis: {parallel: P1}, at: A}
+      - {axis: {parallel: P1}, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
+      - {axis: {parallel: P1}, at: a}
+    structure:
+      - {parallel: [R2, P1]}
+      - {parallel: [R4, P1]}
+    expect:
+      forces: 0
+      couples: 2
+      words: two constraint couples perpendicular to the P axis and the three parallel R axes
+"""
+
+#: Standard geometries by number of legs: (label, base, platform, dimensions, home Zo,
+#: extra fields).  Tried in order until one verifies.  The platform pentagon is irregular
+#: (vertex 1 kept on the Y axis): similar pentagons in line make six-DOF legs an
+#: actuation singularity at home.
+GEOMETRIES = {
+    3: (("triangle R=60 r=30", {"shape": "triangle", "circumradius": "R"},
+         {"shape": "triangle", "circumradius": "r"}, {"R": 60, "r": 30}, "R", {}),
+        ("triangle R=60 r=30, platform turned 60 deg",
+         {"shape": "triangle", "circumradius": "R"},
+         {"shape": "triangle", "circumradius": "r", "angles": [30, 150, 270]},
+         {"R": 60, "r": 30}, "R", {"centre": [0, 0, "R/2"]}),
+        ("triangle R=80 r=20, low platform", {"shape": "triangle", "circumradius": "R"},
+         {"shape": "triangle", "circumradius": "r"}, {"R": 80, "r": 20}, "R/2", {})),
+    4: (("square L=100, rectangle 60 x 40", {"shape": "square", "side": "L"},
+         {"shape": "rectangle", "sides": ["l1", "l2"]}, {"L": 100, "l1": 60, "l2": 40},
+         "0.8*L", {}),),
+    5: (("pentagon R=60, irregular platform pentagon r=30",
+         {"shape": "circle", "radius": "R", "angles": [90, 162, 234, 306, 18]},
+         {"shape": "circle", "radius": "r", "angles": [90, 170, 240, 300, 10]},
+         {"R": 60, "r": 30}, "R", {}),),
+}
+
+@dataclass(frozen=True)
+class LegKind:
+    """A leg type of the pool and its constraint system (at its default placement).
+
+    Attributes
+    ----------
+    name : str
+        Catalog name (``"UPU/couple"``).
+    string : str
+        The leg string's letters (``"UPU"``).
+    marked : str
+        With the actuated joint marked (``"U_PU"``).
+    forces, couples, screws : int
+        Pure forces, pure couples and finite-pitch wrenches of its constraint system.
+    joints : int
+        Equivalent 1-DOF joints.
+    actuated_position : int
+        1-based position of the actuated letter (1: on the base).
+    extra : bool
+        From :data:`EXTRA_LEGS_YAML`, not the catalog.
+    """
+
+    name: str
+    string: str
+    marked: str
+    forces: int
+    couples: int
+    screws: int
+    joints: int
+    actuated_position: int
+    extra: bool = False
+
+    @property
+    def constraints(self) -> int:
+        return self.forces + self.couples + self.screws
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A composition of leg types, one per vertex (see :func:`compositions_for`).
+
+    Attributes
+    ----------
+    legs : tuple of LegKind
+        One per vertex, the more constraining type first.
+    name : str
+        ``"3UPU/couple"``, ``"2UPU/force+SPR"``: counts and catalog names.
+    string : str
+        The PM string (``"3UPU"``, ``"2UPU+SPR"``).
+    symmetric : bool
+    """
+
+    legs: tuple
+    name: str
+    string: str
+    symmetric: bool
+
+    @property
+    def joints(self) -> int:
+        return sum(k.joints for k in self.legs)
+
+    @property
+    def constraints(self) -> int:
+        return sum(k.constraints for k in self.legs)
+
+
+def extra_legs() -> dict:
+    """The :data:`EXTRA_LEGS_YAML` leg types, ``{name: LegSpec}``."""
+    return dict(_extra())
+
+
+@lru_cache(maxsize=1)
+def _extra():
+    from ..pm import Catalog
+    return tuple(Catalog.from_mapping(yaml.safe_load(EXTRA_LEGS_YAML), "<synthesis legs>")
+                 .legs.items())
+
+
+def synthesis_catalog(catalog=None, pms: dict | None = None):
+    """The catalog (default: the packaged one) with the extra leg types and ``pms``."""
+    from ..pm import Catalog, default_catalog
+    cat = catalog if catalog is not None else default_catalog()
+    return Catalog({**cat.legs, **extra_legs()}, cat.table1, dict(pms or {}), "<synthesis>")
+
+
+def _kinds_of(catalog) -> tuple:
+    cat = synthesis_catalog(catalog)
+    extra = set(extra_legs())
+    out = []
+    for name, spec in cat.legs.items():
+        an = spec.build().analyze()
+        ls = spec.string
+        out.append(LegKind(name, ls.text, ls.marked, an.n_forces, an.n_couples, an.n_screws,
+                           len(ls.equivalent), ls.actuated_position, name in extra))
+    return tuple(out)
+
+
+@lru_cache(maxsize=1)
+def _default_kinds() -> tuple:
+    return _kinds_of(None)
+
+
+def leg_pool(motion: MotionPattern, catalog=None) -> tuple:
+    """The leg types (:class:`LegKind`) whose constraint systems fit in the motion's
+    complementary wrench system (counts), catalog order, extra legs last."""
+    kinds = _default_kinds() if catalog is None else _kinds_of(catalog)
+    return tuple(k for k in kinds if motion.admits(k.forces, k.couples, k.screws))
+
+
+def _name(groups) -> tuple:
+    name = "+".join(f"{n if n > 1 else ''}{k.name}" for k, n in groups)
+    string = "+".join(f"{n if n > 1 else ''}{k.string}" for k, n in groups)
+    return name, string
+
+
+def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
+                     asymmetric: bool = True) -> list:
+    """Symmetric and asymmetric compositions of ``n_legs`` legs (default: the DOF).
+
+    A composition is kept when its legs' constraint dimensions add up to at least
+    ``6 - dof`` (they cannot span the complementary system otherwise).  Symmetric ones
+    first, then asymmetric (``k`` of the more constraining type ``A`` at vertices
+    ``1..k``, ``n - k`` of ``B``), in pool order.
+    """
+    n = motion.dof if n_legs is None else int(n_legs)
+    need = motion.constraints
+    out = []
+    for a in pool:
+        if a.constraints and n * a.constraints >= need:
+            name, string = _name([(a, n)])
+            out.append(Candidate((a,) * n, name, string, True))
+    if not asymmetric:
+        return out
+    for i, a in enumerate(pool):
+        if not a.constraints:
+            continue
+        for j, b in enumerate(pool):
+            if b is a or (b.constraints, -j) > (a.constraints, -i):
+                continue            # A is the more constraining type (pool order on ties)
+            for k in range(1, n):
+                if k * a.constraints + (n - k) * b.constraints < need:
+                    continue
+                name, string = _name([(a, k), (b, n - k)])
+                out.append(Candidate((a,) * k + (b,) * (n - k), name, string, False))
+    return out
+
+
+def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> dict:
+    """The ``pms:`` entry of a composition on standard geometry ``geometry`` (an index
+    into ``GEOMETRIES[n]``); angles in degrees, lengths in cm (the catalog's units)."""
+    n = len(cand.legs)
+    geos = GEOMETRIES.get(n)
+    if not geos or not 0 <= geometry < len(geos):
+        from ..errors import InputError
+        raise InputError(f"no standard geometry {geometry} for {n} legs "
+                         f"(geometries exist for {', '.join(map(str, sorted(GEOMETRIES)))} legs)")
+    label, base, plat, dims, zo, extra = geos[geometry]
+    home, guess = {}, {}
+    for p in motion.independent:
+        home[p] = zo if p == "Zo" else 0
+    if "Zo" not in motion.independent:
+        guess["Zo"] = zo
+    d = {"summary": f"{cand.name}, synthesized for the {motion.name} motion",
+         "source": f"screwkit synthesize {motion.name} (geometry: {label})",
+         "string": cand.string, "dimensions": dict(dims), "base": dict(base),
+         "platform": dict(plat), "legs": [k.name for k in cand.legs], "euler": "XYZ",
+         "independent": list(motion.independent), "home": home, "pose": dict(home),
+         "dof": motion.dof, "motion": motion.name, "units": {"length": "cm", "force": "kN"}}
+    if guess:
+        d["guess"] = guess
+    d.update(extra)
+    return d
+
+
+def model_yaml(name: str, definition: dict) -> str:
+    """A model YAML (``pms: {name: definition}``, with the extra leg types it uses) that
+    ``screwkit.load_pm(path)`` reads."""
+    data = {}
+    used = [x for x in definition.get("legs", []) if x in extra_legs()]
+    if used:
+        legs = [e for e in yaml.safe_load(EXTRA_LEGS_YAML)["legs"] if e["name"] in used]
+        data["legs"] = legs
+    data["pms"] = {name: definition}
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=100)
