@@ -1,0 +1,220 @@
+"""URDF export of a closed-loop PM, its loop closures in a sidecar file, and
+:func:`to_pinocchio` (the Pinocchio model and its constraint models).
+
+A URDF describes a tree, so :func:`urdf_text` writes the *spanning tree* of the PM:
+every leg is a branch from the link ``base``, its 1-DOF joints in order (an S is three
+``revolute`` joints and a U two, through massless intermediate links, as screwkit's
+equivalent chain; a C is a ``prismatic`` then a ``revolute`` joint on the same axis); leg 1
+carries the link ``platform`` on a ``fixed`` joint.  Every joint frame sits at its joint's
+home point with the base orientation, so each joint ``origin`` is a pure translation and
+its ``axis`` the joint's home direction; joint values are 0 at home, as in screwkit.
+
+The loops (legs 2..n meet the platform) are in a JSON sidecar (:func:`closures`): one
+6-D rigid contact per leg between a frame on the leg's last joint and the same platform
+frame on leg 1's last joint, the arguments of ``pinocchio.RigidConstraintModel``::
+
+    import json, numpy as np, pinocchio as pin
+    model = pin.buildModelFromUrdf("pm.urdf")
+    loops = json.load(open("pm.closures.json"))
+    se3 = lambda p: pin.SE3(np.array(p["rotation"]), np.array(p["translation"]))
+    constraints = [pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model,
+                       model.getJointId(c["joint1"]), se3(c["placement1"]),
+                       model.getJointId(c["joint2"]), se3(c["placement2"]),
+                       pin.ReferenceFrame.LOCAL) for c in loops["constraints"]]
+
+Visual geometry is simple: a cylinder along each link between consecutive joint points, a
+sphere at each S or U centre, a thin disc for the base and for the platform (sized from
+their vertices).  Links carry no inertia (the dynamics of :mod:`screwkit.dynamics` use the
+model's ``dynamics:`` block).  Lengths are in the model's length unit (URDF readers
+assume metres: scale with ``--scale`` when a tool needs SI).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["urdf_text", "closures", "write_urdf", "to_pinocchio"]
+
+
+def _f(x) -> str:
+    return f"{float(x):.12g}"
+
+
+def _vec(v) -> str:
+    return " ".join(_f(x) for x in v)
+
+
+def _rpy(R) -> tuple:
+    """URDF roll-pitch-yaw (fixed X, Y, Z) of a rotation matrix."""
+    from scipy.spatial.transform import Rotation
+    return tuple(Rotation.from_matrix(np.asarray(R, float)).as_euler("xyz"))
+
+
+def _z_to(d) -> tuple:
+    """rpy of a rotation taking z to the unit vector ``d`` (a URDF cylinder lies along z)."""
+    from scipy.spatial.transform import Rotation
+    d = np.asarray(d, float)
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, d)
+    s, c = np.linalg.norm(axis), float(z @ d)
+    if s < 1e-12:
+        return (math.pi, 0.0, 0.0) if c < 0 else (0.0, 0.0, 0.0)
+    return tuple(Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_euler("xyz"))
+
+
+def _cylinder(p, q, radius, origin_at) -> str:
+    """A cylinder from ``p`` to ``q`` (world, home) in the frame of a link at ``origin_at``."""
+    d = np.asarray(q, float) - np.asarray(p, float)
+    L = float(np.linalg.norm(d))
+    if L <= 0:
+        return ""
+    mid = 0.5 * (np.asarray(p, float) + np.asarray(q, float)) - origin_at
+    return (f'    <visual><origin xyz="{_vec(mid)}" rpy="{_vec(_z_to(d / L))}"/>'
+            f'<geometry><cylinder radius="{_f(radius)}" length="{_f(L)}"/></geometry></visual>\n')
+
+
+def _sphere(p, radius, origin_at) -> str:
+    return (f'    <visual><origin xyz="{_vec(np.asarray(p, float) - origin_at)}" rpy="0 0 0"/>'
+            f'<geometry><sphere radius="{_f(radius)}"/></geometry></visual>\n')
+
+
+def _disc(centre, R, radius, thickness, origin_at) -> str:
+    return (f'    <visual><origin xyz="{_vec(np.asarray(centre, float) - origin_at)}" '
+            f'rpy="{_vec(_rpy(R))}"/><geometry><cylinder radius="{_f(radius)}" '
+            f'length="{_f(thickness)}"/></geometry></visual>\n')
+
+
+def _se3(R, t) -> dict:
+    return {"rotation": np.asarray(R, float).tolist(), "translation": np.asarray(t, float).tolist()}
+
+
+def _joint_name(k: int, joint) -> str:
+    return f"leg{k + 1}_{joint.name}"
+
+
+def _tree(pm):
+    """Per leg: ``[(joint, urdf joint name, point, direction, kind)]`` with checks."""
+    out = []
+    for k, leg in enumerate(pm.home_legs):
+        rows = []
+        for j in leg.joints:
+            if j.kind == "H":
+                raise InputError(f"leg {k + 1} ({leg.name}): URDF has no helical joint "
+                                 f"({j.name}); export a model without H joints")
+            rows.append((j, _joint_name(k, j), np.asarray(j.point, float),
+                         np.asarray(j.direction, float), "revolute" if j.kind == "R" else "prismatic"))
+        out.append(rows)
+    return out
+
+
+def urdf_text(pm) -> str:
+    """The URDF (text) of the spanning tree of ``pm`` at its home pose (module docstring)."""
+    R_home, o_home = pm.platform_home
+    scale = float(pm.normalisation.length) or 1.0
+    r_link = 0.02 * scale
+    base_pts = pm.world_base_points
+    plat_pts = (R_home @ pm.platform_points.T).T + o_home
+    R0, p0 = pm.frame
+    lines = [f'<?xml version="1.0"?>\n<robot name={quoteattr(pm.name)}>\n',
+             f"  <!-- screwkit export of {pm.name} ({'+'.join(pm.legs)}), home pose, lengths in "
+             f"{pm.units.length}; loop closures in the .closures.json sidecar -->\n",
+             '  <link name="base">\n',
+             _disc(p0, R0, float(np.max(np.linalg.norm(base_pts - p0, axis=1))) * 1.05,
+                   0.02 * scale, np.zeros(3)),
+             "  </link>\n"]
+    trees = _tree(pm)
+    for k, rows in enumerate(trees):
+        leg = pm.home_legs[k]
+        parent, parent_point = "base", np.zeros(3)
+        ends = [r[2] for r in rows[1:]] + [np.asarray(leg.a, float)]
+        for (j, name, p, d, kind), nxt in zip(rows, ends):
+            child = f"{name}_link"
+            big = 10.0 * scale
+            lo, hi = (-math.pi, math.pi) if kind == "revolute" else (-big, big)
+            lines.append(f'  <joint name="{name}" type="{kind}">\n'
+                         f'    <parent link="{parent}"/><child link="{child}"/>\n'
+                         f'    <origin xyz="{_vec(p - parent_point)}" rpy="0 0 0"/>'
+                         f'<axis xyz="{_vec(d)}"/>\n'
+                         f'    <limit lower="{_f(lo)}" upper="{_f(hi)}" effort="0" velocity="0"/>\n'
+                         f"  </joint>\n")
+            visual = _cylinder(p, nxt, (1.6 if kind == "prismatic" else 1.0) * r_link, p)
+            if j.spec.origin in "SU" and j.name.endswith("a"):
+                visual += _sphere(p, 2.0 * r_link, p)
+            lines.append(f'  <link name="{child}">\n{visual}  </link>\n')
+            parent, parent_point = child, p
+        if k == 0:
+            lines.append(f'  <joint name="platform_fixed" type="fixed">\n'
+                         f'    <parent link="{parent}"/><child link="platform"/>\n'
+                         f'    <origin xyz="{_vec(o_home - parent_point)}" '
+                         f'rpy="{_vec(_rpy(R_home))}"/>\n  </joint>\n')
+            rad = float(np.max(np.linalg.norm(plat_pts - o_home, axis=1))) * 1.05
+            lines.append('  <link name="platform">\n'
+                         + _disc(np.zeros(3), np.eye(3), rad, 0.02 * scale, np.zeros(3))
+                         + "  </link>\n")
+    lines.append("</robot>\n")
+    return "".join(lines)
+
+
+def closures(pm, urdf_name: str = "") -> dict:
+    """The loop closures of :func:`urdf_text`'s tree (JSON-ready): one ``CONTACT_6D`` per leg
+    2..n, ``joint1`` its last joint, ``joint2`` leg 1's last joint, ``placement1/2`` the
+    platform frame in each joint's frame (rotation (3, 3), translation (3,))."""
+    R_home, o_home = pm.platform_home
+    trees = _tree(pm)
+    last = [rows[-1] for rows in trees]
+    carrier = last[0]
+    cons = []
+    for k in range(1, len(trees)):
+        j1 = last[k]
+        cons.append({"name": f"loop{k + 1}", "leg": k + 1, "joint1": j1[1],
+                     "placement1": _se3(R_home, o_home - j1[2]), "joint2": carrier[1],
+                     "placement2": _se3(R_home, o_home - carrier[2])})
+    actuated = [rows[pm.home_legs[k].actuated_index][1] for k, rows in enumerate(trees)]
+    return {"format": "screwkit-closures/1", "urdf": urdf_name, "pm": pm.name,
+            "units": {"length": pm.units.length, "angle": "rad"},
+            "contact_type": "CONTACT_6D", "reference_frame": "LOCAL",
+            "constraints": cons, "actuated_joints": actuated,
+            "platform_frame": "platform", "carrier_leg": 1}
+
+
+def write_urdf(pm, path) -> tuple:
+    """Write ``path`` (URDF) and ``<stem>.closures.json`` beside it; returns both paths."""
+    from pathlib import Path
+
+    from ..errors import InputError as _Err
+
+    p = Path(path)
+    side = p.with_name(p.stem + ".closures.json")
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(urdf_text(pm), encoding="utf-8")
+        side.write_text(json.dumps(closures(pm, p.name), indent=2) + "\n", encoding="utf-8")
+    except OSError as exc:
+        raise _Err(f"cannot write {str(p)!r}: {exc.strerror or exc}") from None
+    return str(p), str(side)
+
+
+def to_pinocchio(pm, *, point_contacts: bool = False):
+    """The Pinocchio model of ``pm`` and its loop-closure constraint models.
+
+    Parameters
+    ----------
+    pm : PMModel
+    point_contacts : bool
+        Tie legs ending in a passive S by a 3-D point contact instead of a 6-D one (see
+        :func:`build_closed_loop_model`).
+
+    Returns
+    -------
+    ClosedLoopModel
+        ``.model`` (``pinocchio.Model``, joint values 0 at home), ``.constraints`` (tuple of
+        ``pinocchio.RigidConstraintModel``), ``.chains``, ``.q(joint_values)``.
+    """
+    from ._pinocchio_model import build_closed_loop_model
+    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts)
