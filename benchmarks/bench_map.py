@@ -7,7 +7,8 @@ Prints, side by side in one run (the machines are noisy):
 * ``map serial``: ``screwkit.map`` over a 100 x 100 x 100 grid (``--n`` cells: alpha and
   beta in +-15 deg, Zo in 60..100 cm), blocks of 65,536 cells, 2 threads per block;
 * ``map dask 2 workers``: the same map on a LocalCluster of 2 worker processes (loopback,
-  one thread each; the cluster's start is timed apart) and a check that it equals the serial
+  one thread each, the Dask settings of ``screwkit map --workers``; the cluster's start is
+  timed apart) and a check that it equals the serial
   map bit for bit;
 
 each with cells per second and the peak resident memory of the process that ran it (the
@@ -56,7 +57,11 @@ def _run(mode: str, n: int) -> None:
         ds.to_netcdf("/tmp/bench_map_serial.nc", engine="scipy")
         print(dt, _peak_mb(), ds["ok"].size, int(ds["ok"].sum()))
         return
+    import dask
     import distributed
+
+    from screwkit.maps._dask import LOCAL_CONFIG
+    dask.config.set(LOCAL_CONFIG)                # the settings of screwkit's local clusters
     t0 = time.perf_counter()
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   host="127.0.0.1", dashboard_address=None) as cl, \

@@ -24,9 +24,17 @@ def _options(p) -> dict:
     return {s: a for a in p._actions for s in a.option_strings}
 
 
+def _nested(p):
+    """``{action: parser}`` of a command with actions of its own (``screwkit model check``)."""
+    sub = next((a for a in p._actions if isinstance(a, argparse._SubParsersAction)), None)
+    return dict(sub.choices) if sub is not None else {}
+
+
 def conventions(sub) -> str:
     """The JSON and progress conventions, read off the parsers (so they cannot go stale)."""
     flag = [n for n, p in sub.choices.items() if "--json" in _options(p)]
+    flag += [f"{n} {a}" for n, p in sub.choices.items() for a, q in _nested(p).items()
+             if "--json" in _options(q)]
     fmt = [n for n, p in sub.choices.items()
            if "--format" in _options(p) and "json" in (_options(p)["--format"].choices or ())]
     quiet = [n for n, p in sub.choices.items() if "--quiet" in _options(p)]
@@ -48,6 +56,10 @@ def render() -> str:
     for name, p in sub.choices.items():
         p.prog = f"screwkit {name}"
         out += [f"## screwkit {name}", "", "```text", p.format_help().rstrip(), "```", ""]
+        for action, q in _nested(p).items():
+            q.prog = f"screwkit {name} {action}"
+            out += [f"### screwkit {name} {action}", "", "```text", q.format_help().rstrip(),
+                    "```", ""]
     return "\n".join(out)
 
 

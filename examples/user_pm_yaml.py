@@ -48,6 +48,12 @@ pms:
 
 path = Path("my_3prs.yaml")
 path.write_text(MODEL, encoding="utf-8")
+# every problem of the file at once (the JSON Schema, the leg's rules, the PM), each with
+# its line: the same as `screwkit model check my_3prs.yaml`
+from screwkit.pm import check_model_file  # noqa: E402
+
+problems = check_model_file(path, load=screwkit.load_pm)
+print(f"{path}: " + ("valid" if not problems else "; ".join(map(str, problems))))
 pm = screwkit.load_pm(f"{path}#3PRS")
 u = pm.units
 print(f"{pm.name}: independent {', '.join(pm.independent)}; units {u.length}, {u.force}")

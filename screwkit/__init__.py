@@ -7,10 +7,11 @@ moments about the base origin, reciprocal product ``f.v + m.w`` (see
 
 from .errors import (CatalogError, GeometryError, InputError, ParseError, ScrewkitError,
                      SingularityError, UnreachablePoseError)
-from .screws import Line, Twist, Wrench
+from .screws import FreedomResult, Line, Twist, Wrench, freedoms
 from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
 from .api import assembly_modes, forward, map, size  # noqa: A004 (screwkit.map)
+from .api import to_pinocchio
 
 __version__ = "0.1.0"
 
@@ -23,12 +24,14 @@ __all__ = [
     "ScrewkitError", "ParseError", "CatalogError", "GeometryError", "InputError",
     "SingularityError", "UnreachablePoseError",
     # screws and legs
-    "Line", "Twist", "Wrench", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
+    "Line", "Twist", "Wrench", "freedoms", "FreedomResult", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
     "leg_from_joints", "leg", "define_leg", "load_legs", "extend_catalog",
     # PMs and the engine
     "load_pm", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
     # maps, sizing, forward kinematics
     "map", "size", "forward", "assembly_modes",
+    # interoperability
+    "to_pinocchio",
     "__version__",
 ]
 

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     PoseLike = Mapping[str, ArrayLike]
 
 __all__ = ["leg", "load_pm", "solve", "solve_path", "analyze", "define_leg", "load_legs",
-           "extend_catalog", "map", "size", "forward", "assembly_modes"]
+           "extend_catalog", "map", "size", "forward", "assembly_modes", "to_pinocchio"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0,
@@ -367,3 +367,30 @@ def assembly_modes(pm: PMLike, actuators: ArrayLike | Mapping[str, float], *, se
 
     return _modes(_model(pm, overrides), actuators, seeds=seeds, seed=seed, degrees=degrees)
 
+
+def to_pinocchio(pm: PMLike, overrides: Mapping[str, float] | None = None, *,
+                 point_contacts: bool = False) -> Any:
+    """The Pinocchio model of a PM and its loop-closure constraint models.
+
+    Every leg is a branch of one ``pinocchio.Model`` (native joints, values 0 at the home
+    pose); leg 1 carries the platform and each other leg is tied to it by a
+    ``pinocchio.RigidConstraintModel`` (see
+    :func:`screwkit.interop.build_closed_loop_model`).  Needs Pinocchio (``pin``).
+
+    Returns
+    -------
+    screwkit.interop.ClosedLoopModel
+        ``.model`` (``pinocchio.Model``), ``.constraints`` (tuple of
+        ``pinocchio.RigidConstraintModel``), ``.q(joint_values)`` (the Pinocchio
+        configuration of screwkit's per-leg joint values).
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> pin_model = screwkit.to_pinocchio("3RRPRR")
+    >>> pin_model.model.nq, len(pin_model.constraints)
+    (15, 2)
+    """
+    from .interop import to_pinocchio as _to_pinocchio
+
+    return _to_pinocchio(_model(pm, overrides), point_contacts=point_contacts)

@@ -50,11 +50,14 @@ class CatalogError(ScrewkitError, ValueError):
     """The catalog (or a user model) is malformed: names the entry and field at fault."""
 
     def __init__(self, message: str, entry: str | None = None, field: str | None = None,
-                 source: str | None = None) -> None:
-        self.entry, self.field, self.source = entry, field, source
+                 source: str | None = None, line: int | None = None) -> None:
+        self.entry, self.field, self.source, self.line = entry, field, source, line
+        self.detail = message                  # the message without the location
         where = []
         if source:
             where.append(str(source))
+        if line:
+            where.append(f"line {line}")
         if entry:
             where.append(f"entry {entry!r}")
         if field:

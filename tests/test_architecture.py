@@ -27,7 +27,7 @@ LAYERS = {
     "legs": 2,
     "pm": 3,
     "engine": 4,
-    "paths": 5, "synthesis": 5, "viz": 5, "interop": 5, "maps": 5, "dynamics": 5,
+    "paths": 5, "synthesis": 5, "viz": 5, "interop": 5, "maps": 5, "dynamics": 5, "design": 5,
     "api": 6,
     "cli": 7,
 }
@@ -39,6 +39,7 @@ ALLOWED_PEER_EDGES = {
     ("dynamics", "paths"): "a motion is read from the path inputs (PathSpec, CSV, expressions)",
     ("dynamics", "viz"): "DynamicsResult.plot draws the dynamic panels with viz.plot_dynamics",
     ("dynamics", "interop"): "check_dynamics builds the closed-loop Pinocchio model of interop",
+    ("design", "synthesis"): "the PM type synthesis verifies synthesis's candidate PMs with the engine",
 }
 
 #: Edges to a lower layer that are nevertheless forbidden.

@@ -37,7 +37,8 @@ def test_module_docstring_examples():
     import doctest
     import importlib
 
-    mods = ["screwkit.screws._primitives", "screwkit.screws._reciprocal", "screwkit.legs._parsing",
+    mods = ["screwkit.screws._primitives", "screwkit.screws._reciprocal",
+            "screwkit.screws._freedoms", "screwkit.legs._explicit", "screwkit.legs._parsing",
             "screwkit.legs._analysis", "screwkit.engine._analysis", "screwkit.api"]
     for name in mods:
         res = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)

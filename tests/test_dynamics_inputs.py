@@ -164,7 +164,11 @@ def test_trajectory_dynamics_cli(tmp_path, capsys):
     args = ["trajectory", "3RRPRR", "--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=5",
             "--expr", "Zo=80+10*t", "--samples", "21", "--dynamics", "--mass", str(mass)]
     assert main(args + ["--plot", str(png)]) == 0
-    out = capsys.readouterr().out.splitlines()
+    cap = capsys.readouterr()
+    out = cap.out.splitlines()
+    # the block declares no units: the ones taken are said (kg, the model's cm, N)
+    assert "converted from kg, cm, N, s to kN.s^2/cm, cm, kN, s" in cap.err
+    assert "standard gravity" in cap.err
     assert len(out) == 22 and "F_a1_dyn [kN]" in out[0] and "F_a1 [kN]" in out[0]
     assert png.stat().st_size > 10000
     assert main(args + ["--format", "json"]) == 0

@@ -22,7 +22,7 @@ EXPECT = {
                         "F_a3 =   52.8076", "T_r1=-454.183", "r_i (cm): 85.8201  99.1141  79.7870"],
     "paper_2sps_2spr.py": ["2SPS+2SPR: 4 DOF (1T3R)", "F_a1=116.648  F_a2=-104.481  F_a3=107.028",
                            "F_c3 = (15.5661, 12.9556, 0.5425) kN"],
-    "user_pm_yaml.py": ["3PRS: independent alpha, beta, Zo", "3 DOF (1T2R)",
+    "user_pm_yaml.py": ["my_3prs.yaml: valid", "3PRS: independent alpha, beta, Zo", "3 DOF (1T2R)",
                         "F_a1 + F_a2 + F_a3 = 500.000000 N"],
     "trajectory_plot.py": ["{'ok': 201, 'singular': 0, 'unreachable': 0}", "F_a3            51.817",
                            "wrote 3rrprr_path.csv and 3rrprr_fig5.png"],

@@ -79,6 +79,13 @@ def test_round_trip_ik_fk(name):
     assert back.mean() >= 0.75, f"{name}: only {back.mean():.0%} of the poses came back"
     # the FK residual is far below the inverse displacement's
     assert np.max(fk.residual) <= 1e-12
+    # the assembly mode it reports: a pose that came back has the det J sign of its inverse
+    # displacement (np.linalg.det of the analysis' J, computed here), and every solution's
+    # sign is stated beside the start's
+    if ik.jacobian.square:
+        ik_sign = np.sign(np.linalg.det(ik.jacobian.matrix[keep]))
+        np.testing.assert_array_equal(fk.det_sign[back], ik_sign[back])
+        assert fk.reference_det_sign in (-1, 1)
 
 
 def _rps_geometry():

@@ -1,7 +1,7 @@
 """Maps: every cell equals the analysis at its pose; units, files, limits, sizing, the CLI.
 
 Independent references: ``screwkit.analyze`` at each sampled cell's pose alone (one pose,
-its own solve); the limits recomputed here from the cells' joint values, leg lengths and a
+its own solve; a few also through ``screwkit analyze --json``); the limits recomputed here from the cells' joint values, leg lengths and a
 brute-force distance between the leg segments; the sizing extremes as the largest values
 of one plain batched analysis per workload over the same poses.
 """
@@ -27,7 +27,7 @@ def rrprr():
     return pm, screwkit.map(pm, GRID, degrees=True, block=4096)
 
 
-def test_100_random_cells_equal_analyze_at_their_pose(rrprr):
+def test_100_random_cells_equal_analyze_at_their_pose(rrprr, capsys):
     pm, ds = rrprr
     assert ds["F_a1"].dims == ("alpha", "beta", "Zo") and ds.sizes["Zo"] == 12
     rng = np.random.default_rng(3)
@@ -51,6 +51,22 @@ def test_100_random_cells_equal_analyze_at_their_pose(rrprr):
         assert int(cell["det_sign"]) == int(np.sign(np.linalg.det(one.jacobian.J)))
         assert bool(cell["ok"]) == one.ok and str(one.level) == \
             screwkit.maps.LEVEL_CODES[int(cell["level"])]
+    # and the command line's `screwkit analyze --json` at a few of those poses
+    for flat in rng.choice(ds["ok"].size, 5, replace=False):
+        i, j, k = np.unravel_index(flat, shape)
+        pose = {"alpha": float(ds.alpha[i]), "beta": float(ds.beta[j]), "Zo": float(ds.Zo[k])}
+        assert main(["analyze", "3RRPRR", "--json"] +
+                    [a for p, v in pose.items() for a in ("--pose", f"{p}={v!r}")]) == 0
+        out = json.loads(capsys.readouterr().out)
+        cell = ds.isel(alpha=i, beta=j, Zo=k)
+        vals = out["statics"]["values"]
+        scale = max(1.0, max(abs(v) for v in vals))
+        for lab, v in zip(out["statics"]["labels"], vals):
+            assert abs(float(cell[lab]) - v) <= 1e-10 * scale, (pose, lab)
+        for n, e in enumerate(out["extensions"]):
+            assert abs(float(cell[f"r{n + 1}"]) - e) <= 1e-10 * L
+        assert float(cell["condition_number"]) == pytest.approx(out["condition_number"],
+                                                                rel=1e-10)
 
 
 def test_units_and_model_in_the_attributes(rrprr):
@@ -93,6 +109,12 @@ def test_unreachable_cells_are_flagged_not_solved():
     assert np.all(np.isnan(ds["F_a1"].values[bad])) and np.all(ds["level"].values[bad] == 4)
     one = screwkit.analyze("3RSR", {"Zo": np.array([float(ds.Zo[np.flatnonzero(bad)[0]])])})
     assert one.unreachable[0]
+    # the plot hatches exactly those cells and says so
+    pytest.importorskip("matplotlib")
+    fig = screwkit.maps.plot_map(ds, None, ["conditioning"])
+    hatched = [c for c in fig.axes[0].collections if c.get_hatch() == "////"]
+    assert len(hatched) == 1
+    assert "unreachable" in [t.get_text() for t in fig.legends[0].get_texts()]
 
 
 def test_grid_errors():
@@ -221,3 +243,26 @@ def test_cli_map_and_size(tmp_path, capsys):
     assert "START:STOP:COUNT" in capsys.readouterr().err
     assert main(["size", "3RRPRR", "--grid", "alpha=0:1:3", "--workloads",
                  str(tmp_path / "none.csv")]) == 2
+
+
+def test_plot_colour_range_hatches_and_loci():
+    """The picture says what the cells say: the colour range of a force is the range of the
+    regular cells (computed here from the map) and the refined crossings are drawn where the
+    locus says (the hatching of unreachable cells: the test above)."""
+    pytest.importorskip("matplotlib")
+    ds = screwkit.map("2SPS+2SPR", {"alpha": (-10.0, 30.0, 21), "gamma": (-5.0, 5.0, 3)},
+                      fix={"beta": 0.0, "Zo": 75.0}, degrees=True)
+    fig = screwkit.maps.plot_map(ds, None, ["F_a1"])
+    ax = fig.axes[0]
+    mesh = ax.collections[0]
+    calm = ds["level"].values <= 1
+    f = ds["F_a1"].values[calm]
+    m = max(-f.min(), f.max())
+    assert mesh.norm.vmin == pytest.approx(-m) and mesh.norm.vmax == pytest.approx(m)
+    assert "active force of leg 1" in ax.get_title() and "[kN]" in ax.get_xlabel() + \
+        fig.axes[1].get_ylabel()
+    drawn = sorted(zip(np.concatenate([ln.get_xdata() for ln in ax.get_lines()]),
+                       np.concatenate([ln.get_ydata() for ln in ax.get_lines()])))
+    want = sorted((x["pose"]["alpha"], x["pose"]["gamma"]) for x in screwkit.maps.locus_list(ds))
+    assert sum(1 for x in screwkit.maps.locus_list(ds) if x["along"] == "alpha") == 3
+    np.testing.assert_allclose(np.array(drawn), np.array(want))

@@ -1,7 +1,9 @@
-"""A map on a Dask cluster equals the serial map bit for bit (a LocalCluster the test starts
-on loopback and closes)."""
+"""A map on a Dask cluster equals the serial map bit for bit, and so do a sizing and a
+validation (a LocalCluster the test starts on loopback and closes)."""
 
 from __future__ import annotations
+
+import json
 
 import numpy as np
 import pytest
@@ -18,7 +20,7 @@ def _same(a, b):
         assert np.array_equal(a[k].values, b[k].values, equal_nan=True), k
 
 
-def test_dask_map_equals_the_serial_map_bit_for_bit():
+def test_dask_map_equals_the_serial_map_bit_for_bit(tmp_path):
     grid = {"alpha": (-20.0, 20.0, 61), "beta": (-20.0, 20.0, 41)}
     serial = screwkit.map("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True, block=4096)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
@@ -28,6 +30,17 @@ def test_dask_map_equals_the_serial_map_bit_for_bit():
                             cluster=client)
         sizing = screwkit.size("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True,
                                scheduler=cluster.scheduler_address)
+        # validate on the same running cluster (--scheduler): one leg string per task
+        from screwkit.cli import main
+        args = ["validate", "SPR", "UPU", "RRPRR", "--no-catalog", "--format", "json",
+                "--quiet", "--out"]
+        assert main(args + [str(tmp_path / "v_dask.json"), "--scheduler",
+                            cluster.scheduler_address]) == 0
+    assert main(args + [str(tmp_path / "v_serial.json")]) == 0
+    v_dask, v_serial = (json.loads((tmp_path / f"v_{k}.json").read_text())
+                        for k in ("dask", "serial"))
+    assert v_dask.pop("seconds") >= 0 and v_serial.pop("seconds") >= 0
+    assert v_dask == v_serial and len(v_serial["legs"]) == 3
     assert dask.attrs["computed_on"] == "dask"
     _same(serial, dask)
     ref = screwkit.size("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True)
@@ -44,3 +57,6 @@ def test_cli_workers_equal_serial(tmp_path):
     assert main(args + ["--out", str(tmp_path / "b.nc"), "--workers", "2"]) == 0
     _same(xr.open_dataset(tmp_path / "a.nc").load(), xr.open_dataset(tmp_path / "b.nc").load())
     assert main(args + ["--workers", "0"]) == 2
+    assert main(args + ["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert main(["validate", "SPR", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert main(["validate", "SPR", "--scheduler", "127.0.0.1:1"]) == 2

@@ -119,3 +119,39 @@ def test_mypy_is_clean_on_the_public_modules(tmp_path):
                            "--no-error-summary"], cwd=ROOT, capture_output=True, text=True,
                           timeout=600)
     assert proc.returncode == 0, f"mypy:\n{proc.stdout}\n{proc.stderr}"
+
+
+def test_the_built_wheel_ships_typing_licence_schema_and_catalog(tmp_path):
+    """Build the wheel (``pip wheel --no-deps --no-build-isolation``, from a copy of the
+    sources so that the tree stays clean) and look inside it."""
+    import shutil
+    import zipfile
+
+    setuptools = pytest.importorskip("setuptools")
+    major = int(setuptools.__version__.split(".")[0])
+    if major < 77:
+        pytest.skip(f"setuptools {setuptools.__version__} < 77 (the test extra has setuptools>=77)")
+    src = tmp_path / "src"
+    src.mkdir()
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy(ROOT / name, src / name)
+    shutil.copytree(ROOT / "screwkit", src / "screwkit",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
+                           "--no-build-isolation", "--no-index", "-q", "-w", str(tmp_path / "dist"),
+                           str(src)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    wheel, = (tmp_path / "dist").glob("screwkit-*.whl")
+    assert wheel.name.startswith(f"screwkit-{screwkit.__version__}-py3-none-any")
+    names = set(zipfile.ZipFile(wheel).namelist())
+    for member in ("screwkit/py.typed", "screwkit/legs_catalog.yaml", "screwkit/pm/model.schema.json",
+                   "screwkit/__main__.py", "screwkit/cli/_commands/export.py"):
+        assert member in names, f"{member} is not in {wheel.name}"
+    info = f"screwkit-{screwkit.__version__}.dist-info"
+    assert any(n.startswith(f"{info}/licenses/LICENSE") for n in names), sorted(n for n in names if "dist-info" in n)
+    meta = zipfile.ZipFile(wheel).read(f"{info}/METADATA").decode()
+    assert "License-Expression: BSD-3-Clause" in meta and "Provides-Extra: plot" in meta
+    assert "Provides-Extra: dask" in meta and "Provides-Extra: test" in meta
+    # the packaged schema in the wheel is the one the code generates
+    from screwkit.pm import schema_text
+    assert zipfile.ZipFile(wheel).read("screwkit/pm/model.schema.json").decode() == schema_text()

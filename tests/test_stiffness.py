@@ -27,13 +27,27 @@ def _rows_about_o(J, o):
     return np.concatenate([J[:, :3], J[:, 3:] - np.cross(o, J[:, :3])], axis=1)
 
 
+def _stewart_Ja_by_hand():
+    """The 6-SPS actuation rows about o from the YAML's geometry: unit leg lines d_i through
+    a_i, as [d_i; (a_i - o) x d_i] (hexagons of radii 60 and 30 cm, pose in XYZ degrees)."""
+    ang = np.radians
+    A = np.array([[60 * np.cos(ang(t)), 60 * np.sin(ang(t)), 0]
+                  for t in (-15, 15, 105, 135, 225, 255)])
+    ap = np.array([[30 * np.cos(ang(t)), 30 * np.sin(ang(t)), 0]
+                   for t in (-45, 45, 75, 165, 195, 285)])
+    R = Rotation.from_euler("XYZ", [3, -2, 4], degrees=True).as_matrix()
+    o = np.array([2.0, -1.0, 70.0])
+    a = ap @ R.T + o
+    d = (a - A) / np.linalg.norm(a - A, axis=1)[:, None]
+    return np.concatenate([d, np.cross(a - o, d)], axis=1)
+
+
 def test_stewart_K_is_k_Ja_T_Ja(stewart):
     st = stiffness(stewart)
     k = stewart.dynamics.legs[0].stiffness.actuator
     assert k == pytest.approx(2.0e6 * 1e-3)               # N/cm -> kN/cm
-    J = st.analysis.jacobian.J
-    Jo = _rows_about_o(J, st.analysis.solution.position)
-    assert np.allclose(st.K[0], k * Jo.T @ Jo, rtol=0, atol=1e-13 * np.abs(st.K[0]).max())
+    Jo = _stewart_Ja_by_hand()
+    assert np.allclose(st.K[0], k * Jo.T @ Jo, rtol=0, atol=1e-12 * np.abs(st.K[0]).max())
     assert st.rank == 6
     assert np.allclose(st.compliance[0] @ st.K[0], np.eye(6), atol=1e-10)
 
@@ -193,3 +207,32 @@ def test_stiffness_cli(tmp_path, capsys):
     assert main(["stiffness", "3RRPRR", "--k-actuator", "-1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "positive" in err
+
+
+def test_stiffness_fields_for_maps(stewart):
+    """The per-pose scalars for maps against the hand-built K = k J_a^T J_a of the 6-SPS:
+    principal stiffnesses are the inverted eigenvalues of the blocks of K^-1, the
+    deflection is K^-1 W; a singular cell is NaN."""
+    from screwkit.dynamics import stiffness_fields
+    k = stewart.dynamics.legs[0].stiffness.actuator
+    Ja = _stewart_Ja_by_hand()
+    C = np.linalg.inv(k * Ja.T @ Ja)
+    W = np.array([0.5, -0.3, 1.0, 2.0, 1.0, -3.0])
+    # the second cell is singular: both hexagons in one plane
+    pose = {n: np.array([v, v if n != "Zo" else 0.0]) for n, v in stewart.default_pose.items()}
+    pose.update({n: np.array([pose[n][0], 0.0]) for n in ("alpha", "beta", "gamma")})
+    an = screwkit.analyze(stewart, pose, force=W[:3], torque=W[3:], raise_on_singular=False)
+    f = stiffness_fields(an)
+    kt = 1 / np.linalg.eigvalsh(C[:3, :3])
+    kr = 1 / np.linalg.eigvalsh(C[3:, 3:])
+    assert f["k_translation_min"][0][0] == pytest.approx(kt.min(), rel=1e-10)
+    assert f["k_translation_max"][0][0] == pytest.approx(kt.max(), rel=1e-10)
+    assert f["k_rotation_min"][0][0] == pytest.approx(kr.min(), rel=1e-10)
+    assert f["k_rotation_max"][0][0] == pytest.approx(kr.max(), rel=1e-10)
+    d = C @ W
+    assert f["deflection_translation"][0][0] == pytest.approx(np.linalg.norm(d[:3]), rel=1e-10)
+    assert f["deflection_rotation"][0][0] == pytest.approx(np.linalg.norm(d[3:]), rel=1e-10)
+    assert f["stiffness_rank"][0][0] == 6 and f["stiffness_rank"][0][1] == -1
+    assert np.isnan(f["k_translation_min"][0][1])
+    assert f["k_translation_min"][1] == "kN/cm" and f["k_rotation_min"][1] == "kN.cm/rad"
+    assert f["deflection_translation"][1] == "cm"

@@ -16,8 +16,8 @@ from ..errors import ScrewkitError
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: Sub-command modules, in the order of ``screwkit --help``.
-COMMANDS = ["leg", "catalog", "analyze", "check", "trajectory", "draw", "validate", "map", "size",
-            "fk", "stiffness"]
+COMMANDS = ["leg", "catalog", "analyze", "check", "model", "trajectory", "draw", "validate", "map", "size",
+            "fk", "stiffness", "freedom", "export", "synthesize"]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -61,6 +61,8 @@ def progress_bar(args, desc: str, unit: str, total: int | None = None) -> Iterat
         if bar.total != total_:
             bar.total = total_
         bar.update(max(0, int(done) - bar.n))
+        if bar.n >= total_ and bar._time() - bar.start_t >= bar.delay:
+            bar.refresh()      # tqdm redraws at most every 0.1 s: show the finished count
 
     try:
         yield update

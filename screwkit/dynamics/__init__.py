@@ -9,6 +9,7 @@
   forces, constraint values, leg reactions, joint efforts, energies;
 * :func:`stiffness` -> :class:`StiffnessResult`: ``K = J^T K_r J`` about ``o``, the deflection
   under a workload, the principal stiffnesses;
+* :func:`stiffness_fields`: per-pose scalars of the stiffness of many poses (for maps);
 * :func:`check_dynamics`: the same inverse dynamics from Pinocchio's closed-loop model.
 
 The module itself is callable: ``screwkit.dynamics(pm, motion, ...)`` is
@@ -24,14 +25,16 @@ from ._motion import (Motion, motion_from_args, motion_from_csv, motion_from_exp
                       motion_from_path, motion_from_samples)
 from ._result import STATUSES, DynamicsResult
 from ._dynamics import CHUNK, dynamics, resolve_parameters
-from ._stiffness import StiffnessResult, row_stiffness, stiffness
+from ._stiffness import StiffnessResult, row_stiffness, stiffness, stiffness_of
+from ._stiffness_fields import STIFFNESS_FIELDS, stiffness_fields
 from ._pinocchio import DynamicsCheck, check_dynamics
 
 __all__ = [
     "Jet", "derivatives", "Motion", "motion_from_expressions", "motion_from_samples",
     "motion_from_csv", "motion_from_path", "motion_from_args",
     "DynamicsResult", "STATUSES", "dynamics", "resolve_parameters", "CHUNK",
-    "StiffnessResult", "stiffness", "row_stiffness", "DynamicsCheck", "check_dynamics",
+    "StiffnessResult", "stiffness", "stiffness_of", "row_stiffness", "STIFFNESS_FIELDS",
+    "stiffness_fields", "DynamicsCheck", "check_dynamics",
 ]
 
 

@@ -79,7 +79,7 @@ def _vec3(x, name):
 
 def _motion(model, motion) -> Motion:
     if isinstance(motion, PathSpec):
-        motion = motion_from_path(motion)
+        motion = motion_from_path(motion, length_unit=model.units.length)
     if not isinstance(motion, Motion):
         raise InputError(f"the motion must be a screwkit.dynamics.Motion or a PathSpec, got "
                          f"{type(motion).__name__}")

@@ -130,7 +130,8 @@ def motion_from_expressions(exprs, independent, *, samples: int = 51, t_range=(0
                   "automatic differentiation of the expressions (exact)")
 
 
-def motion_from_samples(t, values, independent=None, *, smoothing=None, source="samples") -> Motion:
+def motion_from_samples(t, values, independent=None, *, smoothing=None, source="samples",
+                        length_unit: str = "length") -> Motion:
     """A motion through samples: a cubic smoothing spline per parameter.
 
     Parameters
@@ -144,6 +145,8 @@ def motion_from_samples(t, values, independent=None, *, smoothing=None, source="
     smoothing : float or None
         The spline's ``lam`` (:func:`scipy.interpolate.make_smoothing_spline`): None
         chooses it by generalised cross-validation, 0 interpolates the samples.
+    length_unit : str
+        The model's length unit, for the notes.
     """
     from scipy.interpolate import make_smoothing_spline
 
@@ -165,7 +168,7 @@ def motion_from_samples(t, values, independent=None, *, smoothing=None, source="
         s = make_smoothing_spline(t, y, lam=smoothing)
         vals[k], rates[k], accs[k] = s(t), s.derivative(1)(t), s.derivative(2)(t)
         dev = float(np.max(np.abs(vals[k] - y)))
-        unit = "deg" if k in ANGLE_PARAMETERS else "length"
+        unit = "deg" if k in ANGLE_PARAMETERS else length_unit
         worst.append(f"{k} {np.degrees(dev) if unit == 'deg' else dev:.3g} {unit}")
     how = "GCV" if smoothing is None else f"lam = {smoothing:g}"
     notes.append(f"smoothing spline ({how}); largest deviation from the samples: "
@@ -173,22 +176,23 @@ def motion_from_samples(t, values, independent=None, *, smoothing=None, source="
     return Motion(t, vals, rates, accs, source, f"cubic smoothing spline ({how})", tuple(notes))
 
 
-def motion_from_path(path: PathSpec, *, smoothing=None) -> Motion:
+def motion_from_path(path: PathSpec, *, smoothing=None, length_unit: str = "length") -> Motion:
     """A motion through the samples of a :class:`~screwkit.paths.PathSpec` (spline)."""
     if not isinstance(path, PathSpec):
         raise InputError(f"expected a PathSpec, got {type(path).__name__}")
     return motion_from_samples(path.t, path.values, path.independent, smoothing=smoothing,
-                               source=path.source)
+                               source=path.source, length_unit=length_unit)
 
 
-def motion_from_csv(path, independent, *, smoothing=None, angle_unit: str = "deg") -> Motion:
+def motion_from_csv(path, independent, *, smoothing=None, angle_unit: str = "deg",
+                    length_unit: str = "length") -> Motion:
     """A motion through the samples of a CSV path file (:func:`~screwkit.paths.path_from_csv`;
     ``t`` in seconds, angles in degrees)."""
     return motion_from_path(path_from_csv(path, independent, angle_unit=angle_unit),
-                            smoothing=smoothing)
+                            smoothing=smoothing, length_unit=length_unit)
 
 
-def motion_from_args(args, independent) -> Motion:
+def motion_from_args(args, independent, length_unit: str = "length") -> Motion:
     """The motion of the CLI's path options (``--expr``: exact; ``--path``: spline with
     ``--smoothing``)."""
     if getattr(args, "path", None) and getattr(args, "expr", None):
@@ -197,6 +201,7 @@ def motion_from_args(args, independent) -> Motion:
         return motion_from_expressions(args.expr, independent, samples=args.samples,
                                        t_range=tuple(args.t_range))
     if getattr(args, "path", None):
-        return motion_from_csv(args.path, independent, smoothing=getattr(args, "smoothing", None))
+        return motion_from_csv(args.path, independent, smoothing=getattr(args, "smoothing", None),
+                               length_unit=length_unit)
     raise InputError(f"no path given: use --path FILE or --expr NAME=EXPR for each of "
                      f"{', '.join(independent)}")

@@ -40,7 +40,7 @@ from ..engine import PAPER_FORCE, PAPER_TORQUE
 from ..errors import InputError
 from ..screws import RANK_RTOL
 
-__all__ = ["StiffnessResult", "row_stiffness", "stiffness"]
+__all__ = ["StiffnessResult", "row_stiffness", "stiffness", "stiffness_of"]
 
 
 def row_stiffness(analysis, params=None, *, actuator=None, force=None, couple=None,
@@ -299,6 +299,15 @@ def stiffness(model, pose=None, *, params=None, actuator=None, force_stiffness=N
     if params is not None or model.dynamics is not None:
         params = resolve_parameters(model, params)
     an = analyze(model, pose, force=force, torque=torque, degrees=degrees, **kwargs)
+    return stiffness_of(an, params, actuator=actuator, force_stiffness=force_stiffness,
+                        couple_stiffness=couple_stiffness, rows=rows, geometric=geometric)
+
+
+def stiffness_of(an, params=None, *, actuator=None, force_stiffness=None,
+                 couple_stiffness=None, rows=None, geometric: bool = False) -> StiffnessResult:
+    """:func:`stiffness` of an existing :class:`~screwkit.engine.PMAnalysis` (its poses and
+    workload), with ``params`` a resolved :class:`~screwkit.pm.DynamicsParameters` or None."""
+    model = an.model
     k = row_stiffness(an, params, actuator=actuator, force=force_stiffness,
                       couple=couple_stiffness, rows=rows)
     J = an.jacobian.matrix

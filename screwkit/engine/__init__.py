@@ -29,6 +29,7 @@ from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_
                         solve_path, solve_pose)
 from ._forward import ForwardResult, forward_kinematics
 from ._modes import AssemblyModes, assembly_modes
+from ._report import constraint_resultants
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD",
@@ -39,5 +40,5 @@ __all__ = [
     "PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "analyze_pm",
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
-    "LinkFrames", "link_frames",
+    "LinkFrames", "link_frames", "constraint_resultants",
 ]

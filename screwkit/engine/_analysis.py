@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -183,6 +183,18 @@ class PMAnalysis:
         from ._report import report
         return report(self, units)
 
+    def to_frame(self) -> Any:
+        """A long ``pandas.DataFrame``: one row per pose and quantity (pose parameters,
+        extensions, every row value of ``F_r``, the condition number) with its unit; see
+        :func:`screwkit.engine._frames.to_frame`.  Needs pandas."""
+        from ._frames import to_frame
+        return to_frame(self)
+
+    def _repr_html_(self) -> str:
+        """The HTML table Jupyter shows for a result."""
+        from ._frames import to_html
+        return to_html(self)
+
 
 def _vec3(x, name):
     """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
@@ -224,11 +236,12 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     progress : callable(done, total), optional
         Called as the work advances: ``done`` grows to ``total`` (N poses; 2 N steps with
         ``path=True``: the closures of the path, then the rows and statics).
-    stiffness : mapping or array_like (m,), optional
+    stiffness : mapping, array_like (m,) or "model", optional
         Stiffness of each row of ``J`` (a mapping by row label, ``{"F_a1": 2e3, "T_c1": 5e6}``,
-        unnamed rows keeping the least-norm weight, or one value per row), in model units:
-        a statically indeterminate PM takes the compliance-weighted solution
-        (:func:`~screwkit.engine.statics`).
+        unnamed rows keeping the least-norm weight, or one value per row), in model units,
+        or ``"model"``: the ``actuator``, ``force`` and ``couple`` stiffnesses of the model's
+        ``dynamics: stiffness:`` block.  A statically indeterminate PM then takes the
+        compliance-weighted solution (:func:`~screwkit.engine.statics`).
     """
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
@@ -268,6 +281,8 @@ def _compliance(model, stiffness, N):
     from ._statics import compliance_of
     info = _labels(templates_of(model))
     labels = [r.label for r in info]
+    if isinstance(stiffness, str):
+        stiffness = _model_stiffness(model, info, stiffness)
     if isinstance(stiffness, dict):
         bad = sorted(set(stiffness) - set(labels))
         if bad:
@@ -279,6 +294,30 @@ def _compliance(model, stiffness, N):
             k[labels.index(lab)] = v
         stiffness = k
     return compliance_of(stiffness, len(labels), N)
+
+
+def _model_stiffness(model, info, what) -> dict:
+    """Row stiffnesses by label from the model's ``dynamics: stiffness:`` block."""
+    from ..errors import InputError
+    if what != "model":
+        raise InputError(f"stiffness must be 'model', a mapping by row label or one value per "
+                         f"row, got {what!r}")
+    dyn = getattr(model, "dynamics", None)
+    if dyn is None or not any(lg.stiffness.given for lg in dyn.legs):
+        raise InputError(f"{model.name} declares no stiffness (add 'dynamics: stiffness: "
+                         "{actuator: .., force: .., couple: ..}' to its definition)")
+    out = {}
+    for r in info:
+        st = dyn.legs[r.leg].stiffness
+        key = "actuator" if r.kind == "actuation" else r.kind
+        k = getattr(st, key, None) if key in ("actuator", "force", "couple") else None
+        if k is None and st.beam is not None:
+            raise InputError(f"{model.name}: leg {r.leg + 1} gives its stiffness as a beam; "
+                             f"the statics needs '{key}' for row {r.label} (the beam's value "
+                             "depends on the pose: see screwkit stiffness)")
+        if k is not None:
+            out[r.label] = float(k)
+    return out
 
 
 def _mask(st: StaticsResult, bad) -> StaticsResult:

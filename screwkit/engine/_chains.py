@@ -7,7 +7,8 @@ of the model and the order of the unknowns of the loop closures.  It is built
 once per model (:func:`chains_of`) and never changes.
 
 Forward kinematics is the product of exponentials of :mod:`screwkit.engine`
-(module docstring), evaluated slot by slot for every leg and every pose at once.
+(module docstring), evaluated slot by slot for every leg and every pose at once
+(:func:`~screwkit.engine._poe.chain_forward`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from ..pm import LENGTH_PARAMS, PARAMS
 from ..screws import euler_matrices
 from . import _algebra as alg
 from ..screws import cross
+from ._poe import chain_forward
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "ANGLE_PARAMS", "Chains", "chains_of", "Frames",
            "chain_forward", "forward", "leg_forward", "normalised_twists", "platform_columns"]
@@ -124,8 +126,23 @@ def chains_of(model) -> Chains:
     return ch
 
 
+def _refuse_parallelograms(legs) -> None:
+    """The product of exponentials moves a Pa's far link along a line, not along its
+    circle: refuse finite motion of legs with a parallelogram (instantaneous analyses of
+    placed legs hold)."""
+    from ..errors import InputError
+    for lg in legs:
+        pa = next((j.name for j in lg.joints if j.spec.parallelogram), None)
+        if pa is not None:
+            raise InputError(f"leg {lg.name}: the engine's finite motion does not cover the "
+                             f"parallelogram {pa} yet (its far link moves on a circle); "
+                             "analyse placed legs instead (mobility_of_legs, "
+                             "unified_jacobian)")
+
+
 def _build(model) -> Chains:
     legs = model.home_legs
+    _refuse_parallelograms(legs)
     n = len(legs)
     sizes = tuple(len(lg.joints) for lg in legs)
     m = max(sizes)
@@ -205,64 +222,6 @@ def platform_pose(ch: Chains, params: dict):
     return Rp, o + p0.reshape((3,) + (1,) * (o.ndim - 1)), E
 
 
-def chain_forward(D, P, rotation, translation, q, slots: bool = False):
-    """Product of exponentials of chains, slot by slot (the kinematics of every leg).
-
-    Parameters
-    ----------
-    D, P : ndarray (3, n, m)
-        Home axes and points of ``n`` chains of ``m`` slots.
-    rotation, translation : ndarray (n, m)
-        Rotation and translation per unit joint value.
-    q : ndarray (n, m, N)
-        Joint values.
-
-    Returns
-    -------
-    axes, points : ndarray (m, 3, n, N)
-        Current joint axes and points.
-    R : ndarray (3, 3, n, N) ; t : ndarray (3, n, N)
-        The displacement ``G = prod exp(xi_j q_j)`` as ``x -> R x + t``.
-    Rs, ts : ndarray (m, 3, 3, n, N), (m, 3, n, N)
-        With ``slots``, also the displacement after each slot, ``prod_{k <= j}
-        exp(xi_k q_k)``: how the link that follows joint ``j`` has moved from home.
-    """
-    n, m, N = q.shape
-    axes = np.empty((m, 3, n, N))
-    points = np.empty((m, 3, n, N))
-    if slots:
-        Rs, ts = np.empty((m, 3, 3, n, N)), np.empty((m, 3, n, N))
-    R = t = None
-    rotates = rotation.any(axis=0)
-    for j in range(m):
-        Dj, Pj = D[:, :, j, None], P[:, :, j, None]
-        if R is None:
-            d, p = np.broadcast_to(Dj, (3, n, N)), np.broadcast_to(Pj, (3, n, N))
-        else:
-            d = alg.matvec(R, Dj)
-            p = alg.matvec(R, Pj) + t
-        axes[j], points[j] = d, p
-        shift = translation[:, j, None] * q[:, j] * d
-        if rotates[j]:
-            Rj = alg.rodrigues(d, rotation[:, j, None] * q[:, j])
-            if R is None:
-                t = p - alg.matvec(Rj, p) + shift
-                R = Rj
-            else:
-                t = alg.matvec(Rj, t - p) + p + shift
-                R = alg.matmul(Rj, R)
-        elif R is None:
-            t = shift
-            R = np.broadcast_to(np.eye(3)[:, :, None, None], (3, 3, n, N))
-        else:
-            t = t + shift
-        if slots:
-            Rs[j], ts[j] = R, t
-    if slots:
-        return axes, points, R, t, Rs, ts
-    return axes, points, R, t
-
-
 def forward(ch: Chains, fixed: dict, X: np.ndarray) -> Frames:
     """Every leg's joint axes and closure error at the unknowns ``X (n_unknowns, N)``.
 
@@ -311,6 +270,7 @@ def leg_forward(home_leg, q, platform_home=None):
         ``T_end(q)`` when ``platform_home`` is given, else the displacement ``G``.
     """
     from ..errors import InputError
+    _refuse_parallelograms([home_leg])
     m = len(home_leg.joints)
     q = np.asarray(q, dtype=float).reshape(-1)
     if q.shape != (m,) or not np.all(np.isfinite(q)):
@@ -338,19 +298,29 @@ def normalised_twists(ch: Chains, fr: Frames) -> np.ndarray:
     unknown is ``q / L``); zero for padded slots.
     """
     m = ch.m
-    c = ch.centre.reshape(3, 1, 1)
-    T = np.zeros((m, 6) + fr.axes.shape[2:])
-    trans = ch.translation / np.where(ch.q_scale == 1.0, ch.length, 1.0)
-    for j in range(m):
-        d = fr.axes[j]
-        tj = trans[:, j, None]
-        if ch.slot_rotates[j]:
-            rj = ch.rotation[:, j, None]
-            T[j, :3] = rj * alg.cross(fr.points[j] - c, d) / ch.length + tj * d
-            T[j, 3:] = rj * d
-        else:
-            T[j, :3] = tj * d
+    T = np.empty((m, 6) + fr.axes.shape[2:])
+    rot, trans, c = _twist_constants(ch)
+    # every slot at once, components first: d, p (3, m, n, N)
+    d = fr.axes.transpose(1, 0, 2, 3)
+    lin = rot * alg.cross(fr.points.transpose(1, 0, 2, 3) - c, d) / ch.length + trans * d
+    T[:, :3] = lin.transpose(1, 0, 2, 3)
+    T[:, 3:] = (rot * d).transpose(1, 0, 2, 3)
     return T
+
+
+_TWIST_CONSTANTS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _twist_constants(ch: Chains):
+    """Rotation and normalised translation per unit unknown ``(m, n, 1)``, and the centre
+    ``(3, 1, 1, 1)`` (once per chains)."""
+    k = _TWIST_CONSTANTS.get(ch)
+    if k is None:
+        trans = ch.translation / np.where(ch.q_scale == 1.0, ch.length, 1.0)
+        k = (ch.rotation.T[:, :, None].copy(), trans.T[:, :, None].copy(),
+             ch.centre.reshape(3, 1, 1, 1).copy())
+        _TWIST_CONSTANTS[ch] = k
+    return k
 
 
 def platform_columns(ch: Chains, fr: Frames, names) -> np.ndarray:

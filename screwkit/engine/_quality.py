@@ -10,9 +10,10 @@
   amplification :data:`NEAR_SINGULAR_AMPLIFICATION`; else ``ill-conditioned`` above
   :data:`ILL_CONDITIONED_COND` or :data:`ILL_CONDITIONED_AMPLIFICATION`; else ``ok``;
 * ``det_sign``: the sign of ``det J`` (square ``J`` only, else 0) and ``home_det_sign``
-  the one at the model's home pose; a pose whose sign differs lies beyond a singular
-  surface from home: in another assembly (working) mode of the actuators, reached only
-  through a singularity.
+  the one at the model's home pose, or at its default pose when ``J`` is singular at home
+  (``reference``, :func:`det_reference`); a pose whose sign differs lies beyond a singular
+  surface from that pose: in another assembly (working) mode of the actuators, reached
+  only through a singularity.
 """
 
 from __future__ import annotations
@@ -22,7 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LEVELS", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+from ..errors import ScrewkitError
+
+__all__ = ["LEVELS", "det_reference", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
            "quality", "home_det_sign"]
 
@@ -44,10 +47,12 @@ class Quality:
     det_sign: np.ndarray
     home_det_sign: int
     beyond_singular_surface: np.ndarray
+    reference: str = "home"
 
     def take(self, sl) -> "Quality":
         return Quality(self.condition_number[sl], self.amplification[sl], self.level[sl],
-                       self.det_sign[sl], self.home_det_sign, self.beyond_singular_surface[sl])
+                       self.det_sign[sl], self.home_det_sign, self.beyond_singular_surface[sl],
+                       self.reference)
 
     def warnings(self, i: int = 0) -> tuple:
         """One line per thing worth a warning at pose ``i``."""
@@ -61,8 +66,9 @@ class Quality:
                        f"{self.condition_number[i]:.3g}, efforts up to "
                        f"{self.amplification[i]:.3g} times the load")
         if self.beyond_singular_surface[i]:
-            out.append("det J has the opposite sign to the home pose's: this pose lies beyond a "
-                       "singular surface from home (another assembly mode of the actuators)")
+            ref = "home" if self.reference == "home" else "the default pose"
+            out.append(f"det J has the opposite sign to {ref}'s: this pose lies beyond a "
+                       f"singular surface from {ref} (another assembly mode of the actuators)")
         return tuple(out)
 
     def as_dict(self, i: int = 0) -> dict:
@@ -71,6 +77,7 @@ class Quality:
                 "level": str(self.level[i]),
                 "det_sign": int(self.det_sign[i]), "home_det_sign": int(self.home_det_sign),
                 "beyond_singular_surface": bool(self.beyond_singular_surface[i]),
+                "det_reference": self.reference,
                 "thresholds": {"ill_conditioned": {"condition_number": ILL_CONDITIONED_COND,
                                                    "amplification": ILL_CONDITIONED_AMPLIFICATION},
                                "near_singular": {"condition_number": NEAR_SINGULAR_COND,
@@ -104,16 +111,37 @@ def amplification(values, info, W, L):
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def home_det_sign(model, analyze) -> int:
-    """Sign of ``det J`` at the model's home pose (0 for a non-square ``J``), cached."""
+def det_reference(model, analyze) -> tuple:
+    """``(sign, name)``: the sign of ``det J`` at the model's reference pose, cached.
+
+    The reference is the home pose; when ``J`` is singular there (several catalog PMs are
+    built at a symmetric, singular home, e.g. the 3SPU+SP with its legs in one plane of
+    symmetry), the sign there is rounding noise, so the model's default pose is used
+    instead. ``sign`` is 0 (no assembly-mode check) for a non-square ``J`` or when both
+    poses are singular; ``name`` is ``"home"``, ``"default"`` or ``"none"``.
+    """
     s = _HOME.get(model)
     if s is None:
-        home = {p: model.home_pose[p] for p in model.independent}
-        res = analyze(model, home, raise_on_singular=False)
-        J = res.jacobian.J
-        s = int(np.sign(np.linalg.det(J))) if J.shape == (6, 6) else 0
+        s = (0, "none")
+        for name, full in (("home", model.home_pose), ("default", model.default_pose)):
+            pose = {p: full[p] for p in model.independent}
+            try:
+                res = analyze(model, pose, raise_on_singular=False)
+            except ScrewkitError:       # an unreachable reference is no reference
+                continue
+            J = res.jacobian.J
+            if J.shape != (6, 6):
+                break
+            if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
+                s = (int(np.sign(np.linalg.det(J))), name)
+                break
         _HOME[model] = s
     return s
+
+
+def home_det_sign(model, analyze) -> int:
+    """Sign of ``det J`` at the model's reference pose (:func:`det_reference`)."""
+    return det_reference(model, analyze)[0]
 
 
 def quality(analysis, analyze) -> Quality:
@@ -135,6 +163,6 @@ def quality(analysis, analyze) -> Quality:
         det = np.sign(np.linalg.det(jac.matrix)).astype(int)
     else:
         det = np.zeros(N, int)
-    home = home_det_sign(analysis.model, analyze)
+    home, ref = det_reference(analysis.model, analyze)
     beyond = (det != 0) & (home != 0) & (det != home) & ~sing
-    return Quality(cond, amp, lev, det, home, beyond)
+    return Quality(cond, amp, lev, det, home, beyond, ref)

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["report", "row_quantity"]
+__all__ = ["report", "row_quantity", "constraint_resultants", "resultants_determined"]
 
 _POSE = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
 
@@ -26,6 +26,54 @@ def row_quantity(r) -> str:
     if r.kind == "actuation" and r.joint is not None and r.joint[0] in "RH":
         return "torque"
     return "force"
+
+
+def constraint_resultants(statics, A):
+    """Each leg's constraint resultant: ``(f, m_A)``, both ``(..., n_legs, 3)``.
+
+    ``f`` is the total force of the leg's constraint rows on the platform and ``m_A`` its
+    moment about the leg's base point ``A_i`` (``m_O - A_i x f``).  Unlike the row values,
+    which depend on the basis chosen for the leg's constraint system, these are fixed by
+    the leg's wrench alone: they move with the base frame as vectors and scale with the
+    units (forces unchanged, moments by the length factor).  ``m_A . delta_i`` is ``T_r``.
+
+    Examples
+    --------
+    >>> import numpy as np, screwkit
+    >>> from screwkit.engine import constraint_resultants
+    >>> res = screwkit.analyze("3SPU+SP")
+    >>> f, m = constraint_resultants(res.statics, [lg.A for lg in res.solution.legs])
+    >>> f.shape, bool(np.abs(m[3]).max() < 1e-9)     # the SP leg's forces pass through A4
+    ((4, 3), True)
+    """
+    w = np.asarray(statics.constraint_wrenches, float)
+    A = np.asarray(A, float).reshape(-1, 3)
+    f = w[..., :3]
+    return f, w[..., 3:] - np.cross(A, f)
+
+
+def resultants_determined(statics, A):
+    """``(n_legs, 2)`` bools: whether statics alone fixes each leg's resultant force and
+    moment about ``A_i`` (False where a self-stress of an indeterminate pose changes it)."""
+    jac = statics.jacobian
+    A = np.asarray(A, float).reshape(-1, 3)
+    out = np.ones((len(A), 2), bool)
+    if not statics.indeterminate:
+        return out
+    S = np.asarray(statics.self_stress)                       # (k, m)
+    J = np.asarray(jac.J)
+    cons = np.array([r.kind != "actuation" for r in jac.rows])
+    for i in range(len(A)):
+        sel = np.array([r.leg == i for r in jac.rows]) & cons
+        dw = S[:, sel] @ J[sel]                               # (k, 6) about O
+        bound = np.abs(S[:, sel]) @ np.abs(J[sel])            # the size of the sum's terms
+        df = dw[:, :3]
+        dm = dw[:, 3:] - np.cross(A[i], df)
+        tol_f = 1e-9 * bound[:, :3].max(initial=0.0)
+        tol_m = 1e-9 * (bound[:, 3:].max(initial=0.0)
+                        + np.linalg.norm(A[i]) * bound[:, :3].max(initial=0.0))
+        out[i] = (np.abs(df).max(initial=0.0) <= tol_f, np.abs(dm).max(initial=0.0) <= tol_m)
+    return out
 
 
 def _scales(model, units):
@@ -51,6 +99,9 @@ def report(analysis, units=None) -> dict:
     p = sol.params_degrees()
     det = st.determined if st is not None else None
     linear = [lg.actuated_joint.kind == "P" for lg in sol.legs]
+    if st is not None:
+        res_f, res_m = constraint_resultants(st, [lg.A for lg in sol.legs])
+        res_det = resultants_determined(st, [lg.A for lg in sol.legs])
     legs = []
     for i, leg in enumerate(sol.legs):
         rows = [k_ for k_, r in enumerate(jac.rows) if r.leg == i]
@@ -97,6 +148,11 @@ def report(analysis, units=None) -> dict:
                 entry["torque_unit"] = ublock["torque"]
                 entry["torque_determined"] = bool(all(det[k_] for k_ in rows))
             entry["wrench"] = _wrench(st.leg_wrenches[i], kl, kf, kt)
+            entry["constraint_resultant"] = {
+                "force": res_f[i] * kf, "moment": res_m[i] * kt, "about": f"A{i + 1}",
+                "point": leg.A * kl, "force_unit": ublock["force"],
+                "moment_unit": ublock["torque"],
+                "force_determined": bool(res_det[i, 0]), "moment_determined": bool(res_det[i, 1])}
         legs.append(entry)
     m = analysis.mobility
     out = {
@@ -116,7 +172,7 @@ def report(analysis, units=None) -> dict:
         "conditioning": analysis.quality.as_dict(0),
         "singular": jac.singular,
         "singularity_kind": jac.singularity_kind,
-        "mobility": {"dof": m.dof, "motion_type": m.motion_type,
+        "mobility": {"dof": m.dof, "motion_type": m.motion_type, "finite": m.finite,
                      "instantaneous_type": m.instantaneous_type,
                      "instantaneous": m.instantaneous, "redundant": m.redundant,
                      "common": m.common, "constraint_rank": m.constraint_rank,
@@ -143,7 +199,9 @@ def report(analysis, units=None) -> dict:
                          "least-norm"),
         }
         if st.indeterminate:
-            out["statics"]["self_stress"] = st.self_stress
+            # each basis vector is a set of row values (in the rows' units) balancing zero load
+            out["statics"]["self_stress"] = st.self_stress * scale[None, :]
+            out["statics"]["self_stress_units"] = out["statics"]["units"]
     return out
 
 

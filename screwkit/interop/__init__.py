@@ -3,6 +3,8 @@
 * :func:`build_leg_model`, :func:`build_closed_loop_model`: a screwkit leg or a
   whole PM rebuilt with Pinocchio's native joints (:class:`LegChain`,
   :class:`LegModel`, :class:`ClosedLoopModel`);
+* :func:`to_pinocchio`, :func:`write_urdf`: a PM's Pinocchio model with its constraint
+  models; its URDF tree with the loop closures in a JSON sidecar (``screwkit export``);
 * :func:`check_leg`, :func:`check_closed_loop`, :func:`check_pm`,
   :class:`PMChecker`, :func:`check_analysis`, :func:`check_all`: closure, joint
   twists, mobility and statics compared with Pinocchio (``screwkit check``).
@@ -16,6 +18,7 @@ from ._check_rows import CHECK_RTOL, CheckReport, CheckRow
 from ._check_leg import check_leg
 from ._check_mobility import Mobility, constraint_jacobian, mobility
 from ._pinocchio_check import PMChecker, check_closed_loop, check_pm
+from ._urdf import closures, to_pinocchio, urdf_text, write_urdf
 from ._check_catalog import (SUMMARY_CHECKS, PMCheckReport, check_all, check_analysis,
                              regular_analyses, summarize)
 
@@ -23,6 +26,8 @@ __all__ = [
     # Pinocchio models
     "JointBlock", "LegChain", "LegModel", "ClosedLoopModel", "build_leg_model",
     "build_closed_loop_model", "sphere_angles", "as_pose",
+    # URDF export (tree + loop closures sidecar) and the model with its constraint models
+    "urdf_text", "closures", "write_urdf", "to_pinocchio",
     # checks
     "CHECK_RTOL", "SUMMARY_CHECKS", "CheckRow", "CheckReport", "Mobility", "PMChecker",
     "PMCheckReport", "check_leg", "check_closed_loop", "check_pm", "check_analysis", "check_all",

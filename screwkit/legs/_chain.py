@@ -37,15 +37,21 @@ class Joint:
     direction : ndarray (3,)
         Unit axis (R, H) or sliding direction (P).
     point : ndarray (3,)
-        A point of the axis (R, H); for P a reference point used for drawing.
+        A point of the axis (R, H); for P a reference point used for drawing; for the P of
+        a parallelogram ``Pa`` a point of its first hinge axis.
     pitch : float
         Helical pitch (length per radian), 0 for R and P.
+    bar : ndarray (3,) or None
+        For a parallelogram ``Pa`` only: the bar vector from its first hinge axis to its
+        second (model lengths); ``direction`` is then the instantaneous translation,
+        normal to the bars and to the hinges.
     """
 
     spec: EquivalentJoint
     direction: np.ndarray
     point: np.ndarray
     pitch: float = 0.0
+    bar: np.ndarray | None = None
 
     def __post_init__(self):
         d = _unit3(self.direction)
@@ -58,6 +64,16 @@ class Joint:
         p.setflags(write=False)
         object.__setattr__(self, "direction", d)
         object.__setattr__(self, "point", p)
+        if self.bar is not None or self.spec.parallelogram:
+            if self.bar is None:
+                raise InputError(f"{self.spec.name}: a parallelogram needs its bar vector")
+            b = as_vector3(self.bar, f"bar of {self.spec.name}").copy()
+            n = float(np.linalg.norm(b))
+            if not n > 0 or abs(float(b @ d)) > 1e-9 * n:
+                raise InputError(f"{self.spec.name}: the bar {b.tolist()} must be non-zero and "
+                                 "normal to the translation direction")
+            b.setflags(write=False)
+            object.__setattr__(self, "bar", b)
 
     @property
     def name(self) -> str:
@@ -89,7 +105,17 @@ class Joint:
         """The joint after ``x -> R (scale x) + p``."""
         R = np.asarray(rotation, float)
         return Joint(self.spec, R @ self.direction,
-                     R @ (scale * self.point) + np.asarray(translation, float), self.pitch * scale)
+                     R @ (scale * self.point) + np.asarray(translation, float), self.pitch * scale,
+                     None if self.bar is None else R @ (scale * self.bar))
+
+    @property
+    def hinge(self) -> np.ndarray | None:
+        """For a parallelogram: the unit direction of its four hinges, ``bar x direction``
+        normalised (None for other joints)."""
+        if self.bar is None:
+            return None
+        h = np.cross(self.bar, self.direction)
+        return h / np.linalg.norm(h)
 
 
 def _unit3(x):

@@ -34,7 +34,7 @@ __all__ = ["leg_from_joints", "MAX_JOINTS"]
 
 #: Most joints a leg may have (a bound on what a user sizes).
 MAX_JOINTS = 32
-_KEYS = {"kind", "axis", "point", "pitch"}
+_KEYS = {"kind", "axis", "point", "pitch", "bar"}
 
 
 def _joint_entry(k, entry):
@@ -43,12 +43,16 @@ def _joint_entry(k, entry):
         bad = set(entry) - _KEYS
         if bad:
             raise InputError(f"{where}: unknown key(s) {sorted(bad)} (expected kind, axis, "
-                             "point, pitch)")
+                             "point, pitch, bar)")
         try:
             kind, axis = entry["kind"], entry["axis"]
         except KeyError as exc:
             raise InputError(f"{where}: missing {exc.args[0]!r}") from None
         point, pitch = entry.get("point"), entry.get("pitch", 0.0)
+        if kind == "Pa":
+            if "pitch" in entry:
+                raise InputError(f"{where}: only an H joint has a pitch")
+            pitch = entry.get("bar")
     elif isinstance(entry, (list, tuple)) and 2 <= len(entry) <= 4:
         kind, axis = entry[0], entry[1]
         point = entry[2] if len(entry) > 2 else None
@@ -56,9 +60,16 @@ def _joint_entry(k, entry):
     else:
         raise InputError(f"{where}: a joint is (kind, axis, point[, pitch]) or a mapping with "
                          "kind, axis, point, pitch")
-    if kind not in ("R", "P", "H"):
-        raise InputError(f"{where}: kind must be 'R', 'P' or 'H' (a spherical or universal "
-                         f"joint is three or two R joints through one point), got {kind!r}")
+    if kind not in ("R", "P", "H", "Pa"):
+        raise InputError(f"{where}: kind must be 'R', 'P', 'H' or 'Pa' (a spherical or "
+                         "universal joint is three or two R joints through one point), got "
+                         f"{kind!r}")
+    if kind == "Pa":
+        # axis: the hinge direction; point: a point of the first hinge; 4th item: the bar
+        if point is None or pitch is None or isinstance(pitch, (int, float)):
+            raise InputError(f"{where}: a Pa is ('Pa', hinge axis, point of the first hinge, "
+                             "bar vector) or a mapping with kind, axis, point, bar")
+        return kind, axis, point, pitch
     if point is None:
         if kind != "P":
             raise InputError(f"{where}: an {kind} joint needs a point on its axis")
@@ -78,10 +89,13 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
     ----------
     joints : sequence
         Each joint as ``(kind, axis, point[, pitch])`` or a mapping with those keys:
-        ``kind`` ``"R"``, ``"P"`` or ``"H"``; ``axis`` a direction (normalised here);
+        ``kind`` ``"R"``, ``"P"``, ``"H"`` or ``"Pa"``; ``axis`` a direction (normalised here);
         ``point`` a point of the axis (world, model lengths; for P only a drawing
         reference, default the origin); ``pitch`` the lead per radian of an H joint
-        (length per radian).
+        (length per radian).  A parallelogram is ``("Pa", hinge, point, bar)`` (or a
+        mapping with ``bar``): the direction of its four parallel hinges, a point of the
+        first hinge axis and the bar vector from the first hinge axis to the second
+        (normal to the hinges); its equivalent joint is the translation ``hinge x bar``.
     A, a : array_like (3,), optional
         Base and platform attachment points; default the first and the last joint's point.
     actuated : int
@@ -113,11 +127,18 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
             not 0 <= actuated < len(parsed):
         raise InputError(f"actuated must be a joint index from 0 to {len(parsed) - 1}, "
                          f"got {actuated!r}")
-    kinds = "".join(p[0] for p in parsed)
-    ls = parse_leg(kinds[:actuated] + "_" + kinds[actuated:])
+    kinds = [p[0] for p in parsed]
+    ls = parse_leg("".join(kinds[:actuated]) + "_" + "".join(kinds[actuated:]))
     out = []
     for k, ((kind, axis, point, pitch), spec) in enumerate(zip(parsed, ls.equivalent)):
         try:
+            if kind == "Pa":
+                hinge = np.asarray(axis, float)
+                bar = as_vector3(pitch, "bar")
+                if abs(float(hinge @ bar)) > 1e-9 * np.linalg.norm(hinge) * np.linalg.norm(bar):
+                    raise InputError("the bar of a parallelogram is normal to its hinges")
+                out.append(Joint(spec, np.cross(hinge, bar), point, 0.0, bar))
+                continue
             out.append(Joint(spec, axis, point, pitch))
         except Exception as exc:          # GeometryError / InputError from the value checks
             raise InputError(f"joints[{k}]: {exc}") from None

@@ -1,7 +1,10 @@
 """Parsing of leg strings and PM strings, and expansion into equivalent R/P chains.
 
 Leg strings use the upper-case letters R (revolute), P (prismatic), H (helical),
-U (universal), S (spherical) and C (cylindrical).  The actuated joint is marked
+U (universal), S (spherical) and C (cylindrical), and the token ``Pa`` (a parallelogram:
+a planar four-bar loop of four parallel R hinges whose far link translates along a circle,
+a one-DOF curvilinear translation).  An H may carry its pitch, in model lengths per
+radian: ``RH(2.5)R``.  The actuated joint is marked
 by an underscore before its letter (``RR_PRR``, the ASCII form of the paper's
 underline); a letter followed by the combining low line U+0332 is accepted too.
 Without a marker the actuated joint is the first prismatic joint of the
@@ -51,9 +54,10 @@ JOINT_LETTERS = {
     "U": "universal (two crossed R)",
     "S": "spherical (three intersecting non-coplanar R)",
     "C": "cylindrical (coaxial P and R)",
+    "Pa": "parallelogram (a planar 4R loop: a one-DOF curvilinear translation)",
 }
 #: Degrees of freedom of each joint letter.
-JOINT_DOF = {"R": 1, "P": 1, "H": 1, "U": 2, "S": 3, "C": 2}
+JOINT_DOF = {"R": 1, "P": 1, "H": 1, "U": 2, "S": 3, "C": 2, "Pa": 1}
 _EXPANSION = {
     "R": (("R", ""),),
     "P": (("P", ""),),
@@ -61,7 +65,12 @@ _EXPANSION = {
     "U": (("R", "a"), ("R", "b")),
     "S": (("R", "a"), ("R", "b"), ("R", "c")),
     "C": (("P", "p"), ("R", "r")),
+    # instantaneously a translation normal to the bars and to the hinges (a P joint whose
+    # direction turns with the bars); the four hinges count in the mobility
+    "Pa": (("P", ""),),
 }
+#: Most characters of a pitch written in a leg string, ``H(...)``.
+_MAX_PITCH_CHARS = 24
 _COMBINING_LOW_LINE = "\u0332"
 _LOWER = frozenset("rphusc")
 
@@ -84,6 +93,9 @@ class EquivalentJoint:
     part : int
         Index of this joint among the parts of its letter (0 for simple joints).
     actuated : bool
+    pitch : float or None
+        The pitch of an H written in the string (``H(2.5)``, model lengths per radian);
+        None when the string gives none.
     """
 
     name: str
@@ -92,6 +104,12 @@ class EquivalentJoint:
     position: int
     part: int
     actuated: bool = False
+    pitch: float | None = None
+
+    @property
+    def parallelogram(self) -> bool:
+        """True for the equivalent joint of a ``Pa``."""
+        return self.origin == "Pa"
 
 
 @dataclass(frozen=True)
@@ -116,6 +134,11 @@ class LegString:
     actuated_position: int
     explicit_actuation: bool
     equivalent: tuple
+
+    @property
+    def letters(self) -> tuple:
+        """The joint tokens of the string in order (``"RRPaR"`` -> R, R, Pa, R)."""
+        return tuple(_tokens(self.text))
 
     @property
     def actuated_name(self) -> str:
@@ -161,17 +184,29 @@ class PMString:
         return "+".join((str(t.count) if t.count > 1 else "") + t.leg.text for t in self.terms)
 
 
-def _expand(letters: str, actuated_position: int) -> tuple:
+def _tokens(text: str) -> list:
+    """Joint tokens of letters without marker or pitch (``"RRPaR"`` -> R, R, Pa, R)."""
+    out, i = [], 0
+    while i < len(text):
+        n = 2 if text.startswith("Pa", i) else 1
+        out.append(text[i:i + n])
+        i += n
+    return out
+
+
+def _expand(letters, actuated_position: int, pitches=None) -> tuple:
     joints = []
+    pitches = pitches or [None] * len(letters)
     for pos, letter in enumerate(letters, start=1):
         for part, (kind, suffix) in enumerate(_EXPANSION[letter]):
-            joints.append(EquivalentJoint(f"{letter}{pos}{suffix}", kind, letter, pos, part))
+            joints.append(EquivalentJoint(f"{letter}{pos}{suffix}", kind, letter, pos, part,
+                                          False, pitches[pos - 1]))
     # the actuated equivalent joint of an actuated compound letter: its P part
     # for C, its first part otherwise
     cands = [i for i, j in enumerate(joints) if j.position == actuated_position]
     pick = next((i for i in cands if joints[i].kind == "P"), cands[0])
     j = joints[pick]
-    joints[pick] = EquivalentJoint(j.name, j.kind, j.origin, j.position, j.part, True)
+    joints[pick] = EquivalentJoint(j.name, j.kind, j.origin, j.position, j.part, True, j.pitch)
     return tuple(joints)
 
 
@@ -179,7 +214,13 @@ def _letter_problem(ch: str, src: str) -> str:
     """Why ``ch`` is not a joint letter, with a hint."""
     if ch in _LOWER:
         fixed = "".join(c.upper() if c in _LOWER else c for c in src)
+        if "pa" in src.lower():            # the parallelogram token keeps its small a
+            fixed = re.sub("P[aA]", "Pa", "".join(c.upper() if c == "p" else c for c in src))
+            fixed = "".join(c.upper() if c in _LOWER and c != "a" else c for c in fixed)
         return f"joint letters are upper case: did you mean {fixed!r}?"
+    if ch == "A" and "PA" in src:
+        return f"unknown joint letter 'A' (a parallelogram is written Pa: did you mean " \
+               f"{src.replace('PA', 'Pa')!r}?)"
     if ch in "0123456789":
         return (f"unknown joint letter {ch!r} (a leg count belongs to a PM string such as "
                 "'3RPS', not to a leg)")
@@ -224,6 +265,7 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
         raise ParseError("empty leg string: expected joint letters from R, P, H, U, S, C", src,
                          offset if source else None)
     letters: list[str] = []
+    pitches: list = []
     actuated = None
     marker_pending = False
     i = 0
@@ -239,10 +281,28 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
                 raise ParseError("misplaced underline mark", src, offset + i)
             actuated = len(letters)
         elif ch in _EXPANSION:
-            letters.append(ch)
+            tok = "Pa" if ch == "P" and text.startswith("Pa", i) else ch
+            letters.append(tok)
+            pitches.append(None)
+            i += len(tok) - 1
             if marker_pending:
                 actuated = len(letters)
                 marker_pending = False
+        elif ch == "(" and letters and letters[-1] == "H" and pitches[-1] is None:
+            close = text.find(")", i)
+            if close < 0 or close - i - 1 > _MAX_PITCH_CHARS:
+                raise ParseError("an H pitch is written H(NUMBER), e.g. RH(2.5)R (model lengths "
+                                 "per radian)", src, offset + i)
+            from ._guards import parse_number
+            from ..errors import InputError
+            try:
+                pitches[-1] = parse_number(text[i + 1:close], "H pitch", bound=1e6)
+            except InputError as exc:
+                raise ParseError(str(exc), src, offset + i + 1) from None
+            i = close
+        elif ch == "(":
+            raise ParseError("'(' opens a pitch and follows an H only, e.g. RH(2.5)R", src,
+                             offset + i)
         else:
             raise ParseError(_letter_problem(ch, src), src, offset + i)
         i += 1
@@ -252,10 +312,10 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     if not letters:
         raise ParseError("leg string has no joint letters", src, offset)
     s = "".join(letters)
-    if len(s) > MAX_LEG_LETTERS:
+    if len(letters) > MAX_LEG_LETTERS:
         raise ParseError(f"{len(s)} joint letters in leg {s!r}: a leg has at most "
                          f"{MAX_LEG_LETTERS}", src, None)
-    n_joints = sum(JOINT_DOF[c] for c in s)
+    n_joints = sum(JOINT_DOF[c] for c in letters)
     if n_joints > MAX_LEG_JOINTS:
         raise ParseError(f"leg {s!r} has {n_joints} joints in its equivalent chain: a leg has "
                          f"at most {MAX_LEG_JOINTS} (S = 3, U = C = 2)", src, None)
@@ -263,14 +323,15 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     if actuated is None:
         # default: first P of the equivalent chain (P or the P of a C), else its first R
         # (an R, or the first R of a U or an S); H only when marked
-        actuated = next((k + 1 for k, c in enumerate(s) if c in "PC"), None)
+        actuated = next((k + 1 for k, c in enumerate(letters) if c in ("P", "C")), None)
         if actuated is None:
-            actuated = next((k + 1 for k, c in enumerate(s) if c in "RUS"), None)
+            actuated = next((k + 1 for k, c in enumerate(letters) if c in "RUS"), None)
         if actuated is None:
             raise ParseError(f"leg {s!r} has no P or R joint to actuate by default; "
                              "mark the actuated joint with '_'", src, None)
-    marked = s[: actuated - 1] + "_" + s[actuated - 1:]
-    return LegString(s, marked, actuated, explicit, _expand(s, actuated))
+    shown = [t if h is None else f"{t}({h:g})" for t, h in zip(letters, pitches)]
+    marked = "".join(shown[: actuated - 1]) + "_" + "".join(shown[actuated - 1:])
+    return LegString(s, marked, actuated, explicit, _expand(letters, actuated, pitches))
 
 
 # spaces (ASCII only) may surround the count and the dash: "3 - RPS + 2 SPR"

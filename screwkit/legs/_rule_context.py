@@ -145,6 +145,16 @@ class _Context:
                 p = self.point(ref["offset"])
                 d = self.direction(ref.get("along", "leg"))
                 return p + self._number(ref.get("fraction", 0.0), "fraction") * pl.length * d
+            if len(ref) == 1 and next(iter(ref)) in ("world", "base", "platform"):
+                # a literal point (model lengths): world coordinates, or coordinates in the
+                # base frame (origin O) or the platform frame (origin o)
+                (k, v), = ref.items()
+                x = self._vector(v, f"{k} point")
+                if k == "base":
+                    return pl.O + pl.base_rotation @ x
+                if k == "platform":
+                    return pl.o + pl.platform_rotation @ x
+                return x
         self.fail(f"cannot read point reference {shorten(ref)}")
 
     def _pair(self, v, what):

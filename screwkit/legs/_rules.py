@@ -31,6 +31,8 @@ Direction rules
 Point references
 ----------------
 ``A``, ``a``, ``O``, ``o``, ``C`` (the placement's centre of rotation), a joint name (its point; ``S1``/``U1`` its centre),
+literal points ``{world: [x, y, z]}``, ``{base: [x, y, z]}`` (base frame, from ``O``),
+``{platform: [x, y, z]}`` (platform frame, from ``o``), in model lengths,
 ``{between: [P, Q], t: 0.5}``, ``{meet: [J1, J2]}`` (where two joint axes meet),
 ``{offset: P, along: REF, fraction: f}`` (``P + f |a - A| REF``).
 
@@ -61,7 +63,7 @@ from ..screws import cross
 
 __all__ = ["JointRule", "LegRules", "build_leg", "generic_leg"]
 
-_JOINT_KEYS = ("axis", "axes", "at", "pitch", "note")
+_JOINT_KEYS = ("axis", "axes", "at", "to", "pitch", "note")
 
 @dataclass(frozen=True)
 class JointRule:
@@ -73,6 +75,7 @@ class JointRule:
     axes: tuple = ()             # direction rules (U: 2, S: 3)
     at: object = None            # point rule
     pitch: float = 0.0           # H: pitch as a fraction of the leg length per radian
+    to: object = None            # Pa: point rule of its second hinge axis (bar = to - at)
 
 
 @dataclass(frozen=True)
@@ -103,11 +106,11 @@ class LegRules:
             raise CatalogError(str(exc), entry=name, field="string", source=source) from None
         if not isinstance(joints, (list, tuple)):
             raise CatalogError("must be a list with one entry per joint letter", name, "joints", source)
-        if len(joints) != len(ls.text):
-            raise CatalogError(f"{len(joints)} entries for the {len(ls.text)} letters of "
+        if len(joints) != len(ls.letters):
+            raise CatalogError(f"{len(joints)} entries for the {len(ls.letters)} letters of "
                                f"{ls.text!r}", name, "joints", source)
         rules = []
-        for k, (letter, entry) in enumerate(zip(ls.text, joints), start=1):
+        for k, (letter, entry) in enumerate(zip(ls.letters, joints), start=1):
             fld = f"joints[{k - 1}] ({letter}{k})"
             if entry is None:
                 entry = {}
@@ -119,7 +122,15 @@ class LegRules:
                                    f"{did_you_mean(unknown[0], _JOINT_KEYS)}; known: "
                                    f"{', '.join(sorted(_JOINT_KEYS))}", name, fld, source)
             axis, axes = entry.get("axis"), entry.get("axes")
-            if letter in "RPHC":
+            if letter == "Pa":
+                missing = [k for k in ("axis", "at", "to") if entry.get(k) is None]
+                if missing:
+                    raise CatalogError(f"missing {missing[0]!r}: a Pa takes 'axis' (its hinges), "
+                                       "'at' (a point of its first hinge) and 'to' (a point of "
+                                       "its second hinge)", name, fld, source)
+            elif entry.get("to") is not None:
+                raise CatalogError("only a parallelogram Pa takes 'to'", name, fld, source)
+            if letter in ("R", "P", "H", "C"):
                 if axis is None:
                     raise CatalogError("missing 'axis'", name, fld, source)
                 if letter != "P" and entry.get("at") is None:
@@ -128,22 +139,27 @@ class LegRules:
                 raise CatalogError("a U needs 'axes' with 2 direction rules", name, fld, source)
             if letter == "S" and axes is not None and len(axes) != 3:
                 raise CatalogError("an S takes 'axes' with 3 direction rules (or none)", name, fld, source)
-            if letter in "US" and entry.get("at") is None:
+            if letter in ("U", "S") and entry.get("at") is None:
                 raise CatalogError(f"missing 'at' (the {letter} centre)", name, fld, source)
             pitch = real(entry.get("pitch", 0.0), "pitch", bound=1e6,
                          error=lambda m: CatalogError(m, name, fld, source))
+            if letter == "H" and pitch != 0 and ls.equivalent[
+                    next(i for i, j in enumerate(ls.equivalent) if j.position == k)].pitch is not None:
+                raise CatalogError("the pitch is given twice (in the string and in 'pitch')",
+                                   name, fld, source)
             if letter != "H" and pitch != 0:
                 raise CatalogError(f"only an H joint has a pitch ({letter}{k} is not helical)",
                                    name, fld, source)
-            for key in ("axis", "at"):
+            for key in ("axis", "at", "to"):
                 if isinstance(entry.get(key), bool):
                     raise CatalogError(f"{key!r} must be a reference, not a boolean", name, fld,
                                        source)
             if axes is not None and not isinstance(axes, (list, tuple)):
                 raise CatalogError("'axes' must be a list of direction rules", name, fld, source)
-            for key in ("axis", "axes", "at"):
+            for key in ("axis", "axes", "at", "to"):
                 _check_rule_numbers(entry.get(key), f"{fld}.{key}", name, source)
-            rules.append(JointRule(letter, k, axis, tuple(axes or ()), entry.get("at"), pitch))
+            rules.append(JointRule(letter, k, axis, tuple(axes or ()), entry.get("at"), pitch,
+                                   entry.get("to")))
         if not isinstance(structure, (list, tuple)):
             raise CatalogError("must be a list of checks", name, "structure", source)
         if len(structure) > MAX_STRUCTURE_CHECKS:
@@ -163,7 +179,10 @@ class LegRules:
             if bad:
                 raise CatalogError(f"unknown reference {bad[0]!r} (not a frame reference, end "
                                    f"point or joint of {ls.text!r})", name, f"structure[{i}]", source)
-        return cls(name, ls, tuple(rules), tuple(structure))
+        out = cls(name, ls, tuple(rules), tuple(structure))
+        from ._rule_check import check_rule_references
+        check_rule_references(out, source)       # unknown keys and references, by name
+        return out
 
 
 _VECTOR_KEYS = ("base", "platform", "world")
@@ -221,14 +240,17 @@ def build_leg(rules: LegRules, placement: Placement, check_structure: bool = Tru
         if not pending:
             break
         left = []
+        missing = {}
         for jr in pending:
             try:
                 _place(jr, ctx, specs, by_pos, placed, placement)
-            except _Unresolved:
+            except _Unresolved as exc:
                 left.append(jr)
+                missing[f"{jr.letter}{jr.position}"] = exc.args[0] if exc.args else "?"
         if len(left) == len(pending):
-            names = ", ".join(f"{r.letter}{r.position}" for r in left)
-            ctx.fail(f"unresolvable (circular or unknown) references in the rules of {names}")
+            names = "; ".join(f"{k} refers to {v!r}" for k, v in missing.items())
+            ctx.fail(f"unresolvable references in the rules ({names}): each names a joint that "
+                     "is never placed (unknown) or placed from these ones (circular)")
         pending = left
     leg = Leg(rules.string, tuple(placed[i] for i in range(len(specs))), placement.A, placement.a,
               rules.name)
@@ -244,11 +266,28 @@ def _place(jr: JointRule, ctx: _Context, specs, by_pos, placed, pl: Placement):
     idx = by_pos[jr.position]
     base_name = f"{jr.letter}{jr.position}"
     L = pl.length
-    if jr.letter in "RPHC":
+    if jr.letter == "Pa":
+        # hinges along the axis rule; the bar from the first hinge point to the second
+        i, = idx
+        h, p, q = ctx.direction_rule(jr.axis), ctx.point(jr.at), ctx.point(jr.to)
+        bar = q - p
+        nb = float(np.linalg.norm(bar))
+        if nb < GEOMETRY_RTOL * L or abs(float(h @ bar)) > GEOMETRY_RTOL * nb:
+            ctx.fail(f"the bar of {base_name} (from 'at' to 'to') must be non-zero and normal "
+                     "to its hinges")
+        d = cross(h, bar) / nb
+        placed[i] = Joint(specs[i], d, p, 0.0, bar)
+        for nm in (specs[i].name, base_name):
+            ctx.dirs[nm], ctx.pts[nm] = d, p
+        return
+    if jr.letter in ("R", "P", "H", "C"):
         d = ctx.direction_rule(jr.axis)
         p = ctx.point(jr.at) if jr.at is not None else 0.5 * (pl.A + pl.a)
         for i in idx:
-            placed[i] = Joint(specs[i], d, p, jr.pitch * L if jr.letter == "H" else 0.0)
+            # the pitch written in the string (H(2.5), model lengths per radian) or the
+            # rule's (a fraction of the leg length per radian)
+            h = specs[i].pitch if specs[i].pitch is not None else jr.pitch * L
+            placed[i] = Joint(specs[i], d, p, h if jr.letter == "H" else 0.0)
             ctx.dirs[specs[i].name] = d
             ctx.pts[specs[i].name] = p
         ctx.dirs[base_name] = d
@@ -295,10 +334,10 @@ def generic_leg(string: str | LegString, placement: Placement | None = None, see
     ls = parse_leg(string) if isinstance(string, str) else string
     pl = placement or default_placement()
     rng = np.random.default_rng(seed)
-    n = len(ls.text)
+    n = len(ls.letters)
     joints = []
     eq = iter(ls.equivalent)
-    for k, letter in enumerate(ls.text):
+    for k, letter in enumerate(ls.letters):
         t = k / (n - 1) if n > 1 else 0.5
         # points off the straight line too, so that no accidental alignment occurs
         p = (1 - t) * pl.A + t * pl.a + 0.15 * pl.length * rng.standard_normal(3) * (0 < k < n - 1)
@@ -310,8 +349,15 @@ def generic_leg(string: str | LegString, placement: Placement | None = None, see
         else:
             d = rng.standard_normal(3)
             dirs = [d / np.linalg.norm(d)] * JOINT_DOF[letter]
+        if letter == "Pa":
+            # a random bar normal to the translation d, of a fifth of the leg's length
+            b = np.cross(d, rng.standard_normal(3))
+            joints.append(Joint(next(eq), d, p, 0.0, 0.2 * pl.length * b / np.linalg.norm(b)))
+            continue
         for d in dirs:
             spec = next(eq)
             pitch = 0.05 * pl.length if spec.kind == "H" else 0.0
+            if spec.pitch is not None:
+                pitch = spec.pitch
             joints.append(Joint(spec, d, p, pitch))
     return Leg(ls, tuple(joints), pl.A, pl.a, ls.text)

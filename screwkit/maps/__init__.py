@@ -8,7 +8,9 @@
 * sizing (:func:`size`): the largest value of every actuator and constraint row over a map
   and a list of workloads (:func:`read_workloads`), with the pose where it occurs;
 * files: :func:`write` (NetCDF, Zarr, CSV long format);
-* pictures: :func:`plot_map` (heatmaps through :mod:`screwkit.viz`).
+* pictures: :func:`plot_map` (heatmaps through :mod:`screwkit.viz`);
+* Dask: :func:`client_for` (a local cluster or a running scheduler), :func:`run_tasks`
+  (any picklable function over a list, on the cluster; used by ``validate --workers``).
 
 xarray (``screwkit[maps]``) and dask (``screwkit[dask]``) are optional and imported on
 first use.
@@ -21,9 +23,11 @@ from ._dataset import FORMATS, to_csv, write
 from ._map import map_pm
 from ._plot import plot_map, quantity_names
 from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
+from ._dask import client_for, run_tasks
 
 __all__ = [
     "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
     "LEVEL_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
     "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
+    "client_for", "run_tasks",
 ]

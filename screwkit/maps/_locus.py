@@ -176,8 +176,11 @@ def locus_variables(ds, loc) -> dict:
 
 
 def locus_list(ds, singular_only: bool = True) -> list:
-    """The crossings of a map with its locus (JSON-ready): ``pose`` (every independent
-    parameter, the map's units), ``kind``, ``along``, the condition numbers, ``width``."""
+    """The refined crossings of a map (JSON-ready): ``pose`` (every independent parameter,
+    the map's units), ``kind``, ``along``, the condition numbers, ``width``.
+
+    ``singular_only=True``: the singular locus (``actuation`` and ``constraint``
+    crossings); ``False``: the other sign changes (``discontinuity``, ``unreachable``)."""
     if "locus_kind" not in ds:
         return []
     indep = str(ds.attrs["independent"]).split(",")

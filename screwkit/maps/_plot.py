@@ -38,7 +38,9 @@ def quantity_names(ds, quantity: str) -> list:
 
 def _label(ds, name):
     unit = ds[name].attrs.get("units", "1")
-    return f"{name} [{unit}]" if unit not in ("", "1") else name
+    if unit in ("", "1"):
+        return f"{name.replace('_', ' ')} [–]"          # dimensionless
+    return f"{name} [{unit}]"
 
 
 def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
@@ -72,8 +74,10 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
         return a.astype(float)
 
     lev = sub["level"].transpose(*free).values
-    calm = lev <= 1                              # ok or ill-conditioned: the colour range
+    calm = lev <= 1       # the colour range: ok and ill-conditioned cells (arrows: some beyond)
     panels = [{"z": arr(n), "label": _label(ds, n), "log": n in _LOG,
+               "title": f"{n}: {ds[n].attrs['long_name']}" if "long_name" in ds[n].attrs
+               else _label(ds, n),
                "limits_from": None if n in _LOG else calm} for n in names]
     masks = [(~sub["reachable"].transpose(*free).values, "unreachable")]
     masks.append(((lev == 2) | (lev == 3), "near-singular (efforts > 5x the load, or "
@@ -91,7 +95,7 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
             m = keep & (kind == j)
             xs = ds[f"locus_{free[0]}"].values[m]
             ys = ds[f"locus_{free[1]}"].values[m] if y is not None else np.zeros(m.sum())
-            points.append((xs, ys, f"{name} singularity (det J = 0)"))
+            points.append((xs, ys, f"{name} singularity (det J = 0, refined crossings)"))
     fixed = [f"{k} = {float(ds[k].values):.6g} {ds[k].attrs.get('units', '')}"
              for k in ds.coords if ds[k].ndim == 0]
     if title is None:

@@ -101,7 +101,7 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
     zero = [i for i in range(n)
             if np.all(~np.isfinite(Tr[:, i]) | (np.abs(Tr[:, i]) <= ZERO_TR_RTOL * scale))]
     for i in range(n):
-        if i in zero:
+        if i in zero or rot[i]:     # T_ri: about a linear leg's own line only
             continue
         torques.append(Tr[:, i])
         tlabels.append(f"$T_{{r{i + 1}}}$")

@@ -146,7 +146,8 @@ class TrajectoryResult:
         cols += [(f"r{i + 1}", self.extensions[:, i]) for i in range(n)]
         cols += [(f"F_a{i + 1}", self.active[:, i]) for i in range(n)]
         cols += [(lab, self.constraint[:, j]) for j, lab in enumerate(self.constraint_labels)]
-        cols += [(f"T_r{i + 1}", self.T_r[:, i]) for i in range(n)]
+        rot = self.rotary or (False,) * n      # T_ri: about a linear leg's own line only
+        cols += [(f"T_r{i + 1}", self.T_r[:, i]) for i in range(n) if not rot[i]]
         cols += [("condition_number", self.condition_number),
                  ("closure_residual", self.closure_residual),
                  ("equilibrium_residual", self.equilibrium_residual)]
@@ -188,7 +189,10 @@ class TrajectoryResult:
                            "kinds": list(self.constraint_kinds),
                            "legs": [i + 1 for i in self.constraint_legs],
                            "values": self.constraint},
-            "T_r": self.T_r,
+            "T_r": [None if r else self.T_r[:, i].tolist()
+                    for i, r in enumerate(self.rotary or (False,) * self.n_legs)],
+            "T_r_name": "T_r: moment of each linear leg's constraint wrench about its axis "
+                        "(null for a rotary leg)",
             "condition_number": self.condition_number,
             "singularity": self.singularity.tolist(),
             "closure_residual": self.closure_residual,

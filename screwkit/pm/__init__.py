@@ -22,8 +22,10 @@ from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffn
                        check_inertia, cylinder_body)
 from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._loader import load_pm, pm_names
-from ._mobility import (Mobility, describe_twist_space, linkage_graph, mobility, mobility_of_legs,
-                        motion_type)
+from ._schema import model_schema, schema_path, schema_text
+from ._model_check import Problem, check_model_file
+from ._mobility import (Mobility, describe_twist_space, finite_motion, linkage_graph, mobility,
+                        mobility_of_legs, motion_type)
 from ..legs import structure_vector    # re-exported: it was screwkit.pm.structure_vector
 
 __all__ = [
@@ -32,6 +34,8 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    # the model-file schema and checks
+    "model_schema", "schema_text", "schema_path", "check_model_file", "Problem",
     # limits
     "Limits", "NO_LIMITS",
     # masses, inertias, friction, stiffness (the dynamics: block)
@@ -40,7 +44,7 @@ __all__ = [
     # units
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility
-    "Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph",
+    "Mobility", "mobility", "mobility_of_legs", "motion_type", "finite_motion", "linkage_graph",
     "describe_twist_space",
     # expressions
     "Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",

@@ -187,6 +187,12 @@ def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> Leg
             raise CatalogError("each force line is {through: POINT, parallel: REF} or "
                                "{through: POINT, toward: POINT}", name, f"expect.force_lines[{i}]",
                                source)
+        from ..legs._rule_check import check_reference
+        eq = rules.string.equivalent
+        joints = {j.name for j in eq} | {f"{j.origin}{j.position}" for j in eq}
+        for k, v in fl.items():
+            check_reference(v, "direction" if k == "parallel" else "point", joints, name,
+                            f"expect.force_lines[{i}]", source)
     used_by = d.get("used_by") or ()
     if not (isinstance(used_by, (list, tuple)) and all(isinstance(u, str) for u in used_by)):
         raise CatalogError("must be a list of PM names", name, "used_by", source)
@@ -329,8 +335,9 @@ def load_catalog(path) -> Catalog:
     data, source = load_yaml_file(path, "YAML file")
     try:
         return Catalog.from_mapping(data, source)
-    except CatalogError:
-        raise
+    except CatalogError as exc:
+        from ._locate import with_line_of_file
+        raise with_line_of_file(exc, path) from None
     except ScrewkitError as exc:
         raise CatalogError(str(exc), source=source) from None
 

@@ -102,9 +102,16 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
         name = name_or_path.strip()
     key = find_pm(cat, name)
     try:
-        return _build(key, cat.pms[key], cat, overrides or {})
-    except GeometryError as exc:
-        raise CatalogError(f"the geometry cannot be built: {exc}", key, None, cat.source) from None
+        try:
+            return _build(key, cat.pms[key], cat, overrides or {})
+        except GeometryError as exc:
+            raise CatalogError(f"the geometry cannot be built: {exc}", key, None,
+                               cat.source) from None
+    except CatalogError as exc:           # name the line of the entry and field of the file
+        if path is None or exc.source != cat.source:
+            raise
+        from ._locate import with_line_of_file
+        raise with_line_of_file(exc, path) from None
 
 
 class _Ctx:

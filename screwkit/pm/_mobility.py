@@ -19,6 +19,11 @@
   (``idle``: joint motions of a leg that move nothing, e.g. an SPS's spin) and
   ignores redundancy; ``dof = gruebler + redundant - idle`` (the modified
   Kutzbach criterion) holds at every pose and is reported when it does not.
+* A parallelogram ``Pa`` is one equivalent joint of its leg (a translation) but is counted
+  as the real mechanism: a planar loop of four parallel R hinges and two bars, so in the
+  linkage graph it adds two links (the bars) and four 1-DOF joints instead of one (the
+  Grübler count drops by 3 per Pa), and the loop's six closure equations have rank 3
+  (planar), so each Pa adds 3 to ``redundant``.
 """
 
 from __future__ import annotations
@@ -27,9 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..screws import Normalisation, RANK_RTOL, reciprocal_system
+from ..screws import Normalisation, RANK_RTOL, classify_freedoms, reciprocal_system
 
-__all__ = ["Mobility", "mobility", "mobility_of_legs", "motion_type", "linkage_graph"]
+__all__ = ["Mobility", "finite_motion", "mobility", "mobility_of_legs", "motion_type", "linkage_graph"]
 
 
 @dataclass(frozen=True)
@@ -40,9 +45,12 @@ class Mobility:
     ----------
     dof : int
     motion_type : str
-        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...: the finite motion type of the PM (the one
-        its definition states, which does not change with the pose), or, for legs
-        without a model, the instantaneous one.
+        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...: the finite motion type of the PM, from its
+        independent pose parameters (:func:`finite_motion`; it does not change with the
+        pose), or, for legs without a model, the instantaneous one.  A helical freedom (a principal screw of
+        the twist space with a non-zero pitch, :func:`screwkit.screws.classify_freedoms`)
+        is labelled with its pitch in model lengths per radian, e.g. ``"1H(p=2.5)"`` for a
+        platform on one H joint, not counted as a rotation.
     instantaneous_type : str
         The same count for the twist space at this pose (pure translations and the rank
         of the rotations): it can differ at special poses (a tilt removes the pure
@@ -50,13 +58,17 @@ class Mobility:
     instantaneous : str
         The twist space classified by its screws: translations (directions), rotations
         (about lines through a common point when they are), helical motions (pitch).
+    finite : str
+        The finite type with its independent and parasitic parameters, e.g.
+        ``"1T2R: independent alpha, beta, Zo; parasitic Xo, Yo, gamma (functions of them)"``
+        (empty for legs without a model).
     translations, rotations : int
     constraint_rank : int
         Rank of the union of the legs' constraint wrenches.
     n_constraints : int
         Sum over legs of their constraint-system dimensions.
     redundant : int
-        ``n_constraints - constraint_rank``.
+        ``n_constraints - constraint_rank``, plus 3 per parallelogram loop.
     common : int
         Dimension of the intersection of the legs' constraint systems.
     gruebler : int
@@ -72,6 +84,9 @@ class Mobility:
     wrenches : ndarray (constraint_rank, 6)
         A basis of the union of the constraint wrenches ``[f; m]``.
     notes : tuple of str
+    freedoms : tuple of screwkit.screws.Freedom
+        The twist space classified (translations, rotations about lines, helical motions
+        with their pitch; :func:`screwkit.screws.classify_freedoms`).
     """
 
     dof: int
@@ -93,6 +108,25 @@ class Mobility:
     notes: tuple = ()
     instantaneous: str = ""
     instantaneous_type: str = ""
+    finite: str = ""
+    freedoms: tuple = ()
+
+
+def finite_motion(model) -> tuple:
+    """``(label, text)``: the finite motion type of a PM from its pose parametrisation.
+
+    The independent pose parameters are the platform's finite freedoms: each of ``Xo, Yo,
+    Zo`` among them is a translation, each Euler angle a rotation (``"1T2R"`` for
+    ``alpha, beta, Zo``); the dependent ones are parasitic motions, functions of the
+    independent ones.  The label does not depend on the pose.
+    """
+    ind = tuple(model.independent)
+    t = sum(p in ("Xo", "Yo", "Zo") for p in ind)
+    label = motion_type(t, len(ind) - t)
+    dep = tuple(getattr(model, "dependent", ()))
+    text = f"{label}: independent {', '.join(ind) or 'none'}"
+    text += f"; parasitic {', '.join(dep)} (functions of them)" if dep else "; no parasitic motion"
+    return label, text
 
 
 def linkage_graph(legs):
@@ -106,7 +140,13 @@ def linkage_graph(legs):
         m = len(lg.joints)
         for k, j in enumerate(lg.joints):
             nxt = "platform" if k == m - 1 else f"leg{i}.link{k + 1}"
-            g.add_edge(prev, nxt, joint=f"leg{i}.{j.name}", kind=j.kind, f=1)
+            if j.spec.parallelogram:          # the real 4R loop: two bars, four hinges
+                for bar in ("bar1", "bar2"):
+                    b = f"leg{i}.{j.name}.{bar}"
+                    g.add_edge(prev, b, joint=f"leg{i}.{j.name}.{bar}.R1", kind="R", f=1)
+                    g.add_edge(b, nxt, joint=f"leg{i}.{j.name}.{bar}.R2", kind="R", f=1)
+            else:
+                g.add_edge(prev, nxt, joint=f"leg{i}.{j.name}", kind=j.kind, f=1)
             prev = nxt
     return g
 
@@ -128,7 +168,8 @@ def motion_type(translations: int, rotations: int) -> str:
 def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
     """Mobility of a platform held by ``legs`` (placed :class:`~screwkit.legs.Leg`)."""
     legs = tuple(legs)
-    pts = np.vstack([lg.points for lg in legs])
+    # no leg: a free platform (6 DOF), the normalisation of the origin
+    pts = np.vstack([lg.points for lg in legs]) if legs else np.zeros((1, 3))
     norm = Normalisation.for_points(pts)
     blocks, dims, complements, idle = [], [], [], 0
     for lg in legs:
@@ -148,27 +189,41 @@ def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
     wrenches = norm.wrenches_back(Vt[:rank]) if rank else np.zeros((0, 6))
     rot = _rank(Vn[:, 3:], rtol)[0] if len(Vn) else 0
     dof = 6 - rank
-    C = np.vstack(complements)
-    common = 0 if any(d == 0 for d in dims) else 6 - _rank(C, rtol)[0]
+    C = np.vstack(complements) if complements else np.zeros((0, 6))
+    common = 0 if not legs or any(d == 0 for d in dims) else 6 - _rank(C, rtol)[0]
     # the linkage graph (linkage_graph) has base, platform and each leg's m - 1 inner links as
     # nodes and the m equivalent 1-DOF joints of each leg as edges: count it directly
-    n_joints = sum(len(lg.joints) for lg in legs)
-    n_links = 2 + sum(len(lg.joints) - 1 for lg in legs)
+    # a parallelogram is two bars and four hinges in place of its one equivalent joint
+    n_pa = sum(j.spec.parallelogram for lg in legs for j in lg.joints)
+    n_joints = sum(len(lg.joints) for lg in legs) + 3 * n_pa
+    n_links = 2 + sum(len(lg.joints) - 1 for lg in legs) + 2 * n_pa
     f = n_joints
     gruebler = 6 * (n_links - n_joints - 1) + f
     loops = n_joints - n_links + 1
     n_con = int(sum(dims))
+    redundant = n_con - rank + 3 * n_pa   # each planar 4R loop: 6 equations of rank 3
     notes = []
     if idle:
         notes.append(f"{idle} idle joint motion(s) (e.g. an S-S leg spinning about its line)")
-    if dof != gruebler + (n_con - rank) - idle:
+    if n_pa:
+        notes.append(f"{n_pa} parallelogram loop(s) counted as four R hinges and two bars "
+                     f"each (3 redundant loop constraints each)")
+    if dof != gruebler + redundant - idle:
         notes.append(f"dof {dof} differs from gruebler + redundant - idle = "
-                     f"{gruebler + n_con - rank - idle}")
+                     f"{gruebler + redundant - idle}")
     twists.setflags(write=False)
     wrenches.setflags(write=False)
-    return Mobility(dof, motion_type(dof - rot, rot), dof - rot, rot, rank, n_con, n_con - rank,
+    # helical freedoms (a principal screw of non-zero pitch, the platform of an H leg...)
+    # are labelled with their pitch, not counted as rotations
+    classified = classify_freedoms(Vn, norm) if len(Vn) else ()
+    pitches = tuple(f.pitch for f in classified if f.kind == "helical")
+    label = motion_type(dof - rot, rot - len(pitches)) if pitches else motion_type(dof - rot, rot)
+    if pitches:
+        label = (label if label != "0" else "") + \
+            f"{len(pitches)}H(p={','.join(f'{h:.4g}' for h in pitches)})"
+    return Mobility(dof, label, dof - rot, rot, rank, n_con, redundant,
                     common, gruebler, n_links, n_joints, loops, idle, tuple(dims), twists,
-                    wrenches, tuple(notes))
+                    wrenches, tuple(notes), freedoms=tuple(classified))
 
 
 def describe_twist_space(twists, length: float, rtol: float = 1e-8) -> str:
@@ -231,6 +286,33 @@ def describe_twist_space(twists, length: float, rtol: float = 1e-8) -> str:
     return " + ".join(parts)
 
 
+def describe_freedoms(freedoms) -> str:
+    """In words, the freedoms of :func:`screwkit.screws.classify_freedoms`: the translations,
+    the rotations (about lines through one point when they are concurrent) and the helical
+    motions with their pitch (length/rad)."""
+    tr = [f for f in freedoms if f.kind == "translation"]
+    rot = [f for f in freedoms if f.kind == "rotation"]
+    hel = [f for f in freedoms if f.kind == "helical"]
+    parts = []
+    if len(tr) == 1:
+        parts.append("translation along " + _fmt(tr[0].direction))
+    elif len(tr) == 2:
+        parts.append("2 translations in the plane normal to "
+                     + _fmt(_signed(np.cross(tr[0].direction, tr[1].direction))))
+    elif len(tr) == 3:
+        parts.append("3 translations")
+    if len(rot) > 1 and all(np.allclose(f.point, rot[0].point, rtol=0,
+                                        atol=1e-9 * max(1.0, float(np.abs(rot[0].point).max())))
+                            for f in rot):
+        parts.append(f"{len(rot)} rotations about lines through {_fmt(rot[0].point)}")
+    else:
+        parts += [f"rotation about the line through {_fmt(f.point)} along {_fmt(f.direction)}"
+                  for f in rot]
+    parts += [f"helical motion about the line through {_fmt(f.point)} along "
+              f"{_fmt(f.direction)} of pitch {f.pitch:.4g} (length/rad)" for f in hel]
+    return " + ".join(parts) or "no motion"
+
+
 def _signed(d):
     """A direction with its largest component positive (a sign that does not depend on the
     basis the SVD returned)."""
@@ -258,16 +340,21 @@ def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
     stated = getattr(model, "stated_dof", None)
     fields = dict(res.__dict__)
     L = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
-    fields["instantaneous"] = describe_twist_space(res.twists, L)
+    fields["instantaneous"] = (describe_twist_space(res.twists, L) if res.translations == 3
+                               else describe_freedoms(res.freedoms))
     fields["instantaneous_type"] = res.motion_type
     if stated is not None and stated != res.dof:
         fields["notes"] = res.notes + (
             f"the definition states {stated} DOF: this pose is singular or the geometry "
             "does not have the stated mobility",)
-    elif getattr(model, "motion", "") and model.motion != res.motion_type:
-        # the finite motion type is the model's; the twist space here counts differently
-        fields["motion_type"] = model.motion
-        fields["notes"] = res.notes + (
-            f"at this pose the twist space counts as {res.motion_type} ({fields['instantaneous']}); "
-            f"the finite motion type is {model.motion}",)
+    if model is not None and hasattr(model, "independent"):
+        # the finite motion type is the parametrisation's; the twist space here may count
+        # differently (a tilted 1T2R platform's twists are three screws of finite pitch)
+        label, fields["finite"] = finite_motion(model)
+        fields["motion_type"] = label
+        stated = getattr(model, "motion", "")
+        if stated and stated != label:
+            fields["notes"] = fields.get("notes", res.notes) + (
+                f"the definition states motion {stated}, its independent parameters make it "
+                f"{label}",)
     return Mobility(**fields)

@@ -6,7 +6,8 @@ parallel manipulators.
 * primitives (:class:`Line`, :class:`Twist`, :class:`Wrench` and the batched
   helpers on ``(..., 6)`` arrays);
 * reciprocal screw systems (:func:`reciprocal_system`, :class:`Normalisation`,
-  span tests);
+  span tests) and the dual, the classified freedoms of a wrench system
+  (:func:`freedoms`);
 * numerical tolerances (:data:`RANK_RTOL`, :data:`GEOMETRY_RTOL`);
 * Euler-angle parametrisations (:func:`rotation_matrix`, :func:`angular_jacobian`).
 """
@@ -20,6 +21,7 @@ from ._screw import (Twist, Wrench, couple_wrench, force_wrench, helical_twist, 
                      revolute_twist)
 from ._reciprocal import (Normalisation, ReciprocalSystem, compare_spans, independent_subset,
                           reciprocal_system, same_span, span_contains, twist_rank)
+from ._freedoms import MAX_WRENCHES, Freedom, FreedomResult, classify_freedoms, freedoms
 from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check_order,
                      euler_angles, euler_matrices, is_singular, rotation_matrix)
 
@@ -32,6 +34,8 @@ __all__ = [
     # reciprocal screw systems
     "Normalisation", "ReciprocalSystem", "reciprocal_system", "independent_subset", "same_span",
     "span_contains", "compare_spans", "twist_rank",
+    # freedoms (twists reciprocal to constraint wrenches)
+    "Freedom", "FreedomResult", "freedoms", "classify_freedoms", "MAX_WRENCHES",
     # tolerances
     "RANK_RTOL", "GEOMETRY_RTOL", "characteristic_length",
     # Euler angles

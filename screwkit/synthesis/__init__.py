@@ -5,7 +5,10 @@
   impossible ones (:func:`counting_rank`, :func:`rule_reason`);
 * :func:`validate_string`, :func:`validate_catalog` and :func:`validate_table1`
   verify every synthesized leg with the reciprocal-screw solver (:func:`verify`)
-  and reproduce the paper's Table I (read from the catalog, :mod:`screwkit.pm`).
+  and reproduce the paper's Table I (read from the catalog, :mod:`screwkit.pm`);
+* :func:`motion_pattern`, :func:`leg_pool`, :func:`compositions_for` and
+  :func:`pm_definition` form the candidate PMs of a motion pattern (the type synthesis
+  of PMs; :mod:`screwkit.design` verifies them with the engine).
 """
 
 from ._linalg import NULL_RTOL, cross, null_basis, perpendicular_unit, random_unit, unit
@@ -18,6 +21,9 @@ from ._verify import Verification, verify
 from ._reports import (CatalogCheck, DrawResult, LegValidation, TargetResult, ValidationReport,
                        catalog_rows, chain_text, composition_label, report_rows)
 from ._validation import DEFAULT_DRAWS, validate_catalog, validate_string, validate_table1
+from ._motions import MOTIONS, MotionPattern, motion_pattern
+from ._candidates import (EXTRA_LEGS_YAML, GEOMETRIES, Candidate, LegKind, compositions_for,
+                          extra_legs, leg_pool, model_yaml, pm_definition, synthesis_catalog)
 
 __all__ = [
     # synthesis
@@ -34,4 +40,8 @@ __all__ = [
     "Verification", "verify", "DrawResult", "TargetResult", "LegValidation", "CatalogCheck",
     "ValidationReport", "validate_string", "validate_catalog", "validate_table1",
     "composition_label", "chain_text", "report_rows", "catalog_rows", "DEFAULT_DRAWS",
+    # motion patterns and candidate PMs (verified by screwkit.design)
+    "MOTIONS", "MotionPattern", "motion_pattern", "EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate",
+    "LegKind", "compositions_for", "extra_legs", "leg_pool", "model_yaml", "pm_definition",
+    "synthesis_catalog",
 ]

@@ -180,7 +180,8 @@ def validate_catalog(catalog=None, known: dict | None = None, draws: int = 1,
 
 
 def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
-                    strings=None, check_catalog: bool = True, progress=None) -> ValidationReport:
+                    strings=None, check_catalog: bool = True, progress=None,
+                    mapper=None) -> ValidationReport:
     """Validate the paper's Table I (101 distinct strings) and the catalog legs.
 
     Parameters
@@ -194,7 +195,15 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
         Also run :func:`validate_catalog`.
     progress : callable(done, total), optional
         Called after each string (``total``: the strings, plus one step for the catalog).
+    mapper : callable, optional
+        ``mapper(fn, items, progress)`` -> ``[fn(x) for x in items]`` in order, computed
+        elsewhere (e.g. ``functools.partial(screwkit.maps.run_tasks, cluster)`` on a Dask
+        cluster: ``screwkit validate --workers N``).  ``fn`` is picklable; each string's
+        validation depends only on the string, ``draws`` and ``seed``, so the report equals
+        the serial one (but for ``seconds``).
     """
+    from functools import partial
+
     from ..pm import default_catalog
 
     t0 = time.perf_counter()
@@ -202,10 +211,14 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
     todo = list(dict.fromkeys(strings)) if strings is not None else cat.table1_distinct()
     total = len(todo) + bool(check_catalog)
     done = []
-    for s in todo:
-        done.append(validate_string(s, draws=draws, seed=seed))
-        if progress is not None:
-            progress(len(done), total)
+    if mapper is not None:
+        done = list(mapper(partial(validate_string, draws=draws, seed=seed), todo,
+                           (lambda d, n: progress(d, total)) if progress is not None else None))
+    else:
+        for s in todo:
+            done.append(validate_string(s, draws=draws, seed=seed))
+            if progress is not None:
+                progress(len(done), total)
     legs = tuple(done)
     known = {v.string.marked: v for v in legs}
     checks = validate_catalog(cat, known, draws=draws, seed=seed) if check_catalog else ()

@@ -30,6 +30,7 @@ def _legend_handles(kinds, legs=None):
         ("H", h(COLORS["R"], "H axis", lw=2.4)),
         ("P", h(COLORS["P"], "P joint (sleeve along its axis)", lw=0, marker="s",
                 markersize=9, markerfacecolor=COLORS["P_fill"], markeredgecolor=COLORS["P"])),
+        ("Pa", h(COLORS["P"], "Pa (two bars, four hinges)", lw=1.8)),
         ("S", h(COLORS["S"], "S centre", lw=0, marker="o", markersize=9)),
         ("U", h(COLORS["U"], "U centre", lw=0, marker="o", markersize=5)),
         ("end", h(COLORS["end"], "end points A (base), a (platform)", lw=0, marker="s",

@@ -5,7 +5,8 @@
 (a) the independent pose parameters (angles on the left axis, lengths on a twin axis);
 (b) the active forces ``F_ai``: static (external workload alone, dashed) and dynamic
     (with gravity, inertia and friction, solid), leg i in its colour;
-(c) the constraint forces (and couples on a twin axis), static dashed, dynamic solid;
+(c) the constraint forces (and couples on a twin axis, their dynamic curves with dots),
+    static dashed, dynamic solid;
 (d) the mechanical energy (kinetic plus potential) and the actuators' power.
 
 Flagged samples are cut out of the curves and shaded grey.
@@ -47,6 +48,32 @@ def _shade(ax, t, flags):
         lo, hi = t[max(s - 1, 0)], t[min(e, len(t) - 1)]
         ax.axvspan(lo, hi, color="0.85", zorder=0, lw=0)
 
+
+_LOCS = ("upper left", "upper right", "lower left", "lower right", "center left",
+         "center right", "upper center", "lower center")
+
+
+def _place_legends(fig, pending):
+    """Each panel's legend where it covers the fewest points of all the panel's curves (its
+    twin axes' too, which ``loc="best"`` does not see), measured on the laid-out figure."""
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    for ax, handles, kw in pending:
+        pts = [h.axes.transData.transform(np.column_stack(h.get_data()).astype(float))
+               for h in handles]
+        pts = np.concatenate(pts) if pts else np.zeros((0, 2))
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        best = None
+        for loc in _LOCS:
+            leg = ax.legend(handles=handles, loc=loc, **kw)
+            bb = leg.get_window_extent(renderer).padded(10)      # a margin in pixels
+            n = int(np.sum((pts[:, 0] >= bb.x0) & (pts[:, 0] <= bb.x1)
+                           & (pts[:, 1] >= bb.y0) & (pts[:, 1] <= bb.y1)))
+            if best is None or n < best[0]:
+                best = (n, loc)
+            if n == 0:
+                break
+        ax.legend(handles=handles, loc=best[1], **kw)
 
 def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None,
                   constraint_dynamic=None, constraint_labels=(), constraint_kinds=(),
@@ -111,11 +138,11 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         ax.set_ylabel("angle [deg]")
     ax2 = ax.twinx() if ang and lin else ax
     for k in lin:
-        hs += ax2.plot(t, masked(pose[k]), color=POSE_COLORS.get(k, "k"), ls="--",
+        hs += ax2.plot(t, masked(pose[k]), color=POSE_COLORS.get(k, "k"), ls="--" if ang else "-",
                        label=_NAMES.get(k, k) + (" (right)" if ang else ""))
     if lin:
         ax2.set_ylabel(f"length [{U['length']}]")
-    ax.legend(handles=hs, fontsize=8, loc="best")
+    pending = [(ax2, hs, dict(fontsize=8))]
     ax.set_title("(a) independent pose parameters", loc="left", fontsize=10)
     # (b) active forces
     ax = axes[1]
@@ -124,7 +151,7 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         ax.plot(t, masked(Fs[:, i]), color=c, ls="--", lw=1.2, label=f"$F_{{a{i + 1}}}$ static")
         ax.plot(t, masked(Fd[:, i]), color=c, lw=2.0, label=f"$F_{{a{i + 1}}}$ dynamic")
     ax.set_ylabel(f"active force [{U['force']}]")
-    ax.legend(fontsize=7, ncol=2, loc="best")
+    pending.append((ax, ax.get_lines(), dict(fontsize=7, ncol=2)))
     ax.set_title("(b) active forces: static (dashed), dynamic (solid)", loc="left", fontsize=10)
     # (c) constraint forces and couples
     ax = axes[2]
@@ -135,21 +162,23 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
                 [int("".join(ch for ch in lab.split("_")[1][1:].split(".")[0]) or 1) - 1
                  for lab in constraint_labels])
         couple = [k == "couple" for k in constraint_kinds]
-        axc = ax.twinx() if any(couple) and not all(couple) else ax
+        twin = any(couple) and not all(couple)
+        axc = ax.twinx() if twin else ax
         hs = []
         for j, lab in enumerate(constraint_labels):
             a = axc if couple[j] else ax
             c = leg_color(legs[j])
-            ls = ":" if couple[j] else "--"
-            hs += a.plot(t, masked(Cs[:, j]), color=c, ls=ls, lw=1.2,
-                         label=f"{_math(lab)} static")
-            hs += a.plot(t, masked(Cd[:, j]), color=c, lw=2.0, label=f"{_math(lab)} dynamic",
+            side = " (right)" if twin and couple[j] else ""
+            hs += a.plot(t, masked(Cs[:, j]), color=c, ls="--", lw=1.2,
+                         label=f"{_math(lab)} static{side}")
+            hs += a.plot(t, masked(Cd[:, j]), color=c, lw=2.0,
+                         label=f"{_math(lab)} dynamic{side}",
                          marker="o" if couple[j] else None, markevery=max(1, N // 12), ms=3)
         if not all(couple):
             ax.set_ylabel(f"constraint force [{U['force']}]")
         if any(couple):
             axc.set_ylabel(f"constraint couple [{U['torque']}]")
-        ax.legend(handles=hs, fontsize=7, ncol=2, loc="best")
+        pending.append((axc, hs, dict(fontsize=7, ncol=2)))
     else:
         ax.text(0.5, 0.5, "no constraint wrenches", ha="center", va="center",
                 transform=ax.transAxes, color="0.4")
@@ -169,7 +198,7 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
                        label="actuators' power (right)")
         axp.set_ylabel(f"power [{U['energy']}/s]")
     if hs:
-        ax.legend(handles=hs, fontsize=8, loc="best")
+        pending.append((axp if power is not None else ax, hs, dict(fontsize=8)))
     ax.set_title("(d) energy and actuator power", loc="left", fontsize=10)
     for ax in axes:
         _shade(ax, t, fl)
@@ -178,5 +207,6 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         ax.set_xlabel("t [s]")
     if title:
         fig.suptitle(title, fontsize=10)
+    _place_legends(fig, pending)
     save_figure(fig, out, dpi=dpi)
     return fig

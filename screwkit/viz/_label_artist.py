@@ -90,9 +90,16 @@ def _label_class():
     return Label3D
 
 
+#: A translucent white backing of every label, so that a line crossing it does not hide the
+#: text (its pad, 5 % of the font size, about the gap the placement pass keeps between boxes).
+_BACKING = dict(boxstyle="square,pad=0.05", facecolor="white", edgecolor="none", alpha=0.7)
+
+
 def _add_label(ax, anchor, text, color="k", size=7, ha="left", va="center"):
-    """A :class:`Label3D` added to ``ax`` (drawn above every other artist)."""
-    lab = _label_class()(anchor, text, color=color, fontsize=size, ha=ha, va=va, zorder=1000)
+    """A :class:`Label3D` added to ``ax`` (drawn above every other artist, on a translucent
+    white backing)."""
+    lab = _label_class()(anchor, text, color=color, fontsize=size, ha=ha, va=va, zorder=1000,
+                         bbox=_BACKING)
     ax.add_artist(lab)
     lab.set_clip_on(False)
     lab.set_gid("label")

@@ -26,7 +26,7 @@ _PAD = 1.5                                              # pixels kept free aroun
 _W_LABEL, _W_MARKER, _W_OUT, _W_AXES = 100.0, 60.0, 100.0, 4.0
 _W_HARD = 500.0          # any overlap with a label, a marker or a text: a last resort
 _W_HULL = 300.0          # a label leaving the box of the 3D axes (over the tick labels)
-_W_SEGMENT, _W_DIST, _W_PREF, _W_TAKEN = 1.0, 0.07, 1.5, 1.2
+_W_SEGMENT, _W_DIST, _W_PREF, _W_TAKEN = 0.3, 0.07, 1.5, 1.2
 
 
 def _cross2(u, v) -> float:
@@ -87,6 +87,23 @@ def _overlaps(boxes, obstacles, area) -> np.ndarray:
     dy = (np.minimum(boxes[:, None, 3], obstacles[None, :, 3])
           - np.maximum(boxes[:, None, 1], obstacles[None, :, 1]))
     return np.sum(np.clip(dx, 0, None) * np.clip(dy, 0, None), axis=1) / max(area, 1e-9)
+
+
+def _leaders_cross(anchor, boxes, others, with_leader) -> np.ndarray:
+    """Per candidate box of ``boxes`` (16 * r, 4; ``with_leader`` (r,) tells which distances
+    get a leader line): True where the leader from ``anchor`` to the box crosses a box of
+    ``others`` (k, 4), sampled at 12 points."""
+    out = np.zeros(len(boxes), bool)
+    if len(others) == 0 or not np.any(with_leader):
+        return out
+    lead = np.tile(np.asarray(with_leader, bool), len(boxes) // len(with_leader))
+    end = np.clip(anchor[None, :], boxes[:, :2], boxes[:, 2:])           # (c, 2)
+    s = np.linspace(0.05, 0.95, 12)[None, :, None]
+    pts = anchor[None, None, :] + s * (end - anchor[None, :])[:, None, :]   # (c, 12, 2)
+    x, y = pts[..., 0][..., None], pts[..., 1][..., None]                 # (c, 12, 1)
+    hit = ((x > others[None, None, :, 0]) & (x < others[None, None, :, 2])
+           & (y > others[None, None, :, 1]) & (y < others[None, None, :, 3]))
+    return lead & hit.any(axis=(1, 2))
 
 
 def _text_boxes(fig, ax, renderer) -> np.ndarray:
@@ -250,6 +267,7 @@ class _Labeller:
                     corners = boxes[:, [0, 1, 2, 1, 2, 3, 0, 3]].reshape(-1, 2)
                     inside = hull.contains_points(corners).reshape(-1, 4).all(axis=1)
                     cost += _W_HULL * ~inside
+                cost += _W_HARD * _leaders_cross(a, boxes, others, extra >= 9.0)
                 if len(seg_pts):
                     inside = ((seg_pts[None, :, 0] > boxes[:, None, 0])
                               & (seg_pts[None, :, 0] < boxes[:, None, 2])

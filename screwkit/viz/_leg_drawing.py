@@ -81,7 +81,8 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
                   end_labels=("A", "a"), label_size=7, labeller=None, color=None, leg_tag=None):
     """Draw a leg's chain and joints; returns the set of element kinds drawn.
 
-    ``color``: the chain's colour (default grey; a PM drawing passes the leg's colour);
+    ``color``: the chain's colour, also of its joint labels (default grey, labels in the
+    colours of the joint kinds; a PM drawing passes the leg's colour);
     ``leg_tag``: the leg number carried by the joint labels.  The joints, end points and
     chain segments are registered with the labeller as obstacles of the labels.
     """
@@ -116,7 +117,26 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
                 kinds.add("S")
                 if joint_labels:
                     centre_labels.append((j.point, _joint_name(group, leg_tag) + act,
-                                          COLORS["S"]))
+                                          color or COLORS["S"]))
+            continue
+        if j.spec.parallelogram:
+            # the real four-bar, in its plane (normal to the hinges): two bars from the first
+            # hinge axis to the second, the two links they join (drawn normal to the bars,
+            # along the translation d), and a short stub of each of the four hinges
+            h, d, w = j.hinge, j.direction, 0.08 * L
+            c = [j.point - w * d, j.point + w * d, j.point + w * d + j.bar, j.point - w * d + j.bar]
+            loop = np.array(c + [c[0]])
+            ax.plot(*loop.T, color=COLORS["P"], lw=1.8, zorder=3, gid=f"joint:{j.name}")
+            for q in c:
+                stub = np.array([q - 0.03 * L * h, q + 0.03 * L * h])
+                ax.plot(*stub.T, color=COLORS["R"], lw=2.4, zorder=3, solid_capstyle="butt")
+            ext.add(np.array(c))
+            for k in range(4):
+                lab.segment(c[k], c[(k + 1) % 4])
+            kinds.add("Pa")
+            if joint_labels:
+                lab.around(j.point + 0.5 * j.bar + w * d, _joint_name(j.name, leg_tag) + act,
+                           color or COLORS["P"], label_size, priority=2)
             continue
         if j.kind == "P":
             d = j.direction
@@ -129,8 +149,8 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
             if joint_labels:
                 lab.block(j.point, d)
                 lab.block(j.point, -d)
-                lab.around(j.point, _joint_name(j.name, leg_tag) + act, COLORS["P"], label_size,
-                           priority=2)
+                lab.around(j.point, _joint_name(j.name, leg_tag) + act, color or COLORS["P"],
+                           label_size, priority=2)
             continue
         # R or H axis (also the axes of U and C)
         p0, p1 = j.point - 0.5 * seg * j.direction, j.point + 0.5 * seg * j.direction
@@ -145,13 +165,13 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
             lab.marker(j.point, 3.5)
             kinds.add("U")
             if joint_labels:
-                centre_labels.append((j.point, _joint_name(group, leg_tag), COLORS["U"]))
+                centre_labels.append((j.point, _joint_name(group, leg_tag), color or COLORS["U"]))
         if joint_labels:
             tag = _joint_name(j.name, leg_tag) + (
                 "" if j.kind == "R" else f" ({j.kind}, pitch {j.pitch:.3g})") + act
             sgn = lab.axis_end(j.point, j.direction)
             lab.tip(j.point + sgn * 0.5 * seg * j.direction, sgn * j.direction, tag,
-                    COLORS["R"], label_size)
+                    color or COLORS["R"], label_size)
         else:
             lab.block(j.point, j.direction)
             lab.block(j.point, -j.direction)

@@ -6,7 +6,8 @@ one.  Cells where the quantity is undefined are left grey; masked regions (unrea
 outside the limits) are hatched, each with its own pattern and a legend entry; singular
 curves are drawn as points (the refined crossings), one style per kind.  Forces take a
 diverging colour map centred on 0, clipped to the 1st..99th percentiles of the cells
-given (the arrows of the colourbar say so), condition numbers a log scale.  matplotlib is optional.
+given, or to the whole range of the regular cells where the caller names them (the arrows
+of the colourbar say that some cells lie beyond), condition numbers a log scale.  matplotlib is optional.
 """
 
 from __future__ import annotations
@@ -24,16 +25,16 @@ _POINT_STYLES = ({"color": "black", "marker": "o"}, {"color": "#d62728", "marker
                  {"color": "#9467bd", "marker": "^"})
 
 
-def _limits(z, log):
+def _limits(z, log, clip=True):
     f = z[np.isfinite(z)]
     if log:
         f = f[f > 0]
         if f.size == 0:
             return None
-        return float(f.min()), float(max(f.max(), f.min() * 10))
+        return float(f.min()), float(f.max() if f.max() > f.min() else f.min() * 10)
     if f.size == 0:
         return None
-    lo, hi = np.percentile(f, [1, 99])
+    lo, hi = np.percentile(f, [1, 99]) if clip else (f.min(), f.max())
     if lo < 0 < hi:
         m = max(-lo, hi)
         return -m, m
@@ -85,7 +86,13 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
         z = np.asarray(pan["z"], float)
         log = bool(pan.get("log"))
         base = pan.get("limits_from")
-        lim = _limits(z if base is None else np.where(np.asarray(base, bool), z, np.nan), log)
+        # the colour range: the whole range of the cells ``limits_from`` names (the regular
+        # ones), else the 1st..99th percentiles of every cell
+        zr = z if base is None else np.where(np.asarray(base, bool), z, np.nan)
+        lim = _limits(zr, log, clip=base is None)
+        if log and lim is not None and lim[1] < 10 * lim[0]:
+            # less than a decade: a log axis would print ticks like "2.6x10^0"
+            log, lim = False, _limits(zr, False, clip=base is None)
         if one_d:
             ax.plot(x, z, color="#1f77b4", lw=1.5)
             if log:
@@ -111,7 +118,10 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
                 norm = Normalize(*lim)
             cmap = "viridis" if log or (lim and lim[0] >= 0) else "RdBu_r"
             mesh = ax.pcolormesh(x, y, z.T, shading="nearest", norm=norm, cmap=cmap)
-            extend = "neither" if log or lim is None else "both"
+            fin = z[np.isfinite(z)]
+            extend = "neither" if log or lim is None or fin.size == 0 else \
+                {(False, False): "neither", (True, False): "min", (False, True): "max",
+                 (True, True): "both"}[(bool(fin.min() < lim[0]), bool(fin.max() > lim[1]))]
             cb = fig.colorbar(mesh, ax=ax, extend=extend, shrink=0.9)
             cb.set_label(pan["label"], fontsize=9)
             for j, (m, text) in enumerate(masks):
@@ -120,7 +130,8 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
                     ax.contourf(x, y, m.T.astype(float), levels=[0.5, 1.5], colors="none",
                                 hatches=[HATCHES[j % len(HATCHES)]])
             for j, (xs, ys, text) in enumerate(points):
-                ax.plot(xs, ys, ls="none", ms=1.6, **_POINT_STYLES[j % 3])
+                ax.plot(xs, ys, ls="none", ms=3.2, mec="white", mew=0.6,
+                        **_POINT_STYLES[j % 3])
             ax.set_ylabel(ylabel)
             ax.set_xlim(x.min() - 0.5 * _step(x), x.max() + 0.5 * _step(x))
             ax.set_ylim(y.min() - 0.5 * _step(y), y.max() + 0.5 * _step(y))
@@ -135,7 +146,7 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
             handles.append(Line2D([], [], ls="--" if one_d else "none", ms=4, label=text,
                                   **_POINT_STYLES[j % 3]))
     if handles:
-        fig.legend(handles=handles, loc="outside lower center", ncol=min(4, len(handles)),
+        fig.legend(handles=handles, loc="outside lower center", ncol=min(4, len(handles), cols),
                    fontsize=8, frameon=False)
     if title:
         fig.suptitle(title, fontsize=11)

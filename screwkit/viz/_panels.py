@@ -133,24 +133,27 @@ def shade(ax, t, flags):
         ax.axvspan(left, right, color="0.82", alpha=0.7, lw=0, zorder=0)
 
 
-def legend_on_top(ax, top, handles, **kw):
-    """Legend on ``top`` (a twin of ``ax``, drawn above it) placed by ``loc="best"``
-    avoiding the curves of both axes: invisible copies of ``ax``'s curves are added to
-    ``top`` at the same screen positions (after freezing both y ranges)."""
-    if top is not ax:
-        ax.set_ylim(*ax.get_ylim())
-        top.set_ylim(*top.get_ylim())
-        for line in ax.get_lines():
-            x = np.asarray(line.get_xdata(), float)
-            y = np.asarray(line.get_ydata(), float)
-            ok = np.isfinite(x) & np.isfinite(y)
-            if not ok.any():
-                continue
-            disp = ax.transData.transform(np.column_stack([x[ok], y[ok]]))
-            yy = np.full(y.shape, np.nan)
-            yy[ok] = top.transData.inverted().transform(disp)[:, 1]
-            top.plot(x, yy, alpha=0.0, label="_nolegend_")
-    return top.legend(handles=handles, loc="best", framealpha=0.9, **kw)
+def _visible(label: str) -> str:
+    """The characters of a (mathtext) label that are printed, roughly."""
+    return "".join(c for c in label if c not in "${}_\\")
+
+
+def band_legend(axes, handles, title=None, fontsize=8):
+    """Legend of the panel whose twin axes are ``axes`` (the last drawn on top), in a band
+    at the top of the panel that the curves are kept out of (:func:`reserve_headroom`):
+    up to four entries a row (fewer when the names are long); ``title`` adds a line."""
+    n = len(handles)
+    longest = max((len(_visible(h.get_label())) for h in handles), default=0)
+    ncol = max(1, min(n, 4))
+    while ncol > 1 and ncol * (longest + 6) > 66:     # ~66 characters fit across a panel
+        ncol -= 1
+    rows = -(-n // ncol) + (title is not None)
+    reserve_headroom(axes, 0.075 * rows + 0.05)
+    leg = axes[-1].legend(handles=handles, loc="upper center", ncol=ncol, fontsize=fontsize,
+                          framealpha=0.9, borderaxespad=0.3, columnspacing=1.0)
+    if title is not None:
+        leg.set_title(title, prop={"size": 7})
+    return leg
 
 
 def condition_panel(ax, t, cond, levels, flags, letter="e"):
@@ -176,7 +179,7 @@ def condition_panel(ax, t, cond, levels, flags, letter="e"):
                     xytext=(-4, 2), textcoords="offset points", ha="right", va="bottom",
                     fontsize=7, color="0.35")
     hi = max([1.6 * top] + [3.0 * v for v in shown.values()])
-    lo = max(bottom / 1.6, 0.5)
+    lo = max(min(bottom / 1.6, 1.0) if bottom < 10.0 else bottom / 1.6, 0.5)   # 1: the best
     ax.set_ylim(lo, hi)
     if hi / lo < 1e3:                              # a narrow range: plain numbers
         from matplotlib.ticker import FuncFormatter
@@ -185,7 +188,7 @@ def condition_panel(ax, t, cond, levels, flags, letter="e"):
         ax.yaxis.set_major_formatter(plain)
         ax.yaxis.set_minor_formatter(plain if hi / lo < 30 else FuncFormatter(
             lambda v, _: ""))
-    ax.set_ylabel("condition number")
+    ax.set_ylabel("condition number [–]")
     ax.set_title(f"({letter}) normalised condition number of the unified Jacobian "
                  f"(max {top:.3g})", fontsize=10, loc="left")
-    ax.legend(fontsize=8, loc="best", framealpha=0.9)
+    ax.legend(fontsize=8, loc="upper left", framealpha=0.9)   # the levels are named at the right

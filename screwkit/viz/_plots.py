@@ -23,8 +23,8 @@ import numpy as np
 
 from ..errors import InputError
 from ._figure import POSE_COLORS, new_figure, save_figure
-from ._panels import (apply_scale, choose_scale, coincident_names, condition_panel,
-                      curve_styles, legend_on_top, reserve_headroom, shade, spiky)
+from ._panels import (apply_scale, band_legend, choose_scale, coincident_names,
+                      condition_panel, curve_styles, shade, spiky)
 
 __all__ = ["plot_fig5", "DEFAULT_UNITS", "POSE_LABELS"]
 
@@ -283,7 +283,7 @@ def plot_fig5(t, pose, extensions, active, constraint_forces=None, constraint_to
                 transform=ax.transAxes, color="0.4")
     ax.set_title("(a) independent pose parameters", fontsize=10, loc="left")
     if handles:  # on the topmost (twin) axes, so that no curve is drawn over it
-        legend_on_top(ax, ax_len, handles, fontsize=8)
+        band_legend([ax] + ([ax_len] if ax_len is not ax else []), handles)
 
     # (b) extensions, (c) active forces
     panels = [(axes[1], R, "extensions", "$r_{{{}}}$", "(b) leg extensions $r_i$",
@@ -292,15 +292,13 @@ def plot_fig5(t, pose, extensions, active, constraint_forces=None, constraint_to
                f"$F_{{ai}}${_unit(U['active'])}", U["active"])]
     for ax, data, key, deflab, ttl, ylab, unit in panels:
         names = names_of(key, data, deflab)
-        for i, st in enumerate(curve_styles(leg_of[key], "force", N)):
-            ax.plot(t, masked(data[:, i]), label=names[i], **st)
+        handles = [ax.plot(t, masked(data[:, i]), label=names[i], **st)[0]
+                   for i, st in enumerate(curve_styles(leg_of[key], "force", N))]
         if unit is not None:
             ttl += apply_scale(ax, *choose_scale([masked(data)], force_scale, sp), unit)
         ax.set_title(ttl, fontsize=10, loc="left")
         ax.set_ylabel(ylab)
-        leg = ax.legend(fontsize=8, loc="best", ncol=2 if data.shape[1] > 4 else 1)
-        if undet[key].any():
-            leg.set_title("* " + determined_note, prop={"size": 7})
+        band_legend([ax], handles, title="* " + determined_note if undet[key].any() else None)
     axes[2].axhline(0.0, color="0.5", lw=0.6, zorder=1)
 
     # (d) constraint forces and torques
@@ -332,9 +330,18 @@ def plot_fig5(t, pose, extensions, active, constraint_forces=None, constraint_to
     return fig
 
 
+def _torque_kinds(names) -> list:
+    """``(symbol, word)`` of the moments among the curve ``names`` of panel (d): the
+    constraint couples ``T_ci`` (names starting ``$T_{c``) and the torques ``T_ri`` (the
+    others)."""
+    couples = [n.startswith("$T_{c") for n in names]
+    out = [("$T_{ci}$", "couples")] if any(couples) else []
+    return out + ([("$T_{ri}$", "torques")] if not all(couples) else [])
+
+
 def _panel_d(ax, t, N, Fc, Tr, masked, names_of, leg_of, undet, U, scale, det_note):
-    """Panel (d): constraint forces (left axis) and torques (right axis, dashed); more than
-    four curves get their legend in a band kept free at the top of the panel."""
+    """Panel (d): constraint forces (left axis) and couples and torques (right axis,
+    dashed), the legend in a band kept free at the top of the panel."""
     handles, ttl = [], ""
     if Fc is not None:
         names = names_of("constraint_forces", Fc, "$F_{{c{}}}$")
@@ -345,30 +352,24 @@ def _panel_d(ax, t, N, Fc, Tr, masked, names_of, leg_of, undet, U, scale, det_no
         ax.axhline(0.0, color="0.5", lw=0.6, zorder=1)
         ttl += apply_scale(ax, *choose_scale([masked(Fc)], *scale), U["force"])
     ax_t = ax.twinx() if (Fc is not None and Tr is not None) else ax
+    tkinds = []
     if Tr is not None:
         names = names_of("constraint_torques", Tr, "$T_{{r{}}}$")
+        tkinds = _torque_kinds(names)
         first = Fc.shape[1] if Fc is not None else 0
         for i, st in enumerate(curve_styles(leg_of["constraint_torques"], "torque", N,
                                             first=first)):
             (h,) = ax_t.plot(t, masked(Tr[:, i]), **st,
                              label=names[i] + (" (right axis)" if ax_t is not ax else ""))
             handles.append(h)
-        ax_t.set_ylabel(f"$T_{{ri}}${_unit(U['torque'])}")
+        ax_t.set_ylabel(", ".join(sym for sym, _ in tkinds) + _unit(U["torque"]))
         if ax_t is ax:
             ax.axhline(0.0, color="0.5", lw=0.6, zorder=1)
         ttl += apply_scale(ax_t, *choose_scale([masked(Tr)], *scale), U["torque"])
-    what = " and ".join(w for w, x in (("forces $F_{ci}$", Fc), ("torques $T_{ri}$", Tr))
-                        if x is not None)
+    parts = ["forces $F_{ci}$"] * (Fc is not None) + [f"{w} {sym}" for sym, w in tkinds]
+    what = " and ".join([", ".join(parts[:-1]), parts[-1]] if len(parts) > 1 else parts)
     ax.set_title(f"(d) constraint {what}{ttl}", fontsize=10, loc="left")
     marked = any(undet[k].any() for k in ("constraint_forces", "constraint_torques")
                  if k in undet)
-    if len(handles) > 4:
-        ncol = min(4, len(handles))
-        rows = -(-len(handles) // ncol) + marked
-        reserve_headroom([ax] + ([ax_t] if ax_t is not ax else []), 0.075 * rows + 0.05)
-        leg = ax_t.legend(handles=handles, loc="upper center", ncol=ncol, fontsize=8,
-                          framealpha=0.9, borderaxespad=0.3, columnspacing=1.0)
-    else:
-        leg = legend_on_top(ax, ax_t, handles, fontsize=8)
-    if marked:
-        leg.set_title("* " + det_note, prop={"size": 7})
+    band_legend([ax] + ([ax_t] if ax_t is not ax else []), handles,
+                title="* " + det_note if marked else None)

@@ -211,6 +211,9 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
     _polygon(ax, Pw, COLORS["platform"], "#525252", 0.45, ext, gid="platform")
     kinds = {"base", "platform"}
     labeller = _Labeller(ax, v, size)
+    for P in (B, Pw):                     # the polygons' edges: labels keep off them too
+        for k in range(len(P)):
+            labeller.segment(P[k], P[(k + 1) % len(P)])
     for i, leg in enumerate(legs):
         kinds |= _leg_geometry(ax, leg, ext, v, joint_labels=joint_labels,
                                end_labels=(f"$A_{{{i + 1}}}$", f"$a_{{{i + 1}}}$"), label_size=7,
@@ -228,12 +231,13 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
             if seg is not None:
                 ax.plot(*np.array(seg).T, color=leg_color(r["leg"]), lw=0.8,
                         ls=_LINE_STYLE[r["actuation"]], alpha=0.6, zorder=2)
+                labeller.segment(*seg)
     note = []
     if rows:
         note.append("arrow lengths proportional to |value|\n(forces and torques scaled "
                     "separately)")
         if floored:
-            note.append("drawn at 15 % of the largest\n(smaller or n/a): "
+            note.append("drawn at 15 % of the largest arrow\n(value below 15 % or n/a): "
                         + ", ".join(floored))
     if any(not r["determined"] for r in rows):
         note.append("* " + (indeterminate_note or

@@ -32,11 +32,14 @@ def run_dynamics(args, model, fmt, progress) -> int:
     from ._common import dump_json, write_output
     from .analyze import parse_triple
 
-    motion = motion_from_args(args, model.independent)
+    motion = motion_from_args(args, model.independent, model.units.length)
     gravity = parse_triple(args.gravity, "--gravity") if args.gravity else None
     res = dynamics(model, motion, params=args.mass, force=parse_triple(args.force, "--force"),
                    torque=parse_triple(args.torque, "--torque"), gravity=gravity,
                    progress=progress)
+    said = [n for n in res.params.notes if n.startswith(("dynamics parameters", "gravity"))]
+    if said:                      # the units and gravity taken, never silently
+        print("screwkit trajectory: " + "; ".join(said), file=sys.stderr)
     text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
     if args.out:
         write_output(args.out, text)

@@ -97,7 +97,8 @@ def register(sub):
     add_load_arguments(p)
     p.add_argument("--stiffness", metavar="ROW=K", action="append", default=[],
                    help="stiffness of a row of J by label (F_a1, T_c2 ...; force/length for "
-                        "forces, torque/rad for couples): an indeterminate PM then takes the "
+                        "forces, torque/rad for couples), or 'model' for the model's "
+                        "dynamics: stiffness: block; an indeterminate PM then takes the "
                         "compliance-weighted solution (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--units", choices=["model", "SI"], default="model",
@@ -110,8 +111,14 @@ def run(args) -> int:
     from ...engine import analyze_pm
 
     # the values first (a typo fails at once), then the model
-    stiffness = parse_assignments(getattr(args, "stiffness", []), "--stiffness",
-                                  bound=MAX_STIFFNESS) or None
+    given = getattr(args, "stiffness", [])
+    if "model" in given:
+        if len(given) > 1:
+            raise InputError("--stiffness model takes the model's stiffnesses: give no ROW=K "
+                             "with it")
+        stiffness = "model"
+    else:
+        stiffness = parse_assignments(given, "--stiffness", bound=MAX_STIFFNESS) or None
     pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
     torque = parse_triple(args.torque, "--torque")
     model = resolve_model(args)
@@ -142,7 +149,10 @@ def print_text(res) -> None:
     print(f"mobility: {mob.dof} DOF ({mob.motion_type}); constraint rank {mob.constraint_rank} of "
           f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "
           f"Grubler-Kutzbach count {mob.gruebler}")
-    print(f"  twist space here ({mob.instantaneous_type}): {mob.instantaneous}")
+    if mob.finite:
+        print(f"  finite motion type {mob.finite}")
+    print(f"  twist space here ({mob.instantaneous_type}): "
+          f"{mob.instantaneous.replace('(length/rad)', f'({u.length}/rad)')}")
     p = sol.params_degrees()
     print(f"units: lengths {u.length}, forces {u.force}, torques {u.torque}, angles deg"
           + ("" if u.declared else " (the model declares no units)"))
@@ -157,8 +167,9 @@ def print_text(res) -> None:
     print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O), normalised condition number "
           f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
     print(f"  conditioning: {q['level']}; efforts up to {q['force_amplification']:.3g} times the "
-          f"load; det J sign {q['det_sign']:+d} (home {q['home_det_sign']:+d})"
-          + ("  BEYOND A SINGULAR SURFACE FROM HOME" if q["beyond_singular_surface"] else ""))
+          f"load; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
+          + (f"  BEYOND A SINGULAR SURFACE FROM {q['det_reference'].upper()}"
+             if q["beyond_singular_surface"] else ""))
     for r, row in zip(jac.rows, jac.J):
         print(f"  {' '.join(f'{x:10.5g}' for x in row)}   leg {r.leg + 1} {r.kind}")
     F, T = res.force, res.torque
@@ -191,4 +202,14 @@ def print_text(res) -> None:
               f"({u.torque}): " +
               "  ".join(f"T_r{i}={fmt_num(t)}{'*' if bad else ''}"
                         for i, (t, bad, lin) in enumerate(zip(st.T_r, undet, linear), 1) if lin))
+    from ...engine._report import constraint_resultants, resultants_determined
+
+    res_f, res_m = constraint_resultants(st, [lg.A for lg in sol.legs])
+    res_det = resultants_determined(st, [lg.A for lg in sol.legs])
+    print(f"  each leg's constraint resultant (independent of the basis of its rows): force "
+          f"({u.force}) and moment about A_i ({u.torque})")
+    for i in range(len(sol.legs)):
+        bf, bm = ("" if ok else "*" for ok in res_det[i])
+        print(f"  leg {i + 1} force {fmt_vec(res_f[i])}{bf}  moment about "
+              f"A{i + 1} {fmt_vec(res_m[i])}{bm}")
     print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")

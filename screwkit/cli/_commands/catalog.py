@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+from .._types import path
 from ._common import dump_json
 
 
 def register(sub):
-    p = sub.add_parser("catalog", help="list the catalog's leg types, PMs and Table I",
-                       description="List the catalog (legs_catalog.yaml).")
+    p = sub.add_parser("catalog", help="list the catalog's leg types, PMs and Table I; show a PM",
+                       description="List the catalog (legs_catalog.yaml), or show one PM: its "
+                                   "dimensions, independent parameters, defaults, units and "
+                                   "limits.")
+    p.add_argument("pm", nargs="?", type=path,
+                   help="a PM name or a model file (PATH.yaml[#NAME]) to show")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--path", action="store_true", help="print the catalog file's path and exit")
     p.set_defaults(func=run)
@@ -19,6 +24,9 @@ def run(args) -> int:
     if args.path:
         print(catalog_path())
         return 0
+    if args.pm:
+        from ._catalog_pm import show_pm
+        return show_pm(args.pm, args.json)
     cat = default_catalog()
     if args.json:
         print(dump_json({

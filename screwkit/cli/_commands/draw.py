@@ -147,6 +147,8 @@ def run(args) -> int:
             indeterminate_note=f"not determined by statics\n  ({how} value)")
     for s in skipped:
         print(f"screwkit draw: not drawn: {s}", file=sys.stderr)
+    for w in res.warnings if not singular else ():     # one line each, as analyze prints them
+        print(f"screwkit draw: warning: {w}", file=sys.stderr)
     if singular:
         print(f"screwkit draw: {res.jacobian.singularity_kind} singularity at this pose "
               f"(condition number {res.jacobian.condition_number:.3g}): no statics",

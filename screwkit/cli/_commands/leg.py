@@ -45,7 +45,10 @@ def leg_report(res) -> dict:
         "string": leg.string.marked,
         "joints": [{"name": j.name, "kind": j.kind, "origin": j.spec.origin,
                     "position": j.spec.position, "actuated": j.actuated,
-                    "direction": j.direction, "point": j.point} for j in leg.joints],
+                    "direction": j.direction, "point": j.point,
+                    **({"pitch": j.pitch} if j.kind == "H" else {}),
+                    **({"bar": j.bar, "hinge": j.hinge} if j.bar is not None else {})}
+                   for j in leg.joints],
         "end_points": {"A": leg.A, "a": leg.a},
         "connectivity": res.connectivity,
         "dependent_joints": list(res.dependent_joints),
@@ -87,6 +90,11 @@ def run(args) -> int:
     print("equivalent chain:")
     for j in leg.joints:
         src = "" if j.spec.origin == j.kind else f"  (part of {j.spec.origin}{j.spec.position})"
+        if j.spec.parallelogram:
+            src = (f"  (parallelogram: translation normal to its bar {fmt_vec(j.bar)} and "
+                   f"hinges {fmt_vec(j.hinge)})")
+        elif j.kind == "H":
+            src += f"  pitch {fmt_num(j.pitch)}/rad"
         act = "  <- actuated" if j.actuated else ""
         print(f"  {j.name:<5} {j.kind}  axis {fmt_vec(j.direction)}  point {fmt_vec(j.point)}{src}{act}")
     dep = f"; dependent joints: {', '.join(res.dependent_joints)}" if res.dependent_joints else ""

@@ -40,6 +40,11 @@ def register(sub):
                    help="random draws per target (default 3)")
     p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the random draws (default 0)")
     p.add_argument("--no-catalog", action="store_true", help="skip the catalog's legs")
+    p.add_argument("--workers", type=integer(1, 64), metavar="N",
+                   help="validate the strings on a local Dask cluster of N worker processes "
+                        "(127.0.0.1; needs screwkit[dask]); the report equals the serial one")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="validate the strings on a running Dask scheduler")
     add_quiet_argument(p)
     p.set_defaults(func=run)
 
@@ -141,9 +146,18 @@ def run(args) -> int:
         raise InputError(f"--draws must be at least 1, got {draws}")
     if len(args.strings) > MAX_ENTRIES:
         raise InputError(f"{len(args.strings)} leg strings: validate takes at most {MAX_ENTRIES}")
+    if args.workers is not None and args.scheduler:
+        raise InputError("give either --workers N or --scheduler ADDRESS")
+    mapper = None
+    if args.workers is not None or args.scheduler:
+        from functools import partial
+
+        from ...maps import run_tasks
+        mapper = partial(run_tasks, args.scheduler or args.workers)
     with progress_bar(args, "validate", "string") as progress:
         report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
-                                 check_catalog=not args.no_catalog, progress=progress)
+                                 check_catalog=not args.no_catalog, progress=progress,
+                                 mapper=mapper)
     rows, cat_rows = report_rows(report), catalog_rows(report)
     if args.format == "json":
         text = dump_json(report_json(report)) + "\n"
