@@ -36,6 +36,7 @@ LAYERS = {
 ALLOWED_PEER_EDGES = {
     ("paths", "viz"): "TrajectoryResult.plot draws the Fig. 5 panels with viz.plot_fig5",
     ("maps", "viz"): "plot_map draws a map's heatmaps with viz.plot_heatmaps",
+    ("maps", "dynamics"): "a model with leg stiffnesses gets the stiffness fields of each cell",
     ("dynamics", "paths"): "a motion is read from the path inputs (PathSpec, CSV, expressions)",
     ("dynamics", "viz"): "DynamicsResult.plot draws the dynamic panels with viz.plot_dynamics",
     ("dynamics", "interop"): "check_dynamics builds the closed-loop Pinocchio model of interop",

@@ -36,7 +36,31 @@ def test_dask_map_equals_the_serial_map_bit_for_bit(tmp_path):
                 "--quiet", "--out"]
         assert main(args + [str(tmp_path / "v_dask.json"), "--scheduler",
                             cluster.scheduler_address]) == 0
+        # a trajectory: its closures solved here, its chunks' rows and statics on the cluster
+        traj = ["trajectory", "3RRPRR", "--expr", "alpha=20*sin(2*pi*t)", "--expr",
+                "beta=15*cos(2*pi*t)", "--expr", "Zo=80+5*t", "--samples", "9000", "--quiet"]
+        assert main(traj + ["--out", str(tmp_path / "t_dask.csv"), "--scheduler",
+                            cluster.scheduler_address]) == 0
+        from functools import partial
+
+        from screwkit.maps import run_tasks
+        from screwkit.paths import path_from_expressions, run_trajectory
+        model = screwkit.load_pm("3RRPRR")
+        path = path_from_expressions(["alpha=0.3*sin(t)", "beta=0.2*t", "Zo=75+3*t"],
+                                     model.independent, samples=301)
+        sent = []
+
+        def on_cluster(fn, items):
+            sent.append(len(items))
+            return partial(run_tasks, client)(fn, items)
+        t_dask = run_trajectory(model, path, chunk=40, mapper=on_cluster)
+        assert sent == [8]                        # 301 samples in chunks of 40, all sent
     assert main(args + [str(tmp_path / "v_serial.json")]) == 0
+    assert main(traj + ["--out", str(tmp_path / "t_serial.csv")]) == 0
+    assert (tmp_path / "t_dask.csv").read_text() == (tmp_path / "t_serial.csv").read_text()
+    t_serial = run_trajectory(model, path, chunk=40)
+    for name in ("active", "constraint", "condition_number", "closure_residual"):
+        assert np.array_equal(getattr(t_dask, name), getattr(t_serial, name), equal_nan=True)
     v_dask, v_serial = (json.loads((tmp_path / f"v_{k}.json").read_text())
                         for k in ("dask", "serial"))
     assert v_dask.pop("seconds") >= 0 and v_serial.pop("seconds") >= 0
@@ -60,3 +84,5 @@ def test_cli_workers_equal_serial(tmp_path):
     assert main(args + ["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
     assert main(["validate", "SPR", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
     assert main(["validate", "SPR", "--scheduler", "127.0.0.1:1"]) == 2
+    assert main(["trajectory", "3RRPRR", "--expr", "alpha=t", "--expr", "beta=0", "--expr",
+                 "Zo=80", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2

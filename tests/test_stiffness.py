@@ -236,3 +236,24 @@ def test_stiffness_fields_for_maps(stewart):
     assert np.isnan(f["k_translation_min"][0][1])
     assert f["k_translation_min"][1] == "kN/cm" and f["k_rotation_min"][1] == "kN.cm/rad"
     assert f["deflection_translation"][1] == "cm"
+
+
+def test_a_map_of_a_model_with_leg_stiffness_carries_the_stiffness_fields(stewart):
+    """`screwkit.map` of the 6-SPS (its YAML declares the legs' stiffness): the cell at the
+    default pose has the principal stiffnesses of the hand-built K = k J_a^T J_a, with units."""
+    pytest.importorskip("xarray")
+    k = stewart.dynamics.legs[0].stiffness.actuator
+    Ja = _stewart_Ja_by_hand()
+    C = np.linalg.inv(k * Ja.T @ Ja)
+    d = stewart.default_pose
+    grid = {"alpha": (d["alpha"], d["alpha"] + 0.02, 2)}
+    ds = screwkit.map(stewart, grid, fix={n: v for n, v in d.items() if n != "alpha"})
+    cell = ds.isel(alpha=0)
+    assert float(cell["k_translation_min"]) == pytest.approx(
+        1 / np.linalg.eigvalsh(C[:3, :3]).max(), rel=1e-10)
+    assert float(cell["k_rotation_max"]) == pytest.approx(
+        1 / np.linalg.eigvalsh(C[3:, 3:]).min(), rel=1e-10)
+    assert ds["k_translation_min"].attrs["units"] == "kN/cm"
+    assert int(cell["stiffness_rank"]) == 6
+    assert "k_translation_min" not in screwkit.map("3RRPRR", {"alpha": (0.0, 0.1, 2)},
+                                                   fix={"beta": 0.0, "Zo": 80.0}).data_vars

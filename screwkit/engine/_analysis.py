@@ -208,7 +208,7 @@ def _vec3(x, name):
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
-            progress=None, stiffness=None) -> PMAnalysis:
+            progress=None, stiffness=None, mapper=None) -> PMAnalysis:
     """Analyse a PM model at one or N poses.
 
     Parameters
@@ -242,13 +242,18 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         or ``"model"``: the ``actuator``, ``force`` and ``couple`` stiffnesses of the model's
         ``dynamics: stiffness:`` block.  A statically indeterminate PM then takes the
         compliance-weighted solution (:func:`~screwkit.engine.statics`).
+    mapper : callable(fn, items) -> list, optional
+        With ``path=True``: computes ``[fn(x) for x in items]`` elsewhere (e.g.
+        ``functools.partial(screwkit.maps.run_tasks, 2)`` on a Dask cluster); the path's
+        closures are solved here, the rows and statics of its chunks by the mapper, equal
+        to the serial run bit for bit.
     """
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
-                   compliance=compliance)
+                   compliance=compliance, mapper=mapper)
     sol = make_solution(model, comp.closures, single, notes, side)
     if single:
         check_reachable(sol)

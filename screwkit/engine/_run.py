@@ -10,6 +10,7 @@ then its rows, conditioning and statics are formed; only compact arrays are kept
 from __future__ import annotations
 
 import os
+from functools import partial
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -65,14 +66,50 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
     return out
 
 
+def _rows_part(model, fr, templates, fx, F, T, compliance) -> dict:
+    """The rows, conditioning and (with a workload) statics of one chunk's frames."""
+    r = model_rows(model, fr, templates)
+    cond, Jn, d = condition(r.J, r.n_actuated, r.centre, r.length)
+    part = {"J": r.J, "scale": r.scale, "rows_ok": r.ok, "structure_ok": r.structure_ok}
+    part.update({f"cond.{f}": getattr(cond, f) for f in Conditioning.__dataclass_fields__})
+    if F is not None:
+        n = len(next(iter(fx.values())))
+        o = fr.o.T
+        W = workload_about_origin(np.broadcast_to(F, (n, 3)), np.broadcast_to(T, (n, 3)), o)
+        comp = compliance if compliance is not None else default_compliance(r.info,
+                                                                              cond.length)
+        values = statics_values(Jn, d, cond.singular_values, cond, W, comp)
+        eq = equilibrium_residual(r.J, values, W, cond.centre, cond.length)
+        part.update(values=values, equilibrium=eq)
+    return part
+
+
+def chunk_after_path(model, fx, X, path_res, rows=True, F=None, T=None, compliance=None):
+    """Frames' residual and (``rows``) rows and statics of one chunk of a solved path.
+
+    A pose the solver gave up (``path_res`` inf: e.g. an unreachable side of a
+    representation singularity) stays unreachable whatever its frames' residual."""
+    fr = forward(chains_of(model), fx, X)
+    res = np.where(np.isfinite(path_res), fr.residual, np.inf)
+    part = _rows_part(model, fr, templates_of(model), fx, F, T, compliance) if rows else None
+    return res, part
+
+
+def _chunk_task(model, rows, F, T, compliance, item):
+    fx, X, path_res = item
+    return chunk_after_path(model, fx, X, path_res, rows, F, T, compliance)
+
+
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
             rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None,
-            compliance=None) -> Computed:
+            compliance=None, mapper=None) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
     The outputs are allocated once and filled chunk by chunk (no concatenation).
     ``progress(done, total)``: ``total = N``, or ``2 N`` for a path with rows (its closures
-    are solved first, then the rows and statics of every chunk)."""
+    are solved first, then the rows and statics of every chunk).  ``mapper(fn, items)``
+    (a path only): computes ``[fn(x) for x in items]`` elsewhere, e.g. on a Dask cluster;
+    the path's closures are solved here, its chunks' rows and statics by the mapper."""
     ch = chains_of(model)
     N = len(next(iter(fixed.values())))
     templates = templates_of(model) if rows else None
@@ -98,32 +135,15 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     def work(sl):
         fx = {k: v[sl] for k, v in fixed.items()}
         if path:
-            fr = forward(ch, fx, X[:, sl])
-            # a pose the solver gave up (inf: e.g. an unreachable side of a representation
-            # singularity) stays unreachable whatever its frames' residual
-            res[sl] = np.where(np.isfinite(path_res[sl]), fr.residual, np.inf)
-        else:
-            cl = solve_closures(model, fx, None if X0 is None else X0[:, sl],
-                                side=None if side is None else side[sl])
-            fr = cl.frames
-            X[:, sl], its[sl], how[sl], sing[sl] = cl.X, cl.iterations, cl.how, cl.singular_beta
-            res[sl] = cl.residual
-        if not rows:
-            return None
-        r = model_rows(model, fr, templates)
-        cond, Jn, d = condition(r.J, r.n_actuated, r.centre, r.length)
-        part = {"J": r.J, "scale": r.scale, "rows_ok": r.ok, "structure_ok": r.structure_ok}
-        part.update({f"cond.{f}": getattr(cond, f) for f in Conditioning.__dataclass_fields__})
-        if F is not None:
-            n = sl.stop - sl.start
-            o = fr.o.T
-            W = workload_about_origin(np.broadcast_to(F, (n, 3)), np.broadcast_to(T, (n, 3)), o)
-            comp = compliance if compliance is not None else default_compliance(r.info,
-                                                                                  cond.length)
-            values = statics_values(Jn, d, cond.singular_values, cond, W, comp)
-            eq = equilibrium_residual(r.J, values, W, cond.centre, cond.length)
-            part.update(values=values, equilibrium=eq)
-        return part
+            r_sl, part = chunk_after_path(model, fx, X[:, sl], path_res[sl], rows, F, T,
+                                          compliance)
+            res[sl] = r_sl
+            return part
+        cl = solve_closures(model, fx, None if X0 is None else X0[:, sl],
+                            side=None if side is None else side[sl])
+        X[:, sl], its[sl], how[sl], sing[sl] = cl.X, cl.iterations, cl.how, cl.singular_beta
+        res[sl] = cl.residual
+        return _rows_part(model, cl.frames, templates, fx, F, T, compliance) if rows else None
 
     def store(sl, part):
         if part is not None:
@@ -132,7 +152,17 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
 
     nw = workers if workers is not None else (min(2, os.cpu_count() or 1) if N >= 4 * chunk
                                               else 1)
-    if nw > 1 and len(slices) > 1:
+    if mapper is not None and path:
+        # the chunks of a solved path are independent: the same function on the same
+        # inputs wherever it runs, so the result equals the serial one bit for bit
+        items = [({k: v[sl] for k, v in fixed.items()}, X[:, sl], path_res[sl]) for sl in slices]
+        fn = partial(_chunk_task, model, rows, F, T, compliance)
+        for sl, (r_sl, part) in zip(slices, mapper(fn, items)):
+            res[sl] = r_sl
+            store(sl, part)
+        if progress:
+            progress(steps, steps)
+    elif nw > 1 and len(slices) > 1:
         with ThreadPoolExecutor(max_workers=nw) as pool:
             for sl, part in zip(slices, pool.map(work, slices)):
                 store(sl, part)

@@ -113,6 +113,11 @@ def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) ->
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),
     }
+    if model.dynamics is not None and model.dynamics.has_stiffness:
+        # the model declares its legs' stiffness: the Cartesian stiffness of every cell
+        from ..dynamics import stiffness_fields
+        for name, (v, _, _) in stiffness_fields(res).items():
+            out[f"stiff.{name}"] = np.asarray(v)
     for p in model.dependent:
         out[f"dep.{p}"] = np.asarray(sol._params[p], float)
     lim = model.limits

@@ -95,6 +95,11 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "equilibrium_residual": var(a["equilibrium_residual"], "1",
                                     "relative platform equilibrium residual"),
     }
+    if any(k.startswith("stiff.") for k in a):
+        from ..dynamics import STIFFNESS_FIELDS
+        for name, (kind, long_name) in STIFFNESS_FIELDS.items():
+            dv[name] = var(a[f"stiff.{name}"], kind if kind in ("1", "rad") else u.of(kind),
+                           long_name)
     for p in meta.dependent:
         v = a[f"dep.{p}"]
         unit = u.length if p in LENGTH_PARAMS else _angle_unit(grid)

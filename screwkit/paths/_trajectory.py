@@ -69,7 +69,8 @@ def _check_path(model, path) -> PathSpec:
 
 def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE,
                    progress=None, *, overrides: dict | None = None, anchor_every=None,
-                   chunk: int = 4096, vectorised: bool = True, workers=None) -> TrajectoryResult:
+                   chunk: int = 4096, vectorised: bool = True, workers=None,
+                   mapper=None) -> TrajectoryResult:
     """Inverse displacement and statics at every sample of a path (the batched engine).
 
     Parameters
@@ -95,6 +96,10 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     vectorised : bool
         False: every sample solved on its own by the engine (one pose at a time, each
         warm-started from the previous sample).  Slow; for checks.
+    mapper : callable(fn, items) -> list, optional
+        Runs the rows and statics of the path's chunks elsewhere (``screwkit trajectory
+        --workers``: a Dask cluster), as :func:`screwkit.engine.analyze` says; the result
+        equals the serial one bit for bit.
 
     Returns
     -------
@@ -118,7 +123,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     pose = {k: np.asarray(path.values[k], float) for k in model.independent}
     if vectorised:
         res = analyze(model, pose, force=F, torque=T, path=True, anchor_every=K, chunk=C,
-                      workers=workers, progress=progress)
+                      workers=workers, progress=progress, mapper=mapper)
         return _result(model, path, res, F, T, res.diagnostics)
     parts, prev = [], None
     for i in range(N):
