@@ -199,7 +199,8 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         axp.set_ylabel(f"power [{U['energy']}/s]")
     if hs:
         pending.append((axp if power is not None else ax, hs, dict(fontsize=8)))
-    ax.set_title("(d) energy and actuator power", loc="left", fontsize=10)
+    ax.set_title("(d) energy E and actuators' power P = dE/dt + power against load and friction",
+                 loc="left", fontsize=9)
     for ax in axes:
         _shade(ax, t, fl)
         ax.grid(True, lw=0.3, alpha=0.5)
