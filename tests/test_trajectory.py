@@ -260,12 +260,18 @@ def test_representation_singularity_sample_takes_the_continuous_limit():
 def test_csv_has_the_columns_and_values(runs):
     path, res = runs["2SPS+2SPR"]
     rows = list(csv.reader(io.StringIO(res.to_csv())))
-    head = rows[0]
+    units = rows[0]
+    head = [c.split(" [")[0] for c in units]                # 'F_a1 [kN]' -> 'F_a1'
+    assert units[2:9] == ["Xo [cm]", "Yo [cm]", "Zo [cm]", "alpha [deg]", "beta [deg]",
+                          "gamma [deg]", "r1 [cm]"]
+    assert units[12] == "F_a1 [kN]" and units[18] == "T_r1 [kN.cm]"
     assert head[:8] == ["t", "status", "Xo", "Yo", "Zo", "alpha", "beta", "gamma"]
     assert head[8:12] == ["r1", "r2", "r3", "r4"] and head[12:16] == ["F_a1", "F_a2", "F_a3", "F_a4"]
     assert head[16:18] == ["F_c2", "F_c3"]                 # the SPR legs' constraint forces
     assert head[18:22] == ["T_r1", "T_r2", "T_r3", "T_r4"]
-    assert head[22:] == ["condition_number", "closure_residual", "equilibrium_residual", "message"]
+    assert head[22:46] == [f"res{i}_{q}" for i in range(1, 5)       # the legs' resultants
+                           for q in ("fx", "fy", "fz", "mx", "my", "mz")]
+    assert head[46:] == ["condition_number", "closure_residual", "equilibrium_residual", "message"]
     assert len(rows) == len(path) + 1
     k = 7
     vals = dict(zip(head, rows[k + 1]))

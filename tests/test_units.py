@@ -62,7 +62,9 @@ def test_si_conversion(capsys):
                                np.array(model["statics"]["constraint"]) * 1000, rtol=1e-12)
     np.testing.assert_allclose(si["extensions"], np.array(model["extensions"]) / 100, rtol=1e-12)
     assert si["pose"]["alpha"] == pytest.approx(model["pose"]["alpha"])      # degrees stay
-    assert main(["analyze", "3RSR", "--units", "SI"]) == 2                   # text: not converted
+    # the text report converts too (its values: tests/test_units_si_text.py)
+    assert main(["analyze", "3RSR", "--units", "SI"]) == 0
+    assert "units: lengths m, forces N, torques N.m" in capsys.readouterr().out
 
 
 def test_text_carries_units(capsys):

@@ -6,13 +6,18 @@ candidate as a model and checks it with the engine (``docs/synthesis.md``):
 
 * :func:`synthesize_motion` -> :class:`TypeSynthesis` (ranked :class:`SynthesizedPM`);
 * :func:`verify_model` -> :class:`Verdict`: full-cycle mobility along a finite motion
-  from home (:func:`verification_path`), the pattern's finite invariant, ``J`` at home.
+  from home (:func:`verification_path`), the pattern's finite invariant, ``J`` at home
+  (without the actuation rows of passive legs, :func:`actuation_condition`);
+* :func:`verify_candidate` (:class:`VerifyTask` -> :class:`TaskResult`): one candidate's
+  verification as a picklable task, for a serial or Dask mapper.
 """
 
-from ._verify import (CHECK_POSES, FINITE_RTOL, PATH_SAMPLES, PoseCheck, Verdict, verification_path,
-                      verify_model)
-from ._search import MAX_LEGS, SynthesizedPM, TypeSynthesis, synthesize_motion
+from ._verify import (CHECK_POSES, FINITE_RTOL, PATH_SAMPLES, PoseCheck, Verdict,
+                      actuation_condition, verification_path, verify_model)
+from ._tasks import TaskResult, VerifyTask, serial_map, verify_candidate
+from ._search import MAX_LEGS, MAX_VERIFIED, SynthesizedPM, TypeSynthesis, synthesize_motion
 
-__all__ = ["CHECK_POSES", "FINITE_RTOL", "MAX_LEGS", "PATH_SAMPLES", "PoseCheck",
-           "SynthesizedPM", "TypeSynthesis", "Verdict", "synthesize_motion",
-           "verification_path", "verify_model"]
+__all__ = ["CHECK_POSES", "FINITE_RTOL", "MAX_LEGS", "MAX_VERIFIED", "PATH_SAMPLES", "PoseCheck",
+           "SynthesizedPM", "TaskResult", "TypeSynthesis", "Verdict", "VerifyTask",
+           "actuation_condition", "serial_map", "synthesize_motion", "verification_path",
+           "verify_candidate", "verify_model"]

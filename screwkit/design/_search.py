@@ -22,7 +22,13 @@
    constraint and the ``k`` legs of ``A`` exert exactly the ``6 - dof`` constraints
    (constraining legs and unconstrained actuated legs without redundancy, as the
    4-SPS+SPR or the 3-SPU+PRRR).  This keeps one motion pattern to seconds: an
-   over-constrained candidate that cannot move costs the engine's continuation from home;
+   over-constrained candidate that cannot move costs the engine's continuation from home.
+   PMs of ``n`` actuated legs and one *passive* constraining leg
+   (:func:`screwkit.synthesis.passive_compositions`: the 4-SPS + passive PRRR) come
+   last, with a budget of their own; their ``J`` leaves out the passive leg's actuation
+   row (:func:`screwkit.design.actuation_condition`).  The verifications are tasks
+   (:func:`~screwkit.design.verify_candidate`) run through a ``mapper``: serial, or on a
+   Dask cluster (``screwkit.maps.run_tasks``), with the same result;
 3. **ranks** the verified PMs: fewer equivalent 1-DOF joints first, then actuators
    nearer the base (mean position of the actuated letter in its leg: 1 is on the
    base), then the better length-normalised condition number of ``J`` at home.
@@ -37,15 +43,17 @@ import numpy as np
 from ..errors import GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..pm import load_pm, mobility_of_legs
-from ..synthesis import (GEOMETRIES, compositions_for, leg_pool, model_yaml, motion_pattern,
-                         pm_definition, synthesis_catalog)
-from ._verify import Verdict, load_candidate, verify_model
+from ..synthesis import (GEOMETRIES, compositions_for, geometries_for, leg_pool, model_yaml,
+                         motion_pattern, passive_compositions, pm_definition, synthesis_catalog)
+from ._tasks import monotonic_progress, run_round
+from ._verify import Verdict
 
-__all__ = ["MAX_LEGS", "SynthesizedPM", "TypeSynthesis", "synthesize_motion"]
+__all__ = ["MAX_LEGS", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis", "synthesize_motion"]
 
 #: Largest number of legs (the standard geometries have 3, 4 or 5 vertices).
 MAX_LEGS = max(GEOMETRIES)
-#: Default budget of engine verifications of one search.
+#: Default budget of engine verifications (a candidate on one geometry) of one search, for
+#: the actuated compositions and again for the passive-leg ones.
 MAX_VERIFIED = 60
 
 
@@ -78,6 +86,8 @@ class SynthesizedPM:
         The engine's verification (mobility at every checked pose, finite invariant).
     definition : dict
         The ``pms:`` entry (write it with :meth:`model_yaml`).
+    passive : tuple of str
+        The passive legs' types (no actuator; ``actuators`` lists the actuated legs only).
     """
 
     rank: int
@@ -93,9 +103,20 @@ class SynthesizedPM:
     condition_home: float
     verdict: Verdict
     definition: dict
+    passive: tuple = ()
 
-    def model_yaml(self) -> str:
-        """The model YAML (``screwkit.load_pm`` reads it, with any extra leg types)."""
+    def model_yaml(self, as_actuated: bool = False) -> str:
+        """The model YAML (``screwkit.load_pm`` reads it, with any extra leg types).
+
+        A PM with a passive leg raises :class:`~screwkit.errors.InputError` unless
+        ``as_actuated``: screwkit models cannot declare a passive leg yet, so the file
+        would actuate every leg; its mobility and constraint rows are this PM's, its
+        actuator forces those of the all-actuated PM (redundantly actuated)."""
+        if self.passive and not as_actuated:
+            from ..errors import InputError
+            raise InputError(f"{self.name}: a model cannot declare the passive leg "
+                             f"{', '.join(self.passive)} yet (model_yaml(as_actuated=True) "
+                             "writes it with every leg actuated)")
         return model_yaml(self.name, self.definition)
 
     def to_dict(self) -> dict:
@@ -109,7 +130,8 @@ class SynthesizedPM:
                                     "translations": c.translations, "rotations": c.rotations,
                                     "condition_number": c.condition_number} for c in v.checks],
                 "path_samples_reached": v.reached, "singular_on_path": v.singular_on_path,
-                "finite_check": v.finite, "notes": list(v.notes), "definition": self.definition}
+                "finite_check": v.finite, "notes": list(v.notes),
+                "passive_legs": list(self.passive), "definition": self.definition}
 
 
 @dataclass(frozen=True)
@@ -171,22 +193,23 @@ class TypeSynthesis:
                 "units": {"length": "cm", "angle": "deg"}}
 
 
-def _probe(motion, n, g, catalog):
+def _probe(motion, n, g, catalog, passive=False):
     """A model of ``n`` unconstrained legs on geometry ``g``: its placements at home."""
-    probe = pm_definition(_unconstrained(n), motion, g)
+    probe = pm_definition(_unconstrained(n, passive), motion, g)
     try:
         return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}))
     except ScrewkitError:
         return None
 
 
-def _unconstrained(n):
+def _unconstrained(n, passive=False):
     from ..synthesis import Candidate, LegKind
     sps = LegKind("SPS", "SPS", "S_PS", 0, 0, 0, 7, 2)
-    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True)
+    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True, (0,) if passive else ())
 
 
 def _home_legs(kind_names, g, probe, specs, cache):
+    """The legs built by their rules at the probe's home (cached per type, vertex, ``g``)."""
     legs = []
     for i, name in enumerate(kind_names):
         key = (name, i, g)
@@ -200,8 +223,9 @@ def _home_legs(kind_names, g, probe, specs, cache):
 
 
 def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = None,
-                      asymmetric: bool = True, max_verified: int | None = None, catalog=None,
-                      progress=None) -> TypeSynthesis:
+                      asymmetric: bool = True, passive: bool | None = None,
+                      max_verified: int | None = None, catalog=None, progress=None,
+                      mapper=None) -> TypeSynthesis:
     """PMs with the motion pattern ``motion``, verified by the engine and ranked.
 
     Parameters
@@ -215,13 +239,25 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
         List at most this many (the best ranked).
     asymmetric : bool
         Also two-type compositions (``2UPU/force+SPR``).
+    passive : bool, optional
+        Also the actuated legs plus one passive constraining leg
+        (:func:`screwkit.synthesis.passive_compositions`; ``legs + 1`` legs, tried when a
+        standard geometry has that many vertices, with a verification budget of their
+        own).  Default: as ``asymmetric``.
     max_verified : int, optional
-        At most this many engine verifications (default ``MAX_VERIFIED``); candidates are
-        taken symmetric first, then by joint count, so the budget goes to the simplest.
+        At most this many engine verifications (one candidate on one geometry; default
+        ``MAX_VERIFIED``) for the actuated compositions, and as many for the passive-leg
+        ones.  They go geometry by geometry (every candidate on the first geometry where
+        it passed the screen, then the ones that failed there on their next), candidates
+        symmetric first, then by joint count, so the budget goes to the simplest.
     catalog : Catalog, optional
         Leg types (default: the packaged catalog), plus the extra arrangements.
     progress : callable, optional
-        ``progress(done, total)`` after each candidate.
+        ``progress(done, total)`` as candidates are screened and verified.
+    mapper : callable, optional
+        ``mapper(fn, items, progress)`` -> ``[fn(x) for x in items]`` in order: runs the
+        engine verifications (``functools.partial(screwkit.maps.run_tasks, cluster)`` on a
+        Dask cluster); default serial.  The result is the same either way.
 
     Returns
     -------
@@ -250,65 +286,84 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     pool = leg_pool(m, catalog)
     comps = sorted(compositions_for(m, pool, n, asymmetric),
                    key=lambda c: (not c.symmetric, c.joints))       # stable: pool order on ties
-    cat = synthesis_catalog(catalog)
-    specs = cat.legs
-    probes = [_probe(m, n, g, catalog) for g in range(len(GEOMETRIES[n]))]
-    cache: dict = {}
-    found, rejected, screened = [], [], 0
+    if (asymmetric if passive is None else passive) and n + 1 in GEOMETRIES:
+        comps += sorted(passive_compositions(m, pool, n), key=lambda c: c.joints)
+    total = len(comps)
+    if progress is not None:
+        progress = monotonic_progress(progress)
+    screened = _screen(m, comps, catalog)                 # {index: ((g, definition), ...)}
     budget = MAX_VERIFIED if max_verified is None else max_verified
-    engine_runs, skipped, pruned = 0, 0, 0
-    good = set()                                 # leg types whose symmetric PM verified
-    for done, cand in enumerate(comps, start=1):
+    # round 1: symmetric, and constraining + unconstrained legs without redundancy;
+    # round 2: the other asymmetric ones, when the symmetric PM of their type verified
+    # (the two share the budget); round 3: the passive-leg ones (a budget of their own)
+    independent = [i for i, c in enumerate(comps) if not c.passive and (c.symmetric or (
+        not c.legs[-1].constraints and c.constraints == m.constraints))]
+    outcome: dict = {}
+    sent = run_round(m, comps, screened, independent, budget, catalog, mapper, progress, outcome,
+                      0, total)
+    good = {comps[i].legs[0].name for i, r in outcome.items()
+            if comps[i].symmetric and r.geometry is not None}
+    rest = [i for i, c in enumerate(comps) if not c.passive and i not in set(independent)]
+    pruned = sum(1 for i in rest if comps[i].legs[0].name not in good)
+    rest = [i for i in rest if comps[i].legs[0].name in good]
+    run_round(m, comps, screened, rest, budget - sent, catalog, mapper, progress, outcome,
+               len(independent) + pruned, total)
+    with_passive = [i for i, c in enumerate(comps) if c.passive]
+    independent += with_passive
+    run_round(m, comps, screened, with_passive, budget, catalog, mapper, progress, outcome,
+               total - len(with_passive), total)
+    found, rejected, skipped = [], [], 0
+    for i, cand in enumerate(comps):
+        r = outcome.get(i)
+        if r is None:
+            skipped += i in screened and (i in independent or cand.legs[0].name in good)
+        elif r.geometry is not None:
+            found.append((cand, r.geometry, r.definition, r.verdict))
+        else:
+            rejected.append((cand.name, r.reason))
+    screened_out = sum(1 for i in range(total) if i not in screened and i not in outcome
+                       and (i in independent or comps[i].legs[0].name in good))
+    found.sort(key=lambda x: (x[0].joints, _act_pos(x[0]), x[3].condition_home, x[0].name))
+    listed = []
+    for r, (cand, g, d, verdict) in enumerate(found[:limit] if limit else found, start=1):
+        nl = len(cand.legs)
+        listed.append(SynthesizedPM(
+            r, cand.name, cand.string, m.name, tuple(k.name for k in cand.legs), cand.symmetric,
+            geometries_for(nl, bool(cand.passive))[g][0], cand.joints,
+            tuple(k.marked for i, k in enumerate(cand.legs) if i not in cand.passive),
+            _act_pos(cand), verdict.condition_home, verdict, d,
+            tuple(cand.legs[i].name for i in cand.passive)))
+    return TypeSynthesis(m, n, pool, tuple(listed), len(found), total, tuple(rejected),
+                         screened_out, skipped, pruned)
+
+
+def _act_pos(cand) -> float:
+    return float(np.mean([k.actuated_position for k in cand.actuated]))
+
+
+def _screen(m, comps, catalog) -> dict:
+    """``{index: ((g, definition), ...)}`` of the candidates whose legs, built by their
+    rules at the nominal home of a geometry ``g``, span the complementary system there."""
+    specs = synthesis_catalog(catalog).legs
+    probes: dict = {}
+    cache: dict = {}
+    out = {}
+    for i, cand in enumerate(comps):
+        key = (len(cand.legs), bool(cand.passive))
+        if key not in probes:
+            probes[key] = [_probe(m, key[0], g, catalog, key[1])
+                           for g in range(len(geometries_for(*key)))]
         names = [k.name for k in cand.legs]
-        reason, hit = "", None
-        if not cand.symmetric and cand.legs[0].name not in good and (
-                cand.legs[-1].constraints or cand.constraints != m.constraints):
-            pruned += 1
-            if progress is not None:
-                progress(done, len(comps))
-            continue
-        for g, probe in enumerate(probes):
+        ok = []
+        for g, probe in enumerate(probes[key]):
             if probe is None:
                 continue
-            home = _home_legs(names, g, probe, specs, cache)
+            home = _home_legs(names, (*key, g), probe, specs, cache)
             if any(lg is None for lg in home):
                 continue                         # not buildable at the nominal home
             mob = mobility_of_legs(home)
-            if (mob.dof, mob.translations, mob.rotations) != (m.dof, m.translations, m.rotations):
-                continue                         # the legs do not span the system here
-            if engine_runs >= budget:
-                skipped += 1
-                reason = "skipped"
-                break
-            engine_runs += 1
-            d = pm_definition(cand, m, g)
-            model, exc = load_candidate(cand.name, synthesis_catalog(catalog, {cand.name: d}))
-            if model is None:
-                reason = reason or f"cannot be assembled: {exc}"
-                continue
-            verdict = verify_model(model, m)
-            if verdict.success:
-                hit = (g, d, verdict)
-                break
-            reason = verdict.reason
-        if hit is not None:
-            found.append((cand, *hit))
-            if cand.symmetric:
-                good.add(cand.legs[0].name)
-        elif reason and reason != "skipped":
-            rejected.append((cand.name, reason))
-        elif not reason:
-            screened += 1
-        if progress is not None:
-            progress(done, len(comps))
-    found.sort(key=lambda x: (x[0].joints, float(np.mean([k.actuated_position for k in x[0].legs])),
-                              x[3].condition_home, x[0].name))
-    listed = []
-    for r, (cand, g, d, verdict) in enumerate(found[:limit] if limit else found, start=1):
-        listed.append(SynthesizedPM(
-            r, cand.name, cand.string, m.name, tuple(k.name for k in cand.legs), cand.symmetric,
-            GEOMETRIES[n][g][0], cand.joints, tuple(k.marked for k in cand.legs),
-            float(np.mean([k.actuated_position for k in cand.legs])), verdict.condition_home,
-            verdict, d))
-    return TypeSynthesis(m, n, pool, tuple(listed), len(found), len(comps), tuple(rejected),
-                         screened, skipped, pruned)
+            if (mob.dof, mob.translations, mob.rotations) == (m.dof, m.translations, m.rotations):
+                ok.append((g, pm_definition(cand, m, g)))
+        if ok:
+            out[i] = tuple(ok)
+    return out

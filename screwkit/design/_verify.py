@@ -21,6 +21,12 @@ median step).  It is accepted when
   residual below ``FINITE_RTOL`` times the characteristic length);
 * at home ``J = [J_a; J_c]`` is non-singular (rank 6, length-normalised condition number
   below the engine's ``COND_THRESHOLD``): the actuators control the motion.
+
+A candidate with passive legs (no actuator, :func:`screwkit.synthesis.passive_compositions`)
+is loaded with the actuated joint its leg type marks, and its ``J`` is the engine's
+unified Jacobian without those legs' actuation rows (:func:`actuation_condition`): the
+actuated legs' actuation rows and every leg's constraint rows, normalised and
+row-equilibrated by the engine's own normalisation.
 """
 
 from __future__ import annotations
@@ -32,9 +38,10 @@ import numpy as np
 from ..engine import COND_THRESHOLD, analyze, check_default_pose
 from ..errors import ScrewkitError
 from ..pm import load_pm, mobility
+from ..screws import RANK_RTOL
 
-__all__ = ["CHECK_POSES", "FINITE_RTOL", "PATH_SAMPLES", "PoseCheck", "Verdict", "verify_model",
-           "verification_path"]
+__all__ = ["CHECK_POSES", "FINITE_RTOL", "PATH_SAMPLES", "PoseCheck", "Verdict",
+           "actuation_condition", "verify_model", "verification_path"]
 
 #: Samples of the verification path (home first).
 PATH_SAMPLES = 13
@@ -166,8 +173,39 @@ def _walk(model, path):
     return res, jump
 
 
-def verify_model(model, motion) -> Verdict:
-    """Verify a loaded model (``screwkit.pm.PMModel``) for ``motion`` (see the module)."""
+def actuation_condition(jacobian, passive=()) -> tuple:
+    """``(condition_number (N,), singular (N,))`` of the unified Jacobian without the
+    actuation rows of the ``passive`` legs (0-based leg indices).
+
+    ``jacobian`` is the engine's :class:`~screwkit.engine.JacobianResult` of N poses; the
+    rows kept are normalised with its own normalisation (centroid and characteristic
+    length of the legs, ``conditioning.normalised``), and the condition number is
+    ``s_1 / s_6`` of their singular values, ``inf`` below rank 6 (``RANK_RTOL``), as the
+    engine defines it for the whole ``J``.  Singular: rank below 6 or condition number
+    not below ``COND_THRESHOLD``.
+    """
+    passive = set(passive)
+    keep = [i for i, r in enumerate(jacobian.info)
+            if not (r.kind == "actuation" and r.leg in passive)]
+    Jn, _ = jacobian.conditioning.normalised(np.asarray(jacobian.matrix, float)[:, keep])
+    s = np.linalg.svd(Jn, compute_uv=False)
+    cond = np.full(len(s), np.inf)
+    if s.shape[1] >= 6:
+        full = s[:, 5] > RANK_RTOL * np.maximum(s[:, 0], 1e-300)
+        cond[full] = s[full, 0] / s[full, 5]
+    return cond, ~(cond < COND_THRESHOLD)
+
+
+def verify_model(model, motion, passive=()) -> Verdict:
+    """Verify a loaded model (``screwkit.pm.PMModel``) for ``motion`` (see the module);
+    ``passive``: 0-based indices of passive legs (their actuation rows are left out of
+    ``J``)."""
+    passive = tuple(passive)
+    if any(isinstance(i, bool) or not isinstance(i, (int, np.integer))
+           or not 0 <= i < len(model.legs) for i in passive):
+        from ..errors import InputError
+        raise InputError(f"{model.name}: passive legs are 0-based leg indices below "
+                         f"{len(model.legs)}, got {passive!r:.60}")
     path = verification_path(model)
     n = len(next(iter(path.values())))
     res, jump = _walk(model, path)
@@ -182,8 +220,11 @@ def verify_model(model, motion) -> Verdict:
         return Verdict(False, f"the joint values jump between neighbouring path samples "
                        f"({jump:.3g} times the median step): not one continuous motion",
                        reached=reached)
-    cond = np.asarray(res.jacobian.condition_number, float)
-    sing = np.asarray(res.singular, bool)
+    if passive:
+        cond, sing = actuation_condition(res.jacobian, passive)
+    else:
+        cond = np.asarray(res.jacobian.condition_number, float)
+        sing = np.asarray(res.singular, bool)
     if sing[0] or not cond[0] < COND_THRESHOLD:
         return Verdict(False, f"J is singular at home (condition number {cond[0]:.3g}): the "
                        "actuators do not control the motion", reached=reached,
@@ -216,6 +257,9 @@ def verify_model(model, motion) -> Verdict:
     if not ok:
         return Verdict(False, f"the finite motion breaks the {motion.name} invariant ({finite})",
                        tuple(checks), float(cond[0]), finite, reached)
+    if passive:
+        notes.append(f"J without the actuation row of passive leg "
+                     f"{', '.join(str(i + 1) for i in passive)}")
     n_sing = int(np.sum(sing))
     if n_sing:
         notes.append(f"J is singular at {n_sing} of {n} path samples")

@@ -25,7 +25,8 @@ from ..screws import cross
 from ._poe import chain_forward
 
 __all__ = ["PARAMS", "LENGTH_PARAMS", "ANGLE_PARAMS", "Chains", "chains_of", "Frames",
-           "chain_forward", "forward", "leg_forward", "normalised_twists", "platform_columns"]
+           "chain_forward", "forward", "leg_forward", "normalised_twists", "placed_bars",
+           "platform_columns"]
 
 #: The six pose parameters of the platform, in this order.
 ANGLE_PARAMS = ("alpha", "beta", "gamma")
@@ -73,6 +74,10 @@ class Chains:
         Dependent lengths are solved divided by ``L``.
     home : dict
         The home pose (radians, model lengths).
+    bars : ndarray (3, n, m)
+        Home bar vectors of the parallelograms ``Pa`` (zero in every other slot): a Pa's
+        value is the arc length ``|b| theta`` of its bars' ends (model lengths) and it
+        moves its far link along a circle (:mod:`screwkit.engine._poe`).
     """
 
     name: str
@@ -97,6 +102,7 @@ class Chains:
     unknown: tuple
     x_scale: np.ndarray
     home: dict
+    bars: np.ndarray = None
 
     @property
     def n_unknowns(self) -> int:
@@ -126,23 +132,8 @@ def chains_of(model) -> Chains:
     return ch
 
 
-def _refuse_parallelograms(legs) -> None:
-    """The product of exponentials moves a Pa's far link along a line, not along its
-    circle: refuse finite motion of legs with a parallelogram (instantaneous analyses of
-    placed legs hold)."""
-    from ..errors import InputError
-    for lg in legs:
-        pa = next((j.name for j in lg.joints if j.spec.parallelogram), None)
-        if pa is not None:
-            raise InputError(f"leg {lg.name}: the engine's finite motion does not cover the "
-                             f"parallelogram {pa} yet (its far link moves on a circle); "
-                             "analyse placed legs instead (mobility_of_legs, "
-                             "unified_jacobian)")
-
-
 def _build(model) -> Chains:
     legs = model.home_legs
-    _refuse_parallelograms(legs)
     n = len(legs)
     sizes = tuple(len(lg.joints) for lg in legs)
     m = max(sizes)
@@ -153,9 +144,12 @@ def _build(model) -> Chains:
     rot, tra = np.zeros((n, m)), np.zeros((n, m))
     real = np.zeros((n, m), bool)
     qs = np.ones((n, m))
+    bars = np.zeros((3, n, m))
     for i, lg in enumerate(legs):
         for j, jt in enumerate(lg.joints):
             D[:, i, j], P[:, i, j], real[i, j] = jt.direction, jt.point, True
+            if jt.bar is not None:
+                bars[:, i, j] = jt.bar
             if jt.kind == "P":
                 tra[i, j], qs[i, j] = 1.0, L
             else:
@@ -171,8 +165,8 @@ def _build(model) -> Chains:
                  np.asarray(model.platform_points, float), model.order,
                  tuple(model.independent), unknown,
                  np.array([L if u in LENGTH_PARAMS else 1.0 for u in unknown]),
-                 dict(model.home_pose))
-    for a in (D, P, rot, tra, real, qs):
+                 dict(model.home_pose), bars)
+    for a in (D, P, rot, tra, real, qs, bars):
         a.setflags(write=False)
     return out
 
@@ -186,7 +180,8 @@ class Frames:
     params : dict str -> ndarray (N,)
         The six pose parameters.
     q : ndarray (n, m, N)
-        Joint values (radians for R and H, model lengths for P; 0 in padded slots).
+        Joint values (radians for R and H, model lengths for P and for the arc ``|b| theta``
+        of a Pa; 0 in padded slots).
     axes, points : ndarray (m, 3, n, N)
         Current joint axes and axis points (world).
     R_p : ndarray (3, 3, N)
@@ -234,7 +229,8 @@ def forward(ch: Chains, fixed: dict, X: np.ndarray) -> Frames:
         params[u] = X[k] * ch.x_scale[k]
     q = X[nu:].reshape(n, m, N) * ch.q_scale[:, :, None]
     Rp, o, E = platform_pose(ch, params)
-    axes, points, R, t = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q)
+    axes, points, R, t = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q,
+                                       bars=ch.bars)
     err = closure_error(ch, Rp, o, R, t)
     return Frames(params, q, axes, points, Rp, o, E, err)
 
@@ -259,7 +255,8 @@ def leg_forward(home_leg, q, platform_home=None):
     ----------
     home_leg : Leg
     q : array_like (m,)
-        Joint values (radians for R and H, lengths for P).
+        Joint values (radians for R and H, lengths for P, the arc length ``|b| theta`` of
+        the bars' ends for a parallelogram Pa).
     platform_home : (ndarray (3, 3), ndarray (3,)), optional
 
     Returns
@@ -270,7 +267,6 @@ def leg_forward(home_leg, q, platform_home=None):
         ``T_end(q)`` when ``platform_home`` is given, else the displacement ``G``.
     """
     from ..errors import InputError
-    _refuse_parallelograms([home_leg])
     m = len(home_leg.joints)
     q = np.asarray(q, dtype=float).reshape(-1)
     if q.shape != (m,) or not np.all(np.isfinite(q)):
@@ -280,7 +276,8 @@ def leg_forward(home_leg, q, platform_home=None):
     rot = np.array([[0.0 if j.kind == "P" else 1.0 for j in home_leg.joints]])
     tra = np.array([[1.0 if j.kind == "P" else (j.pitch if j.kind == "H" else 0.0)
                      for j in home_leg.joints]])
-    axes, points, R, t = chain_forward(D, P, rot, tra, q[None, :, None])
+    bars = np.array([np.zeros(3) if j.bar is None else j.bar for j in home_leg.joints]).T
+    axes, points, R, t = chain_forward(D, P, rot, tra, q[None, :, None], bars=bars[:, None])
     d, p = axes[:, :, 0, 0], points[:, :, 0, 0]
     w = rot[0][:, None] * d
     twists = np.concatenate([cross(p, w) + tra[0][:, None] * d, w], axis=1)
@@ -289,6 +286,18 @@ def leg_forward(home_leg, q, platform_home=None):
         return twists, (R, t)
     R0, p0 = (np.asarray(x, float) for x in platform_home)
     return twists, (R @ R0, R @ p0 + t)
+
+
+def placed_bars(ch: Chains, q: np.ndarray) -> np.ndarray:
+    """The parallelograms' current bar vectors ``(m, 3, n, N)`` at the joint values ``q (n, m,
+    N)`` (zero in every other slot): ``G_{j-1} Rot(h, theta) b``, from the chain's link
+    rotations (a Pa does not turn its link, so ``G_j`` has the rotation of ``G_{j-1}``)."""
+    axes, _, _, _, Rs, _ = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q,
+                                         slots=True, bars=ch.bars)
+    blen = np.sqrt(np.einsum("inm,inm->nm", ch.bars, ch.bars))             # (n, m)
+    H = np.cross(ch.bars, ch.D, axis=0) / np.where(blen > 0, blen, 1.0)      # home hinges
+    hinge = np.einsum("jabnN,bnj->janN", Rs, H)
+    return blen.T[:, None, :, None] * np.cross(axes, hinge, axis=1)
 
 
 def normalised_twists(ch: Chains, fr: Frames) -> np.ndarray:

@@ -36,7 +36,7 @@ class _Frames:
 
     def __init__(self, ch, R, o, q):
         self.axes, self.points, Rl, tl = chain_forward(ch.D, ch.P, ch.rotation, ch.translation,
-                                                       q)
+                                                       q, bars=ch.bars)
         self.error = closure_error(ch, R, o, Rl, tl)
         self.residual = np.max(np.abs(self.error), axis=(0, 1))
 
@@ -152,7 +152,7 @@ def seeds(model, ch, target, K, rng):
     q[rot] = rng.uniform(-np.pi, np.pi, (int(rot.sum()), P * K))
     q[:, :, ::K] = 0.0                                       # the first seed is home
     q[np.arange(ch.n), ch.actuated] = np.repeat(target, K, axis=0).T
-    _, _, Rl, tl = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q)
+    _, _, Rl, tl = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q, bars=ch.bars)
     Rh, ph = (np.asarray(x, float) for x in model.platform_home)
     R = np.einsum("ijN,jk->ikN", Rl[:, :, 0], Rh)
     o = np.einsum("ijN,j->iN", Rl[:, :, 0], ph) + tl[:, 0]

@@ -101,6 +101,11 @@ def link_frames(solution, sl=slice(None)) -> LinkFrames:
     """
     c = solution.closures
     ch = c.chains
+    if ch.bars is not None and ch.bars.any():
+        from ..errors import InputError
+        raise InputError(f"model {ch.name}: the link frames (dynamics) of legs with a "
+                         "parallelogram Pa are not covered yet (the bars' inertia and the rate "
+                         "of the Pa's own twist); kinematics and statics are")
     X = c.X[:, sl]
     N = X.shape[-1]
     nu, n, m = len(ch.unknown), ch.n, ch.m
@@ -115,7 +120,7 @@ def link_frames(solution, sl=slice(None)) -> LinkFrames:
         for u in ch.unknown:
             params[u] = np.where(bad, np.nan, params[u])
     axes, points, _, _, Rs, ts = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q,
-                                               slots=True)
+                                               slots=True, bars=ch.bars)
     rot = ch.rotation.T[:, None, :, None]                 # (m, 1, n, 1)
     tra = ch.translation.T[:, None, :, None]
     w = rot * axes

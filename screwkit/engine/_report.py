@@ -14,7 +14,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["report", "row_quantity", "constraint_resultants", "resultants_determined"]
+__all__ = ["report", "row_quantity", "constraint_resultants", "resultants_determined",
+           "output_scales", "unit_row"]
 
 _POSE = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
 
@@ -31,8 +32,10 @@ def row_quantity(r) -> str:
 def constraint_resultants(statics, A):
     """Each leg's constraint resultant: ``(f, m_A)``, both ``(..., n_legs, 3)``.
 
-    ``f`` is the total force of the leg's constraint rows on the platform and ``m_A`` its
-    moment about the leg's base point ``A_i`` (``m_O - A_i x f``).  Unlike the row values,
+    ``statics`` is a :class:`~screwkit.engine.StaticsResult` or its ``constraint_wrenches``
+    (``(..., n_legs, 6)``, about O).  ``f`` is the total force of the leg's constraint rows
+    on the platform and ``m_A`` its moment about the leg's base point ``A_i``
+    (``m_O - A_i x f``).  Unlike the row values,
     which depend on the basis chosen for the leg's constraint system, these are fixed by
     the leg's wrench alone: they move with the base frame as vectors and scale with the
     units (forces unchanged, moments by the length factor).  ``m_A . delta_i`` is ``T_r``.
@@ -46,7 +49,7 @@ def constraint_resultants(statics, A):
     >>> f.shape, bool(np.abs(m[3]).max() < 1e-9)     # the SP leg's forces pass through A4
     ((4, 3), True)
     """
-    w = np.asarray(statics.constraint_wrenches, float)
+    w = np.asarray(getattr(statics, "constraint_wrenches", statics), float)   # or (..., n, 6)
     A = np.asarray(A, float).reshape(-1, 3)
     f = w[..., :3]
     return f, w[..., 3:] - np.cross(A, f)
@@ -76,17 +79,54 @@ def resultants_determined(statics, A):
     return out
 
 
-def _scales(model, units):
-    u = model.units
-    if units is None:
-        return u.as_dict(), {"length": 1.0, "force": 1.0, "torque": 1.0}
+def output_scales(units_of, units=None, name: str = "the model"):
+    """``(unit block, factors)`` of a report in the model's units (``units=None``) or in SI
+    (``units="SI"``: m, N, N.m through pint).
+
+    ``units_of`` is a model (its ``units``) or a :class:`~screwkit.pm.Units`; the factors
+    (``length``, ``force``, ``torque``, ``angle``) multiply a model-unit value into the
+    output unit (1 throughout for the model's units).  A model that declares no units
+    cannot be converted (InputError).
+
+    Examples
+    --------
+    >>> from screwkit.pm import Units
+    >>> block, k = output_scales(Units("cm", "kN"), "SI")
+    >>> block["torque"], round(k["length"], 12), round(k["force"], 9), round(k["torque"], 9)
+    ('N.m', 0.01, 1000.0, 10.0)
+    """
+    u = getattr(units_of, "units", units_of)
+    name = getattr(units_of, "name", name)
+    if units is None or units == "model":
+        return u.as_dict(), {"length": 1.0, "force": 1.0, "torque": 1.0, "angle": 1.0}
     if str(units).upper() != "SI":
         raise InputError(f"units must be the model's (default) or 'SI', got {units!r}")
     if not u.declared:
-        raise InputError(f"{model.name} declares no units (add 'units: {{length: .., force: ..}}' "
+        raise InputError(f"{name} declares no units (add 'units: {{length: .., force: ..}}' "
                          "to its definition): they cannot be converted")
     f = u.si_factors()
     return {"length": "m", "force": "N", "torque": "N.m", "angle": "deg", "declared": True}, f
+
+
+_scales = output_scales
+
+
+def unit_row(row, quantity: str, k: dict) -> np.ndarray:
+    """A row of ``J`` (the wrench ``[f; m]`` about O per unit of the row's effort) in the
+    output units: ``f`` scales by ``k_force / k_effort``, ``m`` by ``k_torque / k_effort``,
+    ``quantity`` (:func:`row_quantity`) naming the effort.  A force row keeps ``|f| = 1``
+    (its moment arm scales by the length factor), a couple row ``|m| = 1``, and a rotary
+    actuator's row (force per unit torque) scales its force part by ``1 / k_length``."""
+    row = np.asarray(row, float)
+    ke = k["torque"] if quantity == "torque" else k["force"]
+    return np.concatenate([row[..., :3] * (k["force"] / ke), row[..., 3:] * (k["torque"] / ke)],
+                          axis=-1)
+
+
+def row_units(quantity: str, length: str) -> str:
+    """The units of a row of ``J`` for the text report: ``[1; cm]`` for a force effort,
+    ``[1/cm; 1]`` for a torque (couples, rotary actuators)."""
+    return f"[1/{length}; 1]" if quantity == "torque" else f"[1; {length}]"
 
 
 def report(analysis, units=None) -> dict:
@@ -113,7 +153,7 @@ def report(analysis, units=None) -> dict:
                 continue
             q = row_quantity(r)
             c = {"kind": r.kind, "label": r.label, "direction": r.direction,
-                 "unit_wrench": _wrench(jac.J[k_], kl, kf, kt, unit=True),
+                 "unit_wrench": unit_row(jac.J[k_], q, k),
                  "unit": ublock[q]}
             if st is not None:
                 c["value"] = st.values[k_] * (kt if q == "torque" else kf)
@@ -137,7 +177,7 @@ def report(analysis, units=None) -> dict:
             entry["actuation"] = {"kind": r.member, "direction": r.direction,
                                   "point": None if r.point is None else r.point * kl,
                                   "joint": r.joint, "effort": q, "unit": ublock[q],
-                                  "unit_wrench": _wrench(jac.J[act[0]], kl, kf, kt, unit=True)}
+                                  "unit_wrench": unit_row(jac.J[act[0]], q, k)}
             if st is not None:
                 entry["active"] = st.values[act[0]] * (kt if q == "torque" else kf)
                 entry["active_unit"] = ublock[q]
@@ -166,8 +206,11 @@ def report(analysis, units=None) -> dict:
         "warnings": list(analysis.warnings),
         "legs": legs,
         "extensions": sol.extensions * kl,
-        "jacobian": jac.J,
-        "jacobian_convention": "rows [f; m] about O in the model's units, acting on [v_O; w]",
+        "jacobian": np.array([unit_row(row, row_quantity(r), k)
+                              for row, r in zip(jac.J, jac.info)]),
+        "jacobian_convention": ("rows [f; m] about O per unit of the row's effort, acting on "
+                                "[v_O; w], in the report's units ([1; length] for a force "
+                                "effort, [1/length; 1] for a torque)"),
         "condition_number": jac.condition_number,
         "conditioning": analysis.quality.as_dict(0),
         "singular": jac.singular,
@@ -205,10 +248,7 @@ def report(analysis, units=None) -> dict:
     return out
 
 
-def _wrench(w, kl, kf, kt, unit=False):
-    """A wrench ``[f; m]`` in the output units (a unit row keeps ``|f| = 1`` or ``|m| = 1``:
-    only its moment arm scales)."""
+def _wrench(w, kl, kf, kt):
+    """A wrench ``[f; m]`` in the output units."""
     w = np.asarray(w, float)
-    if unit:
-        return np.concatenate([w[..., :3], w[..., 3:] * kl]) if kl != 1.0 else w
     return np.concatenate([w[..., :3] * kf, w[..., 3:] * kt])

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._chains import LENGTH_PARAMS, PARAMS
+from ._chains import LENGTH_PARAMS, PARAMS, placed_bars
 from ._closure import ACCEPTED, CONVERGED
 from ._inputs import prepare
 from ._solve import Closures
@@ -211,9 +211,12 @@ class PoseSolution:
         """Every leg placed at pose ``i``: joints on their current axes, ``A``, ``a`` (world)."""
         from ..legs import Joint, Leg
         fr = self.closures.frames(slice(i, i + 1))
+        ch = self.closures.chains
+        bars = placed_bars(ch, fr.q) if ch.bars.any() else None      # parallelograms
         out = []
         for k, lg in enumerate(self.model.home_legs):
-            joints = tuple(Joint(j.spec, fr.axes[s, :, k, 0], fr.points[s, :, k, 0], j.pitch)
+            joints = tuple(Joint(j.spec, fr.axes[s, :, k, 0], fr.points[s, :, k, 0], j.pitch,
+                                 None if j.bar is None or bars is None else bars[s, :, k, 0])
                            for s, j in enumerate(lg.joints))
             out.append(Leg(lg.string, joints, self.base_points[k], self._platform[2][i, k],
                            lg.name))

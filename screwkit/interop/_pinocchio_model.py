@@ -156,6 +156,10 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
                                     "do not share one centre")
             groups.append(("spherical" if n == 3 else "universal", tuple(grp)))
             i += n
+        elif j.spec.parallelogram:
+            raise InputError(f"leg {leg.name}: the Pinocchio check does not cover the "
+                             f"parallelogram {j.name} yet (its far link moves on a circle, not "
+                             "along a prismatic joint)")
         else:
             groups.append(({"R": "revolute", "P": "prismatic", "H": "helical"}[j.kind], (i,)))
             i += 1

@@ -146,7 +146,8 @@ def _check_t(t, where: str, line_of=None):
                          f"{t[i - 1]:g}")
 
 
-def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
+def path_from_csv(path, independent, *, angle_unit: str = "deg",
+                  length_unit: str | None = None) -> PathSpec:
     """Read a path from a CSV file.
 
     Parameters
@@ -156,7 +157,12 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
     independent : sequence of str
         The PM's independent pose parameters, e.g. ``("alpha", "beta", "Zo")``.
     angle_unit : {"deg", "rad"}
-        Unit of the angle columns in the file (default degrees).
+        Unit of the angle columns in the file (default degrees), unless a column's header
+        names its own: ``alpha [rad]``.
+    length_unit : str, optional
+        The model's length unit: a length column may then name it (``Zo [cm]``, as
+        ``screwkit trajectory`` writes its CSV header); a header naming another unit is
+        refused, never converted silently.
 
     Returns
     -------
@@ -179,6 +185,8 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
     for lineno, cells in _csv_lines(text):
         if header is None:
             header, header_line = [c.strip() for c in cells], lineno
+            header, col_units = _header_units(header, angle_unit, length_unit,
+                                              f"{where}: line {lineno}")
             continue
         rows.append((lineno, cells))
     if header is None:
@@ -216,7 +224,7 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
             col = header[j]
             if not s:
                 raise InputError(f"{where}: line {lineno}, column {col!r}: empty cell")
-            bound = MAX_ANGLE_DEG if (col in ANGLE_PARAMETERS and angle_unit == "deg") else \
+            bound = MAX_ANGLE_DEG if (col in ANGLE_PARAMETERS and col_units[col] == "deg") else \
                 (np.radians(MAX_ANGLE_DEG) if col in ANGLE_PARAMETERS else None)
             data[i, j] = parse_number(s, f"{where}: line {lineno}, column {col!r}", bound=bound)
     lines = [ln for ln, _ in rows]
@@ -227,9 +235,32 @@ def path_from_csv(path, independent, *, angle_unit: str = "deg") -> PathSpec:
         if name == "t":
             continue
         col = data[:, j]
-        values[name] = np.radians(col) if (name in ANGLE_PARAMETERS and angle_unit == "deg") \
+        values[name] = np.radians(col) if (name in ANGLE_PARAMETERS and col_units[name] == "deg") \
             else col
     return PathSpec(t, values, where, tuple(independent))
+
+
+def _header_units(header, angle_unit, length_unit, where):
+    """Split ``name [unit]`` headers: ``(names, {name: unit})``, the angle columns' unit
+    (``deg`` or ``rad``, default ``angle_unit``) and a length column's (the model's only)."""
+    names, units = [], {}
+    for cell in header:
+        name, sep, rest = cell.partition("[")
+        name, unit = (name.strip(), rest.rstrip().rstrip("]").strip()) if sep else (cell, None)
+        names.append(name)
+        if name in ANGLE_PARAMETERS:
+            if unit not in (None, "deg", "rad"):
+                raise InputError(f"{where}: column {shorten(cell)}: an angle is in deg or rad")
+            units[name] = unit or angle_unit
+        elif unit is not None and name in POSE_PARAMETERS:
+            if length_unit is None or unit != length_unit:
+                raise InputError(f"{where}: column {shorten(cell)}: the model's lengths are "
+                                 f"in {length_unit or 'undeclared units'}; write the column "
+                                 "in them (no conversion is made)")
+        elif unit is not None and name == "t":
+            raise InputError(f"{where}: column {shorten(cell)}: t is a path parameter "
+                             "without a unit")
+    return names, units
 
 
 def _csv_lines(text):
@@ -326,7 +357,9 @@ def add_path_arguments(parser) -> None:
     number = argtype(lambda text: parse_number(text, "value", bound=MAX_MAGNITUDE), "number")
     path = argtype(lambda text: check_path_text(text, "value"), "path")
     g.add_argument("--path", metavar="FILE", type=path,
-                   help="CSV with a header row: t and the independent pose parameters")
+                   help="CSV with a header row: t and the independent pose parameters "
+                        "(angles in degrees; a header may name its unit: alpha [rad], Zo [cm] "
+                        "in the model's length unit)")
     g.add_argument("--expr", action="append", metavar="NAME=EXPR", default=[],
                    help="a pose parameter as an expression in t, e.g. "
                         "'alpha=10*sin(2*pi*t)' (repeat for each parameter)")
@@ -336,12 +369,13 @@ def add_path_arguments(parser) -> None:
                    metavar=("T0", "T1"), help="range of t for --expr (default 0 1)")
 
 
-def path_from_args(args, independent) -> PathSpec:
-    """The :class:`PathSpec` described by parsed :func:`add_path_arguments` options."""
+def path_from_args(args, independent, length_unit: str | None = None) -> PathSpec:
+    """The :class:`PathSpec` described by parsed :func:`add_path_arguments` options
+    (``length_unit``: the model's, which a ``--path`` file's header may name)."""
     if getattr(args, "path", None) and getattr(args, "expr", None):
         raise InputError("give either --path FILE or --expr NAME=EXPR, not both")
     if getattr(args, "path", None):
-        return path_from_csv(args.path, independent)
+        return path_from_csv(args.path, independent, length_unit=length_unit)
     if getattr(args, "expr", None):
         return path_from_expressions(args.expr, independent, samples=args.samples,
                                      t_range=tuple(args.t_range))

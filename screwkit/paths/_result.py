@@ -77,6 +77,14 @@ class TrajectoryResult:
     constraint_points : tuple of (str or None)
         Where each constraint column's force passes (``"A_i"``, ``"a_i"``, or the name of
         its point; None for a couple), found at the first regular sample.
+    resultant_force, resultant_moment : ndarray (N, n, 3), optional
+        Each leg's constraint resultant (:func:`screwkit.engine.constraint_resultants`):
+        the total force of its constraint rows and its moment about the leg's base point
+        ``A_i``; independent of the basis of the leg's constraint rows (NaN where the
+        statics is not solved).
+    resultant_determined : ndarray (N, n) of bool, optional
+        False where a constraint row of the leg is not determined by statics (then the
+        resultant may not be either: a conservative flag).
     """
 
     pm: str
@@ -105,6 +113,9 @@ class TrajectoryResult:
     rotary: tuple = ()
     determined: np.ndarray | None = None
     constraint_points: tuple = ()
+    resultant_force: np.ndarray | None = None
+    resultant_moment: np.ndarray | None = None
+    resultant_determined: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -138,67 +149,115 @@ class TrajectoryResult:
 
     # -- export ------------------------------------------------------------------------------
     def columns(self) -> list:
-        """``(name, (N,) array)`` pairs of the CSV, in order (angles in degrees)."""
+        """``(name, (N,) array)`` pairs of the CSV, in order (angles in degrees, the
+        model's units)."""
+        return [(c, v) for c, v, _ in self.columns_with_units()]
+
+    def columns_with_units(self, units=None) -> list:
+        """``(name, (N,) array, unit)`` triples of the CSV in the model's units or
+        (``units="SI"``) in m, N, N.m; ``unit`` is ``""`` for a dimensionless column."""
+        from ..engine._report import output_scales
+
+        ub, k = output_scales(self._units(), units, self.pm)
+        kl, kf, kt = k["length"], k["force"], k["torque"]
         n = self.n_legs
         p = self.params_degrees()
-        cols = [("t", self.t)]
-        cols += [(k, p[k]) for k in PARAMS]
-        cols += [(f"r{i + 1}", self.extensions[:, i]) for i in range(n)]
-        cols += [(f"F_a{i + 1}", self.active[:, i]) for i in range(n)]
-        cols += [(lab, self.constraint[:, j]) for j, lab in enumerate(self.constraint_labels)]
-        rot = self.rotary or (False,) * n      # T_ri: about a linear leg's own line only
-        cols += [(f"T_r{i + 1}", self.T_r[:, i]) for i in range(n) if not rot[i]]
-        cols += [("condition_number", self.condition_number),
-                 ("closure_residual", self.closure_residual),
-                 ("equilibrium_residual", self.equilibrium_residual)]
+        rot = self.rotary or (False,) * n
+        cols = [("t", self.t, "")]
+        cols += [(q, p[q] * kl, ub["length"]) if q in LENGTH_PARAMS else (q, p[q], "deg")
+                 for q in PARAMS]
+        cols += [(f"r{i + 1}", self.extensions[:, i] * kl, ub["length"]) for i in range(n)]
+        cols += [(f"F_a{i + 1}", self.active[:, i] * (kt if rot[i] else kf),
+                  ub["torque" if rot[i] else "force"]) for i in range(n)]
+        cols += [(lab, self.constraint[:, j] * (kt if kind == "couple" else kf),
+                  ub["torque" if kind == "couple" else "force"])
+                 for j, (lab, kind) in enumerate(zip(self.constraint_labels,
+                                                     self.constraint_kinds))]
+        # T_ri: about a linear leg's own line only
+        cols += [(f"T_r{i + 1}", self.T_r[:, i] * kt, ub["torque"]) for i in range(n) if not rot[i]]
+        if self.resultant_force is not None:
+            for i in range(n):
+                cols += [(f"res{i + 1}_f{x}", self.resultant_force[:, i, j] * kf, ub["force"])
+                         for j, x in enumerate("xyz")]
+                cols += [(f"res{i + 1}_m{x}", self.resultant_moment[:, i, j] * kt, ub["torque"])
+                         for j, x in enumerate("xyz")]
+        cols += [("condition_number", self.condition_number, ""),
+                 ("closure_residual", self.closure_residual, ""),
+                 ("equilibrium_residual", self.equilibrium_residual, "")]
         return cols
 
-    def to_csv(self, out=None) -> str | None:
-        """CSV with a header row: ``t, status``, the pose (angles in degrees), ``r_i``,
-        ``F_ai``, the constraint columns, ``T_ri``, the condition number and residuals,
-        ``message``.  NaN is written ``nan``.  Returns the text when ``out`` is None,
-        else writes to ``out`` (a path or a text file object)."""
-        cols = self.columns()
+    def to_csv(self, out=None, units=None) -> str | None:
+        """CSV with a header row ``name [unit]`` (bare names for ``t``, ``status``, the
+        condition number, residuals and ``message``): ``t, status``, the pose (angles in
+        degrees), ``r_i``, ``F_ai``, the constraint columns, ``T_ri``, each leg's
+        constraint resultant ``res<i>_f<x|y|z>`` and its moment about ``A_i``
+        ``res<i>_m<x|y|z>``, the condition number and residuals, ``message``.  In the
+        model's units, or in SI with ``units="SI"``.  NaN is written ``nan``.  Returns the
+        text when ``out`` is None, else writes to ``out`` (a path or a text file object).
+        ``pandas.read_csv`` reads it as it is."""
+        cols = self.columns_with_units(units)
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
-        w.writerow([cols[0][0], "status"] + [c for c, _ in cols[1:]] + ["message"])
+        w.writerow([cols[0][0], "status"] + [f"{c} [{un}]" if un else c for c, _, un in cols[1:]]
+                   + ["message"])
         for i in range(len(self)):
             w.writerow([_fmt(cols[0][1][i]), self.status[i]]
-                       + [_fmt(v[i]) for _, v in cols[1:]] + [self.message[i]])
+                       + [_fmt(v[i]) for _, v, _ in cols[1:]] + [self.message[i]])
         return _write(buf.getvalue(), out)
 
-    def to_dict(self) -> dict:
+    def to_dict(self, units=None) -> dict:
         """JSON-ready, column-oriented (angles in degrees; NaN stays NaN until
-        :func:`screwkit.cli._commands._common.to_jsonable` makes it null)."""
+        :func:`screwkit.cli._commands._common.to_jsonable` makes it null), in the model's
+        units or (``units="SI"``) in m, N, N.m."""
+        from ..engine._report import output_scales
+
+        ub, k = output_scales(self._units(), units, self.pm)
+        kl, kf, kt = k["length"], k["force"], k["torque"]
         p = self.params_degrees()
-        return {
+        rot = self.rotary or (False,) * self.n_legs
+        cu = ["torque" if kind == "couple" else "force" for kind in self.constraint_kinds]
+        out = {
             "pm": self.pm,
             "independent": list(self.independent),
-            "units": self._units().as_dict(),
-            "active_units": [self._units().torque if r else self._units().force
-                             for r in (self.rotary or (False,) * self.n_legs)],
-            "workload": {"force": self.force, "torque": self.torque, "applied_at": "o"},
+            "units": ub,
+            "active_units": [ub["torque"] if r else ub["force"] for r in rot],
+            "workload": {"force": self.force * kf, "torque": self.torque * kt,
+                         "applied_at": "o", "force_unit": ub["force"],
+                         "torque_unit": ub["torque"]},
             "n_samples": len(self),
             "counts": self.counts(),
             "t": self.t,
             "status": self.status.tolist(),
-            "pose": {k: p[k] for k in PARAMS},
-            "extensions": self.extensions,
-            "active": self.active,
+            "pose": {q: p[q] * kl if q in LENGTH_PARAMS else p[q] for q in PARAMS},
+            "pose_units": {q: ub["length"] if q in LENGTH_PARAMS else "deg" for q in PARAMS},
+            "extensions": self.extensions * kl,
+            "extensions_unit": ub["length"],
+            "active": self.active * np.array([kt if r else kf for r in rot]),
             "constraint": {"labels": list(self.constraint_labels),
                            "kinds": list(self.constraint_kinds),
                            "legs": [i + 1 for i in self.constraint_legs],
-                           "values": self.constraint},
-            "T_r": [None if r else self.T_r[:, i].tolist()
-                    for i, r in enumerate(self.rotary or (False,) * self.n_legs)],
+                           "units": [ub[q] for q in cu],
+                           "values": self.constraint * np.array([kt if q == "torque" else kf
+                                                                 for q in cu])},
+            "T_r": [None if r else (self.T_r[:, i] * kt).tolist() for i, r in enumerate(rot)],
             "T_r_name": "T_r: moment of each linear leg's constraint wrench about its axis "
                         "(null for a rotary leg)",
+            "T_r_unit": ub["torque"],
             "condition_number": self.condition_number,
             "singularity": self.singularity.tolist(),
             "closure_residual": self.closure_residual,
             "equilibrium_residual": self.equilibrium_residual,
             "message": self.message.tolist(),
         }
+        if self.resultant_force is not None:
+            out["constraint_resultant"] = {
+                "force": self.resultant_force * kf, "moment": self.resultant_moment * kt,
+                "about": [f"A{i + 1}" for i in range(self.n_legs)],
+                "name": "each leg's total constraint force (samples x legs x 3) and its moment "
+                        "about the leg's base point A_i",
+                "force_unit": ub["force"], "moment_unit": ub["torque"],
+                "determined": self.resultant_determined}
+        return out
 
     def _units(self):
         from ..pm import UNDECLARED

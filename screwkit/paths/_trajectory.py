@@ -156,7 +156,7 @@ class _Stacked:
 
 def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     """The :class:`TrajectoryResult` of a batched analysis along the path."""
-    from ..engine import CONVERGED
+    from ..engine import CONVERGED, constraint_resultants
 
     parts = res.parts if isinstance(res, _Stacked) else [res]
 
@@ -178,6 +178,7 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     st_ok = reach & ~sing_mask
     vals = col(lambda p: p.statics.F_r)
     legw = col(lambda p: p.statics._derived[2])
+    conw = col(lambda p: p.statics._derived[3])
     Tr = col(lambda p: p.statics._derived[4])
     eq = col(lambda p: p.statics._derived[5])
     nact = n
@@ -203,6 +204,11 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     det = col(lambda p: np.asarray(p.statics.determined).reshape(len(p), -1))
     det = np.where(st_ok[:, None], det, True)
     det.setflags(write=False)
+    cons_rows = np.array([r.kind != "actuation" for r in info])
+    row_legs = np.array([r.leg for r in info])
+    res_det = np.stack([det[:, cons_rows & (row_legs == i)].all(axis=1) for i in range(n)],
+                       axis=1)
+    res_f, res_m = constraint_resultants(conw, _base_points(parts[0], n))
     out = {
         "status": status.astype(str), "extensions": ext, "actuator_values": act_v,
         "active": vals[:, :nact], "constraint": vals[:, nact:], "T_r": Tr,
@@ -211,7 +217,8 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
         "singularity": np.where(sing_mask, kinds_arr, "").astype(str),
         "message": np.array(message, dtype=str),
     }
-    for k in ("active", "constraint", "T_r", "leg_wrenches"):
+    out["res_f"], out["res_m"], out["res_det"] = res_f, res_m, res_det
+    for k in ("active", "constraint", "T_r", "leg_wrenches", "res_f", "res_m"):
         out[k] = np.array(out[k], float)
         out[k][~st_ok] = np.nan
     for v in list(out.values()) + list(params.values()):
@@ -226,7 +233,15 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
                             labels, kinds, legs, F.copy(), T.copy(), dict(diag), model.units,
                             tuple(lg.actuated_joint.kind != "P" for lg in model.home_legs),
                             determined=det,
-                            constraint_points=_constraint_points(model, parts, info, st_ok))
+                            constraint_points=_constraint_points(model, parts, info, st_ok),
+                            resultant_force=out["res_f"], resultant_moment=out["res_m"],
+                            resultant_determined=out["res_det"])
+
+
+def _base_points(part, n):
+    """The legs' base points ``A_i`` ``(n, 3)`` (the base is fixed along a path)."""
+    A = np.asarray(part.solution.base_points, float)
+    return A if A.ndim == 2 else A.reshape(-1, n, 3)[0]
 
 
 def _constraint_points(model, parts, info, ok) -> tuple:

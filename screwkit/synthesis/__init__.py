@@ -22,8 +22,9 @@ from ._reports import (CatalogCheck, DrawResult, LegValidation, TargetResult, Va
                        catalog_rows, chain_text, composition_label, report_rows)
 from ._validation import DEFAULT_DRAWS, validate_catalog, validate_string, validate_table1
 from ._motions import MOTIONS, MotionPattern, motion_pattern
-from ._candidates import (EXTRA_LEGS_YAML, GEOMETRIES, Candidate, LegKind, compositions_for,
-                          extra_legs, leg_pool, model_yaml, pm_definition, synthesis_catalog)
+from ._candidates import (EXTRA_LEGS_YAML, GEOMETRIES, PASSIVE_GEOMETRIES, Candidate, LegKind,
+                          compositions_for, extra_legs, geometries_for, leg_pool, model_yaml, passive_compositions, pm_definition,
+                          synthesis_catalog)
 
 __all__ = [
     # synthesis
@@ -42,6 +43,6 @@ __all__ = [
     "composition_label", "chain_text", "report_rows", "catalog_rows", "DEFAULT_DRAWS",
     # motion patterns and candidate PMs (verified by screwkit.design)
     "MOTIONS", "MotionPattern", "motion_pattern", "EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate",
-    "LegKind", "compositions_for", "extra_legs", "leg_pool", "model_yaml", "pm_definition",
-    "synthesis_catalog",
+    "PASSIVE_GEOMETRIES", "LegKind", "compositions_for", "extra_legs", "geometries_for", "leg_pool", "model_yaml", "passive_compositions",
+    "pm_definition", "synthesis_catalog",
 ]

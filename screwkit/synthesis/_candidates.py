@@ -15,7 +15,8 @@ is :mod:`screwkit.design`).  For a :class:`~screwkit.synthesis.MotionPattern`:
    one actuator per leg): symmetric (``n`` legs of one type) and asymmetric (``k`` legs
    of one type, ``n - k`` of another, the more constraining type first), whose constraint
    dimensions add up to at least the ``6 - dof`` of the complementary system (the legs'
-   systems can span it only then).
+   systems can span it only then); and (:func:`passive_compositions`) ``n`` actuated legs
+   plus one passive constraining leg that completes the system exactly.
 3. **Model definitions** (:func:`pm_definition`).  A composition is placed on one of the
    standard geometries (:data:`GEOMETRIES`: triangle, rectangle, pentagon) as a ``pms:``
    entry, the schema of `docs/pm_models.md` (the default pose is home, where the
@@ -35,8 +36,9 @@ import yaml
 
 from ._motions import MotionPattern
 
-__all__ = ["EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate", "LegKind", "compositions_for",
-           "extra_legs", "leg_pool", "model_yaml", "pm_definition", "synthesis_catalog"]
+__all__ = ["EXTRA_LEGS_YAML", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate", "LegKind", "compositions_for",
+           "extra_legs", "geometries_for", "leg_pool", "model_yaml", "passive_compositions", "pm_definition",
+           "synthesis_catalog"]
 
 #: Arrangements the type synthesis adds to the catalog's: the PRRR leg turned so that its
 #: P and its three parallel R axes point from the base vertex towards the platform centre
@@ -84,6 +86,31 @@ GEOMETRIES = {
          {"R": 60, "r": 30}, "R", {}),),
 }
 
+#: Geometries tried first for PMs with a passive leg (then :data:`GEOMETRIES`).  Four legs:
+#: a square platform similar to the square base keeps every leg radial at home (a
+#: platform-tangent R perpendicular to its leg, as the SPR needs; with all four legs
+#: actuated, similar squares are an actuation singularity at home, the catalog's 4-UPU
+#: note).  Five legs: an irregular platform pentagon turned by 30 to 40 deg from the base
+#: one, so that four six-DOF legs control the rotation about the base normal (on the
+#: standard pentagon, with nearly radial legs, the 4-SPS + passive PRRR has cond(J) 1.6e3
+#: at home, here 30).
+PASSIVE_GEOMETRIES = {
+    4: (("square L=100, square l=50", {"shape": "square", "side": "L"},
+         {"shape": "square", "side": "l"}, {"L": 100, "l": 50}, "0.8*L", {}),),
+    5: (("pentagon R=60, turned irregular platform pentagon r=30",
+         {"shape": "circle", "radius": "R", "angles": [90, 162, 234, 306, 18]},
+         {"shape": "circle", "radius": "r", "angles": [130, 192, 274, 336, 58]},
+         {"R": 60, "r": 30}, "R", {}),),
+}
+
+
+def geometries_for(n_legs: int, passive: bool = False) -> tuple:
+    """The standard geometries of ``n_legs`` legs, in the order they are tried (the
+    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg)."""
+    return (tuple(PASSIVE_GEOMETRIES.get(n_legs, ())) if passive else ()) + tuple(
+        GEOMETRIES.get(n_legs, ()))
+
+
 @dataclass(frozen=True)
 class LegKind:
     """A leg type of the pool and its constraint system (at its default placement).
@@ -130,20 +157,29 @@ class Candidate:
     legs : tuple of LegKind
         One per vertex, the more constraining type first.
     name : str
-        ``"3UPU/couple"``, ``"2UPU/force+SPR"``: counts and catalog names.
+        ``"3UPU/couple"``, ``"2UPU/force+SPR"``: counts and catalog names
+        (``"passive-SPR+2SPR+SPS"``: a passive constraining leg first).
     string : str
         The PM string (``"3UPU"``, ``"2UPU+SPR"``).
     symmetric : bool
+    passive : tuple of int
+        0-based indices of the passive legs (no actuator; :func:`passive_compositions`).
     """
 
     legs: tuple
     name: str
     string: str
     symmetric: bool
+    passive: tuple = ()
 
     @property
     def joints(self) -> int:
         return sum(k.joints for k in self.legs)
+
+    @property
+    def actuated(self) -> tuple:
+        """The actuated legs' kinds (all but the passive ones)."""
+        return tuple(k for i, k in enumerate(self.legs) if i not in self.passive)
 
     @property
     def constraints(self) -> int:
@@ -231,11 +267,43 @@ def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
     return out
 
 
+def passive_compositions(motion: MotionPattern, pool, n_legs: int | None = None) -> list:
+    """Compositions of ``n_legs`` actuated legs (default: the DOF) and ONE passive
+    constraining leg (no actuator), placed first.
+
+    The passive leg is a constraining leg type ``P`` of the pool; the actuated legs are
+    ``n`` unconstrained legs of one type ``B`` (SPS, UPS, SPU: the passive leg supplies
+    the whole complementary system, as the central leg of a Tricept), or ``k`` actuated
+    legs of the type ``P`` and ``n - k`` of ``B``.  The constraint dimensions of all the
+    legs add up to exactly ``6 - dof``: fewer cannot span the complementary system, more
+    would make an over-constrained PM (the actuated compositions of
+    :func:`compositions_for` cover those).  Examples: passive PRRR + 4 SPS (3T1R),
+    passive SPR + 2 SPR + SPS (1T2R), passive SP + 4 SPS (1T3R).
+    """
+    n = motion.dof if n_legs is None else int(n_legs)
+    need = motion.constraints
+    free = [b for b in pool if not b.constraints]
+    out = []
+    for p in pool:
+        if not p.constraints or p.constraints > need:
+            continue
+        k, r = divmod(need - p.constraints, p.constraints)
+        if r or k >= n:
+            continue
+        for b in free:
+            groups = [(p, k), (b, n - k)] if k else [(b, n)]
+            name, string = _name(groups)
+            legs = (p,) * (k + 1) + (b,) * (n - k)
+            out.append(Candidate(legs, f"passive-{p.name}+{name}", f"{p.string}+{string}",
+                                 False, (0,)))
+    return out
+
+
 def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> dict:
     """The ``pms:`` entry of a composition on standard geometry ``geometry`` (an index
-    into ``GEOMETRIES[n]``); angles in degrees, lengths in cm (the catalog's units)."""
+    into :func:`geometries_for` its number of legs); angles in degrees, lengths in cm (the catalog's units)."""
     n = len(cand.legs)
-    geos = GEOMETRIES.get(n)
+    geos = geometries_for(n, bool(cand.passive))
     if not geos or not 0 <= geometry < len(geos):
         from ..errors import InputError
         raise InputError(f"no standard geometry {geometry} for {n} legs "
@@ -254,6 +322,13 @@ def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> 
          "dof": motion.dof, "motion": motion.name, "units": {"length": "cm", "force": "kN"}}
     if guess:
         d["guess"] = guess
+    if cand.passive:
+        which = ", ".join(f"{i + 1} ({cand.legs[i].name})" for i in cand.passive)
+        d["note"] = (f"leg {which} is passive (no actuator): its constraint system completes "
+                     f"the complementary wrench system; the synthesis verified J without "
+                     f"its actuation row. screwkit's models have no passive-leg field yet: "
+                     f"analysed as written, that leg's joint {cand.legs[cand.passive[0]].marked}"
+                     f" counts as a redundant actuator")
     d.update(extra)
     return d
 

@@ -43,7 +43,11 @@ def fmt_num(x: float, digits: int = 6) -> str:
 
 
 def fmt_vec(v, digits: int = 6) -> str:
-    return "(" + ", ".join(fmt_num(float(c), digits) for c in np.asarray(v).ravel()) + ")"
+    c = np.asarray(v, float).ravel()
+    # round-off of a component next to large ones prints as 0 whatever the units
+    ref = float(np.max(np.abs(c))) if c.size and np.all(np.isfinite(c)) else 0.0
+    return "(" + ", ".join("0" if abs(x) <= 1e-12 * ref else fmt_num(float(x), digits)
+                           for x in c) + ")"
 
 
 def write_output(path, text: str) -> None:

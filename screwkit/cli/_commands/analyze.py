@@ -16,7 +16,8 @@ from ._common import dump_json, fmt_num, fmt_vec
 HELP = """Analyse a PM at a pose: legs, mobility, the solved pose (unified inverse displacement),
 leg extensions, the unified Jacobian J = [J_a; J_c] and its condition number, and the statics
 F_r = -(J^-1)^T [F; T] for a workload (F, T) at the platform centre o. Angles in degrees,
-lengths in the model's units (the catalog's examples: cm, kN, kN.cm)."""
+lengths, forces and torques in the model's units (the catalog's: cm, kN, kN.cm) or, with
+--units SI, in m, N and N.m; every printed line names its unit."""
 
 
 def parse_assignments(items, what: str, *, bound: float | None = None) -> dict:
@@ -102,8 +103,8 @@ def register(sub):
                         "compliance-weighted solution (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--units", choices=["model", "SI"], default="model",
-                   help="units of the JSON report: the model's (default) or SI (m, N, N.m; "
-                        "needs pint)")
+                   help="units of the report (text and JSON): the model's (default) or SI "
+                        "(m, N, N.m; needs pint)")
     p.set_defaults(func=run)
 
 
@@ -125,54 +126,84 @@ def run(args) -> int:
     res = analyze_pm(model, pose, degrees=True, force=force, torque=torque, stiffness=stiffness)
     for w in res.warnings:                           # one line each, on stderr
         print(f"screwkit analyze: warning: {w}", file=sys.stderr)
+    units = None if args.units == "model" else args.units
     if args.json:
-        print(dump_json(res.to_dict(None if args.units == "model" else args.units)))
+        print(dump_json(res.to_dict(units)))
         return 0
-    if args.units != "model":
-        raise InputError("--units SI applies to the --json report")
-    print_text(res)
+    print_text(res, units)
     return 0
 
 
-def print_text(res) -> None:
-    from ...engine._report import row_quantity
+def _twist_space(mob, kl: float, length: str):
+    """The twist-space label and description with their lengths (points, pitches) times
+    ``kl`` and labelled ``length``."""
+    from dataclasses import replace
+
+    from ...pm._mobility import describe_freedoms
+
+    label, text = mob.instantaneous_type, mob.instantaneous
+    if kl != 1.0:
+        hel = [f.pitch * kl for f in mob.freedoms if f.kind == "helical"]
+        if hel and "H(p=" in label:
+            label = label[:label.index("H(p=")] + f"H(p={','.join(f'{h:.4g}' for h in hel)})"
+        if mob.translations != 3:      # (3 translations: directions only, no lengths)
+            text = describe_freedoms([replace(f, point=None if f.point is None else
+                                              np.asarray(f.point) * kl, pitch=f.pitch * kl)
+                                      for f in mob.freedoms])
+    return label, text.replace("(length/rad)", f"({length}/rad)")
+
+
+def print_text(res, units=None) -> None:
+    """The text report of one pose, in the model's units or (``units="SI"``) in SI: every
+    length, force and torque printed times the factor of :func:`output_scales`."""
+    from ...engine._report import output_scales, row_quantity, row_units, unit_row
 
     model, sol, mob, jac, st = res.model, res.solution, res.mobility, res.jacobian, res.statics
-    u = model.units
+    ub, k = output_scales(model, units)
+    kl, kf, kt = k["length"], k["force"], k["torque"]
+    u = model.units if units is None else type(model.units)(ub["length"], ub["force"])
+    kq = {"force": kf, "torque": kt}
     print(f"PM {model.name}  ({len(sol.legs)} legs, Euler order {model.order}, "
           f"independent {', '.join(model.independent)})")
     if getattr(model, "summary", ""):
         print(f"  {model.summary}")
     print("legs:")
     for i, leg in enumerate(sol.legs, 1):
-        print(f"  {i}. {leg.name:<12} [{leg.string.marked}]  A{i} = {fmt_vec(leg.A)}  a{i} = {fmt_vec(leg.a)}")
+        print(f"  {i}. {leg.name:<12} [{leg.string.marked}]  A{i} = {fmt_vec(leg.A * kl)}  "
+              f"a{i} = {fmt_vec(leg.a * kl)} {u.length}")
     print(f"mobility: {mob.dof} DOF ({mob.motion_type}); constraint rank {mob.constraint_rank} of "
           f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "
           f"Grubler-Kutzbach count {mob.gruebler}")
     if mob.finite:
         print(f"  finite motion type {mob.finite}")
-    print(f"  twist space here ({mob.instantaneous_type}): "
-          f"{mob.instantaneous.replace('(length/rad)', f'({u.length}/rad)')}")
+    label, text = _twist_space(mob, kl, u.length)
+    print(f"  twist space here ({label}): {text}")
     p = sol.params_degrees()
     print(f"units: lengths {u.length}, forces {u.force}, torques {u.torque}, angles deg"
-          + ("" if u.declared else " (the model declares no units)"))
-    print(f"pose (deg, {u.length}): " + "  ".join(f"{k}={fmt_num(p[k])}" for k in
-                                                  ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")))
+          + ("" if model.units.declared else " (the model declares no units)")
+          + (f" (converted from the model's {model.units.length}, {model.units.force})"
+             if units is not None else ""))
+    print(f"pose (deg, {u.length}): " + "  ".join(
+        f"{n}={fmt_num(p[n] * (kl if n in ('Xo', 'Yo', 'Zo') else 1.0))}"
+        for n in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")))
     print(f"  closure residual {sol.residual:.2e} (length-normalised)")
     for n in sol.notes:
         print(f"  note: {n}")
     print(f"extensions r_i ({u.length}): " +
-          "  ".join(f"r{i}={fmt_num(r)}" for i, r in enumerate(sol.extensions, 1)))
+          "  ".join(f"r{i}={fmt_num(r * kl)}" for i, r in enumerate(sol.extensions, 1)))
     q = res.quality.as_dict(0)
-    print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O), normalised condition number "
+    print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O per unit effort), normalised "
+          f"condition number "
           f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
     print(f"  conditioning: {q['level']}; efforts up to {q['force_amplification']:.3g} times the "
           f"load; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
           + (f"  BEYOND A SINGULAR SURFACE FROM {q['det_reference'].upper()}"
              if q["beyond_singular_surface"] else ""))
     for r, row in zip(jac.rows, jac.J):
-        print(f"  {' '.join(f'{x:10.5g}' for x in row)}   leg {r.leg + 1} {r.kind}")
-    F, T = res.force, res.torque
+        q = row_quantity(r)
+        print(f"  {' '.join(f'{x:10.5g}' for x in unit_row(row, q, k))}   leg {r.leg + 1} "
+              f"{r.kind} {row_units(q, u.length)}")
+    F, T = res.force * kf, res.torque * kt
     print(f"statics for F = {fmt_vec(F)} {u.force} and T = {fmt_vec(T)} {u.torque} at o:")
     if st is None:
         print("  not solved: singular pose")
@@ -187,20 +218,23 @@ def print_text(res) -> None:
                  "screw": "constraint wrench"}[r.kind]
         where = ""
         if r.point is not None and r.member == "screw":
-            where = f" on the screw axis through {fmt_vec(r.point)}, pitch {fmt_num(r.pitch)} {u.length}"
+            where = (f" on the screw axis through {fmt_vec(r.point * kl)} {u.length}, pitch "
+                     f"{fmt_num(r.pitch * kl)} {u.length}")
         elif r.point is not None:
-            where = f" on the line through {point_label(r.point_name) or fmt_vec(r.point)}"
+            where = (" on the line through "
+                     + (point_label(r.point_name) or f"{fmt_vec(r.point * kl)} {u.length}"))
         mark = " " if det[k] else "*"
         unit = u.of(row_quantity(r))
         vunit = u.torque if r.member == "couple" else u.force
-        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v):>12}{mark} {unit:<6} vector "
-              f"{fmt_vec(vec)} {vunit}{where}")
+        vk = kt if r.member == "couple" else kf
+        print(f"  leg {r.leg + 1} {label:<17} {fmt_num(v * kq[row_quantity(r)]):>12}{mark} "
+              f"{unit:<6} vector {fmt_vec(vec * vk)} {vunit}{where}")
     undet = [not all(det[k] for k in jac.leg_rows(i)) for i in range(len(st.T_r))]
     linear = [lg.actuated_joint.kind == "P" for lg in sol.legs]
     if any(linear):
         print(f"  T_ri, the moment of each linear leg's constraint wrench about its axis "
               f"({u.torque}): " +
-              "  ".join(f"T_r{i}={fmt_num(t)}{'*' if bad else ''}"
+              "  ".join(f"T_r{i}={fmt_num(t * kt)}{'*' if bad else ''}"
                         for i, (t, bad, lin) in enumerate(zip(st.T_r, undet, linear), 1) if lin))
     from ...engine._report import constraint_resultants, resultants_determined
 
@@ -210,6 +244,6 @@ def print_text(res) -> None:
           f"({u.force}) and moment about A_i ({u.torque})")
     for i in range(len(sol.legs)):
         bf, bm = ("" if ok else "*" for ok in res_det[i])
-        print(f"  leg {i + 1} force {fmt_vec(res_f[i])}{bf}  moment about "
-              f"A{i + 1} {fmt_vec(res_m[i])}{bm}")
+        print(f"  leg {i + 1} force ({u.force}) {fmt_vec(res_f[i] * kf)}{bf}  moment about "
+              f"A{i + 1} ({u.torque}) {fmt_vec(res_m[i] * kt)}{bm}")
     print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from .._progress import add_quiet_argument, progress_bar
 from .._types import integer, path
@@ -17,13 +18,20 @@ systems must span the complementary system). The survivors are verified by the e
 the mobility (DOF and instantaneous motion type) at home and at 6 poses of a finite motion
 from home, the pattern's finite invariant (no rotation for 3T, a fixed centre for 3R ...),
 and J non-singular at home (the actuators control the motion). They are ranked by joint
-count, actuators nearer the base, and the condition number of J at home. --write DIR
-writes each listed PM as a model YAML that 'screwkit analyze DIR/FILE.yaml' reads."""
+count, actuators nearer the base, and the condition number of J at home. Unless
+--symmetric or --no-passive, PMs of N actuated legs and one passive constraining leg (no
+actuator, e.g. 4SPS + a passive PRRR for 3T1R) are tried too: their J leaves out the
+passive leg's actuation row. --workers N / --scheduler ADDRESS run the engine
+verifications on a Dask cluster (the result equals the serial one). --write DIR
+writes each listed PM as a model YAML that 'screwkit analyze DIR/FILE.yaml' reads, except
+the PMs with a passive leg (screwkit models cannot declare a passive leg yet: they are named
+on stderr and not written)."""
 
 EPILOG = """examples:
   screwkit synthesize 3T --limit 5
   screwkit synthesize 1T2R --json
-  screwkit synthesize 3T1R --legs 4 --write models/"""
+  screwkit synthesize 3T1R --legs 4 --write models/
+  screwkit synthesize 1T2R --workers 2"""
 
 
 def register(sub):
@@ -38,6 +46,12 @@ def register(sub):
                    help="list only the K best ranked")
     p.add_argument("--symmetric", action="store_true",
                    help="only symmetric PMs (all legs of one type)")
+    p.add_argument("--no-passive", action="store_true",
+                   help="no PMs with a passive constraining leg")
+    p.add_argument("--workers", type=integer(1, 64), default=None, metavar="N",
+                   help="verify the candidates on a local Dask cluster of N worker processes")
+    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="verify the candidates on a running Dask scheduler")
     p.add_argument("--write", type=path, default=None, metavar="DIR",
                    help="write each listed PM as DIR/<name>.yaml")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
@@ -54,13 +68,28 @@ def run(args) -> int:
     from pathlib import Path
 
     from ...design import synthesize_motion
+    from ...errors import InputError
 
+    if args.workers is not None and args.scheduler:
+        raise InputError("give either --workers N or --scheduler ADDRESS")
+    mapper = None
+    if args.workers is not None or args.scheduler:
+        from functools import partial
+
+        from ...maps import run_tasks
+        mapper = partial(run_tasks, args.scheduler or args.workers)
     with progress_bar(args, "synthesize", "candidate") as progress:
         res = synthesize_motion(args.motion, legs=args.legs, limit=args.limit,
-                                asymmetric=not args.symmetric, progress=progress)
+                                asymmetric=not args.symmetric,
+                                passive=not (args.symmetric or args.no_passive),
+                                progress=progress, mapper=mapper)
     written = []
     if args.write is not None:
         for p in res.listed:
+            if p.passive:
+                print(f"screwkit synthesize: {p.name} not written: a model cannot declare a "
+                      "passive leg yet", file=sys.stderr)
+                continue
             target = Path(args.write) / file_name(p.name)
             write_output(target, p.model_yaml())
             written.append(str(target))
@@ -75,11 +104,14 @@ def run(args) -> int:
           f"verified of {res.tried} candidates with {res.n_legs} legs ({res.screened_out} "
           f"screened out at home, {len(res.rejected)} rejected by the engine)")
     print(f"  complementary wrench system: {m.complement}")
-    print("  rank  PM                               joints  actuators           act.pos  "
-          "cond(J) home  geometry (cm)")
+    w = max([32] + [len(p.name) for p in res.listed])
+    print(f"  rank  {'PM':<{w}} joints  actuators           act.pos  cond(J) home  geometry (cm)")
     for p in res.listed:
-        print(f"  {p.rank:>4}  {p.name:<32} {p.joints:>6}  {' '.join(dict.fromkeys(p.actuators)):<19}"
+        print(f"  {p.rank:>4}  {p.name:<{w}} {p.joints:>6}  {' '.join(dict.fromkeys(p.actuators)):<19}"
               f" {p.actuator_position:>7.2f}  {p.condition_home:>12.4g}  {p.geometry}")
+    if any(p.passive for p in res.listed):
+        print("  passive-X: leg 1 of type X has no actuator (actuators lists the actuated "
+              "legs; cond(J) without its actuation row)")
     if res.listed:
         v = res.listed[0].verdict
         print(f"  each verified at {len(v.checks)} poses (home and {len(v.checks) - 1} along a "

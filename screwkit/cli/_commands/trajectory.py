@@ -12,14 +12,16 @@ from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
 pose (unified inverse displacement, warm-started), the leg extensions r_i, the active forces F_ai,
-the constraint forces/couples and the constraint torques T_ri for a workload (F, T) at o, and
-the normalised condition number of the unified Jacobian. The path is a CSV file (--path: a
+the constraint forces/couples and the constraint torques T_ri for a workload (F, T) at o, each
+leg's constraint resultant (res<i>_f*: its total constraint force; res<i>_m*: its moment about
+A_i), and the normalised condition number of the unified Jacobian. The path is a CSV file (--path: a
 header row with t and the independent parameters, angles in degrees) or one expression in t
 per independent parameter (--expr 'alpha=10*sin(2*pi*t)' --expr ... --samples N). Output: CSV
 (default) or JSON on stdout or in --out FILE; --plot FILE draws the panels of the paper's
 Fig. 5. A sample that is singular or unreachable is flagged in the 'status' column
 (ok|singular|unreachable) with NaN values; the run continues. Angles in degrees, lengths and
-forces in the model's units."""
+forces in the model's units or in SI (--units SI); the CSV header names each column's unit
+(F_a1 [kN])."""
 
 EPILOG = """examples:
   screwkit trajectory 3RRPRR --expr "alpha=8*sin(2*pi*t)" --expr "beta=6*sin(4*pi*t)" \\
@@ -40,6 +42,10 @@ def register(sub):
     p.add_argument("--format", choices=("csv", "json"),
                    help="output format (default: from the --out suffix, else csv)")
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the table (CSV header 'name [unit]', JSON units): the "
+                        "model's (default) or SI (m, N, N.m; needs pint); the plot keeps the "
+                        "model's")
     p.add_argument("--plot", metavar="PNG", type=output, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
     p.add_argument("--length-unit", type=label(40), help="length unit printed on the plot (default: the model's)")
@@ -84,16 +90,25 @@ def run(args) -> int:
 
         from ...maps import run_tasks
         mapper = partial(run_tasks, args.scheduler or args.workers)
+    table_units = None if args.units == "model" else args.units
+    if table_units is not None:
+        if getattr(args, "dynamics", False):
+            raise InputError("--units SI does not apply to --dynamics (its table is in the "
+                             "model's units, named in its header)")
+        from ...engine._report import output_scales
+        output_scales(model, table_units)         # fail before a long run, not after it
     if getattr(args, "dynamics", False):
         from ._dynamics_args import run_dynamics
         with progress_bar(args, "dynamics", "step") as progress:
             return run_dynamics(args, model, fmt, progress)
-    path = path_from_args(args, model.independent)
+    path = path_from_args(args, model.independent,
+                          model.units.length if model.units.declared else None)
     with progress_bar(args, "trajectory", "step") as progress:
         res = run_trajectory(model, path, parse_triple(args.force, "--force"),
                              parse_triple(args.torque, "--torque"), progress=progress,
                              mapper=mapper)
-    text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
+    text = (dump_json(res.to_dict(table_units)) + "\n" if fmt == "json"
+            else res.to_csv(units=table_units))
     if args.out:
         write_output(args.out, text)
         print(f"wrote {args.out}", file=sys.stderr)

@@ -1,0 +1,248 @@
+"""``--units SI`` in the text report and the trajectory table, and units in the CSV header.
+
+The conversion factors are written here by hand (1 cm = 0.01 m, 1 kN = 1000 N,
+1 kN.cm = 10 N.m), not taken from the code (which goes through pint): each SI value
+printed must be the model-unit value printed times its factor, line by line.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from screwkit.cli import main
+
+pytest.importorskip("pint")
+
+L, F, T = 0.01, 1000.0, 10.0            # cm -> m, kN -> N, kN.cm -> N.m (by hand)
+NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?"
+PMS = {"3RRPRR": ["--pose", "alpha=5", "--pose", "beta=-3", "--pose", "Zo=80"],   # linear
+       "3RSR": [],                                                                 # rotary
+       "3SPU+PRRR": []}                                                            # couples
+
+
+def _run(capsys, *argv):
+    rc = main(list(argv))
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    return out
+
+
+def _nums(text):
+    return [float(x) for x in re.findall(NUM, text)]
+
+
+def _close(si, model, factor, rtol=2e-5):
+    """Printed to 6 (J: 5) significant digits; fmt_num prints |x| < 1e-12 as 0."""
+    si, model = np.asarray(si, float), np.asarray(model, float) * factor
+    assert si.shape == model.shape, (si, model)
+    scale = max(np.abs(model).max(initial=0.0), 1e-300)
+    np.testing.assert_allclose(si, model, rtol=rtol, atol=1e-9 * scale)
+
+
+def _group(pattern, line):
+    m = re.search(pattern, line)
+    assert m, (pattern, line)
+    return m
+
+
+@pytest.mark.parametrize("pm", PMS)
+def test_text_si_values_are_the_model_values_times_the_factors(capsys, pm):
+    model = _run(capsys, "analyze", pm, *PMS[pm]).splitlines()
+    si = _run(capsys, "analyze", pm, *PMS[pm], "--units", "SI").splitlines()
+    assert len(model) == len(si)
+    seen = set()
+    vec = r"\(([^)]*)\)"
+    for a, b in zip(model, si):
+        if not b.startswith("units:"):               # (which names the model's)
+            assert not re.search(r"\bkN|\bcm\b", b), b
+        # every line that names a model unit, or whose numbers change, names an SI unit
+        if re.search(r"\bkN|\bcm\b", a) or _nums(a) != _nums(b):
+            assert re.search(r"(\bm\b|\bN\b|N\.m|/m\b)", b), b
+        if _nums(a) == _nums(b) and not re.match(r"\s+leg \d+ force \(kN\)", a):
+            continue                                 # no dimensional number on the line
+        if re.match(r"\s+\d+\. ", a):                                     # A_i, a_i
+            ma, mb = (_group(r"A\d+ = " + vec + r"\s+a\d+ = " + vec, x) for x in (a, b))
+            _close(_nums(mb[1]) + _nums(mb[2]), _nums(ma[1]) + _nums(ma[2]), L)
+            assert b.endswith(" m")
+            seen.add("legs")
+        elif a.startswith("pose ("):
+            pa, pb = (dict(re.findall(r"(\w+)=(" + NUM + ")", x)) for x in (a, b))
+            for k in pa:
+                _close([float(pb[k])], [float(pa[k])], L if k in ("Xo", "Yo", "Zo") else 1.0)
+            assert b.startswith("pose (deg, m)")
+            seen.add("pose")
+        elif a.startswith("extensions"):
+            ra, rb = (re.findall(r"r\d+=(" + NUM + ")", x) for x in (a, b))
+            _close([float(x) for x in rb], [float(x) for x in ra], L)
+            assert b.startswith("extensions r_i (m)")
+            seen.add("extensions")
+        elif a.rstrip().endswith(("; cm]", "[1/cm; 1]")):                 # rows of J
+            xa, xb = np.array(_nums(a)[:6]), np.array(_nums(b)[:6])
+            if a.rstrip().endswith("[1; cm]"):       # force effort: [1; length]
+                assert b.rstrip().endswith("[1; m]")
+                _close(xb, xa * np.r_[1, 1, 1, L, L, L], 1.0, rtol=2e-4)
+            else:                                    # torque effort: [1/length; 1]
+                assert b.rstrip().endswith("[1/m; 1]")
+                _close(xb, xa * np.r_[1 / L, 1 / L, 1 / L, 1, 1, 1], 1.0, rtol=2e-4)
+            seen.add("J")
+        elif a.startswith("statics for F"):
+            ma, mb = (_group(r"F = " + vec + r" \S+ and T = " + vec, x) for x in (a, b))
+            _close(_nums(mb[1]), _nums(ma[1]), F)
+            _close(_nums(mb[2]), _nums(ma[2]), T)
+            seen.add("workload")
+        elif re.match(r"\s+leg \d+ (active|constraint)", a):
+            pat = r"\s(" + NUM + r")\*?\s+(\S+)\s+vector " + vec + r" (\S+)"
+            ma, mb = _group(pat, a), _group(pat, b)
+            unit = {"kN": ("N", F), "kN.cm": ("N.m", T)}
+            assert mb[2] == unit[ma[2]][0] and mb[4] == unit[ma[4]][0], b
+            _close([float(mb[1])], [float(ma[1])], unit[ma[2]][1])
+            _close(_nums(mb[3]), _nums(ma[3]), unit[ma[4]][1])
+            if "line through (" in a:
+                pa, pb = (_group(r"line through " + vec + r" (\S+)", x) for x in (a, b))
+                assert pb[2] == "m"
+                _close(_nums(pb[1]), _nums(pa[1]), L)
+            seen.add("torque rows" if ma[2] == "kN.cm" else "force rows")
+        elif "T_ri" in a:
+            ta, tb = (re.findall(r"T_r\d+=(" + NUM + ")", x) for x in (a, b))
+            _close([float(x) for x in tb], [float(x) for x in ta], T)
+            assert "(N.m)" in b
+            seen.add("T_r")
+        elif re.match(r"\s+leg \d+ force \(kN\)", a):
+            assert re.match(r"\s+leg \d+ force \(N\) ", b) and "(N.m)" in b, b
+            ma, mb = (_group(r"force \(\S+\) " + vec + r".*\(\S+\) " + vec, x) for x in (a, b))
+            _close(_nums(mb[1]), _nums(ma[1]), F)
+            _close(_nums(mb[2]), _nums(ma[2]), T)
+            seen.add("resultants")
+        elif "twist space here" in a:
+            pa, pb = (re.findall(r"pitch (" + NUM + ")", x) for x in (a, b))
+            _close([float(x) for x in pb], [float(x) for x in pa], L)
+            ha, hb = (_group(r"H\(p=([^)]*)\)", x) for x in (a, b))
+            _close(_nums(hb[1]), _nums(ha[1]), L)
+            la, lb = (re.findall(r"through " + vec, x) for x in (a, b))
+            _close(_nums(" ".join(lb)), _nums(" ".join(la)), L)
+            assert "(m/rad)" in b
+            seen.add("twists")
+        elif a.startswith("units:"):
+            assert b.startswith("units: lengths m, forces N, torques N.m, angles deg")
+        else:
+            pytest.fail(f"a line whose numbers change and that this test does not check: {b}")
+    want = {"legs", "pose", "extensions", "J", "workload", "resultants"}
+    want |= {"3RRPRR": {"force rows", "T_r", "twists"}, "3RSR": {"torque rows", "twists"},
+             "3SPU+PRRR": {"force rows", "torque rows", "T_r"}}[pm]
+    assert want <= seen, want - seen
+
+
+@pytest.mark.parametrize("pm", ["3RSR", "3SPU+PRRR"])
+def test_si_json_rows_balance_the_load_in_si(capsys, pm):
+    """The SI report's rows of J (rotary rows: force per torque; couple rows) times the SI
+    values balance the SI workload ``[F; T + o x F]`` about O, and sum to each leg's wrench."""
+    d = json.loads(_run(capsys, "analyze", pm, "--json", "--units", "SI"))
+    J, x = np.array(d["jacobian"]), np.array(d["statics"]["values"])
+    o = np.array([d["pose"][k] for k in ("Xo", "Yo", "Zo")])
+    Fw, Tw = np.array(d["workload"]["force"]), np.array(d["workload"]["torque"])
+    W = np.r_[Fw, Tw + np.cross(o, Fw)]
+    np.testing.assert_allclose(J.T @ x + W, 0, atol=1e-9 * np.abs(J.T @ x).max())
+    for leg in d["legs"]:
+        w = sum(c["value"] * np.array(c["unit_wrench"]) for c in leg["constraints"])
+        if "actuation" in leg:
+            w = w + leg["active"] * np.array(leg["actuation"]["unit_wrench"])
+        np.testing.assert_allclose(w, leg["wrench"], atol=1e-9 * np.abs(W).max())
+
+
+EXPR = ["--expr", "alpha=2*sin(2*pi*t)", "--expr", "beta=-1", "--expr", "Zo=40+5*t",
+        "--samples", "5"]
+SI_UNIT = {"cm": ("m", L), "kN": ("N", F), "kN.cm": ("N.m", T), "deg": ("deg", 1.0)}
+
+
+@pytest.mark.parametrize("pm", ["3RSR", "3SPU+PRRR"])
+def test_trajectory_csv_header_units_and_si_table(capsys, pm):
+    pd = pytest.importorskip("pandas")
+    expr = EXPR if pm == "3RSR" else ["--expr", "Xo=5+2*t", "--expr", "Yo=-3", "--expr",
+                                      "Zo=80", "--expr", "gamma=10+10*t", "--samples", "5"]
+    model = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr)))
+    si = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr, "--units", "SI")))
+    assert len(model) == len(si) == 5 and (model["status"] == "ok").all()
+    assert model.columns[0] == "t" and model.columns[-1] == "message"
+    for ca, cb in zip(model.columns, si.columns):
+        name, _, unit = ca.partition(" [")
+        if not unit:                                 # t, status, condition number, ...
+            assert cb == ca
+            if ca not in ("status", "message"):
+                np.testing.assert_array_equal(si[cb], model[ca])
+            continue
+        unit = unit.rstrip("]")
+        assert cb == f"{name} [{SI_UNIT[unit][0]}]"
+        _close(si[cb].to_numpy(), model[ca].to_numpy(), SI_UNIT[unit][1], rtol=1e-10)
+    heads = list(model.columns)
+    if pm == "3RSR":                      # rotary actuators: torques; no T_r columns
+        assert "F_a1 [kN.cm]" in heads and not any(h.startswith("T_r") for h in heads)
+    else:                                 # the PRRR leg's couples are torques
+        assert "F_a1 [kN]" in heads and {"T_c4.1 [kN.cm]", "T_c4.2 [kN.cm]"} <= set(heads)
+
+
+def test_trajectory_resultants_equal_analyze(capsys):
+    """The trajectory's per-leg constraint resultants (CSV and JSON) are analyze's at the
+    same pose, and in SI the JSON's are the model's times the factors."""
+    pd = pytest.importorskip("pandas")
+    expr = ["--expr", "Xo=5+2*t", "--expr", "Yo=-3", "--expr", "Zo=80", "--expr", "gamma=10+10*t",
+            "--samples", "3"]
+    df = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3SPU+PRRR", *expr)))
+    js = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json"))
+    js_si = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json",
+                            "--units", "SI"))
+    res, res_si = js["constraint_resultant"], js_si["constraint_resultant"]
+    assert res["force_unit"] == "kN" and res_si["moment_unit"] == "N.m"
+    _close(np.array(res_si["force"]), np.array(res["force"]), F, rtol=1e-12)
+    _close(np.array(res_si["moment"]), np.array(res["moment"]), T, rtol=1e-12)
+    k = 2
+    pose = [f"--pose={p}={float(df[f'{p} [cm]' if p != 'gamma' else 'gamma [deg]'][k])!r}"
+            for p in ("Xo", "Yo", "Zo", "gamma")]
+    a = json.loads(_run(capsys, "analyze", "3SPU+PRRR", *pose, "--json"))
+    for i, leg in enumerate(a["legs"]):
+        r = leg["constraint_resultant"]
+        scale = max(np.abs(r["moment"]).max(), 1.0)
+        csv_f = [df[f"res{i + 1}_f{x} [kN]"][k] for x in "xyz"]
+        csv_m = [df[f"res{i + 1}_m{x} [kN.cm]"][k] for x in "xyz"]
+        np.testing.assert_allclose(csv_f, r["force"], atol=1e-8 * scale)
+        np.testing.assert_allclose(csv_m, r["moment"], atol=1e-8 * scale)
+        np.testing.assert_allclose(res["moment"][k][i], r["moment"], atol=1e-8 * scale)
+        assert res["determined"][k][i] == (r["force_determined"] and r["moment_determined"])
+
+
+def test_trajectory_si_refusals(capsys):
+    data = Path(__file__).with_name("data") / "user_3prs.yaml"        # declares no units
+    rc = main(["trajectory", "3PRS", "--model", str(data), *EXPR, "--units", "SI"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "declares no units" in err and err.count("\n") == 1
+    rc = main(["analyze", "3PRS", "--model", str(data), "--units", "SI"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "declares no units" in err
+
+
+def test_a_path_file_may_name_its_units(tmp_path, capsys):
+    """The pose columns of a trajectory CSV (``alpha [deg]``, ``Zo [cm]``) read back as a
+    path; a column in radians is read as such; a length in another unit is refused."""
+    pd = pytest.importorskip("pandas")
+    expr = ["--expr", "alpha=5*t", "--expr", "beta=-3*t", "--expr", "Zo=70+10*t",
+            "--samples", "4"]
+    out = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3RRPRR", *expr)))
+    cols = ["t", "alpha [deg]", "beta [deg]", "Zo [cm]"]
+    f = tmp_path / "p.csv"
+    out[cols].to_csv(f, index=False)
+    back = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3RRPRR", "--path", str(f))))
+    np.testing.assert_allclose(back["F_a1 [kN]"], out["F_a1 [kN]"], rtol=1e-9)
+    rad = out[cols].rename(columns={"beta [deg]": "beta [rad]"})
+    rad["beta [rad]"] = np.radians(rad["beta [rad]"])
+    rad.to_csv(f, index=False)
+    back = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3RRPRR", "--path", str(f))))
+    np.testing.assert_allclose(back["beta [deg]"], out["beta [deg]"], rtol=1e-9, atol=1e-12)
+    f.write_text("t,alpha [deg],beta,Zo [m]\n0,0,0,0.7\n1,5,-3,0.8\n")
+    assert main(["trajectory", "3RRPRR", "--path", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "Zo [m]" in err and "in cm" in err and err.count("\n") == 1
