@@ -63,7 +63,7 @@ def main(motions, workers=None) -> None:
           f"{'  dask s  same' if mapper else ''}  best")
     for m in motions:
         w, c = time.perf_counter(), time.process_time()
-        res = design.synthesize_motion(m)
+        res = design.synthesize_motion(m, passive=True)
         wall, user = time.perf_counter() - w, time.process_time() - c
         engine = res.tried - res.screened_out - res.pruned - res.not_verified
         best = res.listed[0].name if res.listed else "-"
@@ -71,7 +71,7 @@ def main(motions, workers=None) -> None:
         extra = ""
         if mapper:
             w = time.perf_counter()
-            other = design.synthesize_motion(m, mapper=mapper)
+            other = design.synthesize_motion(m, passive=True, mapper=mapper)
             extra = (f"  {time.perf_counter() - w:>6.2f}  "
                      f"{'yes' if other.to_dict() == res.to_dict() else 'NO'}")
         print(f"{m:<6} {wall:>7.2f} {user:>7.2f} {TARGET_S:>8.0f}  {res.tried:>5} "

@@ -180,7 +180,7 @@ def test_3t1r_lists_a_passive_prrr_leg_against_its_hand_couples(passive_3t1r, tm
 
 def test_dask_synthesis_equals_the_serial_one(capsys):
     distributed = pytest.importorskip("distributed")
-    args = ["synthesize", "3T1R", "--json", "--quiet"]
+    args = ["synthesize", "3T1R", "--passive", "--json", "--quiet"]
     assert main(args) == 0
     serial = json.loads(capsys.readouterr().out)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,

@@ -223,7 +223,7 @@ def _home_legs(kind_names, g, probe, specs, cache):
 
 
 def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = None,
-                      asymmetric: bool = True, passive: bool | None = None,
+                      asymmetric: bool = True, passive: bool = False,
                       max_verified: int | None = None, catalog=None, progress=None,
                       mapper=None) -> TypeSynthesis:
     """PMs with the motion pattern ``motion``, verified by the engine and ranked.
@@ -239,11 +239,12 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
         List at most this many (the best ranked).
     asymmetric : bool
         Also two-type compositions (``2UPU/force+SPR``).
-    passive : bool, optional
+    passive : bool
         Also the actuated legs plus one passive constraining leg
         (:func:`screwkit.synthesis.passive_compositions`; ``legs + 1`` legs, tried when a
         standard geometry has that many vertices, with a verification budget of their
-        own).  Default: as ``asymmetric``.
+        own).  Off by default: models cannot declare a passive leg yet, so these PMs are
+        listed but cannot be written as a model (:meth:`SynthesizedPM.model_yaml`).
     max_verified : int, optional
         At most this many engine verifications (one candidate on one geometry; default
         ``MAX_VERIFIED``) for the actuated compositions, and as many for the passive-leg
@@ -286,7 +287,7 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     pool = leg_pool(m, catalog)
     comps = sorted(compositions_for(m, pool, n, asymmetric),
                    key=lambda c: (not c.symmetric, c.joints))       # stable: pool order on ties
-    if (asymmetric if passive is None else passive) and n + 1 in GEOMETRIES:
+    if passive and n + 1 in GEOMETRIES:
         comps += sorted(passive_compositions(m, pool, n), key=lambda c: c.joints)
     total = len(comps)
     if progress is not None:

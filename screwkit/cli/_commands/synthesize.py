@@ -18,8 +18,8 @@ systems must span the complementary system). The survivors are verified by the e
 the mobility (DOF and instantaneous motion type) at home and at 6 poses of a finite motion
 from home, the pattern's finite invariant (no rotation for 3T, a fixed centre for 3R ...),
 and J non-singular at home (the actuators control the motion). They are ranked by joint
-count, actuators nearer the base, and the condition number of J at home. Unless
---symmetric or --no-passive, PMs of N actuated legs and one passive constraining leg (no
+count, actuators nearer the base, and the condition number of J at home. With --passive
+(not with --symmetric), PMs of N actuated legs and one passive constraining leg (no
 actuator, e.g. 4SPS + a passive PRRR for 3T1R) are tried too: their J leaves out the
 passive leg's actuation row. --workers N / --scheduler ADDRESS run the engine
 verifications on a Dask cluster (the result equals the serial one). --write DIR
@@ -46,8 +46,9 @@ def register(sub):
                    help="list only the K best ranked")
     p.add_argument("--symmetric", action="store_true",
                    help="only symmetric PMs (all legs of one type)")
-    p.add_argument("--no-passive", action="store_true",
-                   help="no PMs with a passive constraining leg")
+    p.add_argument("--passive", action="store_true",
+                   help="also PMs with one passive constraining leg (models cannot declare a "
+                        "passive leg yet: these are listed, not written)")
     p.add_argument("--workers", type=integer(1, 64), default=None, metavar="N",
                    help="verify the candidates on a local Dask cluster of N worker processes")
     p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
@@ -81,7 +82,7 @@ def run(args) -> int:
     with progress_bar(args, "synthesize", "candidate") as progress:
         res = synthesize_motion(args.motion, legs=args.legs, limit=args.limit,
                                 asymmetric=not args.symmetric,
-                                passive=not (args.symmetric or args.no_passive),
+                                passive=args.passive and not args.symmetric,
                                 progress=progress, mapper=mapper)
     written = []
     if args.write is not None:
