@@ -68,3 +68,18 @@ def write_output(path, text: str) -> None:
             fh.write(text)
     except OSError as exc:
         raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from None
+
+
+def dask_mapper(args):
+    """``mapper(fn, items)`` on the Dask cluster that ``--workers N`` / ``--scheduler ADDRESS``
+    name (:func:`screwkit.maps.run_tasks`), or None when neither is given."""
+    from ...errors import InputError
+
+    if args.workers is not None and args.scheduler:
+        raise InputError("give either --workers N or --scheduler ADDRESS")
+    if args.workers is None and not args.scheduler:
+        return None
+    from functools import partial
+
+    from ...maps import run_tasks
+    return partial(run_tasks, args.scheduler or args.workers)

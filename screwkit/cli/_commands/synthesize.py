@@ -7,7 +7,7 @@ import sys
 
 from .._progress import add_quiet_argument, progress_bar
 from .._types import integer, path
-from ._common import dump_json, write_output
+from ._common import dask_mapper, dump_json, write_output
 
 HELP = """Type synthesis of PMs for a motion pattern (3T, 3R, 1T2R = 2R1T, 3T1R, 2T3R, 1T3R,
 2T2R, 2T1R). The leg types of the catalog (and a few extra arrangements) whose constraint
@@ -69,16 +69,8 @@ def run(args) -> int:
     from pathlib import Path
 
     from ...design import synthesize_motion
-    from ...errors import InputError
 
-    if args.workers is not None and args.scheduler:
-        raise InputError("give either --workers N or --scheduler ADDRESS")
-    mapper = None
-    if args.workers is not None or args.scheduler:
-        from functools import partial
-
-        from ...maps import run_tasks
-        mapper = partial(run_tasks, args.scheduler or args.workers)
+    mapper = dask_mapper(args)
     with progress_bar(args, "synthesize", "candidate") as progress:
         res = synthesize_motion(args.motion, legs=args.legs, limit=args.limit,
                                 asymmetric=not args.symmetric,

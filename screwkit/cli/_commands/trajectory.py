@@ -7,7 +7,7 @@ import sys
 from ...errors import InputError
 from .._types import integer, label, output
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dump_json, write_output
+from ._common import dask_mapper, dump_json, write_output
 from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
@@ -80,16 +80,9 @@ def run(args) -> int:
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
-    if args.workers is not None and args.scheduler:
-        raise InputError("give either --workers N or --scheduler ADDRESS")
-    mapper = None
-    if args.workers is not None or args.scheduler:
-        if getattr(args, "dynamics", False):
-            raise InputError("--workers and --scheduler do not apply to --dynamics")
-        from functools import partial
-
-        from ...maps import run_tasks
-        mapper = partial(run_tasks, args.scheduler or args.workers)
+    mapper = dask_mapper(args)
+    if mapper is not None and getattr(args, "dynamics", False):
+        raise InputError("--workers and --scheduler do not apply to --dynamics")
     table_units = None if args.units == "model" else args.units
     if table_units is not None:
         if getattr(args, "dynamics", False):

@@ -10,7 +10,7 @@ import sys
 from ...legs._guards import MAX_DRAWS, MAX_ENTRIES, MAX_SEED
 from .._types import integer, output
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dump_json, write_output
+from ._common import dask_mapper, dump_json, write_output
 
 HELP = """For every Table I string (or the STRINGs given): analyse a generic geometry, then
 for each target constraint system (one force, one couple; for legs with fewer than five
@@ -146,14 +146,7 @@ def run(args) -> int:
         raise InputError(f"--draws must be at least 1, got {draws}")
     if len(args.strings) > MAX_ENTRIES:
         raise InputError(f"{len(args.strings)} leg strings: validate takes at most {MAX_ENTRIES}")
-    if args.workers is not None and args.scheduler:
-        raise InputError("give either --workers N or --scheduler ADDRESS")
-    mapper = None
-    if args.workers is not None or args.scheduler:
-        from functools import partial
-
-        from ...maps import run_tasks
-        mapper = partial(run_tasks, args.scheduler or args.workers)
+    mapper = dask_mapper(args)
     with progress_bar(args, "validate", "string") as progress:
         report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
                                  check_catalog=not args.no_catalog, progress=progress,
