@@ -203,27 +203,27 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
             try_add(w, "couple")
     # 2. forces on observable lines: through named / meeting points, parallel to axes
     pts = candidate_points(leg, tol_dist)
+
+    def add_forces(nulls, rtol):
+        # the wrenches of each candidate's null space that carry a force (|f| above rtol of
+        # the normalised wrench), until k are chosen
+        for c_x in nulls:
+            if len(chosen) == k:
+                return
+            for c in c_x:
+                w = c @ W
+                if np.linalg.norm(w[:3]) > rtol * np.linalg.norm(norm.wrenches(w)):
+                    try_add(w, "force")
+
     # the null spaces of every candidate point (then direction) in one SVD call each;
     # they do not depend on what is chosen, only the loops stop early
     if len(chosen) < k:
         cand = [p for p in pts.values() if not _surely_empty(_through_rows(Fl, Ml, p))]
-        for c_p in _nulls([_through_matrix(W, p) for p in cand]):
-            if len(chosen) == k:
-                break
-            for c in c_p:
-                w = c @ W
-                if np.linalg.norm(w[:3]) > 1e-9 * np.linalg.norm(norm.wrenches(w)):
-                    try_add(w, "force")
+        add_forces(_nulls([_through_matrix(W, p) for p in cand]), 1e-9)
     if len(chosen) < k:
         cand = [d for d in _candidate_directions(leg)
                 if not _surely_empty(_parallel_rows(Fl, Ml, d))]
-        for c_d in _nulls([_parallel_matrix(W, d) for d in cand]):
-            if len(chosen) == k:
-                break
-            for c in c_d:
-                w = c @ W
-                if np.linalg.norm(w[:3]) > 1e-6 * np.linalg.norm(norm.wrenches(w)):
-                    try_add(w, "force")
+        add_forces(_nulls([_parallel_matrix(W, d) for d in cand]), 1e-6)
     # 3. randomised search on the zero-pitch quadric f.m = 0 of the system: along random
     #    lines w1 + s w2 of the (normalised, orthonormal) basis, so no combination vanishes
     if k >= 2 and len(chosen) < k:

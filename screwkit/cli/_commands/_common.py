@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 
 import numpy as np
 
-__all__ = ["to_jsonable", "dump_json", "fmt_vec", "fmt_num", "write_output"]
+__all__ = ["to_jsonable", "dump_json", "fmt_vec", "fmt_num", "write_output", "emit_table",
+           "dask_mapper"]
 
 
 def to_jsonable(x):
@@ -83,3 +85,12 @@ def dask_mapper(args):
 
     from ...maps import run_tasks
     return partial(run_tasks, args.scheduler or args.workers)
+
+
+def emit_table(out, text: str) -> None:
+    """A command's table: to the file ``out`` (saying so on stderr), else to stdout."""
+    if out:
+        write_output(out, text)
+        print(f"wrote {out}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)

@@ -29,7 +29,7 @@ def add_dynamics_arguments(p) -> None:
 def run_dynamics(args, model, fmt, progress) -> int:
     """The dynamic run of ``screwkit trajectory --dynamics`` (table, plot)."""
     from ...dynamics import dynamics, motion_from_args
-    from ._common import dump_json, write_output
+    from ._common import dump_json, emit_table
     from .analyze import parse_triple
 
     motion = motion_from_args(args, model.independent, model.units.length)
@@ -41,11 +41,7 @@ def run_dynamics(args, model, fmt, progress) -> int:
     if said:                      # the units and gravity taken, never silently
         print("screwkit trajectory: " + "; ".join(said), file=sys.stderr)
     text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
-    if args.out:
-        write_output(args.out, text)
-        print(f"wrote {args.out}", file=sys.stderr)
-    else:
-        sys.stdout.write(text)
+    emit_table(args.out, text)
     if args.plot:
         res.plot(args.plot, title=args.title)
         print(f"wrote {args.plot}", file=sys.stderr)

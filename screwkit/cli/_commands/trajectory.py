@@ -7,7 +7,7 @@ import sys
 from ...errors import InputError
 from .._types import integer, label, output
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dask_mapper, dump_json, write_output
+from ._common import dask_mapper, dump_json, emit_table
 from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
@@ -102,11 +102,7 @@ def run(args) -> int:
                              mapper=mapper)
     text = (dump_json(res.to_dict(table_units)) + "\n" if fmt == "json"
             else res.to_csv(units=table_units))
-    if args.out:
-        write_output(args.out, text)
-        print(f"wrote {args.out}", file=sys.stderr)
-    else:
-        sys.stdout.write(text)
+    emit_table(args.out, text)
     if args.plot:
         units = {}
         if args.length_unit or args.force_unit:
