@@ -45,7 +45,10 @@ def test_100_random_cells_equal_analyze_at_their_pose(rrprr, capsys):
             assert abs(float(cell[f"r{n + 1}"]) - one.solution.extensions[n]) <= 1e-10 * L
             assert abs(float(cell[f"T_r{n + 1}"]) - one.statics.T_r[n]) <= 1e-10 * scale * L
             assert abs(float(cell[f"q_a{n + 1}"]) - one.solution.actuator_values[n]) <= 1e-10 * L
-        assert abs(float(cell["gamma"]) - np.degrees(one.solution.params["gamma"])) <= 1e-10
+        # 1e-10 rad, as the lengths are held to 1e-10 L: at beta = 0 (a representation
+        # singularity on the grid) gamma is a limit known to ~1e-12 rad (round-off / sin 1e-4)
+        assert abs(float(cell["gamma"]) - np.degrees(one.solution.params["gamma"])) <= \
+            np.degrees(1e-10)
         c = one.jacobian.condition_number
         assert abs(float(cell["condition_number"]) - c) <= 1e-10 * c
         assert int(cell["det_sign"]) == int(np.sign(np.linalg.det(one.jacobian.J)))

@@ -168,3 +168,19 @@ def test_cli_exit_1_when_a_synthesis_is_wrong(monkeypatch, capsys):
     assert main(["validate", "RRPRR", "--draws", "1", "--no-catalog"]) == 1
     out = capsys.readouterr().out
     assert "not in the constraint system" in out and "1 disagreement" in out
+
+
+def test_cli_local_processes_equal_serial(capsys):
+    """``--jobs 2`` (forked worker processes) gives the serial report, string by string."""
+    argv = ["validate", "UPU", "SPR", "RRPRR", "SP", "PRRR", "--draws", "1", "--no-catalog",
+            "--format", "json", "--quiet"]
+    reports = []
+    for jobs in ("1", "2"):
+        assert main(argv + ["--jobs", jobs]) == 0
+        rep = json.loads(capsys.readouterr().out)
+        rep.pop("seconds")
+        reports.append(rep)
+    assert reports[0] == reports[1]
+    assert len(reports[1]["legs"]) == 5 and reports[1]["legs"][0]["leg"] == "U_PU"
+    assert main(["validate", "UPU", "--jobs", "2", "--workers", "2"]) == 2
+    assert "either --jobs" in capsys.readouterr().err

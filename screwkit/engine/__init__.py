@@ -18,11 +18,13 @@ a one-pose result, as :class:`scipy.spatial.transform.Rotation` holds one or man
 from ..pm import LENGTH_PARAMS, PARAMS
 from ._chains import leg_forward
 from ._closure import ACCEPTED, CONVERGED
+from ._run import CHUNK
 from ._jacobian import COND_THRESHOLD, JacobianResult, JacobianRow
 from ._quality import ILL_CONDITIONED_COND, NEAR_SINGULAR_COND
 from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
-from ._statics import StaticsResult, solve_statics, statics, unified_jacobian, workload_wrench
+from ._placed import solve_statics, unified_jacobian
+from ._statics import StaticsResult, statics, workload_wrench
 from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze
 from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
@@ -32,7 +34,7 @@ from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
 
 __all__ = [
-    "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD",
+    "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD", "CHUNK",
     "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
     "PoseSolution", "solve", "solve_pose", "solve_path", "leg_forward",
     "RowInfo", "JacobianRow", "JacobianResult", "unified_jacobian",

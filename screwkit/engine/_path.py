@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from ._chains import chains_of, forward
@@ -15,7 +18,8 @@ __all__ = ["PATH_ANCHORS", "solve_path"]
 PATH_ANCHORS = 32
 
 
-def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None) -> Closure:
+def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None,
+               workers=None) -> Closure:
     """Solve N samples of a continuous path, each warm-started from its neighbours.
 
     About :data:`PATH_ANCHORS` anchor samples are solved in order, each from the
@@ -24,7 +28,8 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     where Newton fails); the samples between two solved ones are then solved level by level,
     halving the spacing, from the cubic through their two solved neighbours on each side
     (the linear interpolation where those are not all available),
-    all of a level at once.  A sample whose solution is not close to that
+    all of a level at once (a large level in chunks on ``workers`` threads, default 2: each
+    sample's arithmetic is the same whatever chunk holds it).  A sample whose solution is not close to that
     interpolation (a jump to another branch) or that does not converge is solved
     again from its left neighbour alone (the right one when the left is unreachable).
     """
@@ -90,7 +95,7 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
             t = mid[four].astype(float)
             Xs[:, four] = sum(_lagrange(ts, j, t) * X[:, ts[j].astype(int)] for j in range(4))
         fx = {p: v[mid] for p, v in fixed.items()}
-        c = solve_closures(model, fx, Xs)
+        c = _solve_level(model, fx, Xs, workers)
         Xm, rm, hm = c.X, c.residual, c.how
         # a branch jump: the solution moved more than its neighbours differ
         span = np.max(np.abs(Xr - Xl), axis=0)
@@ -112,6 +117,26 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
             progress(int(solved.sum()), N)
     diag = {"anchors": len(anchors), "batched": N, "retried": retried}
     return Closure(ch, X, None, res, its, how, sing, diag)
+
+
+#: A level of more samples than this is solved in chunks of it on threads.
+LEVEL_CHUNK = 8192
+
+
+def _solve_level(model, fx, X0, workers):
+    """``solve_closures`` of one level's samples, in chunks on threads when it is large
+    (numpy releases the interpreter lock inside its loops)."""
+    N = X0.shape[1]
+    nw = min(2, os.cpu_count() or 1) if workers is None else int(workers)
+    if nw <= 1 or N <= 2 * LEVEL_CHUNK:
+        return solve_closures(model, fx, X0)
+    slices = [slice(s, min(s + LEVEL_CHUNK, N)) for s in range(0, N, LEVEL_CHUNK)]
+    with ThreadPoolExecutor(max_workers=nw) as pool:
+        parts = list(pool.map(lambda sl: solve_closures(model, {p: v[sl] for p, v in fx.items()},
+                                                        X0[:, sl]), slices))
+    cat = lambda name: np.concatenate([getattr(c, name) for c in parts], axis=-1)  # noqa: E731
+    return Closure(parts[0].chains, cat("X"), None, cat("residual"), cat("iterations"),
+                   cat("how"), cat("singular_beta"))
 
 
 def _lagrange(ts, j, t):

@@ -18,7 +18,7 @@ from ..screws import cross
 
 __all__ = ["RowInfo", "Rows", "templates_of", "model_rows", "legs_rows", "assemble_rows",
            "Conditioning", "condition", "default_compliance", "statics_values",
-           "derived_statics", "equilibrium_residual", "workload_about_origin", "COND_THRESHOLD"]
+           "derived_statics", "constraint_wrenches_of", "t_r_of", "equilibrium_residual", "workload_about_origin", "COND_THRESHOLD"]
 
 #: Largest normalised condition number of ``J`` still treated as regular.
 COND_THRESHOLD = 1.0 / RANK_RTOL
@@ -330,26 +330,50 @@ def derived_statics(J, info, n_actuated, values, W, A, a, centre, length):
     equilibrium residual from the values (all with the leading axes of ``values``)."""
     lead = values.shape[:-1]
     N, m = J.shape[0], J.shape[1]
-    extra = lead[1:]
-    Jb = J.reshape((N,) + (1,) * len(extra) + (m, 6))
+    Jb = J.reshape((N,) + (1,) * (len(lead) - 1) + (m, 6))
     row_w = values[..., None] * Jb
     couple = np.array([r.member == "couple" for r in info])
     vectors = np.where(couple[:, None], row_w[..., 3:], row_w[..., :3])
-    n = len(A)
+    Pm, Pc = _leg_sums(info, n_actuated, len(A))
+    leg_w = np.einsum("lm,...mj->...lj", Pm, row_w)
+    con_w = np.einsum("lm,...mj->...lj", Pc, row_w)
+    T_r = t_r_of(con_w, A, a)
+    resid = equilibrium_residual(J, values, W, centre, length)
+    return row_w, vectors, leg_w, con_w, T_r, resid
+
+
+def _leg_sums(info, n_actuated, n):
+    """``(n, m)`` 0/1 matrices summing the rows of each leg: all rows, and its constraint
+    rows only."""
+    m = len(info)
     legs = np.array([r.leg for r in info])
     Pm = np.zeros((n, m))
     Pm[legs, np.arange(m)] = 1.0
     Pc = Pm.copy()
     Pc[:, :n_actuated] = 0.0
-    leg_w = np.einsum("lm,...mj->...lj", Pm, row_w)
-    con_w = np.einsum("lm,...mj->...lj", Pc, row_w)
+    return Pm, Pc
+
+
+def constraint_wrenches_of(J, info, n_actuated, values, n):
+    """Each leg's constraint wrench about ``O``, ``(..., n, 6)``: the sum of its constraint
+    rows' ``F_r J_r`` (without forming the row wrenches)."""
+    lead = values.shape[:-1]
+    N, m = J.shape[0], J.shape[1]
+    Jb = J.reshape((N,) + (1,) * (len(lead) - 1) + (m, 6))
+    Pc = _leg_sums(info, n_actuated, n)[1]
+    return np.einsum("lm,...m,...mj->...lj", Pc, values, Jb)
+
+
+def t_r_of(con_w, A, a):
+    """``T_r (..., n)``: the moment of each leg's constraint wrench ``con_w (N, ..., n, 6)``
+    about its base point ``A (n, 3)`` along ``delta = (a - A) / |a - A|``, ``a (N, n, 3)``."""
+    N = con_w.shape[0]
+    extra = con_w.shape[1:-2]
     ab = a.reshape((N,) + (1,) * len(extra) + a.shape[1:])
     delta = ab - A
     delta = delta / np.linalg.norm(delta, axis=-1, keepdims=True)
     moment_A = con_w[..., 3:] - cross(A, con_w[..., :3])
-    T_r = np.sum(moment_A * delta, axis=-1)
-    resid = equilibrium_residual(J, values, W, centre, length)
-    return row_w, vectors, leg_w, con_w, T_r, resid
+    return np.sum(moment_A * delta, axis=-1)
 
 
 def equilibrium_residual(J, values, W, centre, length):

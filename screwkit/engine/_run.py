@@ -26,7 +26,7 @@ from ._solve import Closures, solve_closures
 __all__ = ["CHUNK", "Computed", "compute"]
 
 #: Poses per chunk.
-CHUNK = 4096
+CHUNK = 8192
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,7 +116,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     diag = {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     if path:
-        c = solve_path(model, fixed, X0, anchor_every=anchor_every,
+        c = solve_path(model, fixed, X0, anchor_every=anchor_every, workers=workers,
                        progress=(lambda d, n: progress(d, steps)) if progress else None)
         X, its, how, sing, path_res = c.X, c.iterations, c.how, c.singular_beta, c.residual
         diag = dict(c.diagnostics)

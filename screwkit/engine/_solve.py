@@ -144,7 +144,9 @@ def home_predictor(ch: Chains):
         Zs = np.stack([(np.asarray(fx[p], float) - home[k]) / span[k]
                        for k, p in enumerate(ch.fixed)], axis=1)
         far = np.max(np.abs(Zs), axis=1) > 4.0          # far outside the fit: home itself
-        out = (features(Zs) @ C).T
+        # einsum, not a BLAS product: a threaded BLAS call here leaves OpenBLAS's threads
+        # spinning on the cores that the engine's chunk threads need
+        out = np.einsum("nf,fk->kn", features(Zs), C)
         out[:, far] = X0[:, None]
         return out
 

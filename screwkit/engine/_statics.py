@@ -37,24 +37,20 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ._conditioning import RANK_RTOL
-from ._jacobian import COND_THRESHOLD, JacobianResult
-from ._pipeline import (default_compliance, derived_statics, legs_rows, statics_values,
+from ._jacobian import JacobianResult
+from ._pipeline import (constraint_wrenches_of, default_compliance, derived_statics,
+                        equilibrium_residual, statics_values, t_r_of,
                         workload_about_origin)
 from ..screws import as_vector3, cross
 
-if TYPE_CHECKING:
-    from ..legs import Leg, LegAnalysis
-
-__all__ = ["StaticsResult", "statics", "solve_statics", "workload_wrench", "unified_jacobian"]
+__all__ = ["StaticsResult", "statics", "workload_wrench", "compliance_of"]
 
 
 def _errors():
@@ -157,14 +153,37 @@ class StaticsResult:
                             doc="Total wrench each leg applies to the platform (about O).")
     constraint_wrenches = property(lambda self: self._sq(self._derived[3]),
                                    doc="The constraint part of each leg's wrench (about O).")
-    T_r = property(lambda self: self._sq(self._derived[4]),
+
+    @cached_property
+    def _eq(self):
+        if self.eq is not None:
+            return self.eq
+        if "_derived" in self.__dict__:
+            return self._derived[5]
+        jac = self.jacobian
+        c = jac.conditioning
+        return equilibrium_residual(jac.matrix, self.F_r, self._W, c.centre, c.length)
+
+    @cached_property
+    def _t_r(self):
+        # T_r alone (a map reads it for every cell): not the row-wrench stacks of _derived
+        if "_derived" in self.__dict__:
+            return self._derived[4]
+        jac = self.jacobian
+        con_w = constraint_wrenches_of(jac.matrix, jac.info, jac.n_actuated, self.F_r,
+                                       len(self.A))
+        out = t_r_of(con_w, self.A, self._a)
+        out.setflags(write=False)
+        return out
+
+    T_r = property(lambda self: self._sq(self._t_r),
                    doc="Moment of each leg's constraint wrench about A_i along delta_i.")
 
     @property
     def equilibrium_residual(self):
         """``|sum_i w_i + W|`` relative to the largest of ``|W|`` and the row wrenches,
         length-normalised (max over a batch of workloads at one pose)."""
-        r = self._derived[5] if self.eq is None else self.eq
+        r = self._eq
         if self.jacobian.single:
             r = r[0]
             return float(np.max(r)) if np.ndim(r) else float(r)
@@ -214,7 +233,7 @@ class StaticsResult:
     @property
     def success(self):
         """Regular pose and equilibrium to ``sqrt(RANK_RTOL)``."""
-        r = np.asarray(self._derived[5] if self.eq is None else self.eq)
+        r = np.asarray(self._eq)
         r = r.reshape(r.shape[0], -1).max(axis=1)
         ok = ~self.jacobian.singular_mask & (r <= np.sqrt(RANK_RTOL))
         return bool(ok[0]) if self.jacobian.single else ok
@@ -341,57 +360,3 @@ def compliance_of(stiffness, m, N):
     if not (np.all(np.isfinite(k)) and np.all(k > 0)):
         raise InputError("stiffness values must be positive and finite")
     return np.broadcast_to(1.0 / k, (N, m))
-
-
-def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
-                     analyses: Sequence[LegAnalysis] | None = None, *,
-                     threshold: float = COND_THRESHOLD) -> JacobianResult:
-    """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
-
-    Parameters
-    ----------
-    legs : sequence of Leg
-        The legs at the pose (world = base frame, moments about its origin ``O``).
-    o : array_like (3,)
-        Platform centre: the reference point of the paper's rows and of the workload.
-    analyses : sequence of LegAnalysis, optional
-        Each leg's analysis (computed if omitted): it decides what each row is.
-    threshold : float
-        Normalised condition number above which the pose counts as singular.
-
-    Returns
-    -------
-    JacobianResult
-        Never raises at a singular pose (see :meth:`JacobianResult.check`).
-    """
-    from ..legs import Leg
-    InputError = _errors()
-    o = as_vector3(o, "platform centre o")
-    if not (np.isfinite(threshold) and threshold > 1):
-        raise InputError(f"threshold must be a finite number > 1, got {threshold}")
-    legs = tuple(legs)
-    if not legs:
-        raise InputError("unified_jacobian needs at least one leg")
-    for i, leg in enumerate(legs):
-        if not isinstance(leg, Leg):
-            raise InputError(f"legs[{i}] is a {type(leg).__name__}, not a screwkit Leg")
-    if analyses is None:
-        analyses = tuple(leg.analyze() for leg in legs)
-    else:
-        analyses = tuple(analyses)
-        if len(analyses) != len(legs):
-            raise InputError(f"{len(analyses)} analyses given for {len(legs)} legs")
-        for i, (leg, an) in enumerate(zip(legs, analyses)):
-            if getattr(an, "leg", None) is not leg:
-                raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
-    rows = legs_rows(legs, o, analyses)
-    return JacobianResult.from_rows(rows, o[None], threshold=threshold, single=True,
-                                    leg_provider=lambda _: legs, analyses=analyses)
-
-
-def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
-                  analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
-                  threshold: float = COND_THRESHOLD) -> StaticsResult:
-    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at ``o``."""
-    jac = unified_jacobian(legs, o, analyses, threshold=threshold)
-    return statics(jac, F, T, o, raise_on_singular=raise_on_singular)

@@ -19,7 +19,7 @@ from ..engine._report import row_quantity
 
 __all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "compute"]
 
-#: Cells per block (16 engine chunks of 4096 poses).
+#: Cells per block (8 engine chunks of 8192 poses).
 BLOCK = 16 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import PAPER_FORCE, PAPER_TORQUE, PARAMS
+from ..engine import CHUNK, PAPER_FORCE, PAPER_TORQUE, PARAMS
 from ..errors import InputError
 from ._pathspec import PathSpec
 from ._result import STATUSES, TrajectoryResult
@@ -69,7 +69,7 @@ def _check_path(model, path) -> PathSpec:
 
 def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE,
                    progress=None, *, overrides: dict | None = None, anchor_every=None,
-                   chunk: int = 4096, vectorised: bool = True, workers=None,
+                   chunk: int = CHUNK, vectorised: bool = True, workers=None,
                    mapper=None) -> TrajectoryResult:
     """Inverse displacement and statics at every sample of a path (the batched engine).
 

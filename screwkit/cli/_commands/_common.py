@@ -87,6 +87,32 @@ def dask_mapper(args):
     return partial(run_tasks, args.scheduler or args.workers)
 
 
+def process_mapper(jobs):
+    """``mapper(fn, items, progress)`` on ``jobs`` local worker processes, or None (serial) for
+    ``jobs <= 1``, a single item, or where processes cannot be forked (they inherit the
+    imported package, so they start in milliseconds; a spawned process would import it
+    again).  Results come back in order; ``progress(done, total)`` as they arrive."""
+    import multiprocessing as mp
+
+    if jobs is None or jobs <= 1 or "fork" not in mp.get_all_start_methods():
+        return None
+
+    def mapper(fn, items, progress=None):
+        items = list(items)
+        if len(items) < 2:
+            return [fn(x) for x in items]
+        from concurrent.futures import ProcessPoolExecutor
+        out = []
+        with ProcessPoolExecutor(min(jobs, len(items)), mp_context=mp.get_context("fork")) as pool:
+            # a few items per task: fewer round trips, and the pool stays balanced
+            for r in pool.map(fn, items, chunksize=max(1, len(items) // (8 * jobs))):
+                out.append(r)
+                if progress is not None:
+                    progress(len(out), len(items))
+        return out
+    return mapper
+
+
 def emit_table(out, text: str) -> None:
     """A command's table: to the file ``out`` (saying so on stderr), else to stdout."""
     if out:

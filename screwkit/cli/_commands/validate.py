@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 import sys
 
 from ...legs._guards import MAX_DRAWS, MAX_ENTRIES, MAX_SEED
 from .._types import integer, output
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dask_mapper, dump_json, write_output
+from ._common import dask_mapper, dump_json, process_mapper, write_output
 
 HELP = """For every Table I string (or the STRINGs given): analyse a generic geometry, then
 for each target constraint system (one force, one couple; for legs with fewer than five
@@ -40,6 +41,9 @@ def register(sub):
                    help="random draws per target (default 3)")
     p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the random draws (default 0)")
     p.add_argument("--no-catalog", action="store_true", help="skip the catalog's legs")
+    p.add_argument("--jobs", type=integer(1, 64), metavar="N", default=None,
+                   help="local worker processes (default: 2 on Linux with 2 or more cores, else "
+                        "1: serial); the report equals the serial one")
     p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="validate the strings on a local Dask cluster of N worker processes "
                         "(127.0.0.1; needs screwkit[dask]); the report equals the serial one")
@@ -147,6 +151,13 @@ def run(args) -> int:
     if len(args.strings) > MAX_ENTRIES:
         raise InputError(f"{len(args.strings)} leg strings: validate takes at most {MAX_ENTRIES}")
     mapper = dask_mapper(args)
+    if mapper is not None and args.jobs is not None:
+        raise InputError("give either --jobs N (local processes) or a Dask cluster")
+    if mapper is None:
+        # by default 2 forked processes on Linux (elsewhere fork is unsafe or unavailable)
+        auto = min(2, os.cpu_count() or 1) if sys.platform.startswith("linux") else 1
+        jobs = args.jobs if args.jobs is not None else auto
+        mapper = process_mapper(jobs)
     with progress_bar(args, "validate", "string") as progress:
         report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
                                  check_catalog=not args.no_catalog, progress=progress,

@@ -1,0 +1,77 @@
+"""The unified Jacobian and statics of placed legs at one pose (paper eqs. 8-9).
+
+Plain :class:`~screwkit.legs.Leg` objects placed in the base frame (no PM model): their rows
+through the engine's row builder, then :func:`~._statics.statics`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ._jacobian import COND_THRESHOLD, JacobianResult
+from ._pipeline import legs_rows
+from ._statics import StaticsResult, _errors, statics
+from ..screws import as_vector3
+
+if TYPE_CHECKING:
+    from ..legs import Leg, LegAnalysis
+
+__all__ = ["unified_jacobian", "solve_statics"]
+
+
+def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
+                     analyses: Sequence[LegAnalysis] | None = None, *,
+                     threshold: float = COND_THRESHOLD) -> JacobianResult:
+    """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
+
+    Parameters
+    ----------
+    legs : sequence of Leg
+        The legs at the pose (world = base frame, moments about its origin ``O``).
+    o : array_like (3,)
+        Platform centre: the reference point of the paper's rows and of the workload.
+    analyses : sequence of LegAnalysis, optional
+        Each leg's analysis (computed if omitted): it decides what each row is.
+    threshold : float
+        Normalised condition number above which the pose counts as singular.
+
+    Returns
+    -------
+    JacobianResult
+        Never raises at a singular pose (see :meth:`JacobianResult.check`).
+    """
+    from ..legs import Leg
+    InputError = _errors()
+    o = as_vector3(o, "platform centre o")
+    if not (np.isfinite(threshold) and threshold > 1):
+        raise InputError(f"threshold must be a finite number > 1, got {threshold}")
+    legs = tuple(legs)
+    if not legs:
+        raise InputError("unified_jacobian needs at least one leg")
+    for i, leg in enumerate(legs):
+        if not isinstance(leg, Leg):
+            raise InputError(f"legs[{i}] is a {type(leg).__name__}, not a screwkit Leg")
+    if analyses is None:
+        analyses = tuple(leg.analyze() for leg in legs)
+    else:
+        analyses = tuple(analyses)
+        if len(analyses) != len(legs):
+            raise InputError(f"{len(analyses)} analyses given for {len(legs)} legs")
+        for i, (leg, an) in enumerate(zip(legs, analyses)):
+            if getattr(an, "leg", None) is not leg:
+                raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
+    rows = legs_rows(legs, o, analyses)
+    return JacobianResult.from_rows(rows, o[None], threshold=threshold, single=True,
+                                    leg_provider=lambda _: legs, analyses=analyses)
+
+
+def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
+                  analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
+                  threshold: float = COND_THRESHOLD) -> StaticsResult:
+    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at ``o``."""
+    jac = unified_jacobian(legs, o, analyses, threshold=threshold)
+    return statics(jac, F, T, o, raise_on_singular=raise_on_singular)
