@@ -114,3 +114,45 @@ def test_undeclared_and_bad_units(tmp_path, capsys):
     bad.write_text("units: {length: furlong, force: kN}\n" + text)
     with pytest.raises(CatalogError, match="units.length"):
         screwkit.load_pm(str(bad))
+
+
+def test_trajectory_in_si_by_hand_factors_and_on_its_plot(tmp_path):
+    """``in_units("SI")``: cm -> m is 0.01, kN -> N is 1000, kN.cm -> N.m is 10 (by hand);
+    the SI CSV (its own conversion) and the plot's labels agree."""
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("pint")
+    from screwkit.paths import path_from_expressions, run_trajectory
+    pm = screwkit.load_pm("3RRPRR")
+    path = path_from_expressions(["alpha=4*sin(2*pi*t)", "beta=2", "Zo=70+20*t"],
+                                 pm.independent, samples=11)
+    res = run_trajectory(pm, path)
+    si = res.in_units("SI")
+    assert res.in_units() is res
+    np.testing.assert_allclose(si.extensions, 0.01 * res.extensions, rtol=1e-12)
+    np.testing.assert_allclose(si.params["Zo"], 0.01 * res.params["Zo"], rtol=1e-12)
+    np.testing.assert_allclose(si.params["alpha"], res.params["alpha"], rtol=0)
+    np.testing.assert_allclose(si.active, 1000.0 * res.active, rtol=1e-12)
+    np.testing.assert_allclose(si.constraint, 1000.0 * res.constraint, rtol=1e-12)
+    np.testing.assert_allclose(si.T_r, 10.0 * res.T_r, rtol=1e-12)
+    np.testing.assert_allclose(si.leg_wrenches[..., :3], 1000.0 * res.leg_wrenches[..., :3])
+    np.testing.assert_allclose(si.leg_wrenches[..., 3:], 10.0 * res.leg_wrenches[..., 3:])
+    np.testing.assert_allclose(si.force, 1000.0 * res.force)
+    csv_si = {c: v for c, v, _ in res.columns_with_units("SI")}
+    for c, v, _ in si.columns_with_units():
+        np.testing.assert_allclose(v, csv_si[c], rtol=1e-12, err_msg=c)
+    fig = si.plot(tmp_path / "si.png")
+    labels = [ax.get_ylabel() for ax in fig.axes]
+    assert any("F_{ai}" in lab and "[N]" in lab for lab in labels), labels
+    assert any("[m]" in lab for lab in labels) and not any("cm" in lab for lab in labels)
+
+
+def test_cli_trajectory_plot_in_si(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("pint")
+    from screwkit.cli import main
+    argv = ["trajectory", "3RRPRR", "--expr", "alpha=3*t", "--expr", "beta=1",
+            "--expr", "Zo=80", "--samples", "5", "--units", "SI", "-q",
+            "--out", str(tmp_path / "t.csv"), "--plot", str(tmp_path / "t.png")]
+    assert main(argv) == 0 and (tmp_path / "t.png").stat().st_size > 0
+    assert main(argv + ["--length-unit", "mm"]) == 2
+    assert "not with --units SI" in capsys.readouterr().err

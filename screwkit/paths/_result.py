@@ -259,6 +259,40 @@ class TrajectoryResult:
                 "determined": self.resultant_determined}
         return out
 
+    def in_units(self, units=None) -> "TrajectoryResult":
+        """This result with its dimensional arrays in the model's units (``units=None``, the
+        result itself) or in SI (``units="SI"``: m, N, N.m; needs pint): the pose lengths,
+        ``r_i``, linear actuator values, ``F_ai``, the constraint values, ``T_ri``, the leg
+        wrenches, the workload and the resultants.  Angles, the condition number and the
+        residuals do not change.  For a plot in SI: ``res.in_units("SI").plot(...)``."""
+        if units is None or units == "model":
+            return self
+        import dataclasses
+
+        from ..engine._report import output_scales
+        from ..pm import Units
+
+        ub, k = output_scales(self._units(), units, self.pm)
+        kl, kf, kt = k["length"], k["force"], k["torque"]
+        rot = self.rotary or (False,) * self.n_legs
+        lw = np.array(self.leg_wrenches, float)
+        lw[..., :3] *= kf
+        lw[..., 3:] *= kt
+        scaled = lambda x, f: None if x is None else np.asarray(x, float) * f  # noqa: E731
+        return dataclasses.replace(
+            self,
+            params={q: (np.asarray(v, float) * kl if q in LENGTH_PARAMS else v)
+                    for q, v in self.params.items()},
+            extensions=self.extensions * kl,
+            actuator_values=self.actuator_values * np.array([1.0 if r else kl for r in rot]),
+            active=self.active * np.array([kt if r else kf for r in rot]),
+            constraint=self.constraint * np.array([kt if kind == "couple" else kf
+                                                   for kind in self.constraint_kinds]),
+            T_r=self.T_r * kt, leg_wrenches=lw, force=self.force * kf, torque=self.torque * kt,
+            resultant_force=scaled(self.resultant_force, kf),
+            resultant_moment=scaled(self.resultant_moment, kt),
+            units=Units(ub["length"], ub["force"]))
+
     def _units(self):
         from ..pm import UNDECLARED
         return self.units if self.units is not None else UNDECLARED

@@ -43,9 +43,8 @@ def register(sub):
                    help="output format (default: from the --out suffix, else csv)")
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
     p.add_argument("--units", choices=["model", "SI"], default="model",
-                   help="units of the table (CSV header 'name [unit]', JSON units): the "
-                        "model's (default) or SI (m, N, N.m; needs pint); the plot keeps the "
-                        "model's")
+                   help="units of the table (CSV header 'name [unit]', JSON units) and of "
+                        "the plot: the model's (default) or SI (m, N, N.m; needs pint)")
     p.add_argument("--plot", metavar="PNG", type=output, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
     p.add_argument("--length-unit", type=label(40), help="length unit printed on the plot (default: the model's)")
@@ -88,6 +87,9 @@ def run(args) -> int:
         if getattr(args, "dynamics", False):
             raise InputError("--units SI does not apply to --dynamics (its table is in the "
                              "model's units, named in its header)")
+        if args.length_unit or args.force_unit:
+            raise InputError("--length-unit/--force-unit name the model's units on the plot: "
+                             "not with --units SI")
         from ...engine._report import output_scales
         output_scales(model, table_units)         # fail before a long run, not after it
     if getattr(args, "dynamics", False):
@@ -105,7 +107,9 @@ def run(args) -> int:
     emit_table(args.out, text)
     if args.plot:
         units = {}
-        if args.length_unit or args.force_unit:
+        if table_units is not None:
+            res = res.in_units(table_units)
+        elif args.length_unit or args.force_unit:
             mu = model.units
             lu, fu = args.length_unit or mu.length, args.force_unit or mu.force
             units = {"length": lu, "force": fu, "torque": f"{fu}·{lu}"}
