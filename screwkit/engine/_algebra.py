@@ -59,26 +59,24 @@ def matmul_t(R, S):
 
 
 def rodrigues(d, angle):
-    """Rotations by ``angle (...)`` about unit axes ``d (3, ...)``: ``(3, 3, ...)``."""
+    """Rotations by ``angle (...)`` about unit axes ``d (3, ...)``: ``(3, 3, ...)``.
+
+    ``R = c I + s [d]x + (1 - c) d d^T``.  The axis products are formed first: a home axis
+    ``d (3, n, 1)`` is constant over the poses, so they cost nothing, and few pose-sized
+    temporaries are alive at once (the working set of a chunk stays in cache).
+    """
     c, s = np.cos(angle), np.sin(angle)
     v = 1.0 - c
     x, y, z = d[0], d[1], d[2]
-    xv, yv, zv = x * v, y * v, z * v
-    xs, ys, zs = x * s, y * s, z * s
-    xyv, xzv, yzv = x * yv, x * zv, y * zv
-    R = np.empty((3, 3) + xyv.shape)
-    np.multiply(x, xv, out=R[0, 0])
-    R[0, 0] += c
-    np.subtract(xyv, zs, out=R[0, 1])
-    np.add(xzv, ys, out=R[0, 2])
-    np.add(xyv, zs, out=R[1, 0])
-    np.multiply(y, yv, out=R[1, 1])
-    R[1, 1] += c
-    np.subtract(yzv, xs, out=R[1, 2])
-    np.subtract(xzv, ys, out=R[2, 0])
-    np.add(yzv, xs, out=R[2, 1])
-    np.multiply(z, zv, out=R[2, 2])
-    R[2, 2] += c
+    R = np.empty((3, 3) + np.broadcast_shapes(x.shape, v.shape))
+    for k, (a, b) in enumerate(((x, x), (y, y), (z, z))):
+        np.multiply(a * b, v, out=R[k, k])
+        R[k, k] += c
+    for i, j, p, q, w in ((0, 1, x, y, z), (1, 2, y, z, x), (2, 0, z, x, y)):
+        # (i, j, w) cyclic in (x, y, z): R[i, j] = p q v - w s and R[j, i] = p q v + w s
+        sym, skew = (p * q) * v, w * s
+        np.subtract(sym, skew, out=R[i, j])
+        np.add(sym, skew, out=R[j, i])
     return R
 
 
