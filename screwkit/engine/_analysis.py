@@ -21,6 +21,7 @@ True
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -152,6 +153,10 @@ class PMAnalysis:
         if not self.single:
             raise TypeError("warnings describe one pose: index the result first (res[i])")
         out = list(self.quality.warnings(0))
+        if self.solution.status == "not converged":
+            from ._closure import CONVERGED
+            out.insert(0, f"not converged: closure residual {self.solution.residual:.3g} above "
+                          f"{CONVERGED:g} (the pose is solved only to that, length-normalised)")
         if not self.rows_ok:
             out.append("a row of J could not be formed as its leg's template says (see the "
                        "notes): the pose is flagged")
@@ -181,6 +186,8 @@ class PMAnalysis:
         """JSON-ready report of one pose (angles in degrees; the model's units, or SI with
         ``units="SI"``): see :func:`screwkit.engine._report.report`."""
         from ._report import report
+        if self.single:
+            check_reachable(self.solution)      # an unreachable pose of a batch has no report
         return report(self, units)
 
     def to_frame(self) -> Any:
@@ -203,6 +210,32 @@ def _vec3(x, name):
     from ..legs._guards import MAX_LOAD, real_vector
     return real_vector(np.asarray(x) if isinstance(x, np.ndarray) else x, name, 3,
                        bound=MAX_LOAD)
+
+
+def _options(threshold, chunk, workers, degrees, path, progress, anchor_every):
+    """Check the keyword options of :func:`analyze` (InputError naming the one that is bad)."""
+    from ..errors import InputError
+
+    def whole(x, name, low, high=1 << 24):
+        if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)) or \
+                not low <= x <= high:
+            raise InputError(f"{name} must be an integer from {low} to {high}, got {x!r:.40}")
+    t = threshold
+    if isinstance(t, (bool, np.bool_)) or not isinstance(t, (int, float, np.number)) or \
+            not (np.isfinite(t) and t > 1):
+        raise InputError(f"threshold must be a finite number > 1 (a condition number), "
+                         f"got {t!r:.40}")
+    whole(chunk, "chunk", 1)
+    if workers is not None:
+        whole(workers, "workers", 1, 64)
+    if anchor_every is not None:
+        whole(anchor_every, "anchor_every", 1)
+    for name, flag in (("degrees", degrees), ("path", path)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise InputError(f"{name} must be True or False, got {flag!r:.40}")
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a function progress(done, total), got "
+                         f"{type(progress).__name__}")
 
 
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
@@ -248,6 +281,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         closures are solved here, the rows and statics of its chunks by the mapper, equal
         to the serial run bit for bit.
     """
+    _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
@@ -258,6 +292,14 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     if single:
         check_reachable(sol)
     cond = comp.conditioning
+    unreach = ~sol.reachable_mask
+    if np.any(unreach):
+        # J there is the last unconverged iterate's: no conditioning of the pose (NaN, flagged)
+        nan = lambda x: np.where(unreach, np.nan, x)            # noqa: E731
+        cond = dataclasses.replace(
+            cond, condition_number=nan(cond.condition_number),
+            constraint_condition_number=nan(cond.constraint_condition_number),
+            singular_values=np.where(unreach[:, None], np.nan, cond.singular_values))
     jac = JacobianResult(comp.J, comp.info, comp.n_actuated, comp.scale,
                          lambda sl: row_points(model, sol.closures.take(sl), chunk),
                          lambda: sol._platform[1], cond,

@@ -31,6 +31,7 @@ def actuator_targets(model, actuators, degrees=False):
             i = int(name[1:]) - 1
             if i in cols:
                 raise InputError(f"{model.name}: leg {i + 1}'s actuator is given twice")
+            _check_bounds(model, name, a, rot[i] and name[0] == "q", degrees)
             if name[0] == "r":
                 r0 = extension_offset(model, i)
                 a = a - r0
@@ -52,9 +53,35 @@ def actuator_targets(model, actuators, degrees=False):
                          f"shape (n,) or (N, n); got shape {a.shape}")
     single = a.ndim == 1
     a = np.atleast_2d(a).copy()
+    for i in range(n):
+        _check_bounds(model, f"q{i + 1}", a[:, i], bool(rot[i]), degrees)
     if degrees:
         a[:, rot] = np.radians(a[:, rot])
     return a, single
+
+
+def _check_bounds(model, name, a, rotary, degrees):
+    """Refuse values no mechanism can take, naming the actuator: an extension ``r<i>`` must
+    be positive; lengths at most ``MAX_LENGTH_FACTOR`` model sizes, angles ten turns."""
+    from ..errors import InputError
+    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
+    a = np.asarray(a, float)
+    big = float(np.max(np.abs(a), initial=0.0))
+    if rotary:
+        limit = MAX_ANGLE_DEG if degrees else np.radians(MAX_ANGLE_DEG)
+        if big > limit:
+            raise InputError(f"{model.name}: actuator {name} = {big:g} "
+                             f"{'deg' if degrees else 'rad'} is beyond the limit +-{limit:g} "
+                             "(ten turns)")
+        return
+    size = float(model.normalisation.length)
+    if big > MAX_LENGTH_FACTOR * size:
+        raise InputError(f"{model.name}: actuator {name} = {big:g} {model.units.length} is "
+                         f"beyond the limit +-{MAX_LENGTH_FACTOR * size:g} "
+                         f"({MAX_LENGTH_FACTOR:g} times the model's size)")
+    if name[0] == "r" and a.size and float(np.min(a)) <= 0:
+        raise InputError(f"{model.name}: actuator {name} = {float(np.min(a)):g} "
+                         f"{model.units.length}: a leg extension |a_i - A_i| must be positive")
 
 
 def extension_offset(model, i, rtol=1e-9):

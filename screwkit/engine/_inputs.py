@@ -21,7 +21,7 @@ def pose_arrays(model, pose, degrees: bool = False):
     ``pose``: a mapping (or a pandas DataFrame) of the model's independent parameters
     to numbers or 1-D arrays of one length; missing ones take the model's default.
     Angles are limited to +-3600 degrees, lengths to 1e12 times the model's size
-    (``screwkit._guards``); booleans, strings and non-finite values are refused.
+    (``screwkit.legs._guards``); booleans, strings and non-finite values are refused.
     """
     from ..legs._guards import MAX_BATCH, did_you_mean, real_array, shorten
     err = _errors()

@@ -29,7 +29,7 @@ __all__ = ["LEVELS", "det_reference", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_CON
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
            "quality", "home_det_sign"]
 
-#: The levels, from best to worst.
+#: The levels, from best to worst (an unreachable pose has the level ``unreachable``).
 LEVELS = ("ok", "ill-conditioned", "near-singular", "singular")
 ILL_CONDITIONED_COND = 1e2
 NEAR_SINGULAR_COND = 1e3
@@ -58,7 +58,11 @@ class Quality:
         """One line per thing worth a warning at pose ``i``."""
         out = []
         lev = str(self.level[i])
-        if lev in ("near-singular", "singular"):
+        if lev == "unreachable":
+            out.append("unreachable pose: no assembly was found (Newton and continuation from "
+                       "home; another branch may exist: pass guess=); J, its conditioning and "
+                       "the efforts here are not defined")
+        elif lev in ("near-singular", "singular"):
             out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}, "
                        f"efforts up to {self.amplification[i]:.3g} times the load")
         elif lev == "ill-conditioned":
@@ -96,15 +100,20 @@ def levels(cond, amp, singular):
     return lev
 
 
-def amplification(values, info, W, L):
-    """Largest |effort| over the workload's size, consistent units (module docstring)."""
+def amplification(values, info, W, L, o):
+    """Largest |effort| over the workload's size, consistent units (module docstring).
+
+    ``W (N, [K,] 6)`` is the workload about the base origin; its size takes the torque
+    ``T`` at the platform centre ``o (N, 3)`` (``T = m - o x f``), as given: not the moment
+    about the origin, which depends on where the base frame is."""
     torque = np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
                                                 and r.joint[0] in "RH") for r in info])
     div = np.where(torque[None, :], L[:, None], 1.0)
     eff = np.abs(values.reshape(len(L), -1, values.shape[-1])) / div[:, None, :]
     Wf = W.reshape(len(L), -1, 6)
-    size = np.sqrt(np.sum(Wf[..., :3] ** 2, axis=-1) + np.sum(Wf[..., 3:] ** 2, axis=-1) /
-                   L[:, None] ** 2)
+    f = Wf[..., :3]
+    T = Wf[..., 3:] - np.cross(np.asarray(o, float)[:, None, :], f)
+    size = np.sqrt(np.sum(f ** 2, axis=-1) + np.sum(T ** 2, axis=-1) / L[:, None] ** 2)
     return np.nanmax(eff, axis=(1, 2), initial=0.0) / np.maximum(np.max(size, axis=1), 1e-300)
 
 
@@ -153,16 +162,21 @@ def quality(analysis, analyze) -> Quality:
     cond = c.condition_number
     if st is not None:
         W = st._W
-        amp = amplification(st.F_r, jac.info, W, c.length)
+        amp = amplification(st.F_r, jac.info, W, c.length, analysis.solution._platform[1])
     else:
         amp = np.full(N, np.inf)
     sing = jac.singular_mask
     amp = np.where(sing, np.inf, amp)
     lev = levels(cond, amp, sing)
+    # an unreachable pose has no conditioning of its own (J is the last iterate's)
+    unreach = ~np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
+    lev[unreach] = "unreachable"
+    amp = np.where(unreach, np.nan, amp)
     if jac.matrix.shape[1:] == (6, 6):
         det = np.sign(np.linalg.det(jac.matrix)).astype(int)
     else:
         det = np.zeros(N, int)
     home, ref = det_reference(analysis.model, analyze)
+    det[unreach] = 0
     beyond = (det != 0) & (home != 0) & (det != home) & ~sing
     return Quality(cond, amp, lev, det, home, beyond, ref)

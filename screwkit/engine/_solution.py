@@ -327,7 +327,8 @@ def check_reachable(sol: PoseSolution):
     given = ", ".join(f"{k}={_fmt(k, sol.closures.fixed[k][i])}" for k in sol.model.independent)
     raise err.UnreachablePoseError(
         f"{sol.model.name}: pose {given} is unreachable from the home assembly: the loop "
-        f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g})", residual=f)
+        f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g}); a solution "
+        "on another branch may exist (pass guess=, or reach the pose along a path)", residual=f)
 
 
 def _fmt(k, v):

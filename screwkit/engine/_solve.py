@@ -197,8 +197,23 @@ def _newton_with_continuation(ch: Chains, fixed: dict, X0):
             res.iterations[upd] += r.iterations[better]
             how[upd] = 1
             idx, target = idx[~done], {p: v[~done] for p, v in target.items()}
+    # a pose left just short of convergence (its steps stalled on the way, e.g. along a
+    # continuation) is polished by a fresh Newton run from where it stands
+    polished = np.zeros(len(res.residual), bool)
+    short = np.flatnonzero((res.residual > CONVERGED) & (res.residual <= ACCEPTED))
+    if short.size:
+        sub = {p: np.asarray(v, float)[short] for p, v in fixed.items()}
+        Xs = res.X[:, short]
+        r = gauss_newton(ch, sub, Xs, tol=_tolerance(ch, sub, Xs))
+        better = r.residual < res.residual[short]
+        upd = short[better]
+        res.X[:, upd] = r.X[:, better]
+        res.residual[upd] = r.residual[better]
+        res.iterations[upd] += r.iterations[better]
+        polished[upd] = True
     how[~(res.residual <= ACCEPTED)] = 2
     res.how = how
+    res.polished = polished
     return res
 
 
@@ -235,7 +250,7 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
         Xs, rs, its_s, how_s = _resolve_singular(ch, fixed, X0, near, pair, side)
         X[:, near], residual[near], its[near], how[near] = Xs, rs, its_s, how_s
     # the frames of Newton's last iterates, recomputed where something else set the unknowns
-    redo = near | (how == 1) if res is not None else np.ones(N, bool)
+    redo = near | (how == 1) | res.polished if res is not None else np.ones(N, bool)
     if redo.all():
         frames = forward(ch, fixed, X)
     else:

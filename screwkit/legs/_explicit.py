@@ -48,7 +48,7 @@ def _joint_entry(k, entry):
             kind, axis = entry["kind"], entry["axis"]
         except KeyError as exc:
             raise InputError(f"{where}: missing {exc.args[0]!r}") from None
-        point, pitch = entry.get("point"), entry.get("pitch", 0.0)
+        point, pitch = entry.get("point"), entry.get("pitch", None if kind == "H" else 0.0)
         if kind == "Pa":
             if "pitch" in entry:
                 raise InputError(f"{where}: only an H joint has a pitch")
@@ -56,7 +56,7 @@ def _joint_entry(k, entry):
     elif isinstance(entry, (list, tuple)) and 2 <= len(entry) <= 4:
         kind, axis = entry[0], entry[1]
         point = entry[2] if len(entry) > 2 else None
-        pitch = entry[3] if len(entry) > 3 else 0.0
+        pitch = entry[3] if len(entry) > 3 else (None if kind == "H" else 0.0)
     else:
         raise InputError(f"{where}: a joint is (kind, axis, point[, pitch]) or a mapping with "
                          "kind, axis, point, pitch")
@@ -74,6 +74,9 @@ def _joint_entry(k, entry):
         if kind != "P":
             raise InputError(f"{where}: an {kind} joint needs a point on its axis")
         point = (0.0, 0.0, 0.0)
+    if kind == "H" and pitch is None:
+        raise InputError(f"{where}: an H joint needs its pitch (length per radian; an H of "
+                         "pitch 0 is an R joint)")
     if isinstance(pitch, bool) or not isinstance(pitch, (int, float)) or not math.isfinite(pitch):
         raise InputError(f"{where}: pitch must be a finite number, got {pitch!r}")
     if kind != "H" and pitch != 0:
@@ -92,7 +95,7 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
         ``kind`` ``"R"``, ``"P"``, ``"H"`` or ``"Pa"``; ``axis`` a direction (normalised here);
         ``point`` a point of the axis (world, model lengths; for P only a drawing
         reference, default the origin); ``pitch`` the lead per radian of an H joint
-        (length per radian).  A parallelogram is ``("Pa", hinge, point, bar)`` (or a
+        (length per radian; required for an H).  A parallelogram is ``("Pa", hinge, point, bar)`` (or a
         mapping with ``bar``): the direction of its four parallel hinges, a point of the
         first hinge axis and the bar vector from the first hinge axis to the second
         (normal to the hinges); its equivalent joint is the translation ``hinge x bar``.

@@ -73,7 +73,8 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
                                         "long_name": f"pose parameter {k} (fixed)"})
     a = arrays
     dv = {
-        "reachable": var(a["reachable"], "1", "the loop closures can be satisfied"),
+        "reachable": var(a["reachable"], "1",
+                         "the loop closures are solved from the home assembly"),
         "converged": var(a["converged"], "1", "closure residual <= 1e-10"),
         "ok": var(a["ok"], "1", "reachable, converged, regular, statics balanced"),
         "residual": var(a["residual"], "1", "length-normalised loop-closure residual"),

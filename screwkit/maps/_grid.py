@@ -143,6 +143,14 @@ def _values(name, spec, model):
     return v
 
 
+def _shown_degrees(rad: float) -> float:
+    """``rad`` in degrees, written short (-3 rather than -3.0000000000000004) when the short
+    value converts back to the same radians bit for bit (the cells are unchanged)."""
+    deg = float(np.degrees(rad))
+    short = round(deg, 10)
+    return short if float(np.radians(short)) == rad else deg
+
+
 def _check_name(model, name, what):
     if name not in PARAMS:
         raise InputError(f"{model.name}: {what} {name!r} is not a pose parameter (one of "
@@ -189,8 +197,8 @@ def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> 
                              f"got {v!r}")
     defaults = tuple(p for p in model.independent if p not in grid and p not in fix)
     for p in defaults:
-        d = model.default_pose[p]
-        fix[p] = float(np.degrees(d)) if (degrees and p not in LENGTH_PARAMS) else float(d)
+        d = float(model.default_pose[p])
+        fix[p] = _shown_degrees(d) if (degrees and p not in LENGTH_PARAMS) else d
     fix = {p: float(fix[p]) for p in model.independent if p in fix}
     if samples is not None:
         if isinstance(samples, bool) or int(samples) != samples or not 1 <= samples <= MAX_CELLS:

@@ -43,6 +43,19 @@ def _label(ds, name):
     return f"{name} [{unit}]"
 
 
+def _codes(v):
+    """``[(value, meaning)]`` of a flag variable (CF ``flag_meanings``) or a boolean one;
+    empty for a quantity."""
+    if "flag_meanings" in v.attrs:
+        return list(zip(np.asarray(v.attrs["flag_values"]).tolist(),
+                        str(v.attrs["flag_meanings"]).split()))
+    if v.dtype == bool:
+        return [(0, "no"), (1, "yes")]
+    if v.name == "det_sign":
+        return [(-1, "negative"), (0, "none"), (1, "positive")]
+    return []
+
+
 def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     """Draw heatmaps of ``quantities`` of a map to ``out`` (PNG); returns the figure.
 
@@ -58,6 +71,12 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     for d in list(at):
         if d not in dims:
             raise InputError(f"--at {d}: not a grid parameter of the map ({', '.join(dims)})")
+    if at and len(dims) < 3:
+        raise InputError(f"--at picks the slice of a 3-D map; this map has {len(dims)} grid "
+                         f"parameter(s) ({', '.join(dims)}): drop --at")
+    if len(at) > 1:
+        raise InputError(f"--at: give one grid parameter to cut the 3-D map at, got "
+                         f"{', '.join(at)}")
     if len(dims) == 3:
         d = next((d for d in dims if d in at), dims[-1])
         v = at.get(d, float(ds[d].values[len(ds[d]) // 2]))
@@ -79,6 +98,12 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
                "title": f"{n}: {ds[n].attrs['long_name']}" if "long_name" in ds[n].attrs
                else _label(ds, n),
                "limits_from": None if n in _LOG else calm} for n in names]
+    for pan, n in zip(panels, names):
+        codes = _codes(ds[n])
+        if codes:            # a flag or a boolean: every value in range, the codes named
+            pan.update(label=f"{n} (code)", log=False,
+                       title=pan["title"] + "\n" + ", ".join(f"{k} {m}" for k, m in codes),
+                       limits_from=np.ones(pan["z"].shape, bool))
     masks = [(~sub["reachable"].transpose(*free).values, "unreachable")]
     masks.append(((lev == 2) | (lev == 3), "near-singular (efforts > 5x the load, or "
                                            "condition > 1e3)"))

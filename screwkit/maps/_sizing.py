@@ -148,31 +148,45 @@ class Sizing:
 
 def read_workloads(path) -> list:
     """Workloads from a CSV file (see the module docstring): a list of
-    ``(name, force (3,), torque (3,))``."""
+    ``(name, force (3,), torque (3,))``.
+
+    A UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is accepted; a row with more or
+    fewer fields than the header, or a value that is not a number of at most
+    :data:`~screwkit.legs._guards.MAX_LOAD` in magnitude, is an :class:`InputError` naming
+    the file, line and column."""
+    from ..legs._guards import MAX_LOAD, parse_number
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            rows = list(csv.DictReader(fh))
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            reader = csv.DictReader(fh)
+            rows = []
+            for r in reader:
+                rows.append((reader.line_num, r))
+                if len(rows) > MAX_WORKLOADS:
+                    raise InputError(f"{path}: more than {MAX_WORKLOADS} workloads")
+            head = [str(h).strip() for h in (reader.fieldnames or [])]
     except OSError as exc:
         raise InputError(f"cannot read workloads {str(path)!r}: {exc}") from None
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     if not rows:
         raise InputError(f"{path}: no workloads (a header Fx,Fy,Fz,Tx,Ty,Tz and one row each)")
-    head = [h.strip() for h in rows[0].keys() if h is not None]
     missing = [c for c in _COLS if c not in head]
     if missing:
+        sep = "; the columns must be separated by commas" if any(";" in h for h in head) \
+            else ""
         raise InputError(f"{path}: missing column(s) {', '.join(missing)} (need "
-                         f"{', '.join(_COLS)}, optionally name)")
-    if len(rows) > MAX_WORKLOADS:
-        raise InputError(f"{path}: {len(rows)} workloads, at most {MAX_WORKLOADS}")
+                         f"{', '.join(_COLS)}, optionally name{sep})")
     out = []
-    for k, r in enumerate(rows, 2):
-        r = {str(a).strip(): b for a, b in r.items() if a is not None}
-        try:
-            v = np.array([float(r[c]) for c in _COLS])
-        except (TypeError, ValueError):
-            raise InputError(f"{path}, line {k}: Fx..Tz must be numbers") from None
-        if not np.all(np.isfinite(v)):
-            raise InputError(f"{path}, line {k}: Fx..Tz must be finite")
-        out.append((str(r.get("name") or f"workload {k - 1}").strip(), v[:3], v[3:]))
+    for k, (line, r) in enumerate(rows, 1):
+        if None in r or any(v is None for v in r.values()):
+            n = sum(v is not None for a, v in r.items() if a is not None) + \
+                len(r.get(None) or ())
+            raise InputError(f"{path}, line {line}: {n} fields, but the header has "
+                             f"{len(head)}")
+        r = {str(a).strip(): b for a, b in r.items()}
+        v = np.array([parse_number(r[c], f"{path}, line {line}, column {c}", bound=MAX_LOAD)
+                      for c in _COLS])
+        out.append((str(r.get("name") or f"workload {k}").strip(), v[:3], v[3:]))
     return out
 
 

@@ -1,6 +1,6 @@
 """Strict YAML reading of catalogs and model files (private).
 
-:func:`load_yaml_file` reads at most :data:`~screwkit._guards.MAX_MODEL_BYTES`, requires
+:func:`load_yaml_file` reads at most :data:`~screwkit.legs._guards.MAX_MODEL_BYTES`, requires
 UTF-8 text, parses with libyaml's parser when present (``CSafeLoader``: the packaged
 catalog loads in ~20 ms instead of ~120 ms) and, before building any Python object,
 walks the composed node graph once to refuse
@@ -8,11 +8,11 @@ walks the composed node graph once to refuse
 * duplicate keys in a mapping (``dof: 3`` twice: YAML would keep the last silently),
 * keys that are not plain names, and booleans anywhere (``yes``, ``on``, ``true``: YAML 1.1
   reads them as booleans; quote them when they are text),
-* numbers written with more than :data:`~screwkit._guards.MAX_NUMBER_CHARS` characters,
+* numbers written with more than :data:`~screwkit.legs._guards.MAX_NUMBER_CHARS` characters,
   and ``.nan`` / ``.inf``,
-* a document whose aliases expand to more than :data:`~screwkit._guards.MAX_YAML_NODES`
+* a document whose aliases expand to more than :data:`~screwkit.legs._guards.MAX_YAML_NODES`
   nodes (an "alias bomb" ``&a [*b, *b, ...]``), recursive aliases, and nesting deeper
-  than :data:`~screwkit._guards.MAX_YAML_DEPTH`.
+  than :data:`~screwkit.legs._guards.MAX_YAML_DEPTH`.
 
 Each refusal is a :class:`~screwkit.errors.CatalogError` naming the file, the field (its
 path from the top, ``pms.3PRS.dimensions.R``) and the line and column.

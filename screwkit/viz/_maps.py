@@ -127,8 +127,7 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
             for j, (m, text) in enumerate(masks):
                 m = np.asarray(m, bool)
                 if m.any():
-                    ax.contourf(x, y, m.T.astype(float), levels=[0.5, 1.5], colors="none",
-                                hatches=[HATCHES[j % len(HATCHES)]])
+                    _hatch_cells(ax, x, y, m, HATCHES[j % len(HATCHES)])
             for j, (xs, ys, text) in enumerate(points):
                 ax.plot(xs, ys, ls="none", ms=3.2, mec="white", mew=0.6,
                         **_POINT_STYLES[j % 3])
@@ -152,6 +151,33 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
         fig.suptitle(title, fontsize=11)
     save_figure(fig, out, dpi=dpi)
     return fig
+
+
+def _edges(v):
+    """Cell edges ``(n + 1,)`` of cell centres ``v``: mid-way between centres, half a step
+    beyond the outer ones."""
+    v = np.asarray(v, float)
+    if v.size < 2:
+        return np.array([v[0] - 0.5, v[0] + 0.5])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def _hatch_cells(ax, x, y, mask, hatch):
+    """Hatch the cells of ``mask (nx, ny)`` exactly: one rectangle per run of masked cells
+    along y in each column (the hatch lines of neighbouring rectangles join up)."""
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Rectangle
+    ex, ey = _edges(x), _edges(y)
+    rects = []
+    for i in range(mask.shape[0]):
+        col = np.concatenate([[False], mask[i], [False]])
+        starts = np.flatnonzero(~col[:-1] & col[1:])
+        ends = np.flatnonzero(col[:-1] & ~col[1:])
+        rects += [Rectangle((ex[i], ey[a]), ex[i + 1] - ex[i], ey[b] - ey[a])
+                  for a, b in zip(starts, ends)]
+    ax.add_collection(PatchCollection(rects, facecolor="none", edgecolor="black", lw=0,
+                                      hatch=hatch))
 
 
 def _step(v):

@@ -58,7 +58,9 @@ def add_map_arguments(p):
 def grid_of(args) -> dict:
     from ...maps import parse_range
     if not args.grid:
-        raise InputError("give at least one --grid NAME=START:STOP:COUNT")
+        raise InputError("give at least one --grid NAME=LOW:HIGH (the box of --samples)"
+                         if args.samples is not None else
+                         "give at least one --grid NAME=START:STOP:COUNT")
     out = {}
     for g in args.grid:
         name, rng = parse_range(g)
@@ -77,6 +79,8 @@ def map_keywords(args, progress=None) -> dict:
     """Keywords of :func:`screwkit.map` / :func:`screwkit.size` from the arguments."""
     if args.workers is not None and args.scheduler:
         raise InputError("give either --workers N or --scheduler ADDRESS")
+    if args.threads is not None and not 1 <= args.threads <= 64:
+        raise InputError(f"--threads: 1 to 64 threads per block, got {args.threads}")
     return dict(fix=parse_assignments(args.fix, "--fix"), samples=args.samples,
                 seed=args.seed, degrees=True, force=parse_triple(args.force, "--force"),
                 torque=parse_triple(args.torque, "--torque"), workers=args.threads,
@@ -132,6 +136,20 @@ def summary(ds) -> dict:
             "extremes": extremes(ds)}
 
 
+def check_outputs(args) -> None:
+    """Refuse output arguments that would fail or be ignored, before the cells are computed."""
+    from pathlib import Path
+
+    from ...maps import FORMATS
+    if args.out and Path(args.out).suffix.lower() not in FORMATS:
+        raise InputError(f"--out {args.out!r}: the file must end in {', '.join(FORMATS)}")
+    if not args.plot and (args.quantity or args.at):
+        raise InputError("--quantity and --at choose what --plot draws: add --plot FILE.png")
+    if args.plot and args.samples is not None:
+        raise InputError("--plot: random samples have no grid to draw (use --grid "
+                         "NAME=START:STOP:COUNT without --samples, or --out samples.csv)")
+
+
 def run(args) -> int:
     from ...api import map as map_pm
     from ...maps import plot_map, write
@@ -139,6 +157,7 @@ def run(args) -> int:
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
+    check_outputs(args)
     from .analyze import resolve_model
     model = resolve_model(args)
     grid = grid_of(args)
@@ -187,7 +206,8 @@ def print_summary(s) -> None:
     if len(loc) > 5:
         print(f"    ... {len(loc) - 5} more (--json lists them)")
     ex = s["extremes"]
-    print(f"  largest |value| over the {ex['usable_cells']} ok cells:")
+    print(f"  largest |value| over the {ex['usable_cells']} usable cells (ok"
+          + (", within the limits" if "outside_limits" in c else "") + "):")
     for r in ex["rows"]:
         if r["max_abs"] is None:
             continue

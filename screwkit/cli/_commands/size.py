@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ...errors import InputError
 from .._progress import progress_bar
 from ._common import dump_json, fmt_num
 from .map import add_map_arguments, grid_of, map_keywords
@@ -45,6 +46,11 @@ def run(args) -> int:
     from ...maps import read_workloads
     from .analyze import resolve_model
 
+    from ...engine import PAPER_FORCE, PAPER_TORQUE
+    if args.workloads and (args.force != ",".join(str(x) for x in PAPER_FORCE)
+                           or args.torque != ",".join(str(x) for x in PAPER_TORQUE)):
+        raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
+                         "not both")
     model = resolve_model(args)
     grid = grid_of(args)
     with progress_bar(args, "size", "cell") as progress:
