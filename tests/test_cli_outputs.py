@@ -44,3 +44,26 @@ def test_an_unwritable_output_is_one_line_exit_2(tmp_path, capsys):
     rc = main(["validate", "UPU", "--no-catalog", "--out", str(blocker / "t.md")])
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and "cannot write" in err
+
+
+def test_model_option_takes_file_hash_name(tmp_path, capsys):
+    """``--model FILE#NAME`` picks one PM of a multi-PM file (the error for such a file
+    suggests exactly that); the name is checked, and not given twice."""
+    from screwkit.cli import main
+    f = tmp_path / "two.yaml"
+    body = ("    string: 3RRPRR\n    dimensions: {L: %s, l: 60}\n"
+            "    base: {shape: triangle, side: L}\n    platform: {shape: triangle, side: l}\n"
+            "    legs: [RRPRR, RRPRR, RRPRR]\n    euler: XYX\n"
+            "    independent: [alpha, beta, Zo]\n    home: {alpha: 0, beta: 0, Zo: 80}\n"
+            "    pose: {alpha: 5, beta: -3, Zo: 80}\n"
+            "    dof: 3\n    motion: 1T2R\n")
+    f.write_text("units: {length: cm, force: kN}\npms:\n  A:\n" + body % 120 + "  B:\n" + body % 130)
+    assert main(["analyze", "--model", str(f), "--json"]) == 2
+    assert f"{f.name}#NAME" in capsys.readouterr().err
+    assert main(["analyze", "--model", f"{f}#B", "--json"]) == 0
+    import json
+    assert json.loads(capsys.readouterr().out)["pm"] == "B"
+    assert main(["analyze", "--model", f"{f}#C"]) == 2
+    assert "unknown PM 'C'" in capsys.readouterr().err
+    assert main(["analyze", "A", "--model", f"{f}#B"]) == 2
+    assert "already names its PM" in capsys.readouterr().err

@@ -80,10 +80,16 @@ def resolve_model(args):
     from ...api import load_pm
 
     overrides = parse_assignments(args.set, "--set")
-    if args.model and not os.path.isfile(args.model):
-        why = "not a regular file" if os.path.exists(args.model) else "no such file"
+    path = args.model
+    if path and "#" in path and not os.path.isfile(path):
+        path = path.rsplit("#", 1)[0]           # FILE#NAME: one PM of a multi-PM file
+    if args.model and not os.path.isfile(path):
+        why = "not a regular file" if os.path.exists(path) else "no such file"
         raise InputError(f"--model {shorten(args.model)}: {why}")
     if args.model:
+        if args.pm and path != args.model:
+            raise InputError(f"--model {shorten(args.model)} already names its PM: not also "
+                             f"{shorten(args.pm)}")
         target = args.model if not args.pm else f"{args.model}#{args.pm}"
         return load_pm(target, overrides)
     if not args.pm:
