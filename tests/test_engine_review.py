@@ -154,3 +154,21 @@ def test_every_public_name_is_in_the_api_page():
     assert not missing, f"screwkit.__all__ names missing from docs/api.md's table: {missing}"
     for n in screwkit.__all__:
         getattr(screwkit, n)                  # each listed name resolves
+
+
+def test_a_path_that_leaves_the_workspace_and_comes_back():
+    """Samples beyond the workspace are flagged unreachable; the ones back inside are solved
+    again and equal one-pose analyses (the retries start only from a solved neighbour)."""
+    pm = screwkit.load_pm("3RSR")
+    z = pm.default_pose["Zo"]
+    s = np.linspace(0.0, 1.0, 41)
+    pose = {"alpha": np.full(41, 0.02), "beta": np.full(41, -0.01),
+            "Zo": z + 300.0 * np.sin(np.pi * s) ** 2}          # out and back
+    res = screwkit.analyze(pm, pose, path=True, raise_on_singular=False)
+    far = pose["Zo"] > z + 150.0
+    assert res.unreachable[far].all() and res.ok[:3].all() and res.ok[-3:].all()
+    for i in np.flatnonzero(res.ok):
+        one = screwkit.analyze(pm, {k: float(v[i]) for k, v in pose.items()},
+                               raise_on_singular=False)
+        np.testing.assert_allclose(res.statics.values[i], one.statics.values, rtol=0,
+                                   atol=1e-9 * np.abs(one.statics.values).max())

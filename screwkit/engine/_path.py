@@ -103,15 +103,22 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
         X[:, mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
             c.singular_beta
-        for k in np.flatnonzero(jump | ~(rm <= CONVERGED)):
-            i = mid[k]
-            src = left[k] if res[left[k]] <= ACCEPTED else right[k]
-            c1 = solve_closures(model, {p: v[i:i + 1] for p, v in fixed.items()},
-                                X[:, src:src + 1])
-            retried += 1
-            if c1.residual[0] <= res[i] or jump[k]:
-                X[:, i], res[i], its[i], how[i], sing[i] = c1.X[:, 0], c1.residual[0], \
-                    c1.iterations[0], c1.how[0], c1.singular_beta[0]
+        # the retries, all at once: from a solved neighbour only (with none, there is no
+        # better start than the level's), Newton alone (the level solve already ran the
+        # continuation from home for these samples)
+        ks = np.flatnonzero(jump | ~(rm <= CONVERGED))
+        src = np.where(res[left[ks]] <= ACCEPTED, left[ks], right[ks])
+        has = res[src] <= ACCEPTED
+        ks, src = ks[has], src[has]
+        if ks.size:
+            ii = mid[ks]
+            c1 = solve_closures(model, {p: v[ii] for p, v in fixed.items()}, X[:, src],
+                                continuation=False)
+            retried += ks.size
+            take = (c1.residual <= res[ii]) | jump[ks]
+            t = ii[take]
+            X[:, t], res[t], its[t], how[t], sing[t] = c1.X[:, take], c1.residual[take], \
+                c1.iterations[take], c1.how[take], c1.singular_beta[take]
         solved[mid] = True
         if progress:
             progress(int(solved.sum()), N)

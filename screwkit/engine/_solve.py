@@ -170,12 +170,13 @@ def _tolerance(ch: Chains, fixed: dict, X0):
     return np.maximum(STOP * np.minimum(1.0, s / 1e-2), 1e-16)
 
 
-def _newton_with_continuation(ch: Chains, fixed: dict, X0):
-    """Newton from ``X0``; the poses that fail are solved again by continuation from home."""
+def _newton_with_continuation(ch: Chains, fixed: dict, X0, continuation: bool = True):
+    """Newton from ``X0``; the poses that fail are solved again by continuation from home
+    (unless ``continuation`` is False)."""
     res = gauss_newton(ch, fixed, X0, tol=_tolerance(ch, fixed, X0))
     fail = ~(res.residual <= CONVERGED)
     how = np.zeros(len(res.residual), int)
-    if fail.any():
+    if fail.any() and continuation:
         idx = np.flatnonzero(fail)
         home = {p: ch.home[p] for p in ch.fixed}
         target = {p: np.asarray(v, float)[idx] for p, v in fixed.items()}
@@ -189,6 +190,10 @@ def _newton_with_continuation(ch: Chains, fixed: dict, X0):
                 r = gauss_newton(ch, fx, X, tol=1e-12 if s == steps else 1e-8)
                 X = r.X
                 alive &= r.residual <= (1e-4 if s < steps else np.inf)
+                if not alive.any():
+                    break
+            if not alive.any():
+                continue            # every pose lost the track on the way: try finer steps
             done = alive & (r.residual <= CONVERGED)
             better = r.residual < res.residual[idx]
             upd = idx[better]
@@ -217,7 +222,8 @@ def _newton_with_continuation(ch: Chains, fixed: dict, X0):
     return res
 
 
-def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
+def solve_closures(model, fixed: dict, start=None, *, side=None,
+                   continuation: bool = True) -> Closure:
     """Solve N poses of ``model``.
 
     Parameters
@@ -230,6 +236,9 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
     side : ndarray (N,), optional
         Sign of ``beta - beta_singular`` of the warm start, for the one-sided limit at
         a representation singularity (0: both sides).
+    continuation : bool
+        Solve the poses where Newton fails again by continuation from home (default); a
+        path's retries from a neighbour do without (its level solve did that already).
     """
     ch = chains_of(model)
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
@@ -240,7 +249,7 @@ def solve_closures(model, fixed: dict, start=None, *, side=None) -> Closure:
     if "beta" in ch.fixed and pair:
         sing = is_representation_singular(ch.order, fixed["beta"])
         near = is_representation_singular(ch.order, fixed["beta"], _NEAR_TOL)
-    res = _newton_with_continuation(ch, fixed, X0) if not near.all() else None
+    res = _newton_with_continuation(ch, fixed, X0, continuation) if not near.all() else None
     if res is None:
         X = X0.copy()
         residual, its, how = np.full(N, np.inf), np.zeros(N, int), np.full(N, 2)
