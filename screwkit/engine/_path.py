@@ -29,9 +29,11 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     halving the spacing, from the cubic through their two solved neighbours on each side
     (the linear interpolation where those are not all available),
     all of a level at once (a large level in chunks on ``workers`` threads, default 2: each
-    sample's arithmetic is the same whatever chunk holds it).  A sample whose solution is not close to that
-    interpolation (a jump to another branch) or that does not converge is solved
-    again from its left neighbour alone (the right one when the left is unreachable).
+    sample's arithmetic is the same whatever chunk holds it).  A sample whose solution is
+    not close to that interpolation (a jump to another branch) or that does not converge is
+    solved again from its left neighbour alone (the right one when the left is unreachable), by
+    Newton only (the level solve ran the continuation from home), all such samples at once;
+    a sample with no solved neighbour keeps its level's result.
     """
     ch = chains_of(model)
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
