@@ -17,17 +17,14 @@ from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
 from screwkit.screws import euler_matrices
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
 from screwkit.pm import pm_names
+from random_poses import random_pose
 
 #: Poses per PM of the loop comparison (SCREWKIT_TEST_POSES raises it, e.g. to 1000).
 N_LOOP = int(os.environ.get("SCREWKIT_TEST_POSES", "40"))
 
 
-def _random_pose(pm, n, seed, span=8.0, frac=0.08):
-    rng = np.random.default_rng(seed)
-    c = pm.default_pose
-    z = abs(c.get("Zo", 0.0)) or 1.0
-    return {p: c[p] + (rng.uniform(-frac, frac, n) * z if p in ("Xo", "Yo", "Zo")
-                       else np.radians(rng.uniform(-span, span, n))) for p in pm.independent}
+def _random_pose(pm, n, seed):
+    return random_pose(pm, n, seed, span=8.0, frac=0.08)
 
 
 @pytest.mark.parametrize("name", pm_names())

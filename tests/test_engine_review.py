@@ -12,17 +12,14 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import screwkit
+from random_poses import random_pose
 
 F = np.array([-20.0, -30.0, -60.0])
 T = np.array([-30.0, -30.0, 100.0])
 
 
-def _pose(pm, n, seed, span=6.0, frac=0.06):
-    rng = np.random.default_rng(seed)
-    c = pm.default_pose
-    z = abs(c.get("Zo", 0.0)) or 1.0
-    return {p: c[p] + (rng.uniform(-frac, frac, n) * z if p in ("Xo", "Yo", "Zo")
-                       else np.radians(rng.uniform(-span, span, n))) for p in pm.independent}
+def _pose(pm, n, seed):
+    return random_pose(pm, n, seed, span=6.0, frac=0.06)
 
 
 def _twist(joint):
