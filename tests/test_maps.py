@@ -235,6 +235,8 @@ def test_cli_map_and_size(tmp_path, capsys):
     s = json.loads(capsys.readouterr().out)
     assert s["singular_locus"] and {x["kind"] for x in s["singular_locus"]} == {"actuation"}
     assert set(s["singular_locus"][0]["pose"]) == {"alpha", "beta", "gamma", "Zo"}
+    assert s["singular_locus"][0]["pose_units"] == {"alpha": "deg", "beta": "deg",
+                                                     "gamma": "deg", "Zo": "cm"}
     assert "extremes" in s and out.stat().st_size > 0 and png.stat().st_size > 10000
     assert main(["size", "3RRPRR", "--grid", "alpha=-5:5:5", "--fix", "Zo=80", "--json"]) == 0
     s = json.loads(capsys.readouterr().out)

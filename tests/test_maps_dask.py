@@ -86,3 +86,20 @@ def test_cli_workers_equal_serial(tmp_path):
     assert main(["validate", "SPR", "--scheduler", "127.0.0.1:1"]) == 2
     assert main(["trajectory", "3RRPRR", "--expr", "alpha=t", "--expr", "beta=0", "--expr",
                  "Zo=80", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
+
+
+def test_a_dead_scheduler_address_fails_fast_with_the_address(monkeypatch):
+    import socket
+    import time
+
+    from screwkit.maps import _dask
+
+    with socket.socket() as s:                   # a free port nothing listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    monkeypatch.setattr(_dask, "SCHEDULER_TIMEOUT", 1.0)
+    t = time.perf_counter()
+    with pytest.raises(screwkit.InputError, match=f"tcp://127.0.0.1:{port} within 1 s"):
+        screwkit.map("3RRPRR", {"alpha": (-5.0, 5.0, 3)}, fix={"beta": 0.0, "Zo": 75.0},
+                     degrees=True, scheduler=f"tcp://127.0.0.1:{port}")
+    assert time.perf_counter() - t < 20

@@ -31,6 +31,8 @@ import numpy as np
 from ._jacobian import COND_THRESHOLD, JacobianResult
 from ._pipeline import workload_about_origin
 from ._run import CHUNK, compute, row_points
+from ._inputs import pose_index
+from ._path import check_path
 from ._solution import PoseSolution, check_reachable, make_solution, prepare
 from ._statics import StaticsResult
 
@@ -77,14 +79,16 @@ class PMAnalysis:
         return len(self.solution)
 
     def __getitem__(self, i) -> "PMAnalysis":
-        """Pose ``i`` as a one-pose analysis."""
+        """Pose ``i`` as a one-pose analysis; a slice, integers or a boolean mask give a
+        batch of those poses (``res[res.ok]``)."""
         if self.single:
             raise TypeError("a one-pose PMAnalysis cannot be indexed")
+        i = pose_index(i, len(self))
         st = self.statics[i] if self.statics is not None else None
         diag = dict(self.diagnostics)
         for key in ("rows_ok", "structure_ok"):
             if diag.get(key) is not None:
-                diag[key] = diag[key][i:i + 1]
+                diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
                           self.torque, diag, self.stiffness)
 
@@ -263,7 +267,9 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         poses are flagged and their statics are NaN.
     path : bool
         The poses are successive samples of a continuous path: each is warm-started from
-        its neighbours (:func:`~screwkit.engine.solve`).
+        its neighbours (:func:`~screwkit.engine.solve`).  Poses that are not (32 or more
+        whose median step exceeds a quarter of their spread) are solved each from home,
+        with a note in ``res.solution.common_notes``.
     chunk, workers : int
         Poses per chunk and threads (default: 2 threads when there are many chunks).
     progress : callable(done, total), optional
@@ -284,6 +290,8 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     F, T = _vec3(force, "force"), _vec3(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
+    path, path_notes = check_path(fixed, path)
+    notes = tuple(notes) + path_notes
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,

@@ -7,7 +7,21 @@ import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 
-__all__ = ["pose_arrays", "prepare"]
+__all__ = ["pose_arrays", "pose_index", "prepare"]
+
+
+def pose_index(i, n: int):
+    """Poses ``i`` of a batch of ``n``: an ``int`` for one pose (negative counts from the
+    end), or an integer array ``(k,)`` for a sub-batch (from a slice, a sequence of
+    integers or a boolean mask of length ``n``), as numpy indexes the pose axis."""
+    if isinstance(i, tuple):
+        raise IndexError("a batch has one pose axis: index it with an int, a slice, integers "
+                         "or a boolean mask")
+    try:
+        idx = np.arange(n)[i]
+    except IndexError as exc:
+        raise IndexError(f"pose index {i!r} does not fit a batch of {n} poses ({exc})") from None
+    return int(idx) if np.ndim(idx) == 0 else idx
 
 
 def _errors():

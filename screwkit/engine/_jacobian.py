@@ -40,6 +40,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._inputs import pose_index
 from ._pipeline import COND_THRESHOLD, Conditioning, condition
 from ._row import JacobianRow
 from ..screws import cross
@@ -54,6 +55,16 @@ def _squeeze(x, single):
 def _rows_of_pose(points: Callable[[slice], np.ndarray], pose: slice, rows: slice) -> np.ndarray:
     """``points(pose)[rows]``: the lazily formed row points of one pose of a batch."""
     return points(pose)[rows]
+
+
+def _rows_of_subset(points: Callable, idx: np.ndarray, poses) -> np.ndarray:
+    """The row points of the poses ``poses`` of a sub-batch ``idx`` of a batch."""
+    return points(idx[poses])
+
+
+def _legs_of_subset(legs: Callable[[int], tuple], idx: np.ndarray, pose: int) -> tuple:
+    """The placed legs of pose ``pose`` of a sub-batch ``idx`` of a batch."""
+    return legs(int(idx[pose]))
 
 
 def _legs_of_pose(legs: Callable[[int], tuple], pose: int, _index: int) -> tuple:
@@ -116,7 +127,9 @@ class JacobianResult:
         """The Jacobian at pose ``i`` (a one-pose result)."""
         if self.single:
             raise TypeError("a one-pose JacobianResult cannot be indexed")
-        i = int(np.arange(len(self))[i])
+        i = pose_index(i, len(self))
+        if not isinstance(i, int):
+            return self._subset(i)
         sl = slice(i, i + 1)
         cond = self.conditioning.take(sl)
         prov = self.leg_provider
@@ -129,6 +142,15 @@ class JacobianResult:
         return JacobianResult(self.matrix[sl], self.info, self.n_actuated, self.scale[sl],
                               pts, self.origin[sl], cond, self.threshold, True,
                               functools.partial(_legs_of_pose, prov, i) if prov else None)
+
+    def _subset(self, idx) -> "JacobianResult":
+        """The poses ``idx`` (an integer array) as a batch."""
+        base, prov = self.points_, self.leg_provider
+        pts = functools.partial(_rows_of_subset, base, idx) if callable(base) else base[idx]
+        return JacobianResult(self.matrix[idx], self.info, self.n_actuated, self.scale[idx],
+                              pts, self.origin[idx], self.conditioning.take(idx),
+                              self.threshold, False,
+                              functools.partial(_legs_of_subset, prov, idx) if prov else None)
 
     def __repr__(self) -> str:
         if not self.single:

@@ -11,11 +11,41 @@ from ._chains import chains_of, forward
 from ._closure import ACCEPTED, CONVERGED
 from ._solve import Closure, home_predictor, solve_closures
 
-__all__ = ["PATH_ANCHORS", "solve_path"]
+__all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "check_path", "solve_path"]
 
 
 #: Anchors of a path: about this many samples are solved one after the other.
 PATH_ANCHORS = 32
+
+
+#: ``path=True`` on at least 32 poses whose median step (the largest over the parameters,
+#: each relative to its spread) exceeds this is taken for scattered poses: a smooth path
+#: of that many samples steps a few percent, random poses about 40%.
+SCATTERED_STEP = 0.25
+
+
+def check_path(fixed: dict, path: bool) -> tuple:
+    """``(path, notes)``: poses given as a path that are scattered are solved as scattered
+    poses, each from home (warm starts from far neighbours would cost retries and can lose
+    poses), with a note saying so."""
+    if not path:
+        return False, ()
+    arrays = [np.asarray(v, float) for v in fixed.values()]
+    if not arrays or arrays[0].size < 32:
+        return True, ()
+    steps = []
+    for v in arrays:
+        spread = float(np.max(v) - np.min(v))
+        if spread > 0:
+            steps.append(np.abs(np.diff(v)) / spread)
+    if not steps:
+        return True, ()
+    median = float(np.median(np.max(steps, axis=0)))
+    if median <= SCATTERED_STEP:
+        return True, ()
+    return False, (f"path=True, but successive poses are far apart (median step "
+                   f"{100 * median:.0f}% of their spread): solved as scattered poses, each "
+                   "from home",)
 
 
 def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None,
@@ -50,9 +80,25 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
     last = []                                   # the last two solved anchors (index, X)
     predict = home_predictor(ch)
-    for i in anchors:
+    # every anchor solved at once from home, as a random pose would be: an anchor whose
+    # solution continues the last two along their secant (within one anchor step) is on
+    # the branch followed and is taken as it is; the others are solved one by one below
+    batch = solve_closures(model, {p: v[anchors] for p, v in fixed.items()}) \
+        if len(anchors) > 3 else None
+    for j, i in enumerate(anchors):
         fx = {p: v[i:i + 1] for p, v in fixed.items()}
         X0 = prev
+        if len(last) == 2 and batch is not None and batch.residual[j] <= CONVERGED:
+            (i1, X1), (i2, X2) = last
+            step = X2 - X1
+            secant = X2 + step * ((i - i2) / (i2 - i1))
+            Xb = batch.X[:, j:j + 1]
+            if np.max(np.abs(Xb - secant)) <= np.max(np.abs(step)):
+                X[:, i], res[i], its[i], how[i], sing[i] = Xb[:, 0], batch.residual[j], \
+                    batch.iterations[j], batch.how[j], batch.singular_beta[j]
+                prev = Xb
+                last = (last + [(i, Xb)])[-2:]
+                continue
         if len(last) == 2:
             # of the last anchor, the secant through the last two and the home predictor,
             # the start with the least closure residual; the predictor only where it lies
@@ -137,12 +183,16 @@ def _solve_level(model, fx, X0, workers):
     (numpy releases the interpreter lock inside its loops)."""
     N = X0.shape[1]
     nw = min(2, os.cpu_count() or 1) if workers is None else int(workers)
-    if nw <= 1 or N <= 2 * LEVEL_CHUNK:
+    if N <= LEVEL_CHUNK:
         return solve_closures(model, fx, X0)
     slices = [slice(s, min(s + LEVEL_CHUNK, N)) for s in range(0, N, LEVEL_CHUNK)]
-    with ThreadPoolExecutor(max_workers=nw) as pool:
-        parts = list(pool.map(lambda sl: solve_closures(model, {p: v[sl] for p, v in fx.items()},
-                                                        X0[:, sl]), slices))
+    one = lambda sl: solve_closures(model, {p: v[sl] for p, v in fx.items()},  # noqa: E731
+                                    X0[:, sl])
+    if nw <= 1:
+        parts = [one(sl) for sl in slices]
+    else:
+        with ThreadPoolExecutor(max_workers=nw) as pool:
+            parts = list(pool.map(one, slices))
     cat = lambda name: np.concatenate([getattr(c, name) for c in parts], axis=-1)  # noqa: E731
     return Closure(parts[0].chains, cat("X"), None, cat("residual"), cat("iterations"),
                    cat("how"), cat("singular_beta"))

@@ -28,7 +28,7 @@ import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS, placed_bars
 from ._closure import ACCEPTED, CONVERGED
-from ._inputs import prepare
+from ._inputs import pose_index, prepare
 from ._solve import Closures
 
 if TYPE_CHECKING:
@@ -230,13 +230,16 @@ class PoseSolution:
         return self.legs_at(0)
 
     def __getitem__(self, i) -> "PoseSolution":
-        """Pose ``i`` as a one-pose solution."""
+        """Pose ``i`` as a one-pose solution; a slice, integers or a mask: a sub-batch."""
         if self.single:
             raise TypeError("a one-pose PoseSolution cannot be indexed")
-        i = int(np.arange(len(self))[i])
-        return PoseSolution(self.model, self.closures.take(slice(i, i + 1)), True,
-                            self.common_notes,
-                            {0: self.pose_notes[i]} if i in self.pose_notes else {})
+        i = pose_index(i, len(self))
+        if isinstance(i, int):
+            return PoseSolution(self.model, self.closures.take(slice(i, i + 1)), True,
+                                self.common_notes,
+                                {0: self.pose_notes[i]} if i in self.pose_notes else {})
+        notes = {j: self.pose_notes[int(k)] for j, k in enumerate(i) if int(k) in self.pose_notes}
+        return PoseSolution(self.model, self.closures.take(i), False, self.common_notes, notes)
 
     def __repr__(self) -> str:
         if not self.single:
@@ -271,9 +274,12 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     -------
     PoseSolution
     """
+    from ._path import check_path
     from ._run import compute
 
     fixed, N, one, notes, X0, side = prepare(model, pose, guess, degrees)
+    path, path_notes = check_path(fixed, path)
+    notes = tuple(notes) + path_notes
     single = one if single is None else single
     comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)
     sol = make_solution(model, comp.closures, single, notes, side)

@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._conditioning import RANK_RTOL
+from ._inputs import pose_index
 from ._jacobian import JacobianResult
 from ._pipeline import (constraint_wrenches_of, default_compliance, derived_statics,
                         equilibrium_residual, statics_values, t_r_of,
@@ -195,8 +196,8 @@ class StaticsResult:
     def __getitem__(self, i) -> "StaticsResult":
         if self.jacobian.single:
             raise TypeError("a one-pose StaticsResult cannot be indexed")
-        i = int(np.arange(len(self))[i])
-        sl = slice(i, i + 1)
+        i = pose_index(i, len(self))
+        sl = slice(i, i + 1) if isinstance(i, int) else i      # one pose, or a sub-batch
         return StaticsResult(self.jacobian[i], self.F_r[sl], self._W[sl], self.A, self._a[sl],
                              self.valid[sl], None if self.eq is None else self.eq[sl])
 

@@ -23,10 +23,12 @@ import contextlib
 
 from ..errors import InputError
 
-__all__ = ["client_for", "run_tasks", "MAX_LOCAL_WORKERS", "LOCAL_CONFIG"]
+__all__ = ["client_for", "run_tasks", "MAX_LOCAL_WORKERS", "LOCAL_CONFIG", "SCHEDULER_TIMEOUT"]
 
 #: Largest local cluster started by ``cluster=N``.
 MAX_LOCAL_WORKERS = 64
+#: Seconds to wait for a remote Dask scheduler before giving up.
+SCHEDULER_TIMEOUT = 10.0
 #: Dask settings of a local cluster.  ``MALLOC_TRIM_THRESHOLD_`` unset: distributed's
 #: nanny sets it (65536) in the workers' environment, which switches off glibc's dynamic
 #: mmap threshold, so every large temporary of a batched analysis is mapped and unmapped
@@ -76,9 +78,10 @@ def client_for(cluster):
             raise InputError(f"a Dask scheduler address looks like tcp://HOST:PORT, got "
                              f"{cluster!r}")
         try:
-            client = dist.Client(cluster, timeout=30)
+            client = dist.Client(cluster, timeout=SCHEDULER_TIMEOUT)
         except OSError as exc:
-            raise InputError(f"cannot reach the Dask scheduler {cluster}: {exc}") from None
+            raise InputError(f"cannot reach the Dask scheduler {cluster} within "
+                             f"{SCHEDULER_TIMEOUT:g} s: {exc}") from None
         try:
             yield client
         finally:

@@ -177,7 +177,7 @@ def locus_variables(ds, loc) -> dict:
 
 def locus_list(ds, singular_only: bool = True) -> list:
     """The refined crossings of a map (JSON-ready): ``pose`` (every independent parameter,
-    the map's units), ``kind``, ``along``, the condition numbers, ``width``.
+    the map's units), ``pose_units`` (the unit of each), ``kind``, ``along``, the condition numbers, ``width``.
 
     ``singular_only=True``: the singular locus (``actuation`` and ``constraint``
     crossings); ``False``: the other sign changes (``discontinuity``, ``unreachable``)."""
@@ -191,6 +191,7 @@ def locus_list(ds, singular_only: bool = True) -> list:
         if singular_only != (kind in ("actuation", "constraint")):
             continue
         out.append({"pose": {p: float(ds[f"locus_{p}"].values[k]) for p in indep},
+                    "pose_units": {p: str(ds[f"locus_{p}"].attrs["units"]) for p in indep},
                     "kind": kind, "along": along[int(ds["locus_along"].values[k])],
                     "condition_number": float(ds["locus_condition_number"].values[k]),
                     "constraint_condition_number":
