@@ -88,4 +88,4 @@ if __name__ == "__main__":
         k = args.index("--workers")
         n = int(args[k + 1])
         del args[k:k + 2]
-    main(args or ["3T", "1T2R", "3R", "3T1R", "2T3R", "1T3R", "2T2R"], n)
+    main(args or ["3T", "1T2R", "3R", "3T1R", "2T3R", "1T3R", "2T2R", "2T1R"], n)

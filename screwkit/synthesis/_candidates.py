@@ -44,7 +44,9 @@ __all__ = ["EXTRA_LEGS_YAML", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate", "
 #: P and its three parallel R axes point from the base vertex towards the platform centre
 #: (one leg of the translational 3-PRRR; Kong and Gosselin, Type Synthesis of Parallel
 #: Mechanisms, Springer 2007, ch. 5: a PRRR leg with P parallel to the R axes exerts two
-#: couples normal to them).
+#: couples normal to them); and two planar legs, RRR and PRR with their R axes along the
+#: base normal (the legs of the planar 3-RRR and 3-PRR: a force along the axes and two
+#: couples normal to them, the complementary system of a planar motion).
 EXTRA_LEGS_YAML = """
 legs:
   - name: PRRR/translational
@@ -62,6 +64,28 @@ legs:
       forces: 0
       couples: 2
       words: two constraint couples perpendicular to the P axis and the three parallel R axes
+  - name: RRR/planar
+    string: _RRR
+    summary: "three R axes along the base normal (at A, at an elbow beside the leg, at a): a planar leg"
+    joints:
+      - {axis: base.Z, at: A}
+      - {axis: base.Z, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
+      - {axis: base.Z, at: a}
+    expect:
+      forces: 1
+      couples: 2
+      words: a constraint force along the parallel R axes and two constraint couples perpendicular to them
+  - name: PRR/planar
+    string: _PRR
+    summary: "P along A->O in the base plane, then two R axes along the base normal (at an elbow beside the leg, at a): a planar leg"
+    joints:
+      - {axis: base.AO}
+      - {axis: base.Z, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
+      - {axis: base.Z, at: a}
+    expect:
+      forces: 1
+      couples: 2
+      words: a constraint force along the parallel R axes and two constraint couples perpendicular to them
 """
 
 #: Standard geometries by number of legs: (label, base, platform, dimensions, home Zo,
