@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import PAPER_FORCE, PAPER_TORQUE, PARAMS, link_frames, statics
+from ..engine._workloads import load_vector
 from ..errors import InputError
 from ..pm import DynamicsParameters, PMModel, dynamics_for
 from ..paths import PathSpec
@@ -68,13 +69,6 @@ def resolve_parameters(model, params=None, gravity=None) -> DynamicsParameters:
             raise InputError(f"gravity must be 3 finite numbers, got {gravity!r}")
         params = params.with_gravity(g)
     return params
-
-
-def _vec3(x, name):
-    a = np.asarray(x, dtype=float).reshape(-1)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
-    return a
 
 
 def _motion(model, motion) -> Motion:
@@ -122,7 +116,7 @@ def dynamics(model, motion, *, params=None, force=PAPER_FORCE, torque=PAPER_TORQ
         model = load_assembled_pm(model, overrides)
     params = resolve_parameters(model, params, gravity)
     motion = _motion(model, motion)
-    F, T = _vec3(force, "force"), _vec3(torque, "torque")
+    F, T = load_vector(force, "force"), load_vector(torque, "torque")
     try:
         C = int(chunk)
     except (TypeError, ValueError):

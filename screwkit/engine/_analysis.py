@@ -35,6 +35,7 @@ from ._inputs import pose_index
 from ._path import check_path
 from ._solution import PoseSolution, check_reachable, make_solution, prepare
 from ._statics import StaticsResult
+from ._workloads import _compliance, _mask, load_vector
 
 if TYPE_CHECKING:
     from ..pm import PMModel
@@ -186,6 +187,12 @@ class PMAnalysis:
                 f"{int(np.sum(self.singular))} singular, {int(np.sum(self.unreachable))} "
                 "unreachable)")
 
+    def under(self, force, torque) -> "PMAnalysis":
+        """The same poses under the workload ``(force, torque)`` at ``o``: the statics
+        solved again on this ``J`` (see :func:`~screwkit.engine._workloads.under`)."""
+        from ._workloads import under
+        return under(self, force, torque)
+
     def to_dict(self, units: str | None = None) -> dict:
         """JSON-ready report of one pose (angles in degrees; the model's units, or SI with
         ``units="SI"``): see :func:`screwkit.engine._report.report`."""
@@ -205,15 +212,6 @@ class PMAnalysis:
         """The HTML table Jupyter shows for a result."""
         from ._frames import to_html
         return to_html(self)
-
-
-def _vec3(x, name):
-    """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
-    ``MAX_LOAD`` (1e12 in the model's units) in magnitude, so that the statics cannot
-    overflow to NaN or infinity."""
-    from ..legs._guards import MAX_LOAD, real_vector
-    return real_vector(np.asarray(x) if isinstance(x, np.ndarray) else x, name, 3,
-                       bound=MAX_LOAD)
 
 
 def _options(threshold, chunk, workers, degrees, path, progress, anchor_every):
@@ -288,7 +286,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         to the serial run bit for bit.
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
-    F, T = _vec3(force, "force"), _vec3(torque, "torque")
+    F, T = load_vector(force, "force"), load_vector(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path)
     notes = tuple(notes) + path_notes
@@ -327,58 +325,3 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
             st = _mask(st, bad)
     diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok)
     return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness)
-
-
-def _compliance(model, stiffness, N):
-    """Compliances ``(N, m)`` from a stiffness mapping (by row label) or array."""
-    from ..errors import InputError
-    from ._pipeline import _labels, default_compliance, templates_of
-    from ._statics import compliance_of
-    info = _labels(templates_of(model))
-    labels = [r.label for r in info]
-    if isinstance(stiffness, str):
-        stiffness = _model_stiffness(model, info, stiffness)
-    if isinstance(stiffness, dict):
-        bad = sorted(set(stiffness) - set(labels))
-        if bad:
-            raise InputError(f"{model.name}: no row {bad[0]!r} to give a stiffness; the rows are "
-                             f"{', '.join(labels)}")
-        L = np.full(1, float(model.normalisation.length))
-        k = 1.0 / default_compliance(info, L)[0]
-        for lab, v in stiffness.items():
-            k[labels.index(lab)] = v
-        stiffness = k
-    return compliance_of(stiffness, len(labels), N)
-
-
-def _model_stiffness(model, info, what) -> dict:
-    """Row stiffnesses by label from the model's ``dynamics: stiffness:`` block."""
-    from ..errors import InputError
-    if what != "model":
-        raise InputError(f"stiffness must be 'model', a mapping by row label or one value per "
-                         f"row, got {what!r}")
-    dyn = getattr(model, "dynamics", None)
-    if dyn is None or not any(lg.stiffness.given for lg in dyn.legs):
-        raise InputError(f"{model.name} declares no stiffness (add 'dynamics: stiffness: "
-                         "{actuator: .., force: .., couple: ..}' to its definition)")
-    out = {}
-    for r in info:
-        st = dyn.legs[r.leg].stiffness
-        key = "actuator" if r.kind == "actuation" else r.kind
-        k = getattr(st, key, None) if key in ("actuator", "force", "couple") else None
-        if k is None and st.beam is not None:
-            raise InputError(f"{model.name}: leg {r.leg + 1} gives its stiffness as a beam; "
-                             f"the statics needs '{key}' for row {r.label} (the beam's value "
-                             "depends on the pose: see screwkit stiffness)")
-        if k is not None:
-            out[r.label] = float(k)
-    return out
-
-
-def _mask(st: StaticsResult, bad) -> StaticsResult:
-    """The statics with NaN values where ``bad`` (flagged poses of a batch)."""
-    F_r = np.array(st.F_r, float)
-    F_r[bad] = np.nan
-    F_r.setflags(write=False)
-    eq = None if st.eq is None else np.where(bad, np.nan, st.eq)
-    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad, eq)

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ScrewkitError
 
-__all__ = ["LEVELS", "det_reference", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+__all__ = ["LEVELS", "det_reference", "trust", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
            "quality", "home_det_sign"]
 
@@ -117,6 +117,24 @@ def amplification(values, info, W, L, o):
     return np.nanmax(eff, axis=(1, 2), initial=0.0) / np.maximum(np.max(size, axis=1), 1e-300)
 
 
+def trust(jac, values, W, o, reachable) -> tuple:
+    """``(amplification, level)`` of every pose of ``jac`` (a batch) under the workload
+    ``W (N, 6)`` about the base origin whose efforts are ``values (N, m)`` (None: no
+    statics, amplification infinite); ``o (N, 3)`` the platform centres.  An unreachable
+    pose has no conditioning of its own (``J`` is the last iterate's): level
+    ``unreachable``, amplification NaN."""
+    c = jac.conditioning
+    N = len(jac)
+    amp = np.full(N, np.inf) if values is None else \
+        amplification(values, jac.info, W, c.length, o)
+    sing = jac.singular_mask
+    amp = np.where(sing, np.inf, amp)
+    lev = levels(c.condition_number, amp, sing)
+    unreach = ~np.asarray(reachable, bool).reshape(N)
+    lev[unreach] = "unreachable"
+    return np.where(unreach, np.nan, amp), lev
+
+
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
@@ -157,26 +175,17 @@ def quality(analysis, analyze) -> Quality:
     """The :class:`Quality` of every pose of an analysis (``analyze``: the engine's analysis
     function, for the home pose's sign)."""
     jac, st = analysis.jacobian, analysis.statics
-    c = jac.conditioning
     N = len(jac)
-    cond = c.condition_number
-    if st is not None:
-        W = st._W
-        amp = amplification(st.F_r, jac.info, W, c.length, analysis.solution._platform[1])
-    else:
-        amp = np.full(N, np.inf)
-    sing = jac.singular_mask
-    amp = np.where(sing, np.inf, amp)
-    lev = levels(cond, amp, sing)
-    # an unreachable pose has no conditioning of its own (J is the last iterate's)
-    unreach = ~np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
-    lev[unreach] = "unreachable"
-    amp = np.where(unreach, np.nan, amp)
+    cond = jac.conditioning.condition_number
+    reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
+    amp, lev = trust(jac, None if st is None else st.F_r, None if st is None else st._W,
+                     analysis.solution._platform[1], reach)
+    unreach = ~reach
     if jac.matrix.shape[1:] == (6, 6):
         det = np.sign(np.linalg.det(jac.matrix)).astype(int)
     else:
         det = np.zeros(N, int)
     home, ref = det_reference(analysis.model, analyze)
     det[unreach] = 0
-    beyond = (det != 0) & (home != 0) & (det != home) & ~sing
+    beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
     return Quality(cond, amp, lev, det, home, beyond, ref)

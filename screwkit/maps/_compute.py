@@ -17,7 +17,8 @@ import numpy as np
 from ..engine import CONVERGED, analyze
 from ..engine._report import row_quantity
 
-__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "compute"]
+__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
+           "arrays_of", "compute"]
 
 #: Cells per block (8 engine chunks of 8192 poses).
 BLOCK = 16 * 4096
@@ -84,6 +85,32 @@ def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) ->
     """
     res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
                   workers=threads, stiffness=stiffness)
+    return arrays_of(model, res)
+
+
+def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
+                   max_level_code, offset) -> tuple:
+    """:func:`evaluate` and, from the same analysis, the block's largest efforts under each
+    of ``loads`` (:func:`screwkit.maps._loads.reduce_block`); the cells counted for any
+    workload are the per-cell array ``usable_any``."""
+    from ._loads import reduce_block
+    res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
+                  workers=threads, stiffness=stiffness)
+    out = arrays_of(model, res)
+    red, usable_any = reduce_block(res, out, loads, _linear(model), max_level_code, offset,
+                                   _level_codes)
+    out["usable_any"] = usable_any
+    return out, red
+
+
+def _level_codes(names):
+    lev = _codes(names)
+    lev[names == "unreachable"] = LEVEL_CODES.index("unreachable")
+    return lev
+
+
+def arrays_of(model, res) -> dict:
+    """The map's per-cell arrays of an analysis of N cells (see :func:`evaluate`)."""
     sol, jac, st = res.solution, res.jacobian, res.statics
     reach = sol.reachable_mask
     c = jac.conditioning
@@ -145,14 +172,26 @@ def _blocks(N, size):
     return [slice(s, min(s + size, N)) for s in range(0, N, size)]
 
 
-def _remote_block(model, grid, sl, force, torque, stiffness):
+def _block(model, grid, sl, force, torque, stiffness, threads, loads, max_level_code):
+    if loads is None:
+        return evaluate(model, grid.poses(sl), force, torque, stiffness, threads)
+    return evaluate_loads(model, grid.poses(sl), force, torque, stiffness, threads, loads,
+                          max_level_code, sl.start)
+
+
+def _remote_block(model, grid, sl, force, torque, stiffness, loads=None, max_level_code=0):
     """One block on a Dask worker (one thread: the worker's processes give the parallelism)."""
-    return evaluate(model, grid.poses(sl), force, torque, stiffness, threads=1)
+    return _block(model, grid, sl, force, torque, stiffness, 1, loads, max_level_code)
 
 
 def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster=None,
-            progress=None, block: int = BLOCK) -> dict:
+            progress=None, block: int = BLOCK, loads=None, max_level_code: int = 2):
     """The arrays of every cell of ``grid`` (flattened, C order), filled block by block.
+
+    With ``loads`` (a list of ``(name, force, torque)``), returns ``(arrays, reductions)``:
+    also each block's largest efforts under every one of ``loads`` counting the cells of
+    level code at most ``max_level_code`` (:func:`screwkit.maps._loads.reduce_block`), in
+    block order.
 
     Parameters
     ----------
@@ -172,8 +211,11 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
     size = -(-int(block) // 4096) * 4096
     slices = _blocks(N, size)
     out = {}
+    reductions = [None] * len(slices)
 
     def store(sl, part):
+        if loads is not None:
+            part, reductions[slices.index(sl)] = part
         for k, v in part.items():
             if k not in out:
                 out[k] = np.empty((N,) + v.shape[1:], v.dtype)
@@ -183,17 +225,19 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
             progress(done[0], N)
 
     done = [0]
+    result = (lambda: (out, reductions)) if loads is not None else (lambda: out)
     if cluster is None:
         for sl in slices:
-            store(sl, evaluate(model, grid.poses(sl), force, torque, stiffness, workers))
-        return out
+            store(sl, _block(model, grid, sl, force, torque, stiffness, workers, loads,
+                             max_level_code))
+        return result()
     from ._dask import client_for
     with client_for(cluster) as client:
         from distributed import as_completed
         m, g = client.scatter([model, grid], broadcast=True)
-        futures = {client.submit(_remote_block, m, g, sl, force, torque, stiffness,
-                                 pure=False): sl for sl in slices}
+        futures = {client.submit(_remote_block, m, g, sl, force, torque, stiffness, loads,
+                                 max_level_code, pure=False): sl for sl in slices}
         for fut in as_completed(futures):
             store(futures[fut], fut.result())
             fut.release()
-    return out
+    return result()

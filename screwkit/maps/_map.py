@@ -15,12 +15,10 @@ Examples
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..engine import PAPER_FORCE, PAPER_TORQUE
 from ..errors import InputError
 
-__all__ = ["map_pm", "resolve_model", "workload"]
+__all__ = ["map_pm", "map_dataset", "resolve_model", "workload"]
 
 
 def resolve_model(pm, overrides=None):
@@ -35,14 +33,9 @@ def resolve_model(pm, overrides=None):
 
 
 def workload(force, torque):
-    """The workload as two validated 3-vectors."""
-    out = []
-    for x, name in ((force, "force"), (torque, "torque")):
-        a = np.asarray(x, dtype=float).reshape(-1) if np.ndim(x) else np.zeros(0)
-        if a.shape != (3,) or not np.all(np.isfinite(a)):
-            raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
-        out.append(a)
-    return out
+    """The workload as two validated 3-vectors (the engine's checks)."""
+    from ..engine._workloads import load_vector
+    return [load_vector(force, "force"), load_vector(torque, "torque")]
 
 
 def _cluster(cluster, scheduler):
@@ -100,8 +93,7 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
         refined loci along ``crossing`` (``locus_*``).  Units in every ``units`` attribute;
         the model, its units and the workload in the Dataset's attributes.
     """
-    from ._compute import BLOCK, compute, meta_of
-    from ._dataset import build_dataset, xarray
+    from ._dataset import xarray
     from ._grid import make_grid
 
     xarray()                                        # fail before a long run, not after
@@ -109,10 +101,8 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
     F, T = workload(force, torque)
     g = make_grid(model, grid, fix, samples=samples, seed=seed, degrees=degrees)
     cl = _cluster(cluster, scheduler)
-    meta = meta_of(model)
-    arrays = compute(model, g, F, T, stiffness=stiffness, workers=workers, cluster=cl,
-                     progress=progress, block=BLOCK if block is None else block)
-    ds = build_dataset(model, g, arrays, meta, F, T, workers=workers, cluster=cl)
+    ds, meta, _ = map_dataset(model, g, F, T, stiffness=stiffness, workers=workers,
+                              cluster=cl, progress=progress, block=block)
     if locus and not g.samples and meta.square:
         from ._locus import locus_variables, refine
         loc = refine(model, ds, threads=workers)
@@ -123,3 +113,20 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
                          "none: J is not square (det J has no sign)" if not meta.square else
                          "not asked for")
     return ds
+
+
+def map_dataset(model, grid, F, T, *, stiffness=None, workers=None, cluster=None,
+                progress=None, block=None, loads=None, max_level_code: int = 2) -> tuple:
+    """``(Dataset, Meta, (reductions, usable_any))``: the map of a model over a made grid
+    under ``(F, T)`` (no loci), and with ``loads`` each block's largest efforts under those
+    workloads and the cells counted for any of them, as
+    :func:`screwkit.maps._compute.compute` returns them (None without)."""
+    from ._compute import BLOCK, compute, meta_of
+    from ._dataset import build_dataset
+    meta = meta_of(model)
+    got = compute(model, grid, F, T, stiffness=stiffness, workers=workers, cluster=cluster,
+                  progress=progress, block=BLOCK if block is None else block, loads=loads,
+                  max_level_code=max_level_code)
+    arrays, reductions = got if loads is not None else (got, None)
+    ds = build_dataset(model, grid, arrays, meta, F, T, workers=workers, cluster=cluster)
+    return ds, meta, (reductions, arrays.get("usable_any"))

@@ -6,7 +6,9 @@ usable cells of a map (``ok``, within the model's limits where it declares some,
 worse than a chosen trust level), with
 the signed value, the pose and the cell's trust level; the extensions ``r_i`` and actuated
 joint values ``q_ai`` get their range (the strokes).  :func:`size` does it for a list of
-workloads (one map per workload, the same cells) and keeps, per row, the worst workload.
+workloads and keeps, per row, the worst workload: one map, whose cells are analysed once;
+the statics being linear in the workload, every other workload's efforts are formed from
+the responses of each cell to six unit workloads (:mod:`screwkit.maps._loads`).
 
 Workloads come from a CSV file (:func:`read_workloads`): a header with ``Fx, Fy, Fz, Tx,
 Ty, Tz`` (the model's force and torque units, at ``o``) and optionally ``name``.
@@ -53,9 +55,7 @@ def pose_at(ds, flat: int) -> dict:
 def usable(ds, max_level: str = "near-singular") -> np.ndarray:
     """The cells a sizing counts: ``ok``, within the limits, and of a trust level no worse
     than ``max_level`` (flattened)."""
-    if max_level not in LEVEL_CODES[:3]:
-        raise InputError(f"max_level must be one of {', '.join(LEVEL_CODES[:3])}, got "
-                         f"{max_level!r}")
+    _level_code(max_level)
     u = ds["ok"].values.reshape(-1).copy()
     u &= ds["level"].values.reshape(-1) <= LEVEL_CODES.index(max_level)
     if "within_limits" in ds:
@@ -63,20 +63,33 @@ def usable(ds, max_level: str = "near-singular") -> np.ndarray:
     return u
 
 
-def extremes(ds, workload_name: str = "", max_level: str = "near-singular") -> dict:
+def _level_code(max_level: str) -> int:
+    if max_level not in LEVEL_CODES[:3]:
+        raise InputError(f"max_level must be one of {', '.join(LEVEL_CODES[:3])}, got "
+                         f"{max_level!r}")
+    return LEVEL_CODES.index(max_level)
+
+
+def extremes(ds, workload_name: str = "", max_level: str = "near-singular", *,
+             use=None) -> dict:
     """The largest ``|value|`` of each row and ``T_r`` and the range of each extension and
-    actuated joint value over the usable cells of a map (:func:`usable`; JSON-ready)."""
-    use = usable(ds, max_level)
+    actuated joint value over the usable cells of a map (:func:`usable`; JSON-ready).
+
+    ``use`` (flat boolean, optional) replaces :func:`usable` for the ranges and the count of
+    usable cells (a sizing over several workloads: the cells counted for any of them); the
+    rows' extremes stay those of this map's workload."""
+    own = usable(ds, max_level)
+    use_rows, use = own, (own if use is None else np.asarray(use, bool))
     lev = ds["level"].values.reshape(-1)
     rows = []
     names = [k for k, v in ds.data_vars.items() if "row" in v.attrs]
     names += [k for k in ds.data_vars if k.startswith("T_r")]
     for k in names:
         v = ds[k]
-        a = np.where(use, np.abs(v.values.reshape(-1)), -np.inf)
+        a = np.where(use_rows, np.abs(v.values.reshape(-1)), -np.inf)
         entry = {"name": k, "kind": v.attrs.get("kind", "T_r"), "leg": int(v.attrs["leg"]),
                  "unit": v.attrs["units"], "long_name": v.attrs["long_name"]}
-        if not use.any() or not np.isfinite(a).any():
+        if not use_rows.any() or not np.isfinite(a).any():
             entry.update(max_abs=None, value=None, pose=None, level=None, workload=None)
         else:
             i = int(np.argmax(a))
@@ -100,12 +113,6 @@ def extremes(ds, workload_name: str = "", max_level: str = "near-singular") -> d
         ranges.append(e)
     return {"rows": rows, "ranges": ranges, "usable_cells": int(use.sum()),
             "cells": int(use.size), "max_level": max_level}
-
-
-def _merge(best: dict, new: dict):
-    for b, n in zip(best["rows"], new["rows"]):
-        if n["max_abs"] is not None and (b["max_abs"] is None or n["max_abs"] > b["max_abs"]):
-            b.update(n)
 
 
 @dataclass(frozen=True, eq=False)
@@ -230,20 +237,32 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
 
 def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, client,
           progress, max_level):
-    from ._map import map_pm
-    best, first = None, None
-    K = len(loads)
-    for k, (name, F, T) in enumerate(loads):
-        prog = None if progress is None else \
-            (lambda d, t, k=k: progress(k * t + d, K * t))
-        ds = map_pm(model, grid, fix, samples=samples, seed=seed, degrees=degrees, force=F,
-                    torque=T, stiffness=stiffness, locus=False, workers=workers,
-                    cluster=client, progress=prog)
-        ex = extremes(ds, name, max_level)
-        if best is None:
-            best, first = ex, ds
-        else:
-            _merge(best, ex)
+    from ._dataset import xarray
+    from ._grid import make_grid
+    from ._loads import merge_reductions
+    from ._map import map_dataset
+
+    xarray()
+    g = make_grid(model, grid, fix, samples=samples, seed=seed, degrees=degrees)
+    name0, F0, T0 = loads[0]
+    # one map: the first workload's, and from the same analyses every other workload's
+    # largest efforts (the statics are linear in the workload: _loads)
+    first, _, (parts, usable_any) = map_dataset(
+        model, g, F0, T0, stiffness=stiffness, workers=workers, cluster=client,
+        progress=progress, loads=loads[1:] if len(loads) > 1 else None,
+        max_level_code=_level_code(max_level))
+    use = None if usable_any is None else usable(first, max_level) | usable_any
+    best = extremes(first, name0, max_level, use=use)
+    if parts is not None:
+        red = merge_reductions(parts)
+        for q, row in enumerate(best["rows"]):
+            k = int(np.argmax(red["max_abs"][:, q]))           # the first on a tie
+            m = red["max_abs"][k, q]
+            if np.isfinite(m) and (row["max_abs"] is None or m > row["max_abs"]):
+                i = int(red["index"][k, q])
+                row.update(max_abs=float(m), value=float(red["value"][k, q]),
+                           pose=pose_at(first, i), level=LEVEL_CODES[int(red["level"][k, q])],
+                           workload=loads[1 + k][0])
     u = model.units
     return Sizing(model.name, best["rows"], best["ranges"],
                   [{"name": n, "force": F.tolist(), "torque": T.tolist()} for n, F, T in loads],

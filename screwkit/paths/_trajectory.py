@@ -40,18 +40,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import CHUNK, PAPER_FORCE, PAPER_TORQUE, PARAMS
+from ..engine._workloads import load_vector
 from ..errors import InputError
 from ._pathspec import PathSpec
 from ._result import STATUSES, TrajectoryResult
 
 __all__ = ["TrajectoryResult", "run_trajectory", "STATUSES"]
-
-
-def _vec3(x, name):
-    a = np.asarray(x, dtype=float).reshape(-1)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"{name} must be 3 finite numbers, got {x!r}")
-    return a
 
 
 def _check_path(model, path) -> PathSpec:
@@ -110,7 +104,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
 
     if not isinstance(model, PMModel):
         model = load_assembled_pm(model, overrides)
-    F, T = _vec3(force, "force"), _vec3(torque, "torque")
+    F, T = load_vector(force, "force"), load_vector(torque, "torque")
     path = _check_path(model, path)
     try:
         K = None if anchor_every is None else int(anchor_every)

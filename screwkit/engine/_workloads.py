@@ -1,0 +1,119 @@
+"""The same poses under another workload: the statics solved again on a batch's J (private).
+
+The closures, the rows of ``J`` and their conditioning do not depend on the workload; only
+``F_r = -(J^-1)^T W`` does, and linearly.  :func:`under` re-solves it by the engine's
+statics (the same compliances as the analysis: its ``stiffness``, or the least-norm
+weights), so a sizing over many workloads analyses its poses once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ._pipeline import default_compliance, statics_values, workload_about_origin
+from ._statics import StaticsResult
+
+__all__ = ["load_vector", "under"]
+
+
+def under(analysis, force, torque):
+    """``analysis`` with its statics solved for the workload ``(force, torque)`` at ``o``.
+
+    Parameters
+    ----------
+    analysis : PMAnalysis
+    force, torque : array_like (3,)
+        The workload at the platform centre ``o`` (model units), as :func:`analyze` takes.
+
+    Returns
+    -------
+    PMAnalysis
+        The same solution and Jacobian; ``statics``, ``force``, ``torque`` and the quality
+        (force amplification, trust level) of the new workload.
+    """
+    F, T = load_vector(force, "force"), load_vector(torque, "torque")
+    jac, sol = analysis.jacobian, analysis.solution
+    if analysis.statics is None:            # one singular pose: no statics, whatever the load
+        return dataclasses.replace(analysis, force=F, torque=T)
+    N = len(jac)
+    W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)),
+                              jac.origin)
+    Jn, d = jac.normalised()
+    c = jac.conditioning
+    comp = default_compliance(jac.info, c.length) if analysis.stiffness is None else \
+        _compliance(analysis.model, analysis.stiffness, N)
+    values = statics_values(Jn, d, c.singular_values, c, W, comp)
+    for x in (W, values):
+        x.setflags(write=False)
+    old = analysis.statics
+    st = StaticsResult(jac, values, W, old.A, old.a, np.ones(N, bool))
+    bad = ~sol.reachable_mask | jac.singular_mask
+    if bad.any():
+        st = _mask(st, bad)
+    return dataclasses.replace(analysis, statics=st, force=F, torque=T)
+
+
+def load_vector(x, name):
+    """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
+    ``MAX_LOAD`` (1e12 in the model's units) in magnitude, so that the statics cannot
+    overflow to NaN or infinity."""
+    from ..legs._guards import MAX_LOAD, real_vector
+    return real_vector(np.asarray(x) if isinstance(x, np.ndarray) else x, name, 3,
+                       bound=MAX_LOAD)
+
+
+def _compliance(model, stiffness, N):
+    """Compliances ``(N, m)`` from a stiffness mapping (by row label) or array."""
+    from ..errors import InputError
+    from ._pipeline import _labels, default_compliance, templates_of
+    from ._statics import compliance_of
+    info = _labels(templates_of(model))
+    labels = [r.label for r in info]
+    if isinstance(stiffness, str):
+        stiffness = _model_stiffness(model, info, stiffness)
+    if isinstance(stiffness, dict):
+        bad = sorted(set(stiffness) - set(labels))
+        if bad:
+            raise InputError(f"{model.name}: no row {bad[0]!r} to give a stiffness; the rows are "
+                             f"{', '.join(labels)}")
+        L = np.full(1, float(model.normalisation.length))
+        k = 1.0 / default_compliance(info, L)[0]
+        for lab, v in stiffness.items():
+            k[labels.index(lab)] = v
+        stiffness = k
+    return compliance_of(stiffness, len(labels), N)
+
+
+def _model_stiffness(model, info, what) -> dict:
+    """Row stiffnesses by label from the model's ``dynamics: stiffness:`` block."""
+    from ..errors import InputError
+    if what != "model":
+        raise InputError(f"stiffness must be 'model', a mapping by row label or one value per "
+                         f"row, got {what!r}")
+    dyn = getattr(model, "dynamics", None)
+    if dyn is None or not any(lg.stiffness.given for lg in dyn.legs):
+        raise InputError(f"{model.name} declares no stiffness (add 'dynamics: stiffness: "
+                         "{actuator: .., force: .., couple: ..}' to its definition)")
+    out = {}
+    for r in info:
+        st = dyn.legs[r.leg].stiffness
+        key = "actuator" if r.kind == "actuation" else r.kind
+        k = getattr(st, key, None) if key in ("actuator", "force", "couple") else None
+        if k is None and st.beam is not None:
+            raise InputError(f"{model.name}: leg {r.leg + 1} gives its stiffness as a beam; "
+                             f"the statics needs '{key}' for row {r.label} (the beam's value "
+                             "depends on the pose: see screwkit stiffness)")
+        if k is not None:
+            out[r.label] = float(k)
+    return out
+
+
+def _mask(st: StaticsResult, bad) -> StaticsResult:
+    """The statics with NaN values where ``bad`` (flagged poses of a batch)."""
+    F_r = np.array(st.F_r, float)
+    F_r[bad] = np.nan
+    F_r.setflags(write=False)
+    eq = None if st.eq is None else np.where(bad, np.nan, st.eq)
+    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad, eq)
