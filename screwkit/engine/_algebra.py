@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..screws._euler import cos_sin
+
 __all__ = ["cross", "dot", "norm", "matvec", "matmul", "matmul_t", "rodrigues",
            "rotation_vector", "spd_solve", "sym_solve", "unit"]
 
@@ -65,7 +67,7 @@ def rodrigues(d, angle):
     ``d (3, n, 1)`` is constant over the poses, so they cost nothing, and few pose-sized
     temporaries are alive at once (the working set of a chunk stays in cache).
     """
-    c, s = np.cos(angle), np.sin(angle)
+    c, s = cos_sin(angle)
     v = 1.0 - c
     x, y, z = d[0], d[1], d[2]
     R = np.empty((3, 3) + np.broadcast_shapes(x.shape, v.shape))

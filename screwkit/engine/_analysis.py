@@ -38,6 +38,8 @@ from ._statics import StaticsResult
 from ._workloads import _compliance, _mask, load_vector
 
 if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
     from ..pm import PMModel
 
 __all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
@@ -187,7 +189,7 @@ class PMAnalysis:
                 f"{int(np.sum(self.singular))} singular, {int(np.sum(self.unreachable))} "
                 "unreachable)")
 
-    def under(self, force, torque) -> "PMAnalysis":
+    def under(self, force: "ArrayLike", torque: "ArrayLike") -> "PMAnalysis":
         """The same poses under the workload ``(force, torque)`` at ``o``: the statics
         solved again on this ``J`` (see :func:`~screwkit.engine._workloads.under`)."""
         from ._workloads import under

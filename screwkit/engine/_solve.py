@@ -125,15 +125,17 @@ def home_predictor(ch: Chains):
     X0 = ch.home_vector(1)[:, 0]
 
     def features(Zs):
+        """The monomials of the fit, ``(n_features, N)`` (poses last: the product below
+        runs along contiguous rows)."""
         cols = [np.ones(Zs.shape[0])] + [Zs[:, k] for k in range(nf)]
         cols += [Zs[:, a] * Zs[:, b] for a in range(nf) for b in range(a, nf)]
         if degree == 3:
             cols += [Zs[:, a] * Zs[:, b] * Zs[:, c] for a in range(nf) for b in range(a, nf)
                      for c in range(b, nf)]
-        return np.stack(cols, axis=1)
+        return np.stack(cols)
 
-    if good.sum() >= 2 * features(Z[:1]).shape[1]:
-        C = np.linalg.lstsq(features(Z[good]), res.X[:, good].T, rcond=None)[0]
+    if good.sum() >= 2 * features(Z[:1]).shape[0]:
+        C = np.linalg.lstsq(features(Z[good]).T, res.X[:, good].T, rcond=None)[0]
     else:                                     # too few reachable points: start at home
         C = None
 
@@ -146,7 +148,7 @@ def home_predictor(ch: Chains):
         far = np.max(np.abs(Zs), axis=1) > 4.0          # far outside the fit: home itself
         # einsum, not a BLAS product: a threaded BLAS call here leaves OpenBLAS's threads
         # spinning on the cores that the engine's chunk threads need
-        out = np.einsum("nf,fk->kn", features(Zs), C)
+        out = np.einsum("fn,fk->kn", features(Zs), C)
         out[:, far] = X0[:, None]
         return out
 
