@@ -309,11 +309,19 @@ def normalised_twists(ch: Chains, fr: Frames) -> np.ndarray:
     m = ch.m
     T = np.empty((m, 6) + fr.axes.shape[2:])
     rot, trans, c = _twist_constants(ch)
-    # every slot at once, components first: d, p (3, m, n, N)
-    d = fr.axes.transpose(1, 0, 2, 3)
-    lin = rot * alg.cross(fr.points.transpose(1, 0, 2, 3) - c, d) / ch.length + trans * d
-    T[:, :3] = lin.transpose(1, 0, 2, 3)
-    T[:, 3:] = (rot * d).transpose(1, 0, 2, 3)
+    rot_l = rot / ch.length
+    # every slot at once, component by component: each d[k], p[k] is a contiguous
+    # (m, n, N) block of the frames (no strided passes over the whole stack)
+    d = [fr.axes[:, k] for k in range(3)]
+    p = [fr.points[:, k] - c[k] for k in range(3)]
+    for k in range(3):
+        i, j = (k + 1) % 3, (k + 2) % 3
+        out = T[:, k]
+        np.multiply(p[i], d[j], out=out)
+        out -= p[j] * d[i]                       # ((p - c) x d)_k
+        out *= rot_l
+        out += trans * d[k]
+        np.multiply(rot, d[k], out=T[:, 3 + k])
     return T
 
 
