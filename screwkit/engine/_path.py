@@ -11,7 +11,7 @@ from ._chains import chains_of, forward
 from ._closure import ACCEPTED, CONVERGED
 from ._solve import Closure, home_predictor, solve_closures
 
-__all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "check_path", "solve_path"]
+__all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "balanced_chunk", "check_path", "solve_path"]
 
 
 #: Anchors of a path: about this many samples are solved one after the other.
@@ -174,7 +174,18 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     return Closure(ch, X, None, res, its, how, sing, diag)
 
 
-#: A level of more samples than this is solved in chunks of it on threads.
+def balanced_chunk(N: int, chunk: int, workers: int) -> int:
+    """The chunk size, at most ``chunk``, that cuts ``N`` poses into a multiple of
+    ``workers`` chunks of nearly equal size: 13 chunks on 2 threads leave one thread idle
+    for the last; 14 smaller ones do not.  Each pose's arithmetic is the same whatever
+    chunk holds it, so the results do not change."""
+    n = -(-N // chunk)
+    if workers > 1 and n > 1 and n % workers:
+        n += workers - n % workers
+    return max(1, -(-N // n))
+
+
+#: A level of more samples than this is solved in chunks of at most this many (on threads).
 LEVEL_CHUNK = 8192
 
 
@@ -185,7 +196,8 @@ def _solve_level(model, fx, X0, workers):
     nw = min(2, os.cpu_count() or 1) if workers is None else int(workers)
     if N <= LEVEL_CHUNK:
         return solve_closures(model, fx, X0)
-    slices = [slice(s, min(s + LEVEL_CHUNK, N)) for s in range(0, N, LEVEL_CHUNK)]
+    size = balanced_chunk(N, LEVEL_CHUNK, nw)
+    slices = [slice(s, min(s + size, N)) for s in range(0, N, size)]
     one = lambda sl: solve_closures(model, {p: v[sl] for p, v in fx.items()},  # noqa: E731
                                     X0[:, sl])
     if nw <= 1:

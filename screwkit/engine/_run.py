@@ -20,7 +20,7 @@ from ._chains import chains_of, forward
 from ._pipeline import (Conditioning, _labels, condition, default_compliance,
                         equilibrium_residual, model_rows,
                         statics_values, templates_of, workload_about_origin)
-from ._path import solve_path
+from ._path import balanced_chunk, solve_path
 from ._solve import Closures, solve_closures
 
 __all__ = ["CHUNK", "Computed", "compute"]
@@ -125,7 +125,10 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         its, how, sing = np.empty(N, np.int32), np.empty(N, np.int8), np.empty(N, bool)
     res = np.empty(N)
     out = {}
-    slices = _chunks(N, max(1, int(chunk)))
+    chunk = max(1, int(chunk))
+    nw = workers if workers is not None else (min(2, os.cpu_count() or 1) if N >= 4 * chunk
+                                              else 1)
+    slices = _chunks(N, balanced_chunk(N, chunk, nw if mapper is None else 1))
 
     def put(key, sl, value):
         if key not in out:
@@ -150,8 +153,6 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             for key, value in part.items():
                 put(key, sl, value)
 
-    nw = workers if workers is not None else (min(2, os.cpu_count() or 1) if N >= 4 * chunk
-                                              else 1)
     if mapper is not None and path:
         # the chunks of a solved path are independent: the same function on the same
         # inputs wherever it runs, so the result equals the serial one bit for bit
