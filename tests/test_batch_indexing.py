@@ -56,3 +56,21 @@ def test_mask_of_ok_poses_and_bad_indices(batch):
         res[0, 1]
     with pytest.raises(TypeError, match="one-pose"):
         res[0][0]
+
+
+def test_a_sub_batch_keeps_the_stiffness_of_its_own_poses():
+    # a per-pose stiffness (N, m) follows the poses: a reversed sub-batch re-solved under
+    # another workload equals a fresh analysis of the reversed poses and stiffnesses
+    pm = screwkit.load_pm("4UPU")
+    pose = random_pose(pm, 4, seed=3)
+    rng = np.random.default_rng(0)
+    k = np.concatenate([np.full((4, 4), 1e3), rng.uniform(1e5, 1e7, (4, 4))], axis=1)
+    F, T = (1.0, 2.0, -3.0), (0.5, -40.0, 7.0)
+    res = screwkit.analyze(pm, pose, stiffness=k)
+    want = screwkit.analyze(pm, {p: v[::-1] for p, v in pose.items()}, stiffness=k[::-1],
+                            force=F, torque=T)
+    got = res[::-1].under(F, T)
+    np.testing.assert_allclose(got.statics.values, want.statics.values, rtol=1e-10, atol=1e-9)
+    one = res[2].under(F, T)
+    np.testing.assert_allclose(one.statics.values, want.statics.values[1], rtol=1e-10,
+                               atol=1e-9)

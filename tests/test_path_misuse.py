@@ -25,3 +25,19 @@ def test_a_smooth_path_is_not_taken_for_scattered_poses():
     res = screwkit.analyze(pm, pose, path=True)
     assert not any("far apart" in n for n in res.solution.common_notes)
     assert res.diagnostics["anchors"] > 0                 # solved by the path solver
+
+
+def test_a_fine_raster_and_a_noisy_constant_are_paths():
+    pm = screwkit.load_pm("3RRPRR")
+    t = np.linspace(0, 1, 200)
+    noisy = {"alpha": np.radians(10 * np.sin(2 * np.pi * t)),
+             "beta": np.radians(5 * np.cos(2 * np.pi * t)),
+             "Zo": 80 + 1e-12 * (-1.0) ** np.arange(200)}        # constant up to rounding
+    a, b = np.meshgrid(np.linspace(-0.05, 0.05, 3), np.linspace(-1, 1, 40))
+    a[1::2] = a[1::2, ::-1]                                        # a serpentine raster
+    raster = {"alpha": np.radians(a.ravel()), "beta": np.radians(b.ravel()),
+              "Zo": np.full(120, 80.0)}
+    for pose in (noisy, raster):
+        res = screwkit.analyze(pm, pose, path=True)
+        assert not any("far apart" in n for n in res.solution.common_notes)
+        assert res.diagnostics["anchors"] > 0 and res.ok.all()

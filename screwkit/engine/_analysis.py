@@ -93,7 +93,7 @@ class PMAnalysis:
             if diag.get(key) is not None:
                 diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
-                          self.torque, diag, self.stiffness)
+                          self.torque, diag, _stiffness_of_poses(self.stiffness, i, len(self)))
 
     # -- per-pose flags -----------------------------------------------------------------
     @property
@@ -242,6 +242,18 @@ def _options(threshold, chunk, workers, degrees, path, progress, anchor_every):
                          f"{type(progress).__name__}")
 
 
+def _stiffness_of_poses(stiffness, i, N):
+    """The stiffness of the poses ``i`` (an int or an index array) of a batch of ``N``: a
+    per-pose array ``(N, m)`` is indexed with them; a mapping, a name or one row ``(m,)``
+    holds for every pose."""
+    if stiffness is None or isinstance(stiffness, (str, dict)):
+        return stiffness
+    k = np.asarray(stiffness)
+    if k.ndim == 2 and k.shape[0] == N:
+        return k[i:i + 1] if isinstance(i, int) else k[i]
+    return stiffness
+
+
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
@@ -290,7 +302,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     F, T = load_vector(force, "force"), load_vector(torque, "torque")
     fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
-    path, path_notes = check_path(fixed, path)
+    path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,

@@ -13,15 +13,28 @@ __all__ = ["pose_arrays", "pose_index", "prepare"]
 def pose_index(i, n: int):
     """Poses ``i`` of a batch of ``n``: an ``int`` for one pose (negative counts from the
     end), or an integer array ``(k,)`` for a sub-batch (from a slice, a sequence of
-    integers or a boolean mask of length ``n``), as numpy indexes the pose axis."""
-    if isinstance(i, tuple):
-        raise IndexError("a batch has one pose axis: index it with an int, a slice, integers "
-                         "or a boolean mask")
+    integers or a boolean mask of length ``n``), as numpy indexes the pose axis.
+
+    ``None``, ``True``/``False`` (numpy would add an axis) and nested sequences (a 2-D
+    index) are an :class:`IndexError`, and so is a selection of no pose (``res[[]]``, an
+    all-False mask, an empty slice): a batch holds at least one pose, as :func:`analyze`
+    requires."""
+    msg = "a batch has one pose axis: index it with an int, a slice, integers or a boolean mask"
+    if isinstance(i, tuple) or i is None or isinstance(i, (bool, np.bool_)) or \
+            (isinstance(i, np.ndarray) and i.dtype == bool and i.ndim == 0):
+        raise IndexError(f"{msg}, got {i!r}")
     try:
         idx = np.arange(n)[i]
     except IndexError as exc:
         raise IndexError(f"pose index {i!r} does not fit a batch of {n} poses ({exc})") from None
-    return int(idx) if np.ndim(idx) == 0 else idx
+    if np.ndim(idx) == 0:
+        return int(idx)
+    if np.ndim(idx) != 1:
+        raise IndexError(f"{msg}, got an index of {np.ndim(idx)} dimensions")
+    if idx.size == 0:
+        raise IndexError(f"pose index {i!r} selects none of the {n} poses (a sub-batch holds "
+                         "at least one pose: test the mask first, e.g. 'if res.ok.any()')")
+    return idx
 
 
 def _errors():

@@ -7,11 +7,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ._chains import chains_of, forward
+from ._chains import LENGTH_PARAMS, chains_of, forward
 from ._closure import ACCEPTED, CONVERGED
 from ._solve import Closure, home_predictor, solve_closures
 
-__all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "balanced_chunk", "check_path", "solve_path"]
+__all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "STEP_FLOOR", "balanced_chunk", "check_path", "solve_path"]
 
 
 #: Anchors of a path: about this many samples are solved one after the other.
@@ -22,22 +22,32 @@ PATH_ANCHORS = 32
 #: each relative to its spread) exceeds this is taken for scattered poses: a smooth path
 #: of that many samples steps a few percent, random poses about 40%.
 SCATTERED_STEP = 0.25
+#: The smallest spread a step is measured against: this fraction of a radian (angles) or of
+#: the model's characteristic length (lengths).
+STEP_FLOOR = 0.1
 
 
-def check_path(fixed: dict, path: bool) -> tuple:
+def check_path(fixed: dict, path: bool, length: float = 1.0) -> tuple:
     """``(path, notes)``: poses given as a path that are scattered are solved as scattered
     poses, each from home (warm starts from far neighbours would cost retries and can lose
-    poses), with a note saying so."""
+    poses), with a note saying so.
+
+    Each parameter's steps are measured against its spread, but never against less than
+    :data:`STEP_FLOOR` of a radian for an angle or of ``length`` (the model's
+    characteristic length) for a length: a fine raster of a small patch is a path.  A
+    parameter constant up to rounding (spread below 1e-9 of its size) is left out."""
     if not path:
         return False, ()
-    arrays = [np.asarray(v, float) for v in fixed.values()]
-    if not arrays or arrays[0].size < 32:
+    if not fixed or np.asarray(next(iter(fixed.values()))).size < 32:
         return True, ()
     steps = []
-    for v in arrays:
+    for p, v in fixed.items():
+        v = np.asarray(v, float)
         spread = float(np.max(v) - np.min(v))
-        if spread > 0:
-            steps.append(np.abs(np.diff(v)) / spread)
+        scale = length if p in LENGTH_PARAMS else 1.0
+        if spread <= 1e-9 * max(float(np.max(np.abs(v))), scale):
+            continue
+        steps.append(np.abs(np.diff(v)) / max(spread, STEP_FLOOR * scale))
     if not steps:
         return True, ()
     median = float(np.median(np.max(steps, axis=0)))

@@ -278,7 +278,7 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     from ._run import compute
 
     fixed, N, one, notes, X0, side = prepare(model, pose, guess, degrees)
-    path, path_notes = check_path(fixed, path)
+    path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     single = one if single is None else single
     comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)

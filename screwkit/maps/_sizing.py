@@ -124,7 +124,10 @@ class Sizing:
     pm : str
     rows : list of dict
         Per row of ``J`` and ``T_r``: ``name``, ``kind``, ``leg``, ``unit``, ``max_abs``,
-        ``value`` (signed), ``pose``, ``level``, ``workload``.
+        ``value`` (signed), ``pose``, ``level``, ``workload``, and ``determined``: False
+        where the PM is statically indeterminate and a self-stress changes this value at
+        that pose (it is then the least-norm or ``stiffness``-weighted choice, not fixed by
+        statics alone; None without a usable cell).
     ranges : list of dict
         Per extension and actuated joint value: ``min``, ``max`` and their poses.
     workloads : list of dict
@@ -263,8 +266,52 @@ def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, c
                 row.update(max_abs=float(m), value=float(red["value"][k, q]),
                            pose=pose_at(first, i), level=LEVEL_CODES[int(red["level"][k, q])],
                            workload=loads[1 + k][0])
+    _mark_determined(model, best["rows"], first, stiffness)
     u = model.units
     return Sizing(model.name, best["rows"], best["ranges"],
                   [{"name": n, "force": F.tolist(), "torque": T.tolist()} for n, F, T in loads],
                   best["usable_cells"], best["cells"], max_level,
                   dict(u.as_dict(), angle=first.attrs["units_angle"]), first)
+
+
+def _mark_determined(model, rows, ds, stiffness) -> None:
+    """Set each row's ``determined``: True where statics alone fixes its value at the pose
+    of its extreme, False where a self-stress of a statically indeterminate ``J`` changes
+    it (the value is then the least-norm or compliance-weighted choice, as ``*`` marks it
+    in ``screwkit analyze``), None without an extreme.  A leg's ``T_r`` is determined when
+    no self-stress changes it (checked on the self-stress basis of that pose)."""
+    from ..engine import analyze
+    from ..engine._pipeline import constraint_wrenches_of, t_r_of
+    for r in rows:
+        r["determined"] = None
+    at = [r for r in rows if r.get("pose")]
+    if not at:
+        return
+    keys = list(at[0]["pose"])
+    rad = {p: str(ds[p].attrs.get("units", "")) == "deg" for p in keys}
+    batch = {p: np.array([np.radians(r["pose"][p]) if rad[p] else r["pose"][p] for r in at])
+             for p in keys}
+    res = analyze(model, batch, stiffness=stiffness, raise_on_singular=False)  # a batch
+    labels = list(res.jacobian.labels)
+    for k, r in enumerate(at):
+        one = res[k]
+        if one.statics is None or not one.ok:
+            continue
+        if one.jacobian.indeterminacy <= 0:
+            r["determined"] = True
+            continue
+        if r["name"] in labels:
+            r["determined"] = bool(one.statics.determined[labels.index(r["name"])])
+            continue
+        jac = one.jacobian
+        S = np.asarray(one.statics.self_stress)                     # (k, m), raw rows
+        J = np.asarray(jac.J)[None]
+        A = np.asarray(one.statics.A)
+        a = np.asarray(res.statics._a)[k:k + 1]
+        leg = int(r["leg"]) - 1
+        t = t_r_of(constraint_wrenches_of(J, jac.info, jac.n_actuated, S[None], len(A)), A,
+                   a)[0, :, leg]
+        L = float(np.asarray(jac.conditioning.length).reshape(-1)[0])
+        size = np.abs(S) @ (np.linalg.norm(J[0, :, :3], axis=1) * L +
+                            np.linalg.norm(J[0, :, 3:], axis=1))
+        r["determined"] = bool(np.all(np.abs(t) <= 1e-9 * np.maximum(size, 1e-300)))

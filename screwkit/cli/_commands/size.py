@@ -70,13 +70,19 @@ def run(args) -> int:
     if not res.usable_cells:
         print("  no usable cell: nothing to size", file=sys.stderr)
         return 0
-    print(f"  {'row':<6} {'max |value|':>12} {'unit':<6} {'signed':>12}  workload / pose / level")
+    print(f"  {'row':<6} {'max |value|':>13} {'unit':<6} {'signed':>12}  workload / pose / level")
+    undetermined = False
     for r in res.rows:
         if r["max_abs"] is None:
             continue
         pose = ", ".join(f"{k}={fmt_num(v)}" for k, v in r["pose"].items())
-        print(f"  {r['name']:<6} {fmt_num(r['max_abs']):>12} {r['unit']:<6} "
+        star = "*" if r.get("determined") is False else " "
+        undetermined |= star == "*"
+        print(f"  {r['name']:<6} {fmt_num(r['max_abs']):>12}{star} {r['unit']:<6} "
               f"{fmt_num(r['value']):>12}  {r['workload']} / {pose} / {r['level']}")
+    if undetermined:
+        print("  * not fixed by statics alone: the PM is statically indeterminate and this is "
+              "the least-norm value (screwkit.size(..., stiffness=...) weights it)")
     print("  ranges (strokes):")
     for r in res.ranges:
         if r["min"] is None:
