@@ -128,7 +128,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     chunk = max(1, int(chunk))
     nw = workers if workers is not None else (min(2, os.cpu_count() or 1) if N >= 4 * chunk
                                               else 1)
-    slices = _chunks(N, balanced_chunk(N, chunk, nw if mapper is None else 1))
+    # the default chunk is balanced over the threads; a chunk the caller chose is kept
+    size = balanced_chunk(N, chunk, nw if mapper is None else 1) if chunk == CHUNK else chunk
+    slices = _chunks(N, size)
 
     def put(key, sl, value):
         if key not in out:
