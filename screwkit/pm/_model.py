@@ -79,6 +79,10 @@ class PMModel:
     dynamics : DynamicsParameters or None
         Masses, inertias, friction, gravity and stiffness (the definition's ``dynamics:``,
         :mod:`screwkit.pm._physical`), used by :mod:`screwkit.dynamics`; None if not given.
+    passive : tuple of int
+        0-based indices of the passive legs: legs without an actuator, which add their
+        constraint rows to ``J`` and no actuation row (the Tricept's central UP column).
+        Empty when every leg is actuated.
     """
 
     name: str
@@ -107,6 +111,7 @@ class PMModel:
     units: Units = UNDECLARED
     limits: Limits = NO_LIMITS
     dynamics: object = None
+    passive: tuple = ()
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
