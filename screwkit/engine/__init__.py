@@ -17,7 +17,7 @@ a one-pose result, as :class:`scipy.spatial.transform.Rotation` holds one or man
 
 from ..pm import LENGTH_PARAMS, PARAMS
 from ._chains import leg_forward
-from ._closure import ACCEPTED, CONVERGED
+from ._kernels._layout import ACCEPTED, CONVERGED
 from ._run import CHUNK
 from ._jacobian import COND_THRESHOLD, JacobianResult, JacobianRow
 from ._quality import ILL_CONDITIONED_COND, NEAR_SINGULAR_COND

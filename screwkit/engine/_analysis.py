@@ -89,7 +89,7 @@ class PMAnalysis:
         i = pose_index(i, len(self))
         st = self.statics[i] if self.statics is not None else None
         diag = dict(self.diagnostics)
-        for key in ("rows_ok", "structure_ok"):
+        for key in ("rows_ok", "structure_ok", "det_sign"):
             if diag.get(key) is not None:
                 diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
@@ -127,7 +127,7 @@ class PMAnalysis:
     def ok(self):
         """Reachable, converged, regular, rows formed, and the statics balance the load."""
         r = self.solution.closures.residual
-        from ._closure import CONVERGED
+        from ._kernels._layout import CONVERGED
         good = (r <= CONVERGED) & ~self.jacobian.singular_mask & np.atleast_1d(self.rows_ok)
         if self.statics is not None:
             eq = np.asarray(self.statics.equilibrium_residual if not self.single
@@ -161,7 +161,7 @@ class PMAnalysis:
             raise TypeError("warnings describe one pose: index the result first (res[i])")
         out = list(self.quality.warnings(0))
         if self.solution.status == "not converged":
-            from ._closure import CONVERGED
+            from ._kernels._layout import CONVERGED
             out.insert(0, f"not converged: closure residual {self.solution.residual:.3g} above "
                           f"{CONVERGED:g} (the pose is solved only to that, length-normalised)")
         if not self.rows_ok:
@@ -333,9 +333,10 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
                                                          np.broadcast_to(T, (N, 3)),
                                                          sol._platform[1]),
                            sol.base_points, lambda: sol._platform[2], np.ones(N, bool),
-                           comp.equilibrium)
+                           comp.equilibrium, comp.amplification)
         bad = ~sol.reachable_mask | jac.singular_mask
         if bad.any():
             st = _mask(st, bad)
-    diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok)
+    diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok,
+                det_sign=comp.det_sign)
     return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness)

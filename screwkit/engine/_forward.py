@@ -1,11 +1,11 @@
 """Forward kinematics (direct displacement) of N poses: the platform pose from the actuators.
 
-The loop closures of :mod:`screwkit.engine._closure` are solved the other way round: the
+The loop closures of :mod:`screwkit.engine._kernels._newton` are solved the other way round: the
 actuated joint values are given (frozen) and the unknowns are the platform's pose and
 every passive joint.  The platform moves by its own twist (the six columns of the
 identity, length-normalised about the model's centroid), so the iteration has no
 representation singularity; the pose is read off as the model's Euler angles at the end.
-The Gauss-Newton step is the engine's (:func:`~screwkit.engine._closure.newton_step` with
+The Gauss-Newton step is the engine's (:func:`~screwkit.engine._kernels._newton.newton_step` with
 the platform's twist and the actuated joints frozen), with per-pose convergence and step
 halving.
 
@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS, chains_of
-from ._closure import CONVERGED
+from ._kernels._layout import CONVERGED
 from ._fk_inputs import actuator_targets
 from ._fk_newton import STEP, continuation
 

@@ -41,7 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._inputs import pose_index
-from ._pipeline import COND_THRESHOLD, Conditioning, condition
+from ._pipeline import COND_THRESHOLD, Conditioning
 from ._row import JacobianRow
 from ..screws import cross
 
@@ -107,14 +107,6 @@ class JacobianResult:
     single: bool = True
     leg_provider: Callable[[int], tuple] | None = field(default=None, repr=False)
     given_analyses: tuple | None = field(default=None, repr=False)
-
-    @classmethod
-    def from_rows(cls, rows, origin, *, threshold=COND_THRESHOLD, single=False,
-                  leg_provider=None, analyses=None):
-        cond = condition(rows.J, rows.n_actuated, rows.centre, rows.length)[0]
-        return cls(rows.J, rows.info, rows.n_actuated, rows.scale, rows.points,
-                   np.asarray(origin, float), cond, float(threshold), bool(single),
-                   leg_provider, analyses)
 
     def normalised(self) -> tuple[np.ndarray, np.ndarray]:
         """The normalised, row-equilibrated rows ``Jn (N, m, 6)`` and row norms ``d (N, m)``."""

@@ -34,8 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _algebra as alg
-from ._chains import LENGTH_PARAMS, PARAMS, chain_forward, platform_pose
+from ._chains import LENGTH_PARAMS, PARAMS
 
 __all__ = ["LinkFrames", "link_frames"]
 
@@ -119,22 +118,28 @@ def link_frames(solution, sl=slice(None)) -> LinkFrames:
         q[:, :, bad] = np.nan
         for u in ch.unknown:
             params[u] = np.where(bad, np.nan, params[u])
-    axes, points, _, _, Rs, ts = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q,
-                                               slots=True, bars=ch.bars)
-    rot = ch.rotation.T[:, None, :, None]                 # (m, 1, n, 1)
-    tra = ch.translation.T[:, None, :, None]
-    w = rot * axes
-    v = np.cross(points, w, axis=1) + tra * axes
-    twists = np.concatenate([v, w], axis=1)
-    Rp, o, E = platform_pose(ch, {k: params[k] for k in PARAMS})
-    R0 = ch.frame[0]
+    from ._launch import frames
+    X = np.array(X.T, float)
+    X[:, nu:] = q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
+    P6 = np.stack([np.asarray(params[k], float) for k in PARAMS], axis=1)
+    given = (np.zeros(0, np.int64), np.zeros(0))
+    fr = frames(ch.flat, given, P6, X[:, nu:], slots=True, twists=True)
+    fa = fr["axes_points"]                                 # (N, n, m, 6)
+    points = np.ascontiguousarray(fa[..., 3:].transpose(2, 3, 1, 0))
+    twists = np.ascontiguousarray(fr["twists"].transpose(2, 3, 1, 0))
+    Rs = np.ascontiguousarray(fr["R"].transpose(2, 3, 4, 1, 0))
+    ts = np.ascontiguousarray(fr["t"].transpose(2, 3, 1, 0))
+    fp = fr["platform"]
+    Rp = np.ascontiguousarray(fp[:, 6:15].reshape(N, 3, 3).transpose(1, 2, 0))
+    o = np.ascontiguousarray(fp[:, 15:18].T)
+    E = np.ascontiguousarray(fp[:, 18:27].reshape(N, 3, 3).transpose(1, 2, 0))
     cols = np.zeros((6, 6, N))
-    for k, name in enumerate(PARAMS):
+    for k, name in enumerate(PARAMS):          # the platform twist of each parameter's rate
         if name in LENGTH_PARAMS:
-            cols[:3, k] = R0[:, "XYZ".index(name[0]), None]
+            cols[:3, k] = ch.frame[0][:, "XYZ".index(name[0]), None]
         else:
             a = E[:, k - 3]
-            cols[:3, k] = alg.cross(o, a)
+            cols[:3, k] = np.cross(o, a, axis=0)
             cols[3:, k] = a
     chain = (0, 1, 2) if ch.order.isupper() else (2, 1, 0)
     return LinkFrames(q, twists, Rs, ts, points, Rp, o, E, cols, chain, params, ch.real,

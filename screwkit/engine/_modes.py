@@ -92,7 +92,7 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
     AssemblyModes
     """
     from ..errors import InputError
-    from ._closure import CONVERGED
+    from ._kernels._layout import CONVERGED
     from ._fk_inputs import actuator_targets
     from ._fk_newton import newton, seeds as make_seeds
     from ._forward import finish

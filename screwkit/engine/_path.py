@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
 
-from ._chains import LENGTH_PARAMS, chains_of, forward
-from ._closure import ACCEPTED, CONVERGED
-from ._solve import Closure, home_predictor, solve_closures
+from ._chains import LENGTH_PARAMS, chains_of
+from ._kernels._layout import ACCEPTED, CONVERGED
+from ._solve import Closure, predictor_of, solve_closures
 
 __all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "STEP_FLOOR", "balanced_chunk", "check_path", "solve_path"]
 
@@ -89,7 +86,17 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     sing = np.zeros(N, bool)
     prev = None if start is None else np.array(start, float).reshape(ch.n_unknowns, -1)[:, :1]
     last = []                                   # the last two solved anchors (index, X)
-    predict = home_predictor(ch)
+    Z = predictor_of(ch)
+
+    def residuals(fx, cand):
+        from ._launch import frames
+        return frames(ch.flat, Z, ch.full_params(fx, cand.shape[1]), cand.T)["residual"]
+
+    def predict(fx):
+        from ._kernels import kernels
+        out = np.empty((1, ch.n_unknowns))
+        kernels().predict_batch(Z, ch.full_params(fx, 1), out)
+        return out.T
     # every anchor solved at once from home, as a random pose would be: an anchor whose
     # solution continues the last two along their secant (within one anchor step) is on
     # the branch followed and is taken as it is; the others are solved one by one below
@@ -121,8 +128,7 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
             if np.max(np.abs(guess - secant)) <= np.max(np.abs(step)):
                 cand.append(guess)
             cand = np.concatenate(cand, axis=1)
-            fr = forward(ch, {p: np.repeat(v, cand.shape[1]) for p, v in fx.items()}, cand)
-            X0 = cand[:, int(np.argmin(fr.residual))][:, None]
+            X0 = cand[:, int(np.argmin(residuals(fx, cand)))][:, None]
         c = solve_closures(model, fx, X0)
         X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \
             c.how[0], c.singular_beta[0]
@@ -195,29 +201,10 @@ def balanced_chunk(N: int, chunk: int, workers: int) -> int:
     return max(1, -(-N // n))
 
 
-#: A level of more samples than this is solved in chunks of at most this many (on threads).
-LEVEL_CHUNK = 8192
-
-
 def _solve_level(model, fx, X0, workers):
-    """``solve_closures`` of one level's samples, in chunks on threads when it is large
-    (numpy releases the interpreter lock inside its loops)."""
-    N = X0.shape[1]
-    nw = min(2, os.cpu_count() or 1) if workers is None else int(workers)
-    if N <= LEVEL_CHUNK:
-        return solve_closures(model, fx, X0)
-    size = balanced_chunk(N, LEVEL_CHUNK, nw)
-    slices = [slice(s, min(s + size, N)) for s in range(0, N, size)]
-    one = lambda sl: solve_closures(model, {p: v[sl] for p, v in fx.items()},  # noqa: E731
-                                    X0[:, sl])
-    if nw <= 1:
-        parts = [one(sl) for sl in slices]
-    else:
-        with ThreadPoolExecutor(max_workers=nw) as pool:
-            parts = list(pool.map(one, slices))
-    cat = lambda name: np.concatenate([getattr(c, name) for c in parts], axis=-1)  # noqa: E731
-    return Closure(parts[0].chains, cat("X"), None, cat("residual"), cat("iterations"),
-                   cat("how"), cat("singular_beta"))
+    """``solve_closures`` of one level's samples (the kernel runs them on ``workers``
+    threads when they are many)."""
+    return solve_closures(model, fx, X0, workers=workers)
 
 
 def _lagrange(ts, j, t):

@@ -13,7 +13,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._jacobian import COND_THRESHOLD, JacobianResult
-from ._pipeline import legs_rows
 from ._statics import StaticsResult, _errors, statics
 from ..screws import as_vector3
 
@@ -64,9 +63,32 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         for i, (leg, an) in enumerate(zip(legs, analyses)):
             if getattr(an, "leg", None) is not leg:
                 raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
-    rows = legs_rows(legs, o, analyses)
-    return JacobianResult.from_rows(rows, o[None], threshold=threshold, single=True,
-                                    leg_provider=lambda _: legs, analyses=analyses)
+    J, info, n_act, scale, points, cond = _rows_of(legs, o, analyses)
+    return JacobianResult(J, info, n_act, scale, points, o[None], cond, float(threshold), True,
+                          lambda _: legs, analyses)
+
+
+def _rows_of(legs, o, analyses):
+    """The rows of placed legs at one pose by the kernels: ``(J (1, m, 6), info,
+    n_actuated, scale, points (1, m, 3), Conditioning)``."""
+    from ._flat import flatten_legs
+    from ._kernels import kernels
+    from ._launch import run_poses
+    from ._pipeline import Conditioning, _make_labels
+    from ._templates import RowTemplate
+    templates = tuple(RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o)
+                      for lg, an in zip(legs, analyses))
+    info = _make_labels(templates)
+    flat = flatten_legs(legs, templates, o, info)
+    P6 = np.concatenate([o, np.zeros(3)])[None]
+    X = np.zeros((1, flat.nx))
+    out = run_poses(flat, flat.Z, P6, X=X, statics=False)
+    points = np.full(out["J"].shape[:2] + (3,), np.nan)
+    kernels().row_points_range(flat.M, flat.Z[0], flat.Z[1], P6, X, out["J"], points, 0, 1)
+    cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
+                        out["condition_number"], out["constraint_rank"],
+                        out["constraint_condition_number"])
+    return out["J"], info, flat.n_act, out["scale"], points, cond
 
 
 def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,

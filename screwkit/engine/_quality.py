@@ -101,32 +101,32 @@ def levels(cond, amp, singular):
 
 
 def amplification(values, info, W, L, o):
-    """Largest |effort| over the workload's size, consistent units (module docstring).
-
-    ``W (N, [K,] 6)`` is the workload about the base origin; its size takes the torque
-    ``T`` at the platform centre ``o (N, 3)`` (``T = m - o x f``), as given: not the moment
-    about the origin, which depends on where the base frame is."""
-    torque = np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
-                                                and r.joint[0] in "RH") for r in info])
-    div = np.where(torque[None, :], L[:, None], 1.0)
-    eff = np.abs(values.reshape(len(L), -1, values.shape[-1])) / div[:, None, :]
-    Wf = W.reshape(len(L), -1, 6)
-    f = Wf[..., :3]
-    T = Wf[..., 3:] - np.cross(np.asarray(o, float)[:, None, :], f)
-    size = np.sqrt(np.sum(f ** 2, axis=-1) + np.sum(T ** 2, axis=-1) / L[:, None] ** 2)
-    return np.nanmax(eff, axis=(1, 2), initial=0.0) / np.maximum(np.max(size, axis=1), 1e-300)
+    """Largest |effort| over the workload's size, consistent units (module docstring), by
+    the kernel; the largest over a batch of workloads ``W (N, [K,] 6)`` about the base
+    origin.  The size takes the torque ``T`` at the platform centre ``o (N, 3)`` (``T = m -
+    o x f``), as given: not the moment about the origin, which depends on where the base
+    frame is."""
+    from ._pipeline import amplification_of, torque_rows
+    N = len(L)
+    v = np.asarray(values, float).reshape(N, -1, values.shape[-1])
+    Wf = np.broadcast_to(np.asarray(W, float).reshape(N, -1, 6), v.shape[:2] + (6,))
+    a = amplification_of(np.nan_to_num(v, nan=0.0), torque_rows(info), Wf, o, L)
+    return np.max(a, axis=1)
 
 
-def trust(jac, values, W, o, reachable) -> tuple:
+def trust(jac, values, W, o, reachable, amp=None) -> tuple:
     """``(amplification, level)`` of every pose of ``jac`` (a batch) under the workload
     ``W (N, 6)`` about the base origin whose efforts are ``values (N, m)`` (None: no
-    statics, amplification infinite); ``o (N, 3)`` the platform centres.  An unreachable
-    pose has no conditioning of its own (``J`` is the last iterate's): level
-    ``unreachable``, amplification NaN."""
+    statics, amplification infinite); ``o (N, 3)`` the platform centres; ``amp`` the
+    amplification when the kernel gave it with the values.  An unreachable pose has no
+    conditioning of its own (``J`` is the last iterate's): level ``unreachable``,
+    amplification NaN."""
     c = jac.conditioning
     N = len(jac)
-    amp = np.full(N, np.inf) if values is None else \
-        amplification(values, jac.info, W, c.length, o)
+    if values is None:
+        amp = np.full(N, np.inf)
+    elif amp is None:
+        amp = amplification(values, jac.info, W, c.length, o)
     sing = jac.singular_mask
     amp = np.where(sing, np.inf, amp)
     lev = levels(c.condition_number, amp, sing)
@@ -160,7 +160,7 @@ def det_reference(model, analyze) -> tuple:
             if J.shape != (6, 6):
                 break
             if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
-                s = (int(np.sign(np.linalg.det(J))), name)
+                s = (int(_det_signs(res.jacobian)[0]), name)
                 break
         _HOME[model] = s
     return s
@@ -179,13 +179,26 @@ def quality(analysis, analyze) -> Quality:
     cond = jac.conditioning.condition_number
     reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
     amp, lev = trust(jac, None if st is None else st.F_r, None if st is None else st._W,
-                     analysis.solution._platform[1], reach)
+                     analysis.solution._platform[1], reach,
+                     None if st is None or st.amp is None or st.F_r.ndim != 2 else
+                     np.nan_to_num(st.amp, nan=0.0))
     unreach = ~reach
-    if jac.matrix.shape[1:] == (6, 6):
-        det = np.sign(np.linalg.det(jac.matrix)).astype(int)
-    else:
+    det = analysis.diagnostics.get("det_sign")
+    if jac.matrix.shape[1:] != (6, 6):
         det = np.zeros(N, int)
+    elif det is None:
+        det = _det_signs(jac)
+    det = np.nan_to_num(np.asarray(det, float)).astype(int)
     home, ref = det_reference(analysis.model, analyze)
     det[unreach] = 0
     beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
     return Quality(cond, amp, lev, det, home, beyond, ref)
+
+
+def _det_signs(jac) -> np.ndarray:
+    """The signs of ``det J`` of a square Jacobian (N poses), by the kernel's LU."""
+    from ._kernels import kernels
+    J = np.ascontiguousarray(jac.matrix, float)
+    out = np.empty(len(J))
+    kernels().det_sign_batch(J, out)
+    return out

@@ -26,9 +26,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._chains import LENGTH_PARAMS, PARAMS, placed_bars
-from ._closure import ACCEPTED, CONVERGED
+from ._chains import LENGTH_PARAMS, PARAMS
 from ._inputs import pose_index, prepare
+from ._kernels._layout import ACCEPTED, CONVERGED
 from ._solve import Closures
 
 if TYPE_CHECKING:
@@ -100,11 +100,16 @@ class PoseSolution:
 
     @cached_property
     def _platform(self):
-        from ._chains import platform_pose
-        Rp, o, _ = platform_pose(self.closures.chains, self._params)
-        R = np.ascontiguousarray(Rp.transpose(2, 0, 1))
-        o = np.ascontiguousarray(o.T)
-        a = np.einsum("nij,kj->nki", R, self.model.platform_points) + o[:, None, :]
+        """World <- platform rotations ``(N, 3, 3)``, centres ``(N, 3)`` and the platform
+        points ``a_i`` ``(N, n, 3)`` (the kernels' frames at the solved unknowns; NaN where
+        unreachable)."""
+        from ._launch import platform_of
+        ch = self.closures.chains
+        fp = platform_of(ch.flat, np.stack([self._params[p] for p in PARAMS], axis=1))
+        R = np.ascontiguousarray(fp[:, 6:15].reshape(-1, 3, 3))
+        o = np.ascontiguousarray(fp[:, 15:18])
+        a = np.ascontiguousarray(np.einsum("nij,kj->nki", R, self.model.platform_points)
+                                 + o[:, None, :])
         for x in (R, o, a):
             x.setflags(write=False)
         return R, o, a
@@ -210,13 +215,14 @@ class PoseSolution:
     def legs_at(self, i: int) -> tuple:
         """Every leg placed at pose ``i``: joints on their current axes, ``A``, ``a`` (world)."""
         from ..legs import Joint, Leg
-        fr = self.closures.frames(slice(i, i + 1))
         ch = self.closures.chains
-        bars = placed_bars(ch, fr.q) if ch.bars.any() else None      # parallelograms
+        fr = self.closures.frames(slice(i, i + 1), bars=bool(ch.bars.any()))
+        fa = fr["axes_points"][0]
+        bars = fr["bars"][0] if fr["bars"].shape[0] else None        # parallelograms
         out = []
         for k, lg in enumerate(self.model.home_legs):
-            joints = tuple(Joint(j.spec, fr.axes[s, :, k, 0], fr.points[s, :, k, 0], j.pitch,
-                                 None if j.bar is None or bars is None else bars[s, :, k, 0])
+            joints = tuple(Joint(j.spec, fa[k, s, :3], fa[k, s, 3:], j.pitch,
+                                 None if j.bar is None or bars is None else bars[k, s])
                            for s, j in enumerate(lg.joints))
             out.append(Leg(lg.string, joints, self.base_points[k], self._platform[2][i, k],
                            lg.name))

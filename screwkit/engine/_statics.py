@@ -43,11 +43,9 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._conditioning import RANK_RTOL
 from ._inputs import pose_index
 from ._jacobian import JacobianResult
-from ._pipeline import (constraint_wrenches_of, default_compliance, derived_statics,
-                        equilibrium_residual, statics_values, t_r_of,
+from ._pipeline import (RANK_RTOL, leg_wrenches_of, statics_values, torque_rows,
                         workload_about_origin)
 from ..screws import as_vector3, cross
 
@@ -101,7 +99,9 @@ class StaticsResult:
     valid : ndarray (N,) of bool
         False where the values are not defined (a singular or unreachable pose of a batch).
     eq : ndarray (N,), optional
-        The equilibrium residuals, when the engine computed them chunk by chunk.
+        The equilibrium residuals, when the engine computed them with the values.
+    amp : ndarray (N,), optional
+        The force amplification of each pose (:mod:`screwkit.engine._quality`), likewise.
 
     Only ``F_r`` is kept for a batch; the row wrenches, vectors, leg wrenches and ``T_r``
     are formed when first read (memory linear in N with a small constant).
@@ -114,6 +114,7 @@ class StaticsResult:
     a: object = field(repr=False)
     valid: np.ndarray = field(repr=False)
     eq: np.ndarray | None = field(default=None, repr=False)
+    amp: np.ndarray | None = field(default=None, repr=False)
 
     @cached_property
     def _W(self):
@@ -125,10 +126,16 @@ class StaticsResult:
 
     @cached_property
     def _derived(self):
+        """Row wrenches, vectors, leg wrenches, constraint wrenches and ``T_r``."""
         jac = self.jacobian
-        c = jac.conditioning
-        out = derived_statics(jac.matrix, jac.info, jac.n_actuated, self.F_r, self._W, self.A,
-                              self._a, c.centre, c.length)
+        J, v = jac.matrix, self.F_r
+        lead = v.shape[:-1]
+        Jb = J.reshape((J.shape[0],) + (1,) * (len(lead) - 1) + J.shape[1:])
+        row_w = v[..., None] * Jb
+        couple = np.array([r.member == "couple" for r in jac.info])
+        vectors = np.where(couple[:, None], row_w[..., 3:], row_w[..., :3])
+        con_w, leg_w, T_r = leg_wrenches_of(J, jac.info, jac.n_actuated, v, self.A, self._a)
+        out = (row_w, vectors, leg_w, con_w, T_r)
         for x in out:
             x.setflags(write=False)
         return out
@@ -159,11 +166,18 @@ class StaticsResult:
     def _eq(self):
         if self.eq is not None:
             return self.eq
-        if "_derived" in self.__dict__:
-            return self._derived[5]
+        from ._kernels import kernels
         jac = self.jacobian
         c = jac.conditioning
-        return equilibrium_residual(jac.matrix, self.F_r, self._W, c.centre, c.length)
+        N, m = jac.matrix.shape[:2]
+        v = np.ascontiguousarray(self.F_r, float).reshape(N, -1, m)
+        W = np.ascontiguousarray(np.broadcast_to(self._W, self.F_r.shape[:-1] + (6,)),
+                                 float).reshape(N, -1, 6)
+        out = np.empty(v.shape[:2])
+        kernels().equilibrium_batch(np.ascontiguousarray(jac.matrix, float), v, W,
+                                    np.ascontiguousarray(c.centre, float),
+                                    np.ascontiguousarray(c.length, float), out)
+        return out.reshape(self.F_r.shape[:-1])
 
     @cached_property
     def _t_r(self):
@@ -171,9 +185,8 @@ class StaticsResult:
         if "_derived" in self.__dict__:
             return self._derived[4]
         jac = self.jacobian
-        con_w = constraint_wrenches_of(jac.matrix, jac.info, jac.n_actuated, self.F_r,
-                                       len(self.A))
-        out = t_r_of(con_w, self.A, self._a)
+        out = leg_wrenches_of(jac.matrix, jac.info, jac.n_actuated, self.F_r, self.A, self._a,
+                              total=False)[2]
         out.setflags(write=False)
         return out
 
@@ -199,7 +212,8 @@ class StaticsResult:
         i = pose_index(i, len(self))
         sl = slice(i, i + 1) if isinstance(i, int) else i      # one pose, or a sub-batch
         return StaticsResult(self.jacobian[i], self.F_r[sl], self._W[sl], self.A, self._a[sl],
-                             self.valid[sl], None if self.eq is None else self.eq[sl])
+                             self.valid[sl], None if self.eq is None else self.eq[sl],
+                             None if self.amp is None else self.amp[sl])
 
     def __repr__(self) -> str:
         if not self.jacobian.single:
@@ -342,14 +356,13 @@ def statics(jacobian: JacobianResult, F: ArrayLike, T: ArrayLike, o: ArrayLike |
     else:
         A, a = np.asarray(base_points, float), np.asarray(platform_points, float)
     W = workload_about_origin(F, T, o)
-    Jn, d = jacobian.normalised()
-    comp = default_compliance(jacobian.info, jacobian.conditioning.length) if stiffness is None \
-        else compliance_of(stiffness, jacobian.n_rows, N)
-    values = statics_values(Jn, d, jacobian.conditioning.singular_values,
-                            jacobian.conditioning, W, comp)
-    for x in (W, values):
+    comp = None if stiffness is None else compliance_of(stiffness, jacobian.n_rows, N)
+    values, eq, amp = statics_values(jacobian.matrix, jacobian.conditioning,
+                                     torque_rows(jacobian.info), W, o, comp)
+    for x in (W, values, eq):
         x.setflags(write=False)
-    return StaticsResult(jacobian, values, W, A, a, np.ones(N, bool))
+    return StaticsResult(jacobian, values, W, A, a, np.ones(N, bool), eq,
+                         amp if W.ndim == 2 else None)
 
 
 def compliance_of(stiffness, m, N):

@@ -12,7 +12,7 @@ import dataclasses
 
 import numpy as np
 
-from ._pipeline import default_compliance, statics_values, workload_about_origin
+from ._pipeline import statics_values, torque_rows, workload_about_origin
 from ._statics import StaticsResult
 
 __all__ = ["load_vector", "under"]
@@ -40,15 +40,14 @@ def under(analysis, force, torque):
     N = len(jac)
     W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)),
                               jac.origin)
-    Jn, d = jac.normalised()
-    c = jac.conditioning
-    comp = default_compliance(jac.info, c.length) if analysis.stiffness is None else \
+    comp = None if analysis.stiffness is None else \
         _compliance(analysis.model, analysis.stiffness, N)
-    values = statics_values(Jn, d, c.singular_values, c, W, comp)
+    values, eq, amp = statics_values(jac.matrix, jac.conditioning, torque_rows(jac.info), W,
+                                     jac.origin, comp)
     for x in (W, values):
         x.setflags(write=False)
     old = analysis.statics
-    st = StaticsResult(jac, values, W, old.A, old.a, np.ones(N, bool))
+    st = StaticsResult(jac, values, W, old.A, old.a, np.ones(N, bool), eq, amp)
     bad = ~sol.reachable_mask | jac.singular_mask
     if bad.any():
         st = _mask(st, bad)
@@ -67,7 +66,7 @@ def load_vector(x, name):
 def _compliance(model, stiffness, N):
     """Compliances ``(N, m)`` from a stiffness mapping (by row label) or array."""
     from ..errors import InputError
-    from ._pipeline import _labels, default_compliance, templates_of
+    from ._pipeline import _labels, templates_of
     from ._statics import compliance_of
     info = _labels(templates_of(model))
     labels = [r.label for r in info]
@@ -78,8 +77,8 @@ def _compliance(model, stiffness, N):
         if bad:
             raise InputError(f"{model.name}: no row {bad[0]!r} to give a stiffness; the rows are "
                              f"{', '.join(labels)}")
-        L = np.full(1, float(model.normalisation.length))
-        k = 1.0 / default_compliance(info, L)[0]
+        L = float(model.normalisation.length)
+        k = np.where(torque_rows(info) == 1, L * L, 1.0)     # the least-norm weights
         for lab, v in stiffness.items():
             k[labels.index(lab)] = v
         stiffness = k
@@ -116,4 +115,5 @@ def _mask(st: StaticsResult, bad) -> StaticsResult:
     F_r[bad] = np.nan
     F_r.setflags(write=False)
     eq = None if st.eq is None else np.where(bad, np.nan, st.eq)
-    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad, eq)
+    amp = None if st.amp is None else np.where(bad, np.nan, st.amp)
+    return StaticsResult(st.jacobian, F_r, st.W, st.A, st.a, ~bad, eq, amp)

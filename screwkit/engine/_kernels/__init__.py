@@ -1,0 +1,106 @@
+"""The engine's compiled kernels (numba): loaded on first use, cached on disk (private).
+
+:func:`kernels` imports numba and the kernel modules the first time a computation needs
+them: commands that compute nothing never import numba.  The compiled kernels are cached
+next to their sources when the package directory is writable, otherwise in a user cache
+directory (``$XDG_CACHE_HOME/screwkit/numba``, ``~/.cache/screwkit/numba``;
+``NUMBA_CACHE_DIR`` wins when it is set), set before numba is imported so that Dask workers
+find the same cache.  The first run after an install compiles them once, with a note on
+stderr.  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
+``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
+waits for the running one, which uses every thread it was given.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+from types import SimpleNamespace
+
+__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads"]
+
+#: Held while a parallel kernel runs (numba's workqueue layer takes one launch at a time).
+LAUNCH_LOCK = threading.RLock()
+_LOAD_LOCK = threading.Lock()
+_K: SimpleNamespace | None = None
+_HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _writable(path: str) -> bool:
+    pyc = os.path.join(path, "__pycache__")
+    if os.path.isdir(pyc):
+        return os.access(pyc, os.W_OK)
+    return os.access(path, os.W_OK)
+
+
+def _user_cache() -> str:
+    if sys.platform == "win32":
+        base = os.environ.get("LOCALAPPDATA") or os.path.expanduser("~/AppData/Local")
+    elif sys.platform == "darwin":
+        base = os.path.expanduser("~/Library/Caches")
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache")
+    return os.path.join(base, "screwkit", "numba")
+
+
+def cache_dir() -> str:
+    """Where the compiled kernels are cached (set up before numba is imported)."""
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        return user
+    if _writable(_HERE):
+        return os.path.join(_HERE, "__pycache__")
+    path = _user_cache()
+    os.environ["NUMBA_CACHE_DIR"] = path
+    return path
+
+
+def _configure():
+    cache_dir()
+    os.environ.setdefault("NUMBA_THREADING_LAYER", "workqueue")
+    import numba
+    if os.environ.get("NUMBA_CACHE_DIR") and not numba.config.CACHE_DIR:
+        numba.config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]     # numba imported before us
+    if os.environ["NUMBA_THREADING_LAYER"] == "workqueue":
+        numba.config.THREADING_LAYER = "workqueue"
+    return numba
+
+
+def _compiled_before(fn) -> bool:
+    """Whether ``fn``'s cache index exists (False: the first call compiles)."""
+    try:
+        path = fn._cache._cache_path
+        name = fn._cache._index_name
+    except AttributeError:
+        return True
+    return os.path.exists(os.path.join(path, name))
+
+
+def kernels() -> SimpleNamespace:
+    """The kernel functions (numba and the kernel modules imported on the first call)."""
+    global _K
+    if _K is not None:
+        return _K
+    with _LOAD_LOCK:
+        if _K is None:
+            numba = _configure()
+            from . import _driver, _extra, _fk, _probe
+            if not _compiled_before(_driver.run_range):
+                print(f"screwkit: compiling the engine's kernels (once, about a minute; cached "
+                      f"in {cache_dir()})", file=sys.stderr, flush=True)
+            ns = SimpleNamespace(numba=numba)
+            for mod in (_driver, _extra, _fk, _probe):
+                for name in dir(mod):
+                    if not name.startswith("_"):
+                        setattr(ns, name, getattr(mod, name))
+            _K = ns
+    return _K
+
+
+def set_threads(n: int) -> int:
+    """Threads of the next parallel launch (at most numba's pool); returns the number."""
+    k = kernels().numba
+    n = max(1, min(int(n), k.config.NUMBA_NUM_THREADS))
+    k.set_num_threads(n)
+    return n

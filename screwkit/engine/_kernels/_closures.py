@@ -1,0 +1,242 @@
+"""The inverse displacement of one pose, compiled: starts, continuation, polish, the
+representation singularity (private).
+
+Starts.  Without a warm start a pose begins at the home predictor: a polynomial in the
+independent parameters (cubic up to four of them, quadratic beyond) fitted once per model
+to exact solutions around home (its coefficients ``C``, fitted by
+:mod:`screwkit.engine._solve`); far outside the fit (more than four half-widths), at home.
+
+Continuation.  A pose whose Newton iteration does not converge is solved again from home by
+moving its independent parameters in 4, 16, then 64 steps, each started from the last; a
+level whose steps lose the track (residual above 1e-4) gives way to the next.  A pose left
+just short of convergence is polished by a fresh Newton run.
+
+Representation singularity.  Where ``beta`` is given at ``sin(beta) = 0`` (proper orders) or
+``cos(beta) = 0`` (Tait-Bryan) and ``alpha`` or ``gamma`` is dependent, that angle is
+undetermined: it is taken as its limit from both sides (the solutions at ``beta +- 1e-4``,
+interpolated) or, with a warm start, from the warm start's side (Richardson), and the pose
+is solved with it given (the unknowns ``unk2``).
+"""
+
+import math
+
+import numpy as np
+from ._jit import inner
+
+from ._kin import forward
+from ._layout import ACCEPTED, CONVERGED, ORDER
+from ._newton import (W_FA, W_FE, W_FL, W_FP, W_P6, W_P6S, W_S, W_XB, W_XC, W_XR,
+                      gauss_newton, home_vector, tolerance)
+
+SING_STEP = 1e-4
+SING_TOL = 1e-7
+NEAR_TOL = 1e-5
+CONTINUATION = (4, 16, 64)
+
+
+@inner
+def predict(C, fix, home, span, degree, p6fix, Xhome, out):
+    """The home predictor's start for the given parameters (``C (features, nx)``; no rows:
+    start at home)."""
+    nf = fix.shape[0]
+    nx = out.shape[0]
+    z = np.empty(nf)
+    far = C.shape[0] == 0
+    for k in range(nf):
+        z[k] = (p6fix[fix[k]] - home[k]) / span[k]
+        if not abs(z[k]) <= 4.0:
+            far = True
+    if far:
+        for x in range(nx):
+            out[x] = Xhome[x]
+        return
+    for x in range(nx):
+        out[x] = C[0, x]
+    f = 1
+    for a in range(nf):
+        for x in range(nx):
+            out[x] += z[a] * C[f, x]
+        f += 1
+    for a in range(nf):
+        for b in range(a, nf):
+            w = z[a] * z[b]
+            for x in range(nx):
+                out[x] += w * C[f, x]
+            f += 1
+    if degree == 3:
+        for a in range(nf):
+            for b in range(a, nf):
+                for c in range(b, nf):
+                    w = z[a] * z[b] * z[c]
+                    for x in range(nx):
+                        out[x] += w * C[f, x]
+                    f += 1
+
+
+@inner
+def newton_continued(M, unk, xs, p6fix, X, p6home, fix, continuation, W):
+    """Newton from ``X`` (in place); where it fails, continuation from home; then the
+    polish.  Returns ``(residual, iterations, how, fresh)``: how 0 Newton from the start, 1
+    continuation, 2 not solved; ``fresh``: the frames of buffer 0/1 belong to the final
+    ``X`` (else -1: recompute them)."""
+    order = M[ORDER]
+    nx = X.shape[0]
+    res, its, _, cur = gauss_newton(M, unk, xs, p6fix, X, tolerance(order, unk, xs, p6fix, X),
+                                    30, W)
+    how = 0
+    XC, p6s = W[W_XC], W[W_P6S][0]
+    if not res <= CONVERGED and continuation:
+        for steps in CONTINUATION:
+            home_vector(unk, xs, p6home, XC)
+            alive = True
+            r, it, c = np.inf, 0, -1
+            for s in range(1, steps + 1):
+                for k in range(6):
+                    p6s[k] = p6fix[k]
+                for k in range(fix.shape[0]):
+                    p = fix[k]
+                    p6s[p] = p6home[p] + (p6fix[p] - p6home[p]) * s / steps
+                r, it, _, c = gauss_newton(M, unk, xs, p6s, XC, 1e-12 if s == steps else 1e-8,
+                                           30, W)
+                if s < steps and not r <= 1e-4:
+                    alive = False
+                    break
+            if not alive:
+                continue           # the track was lost on the way: try finer steps
+            if r < res:
+                for k in range(nx):
+                    X[k] = XC[k]
+                res = r
+                its += it
+                how = 1
+                cur = -1           # solved at the continuation's last parameters: recompute
+            if res <= CONVERGED:
+                break
+    if res > CONVERGED and res <= ACCEPTED:
+        XB = W[W_XB]
+        for k in range(nx):
+            XB[k] = X[k]
+        r, it, _, c = gauss_newton(M, unk, xs, p6fix, XB, tolerance(order, unk, xs, p6fix, XB),
+                                   30, W)
+        if r < res:
+            for k in range(nx):
+                X[k] = XB[k]
+            res = r
+            its += it
+            cur = -1
+    if not res <= ACCEPTED:
+        how = 2
+    return res, its, how, cur
+
+
+@inner
+def near_singular(order, unk, p6fix, tol):
+    """``beta`` given within ``tol`` (on its sine or cosine) of the representation
+    singularity while alpha or gamma is dependent."""
+    pair = False
+    for k in range(unk.shape[0]):
+        if unk[k] == 3 or unk[k] == 5:
+            pair = True
+        if unk[k] == 4:
+            return False
+    if not pair:
+        return False
+    b = p6fix[4]
+    s = abs(math.sin(b)) if order[4] == 1 else abs(math.cos(b))
+    return s <= tol
+
+
+@inner
+def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W):
+    """A pose at a representation singularity: the dependent angle(s) of the pair as the
+    limit, then the pose solved with them given (``X`` in place: the full unknowns).
+    Returns ``(residual, iterations, how)`` (residual inf when a side is unreachable)."""
+    order = M[ORDER]
+    nu, nu2 = unk.shape[0], unk2.shape[0]
+    nx = X.shape[0]
+    nj = nx - nu
+    beta = p6fix[4]
+    off = 0.0 if order[4] == 1 else 0.5 * math.pi
+    b0 = round((beta - off) / math.pi) * math.pi + off
+    u = beta - b0
+    sd = 0.0 if side == 0.0 else (1.0 if side > 0 else -1.0)
+    sb = abs(math.sin(beta)) if order[4] == 1 else abs(math.cos(beta))
+    both = sd == 0.0 or not sb <= SING_TOL
+    XR = W[W_XR]
+    p6n = W[W_P6S][1]
+    side_ok = True
+    for q in range(4):
+        db = SING_STEP * (1.0 if q % 2 == 0 else -1.0) * (1.0 if q < 2 else 2.0)
+        for k in range(6):
+            p6n[k] = p6fix[k]
+        p6n[4] = b0 + db
+        Xq = XR[2 + q]
+        for k in range(nx):
+            Xq[k] = X[k]
+        r, _, _, _ = newton_continued(M, unk, xs, p6n, Xq, p6home, fix, True, W)
+        if not r <= ACCEPTED:
+            side_ok = False
+    # the limits, and the pose solved with them given
+    p6g = W[W_P6S][2]
+    for k in range(6):
+        p6g[k] = p6fix[k]
+    for k in range(nu):
+        p = unk[k]
+        if p != 3 and p != 5:
+            continue
+        vp, vm, v2p, v2m = XR[2, k], XR[3, k], XR[4, k], XR[5, k]
+        if both:
+            lim = 0.5 * (vp + vm) + (vp - vm) * (u / (2 * SING_STEP))
+        elif sd > 0:
+            lim = 2 * vp - v2p
+        else:
+            lim = 2 * vm - v2m
+        p6g[p] = lim * xs[k]
+    X2 = XR[0]
+    j = 0
+    for k in range(nu):
+        if unk[k] != 3 and unk[k] != 5:
+            X2[j] = X[k]
+            j += 1
+    for k in range(nj):
+        X2[nu2 + k] = X[nu + k]
+    X2v = X2[:nu2 + nj]
+    r, its, how, _ = newton_continued(M, unk2, xs2, p6g, X2v, p6home, fix2, True, W)
+    j = 0
+    for k in range(nu):
+        if unk[k] == 3 or unk[k] == 5:
+            X[k] = p6g[unk[k]] / xs[k]
+        else:
+            X[k] = X2[j]
+            j += 1
+    for k in range(nj):
+        X[nu + k] = X2[nu2 + k]
+    if not side_ok:
+        return np.inf, its, 2
+    return r, its, how
+
+
+@inner
+def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continuation, W):
+    """One pose's closures from the start ``X`` (in place).  Returns ``(residual,
+    iterations, how, singular_beta, buffer)``: the frames of the final ``X`` are in that
+    buffer of the workspace."""
+    order = M[ORDER]
+    sing = near_singular(order, unk, p6fix, SING_TOL)
+    near = near_singular(order, unk, p6fix, NEAR_TOL)
+    if near:
+        res, its, how = resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix,
+                                         fix2, W)
+        cur = -1
+    else:
+        res, its, how, cur = newton_continued(M, unk, xs, p6fix, X, p6home, fix,
+                                              continuation, W)
+    FA, FL, FE, FP = W[W_FA], W[W_FL], W[W_FE], W[W_FP]
+    if cur < 0:
+        cur = 0
+        f = forward(M, unk, xs, p6fix, X, FA, FL, FE, FP, 0, W[W_S], W[W_P6])
+    else:
+        f = res
+    if near and not math.isfinite(res):
+        f = np.inf                # an unreachable side makes the limit meaningless
+    return f, its, how, sing, cur

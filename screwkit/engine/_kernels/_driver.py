@@ -1,0 +1,141 @@
+"""The engine's batch kernels: N poses through closures, rows, conditioning and statics
+(private).
+
+Every pose is computed alone, by the same compiled functions, so a batch equals a loop of
+one-pose calls bit for bit, whatever the chunks and threads.  The parallel kernels cut the
+poses into ``nchunks`` ranges run in ``prange`` (one workspace per range, allocated once);
+one pose (N = 1) calls :func:`run_range` directly.
+
+Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
+
+* ``M`` the flattened model (:mod:`._layout`);
+* ``Z`` the pose parametrisation and the home predictor: ``unk, xs`` (the dependent
+  parameters), ``unk2, xs2`` (the same without alpha and gamma: a representation
+  singularity), ``fix, fix2`` (the given ones), ``p6home``, the predictor's ``C``, ``fhome``,
+  ``fspan`` and ``degree`` (an array of one integer);
+* ``I`` the inputs: ``P6 (N, 6)`` the given parameters (the dependent ones are ignored),
+  ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
+  or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``;
+* ``O`` the outputs (``OUT_*``), filled pose by pose;
+* ``flags``: solve, rows, statics, continuation, actuated twists (1/0 each).
+"""
+
+from numba import prange
+
+from ._jit import entry, inner, parallel
+
+from ._closures import predict, solve_pose
+from ._kin import forward
+from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
+from ._newton import W_FA, W_FL, W_FE, W_FP, W_P6, W_S, W_XB, home_vector, make_work
+from ._rows import RW_TW, leg_rows, make_rows_work
+from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
+                       equilibrium, make_statics_work, normalise_rows, spread, statics_apply,
+                       statics_prepare, workload_about_origin)
+
+(OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
+ OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
+ OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS) = range(21)
+F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS = range(5)
+
+
+@inner
+def _compliance(I, p, mr, torque, L, comp):
+    c = I[5]
+    for r in range(mr):
+        if c.shape[0] == 0:
+            comp[r] = 1.0 / (L * L) if torque[r] else 1.0
+        else:
+            comp[r] = c[p if c.shape[0] > 1 else 0, r]
+
+
+@inner
+def run_pose(M, Z, I, O, flags, p, W, RW, SW):
+    """Pose ``p``: solve (or the frames of the given unknowns), rows, conditioning and
+    statics, as ``flags`` says."""
+    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
+    P6, X0, sides = I[0], I[1], I[2]
+    p6fix = P6[p]
+    X = O[OUT_X][p]
+    FA, FP = W[W_FA], W[W_FP]
+    if flags[F_SOLVE]:
+        if X0.shape[0]:
+            for k in range(X.shape[0]):
+                X[k] = X0[p, k]
+        else:
+            Xh = W[W_XB]                  # (scratch: the home vector, read only here)
+            home_vector(unk, xs, p6home, Xh)
+            predict(Z[7], fix, Z[8], Z[9], Z[10][0], p6fix, Xh, X)
+        side = sides[p] if sides.shape[0] else 0.0
+        res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
+                                            fix, fix2, flags[F_CONTINUATION] == 1, W)
+        O[OUT_ITS][p] = its
+        O[OUT_HOW][p] = how
+        O[OUT_SING][p] = sing
+    else:
+        b = 0
+        res = forward(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, 0, W[W_S], W[W_P6])
+    O[OUT_RES][p] = res
+    if not flags[F_ROWS]:
+        return
+    n = M[D].shape[0]
+    fp = FP[b]
+    J, scale = O[OUT_J][p], O[OUT_SCALE][p]
+    mr = J.shape[0]
+    ok = True
+    tw_out = O[OUT_TWISTS]
+    leg = M[LEG]
+    for i in range(n):
+        lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
+        ok = ok and lok
+        O[OUT_STRUCT][p, i] = st
+        a = leg[i, L_AROW]
+        if flags[F_TWISTS] and a >= 0:
+            tw = RW[RW_TW][leg[i, L_ACT]]
+            for q in range(6):
+                tw_out[p, a, q] = tw[q]
+    O[OUT_ROWS_OK][p] = ok
+    centre = O[OUT_CENTRE][p]
+    L = spread(M, FA, b, fp, SW[SW_AP], centre)
+    O[OUT_LENGTH][p] = L
+    normalise_rows(J, mr, centre, L, SW[SW_JN], SW[SW_D])
+    n_act = 0
+    for i in range(n):
+        if leg[i, L_AROW] >= 0:
+            n_act += 1
+    rank, cond, crank, ccond = conditioning(SW[SW_JN], mr, n_act, SW, O[OUT_SV][p])
+    O[OUT_RANK][p], O[OUT_COND][p], O[OUT_CRANK][p], O[OUT_CCOND][p] = rank, cond, crank, ccond
+    if not flags[F_STATICS]:
+        return
+    torque = I[6]
+    comp = SW[SW_COMP]
+    _compliance(I, p, mr, torque, L, comp)
+    mode, sign = statics_prepare(mr, O[OUT_SV][p], comp, SW)
+    Wp = SW[SW_W]
+    o = fp[15:18]
+    workload_about_origin(I[3], I[4], o, Wp)
+    values = O[OUT_VALUES][p]
+    statics_apply(mode, mr, Wp, centre, L, SW, values)
+    O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, SW[SW_D])
+    O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
+    O[OUT_DET][p] = sign
+
+
+@entry
+def run_range(M, Z, I, O, flags, start, stop):
+    """Poses ``start`` to ``stop`` with one workspace."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    nx = O[OUT_X].shape[1]
+    W = make_work(n, m, nx)
+    RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
+    SW = make_statics_work(M[ROWS].shape[0])
+    for p in range(start, stop):
+        run_pose(M, Z, I, O, flags, p, W, RW, SW)
+
+
+@parallel
+def run_parallel(M, Z, I, O, flags, nchunks):
+    """:func:`run_range` over ``nchunks`` equal ranges of the poses, in ``prange``."""
+    N = I[0].shape[0]
+    for c in prange(nchunks):
+        run_range(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)

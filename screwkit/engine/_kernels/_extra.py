@@ -1,0 +1,262 @@
+"""Batch kernels on a solved batch (private): the statics of given Jacobians under one or
+more workloads, the legs' wrenches and ``T_r``, the rows at given unknowns.
+
+``statics_range``/``statics_parallel`` take the Jacobians ``J (N, mr, 6)`` and their
+normalisation (``centre (N, 3)``, ``length (N,)``) and singular values ``sv (N, k)``, the
+workloads ``Wall (N, K, 6)`` about O, the platform centres ``o (N, 3)``, the compliances
+``comp`` (``(N or 1, mr)``, or none: the least-norm default from ``torque (mr,)``), and
+fill ``values (N, K, mr)``, the equilibrium residuals ``eq (N, K)`` and the force
+amplifications ``amp (N, K)``.
+"""
+
+import math
+
+import numpy as np
+from numba import prange
+
+from ._closures import predict
+from ._jit import entry, parallel
+from ._kin import chain, closure_error, joint_twist, platform
+from ._geometry import eval_points, leg_setup
+from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
+from ._newton import home_vector
+from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
+from ._small import lu_factor
+
+from ._statics import (SW_COMP, SW_D, SW_JN, amplification, equilibrium, make_statics_work,
+                       normalise_rows, statics_apply, statics_prepare)
+
+
+@entry
+def statics_range(J, centre, length, sv, comp, torque, Wall, o, values, eq, amp, start, stop):
+    mr = J.shape[1]
+    SW = make_statics_work(mr)
+    cp = SW[SW_COMP]
+    K = Wall.shape[1]
+    for p in range(start, stop):
+        L = length[p]
+        c = centre[p]
+        normalise_rows(J[p], mr, c, L, SW[SW_JN], SW[SW_D])
+        for r in range(mr):
+            if comp.shape[0] == 0:
+                cp[r] = 1.0 / (L * L) if torque[r] else 1.0
+            else:
+                cp[r] = comp[p if comp.shape[0] > 1 else 0, r]
+        mode, _ = statics_prepare(mr, sv[p], cp, SW)
+        for k in range(K):
+            statics_apply(mode, mr, Wall[p, k], c, L, SW, values[p, k])
+            eq[p, k] = equilibrium(J[p], mr, values[p, k], Wall[p, k], c, L, SW[SW_D])
+            amp[p, k] = amplification(values[p, k], mr, torque, Wall[p, k], o[p], L)
+
+
+@parallel
+def statics_parallel(J, centre, length, sv, comp, torque, Wall, o, values, eq, amp, nchunks):
+    N = J.shape[0]
+    for c in prange(nchunks):
+        statics_range(J, centre, length, sv, comp, torque, Wall, o, values, eq, amp,
+                      c * N // nchunks, (c + 1) * N // nchunks)
+
+
+@entry
+def leg_wrenches_range(J, values, row_leg, n_act, A, a, con_w, leg_w, t_r, start, stop):
+    """Each leg's constraint wrench ``con_w (N, K, n, 6)`` and total wrench ``leg_w`` about
+    O (sums of its rows' ``F_r J_r``; ``leg_w`` of size 0: not formed), and ``T_r (N, K,
+    n)``: the moment of the constraint wrench about ``A_i`` along ``(a_i - A_i) / r_i``."""
+    mr = J.shape[1]
+    n = A.shape[0]
+    K = values.shape[1]
+    total = leg_w.shape[0] > 0
+    for p in range(start, stop):
+        for k in range(K):
+            cw = con_w[p, k]
+            for i in range(n):
+                for q in range(6):
+                    cw[i, q] = 0.0
+                    if total:
+                        leg_w[p, k, i, q] = 0.0
+            for r in range(mr):
+                i = row_leg[r]
+                v = values[p, k, r]
+                for q in range(6):
+                    x = v * J[p, r, q]
+                    if r >= n_act:
+                        cw[i, q] += x
+                    if total:
+                        leg_w[p, k, i, q] += x
+            for i in range(n):
+                d0, d1, d2 = a[p, i, 0] - A[i, 0], a[p, i, 1] - A[i, 1], a[p, i, 2] - A[i, 2]
+                nd = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                f0, f1, f2 = cw[i, 0], cw[i, 1], cw[i, 2]
+                m0 = cw[i, 3] - (A[i, 1] * f2 - A[i, 2] * f1)
+                m1 = cw[i, 4] - (A[i, 2] * f0 - A[i, 0] * f2)
+                m2 = cw[i, 5] - (A[i, 0] * f1 - A[i, 1] * f0)
+                t_r[p, k, i] = (m0 * d0 + m1 * d1 + m2 * d2) / nd
+
+
+@parallel
+def leg_wrenches_parallel(J, values, row_leg, n_act, A, a, con_w, leg_w, t_r, nchunks):
+    N = J.shape[0]
+    for c in prange(nchunks):
+        leg_wrenches_range(J, values, row_leg, n_act, A, a, con_w, leg_w, t_r,
+                           c * N // nchunks, (c + 1) * N // nchunks)
+
+
+
+@entry
+def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, stop):
+    """The frames of the unknowns ``X (N, nx)``: every joint's current axis and point
+    ``FAo (N, n, m, 6)``, the platform ``FPo (N, 27)``, the closure residual ``res``; with
+    ``Rso``/``tso`` of N rows the displacement after each slot (padded slots: the leg's end),
+    with ``bars`` of N rows the parallelograms' current bars ``|b| d x R_j h`` (the hinge
+    turned with the link), with ``tw`` of N rows every joint's unit twist ``[v; w]`` about
+    O (zero in padded slots)."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    nu = unk.shape[0]
+    S = np.zeros((6, 3, 3))
+    p6 = np.zeros(6)
+    R = np.zeros((3, 3))
+    t = np.zeros(3)
+    e = np.zeros(6)
+    Rsl = np.zeros((m, 3, 3))
+    tsl = np.zeros((m, 3))
+    slots = Rso.shape[0] > 0 or bars.shape[0] > 0
+    blen, hinge, leg = M[BLEN], M[HINGE], M[LEG]
+    for p in range(start, stop):
+        for k in range(6):
+            p6[k] = P6[p, k]
+        for k in range(nu):
+            p6[unk[k]] = X[p, k] * xs[k]
+        fp = FPo[p]
+        platform(M, p6, fp, S)
+        r = 0.0
+        for i in range(n):
+            size = leg[i, L_SIZE]
+            chain(M, i, X[p], nu + i * m, FAo[p, i], R, t, S[0], S[1], slots, Rsl, tsl)
+            closure_error(M, fp, R, t, e, S)
+            for q in range(6):
+                if not abs(e[q]) <= r:
+                    r = abs(e[q])
+            if tw.shape[0]:
+                for j in range(size):
+                    joint_twist(M, i, j, FAo[p, i], tw[p, i, j])
+            if Rso.shape[0]:
+                for j in range(m):
+                    for a in range(3):
+                        tso[p, i, j, a] = tsl[j, a] if j < size else t[a]
+                        for b in range(3):
+                            Rso[p, i, j, a, b] = Rsl[j, a, b] if j < size else R[a, b]
+            if bars.shape[0]:
+                for j in range(size):
+                    if blen[i, j] > 0.0:
+                        h = hinge[i, j]
+                        hn = np.zeros(3)
+                        for a in range(3):
+                            hn[a] = Rsl[j, a, 0] * h[0] + Rsl[j, a, 1] * h[1] + Rsl[j, a, 2] * h[2]
+                        d = FAo[p, i, j]
+                        bars[p, i, j, 0] = blen[i, j] * (d[1] * hn[2] - d[2] * hn[1])
+                        bars[p, i, j, 1] = blen[i, j] * (d[2] * hn[0] - d[0] * hn[2])
+                        bars[p, i, j, 2] = blen[i, j] * (d[0] * hn[1] - d[1] * hn[0])
+        res[p] = r
+
+
+@parallel
+def frames_parallel(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, nchunks):
+    N = P6.shape[0]
+    for c in prange(nchunks):
+        frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, c * N // nchunks,
+                     (c + 1) * N // nchunks)
+
+
+@entry
+def normalise_batch(J, centre, length, Jn, d):
+    """The rows of ``J (N, m, 6)`` about the centroid, moments over the length, unit
+    (``Jn``), and their norms ``d (N, m)``."""
+    for p in range(J.shape[0]):
+        normalise_rows(J[p], J.shape[1], centre[p], length[p], Jn[p], d[p])
+
+
+@entry
+def amplification_batch(values, torque, W, o, L, out):
+    """The force amplification ``out (N, K)`` of ``values (N, K, m)`` under ``W (N, K, 6)``."""
+    for p in range(values.shape[0]):
+        for k in range(values.shape[1]):
+            out[p, k] = amplification(values[p, k], values.shape[2], torque, W[p, k], o[p], L[p])
+
+
+@entry
+def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
+    """A point of each row's line ``out (N, mr, 3)`` (left NaN where there is none): the
+    row's named point, or for a force without one the point of its line nearest the leg's
+    centroid (``ROWS[:, 2]`` says which)."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    nu = unk.shape[0]
+    rows = M[ROWS]
+    S = np.zeros((6, 3, 3))
+    p6 = np.zeros(6)
+    fp = np.zeros(27)
+    fa = np.zeros((m, 6))
+    R, t = np.zeros((3, 3)), np.zeros(3)
+    RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
+    ctx, tw, pv = RW[RW_CTX], RW[RW_TW], RW[RW_PV]
+    for p in range(start, stop):
+        for k in range(6):
+            p6[k] = P6[p, k]
+        for k in range(nu):
+            p6[unk[k]] = X[p, k] * xs[k]
+        platform(M, p6, fp, S)
+        for r in range(rows.shape[0]):
+            i, code = rows[r, 0], rows[r, 2]
+            if code == -2:
+                continue
+            chain(M, i, X[p], nu + i * m, fa, R, t, S[0], S[1], False, S, S[0])
+            leg_setup(M, i, fa, fp, ctx, tw)
+            if code >= 0:
+                eval_points(M, i, fa, ctx, pv)
+                for q in range(3):
+                    out[p, r, q] = pv[code, q]
+                continue
+            f0, f1, f2 = J[p, r, 0], J[p, r, 1], J[p, r, 2]
+            nf = f0 * f0 + f1 * f1 + f2 * f2
+            if not nf > 0:
+                continue
+            m0, m1, m2 = J[p, r, 3], J[p, r, 4], J[p, r, 5]
+            q0, q1, q2 = (f1 * m2 - f2 * m1) / nf, (f2 * m0 - f0 * m2) / nf, \
+                (f0 * m1 - f1 * m0) / nf
+            s = math.sqrt(nf)
+            d0, d1, d2 = f0 / s, f1 / s, f2 / s
+            c = ctx[2]
+            u = d0 * (c[0] - q0) + d1 * (c[1] - q1) + d2 * (c[2] - q2)
+            out[p, r, 0], out[p, r, 1], out[p, r, 2] = q0 + d0 * u, q1 + d1 * u, q2 + d2 * u
+
+
+@entry
+def predict_batch(Z, P6, out):
+    """The home predictor's starts ``out (N, nx)`` at the given parameters ``P6 (N, 6)``."""
+    Xh = np.zeros(out.shape[1])
+    home_vector(Z[0], Z[1], Z[6], Xh)
+    for p in range(P6.shape[0]):
+        predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6[p], Xh, out[p])
+
+
+@entry
+def equilibrium_batch(J, values, W, centre, length, out):
+    """The equilibrium residuals ``out (N, K)`` of ``values (N, K, m)`` under ``W (N, K, 6)``."""
+    mr = J.shape[1]
+    SW = make_statics_work(mr)
+    for p in range(J.shape[0]):
+        normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
+        for k in range(values.shape[1]):
+            out[p, k] = equilibrium(J[p], mr, values[p, k], W[p, k], centre[p], length[p],
+                                    SW[SW_D])
+
+
+@entry
+def det_sign_batch(J, out):
+    """The signs of ``det J`` of square ``J (N, 6, 6)`` (LU with partial pivoting)."""
+    A = np.zeros((6, 6))
+    piv = np.zeros(6, np.int64)
+    for p in range(J.shape[0]):
+        for r in range(6):
+            for c in range(6):
+                A[r, c] = J[p, r, c]
+        out[p] = lu_factor(A, 6, piv)

@@ -1,0 +1,86 @@
+"""The layout of a flattened model: which array of the kernels' model tuple holds what
+(private; plain Python, shared by the flattening in :mod:`screwkit.engine._flat` and by the
+kernels, which read these names as compile-time constants).
+
+The model tuple ``M`` (every kernel takes it first):
+
+====  ========  =============  ======================================================
+idx   name      dtype, shape   holds
+====  ========  =============  ======================================================
+0     D         f8 (n, m, 3)   home joint axes (world)
+1     P         f8 (n, m, 3)   a point of each home axis
+2     ROT       f8 (n, m)      rotation per unit joint value (1 for R and H, 0 else)
+3     TRA       f8 (n, m)      translation per unit value (1 for P and Pa, pitch for H)
+4     QS        f8 (n, m)      the Newton unknown is ``q / QS`` (``L`` for P and Pa)
+5     TRN       f8 (n, m)      translation per unit unknown over ``L`` (the normalised
+                               twist's)
+6     BAR       f8 (n, m, 3)   home bar vector of a parallelogram Pa (0 elsewhere)
+7     HINGE     f8 (n, m, 3)   its hinge ``b x D / |b|``
+8     BLEN      f8 (n, m)      ``|b|`` (0 where no Pa)
+9     KIND      i8 (n, m)      joint kind: 0 R, 1 P, 2 H, 3 Pa
+10    LEG       i8 (n, 4)      joints, actuated slot, active (1) or passive (0), row of
+                               its actuation row in J (-1 for a passive leg)
+11    PLAT      f8 (28,)       base frame R0 (9, row-major), p0 (3); platform at home
+                               Rh (9), ph (3); the model's centroid c (3) and length L
+12    ORDER     i8 (5,)        Euler axes (3), intrinsic (1/0), proper (1/0)
+13    A         f8 (n, 3)      base points A_i (world)
+14    AP        f8 (n, 3)      platform points a_i (platform frame)
+15    PTS       i8 (n, p, 3)   the leg's named points: (type, i, j), type 0 A, 1 a,
+                               2 joint i, 3 the meeting point of the axes i and j
+16    DIRS      i8 (n, d, 4)   the leg's reference directions (type, a1, a2, negate):
+                               see ``DIR_*``; entries refer to earlier ones only
+17    GRP       i8 (n, g, 6)   constraint member groups: kind (0 couple, 1 force),
+                               named point, dimension, three reference directions
+18    TPL       i8 (n, 8)      row template: generic, k, groups, actuation kind (0 none,
+                               1 line, 2 least-norm), its two points, first constraint
+                               row, references of the generic rule
+19    GREF      i8 (n, k, 2)   the generic rule's reference wrenches: (0 force through A
+                               / 1 couple, direction)
+20    ROWS      i8 (r, 4)      per row of J: leg, kind (0 actuation, 1 force, 2 couple,
+                               3 screw), named point (-1 none), torque effort (1/0)
+====  ========  =============  ======================================================
+
+The pose parametrisation travels beside it (a representation singularity solves with other
+unknowns): ``unk`` (i8, the indices in ``PARAMS`` of the dependent parameters) and ``xs``
+(their scales, ``L`` for lengths).  The unknowns of a pose are ``X = [x (nu); q / QS (n m)]``,
+leg-major: slot ``j`` of leg ``i`` is ``X[nu + i m + j]``.
+"""
+
+D, P, ROT, TRA, QS, TRN, BAR, HINGE, BLEN, KIND, LEG, PLAT, ORDER, A, AP = range(15)
+PTS, DIRS, GRP, TPL, GREF, ROWS = range(15, 21)
+
+# joint kinds
+K_R, K_P, K_H, K_PA = 0, 1, 2, 3
+# LEG columns
+L_SIZE, L_ACT, L_ACTIVE, L_AROW = 0, 1, 2, 3
+# PLAT offsets
+P_R0, P_P0, P_RH, P_PH, P_C, P_L = 0, 9, 12, 21, 24, 27
+# named point types
+PT_A, PT_a, PT_JOINT, PT_MEET = 0, 1, 2, 3
+# reference direction types
+(DIR_LEG, DIR_BASE, DIR_PLATFORM, DIR_BASE_OA, DIR_PLATFORM_OA, DIR_BASE_TANGENT,
+ DIR_PLATFORM_TANGENT, DIR_JOINT, DIR_PERPENDICULAR, DIR_ALONG) = range(10)
+# TPL columns
+T_GENERIC, T_K, T_NG, T_AKIND, T_AP1, T_AP2, T_CROW, T_NGREF = range(8)
+# actuation kinds
+A_NONE, A_LINE, A_LEAST_NORM = 0, 1, 2
+# group kinds, row kinds
+G_COUPLE, G_FORCE = 0, 1
+R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
+
+#: Length-normalised closure residual regarded as converged (success).
+CONVERGED = 1e-10
+#: Largest residual returned as a (poor) solution rather than unreachable.
+ACCEPTED = 1e-6
+#: Residual at which the iteration stops.
+STOP = 1e-12
+#: Relative size below which a null-space test quantity counts as zero.
+ZERO = 1e-8
+#: Smallest |cosine| (or Gram-Schmidt remainder) of a reference direction chosen at home.
+REF_MIN = 0.2
+#: Below this |cosine| (remainder) at a pose the basis is flagged as ill-defined there.
+REF_FLAG = 1e-3
+#: Relative threshold on singular values below which a direction counts as lost.
+RANK_RTOL = 1e-8
+#: Above this condition number the statics is solved by the pseudo-inverse.
+REFINE = 1e3

@@ -1,0 +1,122 @@
+"""The home decisions of a leg's row template, by the kernels' own functions (private).
+
+Each function takes a one-leg model at its reference geometry (``M``, with the candidate
+reference directions in ``DIRS`` and the named points in ``PTS``) and the platform frame
+``fp`` there, and evaluates the leg at home (joint values 0) exactly as the row kernels do
+at any pose:
+
+* :func:`home_groups`: whether each group's rows leave a null space of its dimension, and
+  the first candidate directions (in order) that give it a clear basis (each with a
+  remainder of at least ``REF_MIN``);
+* :func:`home_generic`: the generic rule's reference wrenches: forces through ``A``, then
+  couples, along the first candidates that keep a clear projection on the constraint
+  system;
+* :func:`home_least_norm`: the least-norm actuation member at home.
+"""
+
+import math
+
+import numpy as np
+
+from ._geometry import eval_directions, eval_points, group_rows, leg_setup, null_space
+from ._jit import entry, inner
+from ._kin import chain
+from ._layout import D, DIRS, GREF, PTS, REF_MIN, TPL, T_K
+from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_TW, RW_VEC, generic_members,
+                    least_norm_member, make_rows_work)
+
+
+@inner
+def _home(M, fp):
+    """The leg at home: its frames and the rows workspace with its context, twists, named
+    points and directions."""
+    m = M[D].shape[1]
+    RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
+    fa = np.zeros((m, 6))
+    X = np.zeros(m)
+    R, t, E, T2 = np.zeros((3, 3)), np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3))
+    chain(M, 0, X, 0, fa, R, t, E, T2, False, np.zeros((1, 3, 3)), np.zeros((1, 3)))
+    leg_setup(M, 0, fa, fp, RW[RW_CTX], RW[RW_TW])
+    eval_points(M, 0, fa, RW[RW_CTX], RW[RW_PV])
+    eval_directions(M, 0, fa, fp, RW[RW_CTX], RW[RW_DV])
+    return fa, RW
+
+
+@entry
+def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
+    """Per group: ``ok[g]`` its null space has dimension ``gdim[g]`` at home;
+    ``chosen[g, :dim]`` the first candidates (rows of ``DIRS``) of a clear basis (-1: none)."""
+    fa, RW = _home(M, fp)
+    rows, vec, dv = RW[RW_NR], RW[RW_VEC], RW[RW_DV]
+    basis = np.zeros((3, 3))
+    for g in range(gkind.shape[0]):
+        dim = gdim[g]
+        cnt = group_rows(M, 0, gkind[g] == 0, RW[RW_PV][gpoint[g]], fa, RW[RW_TW], RW[RW_CTX],
+                         rows)
+        ok[g] = null_space(rows, cnt, dim, vec)
+        k = 0
+        for c in cand:
+            if k == dim:
+                break
+            d = dv[c]
+            nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            if not (math.isfinite(nd) and nd > 0.5):
+                continue
+            if dim == 1:
+                rem = abs(vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2])
+                p0 = p1 = p2 = 0.0
+            else:
+                p0, p1, p2 = d[0], d[1], d[2]
+                if dim == 2:
+                    s = vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
+                    p0, p1, p2 = p0 - vec[0] * s, p1 - vec[1] * s, p2 - vec[2] * s
+                for e in range(k):
+                    s = basis[e, 0] * p0 + basis[e, 1] * p1 + basis[e, 2] * p2
+                    p0, p1, p2 = p0 - basis[e, 0] * s, p1 - basis[e, 1] * s, p2 - basis[e, 2] * s
+                rem = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+            if rem >= REF_MIN:
+                chosen[g, k] = c
+                if dim > 1:
+                    basis[k, 0], basis[k, 1], basis[k, 2] = p0 / rem, p1 / rem, p2 / rem
+                k += 1
+
+
+@entry
+def home_generic(M, fp, k, cand, out):
+    """The generic rule's ``k`` reference wrenches: ``out[r] = (0 force through A / 1
+    couple, row of DIRS)``, forces first, each the first candidate whose projection on the
+    constraint system keeps a remainder of at least ``REF_MIN`` (-1: none found)."""
+    fa, RW = _home(M, fp)
+    tpl, gref = M[TPL][0], M[GREF][0]
+    tpl[T_K] = k
+    cons = np.zeros((6, 6))
+    n = 0
+    for kind in range(2):
+        for c in cand:
+            if n == k:
+                return
+            gref[n, 0], gref[n, 1] = kind, c
+            worst = _generic_remainder(M, RW, n + 1, cons)
+            if worst >= REF_MIN:
+                out[n, 0], out[n, 1] = kind, c
+                n += 1
+
+
+@inner
+def _generic_remainder(M, RW, count, cons):
+    """The remainder of the last of the first ``count`` reference wrenches (``GREF``)
+    projected on the constraint system at home, after the others."""
+    tpl = M[TPL][0]
+    k = tpl[T_K]
+    tpl[T_K] = count
+    generic_members(M, 0, RW, cons)
+    tpl[T_K] = k
+    return RW[RW_REM][count - 1]
+
+
+@entry
+def home_least_norm(M, fp, member):
+    """The least-norm actuation member of the leg at home (``member (6,)``); returns
+    whether it is defined."""
+    _, RW = _home(M, fp)
+    return least_norm_member(M, 0, RW, member)

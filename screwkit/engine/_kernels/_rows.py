@@ -1,0 +1,322 @@
+"""Each leg's rows of the unified Jacobian at one pose, compiled (private).
+
+What the rows are was decided once per leg at home (:mod:`screwkit.engine._templates`,
+encoded in ``GRP``, ``TPL``, ``GREF``): groups of pure couples and of forces through named
+points, recomputed here exactly as null spaces of the current joint axes and given their
+canonical bases from the reference directions; or the generic rule (the constraint system
+by SVD of the length-normalised joint twists, a basis from projected reference wrenches),
+which also takes over at a pose where a group's structure does not hold.  The actuation
+row is the force on the line through two named points, or the least-norm wrench reciprocal
+to the passive joints, scaled so that its reciprocal product with the actuated joint's unit
+twist is 1.
+
+The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.
+"""
+
+import math
+
+import numpy as np
+from ._jit import inner
+
+from ._geometry import (canonical_basis, eval_directions, eval_points, group_rows,
+                        is_prismatic, leg_setup, null_space)
+from ._layout import (A_LINE, A_NONE, GRP, GREF, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE,
+                      REF_FLAG, T_AKIND, T_AP1, T_AP2, T_CROW, T_GENERIC, T_K, T_NG, TPL,
+                      ZERO)
+from ._small import cholesky_solve, jacobi_rows
+
+(RW_CTX, RW_TW, RW_PV, RW_DV, RW_NR, RW_BASIS, RW_CONS, RW_TN, RW_REF, RW_G, RW_RHS,
+ RW_VEC, RW_NRM, RW_TOP, RW_REM) = range(15)
+
+
+@inner
+def make_rows_work(m, npts, ndirs):
+    """A thread's rows workspace for legs of up to ``m`` joints."""
+    return (np.zeros((4, 3)), np.zeros((m, 6)), np.zeros((max(npts, 1), 3)),
+            np.zeros((max(ndirs, 1), 3)), np.zeros((m, 3)), np.zeros((3, 3)),
+            np.zeros((6, 6)), np.zeros((max(m, 1), 6)), np.zeros((6, 6)),
+            np.zeros((m, m)), np.zeros((m, 1)), np.zeros(12), np.zeros(max(m, 1)),
+            np.zeros(max(m, 1), np.int64), np.zeros(6))
+
+
+@inner
+def _normalise_wrench(f0, f1, f2, m0, m1, m2, c, L, out):
+    out[0], out[1], out[2] = f0, f1, f2
+    out[3] = (m0 - (c[1] * f2 - c[2] * f1)) / L
+    out[4] = (m1 - (c[2] * f0 - c[0] * f2)) / L
+    out[5] = (m2 - (c[0] * f1 - c[1] * f0)) / L
+
+
+@inner
+def _normalise_twist(t, c, L, out):
+    """``[(v - c x w) / L; w]``: a twist about the centroid ``c``, length-normalised."""
+    out[0] = (t[0] - (c[1] * t[5] - c[2] * t[4])) / L
+    out[1] = (t[1] - (c[2] * t[3] - c[0] * t[5])) / L
+    out[2] = (t[2] - (c[0] * t[4] - c[1] * t[3])) / L
+    out[3], out[4], out[5] = t[3], t[4], t[5]
+
+
+@inner
+def generic_members(M, i, RW, cons):
+    """The leg's constraint members by the generic rule into ``cons[:k]`` (physical, a unit
+    force or couple each); returns False where they are not well defined."""
+    ctx, tw, dv, Tn, Rf = RW[RW_CTX], RW[RW_TW], RW[RW_DV], RW[RW_TN], RW[RW_REF]
+    size = M[LEG][i, L_SIZE]
+    k = M[TPL][i, T_K]
+    c, L = ctx[2], ctx[3, 0]
+    for j in range(size):
+        t = tw[j]
+        _normalise_twist(t, c, L, Tn[j])
+        s = 0.0
+        for q in range(6):
+            s += Tn[j, q] * Tn[j, q]
+        s = max(math.sqrt(s), 1e-300)
+        for q in range(6):
+            Tn[j, q] /= s
+    # the row space of the twists by one-sided Jacobi: rows orthogonal, norms the singular
+    # values; the constraint space is its orthogonal complement (rank 6 - k)
+    jacobi_rows(Tn, size, Tn, False)
+    nrm, top = RW[RW_NRM], RW[RW_TOP]
+    for j in range(size):
+        s = 0.0
+        for q in range(6):
+            s += Tn[j, q] * Tn[j, q]
+        nrm[j] = math.sqrt(s)
+    rank = 6 - k
+    ns = min(size, 6)
+    # the singular values in descending order (indices into the rows)
+    for q in range(size):
+        top[q] = q
+    for q in range(size):
+        for r in range(q + 1, size):
+            if nrm[top[r]] > nrm[top[q]]:
+                top[q], top[r] = top[r], top[q]
+    ok = True
+    tol = 1e-8 * max(1.0, nrm[top[0]] if size else 0.0)
+    if rank > 0:
+        ok = ok and rank <= size and nrm[top[rank - 1]] > tol
+    if ns > rank:
+        ok = ok and nrm[top[rank]] <= tol
+    A = ctx[0]
+    gref = M[GREF][i]
+    worst = math.inf
+    for r in range(k):
+        d = dv[gref[r, 1]]
+        if gref[r, 0] == 0:           # a unit force along d through A
+            _normalise_wrench(d[0], d[1], d[2], A[1] * d[2] - A[2] * d[1],
+                              A[2] * d[0] - A[0] * d[2], A[0] * d[1] - A[1] * d[0], c, L, Rf[r])
+        else:                         # a unit couple along d
+            _normalise_wrench(0.0, 0.0, 0.0, d[0], d[1], d[2], c, L, Rf[r])
+        nr = 0.0
+        for q in range(6):
+            nr += Rf[r, q] * Rf[r, q]
+        nr = max(math.sqrt(nr), 1e-300)
+        # projected on the constraint space (out of the twists' row space), Gram-Schmidt
+        p = RW[RW_VEC]
+        for q in range(6):
+            p[q] = Rf[r, q] / nr
+        for b in range(min(rank, size)):
+            u = Tn[top[b]]
+            nu2 = nrm[top[b]] * nrm[top[b]]
+            if nu2 <= 0.0:
+                continue
+            s = 0.0
+            for q in range(6):
+                s += u[q] * p[q]
+            s /= nu2
+            for q in range(6):
+                p[q] -= u[q] * s
+        for e in range(r):
+            s = 0.0
+            for q in range(6):
+                s += cons[e, q] * p[q]
+            for q in range(6):
+                p[q] -= cons[e, q] * s
+        rem = 0.0
+        for q in range(6):
+            rem += p[q] * p[q]
+        rem = math.sqrt(rem)
+        RW[RW_REM][r] = rem
+        worst = min(worst, rem)
+        for q in range(6):
+            cons[r, q] = p[q] / max(rem, 1e-300)
+    ok = ok and worst > REF_FLAG
+    for r in range(k):                # back to physical wrenches, unit force or couple
+        f0, f1, f2 = cons[r, 0], cons[r, 1], cons[r, 2]
+        m0 = cons[r, 3] * L + (c[1] * f2 - c[2] * f1)
+        m1 = cons[r, 4] * L + (c[2] * f0 - c[0] * f2)
+        m2 = cons[r, 5] * L + (c[0] * f1 - c[1] * f0)
+        nf = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+        nw = 0.0
+        for q in range(6):
+            nw += cons[r, q] * cons[r, q]
+        if nf <= 1e-9 * math.sqrt(nw):
+            s = max(math.sqrt(m0 * m0 + m1 * m1 + m2 * m2), 1e-300)
+        else:
+            s = nf
+        cons[r, 0], cons[r, 1], cons[r, 2] = f0 / s, f1 / s, f2 / s
+        cons[r, 3], cons[r, 4], cons[r, 5] = m0 / s, m1 / s, m2 / s
+    return ok
+
+
+@inner
+def group_members(M, i, RW, fa, cons):
+    """The leg's constraint members group by group into ``cons[:k]``; returns False where
+    a group's structure or basis does not hold."""
+    ctx, tw, pv, dv = RW[RW_CTX], RW[RW_TW], RW[RW_PV], RW[RW_DV]
+    rows, basis, vec = RW[RW_NR], RW[RW_BASIS], RW[RW_VEC]
+    grp = M[GRP][i]
+    ok = True
+    r = 0
+    for g in range(M[TPL][i, T_NG]):
+        couple = grp[g, 0] == G_COUPLE
+        dim = grp[g, 2]
+        X = pv[grp[g, 1]]
+        cnt = group_rows(M, i, couple, X, fa, tw, ctx, rows)
+        ok = null_space(rows, cnt, dim, vec) and ok
+        rem = canonical_basis(dim, vec, grp[g, 3:6], dv, basis)
+        ok = ok and rem > REF_FLAG
+        for q in range(dim):
+            e0, e1, e2 = basis[q, 0], basis[q, 1], basis[q, 2]
+            if couple:
+                cons[r, 0], cons[r, 1], cons[r, 2] = 0.0, 0.0, 0.0
+                cons[r, 3], cons[r, 4], cons[r, 5] = e0, e1, e2
+            else:
+                cons[r, 0], cons[r, 1], cons[r, 2] = e0, e1, e2
+                cons[r, 3] = X[1] * e2 - X[2] * e1
+                cons[r, 4] = X[2] * e0 - X[0] * e2
+                cons[r, 5] = X[0] * e1 - X[1] * e0
+            r += 1
+    return ok
+
+
+@inner
+def least_norm_member(M, i, RW, member):
+    """The actuated twist projected (length-normalised metric about the leg's centroid) on
+    the wrenches reciprocal to the passive joints: the least-norm actuation wrench, a unit
+    force (``member (6,)``, physical).  Returns False where it is not defined."""
+    ctx, tw, Tn, G, rhs = RW[RW_CTX], RW[RW_TW], RW[RW_TN], RW[RW_G], RW[RW_RHS]
+    vec = RW[RW_VEC]
+    size, act = M[LEG][i, L_SIZE], M[LEG][i, L_ACT]
+    c, L = ctx[2], ctx[3, 0]
+    # vec[0:6]: the normalised actuated twist; Tn: the passive ones
+    npas = 0
+    for j in range(size):
+        if j != act:
+            _normalise_twist(tw[j], c, L, Tn[npas])
+            npas += 1
+    _normalise_twist(tw[act], c, L, vec)
+    tr = 0.0
+    for a in range(npas):
+        for b in range(a + 1):
+            s = 0.0
+            for q in range(6):
+                s += Tn[a, q] * Tn[b, q]
+            G[a, b] = s
+        tr += G[a, a]
+        s = 0.0
+        for q in range(6):
+            s += Tn[a, q] * vec[q]
+        rhs[a, 0] = s
+    cholesky_solve(G, npas, rhs, 1, tr * 1e-13)
+    for q in range(6):
+        s = vec[q]
+        for a in range(npas):
+            s -= Tn[a, q] * rhs[a, 0]
+        vec[6 + q] = s
+    f0, f1, f2 = vec[6], vec[7], vec[8]
+    m0 = vec[9] * L + (c[1] * f2 - c[2] * f1)
+    m1 = vec[10] * L + (c[2] * f0 - c[0] * f2)
+    m2 = vec[11] * L + (c[0] * f1 - c[1] * f0)
+    nf = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+    nw = 0.0
+    for q in range(6, 12):
+        nw += vec[q] * vec[q]
+    s = max(nf, 1e-300)
+    member[0], member[1], member[2] = f0 / s, f1 / s, f2 / s
+    member[3], member[4], member[5] = m0 / s, m1 / s, m2 / s
+    return nf > 1e-9 * math.sqrt(nw)
+
+
+@inner
+def actuation_row(M, i, RW, row):
+    """The actuation row of leg ``i`` into ``row (6,)`` (``[f; m]`` about O, reciprocal
+    product 1 with the actuated joint's unit twist).  Returns ``(scale, ok)``: ``row =
+    scale * unit member``."""
+    tpl, kind = M[TPL][i], M[KIND]
+    ctx, tw, pv = RW[RW_CTX], RW[RW_TW], RW[RW_PV]
+    size, act = M[LEG][i, L_SIZE], M[LEG][i, L_ACT]
+    L = ctx[3, 0]
+    if tpl[T_AKIND] == A_NONE:
+        for q in range(6):
+            row[q] = 0.0
+        return 0.0, False
+    if tpl[T_AKIND] == A_LINE:
+        X, Y = pv[tpl[T_AP1]], pv[tpl[T_AP2]]
+        d0, d1, d2 = Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]
+        nd = max(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300)
+        d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
+        row[0], row[1], row[2] = d0, d1, d2
+        row[3] = X[1] * d2 - X[2] * d1
+        row[4] = X[2] * d0 - X[0] * d2
+        row[5] = X[0] * d1 - X[1] * d0
+        # every passive joint leaves X's velocity normal to the line (a structural choice)
+        res = 0.0
+        for j in range(size):
+            if j == act:
+                continue
+            t = tw[j]
+            v0 = t[0] - (X[1] * t[5] - X[2] * t[4])
+            v1 = t[1] - (X[2] * t[3] - X[0] * t[5])
+            v2 = t[2] - (X[0] * t[4] - X[1] * t[3])
+            f = 1.0 if is_prismatic(kind[i, j]) else L
+            res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) / f)
+        ok = res < ZERO
+    else:
+        ok = least_norm_member(M, i, RW, row)
+    t = tw[act]
+    prod = 0.0
+    for q in range(6):
+        prod += row[q] * t[q]
+    size_a = 1.0 if is_prismatic(kind[i, act]) else L
+    dependent = abs(prod) <= 1e-9 * max(size_a, 1e-300)
+    scale = 0.0 if dependent else 1.0 / abs(prod)
+    sg = -1.0 if prod < 0 else 1.0
+    for q in range(6):
+        row[q] *= sg * scale
+    return scale, ok and not dependent
+
+
+@inner
+def leg_rows(M, i, RW, fa, fp, J, scale):
+    """Leg ``i``'s rows into ``J (rows, 6)`` and ``scale``: its actuation row at its index
+    (active legs) and its constraint rows from ``TPL[i, T_CROW]``.  Returns ``(ok,
+    structure_ok)``."""
+    tpl = M[TPL][i]
+    ctx, tw = RW[RW_CTX], RW[RW_TW]
+    leg_setup(M, i, fa, fp, ctx, tw)
+    eval_points(M, i, fa, ctx, RW[RW_PV])
+    eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
+    cons = RW[RW_CONS]
+    k = tpl[T_K]
+    ok = True
+    structure = True
+    if tpl[T_GENERIC]:
+        ok = generic_members(M, i, RW, cons)
+    elif k:
+        ok = group_members(M, i, RW, fa, cons)
+        structure = ok
+        if not ok:            # the structure of home does not hold here: the generic rule
+            ok = generic_members(M, i, RW, cons)
+    r0 = tpl[T_CROW]
+    for r in range(k):
+        scale[r0 + r] = 1.0
+        for q in range(6):
+            J[r0 + r, q] = cons[r, q]
+    arow = M[LEG][i, L_AROW]
+    if arow >= 0:
+        s, aok = actuation_row(M, i, RW, J[arow])
+        scale[arow] = s
+        ok = ok and aok
+    return ok, structure
+

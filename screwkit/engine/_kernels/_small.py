@@ -1,0 +1,234 @@
+"""Small dense linear algebra for one pose, compiled (private).
+
+3-vectors and 3x3 matrices are written out component by component (no temporaries), and
+the few small systems of a pose (a leg's Gram matrix, the reduced Newton system, the 6x6
+statics) are solved by the textbook algorithms below: Cholesky with a floor on the pivots,
+LU with partial pivoting, and one-sided Jacobi for singular values (high relative accuracy,
+so the condition number keeps its digits up to the singular threshold without a second
+method).
+"""
+
+import math
+
+import numpy as np
+from ._jit import inner
+
+#: Largest one-sided Jacobi sweeps (6x6 converges in 5 to 7).
+JACOBI_SWEEPS = 30
+#: Two rows count as orthogonal when their cosine is below this.
+JACOBI_TOL = 1e-15
+
+
+@inner
+def cross_to(a0, a1, a2, b0, b1, b2, out, k):
+    out[k] = a1 * b2 - a2 * b1
+    out[k + 1] = a2 * b0 - a0 * b2
+    out[k + 2] = a0 * b1 - a1 * b0
+
+
+@inner
+def matmul3(A, B, C):
+    """``C = A @ B`` for 3x3 arrays (``C`` distinct from both)."""
+    for i in range(3):
+        a0, a1, a2 = A[i, 0], A[i, 1], A[i, 2]
+        for j in range(3):
+            C[i, j] = a0 * B[0, j] + a1 * B[1, j] + a2 * B[2, j]
+
+
+@inner
+def rodrigues(d0, d1, d2, angle, R):
+    """``R = c I + s [d]x + (1 - c) d d^T``: the rotation by ``angle`` about the unit axis
+    ``d``."""
+    c, s = math.cos(angle), math.sin(angle)
+    v = 1.0 - c
+    R[0, 0] = d0 * d0 * v + c
+    R[1, 1] = d1 * d1 * v + c
+    R[2, 2] = d2 * d2 * v + c
+    sym, skew = d0 * d1 * v, d2 * s
+    R[0, 1] = sym - skew
+    R[1, 0] = sym + skew
+    sym, skew = d1 * d2 * v, d0 * s
+    R[1, 2] = sym - skew
+    R[2, 1] = sym + skew
+    sym, skew = d2 * d0 * v, d1 * s
+    R[2, 0] = sym - skew
+    R[0, 2] = sym + skew
+
+
+@inner
+def rotation_vector(R, out, k):
+    """The rotation vector of ``R`` (angle in [0, pi]) into ``out[k:k + 3]``."""
+    w0 = 0.5 * (R[2, 1] - R[1, 2])
+    w1 = 0.5 * (R[0, 2] - R[2, 0])
+    w2 = 0.5 * (R[1, 0] - R[0, 1])
+    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
+    s = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    if c < -0.9:
+        # near pi the antisymmetric part vanishes: the axis from the symmetric part
+        kk = 0
+        best = R[0, 0] - c
+        for q in (1, 2):
+            if R[q, q] - c > best:
+                best, kk = R[q, q] - c, q
+        x0 = 0.5 * (R[0, kk] + R[kk, 0])
+        x1 = 0.5 * (R[1, kk] + R[kk, 1])
+        x2 = 0.5 * (R[2, kk] + R[kk, 2])
+        if kk == 0:
+            x0 -= c
+        elif kk == 1:
+            x1 -= c
+        else:
+            x2 -= c
+        nx = max(math.sqrt(x0 * x0 + x1 * x1 + x2 * x2), 1e-300)
+        sign = -1.0 if x0 * w0 + x1 * w1 + x2 * w2 < 0 else 1.0
+        f = sign * math.atan2(s, c) / nx
+        out[k], out[k + 1], out[k + 2] = x0 * f, x1 * f, x2 * f
+        return
+    f = 1.0 if s <= 1e-12 else math.atan2(s, c) / s
+    out[k], out[k + 1], out[k + 2] = w0 * f, w1 * f, w2 * f
+
+
+@inner
+def cholesky_solve(G, n, B, nb, shift):
+    """Solve ``(G + shift I) X = B`` in place (``B (>= n, >= nb)`` becomes ``X``) for the
+    leading ``n x n`` block of a symmetric positive (semi-)definite ``G`` (lower triangle
+    used and overwritten by the factor); pivots floored at 1e-300 (Tikhonov-regularised
+    systems: the least-norm solution)."""
+    for j in range(n):
+        s = G[j, j] + shift
+        for k in range(j):
+            s -= G[j, k] * G[j, k]
+        inv = 1.0 / math.sqrt(max(s, 1e-300))
+        G[j, j] = inv                                   # the inverse pivot, kept
+        for i in range(j + 1, n):
+            s = G[i, j]
+            for k in range(j):
+                s -= G[i, k] * G[j, k]
+            G[i, j] = s * inv
+    for c in range(nb):
+        for i in range(n):
+            s = B[i, c]
+            for k in range(i):
+                s -= G[i, k] * B[k, c]
+            B[i, c] = s * G[i, i]
+        for i in range(n - 1, -1, -1):
+            s = B[i, c]
+            for k in range(i + 1, n):
+                s -= G[k, i] * B[k, c]
+            B[i, c] = s * G[i, i]
+
+
+@inner
+def lu_factor(A, n, piv):
+    """LU factors of ``A[:n, :n]`` in place, with partial pivoting (rows swapped as
+    ``piv`` says); returns the sign of ``det A`` (0 for an exactly singular ``A``)."""
+    sign = 1.0
+    for j in range(n):
+        p = j
+        big = abs(A[j, j])
+        for i in range(j + 1, n):
+            if abs(A[i, j]) > big:
+                big, p = abs(A[i, j]), i
+        piv[j] = p
+        if p != j:
+            sign = -sign
+            for k in range(n):
+                A[j, k], A[p, k] = A[p, k], A[j, k]
+        if A[j, j] == 0.0:
+            return 0.0
+        if A[j, j] < 0.0:
+            sign = -sign
+        inv = 1.0 / A[j, j]
+        for i in range(j + 1, n):
+            f = A[i, j] * inv
+            A[i, j] = f
+            for k in range(j + 1, n):
+                A[i, k] -= f * A[j, k]
+    return sign
+
+
+@inner
+def lu_apply(A, n, piv, b):
+    """Solve ``A x = b`` in place with the factors of :func:`lu_factor`."""
+    for j in range(n):                  # the row interchanges, in order (whole rows)
+        p = piv[j]
+        if p != j:
+            b[j], b[p] = b[p], b[j]
+    for i in range(1, n):
+        s = b[i]
+        for k in range(i):
+            s -= A[i, k] * b[k]
+        b[i] = s
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for k in range(i + 1, n):
+            s -= A[i, k] * b[k]
+        b[i] = s / A[i, i]
+
+
+@inner
+def jacobi_rows(U, m, V, want_v):
+    """One-sided Jacobi on the ``m`` rows of ``U (m, 6)``: rotates them (in place) until
+    they are mutually orthogonal; their norms are then the singular values.  With
+    ``want_v`` the rotations are accumulated in ``V (m, m)`` (``U_final = V^T U``).
+    Returns the number of sweeps."""
+    if want_v:
+        for i in range(m):
+            for j in range(m):
+                V[i, j] = 1.0 if i == j else 0.0
+    for sweep in range(JACOBI_SWEEPS):
+        rotated = False
+        for i in range(m - 1):
+            for j in range(i + 1, m):
+                a = 0.0
+                b = 0.0
+                g = 0.0
+                for k in range(6):
+                    a += U[i, k] * U[i, k]
+                    b += U[j, k] * U[j, k]
+                    g += U[i, k] * U[j, k]
+                if g == 0.0 or abs(g) <= JACOBI_TOL * math.sqrt(a * b):
+                    continue
+                rotated = True
+                zeta = (b - a) / (2.0 * g)
+                t = (1.0 if zeta >= 0 else -1.0) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
+                c = 1.0 / math.sqrt(1.0 + t * t)
+                s = c * t
+                for k in range(6):
+                    x, y = U[i, k], U[j, k]
+                    U[i, k] = c * x - s * y
+                    U[j, k] = s * x + c * y
+                if want_v:
+                    for k in range(m):
+                        x, y = V[k, i], V[k, j]
+                        V[k, i] = c * x - s * y
+                        V[k, j] = s * x + c * y
+        if not rotated:
+            return sweep + 1
+    return JACOBI_SWEEPS
+
+
+@inner
+def singular_values(J, m, U, s, k):
+    """The ``k = min(m, 6)`` largest singular values of ``J[:m] (m, 6)``, descending, into
+    ``s[:k]`` (``U (>= m, 6)`` scratch)."""
+    for i in range(m):
+        for c in range(6):
+            U[i, c] = J[i, c]
+    jacobi_rows(U, m, U, False)
+    for i in range(m):
+        t = 0.0
+        for c in range(6):
+            t += U[i, c] * U[i, c]
+        U[i, 0] = math.sqrt(t)
+    # the k largest norms, descending (m <= a few dozen: a selection)
+    for q in range(k):
+        best = -1.0
+        bi = 0
+        for i in range(m):
+            if U[i, 0] > best:
+                best, bi = U[i, 0], i
+        s[q] = best
+        U[bi, 0] = -2.0
+    for q in range(k, s.shape[0]):
+        s[q] = np.nan

@@ -1,0 +1,277 @@
+"""Conditioning and statics of one pose's Jacobian, compiled (private).
+
+Rows ``[f; m]`` (moments about the base origin) are moved to the centroid ``c`` of the
+legs' points and ``o``, their moments divided by the characteristic length ``L`` (the RMS
+distance of those points from ``c``) and scaled to unit norm: ``Jn``, unit-free and
+frame-free.  Its singular values come from one-sided Jacobi; the condition number is
+``s_1 / s_6``.  The statics solves ``J^T F_r = -W``: by LU for a square ``Jn``; with more
+rows (statically indeterminate) the solution minimising ``sum_k c_k F_k^2`` (compliances
+``c``: ``1`` for forces and linear actuators, ``1 / L^2`` for couples and rotary actuators by
+default: ``sum F^2 + sum (C / L)^2`` minimal), through the normal equations; where the
+condition exceeds ``REFINE``, by the pseudo-inverse.
+
+The statics workspace ``SW`` of a thread: see :func:`make_statics_work`.
+"""
+
+import math
+
+import numpy as np
+from ._jit import inner
+
+from ._kin import platform_points
+from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
+from ._small import jacobi_rows, lu_factor, lu_apply, singular_values
+
+(SW_JN, SW_D, SW_U, SW_V, SW_SV, SW_SC, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN,
+ SW_AP, SW_Z, SW_W, SW_COMP) = range(16)
+#: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
+MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
+
+
+@inner
+def make_statics_work(mr):
+    """A thread's statics workspace for ``mr`` rows."""
+    r = max(mr, 6)
+    return (np.zeros((r, 6)), np.zeros(r), np.zeros((r, 6)), np.zeros((r, r)), np.zeros(6),
+            np.zeros(6), np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(r),
+            np.zeros((r, 6)), np.zeros(r), np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6),
+            np.zeros(r))
+
+
+@inner
+def spread(M, FA, b, fp, ap, centre):
+    """Centroid (into ``centre (3,)``) and RMS spread of every leg's points (``A``, ``a``,
+    the joint points) and ``o``: the normalisation of the rank decisions; returns ``L``."""
+    Am, leg = M[A], M[LEG]
+    n = M[D].shape[0]
+    s0 = s1 = s2 = q = big = 0.0
+    k = 0
+    for i in range(n + 1):
+        for j in range(-2, leg[i, L_SIZE] if i < n else -1):
+            if i == n:
+                x0, x1, x2 = fp[15], fp[16], fp[17]
+            elif j == -2:
+                x0, x1, x2 = Am[i, 0], Am[i, 1], Am[i, 2]
+            elif j == -1:
+                platform_points(M, fp, i, ap)
+                x0, x1, x2 = ap[0], ap[1], ap[2]
+            else:
+                f = FA[b, i, j]
+                x0, x1, x2 = f[3], f[4], f[5]
+            s0 += x0
+            s1 += x1
+            s2 += x2
+            q += x0 * x0 + x1 * x1 + x2 * x2
+            big = max(big, abs(x0), abs(x1), abs(x2))
+            k += 1
+    s0, s1, s2 = s0 / k, s1 / k, s2 / k
+    centre[0], centre[1], centre[2] = s0, s1, s2
+    L = math.sqrt(max(q / k - (s0 * s0 + s1 * s1 + s2 * s2), 0.0))
+    if L <= 1e-12 * big:
+        L = big
+    return L if L > 0 else 1.0
+
+
+@inner
+def normalise_rows(J, mr, c, L, Jn, d):
+    """``Jn[:mr]``: the rows about ``c``, moments over ``L``, unit; ``d`` their norms."""
+    for r in range(mr):
+        f0, f1, f2 = J[r, 0], J[r, 1], J[r, 2]
+        Jn[r, 0], Jn[r, 1], Jn[r, 2] = f0, f1, f2
+        Jn[r, 3] = (J[r, 3] - (c[1] * f2 - c[2] * f1)) / L
+        Jn[r, 4] = (J[r, 4] - (c[2] * f0 - c[0] * f2)) / L
+        Jn[r, 5] = (J[r, 5] - (c[0] * f1 - c[1] * f0)) / L
+        s = 0.0
+        for q in range(6):
+            s += Jn[r, q] * Jn[r, q]
+        s = math.sqrt(s)
+        s = s if s > 0 else 1.0
+        d[r] = s
+        for q in range(6):
+            Jn[r, q] /= s
+
+
+@inner
+def conditioning(Jn, mr, n_act, SW, sv):
+    """Singular values of ``Jn[:mr]`` into ``sv[:min(mr, 6)]`` (NaN beyond; all NaN for a
+    non-finite ``Jn``); returns ``(rank, condition, constraint rank, constraint
+    condition)``."""
+    U, sc = SW[SW_U], SW[SW_SC]
+    k = min(mr, 6)
+    finite = True
+    for r in range(mr):
+        for q in range(6):
+            if not math.isfinite(Jn[r, q]):
+                finite = False
+    if not finite:
+        for q in range(sv.shape[0]):
+            sv[q] = math.nan
+        return 0, math.nan, 0, math.nan
+    singular_values(Jn, mr, U, sv, k)
+    top = max(sv[0], 1e-300) if k else 1.0
+    rank = 0
+    for q in range(k):
+        if sv[q] > RANK_RTOL * top:
+            rank += 1
+    cond = math.inf
+    if k >= 6 and sv[5] > 0:
+        cond = sv[0] / sv[5]
+    mc = mr - n_act
+    kk = max(0, 6 - n_act)
+    c_rank = 0
+    c_cond = 1.0 if kk == 0 else math.inf
+    if mc > 0:
+        kc = min(mc, 6)
+        singular_values(Jn[n_act:], mc, U, sc, kc)
+        ctop = max(sc[0], 1e-300)
+        for q in range(kc):
+            if sc[q] > RANK_RTOL * ctop:
+                c_rank += 1
+        if kk > 0 and kc >= kk and sc[kk - 1] > 0:
+            c_cond = sc[0] / sc[kk - 1]
+    return rank, cond, c_rank, c_cond
+
+
+@inner
+def statics_prepare(mr, sv, comp, SW):
+    """Factor the statics of the pose in ``SW`` (``Jn``, ``d`` set; ``comp (mr,)`` the
+    compliances); returns ``(mode, det_sign)`` (the sign of ``det J`` for a square ``J``)."""
+    Jn, d, Jw, g, LU, piv = SW[SW_JN], SW[SW_D], SW[SW_JW], SW[SW_G], SW[SW_LU], SW[SW_PIV]
+    k = min(mr, 6)
+    for r in range(mr):
+        g[r] = d[r] / math.sqrt(comp[r]) if mr > 6 else 1.0
+        for q in range(6):
+            Jw[r, q] = Jn[r, q] * g[r]
+    well = k == 6 and sv[5] * REFINE > sv[0]
+    sign = 0.0
+    if mr == 6:
+        for r in range(6):
+            for q in range(6):
+                LU[q, r] = Jn[r, q]
+        sign = lu_factor(LU, 6, piv)
+        if well:
+            return MODE_SQUARE, sign
+    if well:
+        for a in range(6):
+            for b in range(6):
+                s = 0.0
+                for r in range(mr):
+                    s += Jw[r, a] * Jw[r, b]
+                LU[a, b] = s
+        lu_factor(LU, 6, piv)
+        return MODE_NORMAL, sign
+    U, V = SW[SW_U], SW[SW_V]
+    for r in range(mr):
+        for q in range(6):
+            U[r, q] = Jw[r, q]
+    jacobi_rows(U, mr, V, True)
+    return MODE_PINV, sign
+
+
+@inner
+def normalise_wrench(W, c, L, out):
+    f0, f1, f2 = W[0], W[1], W[2]
+    out[0], out[1], out[2] = f0, f1, f2
+    out[3] = (W[3] - (c[1] * f2 - c[2] * f1)) / L
+    out[4] = (W[4] - (c[2] * f0 - c[0] * f2)) / L
+    out[5] = (W[5] - (c[0] * f1 - c[1] * f0)) / L
+
+
+@inner
+def statics_apply(mode, mr, W, c, L, SW, values):
+    """``F_r`` into ``values[:mr]`` for the workload ``W (6,)`` about O (after
+    :func:`statics_prepare`)."""
+    Jw, d, g, LU, piv, Wn, y = SW[SW_JW], SW[SW_D], SW[SW_G], SW[SW_LU], SW[SW_PIV], \
+        SW[SW_WN], SW[SW_Y]
+    normalise_wrench(W, c, L, Wn)
+    if mode == MODE_SQUARE:
+        for q in range(6):
+            y[q] = -Wn[q]
+        lu_apply(LU, 6, piv, y)
+    elif mode == MODE_NORMAL:
+        z = SW[SW_Z]
+        for q in range(6):
+            z[q] = -Wn[q]
+        lu_apply(LU, 6, piv, z)
+        for r in range(mr):
+            s = 0.0
+            for q in range(6):
+                s += Jw[r, q] * z[q]
+            y[r] = s
+    else:
+        # y = -pinv(Jw^T) Wn = -sum_i V[:, i] (u_i . Wn) / s_i^2, s_i = |u_i| above the cut-off
+        U, V = SW[SW_U], SW[SW_V]
+        smax = 0.0
+        for i in range(mr):
+            s = 0.0
+            for q in range(6):
+                s += U[i, q] * U[i, q]
+            smax = max(smax, math.sqrt(s))
+        cut = max(mr, 6) * 2.220446049250313e-16 * smax
+        for r in range(mr):
+            y[r] = 0.0
+        for i in range(mr):
+            s2 = 0.0
+            p = 0.0
+            for q in range(6):
+                s2 += U[i, q] * U[i, q]
+                p += U[i, q] * Wn[q]
+            if math.sqrt(s2) > cut:
+                f = p / s2
+                for r in range(mr):
+                    y[r] -= V[r, i] * f
+    for r in range(mr):
+        values[r] = y[r] * g[r] / d[r] if mr > 6 else y[r] / d[r]
+
+
+@inner
+def equilibrium(J, mr, values, W, c, L, d):
+    """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and the row wrenches ``|F_r J_r|``,
+    all length-normalised about the centroid (unit-free, frame-free)."""
+    tot = np.zeros(6)
+    for q in range(6):
+        tot[q] = W[q]
+    rows = 0.0
+    for r in range(mr):
+        v = values[r]
+        for q in range(6):
+            tot[q] += v * J[r, q]
+        rows = max(rows, abs(v) * d[r])
+    f0, f1, f2 = tot[0], tot[1], tot[2]
+    t3 = (tot[3] - (c[1] * f2 - c[2] * f1)) / L
+    t4 = (tot[4] - (c[2] * f0 - c[0] * f2)) / L
+    t5 = (tot[5] - (c[0] * f1 - c[1] * f0)) / L
+    num = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + t3 * t3 + t4 * t4 + t5 * t5)
+    f0, f1, f2 = W[0], W[1], W[2]
+    t3 = (W[3] - (c[1] * f2 - c[2] * f1)) / L
+    t4 = (W[4] - (c[2] * f0 - c[0] * f2)) / L
+    t5 = (W[5] - (c[0] * f1 - c[1] * f0)) / L
+    scale = max(math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + t3 * t3 + t4 * t4 + t5 * t5), rows)
+    return num / (scale if scale > 0 else 1.0)
+
+
+@inner
+def amplification(values, mr, torque, W, o, L):
+    """The largest effort over the workload's size, consistent units: couples and rotary
+    actuator torques over ``L``; the size ``sqrt(|F|^2 + |T / L|^2)`` with ``T`` the torque
+    at ``o`` (``m - o x f``)."""
+    eff = 0.0
+    for r in range(mr):
+        e = abs(values[r]) / (L if torque[r] else 1.0)
+        if e > eff:
+            eff = e
+    f0, f1, f2 = W[0], W[1], W[2]
+    t0 = W[3] - (o[1] * f2 - o[2] * f1)
+    t1 = W[4] - (o[2] * f0 - o[0] * f2)
+    t2 = W[5] - (o[0] * f1 - o[1] * f0)
+    size = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + (t0 * t0 + t1 * t1 + t2 * t2) / (L * L))
+    return eff / max(size, 1e-300)
+
+
+@inner
+def workload_about_origin(F, T, o, W):
+    """``W = [F; T + o x F]``."""
+    W[0], W[1], W[2] = F[0], F[1], F[2]
+    W[3] = T[0] + o[1] * F[2] - o[2] * F[1]
+    W[4] = T[1] + o[2] * F[0] - o[0] * F[2]
+    W[5] = T[2] + o[0] * F[1] - o[1] * F[0]

@@ -1,0 +1,137 @@
+"""Launching the compiled kernels on N poses: outputs allocated once, threads (private).
+
+Every function here allocates the outputs of a kernel, fills them by one call (in
+``prange`` on ``workers`` threads when there are enough poses, else in this thread) and
+returns them.  The arrays handed to the kernels are C-contiguous float64/int64 arrays of
+fixed dimensions, so that one compiled version of each kernel serves every model.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from ._kernels import LAUNCH_LOCK, kernels, set_threads
+
+__all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
+           "leg_wrenches"]
+
+#: Fewest poses per thread worth a parallel launch.
+MIN_PER_THREAD = 256
+
+#: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
+OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
+           "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
+           "constraint_rank", "constraint_condition_number", "values", "equilibrium",
+           "amplification", "det_sign", "twists")
+
+
+def threads(N: int, workers=None) -> int:
+    """Threads for ``N`` poses: ``workers``, or by default up to 2 (the cores) when there
+    are enough poses."""
+    if workers is None:
+        workers = min(2, os.cpu_count() or 1)
+    return max(1, min(int(workers), N // MIN_PER_THREAD or 1))
+
+
+def _c(a, dtype=float):
+    return np.ascontiguousarray(a, dtype)
+
+
+def _launch(serial, par, args, N, workers):
+    nw = threads(N, workers)
+    if nw <= 1:
+        serial(*args, 0, N)
+        return
+    with LAUNCH_LOCK:
+        set_threads(nw)
+        par(*args, nw)
+
+
+def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
+              solve=True, rows=True, statics=True, continuation=True, twists=False,
+              workers=None) -> dict:
+    """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
+    dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
+    predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
+    conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
+    outputs by name (:data:`OUTPUTS`)."""
+    k = kernels()
+    P6 = _c(P6)
+    N = P6.shape[0]
+    nx, mr, n = flat.nu + flat.n * flat.m, flat.mr, flat.n
+    if X is not None:
+        Xo = np.array(X, float, order="C")
+    else:
+        Xo = np.empty((N, nx))
+    rn = N if rows else 0
+    sn = N if (rows and statics) else 0
+    out = (Xo, np.empty(N), np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool),
+           np.empty((rn, mr, 6)), np.empty((rn, mr)), np.empty(rn, bool), np.empty((rn, n), bool),
+           np.empty((rn, 3)), np.empty(rn), np.empty((rn, min(mr, 6))), np.empty(rn, np.int64),
+           np.empty(rn), np.empty(rn, np.int64), np.empty(rn), np.empty((sn, mr)), np.empty(sn),
+           np.empty(sn), np.empty(sn), np.zeros((N if twists else 0, flat.n_act, 6)))
+    comp = np.zeros((0, mr)) if compliance is None else _c(np.atleast_2d(compliance))
+    inputs = (P6, np.zeros((0, nx)) if X0 is None else _c(X0), np.zeros(0) if side is None
+              else _c(side), np.zeros(3) if F is None else _c(F), np.zeros(3) if T is None
+              else _c(T), comp, _c(flat.torque, np.int64))
+    flags = np.array([int(solve and X is None), int(rows), int(rows and statics),
+                      int(continuation), int(twists)], np.int64)
+    _launch(k.run_range, k.run_parallel, (flat.M, Z, inputs, out, flags), N, workers)
+    return dict(zip(OUTPUTS, out))
+
+
+def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:
+    """The frames of the unknowns ``X (N, nx)``: ``axes_points (N, n, m, 6)``, the platform
+    ``platform (N, 27)`` (pose parameters, ``Rp``, ``o``, ``E``); with ``slots`` the
+    displacement after each slot ``R (N, n, m, 3, 3)``, ``t (N, n, m, 3)``; with ``bars``
+    the parallelograms' current bar vectors ``(N, n, m, 3)``; with ``twists`` every joint's
+    unit twist ``(N, n, m, 6)`` about O."""
+    k = kernels()
+    P6, X = _c(P6), _c(X)
+    N = P6.shape[0]
+    n, m = flat.n, flat.m
+    ns = N if slots or bars else 0
+    out = (np.zeros((N, n, m, 6)), np.empty((N, 27)), np.zeros((ns, n, m, 3, 3)),
+           np.zeros((ns, n, m, 3)), np.zeros((N if bars else 0, n, m, 3)),
+           np.zeros((N if twists else 0, n, m, 6)), np.empty(N))
+    _launch(k.frames_range, k.frames_parallel, (flat.M, Z[0], Z[1], P6, X) + out, N, workers)
+    return {"axes_points": out[0], "platform": out[1], "R": out[2], "t": out[3],
+            "bars": out[4], "twists": out[5], "residual": out[6]}
+
+
+def platform_of(flat, P6, workers=None) -> np.ndarray:
+    """The platform ``(N, 27)`` (pose parameters, ``Rp``, ``o``, ``E``) at the six pose
+    parameters ``P6 (N, 6)``."""
+    given = (np.zeros(0, np.int64), np.zeros(0))
+    N = len(P6)
+    return frames(flat, given, P6, np.zeros((N, flat.n * flat.m)), workers=workers)["platform"]
+
+
+def statics_of(J, centre, length, sv, torque, W, o, compliance=None, workers=None):
+    """``F_r (N, K, mr)``, equilibrium residuals and force amplifications ``(N, K)`` of the
+    Jacobians ``J (N, mr, 6)`` under the workloads ``W (N, K, 6)`` about O."""
+    k = kernels()
+    J, W = _c(J), _c(W)
+    N, mr = J.shape[0], J.shape[1]
+    K = W.shape[1]
+    comp = np.zeros((0, mr)) if compliance is None else _c(np.atleast_2d(compliance))
+    out = (np.empty((N, K, mr)), np.empty((N, K)), np.empty((N, K)))
+    _launch(k.statics_range, k.statics_parallel,
+            (J, _c(centre), _c(length), _c(sv), comp, _c(torque, np.int64), W, _c(o)) + out,
+            N, workers)
+    return out
+
+
+def leg_wrenches(J, values, row_leg, n_act, A, a, *, total=True, workers=None):
+    """Each leg's constraint wrench and (``total``) total wrench ``(N, K, n, 6)`` about O,
+    and ``T_r (N, K, n)``, from ``J (N, mr, 6)`` and ``values (N, K, mr)``; ``a (N, n, 3)``."""
+    k = kernels()
+    J, values = _c(J), _c(values)
+    N, K = values.shape[0], values.shape[1]
+    n = len(A)
+    out = (np.empty((N, K, n, 6)), np.empty((N if total else 0, K, n, 6)), np.empty((N, K, n)))
+    _launch(k.leg_wrenches_range, k.leg_wrenches_parallel,
+            (J, values, _c(row_leg, np.int64), int(n_act), _c(A), _c(a)) + out, N, workers)
+    return out

@@ -1,0 +1,218 @@
+"""Each leg's Jacobian rows at many poses: constraint wrenches and the actuation wrench.
+
+The observation rules (:mod:`screwkit.legs`) decide, once per leg at a
+reference geometry (home), *what* the leg's constraint wrenches are: pure
+couples, forces through a named point (an S or U centre, ``A``, ``a``, the
+meeting point of two axes), or finite-pitch screws.  A :class:`RowTemplate`
+records that structure; :meth:`RowTemplate.rows` recomputes the members at
+``N`` poses from the current joint axes, exactly, and flags the poses where
+the structure no longer holds (a leg singularity, a geometry that lost its
+structure) so that nothing is silently wrong.
+
+Members of one kind are computed as a subspace, then given a canonical basis:
+
+* couples ``[0; u]``: ``u`` is orthogonal to every rotation axis (rule 3), the
+  null space of the rows ``w_j``;
+* forces through a point ``X``: ``[u; X x u]`` does no work on joint ``j`` iff
+  ``u . v_j(X) = 0`` with ``v_j(X) = v_j - X x w_j`` the velocity joint ``j``
+  gives to ``X`` (rules 1 and 2); ``u`` spans the null space of those rows.
+
+A subspace of dimension 1 is a direction up to sign; of dimension 2 or 3 it
+needs a basis.  Both are fixed by an ordered list of *reference directions*
+of the leg's own geometry (the leg line, the base normal, the joint axes in
+chain order, ... or the ones the catalog entry declares): the basis is the
+Gram-Schmidt orthonormalisation of the references projected on the subspace,
+and a single member points along its reference.  The references are chosen at
+home, where each keeps a clear projection (cosine >= :data:`REF_MIN`), and kept
+for every pose: bases and signs are deterministic, covariant with the base
+frame, unchanged by a change of units, and continuous along paths and maps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._kernels._layout import REF_MIN
+
+__all__ = ["RowTemplate", "REF_MIN", "DEFAULT_REFERENCES", "point_ref"]
+
+#: Default reference directions (tried in order): the leg line, the base normal, the
+#: joint axes in chain order, the base axes.
+DEFAULT_REFERENCES = ("leg", "base.Z", "joints", "base.X", "base.Y")
+
+
+# --------------------------------------------------------------------------- the template
+
+@dataclass(frozen=True)
+class Group:
+    """Constraint members of one kind: ``kind`` ``"couple"`` or ``"force"`` (through the
+    named point ``point``), ``dim`` members along the reference directions ``refs``."""
+
+    kind: str
+    point: str | None
+    point_ref: tuple | None
+    dim: int
+    refs: tuple
+
+
+@dataclass(frozen=True)
+class Actuation:
+    """How the actuation member is found: ``kind`` ``"line"`` (the force on the line through
+    the two named points ``names``, at ``points``), ``"least-norm"`` (the passive-reciprocal
+    wrench orthogonal to the constraint system; ``member`` ``"force"`` when its pitch is
+    zero at home, else ``"screw"``) or ``"none"`` (the actuated joint is dependent)."""
+
+    kind: str
+    points: tuple = ()
+    names: tuple = ()
+    member: str = "force"
+
+
+class RowTemplate:
+    """The structure of one leg's rows, to recompute them at many poses.
+
+    The decisions at home (each group's null space, the reference directions of its basis,
+    the generic rule's reference wrenches, the least-norm actuation member's pitch) are made
+    by the kernels' own functions on the leg at home (:mod:`screwkit.engine._kernels._probe`).
+
+    Parameters
+    ----------
+    leg : Leg
+        The leg at its reference geometry (a PM's home).
+    analysis : LegAnalysis
+        Its analysis there (constraint members and actuation member).
+    base_rotation, O : the base frame of the references (world)
+    platform_rotation, o : the platform frame at the reference geometry
+    references : sequence, optional
+        Declared reference directions (catalog), tried before the defaults.
+    active : bool
+        False for a passive leg (no actuator: no actuation row).
+    """
+
+    def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=(),
+                 active=True):
+        from ._flat import probe_model
+        from ._kernels import kernels
+        self.name = leg.name
+        self.names = tuple(j.name for j in leg.joints)
+        self.kinds = tuple(j.kind for j in leg.joints)
+        self.actuated = leg.actuated_index
+        self.active = bool(active)
+        cons = analysis.constraints
+        self.k = len(cons)
+        self.generic = any(c.kind == "screw" or (c.kind == "force" and not c.point_name)
+                           for c in cons)
+        cand = _candidates(tuple(references), self.names)
+        order = []
+        if not self.generic:
+            for c in cons:
+                key = (c.kind, c.point_name if c.kind == "force" else None)
+                if key not in order:
+                    order.append(key)
+        prefs = [point_ref(leg, pname) for kind, pname in order if kind == "force"]
+        probe, cand_ok, cand_idx, points = probe_model(leg, base_rotation, O, platform_rotation,
+                                                       o, prefs, cand)
+        pick = dict(zip(cand_idx.tolist(), cand_ok))
+        K = kernels()
+        groups = []
+        if order:
+            dims = np.array([sum(1 for c in cons if c.kind == kind and
+                                 (kind == "couple" or c.point_name == pname))
+                             for kind, pname in order], np.int64)
+            gkind = np.array([int(kind == "force") for kind, _ in order], np.int64)
+            gpoint = np.array([points.index(point_ref(leg, pname)) if kind == "force" else 0
+                               for kind, pname in order], np.int64)
+            ok = np.zeros(len(order), bool)
+            chosen = np.full((len(order), 3), -1, np.int64)
+            K.home_groups(*probe, gkind, gpoint, dims, cand_idx, ok, chosen)
+            for g, (kind, pname) in enumerate(order):
+                if not ok[g]:
+                    self.generic = True
+                    groups = []
+                    break
+                if np.any(chosen[g, :dims[g]] < 0):
+                    raise ValueError("no reference directions give a basis")
+                groups.append(Group(kind, pname, point_ref(leg, pname) if kind == "force"
+                                    else None, int(dims[g]),
+                                    tuple(pick[c] for c in chosen[g, :dims[g]])))
+        self.groups = tuple(groups)
+        self.generic_refs = ()
+        if self.k:
+            out = np.full((self.k, 2), -1, np.int64)
+            K.home_generic(*probe, self.k, cand_idx, out)
+            if np.any(out[:, 0] < 0):
+                raise ValueError("no reference wrenches give a basis of the constraint system")
+            self.generic_refs = tuple(("force" if kd == 0 else "couple", pick[c])
+                                      for kd, c in out)
+        if self.generic:
+            self.member_kinds = tuple((c.kind, None) for c in cons)
+        else:
+            self.member_kinds = tuple((g.kind, g.point) for g in self.groups for _ in range(g.dim))
+        self.actuation = self._actuation_template(leg, analysis, probe, K)
+
+    def _actuation_template(self, leg, analysis, probe, K):
+        """The force on the line through two named points when every passive joint is
+        anchored at one of them (the leg line of S-P-S, U-P-U, R-R-P-R-R...: a structural
+        choice that survives any motion); otherwise the least-norm wrench."""
+        act = analysis.actuation
+        if act is None:
+            return Actuation("none")
+        from ..legs import named_points
+        tol = 1e-6 * max(leg.length, float(np.linalg.norm(np.asarray(leg.a) - leg.A)))
+        named = named_points(leg)
+        passive = [j for j in range(len(leg.joints)) if j != leg.actuated_index]
+        anchored = {nm: {j for j in passive if np.linalg.norm(leg.joints[j].point - p) <= tol
+                         or (leg.joints[j].kind == "P")}
+                    for nm, p in named.items()}
+        names = list(named)
+        for i1, n1 in enumerate(names):
+            for n2 in names[i1 + 1:]:
+                if np.linalg.norm(named[n1] - named[n2]) <= tol:
+                    continue
+                if anchored[n1] | anchored[n2] >= set(passive):
+                    pts = (point_ref(leg, n1), point_ref(leg, n2))
+                    d = named[n2] - named[n1]
+                    if all(abs(float(d @ leg.joints[j].direction)) <= tol * np.linalg.norm(d)
+                           for j in passive if leg.joints[j].kind == "P"):
+                        return Actuation("line", pts, (n1, n2))
+        # the least-norm member at home: a force when its pitch vanishes
+        member = np.zeros(6)
+        K.home_least_norm(*probe, member)
+        f, m = member[:3], member[3:]
+        pitch = abs(float(f @ m)) / max(float(f @ f), 1e-300)
+        return Actuation("least-norm", member="force" if pitch <= 1e-9 * leg.length else "screw")
+
+
+def _candidates(declared, names):
+    out = list(declared)
+    for r in DEFAULT_REFERENCES:
+        if r == "joints":
+            out += list(names)
+        else:
+            out.append(r)
+    return out
+
+
+# --------------------------------------------------------------------------- named points
+
+def point_ref(leg, name):
+    """How to find a named point of ``leg`` at any pose: ('A',), ('a',), ('joint', j) or
+    ('meet', i, j)."""
+    if name in ("A", "a"):
+        return (name,)
+    if "^" in name:
+        n1, n2 = name.split("^", 1)
+        return ("meet", _slot(leg, n1), _slot(leg, n2))
+    for j, jt in enumerate(leg.joints):
+        if jt.name == name or f"{jt.spec.origin}{jt.spec.position}" == name:
+            return ("joint", j)
+    raise ValueError(f"leg {leg.name}: no point named {name!r}")
+
+
+def _slot(leg, name):
+    for j, jt in enumerate(leg.joints):
+        if jt.name == name:
+            return j
+    raise ValueError(f"leg {leg.name}: no joint {name!r}")
