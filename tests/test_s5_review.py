@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import screwkit
-from screwkit.engine._algebra import rodrigues
 from screwkit.screws._euler import axis_rotation, cos_sin
 
 
@@ -172,6 +171,15 @@ def test_the_synthesized_3prr_statics_equal_a_planar_hand_derivation(tmp_path):
 
 # -- cos_sin ------------------------------------------------------------------------------
 
+def _engine_rotations(axis, angles):
+    """The engine's rotations about ``axis`` by ``angles``, ``(3, 3, n)``: the displacement of
+    a one-R-joint leg through the origin (the kernels' Rodrigues formula)."""
+    from screwkit.engine import leg_forward
+    from screwkit.legs import leg_from_joints
+    leg = leg_from_joints([("R", axis, [0.0, 0.0, 0.0])], A=[0.0, 0.0, 0.0], a=[1.0, 0.0, 0.0])
+    return np.stack([leg_forward(leg, [t])[1][0] for t in angles], axis=-1)
+
+
 def test_cos_sin_against_long_double_and_orthonormal_rotations():
     rng = np.random.default_rng(0)
     a = np.concatenate([rng.uniform(-np.pi, np.pi, 2000), np.pi + rng.uniform(-1e-6, 1e-6, 500),
@@ -189,8 +197,7 @@ def test_cos_sin_against_long_double_and_orthonormal_rotations():
     R = axis_rotation(1, a)
     assert np.abs(np.einsum("ijn,ikn->jkn", R, R) - np.eye(3)[:, :, None]).max() < 1e-15
     axis = np.array([0.36, -0.48, 0.8])
-    Rr = rodrigues(axis[:, None, None], a[None, :])
-    Rr = Rr.reshape(3, 3, -1)
+    Rr = _engine_rotations(axis, a)
     assert np.abs(np.einsum("ijn,ikn->jkn", Rr, Rr) - np.eye(3)[:, :, None]).max() < 1e-15
     # Rodrigues against scipy's rotation-vector formula
     from scipy.spatial.transform import Rotation

@@ -187,12 +187,14 @@ def actuation_condition(jacobian, passive=()) -> tuple:
     passive = set(passive)
     keep = [i for i, r in enumerate(jacobian.info)
             if not (r.kind == "actuation" and r.leg in passive)]
-    Jn, _ = jacobian.conditioning.normalised(np.asarray(jacobian.matrix, float)[:, keep])
-    s = np.linalg.svd(Jn, compute_uv=False)
-    cond = np.full(len(s), np.inf)
+    from ..engine._pipeline import conditioning_of
+    c = jacobian.conditioning
+    n_act = sum(1 for i in keep if jacobian.info[i].kind == "actuation")
+    out = conditioning_of(np.asarray(jacobian.matrix, float)[:, keep], n_act, c.centre, c.length)
+    s = out.singular_values
+    cond = np.array(out.condition_number, float)
     if s.shape[1] >= 6:
-        full = s[:, 5] > RANK_RTOL * np.maximum(s[:, 0], 1e-300)
-        cond[full] = s[full, 0] / s[full, 5]
+        cond[~(s[:, 5] > RANK_RTOL * np.maximum(s[:, 0], 1e-300))] = np.inf
     return cond, ~(cond < COND_THRESHOLD)
 
 

@@ -6,103 +6,20 @@ Every function takes and returns arrays with the poses on the leading axis.
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..screws import cross
 from ._kernels._layout import RANK_RTOL
+from ._templates import RowInfo, templates_of
 
 __all__ = ["RowInfo", "templates_of", "Conditioning", "COND_THRESHOLD", "RANK_RTOL",
            "statics_values", "leg_wrenches_of", "workload_about_origin", "normalise_rows",
-           "amplification_of"]
+           "amplification_of", "conditioning_of"]
 
 #: Largest normalised condition number of ``J`` still treated as regular.
 COND_THRESHOLD = 1.0 / RANK_RTOL
-
-
-@dataclass(frozen=True)
-class RowInfo:
-    """What a row of the unified Jacobian is (the same at every pose).
-
-    ``leg`` (0-based), ``leg_name``, ``kind`` (``actuation``, ``force``, ``couple``,
-    ``screw``), ``member`` (the geometric kind of the wrench), ``point_name`` (the
-    named point of the leg on the force line, or None), ``joint`` (the actuated joint
-    of an actuation row), ``label`` (``F_a1``, ``F_c2``, ``T_c3``...).
-    """
-
-    leg: int
-    leg_name: str
-    kind: str
-    member: str
-    point_name: str | None
-    joint: str | None
-    label: str
-
-
-_TEMPLATES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-
-
-def templates_of(model) -> tuple:
-    """One :class:`~screwkit.engine._templates.RowTemplate` per leg of ``model``, decided
-    at home (cached)."""
-    t = _TEMPLATES.get(model)
-    if t is None:
-        from ._templates import RowTemplate
-        R0, p0 = model.frame
-        Rh, oh = model.platform_home
-        refs = tuple(model.constraint_references) or ((),) * len(model.home_legs)
-        passive = set(getattr(model, "passive", ()))
-        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i],
-                              active=i not in passive)
-                  for i, lg in enumerate(model.home_legs))
-        _TEMPLATES[model] = t
-    return t
-
-
-_LABELS: dict = {}
-
-
-def _labels(templates):
-    """The :class:`RowInfo` of every row (memoised per templates tuple: the templates of
-    a model are built once and kept, so the labels are too)."""
-    key = id(templates)
-    hit = _LABELS.get(key)
-    if hit is not None and hit[0] is templates:
-        return hit[1]
-    out = _make_labels(templates)
-    if len(_LABELS) > 256:
-        _LABELS.clear()
-    _LABELS[key] = (templates, out)
-    return out
-
-
-def _make_labels(templates):
-    info_a, info_c = [], []
-    for i, t in enumerate(templates):
-        a = t.actuation
-        if t.active:
-            info_a.append(RowInfo(i, t.name, "actuation",
-                                  a.member if a.kind != "none" else "none",
-                                  a.names[0] if a.names else None, t.names[t.actuated],
-                                  f"F_a{i + 1}"))
-        for kind, pname in t.member_kinds:
-            sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")
-            info_c.append(RowInfo(i, t.name, kind, kind, pname, None, f"{sym}{i + 1}"))
-    # number repeated labels of one leg: F_c1.1, F_c1.2
-    counts = {}
-    for r in info_c:
-        counts[r.label] = counts.get(r.label, 0) + 1
-    seen = {}
-    final = list(info_a)
-    for r in info_c:
-        if counts[r.label] > 1:
-            seen[r.label] = seen.get(r.label, 0) + 1
-            r = RowInfo(r.leg, r.leg_name, r.kind, r.member, r.point_name, r.joint,
-                        f"{r.label}.{seen[r.label]}")
-        final.append(r)
-    return tuple(final)
 
 
 def torque_rows(info) -> np.ndarray:
@@ -147,6 +64,22 @@ def normalise_rows(J, centre, length):
     kernels().normalise_batch(J, np.ascontiguousarray(centre, float),
                               np.ascontiguousarray(length, float), Jn, d)
     return Jn, d
+
+
+def conditioning_of(J, n_actuated, centre, length) -> Conditioning:
+    """The :class:`Conditioning` of given rows ``J (N, m, 6)`` (the first ``n_actuated``
+    the actuation rows) with the normalisation ``centre (N, 3)``, ``length (N,)``."""
+    from ._kernels import kernels
+    J = np.ascontiguousarray(J, float)
+    N, m = J.shape[:2]
+    sv = np.empty((N, min(m, 6)))
+    rank, crank = np.empty(N, np.int64), np.empty(N, np.int64)
+    cond, ccond = np.empty(N), np.empty(N)
+    kernels().conditioning_batch(J, np.ascontiguousarray(centre, float),
+                                 np.ascontiguousarray(length, float), int(n_actuated), sv,
+                                 rank, cond, crank, ccond)
+    return Conditioning(np.asarray(centre, float), np.asarray(length, float), sv, rank, cond,
+                        crank, ccond)
 
 
 def workload_about_origin(F, T, o):

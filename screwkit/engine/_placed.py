@@ -74,11 +74,12 @@ def _rows_of(legs, o, analyses):
     from ._flat import flatten_legs
     from ._kernels import kernels
     from ._launch import run_poses
-    from ._pipeline import Conditioning, _make_labels
+    from ._pipeline import Conditioning
+    from ._templates import make_labels
     from ._templates import RowTemplate
     templates = tuple(RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o)
                       for lg, an in zip(legs, analyses))
-    info = _make_labels(templates)
+    info = make_labels(templates)
     flat = flatten_legs(legs, templates, o, info)
     P6 = np.concatenate([o, np.zeros(3)])[None]
     X = np.zeros((1, flat.nx))

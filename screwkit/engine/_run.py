@@ -16,7 +16,8 @@ import numpy as np
 
 from ._chains import chains_of
 from ._launch import run_poses
-from ._pipeline import Conditioning, _labels, templates_of
+from ._pipeline import Conditioning
+from ._templates import labels_of, templates_of
 from ._path import solve_path
 from ._solve import Closures, predictor_of
 
@@ -136,7 +137,8 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         for sl, (r_sl, part) in zip(slices, mapper(fn, items)):
             res[sl] = r_sl
             for key, value in (part or {}).items():
-                put(key, sl, value)
+                if value.shape[0]:
+                    put(key, sl, value)
         if progress:
             progress(steps, steps)
     else:
@@ -166,7 +168,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
                         out["condition_number"], out["constraint_rank"],
                         out["constraint_condition_number"])
-    return Computed(closures, _labels(templates), flat.n_act, out["J"], out["scale"], cond,
+    return Computed(closures, labels_of(templates), flat.n_act, out["J"], out["scale"], cond,
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), diag, out.get("amplification"),
                     out.get("det_sign"), out.get("twists"))

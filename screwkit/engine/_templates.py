@@ -30,13 +30,15 @@ frame, unchanged by a change of units, and continuous along paths and maps.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._kernels._layout import REF_MIN
 
-__all__ = ["RowTemplate", "REF_MIN", "DEFAULT_REFERENCES", "point_ref"]
+__all__ = ["RowTemplate", "RowInfo", "templates_of", "labels_of", "make_labels", "REF_MIN",
+           "DEFAULT_REFERENCES", "point_ref"]
 
 #: Default reference directions (tried in order): the leg line, the base normal, the
 #: joint axes in chain order, the base axes.
@@ -93,7 +95,7 @@ class RowTemplate:
 
     def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=(),
                  active=True):
-        from ._flat import probe_model
+        from ._arrays import probe_model
         from ._kernels import kernels
         self.name = leg.name
         self.names = tuple(j.name for j in leg.joints)
@@ -216,3 +218,85 @@ def _slot(leg, name):
         if jt.name == name:
             return j
     raise ValueError(f"leg {leg.name}: no joint {name!r}")
+
+
+@dataclass(frozen=True)
+class RowInfo:
+    """What a row of the unified Jacobian is (the same at every pose).
+
+    ``leg`` (0-based), ``leg_name``, ``kind`` (``actuation``, ``force``, ``couple``,
+    ``screw``), ``member`` (the geometric kind of the wrench), ``point_name`` (the
+    named point of the leg on the force line, or None), ``joint`` (the actuated joint
+    of an actuation row), ``label`` (``F_a1``, ``F_c2``, ``T_c3``...).
+    """
+
+    leg: int
+    leg_name: str
+    kind: str
+    member: str
+    point_name: str | None
+    joint: str | None
+    label: str
+
+
+_TEMPLATES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def templates_of(model) -> tuple:
+    """One :class:`~screwkit.engine._templates.RowTemplate` per leg of ``model``, decided
+    at home (cached)."""
+    t = _TEMPLATES.get(model)
+    if t is None:
+        R0, p0 = model.frame
+        Rh, oh = model.platform_home
+        refs = tuple(model.constraint_references) or ((),) * len(model.home_legs)
+        passive = set(getattr(model, "passive", ()))
+        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i],
+                              active=i not in passive)
+                  for i, lg in enumerate(model.home_legs))
+        _TEMPLATES[model] = t
+    return t
+
+
+_LABELS: dict = {}
+
+
+def labels_of(templates):
+    """The :class:`RowInfo` of every row (memoised per templates tuple: the templates of
+    a model are built once and kept, so the labels are too)."""
+    key = id(templates)
+    hit = _LABELS.get(key)
+    if hit is not None and hit[0] is templates:
+        return hit[1]
+    out = make_labels(templates)
+    if len(_LABELS) > 256:
+        _LABELS.clear()
+    _LABELS[key] = (templates, out)
+    return out
+
+
+def make_labels(templates):
+    info_a, info_c = [], []
+    for i, t in enumerate(templates):
+        a = t.actuation
+        if t.active:
+            info_a.append(RowInfo(i, t.name, "actuation",
+                                  a.member if a.kind != "none" else "none",
+                                  a.names[0] if a.names else None, t.names[t.actuated],
+                                  f"F_a{i + 1}"))
+        for kind, pname in t.member_kinds:
+            sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")
+            info_c.append(RowInfo(i, t.name, kind, kind, pname, None, f"{sym}{i + 1}"))
+    # number repeated labels of one leg: F_c1.1, F_c1.2
+    counts = {}
+    for r in info_c:
+        counts[r.label] = counts.get(r.label, 0) + 1
+    seen = {}
+    final = list(info_a)
+    for r in info_c:
+        if counts[r.label] > 1:
+            seen[r.label] = seen.get(r.label, 0) + 1
+            r = RowInfo(r.leg, r.leg_name, r.kind, r.member, r.point_name, r.joint,
+                        f"{r.label}.{seen[r.label]}")
+        final.append(r)
+    return tuple(final)

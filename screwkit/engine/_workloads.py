@@ -66,9 +66,9 @@ def load_vector(x, name):
 def _compliance(model, stiffness, N):
     """Compliances ``(N, m)`` from a stiffness mapping (by row label) or array."""
     from ..errors import InputError
-    from ._pipeline import _labels, templates_of
+    from ._templates import labels_of, templates_of
     from ._statics import compliance_of
-    info = _labels(templates_of(model))
+    info = labels_of(templates_of(model))
     labels = [r.label for r in info]
     if isinstance(stiffness, str):
         stiffness = _model_stiffness(model, info, stiffness)

@@ -281,7 +281,7 @@ def _mark_determined(model, rows, ds, stiffness) -> None:
     in ``screwkit analyze``), None without an extreme.  A leg's ``T_r`` is determined when
     no self-stress changes it (checked on the self-stress basis of that pose)."""
     from ..engine import analyze
-    from ..engine._pipeline import constraint_wrenches_of, t_r_of
+    from ..engine._pipeline import leg_wrenches_of
     for r in rows:
         r["determined"] = None
     at = [r for r in rows if r.get("pose")]
@@ -309,8 +309,7 @@ def _mark_determined(model, rows, ds, stiffness) -> None:
         A = np.asarray(one.statics.A)
         a = np.asarray(res.statics._a)[k:k + 1]
         leg = int(r["leg"]) - 1
-        t = t_r_of(constraint_wrenches_of(J, jac.info, jac.n_actuated, S[None], len(A)), A,
-                   a)[0, :, leg]
+        t = leg_wrenches_of(J, jac.info, jac.n_actuated, S[None], A, a, total=False)[2][0, :, leg]
         L = float(np.asarray(jac.conditioning.length).reshape(-1)[0])
         size = np.abs(S) @ (np.linalg.norm(J[0, :, :3], axis=1) * L +
                             np.linalg.norm(J[0, :, 3:], axis=1))

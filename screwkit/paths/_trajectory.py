@@ -174,7 +174,7 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     legw = col(lambda p: p.statics._derived[2])
     conw = col(lambda p: p.statics._derived[3])
     Tr = col(lambda p: p.statics._derived[4])
-    eq = col(lambda p: p.statics._derived[5])
+    eq = col(lambda p: p.statics._eq)
     nact = n
     cond = np.where(reach, cond, np.nan)
     message = []

@@ -23,7 +23,8 @@ from ._newton import home_vector
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
 from ._small import lu_factor
 
-from ._statics import (SW_COMP, SW_D, SW_JN, amplification, equilibrium, make_statics_work,
+from ._statics import (SW_COMP, SW_D, SW_JN, amplification, conditioning, equilibrium,
+                       make_statics_work,
                        normalise_rows, statics_apply, statics_prepare)
 
 
@@ -260,3 +261,18 @@ def det_sign_batch(J, out):
             for c in range(6):
                 A[r, c] = J[p, r, c]
         out[p] = lu_factor(A, 6, piv)
+
+
+@entry
+def conditioning_batch(J, centre, length, n_act, sv, rank, cond, crank, ccond):
+    """The conditioning of given rows ``J (N, m, 6)`` (the first ``n_act`` the actuation
+    rows): singular values ``sv (N, min(m, 6))``, rank, condition number, and those of the
+    constraint rows."""
+    mr = J.shape[1]
+    SW = make_statics_work(mr)
+    s = np.zeros(6)
+    for p in range(J.shape[0]):
+        normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
+        rank[p], cond[p], crank[p], ccond[p] = conditioning(SW[SW_JN], mr, n_act, SW, s)
+        for q in range(sv.shape[1]):
+            sv[p, q] = s[q]
