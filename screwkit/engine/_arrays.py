@@ -10,7 +10,8 @@ named points, reference directions (:func:`encode_direction`) and member groups.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from ..pm import LENGTH_PARAMS, PARAMS
 from ._kernels import _layout as lay
 
 __all__ = ["FlatModel", "build", "joint_arrays", "platform_array", "encode_direction",
-           "probe_model"]
+           "probe_model", "pack", "Packed"]
 
 _KIND = {"R": lay.K_R, "P": lay.K_P, "H": lay.K_H}
 _AXES = {"x": 0, "y": 1, "z": 2}
@@ -53,6 +54,7 @@ class FlatModel:
     Z: tuple
     torque: np.ndarray
     row_leg: np.ndarray
+    packed: dict = field(default_factory=dict, repr=False)
 
     @property
     def nu(self) -> int:
@@ -61,6 +63,16 @@ class FlatModel:
     @property
     def nx(self) -> int:
         return self.nu + self.n * self.m
+
+    def pack(self, Z) -> tuple:
+        """``(M packed, Z packed)`` for the kernels' entries (each packed once)."""
+        key = ("Z", id(Z))
+        hit = self.packed.get(key)
+        if hit is None or hit[0] is not Z:
+            if "M" not in self.packed:
+                self.packed["M"] = Packed.of(self.M)
+            hit = self.packed[key] = (Z, Packed.of(Z))
+        return self.packed["M"], hit[1]
 
     def with_predictor(self, C, home, span, degree) -> tuple:
         """``Z`` with the home predictor's coefficients."""
@@ -284,3 +296,65 @@ def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candida
     fp = np.zeros(27)
     fp[6:15], fp[15:18] = Rh.ravel(), oh
     return (M, fp), ok, np.array(idx, np.int64), points
+
+
+class Packed:
+    """Arrays packed for a kernel (:mod:`screwkit.engine._kernels._pack`): ``f`` (float64),
+    ``i`` (int64) and the descriptor ``d (k, 5)``; :meth:`views` gives them back (views of
+    the two buffers, each array contiguous)."""
+
+    __slots__ = ("f", "i", "d", "shapes", "kinds", "offsets")
+    _LAYOUTS: dict = {}
+
+    def __init__(self, shapes, kinds):
+        """Room for arrays of ``shapes`` (``kinds``: "f", "i" or "b" each), uninitialised."""
+        key = (tuple(shapes), tuple(kinds))
+        lay = self._LAYOUTS.get(key)
+        if lay is None:
+            lay = self._layout(shapes, kinds)
+            if len(self._LAYOUTS) > 512:
+                self._LAYOUTS.clear()
+            self._LAYOUTS[key] = lay
+        self.d, self.offsets, nf, ni = lay
+        self.f, self.i = np.empty(nf), np.empty(ni, np.int64)
+        self.shapes, self.kinds = shapes, kinds
+
+    @staticmethod
+    def _layout(shapes, kinds):
+        rows, offsets = [], []
+        nf = ni = 0
+        for sh, kd in zip(shapes, kinds):
+            size = math.prod(sh)
+            if kd == "f":
+                o, nf = nf, nf + size
+            else:
+                o, ni = ni, ni + size
+            offsets.append((o, size))
+            rows.append((int(kd != "f"), o) + tuple(sh) + (1,) * (3 - len(sh)))
+        d = np.array(rows, np.int64).reshape(len(rows), 5)
+        d.setflags(write=False)
+        return d, offsets, nf, ni
+
+    @classmethod
+    def of(cls, arrays):
+        """The arrays packed (copied): floats as float64, integers and booleans as int64."""
+        arrays = [np.asarray(a) for a in arrays]
+        kinds = ["f" if a.dtype.kind == "f" else ("b" if a.dtype.kind == "b" else "i")
+                 for a in arrays]
+        out = cls([a.shape for a in arrays], kinds)
+        for v, a in zip(out.views(raw=True), arrays):
+            v[...] = a
+        return out
+
+    def views(self, raw=False) -> list:
+        """The arrays: views of the buffers (booleans as int64 when ``raw``, else converted)."""
+        out = []
+        f, i = self.f, self.i
+        for sh, kd, (o, size) in zip(self.shapes, self.kinds, self.offsets):
+            v = (f if kd == "f" else i)[o:o + size].reshape(sh)
+            out.append(v.astype(bool) if kd == "b" and not raw else v)
+        return out
+
+    @property
+    def args(self) -> tuple:
+        return self.f, self.i, self.d

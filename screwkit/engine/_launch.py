@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 
+from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, set_threads
 
 __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
@@ -27,11 +28,16 @@ OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", 
            "amplification", "det_sign", "twists")
 
 
+_CORES = min(2, os.cpu_count() or 1)
+_OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
+              "f", "f", "f", "f", "f")
+
+
 def threads(N: int, workers=None) -> int:
     """Threads for ``N`` poses: ``workers``, or by default up to 2 (the cores) when there
     are enough poses."""
     if workers is None:
-        workers = min(2, os.cpu_count() or 1)
+        workers = _CORES
     return max(1, min(int(workers), N // MIN_PER_THREAD or 1))
 
 
@@ -58,28 +64,27 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
     outputs by name (:data:`OUTPUTS`)."""
     k = kernels()
-    P6 = _c(P6)
-    N = P6.shape[0]
+    N = len(P6)
     nx, mr, n = flat.nu + flat.n * flat.m, flat.mr, flat.n
-    if X is not None:
-        Xo = np.array(X, float, order="C")
-    else:
-        Xo = np.empty((N, nx))
     rn = N if rows else 0
     sn = N if (rows and statics) else 0
-    out = (Xo, np.empty(N), np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool),
-           np.empty((rn, mr, 6)), np.empty((rn, mr)), np.empty(rn, bool), np.empty((rn, n), bool),
-           np.empty((rn, 3)), np.empty(rn), np.empty((rn, min(mr, 6))), np.empty(rn, np.int64),
-           np.empty(rn), np.empty(rn, np.int64), np.empty(rn), np.empty((sn, mr)), np.empty(sn),
-           np.empty(sn), np.empty(sn), np.zeros((N if twists else 0, flat.n_act, 6)))
-    comp = np.zeros((0, mr)) if compliance is None else _c(np.atleast_2d(compliance))
-    inputs = (P6, np.zeros((0, nx)) if X0 is None else _c(X0), np.zeros(0) if side is None
-              else _c(side), np.zeros(3) if F is None else _c(F), np.zeros(3) if T is None
-              else _c(T), comp, _c(flat.torque, np.int64))
+    out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
+                  (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr), (sn,),
+                  (sn,), (sn,), (N if twists else 0, flat.n_act, 6)], _OUT_KINDS)
+    views = out.views(raw=True)
+    if X is not None:
+        views[0][...] = X
+    comp = np.zeros((0, mr)) if compliance is None else np.atleast_2d(compliance)
+    inputs = Packed.of((P6, np.zeros((0, nx)) if X0 is None else X0,
+                        np.zeros(0) if side is None else side,
+                        np.zeros(3) if F is None else F, np.zeros(3) if T is None else T, comp,
+                        flat.torque))
     flags = np.array([int(solve and X is None), int(rows), int(rows and statics),
                       int(continuation), int(twists)], np.int64)
-    _launch(k.run_range, k.run_parallel, (flat.M, Z, inputs, out, flags), N, workers)
-    return dict(zip(OUTPUTS, out))
+    Mp, Zp = flat.pack(Z)
+    _launch(k.run_range, k.run_parallel, Mp.args + Zp.args + inputs.args + out.args + (flags,),
+            N, workers)
+    return dict(zip(OUTPUTS, out.views()))
 
 
 def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:

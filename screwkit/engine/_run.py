@@ -108,12 +108,13 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     templates = templates_of(model) if rows else None
     diag = {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
-    X = np.empty((N, ch.n_unknowns))
-    res = np.empty(N)
-    its, how, sing = np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool)
-    out = {}
     chunk = max(1, int(chunk))
     slices = _chunks(N, chunk)
+    if path or len(slices) > 1:
+        X = np.empty((N, ch.n_unknowns))
+        res = np.empty(N)
+        its, how, sing = np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool)
+    out = {}
     statics = F is not None
     if path:
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, workers=workers,
@@ -125,6 +126,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     Z = predictor_of(ch)
 
     def put(key, sl, value):
+        if sl.start == 0 and sl.stop == N:          # one launch: its arrays as they are
+            out[key] = value
+            return
         if key not in out:
             out[key] = np.empty((N,) + value.shape[1:], value.dtype)
         out[key][sl] = value
@@ -153,6 +157,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
                           rows=rows, statics=statics, twists=twists, workers=workers)
             if path:
                 res[sl] = np.where(np.isfinite(path_res[sl]), o["residual"], np.inf)
+            elif n == N:
+                X, res = o["X"], o["residual"]
+                its, how, sing = o["iterations"], o["how"], o["singular_beta"]
             else:
                 X[sl], res[sl] = o["X"], o["residual"]
                 its[sl], how[sl], sing[sl] = o["iterations"], o["how"], o["singular_beta"]

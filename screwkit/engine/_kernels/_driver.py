@@ -27,6 +27,7 @@ from ._jit import entry, inner, parallel
 from ._closures import predict, solve_pose
 from ._kin import forward
 from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
+from ._pack import inputs, model, outputs, params
 from ._newton import W_FA, W_FL, W_FE, W_FP, W_P6, W_S, W_XB, home_vector, make_work
 from ._rows import RW_TW, leg_rows, make_rows_work
 from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
@@ -121,8 +122,8 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
     O[OUT_DET][p] = sign
 
 
-@entry
-def run_range(M, Z, I, O, flags, start, stop):
+@inner
+def run_poses(M, Z, I, O, flags, start, stop):
     """Poses ``start`` to ``stop`` with one workspace."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
@@ -133,9 +134,18 @@ def run_range(M, Z, I, O, flags, start, stop):
         run_pose(M, Z, I, O, flags, p, W, RW, SW)
 
 
+@entry
+def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, start, stop):
+    """Poses ``start`` to ``stop`` (the tuples packed: :mod:`._pack`)."""
+    run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), outputs(Of, Oi, Od),
+              flags, start, stop)
+
+
 @parallel
-def run_parallel(M, Z, I, O, flags, nchunks):
-    """:func:`run_range` over ``nchunks`` equal ranges of the poses, in ``prange``."""
+def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nchunks):
+    """:func:`run_poses` over ``nchunks`` equal ranges of the poses, in ``prange``."""
+    M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
+        outputs(Of, Oi, Od)
     N = I[0].shape[0]
     for c in prange(nchunks):
-        run_range(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)
+        run_poses(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)

@@ -16,7 +16,7 @@ from numba import prange
 
 from ._closures import predict
 from ._jit import entry, parallel
-from ._kin import chain, closure_error, joint_twist, platform
+from ._kin import chain, closure_error, joint_twist, platform, platform_home_rotation
 from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
 from ._newton import home_vector
@@ -129,10 +129,11 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
             p6[unk[k]] = X[p, k] * xs[k]
         fp = FPo[p]
         platform(M, p6, fp, S)
+        platform_home_rotation(M, fp, S)
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
-            chain(M, i, X[p], nu + i * m, FAo[p, i], R, t, S[0], S[1], slots, Rsl, tsl)
+            chain(M, i, X[p], nu + i * m, FAo[p, i], R, t, S[0], S[2], slots, Rsl, tsl)
             closure_error(M, fp, R, t, e, S)
             for q in range(6):
                 if not abs(e[q]) <= r:

@@ -78,84 +78,117 @@ def chain(M, i, X, off, fa, R, t, E, T2, slots, Rs, ts):
     """Leg ``i``'s product of exponentials at the joint values ``X[off + j] * QS[i, j]``:
     current axes and points into ``fa (m, 6)``, the end displacement into ``R``, ``t``; with
     ``slots``, the displacement after each slot into ``Rs (m, 3, 3)``, ``ts (m, 3)`` (how the
-    link after joint ``j`` moved from home).  A Pa moves its far link along a circle:
-    ``Rot(h, s / |b|) b - b``, its current axis ``Rot(h, s / |b|) D``."""
+    link after joint ``j`` moved from home).  ``G_j = G_{j-1} exp(xi_j q_j)``: the current
+    axis of slot ``j`` is ``G_{j-1}`` applied to its home axis, whose point stays; a Pa moves
+    its far link along a circle, ``Rot(h, s / |b|) b - b``, its current axis
+    ``Rot(h, s / |b|) D``.  (``E``, ``T2`` are unused scratch, kept for the signature.)"""
     Dm, Pm, rot, tra, qs = M[D], M[P], M[ROT], M[TRA], M[QS]
     blen = M[BLEN]
-    for r in range(3):
-        t[r] = 0.0
-        for q in range(3):
-            R[r, q] = 1.0 if r == q else 0.0
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
+    t0 = t1 = t2 = 0.0
     for j in range(M[LEG][i, L_SIZE]):
         q = X[off + j] * qs[i, j]
         D0, D1, D2 = Dm[i, j, 0], Dm[i, j, 1], Dm[i, j, 2]
         P0, P1, P2 = Pm[i, j, 0], Pm[i, j, 1], Pm[i, j, 2]
-        d0 = R[0, 0] * D0 + R[0, 1] * D1 + R[0, 2] * D2
-        d1 = R[1, 0] * D0 + R[1, 1] * D1 + R[1, 2] * D2
-        d2 = R[2, 0] * D0 + R[2, 1] * D1 + R[2, 2] * D2
-        p0 = R[0, 0] * P0 + R[0, 1] * P1 + R[0, 2] * P2 + t[0]
-        p1 = R[1, 0] * P0 + R[1, 1] * P1 + R[1, 2] * P2 + t[1]
-        p2 = R[2, 0] * P0 + R[2, 1] * P1 + R[2, 2] * P2 + t[2]
+        d0 = r00 * D0 + r01 * D1 + r02 * D2
+        d1 = r10 * D0 + r11 * D1 + r12 * D2
+        d2 = r20 * D0 + r21 * D1 + r22 * D2
+        p0 = r00 * P0 + r01 * P1 + r02 * P2 + t0
+        p1 = r10 * P0 + r11 * P1 + r12 * P2 + t1
+        p2 = r20 * P0 + r21 * P1 + r22 * P2 + t2
         fa[j, 0], fa[j, 1], fa[j, 2] = d0, d1, d2
         fa[j, 3], fa[j, 4], fa[j, 5] = p0, p1, p2
         if rot[i, j] != 0.0:
-            # G_j = G_{j-1} exp(xi_j q_j): the point p of the axis stays, plus the pitch shift
-            rodrigues(D0, D1, D2, rot[i, j] * q, E)
-            matmul3(R, E, T2)
+            # Rodrigues about the home axis, composed on the right
+            a = rot[i, j] * q
+            c, s = math.cos(a), math.sin(a)
+            v = 1.0 - c
+            e00, e11, e22 = D0 * D0 * v + c, D1 * D1 * v + c, D2 * D2 * v + c
+            sym, skew = D0 * D1 * v, D2 * s
+            e01, e10 = sym - skew, sym + skew
+            sym, skew = D1 * D2 * v, D0 * s
+            e12, e21 = sym - skew, sym + skew
+            sym, skew = D2 * D0 * v, D1 * s
+            e20, e02 = sym - skew, sym + skew
+            n00 = r00 * e00 + r01 * e10 + r02 * e20
+            n01 = r00 * e01 + r01 * e11 + r02 * e21
+            n02 = r00 * e02 + r01 * e12 + r02 * e22
+            n10 = r10 * e00 + r11 * e10 + r12 * e20
+            n11 = r10 * e01 + r11 * e11 + r12 * e21
+            n12 = r10 * e02 + r11 * e12 + r12 * e22
+            n20 = r20 * e00 + r21 * e10 + r22 * e20
+            n21 = r20 * e01 + r21 * e11 + r22 * e21
+            n22 = r20 * e02 + r21 * e12 + r22 * e22
+            r00, r01, r02, r10, r11, r12, r20, r21, r22 = n00, n01, n02, n10, n11, n12, \
+                n20, n21, n22
             sh = tra[i, j] * q
-            for r in range(3):
-                for c in range(3):
-                    R[r, c] = T2[r, c]
-            t[0] = p0 - (R[0, 0] * P0 + R[0, 1] * P1 + R[0, 2] * P2) + sh * d0
-            t[1] = p1 - (R[1, 0] * P0 + R[1, 1] * P1 + R[1, 2] * P2) + sh * d1
-            t[2] = p2 - (R[2, 0] * P0 + R[2, 1] * P1 + R[2, 2] * P2) + sh * d2
+            t0 = p0 - (r00 * P0 + r01 * P1 + r02 * P2) + sh * d0
+            t1 = p1 - (r10 * P0 + r11 * P1 + r12 * P2) + sh * d1
+            t2 = p2 - (r20 * P0 + r21 * P1 + r22 * P2) + sh * d2
         elif blen[i, j] > 0.0:
             h = M[HINGE][i, j]
             b = M[BAR][i, j]
             rodrigues(h[0], h[1], h[2], q / blen[i, j], E)
-            for r in range(3):
-                mv = E[r, 0] * b[0] + E[r, 1] * b[1] + E[r, 2] * b[2] - b[r]
-                T2[0, r] = mv
-                T2[1, r] = E[r, 0] * D0 + E[r, 1] * D1 + E[r, 2] * D2
-            for r in range(3):
-                t[r] += R[r, 0] * T2[0, 0] + R[r, 1] * T2[0, 1] + R[r, 2] * T2[0, 2]
-                fa[j, r] = R[r, 0] * T2[1, 0] + R[r, 1] * T2[1, 1] + R[r, 2] * T2[1, 2]
+            m0 = E[0, 0] * b[0] + E[0, 1] * b[1] + E[0, 2] * b[2] - b[0]
+            m1 = E[1, 0] * b[0] + E[1, 1] * b[1] + E[1, 2] * b[2] - b[1]
+            m2 = E[2, 0] * b[0] + E[2, 1] * b[1] + E[2, 2] * b[2] - b[2]
+            h0 = E[0, 0] * D0 + E[0, 1] * D1 + E[0, 2] * D2
+            h1 = E[1, 0] * D0 + E[1, 1] * D1 + E[1, 2] * D2
+            h2 = E[2, 0] * D0 + E[2, 1] * D1 + E[2, 2] * D2
+            t0 += r00 * m0 + r01 * m1 + r02 * m2
+            t1 += r10 * m0 + r11 * m1 + r12 * m2
+            t2 += r20 * m0 + r21 * m1 + r22 * m2
+            fa[j, 0] = r00 * h0 + r01 * h1 + r02 * h2
+            fa[j, 1] = r10 * h0 + r11 * h1 + r12 * h2
+            fa[j, 2] = r20 * h0 + r21 * h1 + r22 * h2
         else:
             sh = tra[i, j] * q
-            t[0] += sh * d0
-            t[1] += sh * d1
-            t[2] += sh * d2
+            t0 += sh * d0
+            t1 += sh * d1
+            t2 += sh * d2
         if slots:
-            for r in range(3):
-                ts[j, r] = t[r]
-                for c in range(3):
-                    Rs[j, r, c] = R[r, c]
+            ts[j, 0], ts[j, 1], ts[j, 2] = t0, t1, t2
+            Rs[j, 0, 0], Rs[j, 0, 1], Rs[j, 0, 2] = r00, r01, r02
+            Rs[j, 1, 0], Rs[j, 1, 1], Rs[j, 1, 2] = r10, r11, r12
+            Rs[j, 2, 0], Rs[j, 2, 1], Rs[j, 2, 2] = r20, r21, r22
+    R[0, 0], R[0, 1], R[0, 2] = r00, r01, r02
+    R[1, 0], R[1, 1], R[1, 2] = r10, r11, r12
+    R[2, 0], R[2, 1], R[2, 2] = r20, r21, r22
+    t[0], t[1], t[2] = t0, t1, t2
 
 
 @inner
 def closure_error(M, fp, R, t, e, S):
     """A leg's length-normalised closure error ``[d / L; w]`` into ``e (6,)``: the twist
-    carrying its end pose ``(R Rh, R ph + t)`` onto the platform's (``fp``)."""
+    carrying its end pose ``(R Rh, R ph + t)`` onto the platform's (``fp``, whose
+    ``Rp Rh^T`` the caller put in ``S[1]``: :func:`platform_home_rotation`)."""
     plat = M[PLAT]
     Rd, RpRh = S[0], S[1]
+    for r in range(3):
+        a0, a1, a2 = RpRh[r, 0], RpRh[r, 1], RpRh[r, 2]
+        for c in range(3):
+            Rd[r, c] = a0 * R[c, 0] + a1 * R[c, 1] + a2 * R[c, 2]
+    L = plat[P_L]
+    ph0, ph1, ph2 = plat[P_PH], plat[P_PH + 1], plat[P_PH + 2]
+    c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
+    u0 = c0 - (R[0, 0] * ph0 + R[0, 1] * ph1 + R[0, 2] * ph2 + t[0])
+    u1 = c1 - (R[1, 0] * ph0 + R[1, 1] * ph1 + R[1, 2] * ph2 + t[1])
+    u2 = c2 - (R[2, 0] * ph0 + R[2, 1] * ph1 + R[2, 2] * ph2 + t[2])
+    e[0] = (Rd[0, 0] * u0 + Rd[0, 1] * u1 + Rd[0, 2] * u2 + fp[15] - c0) / L
+    e[1] = (Rd[1, 0] * u0 + Rd[1, 1] * u1 + Rd[1, 2] * u2 + fp[16] - c1) / L
+    e[2] = (Rd[2, 0] * u0 + Rd[2, 1] * u1 + Rd[2, 2] * u2 + fp[17] - c2) / L
+    rotation_vector(Rd, e, 3)
+
+
+@inner
+def platform_home_rotation(M, fp, S):
+    """``S[1] = Rp Rh^T`` of the platform ``fp`` (once per pose, for :func:`closure_error`)."""
+    plat = M[PLAT]
+    RpRh = S[1]
     for r in range(3):
         for c in range(3):
             RpRh[r, c] = (fp[6 + 3 * r] * plat[P_RH + 3 * c] + fp[6 + 3 * r + 1] *
                           plat[P_RH + 3 * c + 1] + fp[6 + 3 * r + 2] * plat[P_RH + 3 * c + 2])
-    for r in range(3):
-        for c in range(3):
-            Rd[r, c] = RpRh[r, 0] * R[c, 0] + RpRh[r, 1] * R[c, 1] + RpRh[r, 2] * R[c, 2]
-    L = plat[P_L]
-    ph = plat[P_PH:P_PH + 3]
-    cx = plat[P_C:P_C + 3]
-    for r in range(3):
-        pe = R[r, 0] * ph[0] + R[r, 1] * ph[1] + R[r, 2] * ph[2] + t[r]
-        S[2, 0, r] = cx[r] - pe
-    for r in range(3):
-        d = (Rd[r, 0] * S[2, 0, 0] + Rd[r, 1] * S[2, 0, 1] + Rd[r, 2] * S[2, 0, 2]
-             + fp[15 + r] - cx[r])
-        e[r] = d / L
-    rotation_vector(Rd, e, 3)
 
 
 @inner
@@ -177,11 +210,12 @@ def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
     platform already in ``FP[b]``; returns the residual."""
     fp = FP[b]
     n, m = M[D].shape[0], M[D].shape[1]
+    platform_home_rotation(M, fp, S)
     res = 0.0
     for i in range(n):
         Rl = S[3]
         tl = S[4, 0]
-        chain(M, i, X, nu + i * m, FA[b, i], Rl, tl, S[0], S[1], False, S, S[0])
+        chain(M, i, X, nu + i * m, FA[b, i], Rl, tl, S[0], S[2], False, S, S[0])
         fl = FL[b, i]
         for r in range(3):
             fl[9 + r] = tl[r]

@@ -23,7 +23,7 @@ from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
 from ._small import jacobi_rows, lu_factor, lu_apply, singular_values
 
 (SW_JN, SW_D, SW_U, SW_V, SW_SV, SW_SC, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN,
- SW_AP, SW_Z, SW_W, SW_COMP) = range(16)
+ SW_AP, SW_Z, SW_W, SW_COMP, SW_E) = range(17)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
 
@@ -35,7 +35,7 @@ def make_statics_work(mr):
     return (np.zeros((r, 6)), np.zeros(r), np.zeros((r, 6)), np.zeros((r, r)), np.zeros(6),
             np.zeros(6), np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(r),
             np.zeros((r, 6)), np.zeros(r), np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6),
-            np.zeros(r))
+            np.zeros(r), np.zeros(6))
 
 
 @inner
@@ -107,7 +107,7 @@ def conditioning(Jn, mr, n_act, SW, sv):
         for q in range(sv.shape[0]):
             sv[q] = math.nan
         return 0, math.nan, 0, math.nan
-    singular_values(Jn, mr, U, sv, k)
+    singular_values(Jn, mr, U, sv, k, SW[SW_E])
     top = max(sv[0], 1e-300) if k else 1.0
     rank = 0
     for q in range(k):
@@ -122,7 +122,7 @@ def conditioning(Jn, mr, n_act, SW, sv):
     c_cond = 1.0 if kk == 0 else math.inf
     if mc > 0:
         kc = min(mc, 6)
-        singular_values(Jn[n_act:], mc, U, sc, kc)
+        singular_values(Jn[n_act:], mc, U, sc, kc, SW[SW_E])
         ctop = max(sc[0], 1e-300)
         for q in range(kc):
             if sc[q] > RANK_RTOL * ctop:
