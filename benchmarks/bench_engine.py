@@ -1,25 +1,34 @@
-"""Throughput of the batched engine, beside a hand-written closed form in the same run.
+"""Throughput of the engine's kernels, beside two closed forms in the same run.
 
-Prints, for each case, poses per second (best of ``--repeat`` runs; the machines are
-noisy, so the reference is timed in the same process, right before):
+Prints every target of the issue "The compiled core", each beside two references timed in
+the same process right before (the machines are noisy: read the ratios):
 
-* ``closed form 3RRPRR``: the paper's corrected formulas (gamma = alpha, eq. 11c; X_o, Y_o
-  of eq. 11e with the Z_o sign of Y_o fixed; rows of eqs. 13d/14a-e about o; F_r = -J^-T W,
-  eq. 9), vectorised with numpy, written here independently of screwkit;
+* ``numpy closed form``: the paper's corrected formulas of the 3RRPRR (gamma = alpha, eq.
+  11c; X_o, Y_o of eq. 11e with the Z_o sign of Y_o fixed; rows of eqs. 13d/14a-e about o;
+  F_r = -J^-T W, eq. 9), vectorised with numpy, written here independently of screwkit;
+* ``fused numba closed form``: the same formulas as one numba kernel per pose (closed-form
+  pose, rows, a 6x6 Gaussian elimination), ``prange`` over the poses on 2 threads, written
+  here (not screwkit's kernels);
 * ``engine 3RRPRR random``: ``screwkit.analyze`` on 100,000 random poses (alpha, beta in
   +-10 deg, Zo in 60-100 cm), each solved from home (no warm start): closures, rows,
-  conditioning and statics;
-* the same for 2SPS+2SPR, 3RPS and 4SPS+SPR (random poses around their default poses);
-* ``engine 3RRPRR path``: a 100,000-sample smooth path (``path=True``: warm starts from
-  the neighbours);
-* ``one warm pose``: ``screwkit.analyze`` at one pose with the previous pose as guess;
-* ``memory``: peak resident memory of the 3RRPRR random case at ``--big`` poses.
+  conditioning and statics; target >= 1,000,000 poses/s on 2 threads;
+* the same for 2SPS+2SPR, 3RPS, 4SPS+SPR and the 6-SPS (random poses around their default
+  poses); target >= 500,000 poses/s each;
+* ``engine 3RRPRR path``: a 100,000-sample smooth path (``path=True``); target >= 2,000,000
+  samples/s;
+* ``one warm pose``: ``screwkit.analyze`` at one pose with the previous pose as guess, for
+  the 3RRPRR and the 6-SPS; target <= 100 us;
+* ``map 1e6 cells serial``: ``screwkit.map`` over 100 x 100 x 100 cells, one process;
+  target <= 3 s (``--map``);
+* ``memory``: peak resident memory of 1,000,000 random 3RRPRR poses (``--big``); target
+  <= 1 GB;
+* ``cold commands``: ``screwkit analyze 3RRPRR`` and ``screwkit leg RRPRR`` as fresh
+  processes with the kernels' cache warm; targets 0.6 s and 0.35 s (``--cold``);
+* ``first run``: ``screwkit analyze 3RRPRR`` with an empty kernel cache (the compilation
+  included); target <= 60 s (``--first``).
 
-Targets (issue "One engine"): >= 100,000 random poses/s for the 3RRPRR (within ~6.5x of
-the closed form), >= 200,000/s along a path, one warm pose <= 1 ms, peak memory <= 1 GB
-at N = 1,000,000.
-
-Run: ``python benchmarks/bench_engine.py [--n 100000] [--repeat 3] [--big 1000000]``.
+Run: ``python benchmarks/bench_engine.py [--n 100000] [--repeat 3] [--big 1000000] [--map]
+[--cold] [--first]``.
 """
 
 from __future__ import annotations
@@ -82,6 +91,74 @@ def closed_form_3rrprr(alpha, beta, Zo):
     return -np.linalg.solve(np.transpose(J, (0, 2, 1)), W[..., None])[..., 0]
 
 
+def fused_closed_form(alpha, beta, Zo, threads=2):
+    """The 3RRPRR closed form as one numba kernel per pose (prange): ``F_r (N, 6)``."""
+    import numba
+    kern = _fused_kernel()
+    numba.set_num_threads(threads)
+    out = np.empty((len(alpha), 6))
+    kern(alpha, beta, Zo, A3, MA3, R1, np.r_[F_LOAD, T_LOAD], out)
+    return out
+
+
+_FUSED = []
+
+
+def _fused_kernel():
+    if _FUSED:
+        return _FUSED[0]
+    from numba import njit, prange
+
+    @njit(parallel=True, cache=False, error_model="numpy")
+    def kern(alpha, beta, Zo, A, MA, R1, W, out):
+        for p in prange(alpha.shape[0]):
+            sa, ca = np.sin(alpha[p]), np.cos(alpha[p])
+            sb, cb = np.sin(beta[p]), np.cos(beta[p])
+            den = -sa * sa + ca * ca * cb
+            X = (Zo[p] * ca + e3 * sa) * sb / den
+            Y = (-Zo[p] * sa * ca * (1 + cb) + e3 * (cb - ca * ca + sa * sa * cb) / 2) / den
+            o = np.array([X, Y, Zo[p]])
+            # R = Rx(a) Ry(b) Rx(a)
+            Rx = np.array([[1.0, 0, 0], [0, ca, -sa], [0, sa, ca]])
+            Ry = np.array([[cb, 0, sb], [0, 1.0, 0], [-sb, 0, cb]])
+            R = Rx @ Ry @ Rx
+            J = np.empty((6, 6))
+            for i in range(3):
+                a = R @ MA[i] + o
+                d = a - A[i]
+                d /= np.sqrt(d @ d)
+                r = a - o
+                J[i, :3] = d
+                J[i, 3:] = np.cross(r, d)
+                c = np.cross(R1[i], d)
+                c /= np.sqrt(c @ c)
+                z = R[:, 2]
+                q = a - (a[2] / z[2]) * z
+                J[3 + i, :3] = c
+                J[3 + i, 3:] = np.cross(q - o, c)
+            # J^T F = -W by Gaussian elimination with partial pivoting
+            M = J.T.copy()
+            b = -W.copy()
+            for k in range(6):
+                piv = k + np.argmax(np.abs(M[k:, k]))
+                if piv != k:
+                    for c in range(6):
+                        M[k, c], M[piv, c] = M[piv, c], M[k, c]
+                    b[k], b[piv] = b[piv], b[k]
+                for r in range(k + 1, 6):
+                    f = M[r, k] / M[k, k]
+                    for c in range(k, 6):
+                        M[r, c] -= f * M[k, c]
+                    b[r] -= f * b[k]
+            for r in range(5, -1, -1):
+                s = b[r]
+                for c in range(r + 1, 6):
+                    s -= M[r, c] * out[p, c]
+                out[p, r] = s / M[r, r]
+    _FUSED.append(kern)
+    return kern
+
+
 def _best(fn, repeat):
     times = []
     out = None
@@ -107,6 +184,9 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=100_000)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--big", type=int, default=0, help="also measure memory at this N")
+    ap.add_argument("--map", action="store_true", help="also time a 1e6-cell map")
+    ap.add_argument("--cold", action="store_true", help="also time cold commands")
+    ap.add_argument("--first", action="store_true", help="also time a first run (compile)")
     ap.add_argument("--memory-child", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     rng = np.random.default_rng(0)
@@ -123,36 +203,83 @@ def main(argv=None):
     alpha, beta = np.radians(rng.uniform(-10, 10, n)), np.radians(rng.uniform(-10, 10, n))
     Zo = rng.uniform(60, 100, n)
     screwkit.analyze(pm, {"alpha": alpha[:10], "beta": beta[:10], "Zo": Zo[:10]})   # warm up
+    fused_closed_form(alpha[:10], beta[:10], Zo[:10])                                # compile
     t_cf, ref = _best(lambda: closed_form_3rrprr(alpha, beta, Zo), args.repeat)
+    t_fu, ref2 = _best(lambda: fused_closed_form(alpha, beta, Zo), args.repeat)
     t_en, res = _best(lambda: screwkit.analyze(pm, {"alpha": alpha, "beta": beta, "Zo": Zo}),
                       args.repeat)
     ok = res.ok
     dev = np.max(np.abs(res.statics.active[ok] - ref[ok, :3])) / np.max(np.abs(ref[ok, :3]))
-    print(f"closed form 3RRPRR:       {n / t_cf:12,.0f} poses/s")
-    print(f"engine 3RRPRR random:     {n / t_en:12,.0f} poses/s  ({t_en / t_cf:.1f}x the closed "
-          f"form; {int(ok.sum())}/{n} ok; largest |F_a| deviation from it {dev:.1e} relative)")
-    for name in ("2SPS+2SPR", "3RPS", "4SPS+SPR"):
+    dev2 = np.max(np.abs(ref2 - ref)) / np.max(np.abs(ref))
+
+    def line(what, rate, target):
+        print(f"{what:34s} {rate:12,.0f} /s  ({n / t_cf / rate:5.1f}x the numpy closed form's "
+              f"time, {n / t_fu / rate:5.1f}x the fused one's; target {target})")
+
+    print(f"numpy closed form 3RRPRR:          {n / t_cf:12,.0f} poses/s")
+    print(f"fused numba closed form 3RRPRR:    {n / t_fu:12,.0f} poses/s  (2 threads; agrees "
+          f"with numpy to {dev2:.1e})")
+    line("engine 3RRPRR random", n / t_en, ">= 1,000,000")
+    print(f"{'':34s} ({int(ok.sum())}/{n} ok; largest |F_a| deviation from the closed form "
+          f"{dev:.1e} relative)")
+    for name in ("2SPS+2SPR", "3RPS", "4SPS+SPR", "6SPS"):
         m = screwkit.load_pm(name)
         pose = _random_pose(m, n, rng)
         screwkit.analyze(m, {k: v[:10] for k, v in pose.items()})
         t, r = _best(lambda: screwkit.analyze(m, pose), args.repeat)
-        print(f"engine {name + ' random:':18s} {n / t:12,.0f} poses/s  ({int(np.sum(r.ok))}/{n} ok)")
+        line(f"engine {name} random", n / t, f">= 500,000; {int(np.sum(r.ok))}/{n} ok")
     s = np.linspace(0, 1, n)
     path = {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
             "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
     t, r = _best(lambda: screwkit.analyze(pm, path, path=True), args.repeat)
-    print(f"engine 3RRPRR path:       {n / t:12,.0f} poses/s  ({int(np.sum(r.ok))}/{n} ok)")
-    one = {"alpha": np.radians(5.0), "beta": np.radians(-3.0), "Zo": 80.0}
-    prev = screwkit.analyze(pm, one)
-    near = {"alpha": np.radians(5.1), "beta": np.radians(-3.0), "Zo": 80.2}
-    k = 200
-    t, _ = _best(lambda: [screwkit.analyze(pm, near, guess=prev.solution) for _ in range(k)],
-                 args.repeat)
-    print(f"one warm pose:            {t / k * 1e3:12.3f} ms")
+    line("engine 3RRPRR path", n / t, f">= 2,000,000; {int(np.sum(r.ok))}/{n} ok")
+    for name, one, near in (
+            ("3RRPRR", {"alpha": np.radians(5.0), "beta": np.radians(-3.0), "Zo": 80.0},
+             {"alpha": np.radians(5.1), "beta": np.radians(-3.0), "Zo": 80.2}),
+            ("6SPS", None, None)):
+        m = screwkit.load_pm(name)
+        if one is None:
+            one = dict(m.default_pose)
+            near = {p: v + (0.002 if p in ("alpha", "beta", "gamma") else 0.1)
+                    for p, v in one.items()}
+        prev = screwkit.analyze(m, one)
+        k = 500
+        t, _ = _best(lambda: [screwkit.analyze(m, near, guess=prev.solution)
+                              for _ in range(k)], args.repeat)
+        t1, _ = _best(lambda: fused_closed_form(alpha[:1], beta[:1], Zo[:1], threads=1),
+                      args.repeat)
+        print(f"one warm pose {name:20s} {t / k * 1e6:12.1f} us  (target <= 100 us; the fused "
+              f"closed form's call {t1 * 1e6:.1f} us)")
+    if args.map:
+        t0 = time.perf_counter()
+        screwkit.map(pm, {"alpha": (-15.0, 15.0, 100), "beta": (-15.0, 15.0, 100),
+                          "Zo": (60.0, 100.0, 100)}, degrees=True)
+        print(f"map 1e6 cells serial:              {time.perf_counter() - t0:12.2f} s   "
+              "(target <= 3 s)")
     if args.big:
         out = subprocess.run([sys.executable, __file__, "--memory-child", str(args.big)],
                              capture_output=True, text=True, check=True)
-        print(f"memory:                   {out.stdout.strip()}")
+        print(f"memory:                            {out.stdout.strip()}  (target <= 1 GB)")
+    if args.cold:
+        exe = [sys.executable, "-m", "screwkit"]
+        for cmd, target in ((["analyze", "3RRPRR"], 0.6), (["leg", "RRPRR"], 0.35)):
+            times = []
+            for _ in range(max(3, args.repeat)):
+                t0 = time.perf_counter()
+                subprocess.run(exe + cmd, capture_output=True, check=True)
+                times.append(time.perf_counter() - t0)
+            print(f"cold screwkit {' '.join(cmd):20s} {sorted(times)[len(times) // 2]:12.2f} s"
+                  f"   (median; target <= {target} s)")
+    if args.first:
+        import os
+        import tempfile
+        with tempfile.TemporaryDirectory() as tmp:
+            env = dict(os.environ, NUMBA_CACHE_DIR=tmp)
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR"], env=env,
+                           capture_output=True, check=True)
+            print(f"first run (empty kernel cache):    {time.perf_counter() - t0:12.1f} s   "
+                  "(target <= 60 s)")
     return 0
 
 

@@ -12,7 +12,12 @@ a one-pose result, as :class:`scipy.spatial.transform.Rotation` holds one or man
   statics ``F_r = -(J^-1)^T W`` (:class:`StaticsResult`);
 * :func:`analyze` (:class:`PMAnalysis`) chains the three, in chunks, on threads;
 * for placed legs at one pose: :func:`unified_jacobian`, :func:`statics`,
-  :func:`solve_statics`.
+  :func:`solve_statics`;
+* :func:`reflatten`: a model of the same legs with other dimensions (an optimiser's
+  candidate) through the first model's row templates, without analysing its legs again.
+
+The per-pose maths is compiled (numba, :mod:`screwkit.engine._kernels`), imported on the
+first computation.
 """
 
 from ..pm import LENGTH_PARAMS, PARAMS
@@ -32,6 +37,7 @@ from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_
 from ._forward import ForwardResult, forward_kinematics
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
+from ._flat import reflatten
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD", "CHUNK",
@@ -42,5 +48,5 @@ __all__ = [
     "PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "analyze_pm",
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
-    "LinkFrames", "link_frames", "constraint_resultants",
+    "LinkFrames", "link_frames", "constraint_resultants", "reflatten",
 ]

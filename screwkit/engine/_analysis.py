@@ -89,7 +89,7 @@ class PMAnalysis:
         i = pose_index(i, len(self))
         st = self.statics[i] if self.statics is not None else None
         diag = dict(self.diagnostics)
-        for key in ("rows_ok", "structure_ok", "det_sign"):
+        for key in ("rows_ok", "structure_ok", "det_sign", "twists"):
             if diag.get(key) is not None:
                 diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
@@ -140,6 +140,27 @@ class PMAnalysis:
     @property
     def residual(self):
         return self.solution.residual
+
+    @cached_property
+    def _actuated_twists(self):
+        tw = self.diagnostics.get("twists")
+        if tw is None:
+            from ._launch import run_poses
+            c = self.solution.closures
+            flat = c.chains.flat
+            tw = run_poses(flat, flat.Z, c.params(), X=c.X.T, statics=False,
+                           twists=True)["twists"]
+            tw[~self.solution.reachable_mask] = np.nan
+        tw.setflags(write=False)
+        return tw
+
+    @property
+    def actuated_twists(self) -> np.ndarray:
+        """Each actuated leg's actuated-joint unit twist ``[v; w]`` about ``O``, in the order
+        of the actuation rows of ``J``: ``(n_actuated, 6)`` / ``(N, n_actuated, 6)`` (NaN where
+        unreachable).  With ``J`` it gives the transmission indices."""
+        tw = self._actuated_twists
+        return tw[0] if self.single else tw
 
     @cached_property
     def quality(self):
@@ -257,7 +278,7 @@ def _stiffness_of_poses(stiffness, i, N):
 def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
-            progress=None, stiffness=None, mapper=None) -> PMAnalysis:
+            progress=None, stiffness=None, mapper=None, twists: bool = False) -> PMAnalysis:
     """Analyse a PM model at one or N poses.
 
     Parameters
@@ -298,6 +319,9 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         ``functools.partial(screwkit.maps.run_tasks, 2)`` on a Dask cluster); the path's
         closures are solved here, the rows and statics of its chunks by the mapper, equal
         to the serial run bit for bit.
+    twists : bool
+        Also keep, from the same kernel run, each actuated leg's actuated-joint unit twist
+        (:attr:`PMAnalysis.actuated_twists`; formed on first read otherwise).
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     F, T = load_vector(force, "force"), load_vector(torque, "torque")
@@ -307,7 +331,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
-                   compliance=compliance, mapper=mapper)
+                   compliance=compliance, mapper=mapper if path else None, twists=bool(twists))
     sol = make_solution(model, comp.closures, single, notes, side)
     if single:
         check_reachable(sol)
@@ -338,5 +362,5 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         if bad.any():
             st = _mask(st, bad)
     diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok,
-                det_sign=comp.det_sign)
+                det_sign=comp.det_sign, twists=comp.twists)
     return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness)

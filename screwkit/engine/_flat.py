@@ -45,10 +45,20 @@ def flatten(model) -> FlatModel:
     return f
 
 
-def reflatten(flat: FlatModel, model) -> FlatModel:
-    """``flat`` with the geometry of ``model``: the same legs, joints, pose parametrisation
-    and row templates (decided at the home of ``flat``'s model), other dimensions.  Cheap:
-    no leg is analysed again.  The result is cached for ``model``."""
+def reflatten(like, model) -> FlatModel:
+    """The arrays of ``model``, a model of the same legs as ``like`` with other dimensions
+    (an optimiser's candidate): the same joints, pose parametrisation and row templates
+    (decided at the home of ``like``), the geometry of ``model``.  Cheap: no leg is analysed
+    again.  The result is cached for ``model`` (and ``like``'s row templates are taken for
+    it), so that every engine call on ``model`` uses it.
+
+    Raises
+    ------
+    ValueError
+        When the legs differ (another number of joints).
+    """
+    from ._templates import _TEMPLATES, templates_of
+    flat = flatten(like)
     L = float(model.normalisation.length)
     sizes, m, geo = joint_arrays(model.home_legs, L)
     if m != flat.m or [int(s) for s in flat.M[lay.LEG][:, 0]] != sizes:
@@ -64,8 +74,9 @@ def reflatten(flat: FlatModel, model) -> FlatModel:
     keep = [k for k, p in enumerate(flat.unknown) if p not in ("alpha", "gamma")]
     p6home = np.array([float(model.home_pose[p]) for p in PARAMS])
     Z = (flat.Z[0], xs, flat.Z[2], xs[keep].copy(), flat.Z[4], flat.Z[5], p6home) + flat.Z[7:]
-    out = replace(flat, M=tuple(M), Z=Z)
+    out = replace(flat, M=tuple(M), Z=Z, packed={})
     _FLAT[model] = out
+    _TEMPLATES[model] = templates_of(like)
     return out
 
 

@@ -67,6 +67,50 @@ def _configure():
     return numba
 
 
+def _source_stamp() -> str:
+    """A digest of every kernel source file (numba invalidates a cached function when its
+    own file changes, not when a function it calls, in another file, does)."""
+    import hashlib
+    h = hashlib.sha1()
+    for name in sorted(os.listdir(_HERE)):
+        if name.endswith(".py"):
+            with open(os.path.join(_HERE, name), "rb") as f:
+                h.update(name.encode() + f.read())
+    return h.hexdigest()
+
+
+def _kernel_cache_path(numba) -> str:
+    """Where numba keeps this folder's cached kernels."""
+    from numba.core.caching import _CacheLocator
+    if numba.config.CACHE_DIR:
+        sub = _CacheLocator.get_suitable_cache_subpath(os.path.join(_HERE, "_driver.py"))
+        return os.path.join(numba.config.CACHE_DIR, sub)
+    return os.path.join(_HERE, "__pycache__")
+
+
+def _check_stamp(numba):
+    """Drop this folder's cached kernels when any kernel source changed since they were
+    compiled (a stamp file beside them)."""
+    try:
+        path = _kernel_cache_path(numba)
+        stamp = os.path.join(path, "screwkit-kernels.stamp")
+        want = _source_stamp()
+        if os.path.exists(stamp):
+            with open(stamp) as f:
+                if f.read().strip() == want:
+                    return
+        mods = {name[:-3] for name in os.listdir(_HERE) if name.endswith(".py")}
+        if os.path.isdir(path):
+            for name in os.listdir(path):
+                if name.split(".", 1)[0] in mods and name.endswith((".nbi", ".nbc")):
+                    os.remove(os.path.join(path, name))
+        os.makedirs(path, exist_ok=True)
+        with open(stamp, "w") as f:
+            f.write(want + "\n")
+    except OSError:              # a read-only cache: numba itself copes (or recompiles)
+        pass
+
+
 def _compiled_before(fn) -> bool:
     """Whether ``fn``'s cache index exists (False: the first call compiles)."""
     try:
@@ -85,6 +129,7 @@ def kernels() -> SimpleNamespace:
     with _LOAD_LOCK:
         if _K is None:
             numba = _configure()
+            _check_stamp(numba)
             from . import _driver, _extra, _fk, _probe
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, about a minute; cached "

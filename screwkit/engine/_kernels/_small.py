@@ -18,8 +18,8 @@ JACOBI_SWEEPS = 30
 #: Two rows count as orthogonal when their cosine is below this.
 JACOBI_TOL = 1e-15
 #: Below this condition number the singular values come from the Gram matrix's eigenvalues
-#: (``s_k`` to about ``eps cond^2 / 2`` relative: 1e-10 at 1e3), beyond by Jacobi.
-REFINE_GRAM = 1e3
+#: (``s_k`` to about ``eps cond^2 / 2`` relative: 5e-12 at 300), beyond by Jacobi.
+REFINE_GRAM = 300.0
 
 
 @inner

@@ -1,0 +1,196 @@
+"""The compiled core: one implementation of the per-pose maths, numba kernels over a model
+flattened to arrays.
+
+Independent references: a fresh interpreter's ``sys.modules`` (commands that compute nothing
+import no numba); the kernels' own one-pose calls against their batch, bit for bit (each pose
+is computed alone); a model loaded with other dimensions against the same model re-flattened
+(no recompilation, the same numbers); the 6-SPS's statics written here from its leg lines
+(``[d; a x d]`` rows, scipy's Euler angles, ``J^T F = -W`` by numpy); the actuated joints'
+twists from the placed legs' joints; a passive leg against the same leg actuated.
+"""
+
+import dataclasses
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import screwkit
+from screwkit.pm import PARAMS, pm_names
+from random_poses import random_pose
+
+F = np.array([-20.0, -30.0, -60.0])
+T = np.array([-30.0, -30.0, 100.0])
+
+
+def _fresh(code):
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300, env=dict(os.environ, MPLBACKEND="Agg"))
+    assert out.returncode == 0, out.stderr
+    return out.stdout.strip()
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["leg", "RRPRR"], ["catalog"],
+                                  ["model", "check", "3RRPRR"]])
+def test_commands_that_compute_nothing_never_import_numba(argv):
+    code = ("import sys, contextlib, io\nfrom screwkit.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    try:\n        main(%r)\n    except SystemExit:\n        pass\n"
+            "print('numba' in sys.modules)" % (argv,))
+    assert _fresh(code) == "False"
+
+
+def test_numba_is_imported_only_inside_the_engine():
+    from pathlib import Path
+    root = Path(screwkit.__file__).parent
+    bad = [str(p.relative_to(root)) for p in root.rglob("*.py")
+           if "numba" in p.read_text() and "engine/_kernels" not in p.as_posix()]
+    assert bad == [], bad
+
+
+def test_the_cache_goes_to_a_user_directory_where_the_package_is_read_only(monkeypatch,
+                                                                          tmp_path):
+    from screwkit.engine import _kernels
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setattr(_kernels, "_writable", lambda path: False)
+    if sys.platform.startswith("linux"):
+        assert _kernels.cache_dir() == str(tmp_path / "screwkit" / "numba")
+        assert os.environ["NUMBA_CACHE_DIR"] == str(tmp_path / "screwkit" / "numba")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "/somewhere/else")
+    assert _kernels.cache_dir() == "/somewhere/else"         # the user's choice wins
+
+
+def _one_by_one(flat, Z, P6):
+    from screwkit.engine._launch import run_poses
+    outs = [run_poses(flat, Z, P6[i:i + 1], F=F, T=T) for i in range(len(P6))]
+    return {k: np.concatenate([o[k] for o in outs]) for k in ("X", "J", "values", "residual")}
+
+
+@pytest.mark.parametrize("name", pm_names())
+def test_a_batch_equals_its_poses_one_by_one_bit_for_bit(name):
+    """1,000 random poses of every catalog PM: the batch of ``screwkit.analyze`` (on two
+    threads) and the kernel called for each pose alone give the same bits."""
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._solve import predictor_of
+    pm = screwkit.load_pm(name)
+    pose = random_pose(pm, 1000, 11, span=8.0, frac=0.08)
+    res = screwkit.analyze(pm, pose, workers=2, raise_on_singular=False)
+    ch = chains_of(pm)
+    one = _one_by_one(ch.flat, predictor_of(ch), ch.full_params(pose, 1000))
+    ok = res.solution.reachable_mask
+    np.testing.assert_array_equal(res.solution.closures.X.T[ok], one["X"][ok])
+    np.testing.assert_array_equal(res.jacobian.matrix[ok], one["J"][ok])
+    good = ok & ~res.jacobian.singular_mask
+    np.testing.assert_array_equal(res.statics.values[good], one["values"][good])
+
+
+def test_other_dimensions_are_other_arrays_never_a_recompilation():
+    from screwkit.engine._flat import flatten, reflatten
+    from screwkit.engine._kernels import kernels
+    from screwkit.engine._launch import run_poses
+    pm = screwkit.load_pm("3RRPRR")
+    pose = {"alpha": 0.05, "beta": -0.03, "Zo": 85.0}
+    screwkit.analyze(pm, pose)
+    k = kernels()
+    before = (len(k.run_range.signatures), len(k.run_parallel.signatures))
+    big = screwkit.load_pm("3RRPRR", {"L": 150, "l": 70})
+    res = screwkit.analyze(big, pose)
+    assert (len(k.run_range.signatures), len(k.run_parallel.signatures)) == before
+    # re-flattening the first model's arrays with the second's dimensions: the same arrays
+    # (the same legs and templates) and the same analysis
+    re = reflatten(pm, screwkit.load_pm("3RRPRR", {"L": 150, "l": 70}))
+    ref = flatten(big)
+    for a, b in zip(ref.M, re.M):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    P6 = np.array([[0.0, 0.0, 85.0, 0.05, -0.03, 0.0]])
+    X0 = res.solution.closures.X.T
+    out = run_poses(re, re.Z, P6, X=X0, F=F, T=T)
+    np.testing.assert_allclose(out["values"][0], res.statics.values, rtol=1e-12)
+
+
+def test_six_sps_statics_from_its_leg_lines():
+    """The 6-SPS: every row of ``J`` is a leg line (no constraint), so ``F_a`` solves
+    ``sum_i F_i [d_i; a_i x d_i] = -W`` with the leg directions of the pose (scipy's
+    intrinsic XYZ angles, the catalog's geometry written here)."""
+    pm = screwkit.load_pm("6SPS")
+    pose = random_pose(pm, 20, 5, span=6.0, frac=0.05)
+    res = screwkit.analyze(pm, pose)
+    assert res.ok.all() and res.jacobian.matrix.shape[1:] == (6, 6)
+    ang_b = np.radians([-2.5, 2.5, 117.5, 122.5, 237.5, 242.5])
+    ang_p = np.radians([-50, 50, 70, 170, 190, 290])
+    A = 300.0 * np.column_stack([np.cos(ang_b), np.sin(ang_b), np.zeros(6)])
+    ap = 100.0 * np.column_stack([np.cos(ang_p), np.sin(ang_p), np.zeros(6)])
+    for i in range(20):
+        R = Rotation.from_euler("XYZ", [pose[p][i] for p in ("alpha", "beta", "gamma")]).as_matrix()
+        o = np.array([pose["Xo"][i], pose["Yo"][i], pose["Zo"][i]])
+        a = ap @ R.T + o
+        d = (a - A) / np.linalg.norm(a - A, axis=1, keepdims=True)
+        J = np.hstack([d, np.cross(a, d)])
+        W = np.concatenate([F, T + np.cross(o, F)])
+        want = np.linalg.solve(J.T, -W)
+        np.testing.assert_allclose(res.statics.active[i], want, rtol=1e-9,
+                                   atol=1e-9 * np.abs(want).max())
+        np.testing.assert_allclose(res.solution.extensions[i], np.linalg.norm(a - A, axis=1),
+                                   rtol=1e-12)
+
+
+def test_the_actuated_twists_come_with_J():
+    pm = screwkit.load_pm("3RRPRR")
+    pose = random_pose(pm, 6, 3)
+    res = screwkit.analyze(pm, pose, twists=True)
+    tw = res.actuated_twists
+    assert tw.shape == (6, 3, 6)
+    lazy = screwkit.analyze(pm, pose).actuated_twists
+    np.testing.assert_array_equal(lazy, tw)
+    for i in range(6):
+        legs = res.solution.legs_at(i)
+        for k, leg in enumerate(legs):
+            jt = leg.joints[leg.actuated_index]          # the prismatic joint: [u; 0]
+            np.testing.assert_allclose(tw[i, k], np.r_[jt.direction, 0, 0, 0], atol=1e-12)
+            # reciprocal product 1 with the leg's actuation row
+            assert res.jacobian.matrix[i, k] @ tw[i, k] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_a_passive_leg_adds_its_constraint_rows_and_no_actuation_row():
+    pm = screwkit.load_pm("4SPS+SPR")
+    passive = dataclasses.replace(pm, passive=(2,))
+    pose = random_pose(pm, 5, 2)
+    full = screwkit.analyze(pm, pose)
+    part = screwkit.analyze(passive, pose, raise_on_singular=False)
+    labels = [r.label for r in part.jacobian.info]
+    assert "F_a3" not in labels and len(labels) == len(full.jacobian.info) - 1
+    keep = [k for k, r in enumerate(full.jacobian.info) if r.label != "F_a3"]
+    np.testing.assert_allclose(part.jacobian.matrix, full.jacobian.matrix[:, keep], rtol=0,
+                               atol=1e-12)
+    assert part.jacobian.n_actuated == 4
+    assert (part.jacobian.rank <= 5).all()           # four actuators for five freedoms
+
+
+def test_an_empty_cache_gets_a_one_line_note_on_stderr(tmp_path):
+    """The first run after an install (no compiled kernel in the cache) says, once, on
+    stderr, that it compiles; a warm cache says nothing.  (Loading the kernels compiles
+    nothing: the compilation itself is timed by the benchmark.)"""
+    code = "from screwkit.engine import _kernels\n_kernels.kernels()\n_kernels.kernels()"
+    cold = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300, env=dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path)))
+    assert cold.returncode == 0, cold.stderr
+    notes = [ln for ln in cold.stderr.splitlines() if "compiling" in ln]
+    assert len(notes) == 1 and str(tmp_path) in notes[0]
+    screwkit.analyze("3RRPRR")                      # this process's cache is warm
+    warm = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300, env={k: v for k, v in os.environ.items()
+                                            if k != "NUMBA_CACHE_DIR"})
+    assert "compiling" not in warm.stderr
+
+
+def test_dimensions_and_params_layout():
+    """The flattened model keeps the pose parametrisation in PARAMS order."""
+    from screwkit.engine._flat import flatten
+    pm = screwkit.load_pm("2SPS+2SPR")
+    f = flatten(pm)
+    assert f.unknown == tuple(p for p in PARAMS if p not in pm.independent)
+    assert [PARAMS[k] for k in f.Z[0]] == list(f.unknown)
