@@ -114,11 +114,9 @@ def _check_stamp(numba):
 def _compiled_before(fn) -> bool:
     """Whether ``fn``'s cache index exists (False: the first call compiles)."""
     try:
-        path = fn._cache._cache_path
-        name = fn._cache._index_name
+        return os.path.exists(fn._cache._cache_file._index_path)
     except AttributeError:
         return True
-    return os.path.exists(os.path.join(path, name))
 
 
 def kernels() -> SimpleNamespace:
