@@ -9,7 +9,7 @@ import pytest
 
 import screwkit
 from screwkit.cli import main
-from screwkit.cli._commands.draw import wrench_rows
+from screwkit.engine import wrench_rows
 from screwkit.viz import draw_pm
 
 
