@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["find_chromium", "open_page", "screenshot", "CHROMIUM_ARGS"]
+__all__ = ["find_chromium", "browser", "open_page", "screenshot", "CHROMIUM_ARGS"]
 
 #: The flags of a headless Chromium run as root in a container, with software WebGL.
 CHROMIUM_ARGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -69,35 +69,61 @@ class PageSession:
         self.page.wait_for_timeout(400)
 
 
+class Browser:
+    """A headless Chromium with a fresh profile (:func:`browser`); :meth:`open` opens a
+    page in it."""
+
+    def __init__(self, context):
+        self.context = context
+
+    def open(self, html_path) -> PageSession:
+        """Open the page ``html_path``; every request but the page's own is refused and
+        recorded."""
+        url = Path(html_path).resolve().as_uri()
+        page = self.context.new_page()
+        session = PageSession(page, url)
+
+        def route(r):
+            if r.request.url == url or r.request.url.startswith("data:"):
+                return r.continue_()
+            session.requests.append(r.request.url)
+            return r.abort()
+
+        page.route("**/*", route)
+        page.on("console", lambda m: session.errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: session.errors.append(str(e)))
+        page.goto(url)
+        return session
+
+
+@contextmanager
+def browser(width: int = 1400, height: int = 900):
+    """A headless Chromium (yields a :class:`Browser`), closed on exit."""
+    sync_playwright, exe = _require()
+    from playwright.sync_api import Error as PlaywrightError
+
+    with tempfile.TemporaryDirectory(prefix="screwkit-chromium-") as profile:
+        try:
+            with sync_playwright() as pw:
+                # a fresh profile every time (nothing carried over between runs)
+                context = pw.chromium.launch_persistent_context(
+                    profile, executable_path=exe, args=list(CHROMIUM_ARGS), headless=True,
+                    viewport={"width": width, "height": height})
+                try:
+                    yield Browser(context)
+                finally:
+                    context.close()
+        except PlaywrightError as exc:
+            first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            raise InputError(f"Chromium ({exe}) failed: {first}") from None
+
+
 @contextmanager
 def open_page(html_path, width: int = 1400, height: int = 900):
-    """Open the page ``html_path`` in headless Chromium; yields a :class:`PageSession`."""
-    sync_playwright, exe = _require()
-    url = Path(html_path).resolve().as_uri()
-    with tempfile.TemporaryDirectory(prefix="screwkit-chromium-") as profile, \
-            sync_playwright() as pw:
-        # a fresh profile every time (nothing carried over between runs)
-        browser = pw.chromium.launch_persistent_context(
-            profile, executable_path=exe, args=list(CHROMIUM_ARGS), headless=True,
-            viewport={"width": width, "height": height})
-        try:
-            page = browser.new_page()
-            session = PageSession(page, url)
-
-            def route(r):
-                if r.request.url == url or r.request.url.startswith("data:"):
-                    return r.continue_()
-                session.requests.append(r.request.url)
-                return r.abort()
-
-            page.route("**/*", route)
-            page.on("console", lambda m: session.errors.append(m.text)
-                    if m.type == "error" else None)
-            page.on("pageerror", lambda e: session.errors.append(str(e)))
-            page.goto(url)
-            yield session
-        finally:
-            browser.close()
+    """Open the page ``html_path`` in a headless Chromium of its own; yields a
+    :class:`PageSession`."""
+    with browser(width, height) as b:
+        yield b.open(html_path)
 
 
 def screenshot(html_path, png_path, *, state: int | None = None, width: int = 1400,
