@@ -218,7 +218,7 @@ class PMAnalysis:
         from ._frames import to_frame
         return to_frame(self)
 
-    def show(self, *, title: str | None = None, start: int = 0):
+    def show(self, *, title: str | None = None, start: int = 0) -> Any:
         """The interactive 3D view of these poses (:class:`screwkit.scene.View`): Jupyter
         shows it inline; ``.write_html(path)`` writes the self-contained page.  One pose is
         one state; N poses get a slider over the pose index (a grid of poses with one

@@ -9,10 +9,20 @@ path, warm-started as :func:`run_trajectory` solves them).  The page is drawn by
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..engine import LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..pm import PMModel
+    from ..scene import View
+    from ._pathspec import PathSpec
 
 __all__ = ["view", "default_steps", "VIEW_SPAN_DEG", "VIEW_SPAN_LENGTH"]
 
@@ -90,9 +100,13 @@ def _axes(model, centre, grid, steps, degrees):
     return api, shown
 
 
-def view(pm, pose=None, *, grid=None, steps=None, path=None, force=PAPER_FORCE,
-         torque=PAPER_TORQUE, degrees: bool = False, overrides=None, title=None,
-         start=None, progress=None):
+def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
+         grid: Mapping[str, Any] | None = None, steps: int | None = None,
+         path: "PathSpec | None" = None, force: "ArrayLike" = PAPER_FORCE,
+         torque: "ArrayLike" = PAPER_TORQUE, degrees: bool = False,
+         overrides: Mapping[str, float] | None = None, title: str | None = None,
+         start: int | None = None,
+         progress: Callable[[int, int], None] | None = None) -> "View":
     """The interactive 3D view of a PM (:class:`screwkit.scene.View`: Jupyter shows it
     inline, ``.write_html(path)`` writes the self-contained page).
 
@@ -132,7 +146,7 @@ def view(pm, pose=None, *, grid=None, steps=None, path=None, force=PAPER_FORCE,
     from ..scene import MAX_STATES, GridControls, TimeControls, View, require_plotly
 
     require_plotly()
-    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, overrides)
+    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, dict(overrides or {}))
     source = workload_source(force, torque)
     if path is not None:
         if grid is not None or pose is not None:
