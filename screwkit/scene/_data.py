@@ -74,6 +74,12 @@ class SceneRow:
     quantity: str = "force"
     actuation: bool = False
 
+    @property
+    def scale_key(self) -> str:
+        """The arrows this row's length is proportional with (``force-a``, ``force-c``,
+        ``torque-c``...): its quantity and whether it is an actuation wrench."""
+        return f"{self.quantity}-{'a' if self.actuation else 'c'}"
+
     def __post_init__(self):
         if self.kind not in _ROW_KINDS:
             raise InputError(f"row {self.label!r}: kind {self.kind!r} is not one of "
@@ -225,12 +231,6 @@ class Scene:
         from ._geometry import leg_json, scene_box, scene_size
 
         size = scene_size(self.states)
-        vmax = {}
-        for k, r in enumerate(self.rows):
-            vals = np.array([abs(float(s.values[k])) for s in self.states if len(s.values)])
-            vals = vals[np.isfinite(vals)]
-            if vals.size:
-                vmax[r.quantity] = max(vmax.get(r.quantity, 0.0), float(vals.max()))
         states = []
         for s in self.states:
             drawn = s.status != "unreachable"
@@ -265,8 +265,8 @@ class Scene:
                                                         else "")}
                      for i, n in enumerate(self.leg_names)],
             "rows": [{"label": r.label, "kind": r.kind, "leg": r.leg, "quantity": r.quantity,
-                      "actuation": r.actuation} for r in self.rows],
-            "colors": dict(COLORS), "size": size, "vmax": vmax,
+                      "actuation": r.actuation, "scale": r.scale_key} for r in self.rows],
+            "colors": dict(COLORS), "size": size,
             "box": {"lo": _arr(lo), "hi": _arr(hi)},
             "controls": controls, "start": int(self.start), "states": states,
             "notes": list(self.notes),

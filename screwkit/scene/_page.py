@@ -100,9 +100,12 @@ class View:
         self.height = int(height)
 
     def __repr__(self) -> str:
-        kind = "grid" if hasattr(self.scene.controls, "params") else "path"
-        return (f"View({self.scene.pm}: {len(self.scene.states)} states on a {kind}; "
-                "write_html(path) or display in Jupyter)")
+        sc, n = self.scene, len(self.scene.states)
+        if hasattr(sc.controls, "params"):
+            what = f"{n} poses on sliders ({', '.join(sc.controls.params)})"
+        else:
+            what = "one pose" if n == 1 else f"{n} samples on a time slider"
+        return f"View({sc.pm}: {what}; write_html(path), or display it in Jupyter)"
 
     @property
     def html(self) -> str:

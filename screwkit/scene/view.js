@@ -188,15 +188,28 @@
     return String(parseFloat(v.toPrecision(4)));
   }
 
+  // an S or U centre or an end point of a leg: a marker is drawn there
+  function onMarker(s, p) {
+    return s.legs.some(function (leg) {
+      var pts = [leg.A, leg.a];
+      leg.joints.forEach(function (j) { if (j.k === "S" || j.k === "U") { pts.push(j.p); } });
+      return pts.some(function (q) { return norm(sub(q, p)) <= 1e-6 * size; });
+    });
+  }
+
   // where each row's arrow goes at state s: null (nothing drawn) or its tail, head, unit
   // direction u and, for a couple, the point of its leg it is tied to
   function arrows(s) {
-    var seen = {};
+    var seen = {}, vmax = {};      // each kind scaled on its own at this pose, as screwkit draw
+    D.rows.forEach(function (r, k) {
+      var v = s.values[k];
+      if (v !== null) { vmax[r.scale] = Math.max(vmax[r.scale] || 0, Math.abs(v)); }
+    });
     return D.rows.map(function (r, k) {
       var leg = s.legs[r.leg], v = s.values[k], dir = s.directions[k];
       if (!leg || !dir || dir[0] === null) { return null; }
-      var top = D.vmax[r.quantity] || 0, ok = v !== null && top > 0;
-      var frac = ok ? Math.max(Math.abs(v) / top, 0.15) : 0.15;
+      var top = vmax[r.scale] || 0, ok = v !== null && top > 0;     // a 25 % floor
+      var frac = ok ? Math.max(Math.abs(v) / top, 0.25) : 0.25;
       var vec = mul(dir, (ok && v < 0 ? -1 : 1) * frac * 0.6 * size), tail, tie = null;
       if (r.kind === "couple") {     // a free vector: beside its leg, tied to it by a dotted line
         var n = seen[r.leg] || 0;
@@ -208,6 +221,9 @@
       } else {                       // on its line, where the line passes nearest to a
         var q = s.points[k];
         tail = add(q, mul(dir, dot(sub(leg.a, q), dir)));
+        if (!r.actuation && onMarker(s, tail)) {   // slide it clear of the ball it hides in
+          tail = add(tail, mul(unit(vec), 0.06 * size));
+        }
       }
       return {tail: tail, head: add(tail, vec), u: unit(vec), tie: tie, dir: dir};
     });
@@ -365,7 +381,7 @@
             aspectratio: {x: (hi[0] - lo[0]) / span, y: (hi[1] - lo[1]) / span,
                           z: (hi[2] - lo[2]) / span},
             xaxis: axis(0, "x"), yaxis: axis(1, "y"), zaxis: axis(2, "z"),
-            camera: {eye: {x: 1.7 * Math.cos(-1.05), y: 1.7 * Math.sin(-1.05), z: 0.8},
+            camera: {eye: {x: 1.85 * Math.cos(-1.05), y: 1.85 * Math.sin(-1.05), z: 0.9},
                      up: {x: 0, y: 0, z: 1}}}
   };
   var config = {displaylogo: false, responsive: true, showLink: false, showSendToCloud: false};
