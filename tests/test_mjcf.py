@@ -195,3 +195,21 @@ def test_cli_export_mjcf_needs_masses(tmp_path, capsys):
     assert "--mass FILE" in err and "--massless" in err
     rc = main(["export", "3RRPRR", "--pose", "alpha=5", "--urdf", str(tmp_path / "pm.urdf")])
     assert rc == 2 and "options of --mjcf" in capsys.readouterr().err
+
+
+from tricept import TRICEPT  # noqa: E402
+
+
+def test_passive_leg_has_no_motor(tmp_path):
+    """A passive leg (the Tricept's column) closes its loop and drives nothing."""
+    (tmp_path / "tricept.yaml").write_text(TRICEPT)
+    pm = screwkit.load_pm(str(tmp_path / "tricept.yaml"))
+    out = tmp_path / "t.xml"
+    write_mjcf(pm, out, pose={"alpha": 3, "beta": 2, "Zo": 640}, degrees=True, massless=True)
+    m, d = load(out)
+    assert [m.actuator(k).name for k in range(m.nu)] == ["F_a1", "F_a2", "F_a3"]
+    mujoco.mj_resetDataKeyframe(m, d, 0)
+    mujoco.mj_forward(m, d)
+    assert loop_gaps(m, d, 4)[0] < 1e-9
+    sol = screwkit.solve(pm, {"alpha": 3, "beta": 2, "Zo": 640}, degrees=True)
+    np.testing.assert_allclose(d.body("platform").xpos, sol.position * 1e-3, atol=1e-9)

@@ -192,3 +192,17 @@ def test_cli_names_the_extra_when_plotly_is_missing(tmp_path, capsys, monkeypatc
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1
     assert 'pip install "screwkit[view]"' in err
+
+
+def test_passive_leg_is_marked_and_has_no_actuation_arrow(tmp_path):
+    from tricept import TRICEPT
+    (tmp_path / "tricept.yaml").write_text(TRICEPT)
+    tri = screwkit.load_pm(str(tmp_path / "tricept.yaml"))
+    res = screwkit.analyze(tri, force=[0, 0, -500], torque=[0, 0, 0])
+    d = page_data(res.show().html)
+    assert [lg["passive"] for lg in d["legs"]] == [False, False, False, True]
+    assert d["legs"][3]["label"] == "leg 4 (UP/column) · passive"
+    rows = [(r["leg"], r["kind"]) for r in d["rows"]]
+    assert (3, "actuation") not in rows and (3, "couple") in rows
+    assert "F = [0, 0, -500] N, T = [0, 0, 0] N.mm at o (given)" == d["workload"]["text"]
+    np.testing.assert_allclose(d["states"][0]["values"], res.statics.values, rtol=1e-12)

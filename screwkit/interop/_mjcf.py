@@ -106,6 +106,7 @@ class _Writer:
         """Leg ``i`` (0-based) with its joint values at the exported pose (m,) and its
         massive links ``{slot: Body (world)}``."""
         k, L = self.k, self.k["length"]
+        passive = tuple(getattr(self.pm, "passive", ()) or ())
         letters = _letters(leg)
         ends = [js[0][1].point for _, js in letters[1:]] + [leg.a]
         parent, depth, opened = np.zeros(3), 2, 0
@@ -168,7 +169,7 @@ class _Writer:
                     raise InputError(f"leg {i + 1} ({leg.name}): the link after joint "
                                      f"{leg.joints[s].name} is inside a compound joint")
             for s, j in js:
-                if j.actuated:
+                if j.actuated and i not in passive:     # a passive leg drives nothing
                     if letter == "S":
                         raise InputError(f"leg {i + 1}: an actuated S has no MJCF motor")
                     self.motors.append((i, f"leg{i + 1}_{j.name}", j.kind))
