@@ -206,3 +206,13 @@ def test_passive_leg_is_marked_and_has_no_actuation_arrow(tmp_path):
     assert (3, "actuation") not in rows and (3, "couple") in rows
     assert "F = [0, 0, -500] N, T = [0, 0, 0] N.mm at o (given)" == d["workload"]["text"]
     np.testing.assert_allclose(d["states"][0]["values"], res.statics.values, rtol=1e-12)
+
+
+def test_jupyter_shows_the_same_page_inline(grid_view, grid_page):
+    import html as html_lib
+    frame = grid_view._repr_html_()
+    assert frame.startswith("<iframe srcdoc=\"") and "height: 820px" in frame
+    inner = html_lib.unescape(frame[len("<iframe srcdoc=\""):frame.index("\" style=")])
+    assert page_data(inner)["states"] == page_data(grid_page)["states"]
+    assert repr(grid_view) == ("View(3RRPRR: 27 poses on sliders (alpha, beta, Zo); "
+                               "write_html(path), or display it in Jupyter)")
