@@ -163,7 +163,8 @@ def _templates_tables(templates, active):
         for kind, r in t.generic_refs:
             Gr.append((0 if kind == "force" else 1, encode_direction(r, t.names, Dt)))
         a = t.actuation
-        akind = {"none": lay.A_NONE, "line": lay.A_LINE, "least-norm": lay.A_LEAST_NORM}[a.kind]
+        akind = {"none": lay.A_NONE, "passive": lay.A_NONE, "line": lay.A_LINE,
+                 "least-norm": lay.A_LEAST_NORM}[a.kind]
         p1 = point(a.points[0]) if a.kind == "line" else 0
         p2 = point(a.points[1]) if a.kind == "line" else 0
         tpl[i] = (int(t.generic), t.k, len(G), akind, p1, p2, crow, len(Gr))

@@ -39,7 +39,8 @@ class Chains:
     real : ndarray (n, m) of bool
         True for a real joint, False for a padded slot.
     actuated : ndarray (n,) of int
-        Slot of each leg's actuated joint.
+        Slot of each leg's actuated joint (a passive leg's is not an actuator: see
+        :attr:`actuator_slots`).
     length : float ; centre : ndarray (3,)
         The model's normalisation.
     frame : (ndarray (3, 3), ndarray (3,))
@@ -55,6 +56,8 @@ class Chains:
         Home bar vectors of the parallelograms ``Pa`` (zero elsewhere).
     flat : FlatModel
         The arrays the kernels take.
+    passive : tuple of int
+        The passive legs (no actuator).
     """
 
     name: str
@@ -76,6 +79,19 @@ class Chains:
     home: dict
     bars: np.ndarray
     flat: object
+    passive: tuple = ()
+
+    @property
+    def active(self) -> np.ndarray:
+        """The actuated legs (0-based, in leg order): every leg but the passive ones."""
+        return np.array([i for i in range(self.n) if i not in self.passive], int)
+
+    @property
+    def actuator_slots(self) -> tuple:
+        """``(legs, slots)``: the index arrays of the actuated joints of the actuated legs,
+        ``q[legs, slots]`` are the actuator values."""
+        act = self.active
+        return act, self.actuated[act]
 
     @property
     def n_unknowns(self) -> int:
@@ -117,7 +133,8 @@ def chains_of(model) -> Chains:
                     tuple(np.asarray(x, float) for x in model.frame), model.order,
                     tuple(model.independent), unknown,
                     np.array([L if u in LENGTH_PARAMS else 1.0 for u in unknown]),
-                    dict(model.home_pose), np.moveaxis(M[lay.BAR], 2, 0), flat)
+                    dict(model.home_pose), np.moveaxis(M[lay.BAR], 2, 0), flat,
+                    tuple(getattr(model, "passive", ())))
         for a in (ch.real, ch.actuated, ch.x_scale, ch.bars):
             a.setflags(write=False)
         _CACHE[model] = ch

@@ -66,7 +66,7 @@ def continuation(ch, start, qa0, target):
     k = kernels()
     R0, o0, X0 = _state(ch, *start)
     N = R0.shape[0]
-    act = (np.arange(ch.n), ch.actuated)
+    act = ch.actuator_slots
     unit = np.ascontiguousarray(np.where(ch.rotation[act] > 0, 1.0, ch.length))
     R, o, X = R0.copy(), o0.copy(), X0.copy()
     res, its, how = np.empty(N), np.zeros(N, np.int64), np.zeros(N, np.int64)
@@ -84,7 +84,7 @@ def seeds(model, ch, target, K, rng):
     rot = (ch.rotation > 0) & ch.real
     q[rot] = rng.uniform(-np.pi, np.pi, (int(rot.sum()), P * K))
     q[:, :, ::K] = 0.0                                       # the first seed is home
-    q[np.arange(ch.n), ch.actuated] = np.repeat(target, K, axis=0).T
+    q[ch.actuator_slots] = np.repeat(target, K, axis=0).T
     from ._launch import frames
     N = P * K
     X = np.zeros((N, ch.n_unknowns))

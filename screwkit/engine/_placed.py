@@ -24,7 +24,8 @@ __all__ = ["unified_jacobian", "solve_statics"]
 
 def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
                      analyses: Sequence[LegAnalysis] | None = None, *,
-                     threshold: float = COND_THRESHOLD) -> JacobianResult:
+                     threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
+                     ) -> JacobianResult:
     """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
 
     Parameters
@@ -37,6 +38,8 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         Each leg's analysis (computed if omitted): it decides what each row is.
     threshold : float
         Normalised condition number above which the pose counts as singular.
+    passive : sequence of int
+        0-based indices of passive legs: no actuation row, their constraint rows only.
 
     Returns
     -------
@@ -63,12 +66,17 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         for i, (leg, an) in enumerate(zip(legs, analyses)):
             if getattr(an, "leg", None) is not leg:
                 raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
-    J, info, n_act, scale, points, cond = _rows_of(legs, o, analyses)
+    passive = tuple(passive)
+    if any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < len(legs)
+           for i in passive) or len(set(passive)) == len(legs):
+        raise InputError(f"passive must list distinct 0-based leg indices below {len(legs)} "
+                         f"(at least one leg actuated), got {passive!r:.60}")
+    J, info, n_act, scale, points, cond = _rows_of(legs, o, analyses, passive)
     return JacobianResult(J, info, n_act, scale, points, o[None], cond, float(threshold), True,
                           lambda _: legs, analyses)
 
 
-def _rows_of(legs, o, analyses):
+def _rows_of(legs, o, analyses, passive=()):
     """The rows of placed legs at one pose by the kernels: ``(J (1, m, 6), info,
     n_actuated, scale, points (1, m, 3), Conditioning)``."""
     from ._flat import flatten_legs
@@ -77,10 +85,11 @@ def _rows_of(legs, o, analyses):
     from ._pipeline import Conditioning
     from ._templates import make_labels
     from ._templates import RowTemplate
-    templates = tuple(RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o)
-                      for lg, an in zip(legs, analyses))
+    templates = tuple(RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o,
+                                  passive=i in passive)
+                      for i, (lg, an) in enumerate(zip(legs, analyses)))
     info = make_labels(templates)
-    flat = flatten_legs(legs, templates, o, info)
+    flat = flatten_legs(legs, templates, o, info, passive)
     P6 = np.concatenate([o, np.zeros(3)])[None]
     X = np.zeros((1, flat.nx))
     out = run_poses(flat, flat.Z, P6, X=X, statics=False)
@@ -94,7 +103,9 @@ def _rows_of(legs, o, analyses):
 
 def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
                   analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
-                  threshold: float = COND_THRESHOLD) -> StaticsResult:
-    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at ``o``."""
-    jac = unified_jacobian(legs, o, analyses, threshold=threshold)
+                  threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
+                  ) -> StaticsResult:
+    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at
+    ``o`` (``passive``: the passive legs' indices)."""
+    jac = unified_jacobian(legs, o, analyses, threshold=threshold, passive=passive)
     return statics(jac, F, T, o, raise_on_singular=raise_on_singular)

@@ -64,7 +64,8 @@ class Actuation:
     """How the actuation member is found: ``kind`` ``"line"`` (the force on the line through
     the two named points ``names``, at ``points``), ``"least-norm"`` (the passive-reciprocal
     wrench orthogonal to the constraint system; ``member`` ``"force"`` when its pitch is
-    zero at home, else ``"screw"``) or ``"none"`` (the actuated joint is dependent)."""
+    zero at home, else ``"screw"``), ``"none"`` (the actuated joint is dependent) or
+    ``"passive"`` (a passive leg: no actuation row)."""
 
     kind: str
     points: tuple = ()
@@ -89,19 +90,20 @@ class RowTemplate:
     platform_rotation, o : the platform frame at the reference geometry
     references : sequence, optional
         Declared reference directions (catalog), tried before the defaults.
-    active : bool
-        False for a passive leg (no actuator: no actuation row).
+    passive : bool
+        A leg without an actuator (:attr:`screwkit.pm.PMModel.passive`): it has no
+        actuation row (``actuation.kind == "passive"``).
     """
 
     def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=(),
-                 active=True):
+                 passive=False):
         from ._arrays import probe_model
         from ._kernels import kernels
         self.name = leg.name
         self.names = tuple(j.name for j in leg.joints)
         self.kinds = tuple(j.kind for j in leg.joints)
         self.actuated = leg.actuated_index
-        self.active = bool(active)
+        self.passive = bool(passive)
         cons = analysis.constraints
         self.k = len(cons)
         self.generic = any(c.kind == "screw" or (c.kind == "force" and not c.point_name)
@@ -152,7 +154,13 @@ class RowTemplate:
             self.member_kinds = tuple((c.kind, None) for c in cons)
         else:
             self.member_kinds = tuple((g.kind, g.point) for g in self.groups for _ in range(g.dim))
-        self.actuation = self._actuation_template(leg, analysis, probe, K)
+        self.actuation = (Actuation("passive") if self.passive else
+                          self._actuation_template(leg, analysis, probe, K))
+
+    @property
+    def active(self) -> bool:
+        """The leg has an actuator (an actuation row)."""
+        return not self.passive
 
     def _actuation_template(self, leg, analysis, probe, K):
         """The force on the line through two named points when every passive joint is
@@ -251,8 +259,7 @@ def templates_of(model) -> tuple:
         Rh, oh = model.platform_home
         refs = tuple(model.constraint_references) or ((),) * len(model.home_legs)
         passive = set(getattr(model, "passive", ()))
-        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i],
-                              active=i not in passive)
+        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i], passive=i in passive)
                   for i, lg in enumerate(model.home_legs))
         _TEMPLATES[model] = t
     return t

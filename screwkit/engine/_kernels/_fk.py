@@ -21,7 +21,7 @@ from numba import prange
 
 from ._jit import entry, inner, parallel
 from ._kin import legs_forward
-from ._layout import CONVERGED, D, LEG, L_ACT, L_ACTIVE, PLAT, P_C, P_L, QS
+from ._layout import CONVERGED, D, LEG, L_ACT, L_ACTIVE, L_AROW, PLAT, P_C, P_L, QS
 from ._newton import W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_S, W_STEP, make_work, newton_step
 from ._small import matmul3, rodrigues
 
@@ -136,7 +136,8 @@ def newton_parallel(M, R, o, X, tol, max_iter, res, its, nchunks):
 @entry
 def continuation_range(M, R0, o0, X0, target, unit, R, o, X, res, its, how, start, stop):
     """From the start states ``(R0, o0, X0)`` (their actuated values included) to the
-    actuated targets ``target (N, n)`` (joint values), continuation (module docstring).
+    actuated targets ``target (N, n_actuated)`` (joint values of the actuated legs, in leg
+    order; ``unit`` likewise), continuation (module docstring).
     Solutions into ``R``, ``o``, ``X``; ``how``: the steps of the continuation that solved
     the pose (0: Newton straight from the start, -1: not solved)."""
     n, m = M[D].shape[0], M[D].shape[1]
@@ -153,8 +154,8 @@ def continuation_range(M, R0, o0, X0, target, unit, R, o, X, res, its, how, star
         big = 0.0
         for i in range(n):
             if leg[i, L_ACTIVE]:
-                j = leg[i, L_ACT]
-                big = max(big, abs(target[p, i] - X0[p, 6 + i * m + j] * qs[i, j]) / unit[i])
+                j, a = leg[i, L_ACT], leg[i, L_AROW]
+                big = max(big, abs(target[p, a] - X0[p, 6 + i * m + j] * qs[i, j]) / unit[a])
         S0 = min(max(math.ceil(big / STEP), 1.0), MAX_STEPS)
         for mult in (1, 4, 0):
             if res[p] <= CONVERGED:
@@ -170,9 +171,9 @@ def continuation_range(M, R0, o0, X0, target, unit, R, o, X, res, its, how, star
                 frac = min(1.0, s / S)
                 for i in range(n):
                     if leg[i, L_ACTIVE]:
-                        j = leg[i, L_ACT]
+                        j, a = leg[i, L_ACT], leg[i, L_AROW]
                         qa = X0[p, 6 + i * m + j] * qs[i, j]
-                        Xs[6 + i * m + j] = (qa + (target[p, i] - qa) * frac) / qs[i, j]
+                        Xs[6 + i * m + j] = (qa + (target[p, a] - qa) * frac) / qs[i, j]
                 last = frac >= 1
                 r, it = newton(M, Rs, os_, Xs, TOL if last else 1e-8, 50 if mult == 0 else 30,
                                W, R2, o2, X2, Rw)
