@@ -112,49 +112,62 @@ def _fused_kernel():
     @njit(parallel=True, cache=False, error_model="numpy")
     def kern(alpha, beta, Zo, A, MA, R1, W, out):
         for p in prange(alpha.shape[0]):
+            J = np.empty((6, 6))        # hoisted out of the pose loop by numba's parfor
+            b = np.empty(6)
             sa, ca = np.sin(alpha[p]), np.cos(alpha[p])
             sb, cb = np.sin(beta[p]), np.cos(beta[p])
             den = -sa * sa + ca * ca * cb
-            X = (Zo[p] * ca + e3 * sa) * sb / den
-            Y = (-Zo[p] * sa * ca * (1 + cb) + e3 * (cb - ca * ca + sa * sa * cb) / 2) / den
-            o = np.array([X, Y, Zo[p]])
-            # R = Rx(a) Ry(b) Rx(a)
-            Rx = np.array([[1.0, 0, 0], [0, ca, -sa], [0, sa, ca]])
-            Ry = np.array([[cb, 0, sb], [0, 1.0, 0], [-sb, 0, cb]])
-            R = Rx @ Ry @ Rx
-            J = np.empty((6, 6))
+            o0 = (Zo[p] * ca + e3 * sa) * sb / den
+            o1 = (-Zo[p] * sa * ca * (1 + cb) + e3 * (cb - ca * ca + sa * sa * cb) / 2) / den
+            o2 = Zo[p]
+            # R = Rx(a) Ry(b) Rx(a), written out
+            r00, r01, r02 = cb, sb * sa, sb * ca
+            r10, r11, r12 = sa * sb, ca * ca - sa * cb * sa, -ca * sa - sa * cb * ca
+            r20, r21, r22 = -ca * sb, sa * ca + ca * cb * sa, -sa * sa + ca * cb * ca
             for i in range(3):
-                a = R @ MA[i] + o
-                d = a - A[i]
-                d /= np.sqrt(d @ d)
-                r = a - o
-                J[i, :3] = d
-                J[i, 3:] = np.cross(r, d)
-                c = np.cross(R1[i], d)
-                c /= np.sqrt(c @ c)
-                z = R[:, 2]
-                q = a - (a[2] / z[2]) * z
-                J[3 + i, :3] = c
-                J[3 + i, 3:] = np.cross(q - o, c)
-            # J^T F = -W by Gaussian elimination with partial pivoting
-            M = J.T.copy()
-            b = -W.copy()
+                m0, m1, m2 = MA[i, 0], MA[i, 1], MA[i, 2]
+                a0 = r00 * m0 + r01 * m1 + r02 * m2 + o0
+                a1 = r10 * m0 + r11 * m1 + r12 * m2 + o1
+                a2 = r20 * m0 + r21 * m1 + r22 * m2 + o2
+                d0, d1, d2 = a0 - A[i, 0], a1 - A[i, 1], a2 - A[i, 2]
+                nd = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
+                x0, x1, x2 = a0 - o0, a1 - o1, a2 - o2
+                J[i, 0], J[i, 1], J[i, 2] = d0, d1, d2
+                J[i, 3], J[i, 4], J[i, 5] = x1 * d2 - x2 * d1, x2 * d0 - x0 * d2, x0 * d1 - x1 * d0
+                c0 = R1[i, 1] * d2 - R1[i, 2] * d1
+                c1 = R1[i, 2] * d0 - R1[i, 0] * d2
+                c2 = R1[i, 0] * d1 - R1[i, 1] * d0
+                nc = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+                c0, c1, c2 = c0 / nc, c1 / nc, c2 / nc
+                k = a2 / r22
+                q0, q1, q2 = a0 - k * r02 - o0, a1 - k * r12 - o1, a2 - k * r22 - o2
+                J[3 + i, 0], J[3 + i, 1], J[3 + i, 2] = c0, c1, c2
+                J[3 + i, 3] = q1 * c2 - q2 * c1
+                J[3 + i, 4] = q2 * c0 - q0 * c2
+                J[3 + i, 5] = q0 * c1 - q1 * c0
+            # J^T F = -W: Gaussian elimination with partial pivoting on M = J^T, in place
+            for r in range(6):
+                b[r] = -W[r]
             for k in range(6):
-                piv = k + np.argmax(np.abs(M[k:, k]))
+                piv = k
+                for r in range(k + 1, 6):
+                    if abs(J[k, r]) > abs(J[k, piv]):
+                        piv = r
                 if piv != k:
                     for c in range(6):
-                        M[k, c], M[piv, c] = M[piv, c], M[k, c]
+                        J[c, k], J[c, piv] = J[c, piv], J[c, k]
                     b[k], b[piv] = b[piv], b[k]
                 for r in range(k + 1, 6):
-                    f = M[r, k] / M[k, k]
+                    f = J[k, r] / J[k, k]
                     for c in range(k, 6):
-                        M[r, c] -= f * M[k, c]
+                        J[c, r] -= f * J[c, k]
                     b[r] -= f * b[k]
             for r in range(5, -1, -1):
                 s = b[r]
                 for c in range(r + 1, 6):
-                    s -= M[r, c] * out[p, c]
-                out[p, r] = s / M[r, r]
+                    s -= J[c, r] * out[p, c]
+                out[p, r] = s / J[r, r]
     _FUSED.append(kern)
     return kern
 

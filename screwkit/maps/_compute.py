@@ -20,7 +20,7 @@ from ..engine._report import row_quantity
 __all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
-#: Cells per block (8 engine chunks of 8192 poses).
+#: Cells per block (two engine launches of 32768 poses).
 BLOCK = 16 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
