@@ -29,10 +29,13 @@ def quantity_names(ds, quantity: str) -> list:
         return [k for k in rows if ds[k].attrs.get("kind") != "actuation"]
     if quantity == "conditioning":
         return ["condition_number"]
+    if quantity == "transmission":
+        return [k for k in ("iti", "oti", "lti", "cti") if k in ds.data_vars
+                and np.isfinite(ds[k].values).any()]
     if quantity not in ds.data_vars or ds[quantity].dims != cell:
         names = [k for k, v in ds.data_vars.items() if v.dims == cell]
         raise InputError(f"no quantity {quantity!r} in the map; one of forces, constraints, "
-                         f"conditioning, {', '.join(names)}")
+                         f"conditioning, transmission, {', '.join(names)}")
     return [quantity]
 
 

@@ -97,8 +97,8 @@ def register(sub):
     p.add_argument("--plot", metavar="PNG", help="draw heatmaps of --quantity")
     p.add_argument("--quantity", action="append", default=[],
                    help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
-                        "forces, constraints or conditioning (repeatable; default: forces and "
-                        "conditioning)")
+                        "forces, constraints, conditioning or transmission (iti, oti, lti, "
+                        "cti) (repeatable; default: forces and conditioning)")
     p.add_argument("--at", metavar="NAME=VALUE", action="append", default=[],
                    help="the slice of a 3-D map that --plot draws (default: the middle)")
     p.set_defaults(func=run)
