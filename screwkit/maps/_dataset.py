@@ -163,8 +163,12 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "computed_on": ("serial" if cluster is None else "dask"),
         "conventions": "wrenches [f; m] about the base origin O; twists [v; w]",
     }
+    for k, v in model.home_pose.items():           # radians, model lengths
+        attrs[f"home_pose_{k}"] = float(v)
     if grid.samples:
         attrs["seed"] = int(grid.seed)
+        for k, (lo, hi) in (grid.box or {}).items():     # the sampling box
+            attrs[f"box_{k}"] = np.array([lo, hi], float)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 
