@@ -164,11 +164,24 @@ def transmission(analysis) -> TransmissionIndices:
         x[~reach] = np.nan
     s = np.asarray(cond.singular_values, float)
     smin = np.where(reach, s[:, -1] if s.shape[1] >= 6 else 0.0, np.nan)
-    q = analysis.quality
+    amp = _amplification(analysis, reach)
     data = dict(zip(_ARRAYS, (iti, oti, cti, in_arm, out_arm, c_arm,
                               np.asarray(cond.condition_number, float).reshape(N), smin,
-                              np.asarray(q.amplification, float).reshape(N))))
+                              amp)))
     for v in data.values():
         v.setflags(write=False)
     return TransmissionIndices(data, legs, tuple(info[k].label for k in con),
                                bool(analysis.single))
+
+
+def _amplification(analysis, reach):
+    """The force amplification of every pose under the analysis' workload (the trust rule
+    of :mod:`screwkit.engine._quality`, without the home pose's det J sign)."""
+    from ._quality import trust
+    st, jac = analysis.statics, analysis.jacobian
+    if st is None:
+        return np.full(len(jac), np.inf)
+    amp, _ = trust(jac, np.asarray(st.F_r, float).reshape(len(jac), -1),
+                   np.asarray(st._W, float).reshape(len(jac), -1),
+                   analysis.solution._platform[1], reach)
+    return np.asarray(amp, float).reshape(len(jac))

@@ -40,6 +40,7 @@ from ._units import units_from_mapping
 from ._limits import limits_from_mapping
 from ._physical import dynamics_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
+from ._variants import Definition
 
 __all__ = ["load_pm", "pm_names"]
 
@@ -48,7 +49,6 @@ _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "cent
             "limits", "dynamics"}
 _SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
                "points", "z"}
-
 
 
 def pm_names(catalog=None) -> list:
@@ -396,4 +396,5 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
                                                               legs, units),
                                limits=limits_from_mapping(d.get("limits"), ctx, legs),
-                               default_pose=default, notes=tuple(notes))
+                               default_pose=default, notes=tuple(notes),
+                               definition=Definition(name, d, cat, dict(overrides), _build))

@@ -83,6 +83,9 @@ class PMModel:
         0-based indices of the passive legs: legs without an actuator, which add their
         constraint rows to ``J`` and no actuation row (the Tricept's central UP column).
         Empty when every leg is actuated.
+    definition : Definition or None
+        The ``pms:`` entry the model was built from (:meth:`with_dimensions` evaluates it
+        again with other dimensions); None for a model built otherwise.
     """
 
     name: str
@@ -112,6 +115,7 @@ class PMModel:
     limits: Limits = NO_LIMITS
     dynamics: object = None
     passive: tuple = ()
+    definition: object = dataclasses.field(default=None, repr=False)
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
@@ -149,6 +153,16 @@ class PMModel:
         """Every leg built afresh by its catalog rules at ``pose`` (for checks)."""
         return tuple(build_leg(r, self.placement(i, pose), check_structure)
                      for i, r in enumerate(self.leg_rules))
+
+    def with_dimensions(self, values: dict) -> "PMModel":
+        """The same PM with the dimensions ``values`` (``{"l": 80}``, model units), the others
+        as they are: its definition evaluated again, no file read or parsed
+        (:func:`screwkit.pm.with_dimensions`); equal to ``load_pm(name, {...})``."""
+        if self.definition is None:
+            from ..errors import InputError
+            raise InputError(f"model {self.name}: no definition to rebuild it from (load it "
+                             "with screwkit.load_pm)")
+        return self.definition.rebuild(self, values)
 
     def moved(self, rotation, translation) -> "PMModel":
         """The same PM with its base frame placed at ``x -> R x + p`` in the world.
