@@ -177,10 +177,11 @@ def objectives_of(model, task: Task) -> dict:
         out["max-constraint-force"] = max_con
     if usable_any.any():
         out["condition"] = float(np.max(jac.conditioning.condition_number[usable_any]))
-        q_a = np.asarray(sol.actuator_values, float)[usable_any]
+        # the actuated legs' actuator values, in leg order (a passive leg has none)
+        q_a = np.asarray(sol.actuator_values, float).reshape(N, -1)[usable_any]
         legs = [i for i in range(model.n_legs) if i not in passive]
         rot = np.array([model.home_legs[i].actuated_joint.kind != "P" for i in legs])
-        span = np.ptp(q_a[:, legs], axis=0) * np.where(rot, 180.0 / np.pi, 1.0)
+        span = np.ptp(q_a, axis=0) * np.where(rot, 180.0 / np.pi, 1.0)
         out["stroke"] = float(np.max(span)) if span.size else float("nan")
     if task.needs & {"min-lti", "gtw-volume"}:
         lti = np.asarray(res.indices.lti, float)
