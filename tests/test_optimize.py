@@ -187,3 +187,12 @@ def test_synthesized_planar_pm(tmp_path):
                       degrees=True, force=(10, 0, 0), torque=(0, 0, 0))
     assert res.best["objective"] == pytest.approx(float(ds["lti"].min()), rel=1e-9)
     assert prob.task.cells == 4
+
+
+def test_dask_evaluation_equals_serial():
+    pytest.importorskip("distributed")
+    kw = dict(degrees=True, maxiter=2, popsize=2, seed=2)
+    serial = screwkit.optimize("3RRPRR", {"l": (40, 110)}, TASK, FIX, **kw)
+    remote = screwkit.optimize("3RRPRR", {"l": (40, 110)}, TASK, FIX, cluster=1, **kw)
+    assert remote.best == serial.best and remote.evaluations == serial.evaluations
+    assert remote.history == serial.history

@@ -227,3 +227,34 @@ def test_passive_leg_has_no_input_index():
     assert ix.legs == (1, 2) and ix.iti_legs.shape == (2,)
     # two actuators for three freedoms: the output twists are not unique
     assert ix.oti == 0 and ix.cti == 0
+
+
+def test_tricept_with_a_passive_column_hand_computation(tmp_path):
+    """The Tricept-type 3UPS+UP/passive of tests/test_passive_legs.py: the column has no
+    transmission wrench (no input index); the legs' OTI from the hand rows (the UPS forces
+    along the legs through the S centres; the column's two forces through O normal to it and
+    its couple), and the CTI of the couple (unique: the forces' span does not depend on a
+    basis)."""
+    from test_passive_legs import TRICEPT, _hand
+    path = tmp_path / "tricept.yaml"
+    path.write_text(TRICEPT)
+    pm = screwkit.load_pm(str(path))
+    alpha, beta, Zo = 5.0, -3.0, 650.0
+    ix = screwkit.analyze(pm, {"alpha": alpha, "beta": beta, "Zo": Zo}, degrees=True).indices
+    _, o, _, Ja, _, cons = _hand(np.radians(alpha), np.radians(beta), Zo)
+    res = screwkit.analyze(pm, {"alpha": alpha, "beta": beta, "Zo": Zo}, degrees=True)
+    a = [lg.a for lg in res.solution.legs[:3]]
+    assert ix.legs == (0, 1, 2) and ix.iti_legs.shape == (3,)
+    np.testing.assert_allclose(ix.iti_legs, 1.0, atol=1e-12)   # P along each UPS leg
+    rows = list(Ja) + list(cons)
+    for k in range(3):
+        M = np.array([w for j, w in enumerate(rows) if j != k])
+        V = np.linalg.svd(M)[2][-1]
+        zeta, _ = _screw_index(Ja[k], a[k], V)
+        assert ix.oti_legs[k] == pytest.approx(zeta, abs=1e-9)
+    M = np.array(rows[:5])                        # all but the couple
+    w = np.linalg.svd(M)[2][-1][3:]
+    c = cons[2][3:]
+    k = ix.constraint_labels.index("T_c4")
+    assert ix.cti_rows[k] == pytest.approx(abs(c @ w) / np.linalg.norm(c) / np.linalg.norm(w),
+                                           abs=1e-9)

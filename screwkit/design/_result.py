@@ -155,6 +155,9 @@ class OptimizationResult:
             return f"{o} [{u if u not in ('1', None) else '–'}] ({sense})"
         title = f"{self.pm}: " + ", ".join(f"{k} in {lo:g}..{hi:g} {self.units['length']}"
                                           for k, (lo, hi) in self.vary.items())
+        if self.constraints:
+            title += "; subject to " + ", ".join(f"{n} {op} {v:g}"
+                                                 for n, op, v in self.constraints)
         if len(self.objectives) > 1:
             pts = [(e[1][self.objectives[0]], e[1][self.objectives[1]])
                    for e in self.evaluated if e[2]]

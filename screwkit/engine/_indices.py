@@ -154,7 +154,7 @@ def transmission(analysis) -> TransmissionIndices:
     Jf = np.where(np.isfinite(J), J, 0.0)
     iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(
         Jf, couple, act, con, V_in, in_line, out_line, jac.leg_of_row, cond.centre,
-        cond.length)
+        cond.length, np.where(reach, cond.constraint_rank, len(con)))
     iti = np.where(~np.all(np.isfinite(J[:, act]), axis=-1), 0.0, iti)
     sing = np.asarray(jac.singular_mask, bool) & reach
     oti[sing] = 0.0

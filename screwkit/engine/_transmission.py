@@ -132,6 +132,14 @@ def _null_twists(Wu):
     N, K = Wu.shape[:2]
     if K < 6:                       # never regular: every twist set is larger than a line
         return np.zeros((N, K, 6)), np.zeros((N, K), bool)
+    if K == 6:                      # square: the columns of the inverse, no row redundant
+        try:
+            V = np.linalg.inv(Wu).transpose(0, 2, 1)
+        except np.linalg.LinAlgError:                       # an exactly singular pose
+            pass
+        else:
+            V /= np.maximum(np.linalg.norm(V, axis=-1, keepdims=True), 1e-300)
+            return V, np.zeros((N, K), bool)
     U, s, Vt = np.linalg.svd(Wu, full_matrices=False)      # (N, K, 6), (N, 6), (N, 6, 6)
     inv = 1.0 / np.maximum(s, 1e-300 * np.maximum(s[:, :1], 1e-300))
     V = np.einsum("nji,nj,nkj->nki", Vt, inv, U)
@@ -139,18 +147,19 @@ def _null_twists(Wu):
     return V, 1.0 - _leverage(U, s) > LEVERAGE_RTOL
 
 
-def _redundant(Wu):
+def _redundant(Wu, rank=None):
     """``(N, k)``: True where removing the row leaves the rank of the rows ``Wu (N, k, 6)``
-    unchanged (a redundant row, decided by its leverage)."""
+    unchanged (a redundant row, decided by its leverage); ``rank (N,)``, optional: the
+    rank of the rows where known (all ``k``: none is redundant)."""
     N, k = Wu.shape[:2]
-    if k < 2:
+    if k < 2 or (rank is not None and np.all(np.asarray(rank) >= k)):
         return np.zeros((N, k), bool)
     U, s, _ = np.linalg.svd(Wu, full_matrices=False)
     return 1.0 - _leverage(U, s) > LEVERAGE_RTOL
 
 
 def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line, row_leg,
-                         centre, length):
+                         centre, length, constraint_rank=None):
     """The index arrays of N poses from plain arrays (the engine-independent core).
 
     Parameters
@@ -171,6 +180,8 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
     row_leg : ndarray (m,) of int
     centre, length : ndarray (N, 3), (N,)
         The normalisation of the poses (centroid, characteristic length).
+    constraint_rank : ndarray (N,), optional
+        The rank of the constraint rows where known (it spares the redundancy test).
 
     Returns
     -------
@@ -202,7 +213,7 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
     p = _entry_point(W_keep, to_norm(q_out[:, legs]), d_out[:, legs])
     zeta, arm = power_coefficient(W_keep, Vn, p, cpl[None, :])
     na = len(act)
-    redundant = _redundant(Wu[:, con])
+    redundant = _redundant(Wu[:, con], constraint_rank)
     none[:, na:] |= redundant
     zeta = np.where(none, np.nan, zeta)
     arm = np.where(none, np.nan, arm * L[:, None])

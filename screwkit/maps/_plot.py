@@ -16,6 +16,8 @@ from ..errors import InputError
 __all__ = ["plot_map", "quantity_names"]
 
 _LOG = {"condition_number", "constraint_condition_number", "amplification", "residual"}
+#: Indices drawn on their whole range [0, 1].
+_UNIT_RANGE = {"iti", "oti", "lti", "cti"}
 
 
 def quantity_names(ds, quantity: str) -> list:
@@ -98,6 +100,7 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     lev = sub["level"].transpose(*free).values
     calm = lev <= 1       # the colour range: ok and ill-conditioned cells (arrows: some beyond)
     panels = [{"z": arr(n), "label": _label(ds, n), "log": n in _LOG,
+               "limits": (0.0, 1.0) if n in _UNIT_RANGE else None,
                "title": f"{n}: {ds[n].attrs['long_name']}" if "long_name" in ds[n].attrs
                else _label(ds, n),
                "limits_from": None if n in _LOG else calm} for n in names]

@@ -56,7 +56,8 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
     panels : list of dict
         ``z`` ``(nx, ny)`` (or ``(nx,)``), ``label`` (with its unit), ``log`` (bool),
         optionally ``limits_from`` (bool, like ``z``: the cells the colour range is taken
-        from, so that near-singular efforts do not wash the picture out).
+        from, so that near-singular efforts do not wash the picture out) or ``limits``
+        (a fixed colour range, e.g. ``(0, 1)`` for an index).
     xlabel, ylabel : str
     masks : list of (ndarray bool, str)
         Regions to hatch (same shape as ``z``) and their legend text.
@@ -90,6 +91,8 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
         # ones), else the 1st..99th percentiles of every cell
         zr = z if base is None else np.where(np.asarray(base, bool), z, np.nan)
         lim = _limits(zr, log, clip=base is None)
+        if pan.get("limits") is not None:           # a fixed range (indices in [0, 1])
+            lim = tuple(float(v) for v in pan["limits"])
         if log and lim is not None and lim[1] < 10 * lim[0]:
             # less than a decade: a log axis would print ticks like "2.6x10^0"
             log, lim = False, _limits(zr, False, clip=base is None)

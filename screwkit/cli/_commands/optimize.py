@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+import numpy as np
+
 from ...errors import InputError
 from .._progress import progress_bar
 from ._common import dump_json, fmt_num
@@ -160,8 +162,13 @@ def print_text(res) -> None:
         mark = "  (optimised)" if o in res.objectives else ""
         print(f"    {o:<21} {fmt_num(v):>12} {unit}{mark}")
     if len(res.objectives) > 1:
-        print(f"  Pareto front ({len(res.front)} designs, by {res.objectives[0]}):")
-        for f in res.front:
+        shown = res.front
+        if len(shown) > 12:                     # ten spread along it, ends included
+            shown = [shown[int(round(k))] for k in np.linspace(0, len(shown) - 1, 10)]
+        print(f"  Pareto front ({len(res.front)} designs, by {res.objectives[0]}"
+              + ("; 10 of them, --json lists all" if len(shown) < len(res.front) else "")
+              + "):")
+        for f in shown:
             print("    " + ", ".join(f"{k} = {fmt_num(v)}" for k, v in f["dimensions"].items())
                   + ": " + ", ".join(f"{o} {fmt_num(f['objectives'][o])}"
                                      for o in res.objectives))
