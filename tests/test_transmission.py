@@ -258,3 +258,32 @@ def test_tricept_with_a_passive_column_hand_computation(tmp_path):
     k = ix.constraint_labels.index("T_c4")
     assert ix.cti_rows[k] == pytest.approx(abs(c @ w) / np.linalg.norm(c) / np.linalg.norm(w),
                                            abs=1e-9)
+
+
+def test_delta_with_parallelograms_closed_form(tmp_path):
+    """The 3-RRPaR Delta of tests/test_parallelogram.py: each arm's force runs along its
+    parallelogram's bars, so ITI_i = |b_i . e_i| (e_i the elbow's direction of motion, the
+    arm the crank) and, the platform translating, OTI_i = |b_i . (b_j x b_k)| / |b_j x b_k|
+    (the translation the other two legs' bars allow)."""
+    from test_parallelogram import DELTA_YAML
+    path = tmp_path / "delta.yaml"
+    path.write_text(DELTA_YAML)
+    pm = screwkit.load_pm(str(path))
+    res = screwkit.analyze(pm, {k: np.array([v]) for k, v in pm.default_pose.items()})
+    ix = res.indices
+    for n in range(len(res)):
+        legs = res.solution.legs_at(n)
+        b, iti, arm = [], [], []
+        for lg in legs:
+            A, E, w = lg.joints[0].point, lg.joints[1].point, lg.joints[0].direction
+            e = np.cross(w, E - A)
+            bar = next(j.bar for j in lg.joints if j.bar is not None)
+            b.append(bar / np.linalg.norm(bar))
+            iti.append(abs(b[-1] @ e) / np.linalg.norm(e))
+            arm.append(np.linalg.norm(e))
+        oti = [abs(b[i] @ np.cross(b[j], b[k])) / np.linalg.norm(np.cross(b[j], b[k]))
+               for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1))]
+        np.testing.assert_allclose(ix.iti_legs[n], iti, atol=1e-9)
+        np.testing.assert_allclose(ix.input_arm[n], arm, rtol=1e-9)
+        np.testing.assert_allclose(ix.oti_legs[n], oti, atol=1e-9)
+        assert np.isnan(ix.output_arm[n]).all()              # a translation: no axis

@@ -141,15 +141,7 @@ def transmission(analysis) -> TransmissionIndices:
     cond = jac.conditioning
     J = np.asarray(jac.matrix, float)
     reach = np.asarray(sol.reachable_mask, bool).reshape(N)
-    try:
-        V_in, in_line, out_line = leg_screws(sol, legs)
-    except Exception as exc:                     # parallelogram legs: no link frames yet
-        from ..errors import InputError
-        if not isinstance(exc, InputError):
-            raise
-        V_in = np.full((N, len(legs), 6), np.nan)
-        in_line = (np.zeros((N, len(legs), 3)),) * 2
-        out_line = (np.asarray(sol._platform[2], float), np.zeros((N, model.n_legs, 3)))
+    V_in, in_line, out_line = leg_screws(sol, legs)
     couple = np.array([r.member == "couple" for r in info])
     Jf = np.where(np.isfinite(J), J, 0.0)
     iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(

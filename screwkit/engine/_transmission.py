@@ -236,8 +236,12 @@ def leg_screws(solution, active):
     of a :class:`~screwkit.engine.PoseSolution`: the actuated joint's unit twist of each
     active leg (``active``: 0-based legs), the joint through which its transmission wrench
     enters the actuated link, and each leg's last non-prismatic joint (its platform side),
-    from the engine's link frames (:func:`~screwkit.engine.link_frames`)."""
+    from the engine's link frames (:func:`~screwkit.engine.link_frames`), or, for legs with
+    a parallelogram (which the link frames do not cover), from the legs placed pose by pose."""
     from ._links import link_frames
+    ch = solution.closures.chains
+    if ch.bars is not None and ch.bars.any():
+        return _placed_leg_screws(solution, active)
     lf = link_frames(solution)
     N = lf.N
     rot = np.asarray(lf.rotation, float)                  # (n, m)
@@ -262,4 +266,31 @@ def leg_screws(solution, active):
         V_in[:, k] = lf.twists[j, :, i].T
         nxt = non_prismatic(i, range(j + 1, lf.sizes[i]))
         in_q[:, k], in_d[:, k] = line(i, nxt) if nxt is not None else (out_q[:, i], out_d[:, i])
+    return V_in, (in_q, in_d), (out_q, out_d)
+
+
+def _placed_leg_screws(solution, active):
+    """:func:`leg_screws` from the placed legs of each pose (``PoseSolution.legs_at``: the
+    joints' unit twists, a parallelogram's a translation); unreachable poses NaN."""
+    N = len(solution.reachable_mask)
+    n = solution.model.n_legs
+    V_in = np.full((N, len(active), 6), np.nan)
+    in_q, in_d = np.full((N, len(active), 3), np.nan), np.zeros((N, len(active), 3))
+    out_q, out_d = np.full((N, n, 3), np.nan), np.zeros((N, n, 3))
+    reach = np.asarray(solution.reachable_mask, bool)
+    for p in np.flatnonzero(reach):
+        legs = solution.legs_at(int(p))
+        for i, lg in enumerate(legs):
+            T = np.asarray(lg.twists, float)                     # (m, 6) about O
+            turns = [j for j in range(len(T)) if np.any(T[j, 3:] != 0)]
+            last = turns[-1] if turns else None
+            out_q[p, i], out_d[p, i] = ((lg.joints[last].point, T[last, 3:]) if last is not None
+                                        else (lg.a, np.zeros(3)))
+            if i in active:
+                k = list(active).index(i)
+                j = lg.actuated_index
+                V_in[p, k] = T[j]
+                nxt = next((t for t in turns if t > j), None)
+                in_q[p, k], in_d[p, k] = ((lg.joints[nxt].point, T[nxt, 3:]) if nxt is not None
+                                          else (out_q[p, i], out_d[p, i]))
     return V_in, (in_q, in_d), (out_q, out_d)
