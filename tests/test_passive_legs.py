@@ -66,10 +66,16 @@ def _ry(t):
 
 
 @pytest.fixture(scope="module")
-def tricept(tmp_path_factory):
+def tricept_file(tmp_path_factory):
     p = tmp_path_factory.mktemp("passive") / "tricept.yaml"
     p.write_text(TRICEPT)
     return screwkit.load_pm(str(p))
+
+
+@pytest.fixture(scope="module")
+def tricept():
+    """The catalog's Tricept (the same dimensions as the file above)."""
+    return screwkit.load_pm("3UPS+UP/passive")
 
 
 def _hand(alpha, beta, Zo, R=300.0, r=110.0):
@@ -137,6 +143,15 @@ def test_tricept_against_the_hand_derivation(tricept, alpha, beta, Zo):
     per_length = np.r_[np.ones(3), np.full(3, Zo)]          # v / L and w on one scale
     s = np.linalg.svd(np.vstack([freedoms, m.twists]) * per_length, compute_uv=False)
     assert s[3] < 1e-8 * s[0]
+
+
+def test_the_file_and_the_catalog_tricept_agree(tricept, tricept_file):
+    pose = {"alpha": 0.07, "beta": -0.04, "Zo": 610.0}
+    a = screwkit.analyze(tricept, pose, force=[1.0, 2.0, -300.0], torque=[0, 0, 0])
+    b = screwkit.analyze(tricept_file, pose, force=[1.0, 2.0, -300.0], torque=[0, 0, 0])
+    assert tricept.string == tricept_file.string == "3UPS+UP/passive"
+    np.testing.assert_allclose(a.jacobian.J, b.jacobian.J, atol=1e-12)
+    np.testing.assert_allclose(a.statics.values, b.statics.values, rtol=1e-12, atol=1e-12)
 
 
 def test_tricept_report_names_the_passive_leg(tricept):

@@ -89,6 +89,9 @@ class LegChain:
         replaces it, see :func:`build_closed_loop_model`): ``frame_id`` and
         ``end_frame_id`` are then a frame at the S centre on the link before the S,
         with the world orientation at home, and the S's joints have no column.
+    passive : bool
+        A passive leg (no actuator): every joint is passive, :meth:`actuated_columns` is
+        empty.
     """
 
     leg: Leg
@@ -98,6 +101,7 @@ class LegChain:
     end_frame_id: int
     platform_home: tuple
     truncated: bool = False
+    passive: bool = False
 
     @property
     def m(self) -> int:
@@ -128,7 +132,10 @@ class LegChain:
         return tuple(out)
 
     def actuated_columns(self) -> tuple:
-        """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S)."""
+        """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S; none
+        for a passive leg)."""
+        if self.passive:
+            return ()
         c = self.v_columns()[self.leg.actuated_index]
         return c if isinstance(c, tuple) else (c,)
 

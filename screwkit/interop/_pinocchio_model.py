@@ -135,7 +135,8 @@ def _values(q, chain: LegChain) -> np.ndarray:
     return q
 
 
-def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False) -> LegChain:
+def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False,
+               passive: bool = False) -> LegChain:
     """Append ``leg`` to ``model`` as a branch from the universe (depth first).
 
     With ``point_contact`` a passive last S is left out: the chain ends at the link
@@ -164,7 +165,7 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
             groups.append(({"R": "revolute", "P": "prismatic", "H": "helical"}[j.kind], (i,)))
             i += 1
     truncated = bool(point_contact and groups[-1][0] == "spherical"
-                     and leg.actuated_index not in groups[-1][1])
+                     and (passive or leg.actuated_index not in groups[-1][1]))
     if truncated:
         groups = groups[:-1]
     parent, parent_point = 0, np.zeros(3)
@@ -193,11 +194,11 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
         c = np.asarray(joints[-1].point, float)
         fid = model.addFrame(pin.Frame(f"{prefix}contact", parent, pin.SE3(np.eye(3), c - parent_point),
                                        pin.FrameType.OP_FRAME))
-        return LegChain(leg, tuple(blocks), parent, fid, fid, (R_home, o_home), True)
+        return LegChain(leg, tuple(blocks), parent, fid, fid, (R_home, o_home), True, passive)
     fid = model.addFrame(pin.Frame(f"{prefix}platform", parent, pin.SE3(R_home, o_home - parent_point),
                                    pin.FrameType.OP_FRAME))
     eid = model.addFrame(pin.Frame(f"{prefix}end", parent, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
-    return LegChain(leg, tuple(blocks), parent, fid, eid, (R_home, o_home))
+    return LegChain(leg, tuple(blocks), parent, fid, eid, (R_home, o_home), False, passive)
 
 
 def _check_home(model, chains, platform_home) -> None:
@@ -224,7 +225,7 @@ def _check_home(model, chains, platform_home) -> None:
             raise GeometryError(f"leg {ch.leg.name}: Pinocchio platform frame is not at the home pose")
 
 
-def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
+def build_leg_model(home_leg: Leg, platform_home=None, *, passive: bool = False) -> LegModel:
     """Pinocchio model of one serial leg with native joints (see module docstring).
 
     Parameters
@@ -233,6 +234,8 @@ def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
         The leg at its home geometry (joint values 0).
     platform_home : tuple (R (3, 3), p (3,)), optional
         Platform home pose; default ``(I, home_leg.a)``.
+    passive : bool
+        A leg without an actuator (every joint passive).
 
     Returns
     -------
@@ -242,12 +245,13 @@ def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
     ph = as_pose(platform_home if platform_home is not None else (np.eye(3), home_leg.a), "platform_home")
     model = pin.Model()
     model.name = home_leg.name
-    chain = _add_chain(model, home_leg, ph, "")
+    chain = _add_chain(model, home_leg, ph, "", passive=passive)
     _check_home(model, [chain], ph)
     return LegModel(model, chain, ph)
 
 
-def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False) -> ClosedLoopModel:
+def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False,
+                            passive=()) -> ClosedLoopModel:
     """One Pinocchio model with every leg (depth first) and its loop closures.
 
     Every leg is a branch from the universe, added depth first in leg order.  The
@@ -271,6 +275,8 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
     home_legs : sequence of Leg
     platform_home : tuple (R (3, 3), p (3,))
     point_contacts : bool
+    passive : sequence of int
+        0-based indices of the passive legs (no actuated joint).
 
     Returns
     -------
@@ -290,7 +296,9 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
     if point_contacts:
         carrier = next((k for k, lg in enumerate(legs) if not s_ended(lg)), 0)
     model = pin.Model()
-    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier)
+    passive = set(passive)
+    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier,
+                              k in passive)
                    for k, lg in enumerate(legs))
     _check_home(model, chains, ph)
     c0 = chains[carrier]
