@@ -175,11 +175,14 @@ def closures(pm, urdf_name: str = "") -> dict:
         cons.append({"name": f"loop{k + 1}", "leg": k + 1, "joint1": j1[1],
                      "placement1": _se3(R_home, o_home - j1[2]), "joint2": carrier[1],
                      "placement2": _se3(R_home, o_home - carrier[2])})
-    actuated = [rows[pm.home_legs[k].actuated_index][1] for k, rows in enumerate(trees)]
+    passive = tuple(getattr(pm, "passive", ()))
+    actuated = [rows[pm.home_legs[k].actuated_index][1] for k, rows in enumerate(trees)
+                if k not in passive]                  # a passive leg has no actuated joint
     return {"format": "screwkit-closures/1", "urdf": urdf_name, "pm": pm.name,
             "units": {"length": pm.units.length, "angle": "rad"},
             "contact_type": "CONTACT_6D", "reference_frame": "LOCAL",
             "constraints": cons, "actuated_joints": actuated,
+            "passive_legs": [k + 1 for k in passive],
             "platform_frame": "platform", "carrier_leg": 1}
 
 
@@ -217,4 +220,5 @@ def to_pinocchio(pm, *, point_contacts: bool = False):
         ``pinocchio.RigidConstraintModel``), ``.chains``, ``.q(joint_values)``.
     """
     from ._pinocchio_model import build_closed_loop_model
-    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts)
+    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts,
+                                   passive=getattr(pm, "passive", ()))

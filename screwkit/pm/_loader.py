@@ -285,5 +285,5 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                constraint_references=tuple(bases), units=units,
                                dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
                                                               legs, units),
-                               limits=limits_from_mapping(d.get("limits"), ctx, legs),
+                               limits=limits_from_mapping(d.get("limits"), ctx, legs, passive),
                                default_pose=default, notes=tuple(notes), passive=tuple(passive))
