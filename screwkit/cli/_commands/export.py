@@ -40,7 +40,9 @@ def run(args) -> int:
                          "length_unit": pm.units.length}))
         return 0
     n = sum(len(lg.joints) for lg in pm.home_legs)
+    n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
     print(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths in "
           f"{pm.units.length}) and {side} ({len(loops['constraints'])} loop closures, "
-          f"{loops['contact_type']})")
+          f"{loops['contact_type']}" + (f"; {n3} of them parallelogram loops, CONTACT_3D"
+                                        if n3 else "") + ")")
     return 0
