@@ -140,7 +140,7 @@ def arrays_of(model, res) -> dict:
         "values": np.asarray(st.F_r, float),
         "T_r": np.where(np.array(_linear(model))[None, :], st.T_r, np.nan),
         "extensions": np.asarray(sol._extensions, float),
-        "actuators": np.asarray(sol.actuator_values, float),
+        "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
     ix = res.indices                        # transmission and constraint indices
     for name in INDEX_NAMES:
@@ -154,7 +154,9 @@ def arrays_of(model, res) -> dict:
         out[f"dep.{p}"] = np.asarray(sol._params[p], float)
     lim = model.limits
     if lim.declared:
-        chk = lim.check(sol.joint_values, out["actuators"], out["extensions"],
+        per_leg = np.full(out["extensions"].shape, np.nan)         # NaN: a passive leg
+        per_leg[:, list(model.active)] = out["actuators"]
+        chk = lim.check(sol.joint_values, per_leg, out["extensions"],
                         sol.base_points, sol._platform[2])
         out["within_limits"] = chk["within"]
         if lim.min_leg_distance is not None:
