@@ -38,6 +38,8 @@ from ._forward import ForwardResult, forward_kinematics
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
 from ._flat import reflatten
+from ._indices import TransmissionIndices
+from ._transmission import power_coefficient, transmission_indices
 from ._scene import scene_of, wrench_rows
 
 __all__ = [
@@ -50,5 +52,6 @@ __all__ = [
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
-    "workload_source", "reflatten",
+    "workload_source", "TransmissionIndices", "transmission_indices", "power_coefficient",
+    "reflatten",
 ]
