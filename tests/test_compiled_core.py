@@ -61,7 +61,9 @@ def test_numba_is_imported_only_inside_the_engine():
 def test_the_cache_goes_to_a_user_directory_where_the_package_is_read_only(monkeypatch,
                                                                           tmp_path):
     from screwkit.engine import _kernels
-    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    # (set first, so that the environment is restored as it was, whatever cache_dir() sets)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "placeholder")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.setattr(_kernels, "_writable", lambda path: False)
     if sys.platform.startswith("linux"):

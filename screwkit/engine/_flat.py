@@ -56,6 +56,16 @@ def reflatten(like, model) -> FlatModel:
     ------
     ValueError
         When the legs differ (another number of joints).
+
+    Examples
+    --------
+    >>> import screwkit
+    >>> from screwkit.engine import reflatten
+    >>> pm = screwkit.load_pm("3RRPRR")
+    >>> cand = pm.with_dimensions({"l": 70})          # no file read, no leg analysed
+    >>> _ = reflatten(pm, cand)
+    >>> bool(screwkit.analyze(cand, {"alpha": [0.05], "beta": [0.02], "Zo": [80.0]}).ok[0])
+    True
     """
     from ._templates import _TEMPLATES, templates_of
     flat = flatten(like)
