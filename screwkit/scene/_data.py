@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ._arrows import FLOOR, arrow_fractions, scale_key
 from ._palette import COLORS, leg_color
 
 __all__ = ["SceneRow", "PoseState", "GridControls", "TimeControls", "Scene", "MAX_STATES",
@@ -78,7 +79,7 @@ class SceneRow:
     def scale_key(self) -> str:
         """The arrows this row's length is proportional with (``force-a``, ``force-c``,
         ``torque-c``...): its quantity and whether it is an actuation wrench."""
-        return f"{self.quantity}-{'a' if self.actuation else 'c'}"
+        return scale_key(self.quantity, self.actuation)
 
     def __post_init__(self):
         if self.kind not in _ROW_KINDS:
@@ -231,9 +232,11 @@ class Scene:
         from ._geometry import leg_json, scene_box, scene_size
 
         size = scene_size(self.states)
+        keys = [r.scale_key for r in self.rows]
         states = []
         for s in self.states:
             drawn = s.status != "unreachable"
+            frac, floored = arrow_fractions(s.values, keys)
             states.append({
                 "pose": {k: _num(v) for k, v in s.pose.items()},
                 "status": s.status, "level": s.level,
@@ -246,6 +249,7 @@ class Scene:
                 "directions": _arr(s.directions),
                 "determined": [bool(x) for x in s.determined],
                 "text": [self.row_text(s, k) for k in range(len(self.rows))],
+                "frac": _arr(frac), "floored": [bool(x) for x in floored],
             })
         if isinstance(self.controls, GridControls):
             controls = {"type": "grid", "params": [
@@ -266,7 +270,7 @@ class Scene:
                      for i, n in enumerate(self.leg_names)],
             "rows": [{"label": r.label, "kind": r.kind, "leg": r.leg, "quantity": r.quantity,
                       "actuation": r.actuation, "scale": r.scale_key} for r in self.rows],
-            "colors": dict(COLORS), "size": size,
+            "colors": dict(COLORS), "size": size, "floor": FLOOR,
             "box": {"lo": _arr(lo), "hi": _arr(hi)},
             "controls": controls, "start": int(self.start), "states": states,
             "notes": list(self.notes),
