@@ -70,7 +70,9 @@ function status(s) {
 }
 
 // draw state s: its arrows and labels placed for the camera's projection proj
+var draws = 0;           // how many times the plot was drawn (the tests wait on it)
 function draw(s, proj) {
+  draws += 1;
   var geo = arrows(s, proj);
   layout.scene.annotations = placeLabels(s, geo, proj);
   return Plotly.react(plot, traces(s, geo), layout, config);
@@ -170,6 +172,7 @@ document.getElementById("sk-workload").textContent = "workload: " + D.workload.t
 document.getElementById("sk-notes").textContent = D.notes.join(" ");
 window.screwkitView = {
   data: D, state: function () { return current; }, show: select,
+  draws: function () { return draws; },
   // the arrows of state i as drawn: [{label, tail, head}] (null where none is drawn)
   arrows: function (i) {
     var proj = sceneProjector() || estimateProjector();
