@@ -211,7 +211,7 @@ def test_labels_beside_their_own_arrows(chromium, grid_file):
     s.wait_drawn()
     page = s.page
     # drawn twice: first for an estimate of the camera, then for plotly's own
-    page.wait_for_function("() => window.screwkitView.draws() >= 2", timeout=20000)
+    assert page.evaluate("window.screwkitView.draws()") >= 2
     page.wait_for_timeout(600)
     check_screen(page.evaluate(SCREEN))
     n = page.evaluate("window.screwkitView.draws()")

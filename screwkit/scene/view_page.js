@@ -71,6 +71,7 @@ function status(s) {
 
 // draw state s: its arrows and labels placed for the camera's projection proj
 var draws = 0;           // how many times the plot was drawn (the tests wait on it)
+var ready = false;       // drawn for plotly's own camera (screenshots wait for it)
 function draw(s, proj) {
   draws += 1;
   var geo = arrows(s, proj);
@@ -90,7 +91,7 @@ function show(i) {
   drawn = true;
   var done = draw(s, sceneProjector() || estimateProjector());
   if (first && done && done.then) {       // now that plotly's camera exists: its projection
-    done.then(redraw);
+    done.then(function () { redraw(); ready = true; });
     plot.on("plotly_relayout", function (ev) {   // the user turned or zoomed the view
       // (plotly's camera matrices follow on its next frame)
       if (Object.keys(ev || {}).some(function (k) { return k.indexOf("scene.camera") === 0; })) {
@@ -172,7 +173,7 @@ document.getElementById("sk-workload").textContent = "workload: " + D.workload.t
 document.getElementById("sk-notes").textContent = D.notes.join(" ");
 window.screwkitView = {
   data: D, state: function () { return current; }, show: select,
-  draws: function () { return draws; },
+  draws: function () { return draws; }, ready: function () { return ready; },
   // the arrows of state i as drawn: [{label, tail, head}] (null where none is drawn)
   arrows: function (i) {
     var proj = sceneProjector() || estimateProjector();
