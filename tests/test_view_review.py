@@ -131,3 +131,15 @@ def test_cli_export_outputs_do_not_overwrite(tmp_path, capsys, mjcf):
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1 and "would overwrite" in err
     assert not (tmp_path / "pm.urdf").exists()
+
+
+def test_a_view_without_workload_says_so():
+    """A scene without a workload (force None: a model that declares none, none given) states
+    it instead of printing a zero load."""
+    import dataclasses
+    scene = dataclasses.replace(screwkit.analyze("3RPS").show().scene, force=None,
+                                torque=None, workload_source="the model declares none")
+    d = scene.to_json()
+    assert d["workload"]["force"] is None and d["workload"]["torque"] is None
+    assert d["workload"]["text"].startswith("none (the model declares none): no efforts")
+    assert "[0, 0, 0]" not in d["workload"]["text"]

@@ -196,10 +196,12 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
         controls = TimeControls(np.arange(N, dtype=float))
     units = model.units
     lead = [f"not drawn: {s}" for s in skipped]
+    loaded = getattr(analysis, "has_workload", True)     # an analysis without a workload
     return Scene(model.name, tuple(lg.name for lg in model.home_legs),
                  tuple(sr for _, sr in rows), tuple(states), controls,
                  {"length": units.length, "force": units.force, "torque": units.torque},
-                 np.asarray(analysis.force, float), np.asarray(analysis.torque, float),
+                 np.asarray(analysis.force, float) if loaded else None,
+                 np.asarray(analysis.torque, float) if loaded else None,
                  source,
                  tuple(sorted(getattr(model, "passive", ()) or ())), int(start),
                  title or model.name, tuple(lead) + tuple(notes))

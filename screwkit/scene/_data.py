@@ -172,8 +172,9 @@ class Scene:
     controls : GridControls or TimeControls
     units : dict
         ``length``, ``force``, ``torque``.
-    force, torque : ndarray (3,)
-        The workload at ``o``.
+    force, torque : ndarray (3,) or None
+        The workload at ``o``; None when the view has none (no efforts: the wrenches are
+        drawn on their lines without values, and the page says so).
     workload_source : str
         Where the workload comes from (``the paper's workload``, ``given``...).
     start : int
@@ -187,8 +188,8 @@ class Scene:
     states: tuple
     controls: object
     units: dict
-    force: np.ndarray
-    torque: np.ndarray
+    force: np.ndarray | None
+    torque: np.ndarray | None
     workload_source: str = ""
     passive: tuple = ()
     start: int = 0
@@ -213,6 +214,10 @@ class Scene:
     @property
     def workload_text(self) -> str:
         u = self.units
+        if self.force is None or self.torque is None:
+            why = f" ({self.workload_source})" if self.workload_source else ""
+            return (f"none{why}: no efforts; the wrenches are drawn on their lines without "
+                    "values (give a force and a torque at o to see them)")
         F = ", ".join(format_value(float(x), 6) for x in self.force)
         T = ", ".join(format_value(float(x), 6) for x in self.torque)
         src = f" ({self.workload_source})" if self.workload_source else ""
@@ -262,7 +267,8 @@ class Scene:
         return {
             "format": "screwkit-view/1", "pm": self.pm, "title": self.title or self.pm,
             "units": dict(self.units), "workload": {
-                "force": _arr(self.force), "torque": _arr(self.torque),
+                "force": None if self.force is None else _arr(self.force),
+                "torque": None if self.torque is None else _arr(self.torque),
                 "source": self.workload_source, "text": self.workload_text},
             "legs": [{"name": n, "color": leg_color(i), "passive": i in self.passive,
                       "label": f"leg {i + 1} ({n})" + (" · passive" if i in self.passive

@@ -32,6 +32,10 @@ function poseText(s) {
 
 function scaleText(s) {
   if (!D.rows.length || !s.legs.length) { return ""; }
+  if (D.workload.force === null) {
+    return "no workload: every wrench drawn on its line at one length, its direction that of "
+      + "its row of J (no value)";
+  }
   var low = D.rows.filter(function (r, k) { return s.floored[k]; })
     .map(function (r) { return r.label; });
   return "arrow lengths proportional to |value| within each kind at this pose (actuation "
