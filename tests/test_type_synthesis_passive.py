@@ -21,7 +21,6 @@ import pytest
 
 import screwkit
 from screwkit.cli import main
-from screwkit.errors import InputError
 from screwkit.design import actuation_condition, synthesize_motion
 from screwkit.pm import Catalog, default_catalog
 from screwkit.synthesis import leg_pool, motion_pattern, passive_compositions
@@ -52,10 +51,9 @@ def _listed(res, name):
 
 def _home(p, tmp_path):
     path = tmp_path / (p.variant.replace("/", "-") + ".yaml")
-    with pytest.raises(InputError, match="passive leg"):
-        p.model_yaml()                          # no passive-leg field in models yet
-    path.write_text(p.model_yaml(as_actuated=True), encoding="utf-8")
+    path.write_text(p.model_yaml(), encoding="utf-8")
     model = screwkit.load_pm(str(path))
+    assert model.passive == (0,)                # written as a passive leg
     a = screwkit.analyze(model, {k: model.home_pose[k] for k in model.independent},
                          raise_on_singular=False)
     return model, a
@@ -175,7 +173,10 @@ def test_3t1r_lists_a_passive_prrr_leg_against_its_hand_couples(passive_3t1r, tm
     R = np.asarray(res.solution.rotation, float)
     assert bool(np.all(res.solution.success))
     assert float(np.max(np.abs(R[:, :, 2] - [0, 0, 1]))) <= 1e-9
-    assert "passive" in p.definition["note"] and "redundant actuator" in p.definition["note"]
+    assert "passive" in p.definition["note"]
+    # the written model declares leg 1 passive: no actuation row for it in the engine's J
+    assert not [r for r in a.jacobian.info if r.leg == 0 and r.kind == "actuation"]
+    assert {"leg": "PRRR", "passive": True} in p.definition["legs"]
 
 
 def test_dask_synthesis_equals_the_serial_one(capsys):

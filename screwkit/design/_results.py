@@ -72,19 +72,10 @@ class SynthesizedPM:
     leg_definitions: tuple = ()
     origins: tuple = ()
 
-    def model_yaml(self, as_actuated: bool = False) -> str:
+    def model_yaml(self) -> str:
         """The model YAML: the definitions of the leg types the packaged catalog lacks,
-        then the PM (``screwkit.load_pm`` reads it, ``screwkit analyze FILE`` analyses it).
-
-        A PM with a passive leg raises :class:`~screwkit.errors.InputError` unless
-        ``as_actuated``: screwkit models cannot declare a passive leg yet, so the file
-        would actuate every leg; its mobility and constraint rows are this PM's, its
-        actuator forces those of the all-actuated PM (redundantly actuated)."""
-        if self.passive and not as_actuated:
-            from ..errors import InputError
-            raise InputError(f"{self.name}: a model cannot declare the passive leg "
-                             f"{', '.join(self.passive)} yet (model_yaml(as_actuated=True) "
-                             "writes it with every leg actuated)")
+        then the PM (``screwkit.load_pm`` reads it, ``screwkit analyze FILE`` analyses it);
+        a passive leg is declared ``{leg: NAME, passive: true}``."""
         return model_yaml(self.variant or self.name, self.definition, self.leg_definitions)
 
     def to_dict(self) -> dict:

@@ -41,8 +41,8 @@ import numpy as np
 from ..errors import GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..pm import load_pm, mobility_of_legs
-from ..synthesis import (GEOMETRIES, build_pool, catalog_compositions, compositions_for,
-                         geometries_for, motion_pattern,
+from ..synthesis import (CENTRAL_GEOMETRIES, GEOMETRIES, build_pool, catalog_compositions,
+                         central_compositions, compositions_for, geometries_for, motion_pattern,
                          passive_compositions, pm_definition, synthesis_catalog)
 from ..synthesis._leg_types import VARIANTS
 from ._results import SynthesizedPM, TypeSynthesis
@@ -60,18 +60,21 @@ MAX_VERIFIED = 400
 MAX_MIX = 4
 
 
-def _probe(motion, n, g, catalog, passive=False):
+def _probe(motion, n, g, catalog, passive=False, central=False):
     """A model of ``n`` unconstrained legs on geometry ``g``: its placements at home."""
-    probe = pm_definition(_unconstrained(n, passive), motion, g)
+    probe = pm_definition(_unconstrained(n, passive, central), motion, g)
     try:
         return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}))
     except ScrewkitError:
         return None
 
 
-def _unconstrained(n, passive=False):
+def _unconstrained(n, passive=False, central=False):
     from ..synthesis import Candidate, LegKind
     sps = LegKind("SPS", "SPS", "S_PS", 0, 0, 0, 7, 2)
+    if central:
+        return Candidate((sps,) * n, f"{n - 1}SPS+SPS/passive", f"{n - 1}SPS+SPS/passive",
+                         False, (n - 1,), True)
     return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True, (0,) if passive else ())
 
 
@@ -90,7 +93,7 @@ def _home_legs(kind_names, g, probe, specs, cache):
 
 
 def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = None,
-                      asymmetric: bool = True, passive: bool = False,
+                      asymmetric: bool = True, passive: bool = True,
                       max_verified: int | None = None, catalog=None, progress=None,
                       mapper=None, generate: bool = True, variants: int = VARIANTS,
                       wide: bool = False) -> TypeSynthesis:
@@ -108,11 +111,13 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     asymmetric : bool
         Also two-type compositions (``2-UPU+SPR``).
     passive : bool
-        Also the actuated legs plus one passive constraining leg
+        Also the actuated legs plus one passive constraining leg (a verification budget of
+        their own): unconstrained actuated legs and a generated central column that exerts
+        the whole complementary system (:func:`screwkit.synthesis.central_compositions`,
+        the Tricept), and the catalog's constraining leg types at vertex 1
         (:func:`screwkit.synthesis.passive_compositions`; ``legs + 1`` legs, tried when a
-        standard geometry has that many vertices, with a verification budget of their
-        own).  Off by default: models cannot declare a passive leg yet, so these PMs are
-        listed but cannot be written as a model (:meth:`SynthesizedPM.model_yaml`).
+        standard geometry has that many vertices).  The written model declares the leg
+        passive (``{leg: NAME, passive: true}``).
     max_verified : int, optional
         At most this many engine verifications (one candidate on one geometry; default
         ``MAX_VERIFIED``) for the actuated compositions, and as many for the passive-leg
@@ -195,11 +200,15 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     spent += run_round(m, comps, screened, list(range(start, len(comps))), budget - spent, cat,
                        mapper, progress, outcome, start, total)
     pruned = max(0, n_mixes - len(mixes) - sum(1 for c in comps[:start] if not c.symmetric))
-    # round 3: the passive-leg ones (a budget of their own)
-    if passive and n + 1 in GEOMETRIES:
+    # round 3: the passive-leg ones (a budget of their own): a central column, or the
+    # catalog's constraining leg types at vertex 1
+    if passive:
         start = len(comps)
-        comps += sorted(passive_compositions(m, kinds, n), key=lambda c: (not c.preferred,
-                                                                         c.joints))
+        extra = central_compositions(m, pool.columns, kinds, n) if n in CENTRAL_GEOMETRIES \
+            else []
+        if n + 1 in GEOMETRIES:
+            extra += passive_compositions(m, [k for k in kinds if k.preferred], n)
+        comps += sorted(extra, key=lambda c: (not c.central, not c.preferred, c.joints))
         total += len(comps) - start
         screened.update({start + i: g for i, g in _screen(m, comps[start:], cat).items()})
         spent += run_round(m, comps, screened, list(range(start, len(comps))), budget, cat,
@@ -221,7 +230,7 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
         names = [k.name for k in cand.legs]
         listed.append(SynthesizedPM(
             r, cand.literature, cand.string, m.name, tuple(names), cand.symmetric,
-            geometries_for(nl, bool(cand.passive))[g][0], cand.joints,
+            geometries_for(nl, bool(cand.passive), cand.central)[g][0], cand.joints,
             tuple(k.marked for i, k in enumerate(cand.legs) if i not in cand.passive),
             _act_pos(cand), verdict.condition_home, verdict, d,
             tuple(cand.legs[i].name for i in cand.passive), cand.name,
@@ -265,7 +274,7 @@ def _screen(m, comps, catalog) -> dict:
     cache: dict = {}
     out = {}
     for i, cand in enumerate(comps):
-        key = (len(cand.legs), bool(cand.passive))
+        key = (len(cand.legs), bool(cand.passive), cand.central)
         if key not in probes:
             probes[key] = [_probe(m, key[0], g, catalog, key[1])
                            for g in range(len(geometries_for(*key)))]

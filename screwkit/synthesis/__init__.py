@@ -26,8 +26,8 @@ from ._motions import MOTIONS, MotionPattern, motion_pattern
 from ._leg_types import GeneratedLeg, SYNTHESIS_PLACEMENT, generated_legs, pattern_twists
 from ._pool import (EXTRA_LEGS_YAML, LegKind, LegPool, build_pool, extra_legs, leg_pool,
                     synthesis_catalog)
-from ._candidates import (GEOMETRIES, PASSIVE_GEOMETRIES, Candidate, catalog_compositions,
-                          compositions_for,
+from ._candidates import (CENTRAL_GEOMETRIES, GEOMETRIES, PASSIVE_GEOMETRIES, Candidate,
+                          catalog_compositions, central_compositions, compositions_for,
                           geometries_for, literature_name, model_yaml, passive_compositions,
                           pm_definition)
 
@@ -50,7 +50,8 @@ __all__ = [
     "MOTIONS", "MotionPattern", "motion_pattern", "EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate",
     "PASSIVE_GEOMETRIES", "LegKind", "compositions_for", "extra_legs", "geometries_for",
     "leg_pool", "model_yaml", "passive_compositions", "pm_definition", "synthesis_catalog",
-    "literature_name", "LegPool", "build_pool", "catalog_compositions",
+    "literature_name", "LegPool", "build_pool", "catalog_compositions", "central_compositions",
+    "CENTRAL_GEOMETRIES",
     # legs generated for a motion pattern
     "GeneratedLeg", "SYNTHESIS_PLACEMENT", "generated_legs", "pattern_twists",
 ]

@@ -32,8 +32,8 @@ import yaml
 
 from ._motions import MotionPattern
 
-__all__ = ["GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate", "catalog_compositions",
-           "compositions_for", "geometries_for",
+__all__ = ["CENTRAL_GEOMETRIES", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate",
+           "catalog_compositions", "central_compositions", "compositions_for", "geometries_for",
            "literature_name", "model_yaml", "passive_compositions", "pm_definition"]
 
 #: Standard geometries by number of legs: (label, base, platform, dimensions, home Zo,
@@ -76,9 +76,37 @@ PASSIVE_GEOMETRIES = {
 }
 
 
-def geometries_for(n_legs: int, passive: bool = False) -> tuple:
+def _ring(radius: str, angles) -> list:
+    """Vertices at ``angles`` (degrees) on a circle of the dimension ``radius``, as
+    expressions, then the centre: a PM with a central column."""
+    pts = [[f"{radius}*cos({a}*pi/180)", f"{radius}*sin({a}*pi/180)", 0] for a in angles]
+    return pts + [[0, 0, 0]]
+
+
+#: Geometries of PMs with a central passive column (the Tricept's), by the number of
+#: actuated legs: the standard ones with the centres of base and platform added as the
+#: last vertex.
+CENTRAL_GEOMETRIES = {
+    3: (("triangle R=60 r=30 and a central column", {"points": _ring("R", (-30, 90, 210))},
+         {"points": _ring("r", (-30, 90, 210))}, {"R": 60, "r": 30}, "R", {}),
+        ("triangle R=60 r=30 turned 60 deg and a central column",
+         {"points": _ring("R", (-30, 90, 210))}, {"points": _ring("r", (30, 150, 270))},
+         {"R": 60, "r": 30}, "R", {})),
+    4: (("square L=100, rectangle 60 x 40 and a central column",
+         {"points": [["L/2", "-L/2", 0], ["L/2", "L/2", 0], ["-L/2", "L/2", 0],
+                     ["-L/2", "-L/2", 0], [0, 0, 0]]},
+         {"points": [["l1/2", "-l2/2", 0], ["l1/2", "l2/2", 0], ["-l1/2", "l2/2", 0],
+                     ["-l1/2", "-l2/2", 0], [0, 0, 0]]},
+         {"L": 100, "l1": 60, "l2": 40}, "0.8*L", {}),),
+}
+
+
+def geometries_for(n_legs: int, passive: bool = False, central: bool = False) -> tuple:
     """The standard geometries of ``n_legs`` legs, in the order they are tried (the
-    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg)."""
+    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg; with a central column,
+    :data:`CENTRAL_GEOMETRIES` of ``n_legs - 1`` actuated legs)."""
+    if central:
+        return tuple(CENTRAL_GEOMETRIES.get(n_legs - 1, ()))
     return (tuple(PASSIVE_GEOMETRIES.get(n_legs, ())) if passive else ()) + tuple(
         GEOMETRIES.get(n_legs, ()))
 
@@ -99,6 +127,9 @@ class Candidate:
     symmetric : bool
     passive : tuple of int
         0-based indices of the passive legs (no actuator; :func:`passive_compositions`).
+    central : bool
+        The last leg is a central column from the base centre to the platform centre
+        (:func:`central_compositions`).
     """
 
     legs: tuple
@@ -106,6 +137,7 @@ class Candidate:
     string: str
     symmetric: bool
     passive: tuple = ()
+    central: bool = False
 
     @property
     def joints(self) -> int:
@@ -246,16 +278,37 @@ def passive_compositions(motion: MotionPattern, pool, n_legs: int | None = None)
             groups = [(p, k), (b, n - k)] if k else [(b, n)]
             name, string = _name(groups)
             legs = (p,) * (k + 1) + (b,) * (n - k)
-            out.append(Candidate(legs, f"passive-{p.name}+{name}", f"{p.string}+{string}",
-                                 False, (0,)))
+            out.append(Candidate(legs, f"passive-{p.name}+{name}",
+                                 f"{string}+{p.string}/passive", False, (0,)))
+    return out
+
+
+def central_compositions(motion: MotionPattern, columns, pool, n_legs: int | None = None
+                         ) -> list:
+    """``n_legs`` unconstrained actuated legs (default: the DOF; SPS, UPS, SPU of ``pool``)
+    at the vertices and ONE passive central column of ``columns`` (generated with
+    ``central=True``: from the base centre to the platform centre) that exerts the whole
+    complementary system: the Tricept (3-UPS + a passive UP column) for 1T2R, a 3-UPS + a
+    passive S column for 3R."""
+    n = motion.dof if n_legs is None else int(n_legs)
+    out = []
+    for p in columns:
+        if p.constraints != motion.constraints:
+            continue
+        for b in (k for k in pool if not k.constraints):
+            name, string = _name([(b, n)])
+            out.append(Candidate((b,) * n + (p,), f"{name}+{p.name}/passive",
+                                 f"{string}+{p.string}/passive", False, (n,), True))
     return out
 
 
 def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> dict:
     """The ``pms:`` entry of a composition on standard geometry ``geometry`` (an index
-    into :func:`geometries_for` its number of legs); angles in degrees, lengths in cm (the catalog's units)."""
+    into :func:`geometries_for` its number of legs); angles in degrees, lengths in cm (the
+    catalog's units).  A passive leg is written ``{leg: NAME, passive: true}``, and
+    ``NAME/passive`` in the PM string."""
     n = len(cand.legs)
-    geos = geometries_for(n, bool(cand.passive))
+    geos = geometries_for(n, bool(cand.passive), cand.central)
     if not geos or not 0 <= geometry < len(geos):
         from ..errors import InputError
         raise InputError(f"no standard geometry {geometry} for {n} legs "
@@ -269,18 +322,19 @@ def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> 
     d = {"summary": f"{cand.name}, synthesized for the {motion.name} motion",
          "source": f"screwkit synthesize {motion.name} (geometry: {label})",
          "string": cand.string, "dimensions": dict(dims), "base": dict(base),
-         "platform": dict(plat), "legs": [k.name for k in cand.legs], "euler": "XYZ",
+         "platform": dict(plat), "euler": "XYZ",
+         "legs": [{"leg": k.name, "passive": True} if i in cand.passive else k.name
+                  for i, k in enumerate(cand.legs)],
          "independent": list(motion.independent), "home": home, "pose": dict(home),
          "dof": motion.dof, "motion": motion.name, "units": {"length": "cm", "force": "kN"}}
     if guess:
         d["guess"] = guess
     if cand.passive:
         which = ", ".join(f"{i + 1} ({cand.legs[i].name})" for i in cand.passive)
-        d["note"] = (f"leg {which} is passive (no actuator): its constraint system completes "
-                     f"the complementary wrench system; the synthesis verified J without "
-                     f"its actuation row. screwkit's models have no passive-leg field yet: "
-                     f"analysed as written, that leg's joint {cand.legs[cand.passive[0]].marked}"
-                     f" counts as a redundant actuator")
+        d["note"] = (f"leg {which} is passive (no actuator)"
+                     + (", a central column from the base centre to the platform centre"
+                        if cand.central else "")
+                     + ": its constraint system completes the complementary wrench system")
     d.update(extra)
     return d
 

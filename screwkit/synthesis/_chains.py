@@ -72,13 +72,18 @@ class Chain:
     classes : tuple of str
         The direction code of each class (``"t"``, ``"x0"``: normal to class 0 and the leg).
     actuated : int
-        Index of the actuated letter.
+        Index of the actuated letter (-1: none, a passive column).
+    central : bool
+        A central column (from the base centre ``O`` to the platform centre ``o``): its
+        elbows are moved off the line along the base X axis (the tangent is undefined
+        at the centre).
     """
 
     letters: tuple
     axes: tuple
     classes: tuple
     actuated: int = 0
+    central: bool = False
 
     @property
     def text(self) -> str:
@@ -86,7 +91,8 @@ class Chain:
 
     @property
     def marked(self) -> str:
-        return "".join(("_" if i == self.actuated else "") + x for i, x in enumerate(self.letters))
+        act = max(self.actuated, 0)
+        return "".join(("_" if i == act else "") + x for i, x in enumerate(self.letters))
 
     @property
     def joints(self) -> int:
@@ -106,21 +112,22 @@ def located(chain: Chain) -> list:
     return out
 
 
-def elbow(k: int, m: int) -> dict:
+def elbow(k: int, m: int, central: bool = False) -> dict:
     """The ``k``-th of ``m`` elbow points (1-based): on ``A -> a`` at ``k / (m + 1)``, moved
-    off the line along the base tangent (alternating sides) and the base normal, so that
-    parallel axes through ``A``, the elbows and ``a`` are never coplanar."""
+    off the line along the base tangent (the base X axis for a central column; alternating
+    sides) and the base normal, so that parallel axes through ``A``, the elbows and ``a``
+    are never coplanar."""
     side = 0.3 if k % 2 else -0.25
     inner = {"offset": {"between": ["A", "a"], "t": round(k / (m + 1), 6)},
-             "along": "base.tangent", "fraction": side}
+             "along": "base.X" if central else "base.tangent", "fraction": side}
     return {"offset": inner, "along": "base.Z", "fraction": 0.15}
 
 
-def _point_ref(slot):
+def _point_ref(slot, central=False):
     if slot is None:
         return None
     if isinstance(slot, tuple):
-        return elbow(slot[1], slot[2])
+        return elbow(slot[1], slot[2], central)
     return slot
 
 
@@ -152,7 +159,7 @@ def rule_entries(chain: Chain) -> list:
         return DIRECTIONS[code]
 
     for i, x in enumerate(chain.letters):
-        pt = _point_ref(slots[i])
+        pt = _point_ref(slots[i], chain.central)
         e: dict = {}
         if x == "S":
             e["at"] = pt
@@ -160,8 +167,10 @@ def rule_entries(chain: Chain) -> list:
             e["at"] = pt
             e["axes"] = [direction(ax, pt, nm) for ax, nm in zip(chain.axes[i], names[i])]
         elif x == "Pa":
-            prev = next((_point_ref(slots[k]) for k in range(i - 1, -1, -1) if slots[k]), "A")
-            nxt = next((_point_ref(slots[k]) for k in range(i + 1, len(slots)) if slots[k]), "a")
+            c = chain.central
+            prev = next((_point_ref(slots[k], c) for k in range(i - 1, -1, -1) if slots[k]), "A")
+            nxt = next((_point_ref(slots[k], c) for k in range(i + 1, len(slots)) if slots[k]),
+                       "a")
             ax = chain.axes[i][0]
             ref = first[ax.index] if ax.index in first else DIRECTIONS[chain.classes[ax.index]]
             e = {"axis": {"perpendicular": [ref, {"toward": [prev, nxt]}]}, "at": prev, "to": nxt}

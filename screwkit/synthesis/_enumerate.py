@@ -120,12 +120,15 @@ def default_words(low: int, wide: bool = False) -> list:
     return [w for w in ws if "H" not in w and (sum(_WEIGHT[x] for x in w) < 5 or len(w) <= 3)]
 
 
-def chains_for(low: int, codes, wide: bool = False):
-    """Every chain of ``low`` to five joints over the direction ``codes`` (a generator), word
-    by word (:func:`default_words`)."""
+def chains_for(low: int, codes, wide: bool = False, central: bool = False, high: int = 5):
+    """Every chain of ``low`` to ``high`` joints over the direction ``codes`` (a generator),
+    word by word (:func:`default_words`).  ``central``: passive central columns (no
+    actuator needed)."""
     for w in default_words(low, wide):
+        if sum(_WEIGHT[x] for x in w) > high:
+            continue
         act = _actuated(w)
-        if act < 0:
+        if act < 0 and not central:
             continue
         for axes, classes in assignments(w, codes):
-            yield Chain(w, axes, classes, act)
+            yield Chain(w, axes, classes, act, central)

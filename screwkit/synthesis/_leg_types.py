@@ -40,7 +40,8 @@ from ._chains import Chain, code_of, describe, elbow, located, rule_entries
 from ._enumerate import chains_for
 from ._motions import MotionPattern
 
-__all__ = ["GeneratedLeg", "SYNTHESIS_PLACEMENT", "generated_legs", "pattern_twists",
+__all__ = ["GeneratedLeg", "SYNTHESIS_PLACEMENT", "CENTRAL_PLACEMENT", "generated_legs",
+           "pattern_twists",
            "pattern_codes", "twist_key"]
 
 #: The placement where chains are screened: vertex 1 of the standard triangle (base
@@ -54,6 +55,12 @@ _LENGTH = float(np.hypot(50.0, 80.0))
 _H_PITCH = 0.1
 SYNTHESIS_PLACEMENT = Placement(A=100.0 * _U, a=50.0 * _U + [0, 0, 80.0], O=np.zeros(3),
                                 o=np.array([0.0, 0.0, 80.0]), C=np.array([0.0, 0.0, 40.0]))
+#: The placement of a central column: from the base centre to the platform centre.
+CENTRAL_PLACEMENT = Placement(A=np.zeros(3), a=np.array([0.0, 0.0, 80.0]), O=np.zeros(3),
+                              o=np.array([0.0, 0.0, 80.0]), C=np.array([0.0, 0.0, 40.0]))
+#: The direction codes of a central column (the tangent and the radial direction are
+#: undefined at the centre).
+CENTRAL_CODES = "XYn"
 
 
 @dataclass(frozen=True)
@@ -88,16 +95,18 @@ def pattern_codes(motion: MotionPattern) -> str:
     return _CODES.get(motion.name, "ntro")
 
 
-def pattern_twists(motion: MotionPattern, placement: Placement) -> np.ndarray:
+def pattern_twists(motion: MotionPattern, placement: Placement, centre: bool = True
+                   ) -> np.ndarray:
     """The twists ``[v; w]`` (about the origin) every leg of a PM with ``motion`` must allow
     at home: the pattern's pure translations, and its rotations where their axes are
-    known (about ``C`` for 3R, about the base normal for 3T1R and 2T1R)."""
+    known (about ``C`` for 3R unless not ``centre``: a central column sets the centre
+    itself; about the base normal for 3T1R and 2T1R)."""
     R = placement.base_rotation
     rows = []
     for p in motion.independent:
         if p in ("Xo", "Yo", "Zo"):
             rows.append(np.concatenate([R[:, "XYZ".index(p[0])], np.zeros(3)]))
-    if motion.fixed_point:
+    if motion.fixed_point and centre:
         C = placement.centre
         for k in range(3):
             rows.append(np.concatenate([np.cross(C, R[:, k]), R[:, k]]))
@@ -106,21 +115,29 @@ def pattern_twists(motion: MotionPattern, placement: Placement) -> np.ndarray:
     return np.array(rows).reshape(-1, 6)
 
 
-def _vectors(pl: Placement):
-    """Direction codes and point slots evaluated at ``pl`` by the rule language itself."""
+def _vectors(pl: Placement, central: bool = False):
+    """Direction codes and point slots evaluated at ``pl`` by the rule language itself
+    (codes undefined there, the tangent at the centre, are left out)."""
+    from ..errors import GeometryError
     from ..legs import LegRules
     from ..legs._rule_context import _Context
     from ._chains import DIRECTIONS
 
     ctx = _Context(LegRules.from_mapping("probe", "S", [{"at": "A"}]), pl)
+
     def tup(v):
         return tuple(float(x) for x in v)
 
-    dirs = {c: tup(ctx.direction_rule(ref)) for c, ref in DIRECTIONS.items()}
+    dirs = {}
+    for c, ref in DIRECTIONS.items():
+        try:
+            dirs[c] = tup(ctx.direction_rule(ref))
+        except GeometryError:
+            continue
     pts = {"A": tup(ctx.point("A")), "a": tup(ctx.point("a"))}
     for m in range(1, 4):
         for k in range(1, m + 1):
-            pts[("E", k, m)] = tup(ctx.point(elbow(k, m)))
+            pts[("E", k, m)] = tup(ctx.point(elbow(k, m, central)))
     return dirs, pts, tup(pl.centre)
 
 
@@ -234,9 +251,9 @@ def _rank_filter(chains, twists, need, L) -> list:
 VARIANTS = 2
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=32)
 def generated_legs(motion: MotionPattern, exclude_keys: frozenset = frozenset(),
-                   variants: int = VARIANTS, wide: bool = False) -> tuple:
+                   variants: int = VARIANTS, wide: bool = False, central: bool = False) -> tuple:
     """The leg types generated for ``motion`` (:class:`GeneratedLeg`, enumeration order).
 
     Parameters
@@ -250,15 +267,24 @@ def generated_legs(motion: MotionPattern, exclude_keys: frozenset = frozenset(),
     wide : bool
         Every word (H joints, five-joint legs of four or five letters), not only
         :func:`~screwkit.synthesis._enumerate.default_words`.
+    central : bool
+        Passive central columns instead (from the base centre to the platform centre, at
+        :data:`CENTRAL_PLACEMENT`, direction codes :data:`CENTRAL_CODES`): legs that alone
+        exert the whole complementary system (``dof`` joints), the Tricept's column for
+        1T2R; they need no actuator.
     """
     from ..errors import ScrewkitError
     from ..pm import leg_spec_from_mapping
 
-    pl = SYNTHESIS_PLACEMENT
+    pl = CENTRAL_PLACEMENT if central else SYNTHESIS_PLACEMENT
     L = pl.length
-    dirs, pts, C = _vectors(pl)
-    need = pattern_twists(motion, pl)
-    chains = list(chains_for(max(motion.dof, 1), pattern_codes(motion), wide))
+    dirs, pts, C = _vectors(pl, central)
+    need = pattern_twists(motion, pl, centre=not central)
+    codes = CENTRAL_CODES if central else pattern_codes(motion)
+    if central:
+        variants = 4 * variants          # few words: keep more of each
+    high = motion.dof if central else 5
+    chains = list(chains_for(max(motion.dof, 1), codes, wide, central, high))
     slots_of: dict = {}
     twists = []
     for ch in chains:
@@ -277,12 +303,13 @@ def generated_legs(motion: MotionPattern, exclude_keys: frozenset = frozenset(),
         if key in seen:
             continue
         seen.add(key)
-        name = base = f"{ch.text}/{code_of(ch)}"
+        name = base = f"{ch.text}/{'column.' if central else ''}{code_of(ch)}"
         while name in names:
             name = f"{base}~{int(name.rpartition('~')[2]) + 1 if '~' in name else 2}"
         names.add(name)
+        what = "a central passive column " if central else ""
         mapping = {"name": name, "string": ch.marked,
-                   "summary": f"generated for {motion.name}: {describe(ch)}",
+                   "summary": f"generated for {motion.name}: {what}{describe(ch)}",
                    "joints": rule_entries(ch)}
         try:
             spec = leg_spec_from_mapping(dict(mapping), source="<generated>")
@@ -290,7 +317,7 @@ def generated_legs(motion: MotionPattern, exclude_keys: frozenset = frozenset(),
         except ScrewkitError:
             continue
         if (an.connectivity != ch.joints or not motion.admits(an.n_forces, an.n_couples, an.n_screws)
-                or not an.agrees() or an.actuation is None):
+                or not an.agrees() or (an.actuation is None and not central)):
             continue
         per_word[ch.letters] = per_word.get(ch.letters, 0) + 1
         out.append(GeneratedLeg(name, mapping, an.n_forces, an.n_couples))

@@ -139,12 +139,16 @@ class LegPool:
         the candidates.
     generated : int
         Generated leg types admitted.
+    columns : tuple of LegKind
+        Generated central columns (from the base centre to the platform centre) that
+        exert the whole complementary system: the passive legs of Tricept-like PMs.
     """
 
     motion: MotionPattern
     kinds: tuple
     catalog: object
     generated: int = 0
+    columns: tuple = ()
 
     def definitions(self, names) -> list:
         """The ``legs:`` entries of the leg types among ``names`` that the packaged catalog
@@ -235,11 +239,11 @@ def _default_keys() -> frozenset:
     return _keys_of(None)
 
 
-@lru_cache(maxsize=16)
-def _generated(motion, keys, variants, wide) -> tuple:
+@lru_cache(maxsize=32)
+def _generated(motion, keys, variants, wide, central=False) -> tuple:
     from ..pm import leg_spec_from_mapping
     out = []
-    for g in generated_legs(motion, keys, variants, wide):
+    for g in generated_legs(motion, keys, variants, wide, central):
         spec = leg_spec_from_mapping(dict(g.mapping), source="<generated>")
         _DEFINITIONS[id(spec)] = g.mapping
         ls = spec.string
@@ -266,6 +270,7 @@ def build_pool(motion: MotionPattern, catalog=None, *, generate: bool = True,
     kinds = [k for k in kinds if motion.admits(k.forces, k.couples, k.screws)]
     specs = {}
     n_gen = 0
+    columns = []
     if generate:
         keys = _default_keys() if catalog is None else _keys_of(catalog)
         taken = {k.name for k in kinds}
@@ -275,7 +280,11 @@ def build_pool(motion: MotionPattern, catalog=None, *, generate: bool = True,
             kinds.append(kind)
             specs[kind.name] = spec
             n_gen += 1
-    return LegPool(motion, tuple(kinds), synthesis_catalog(catalog, legs=specs), n_gen)
+        for kind, spec in _generated(motion, frozenset(), int(variants), False, True):
+            columns.append(kind)
+            specs[kind.name] = spec
+    return LegPool(motion, tuple(kinds), synthesis_catalog(catalog, legs=specs), n_gen,
+                   tuple(columns))
 
 
 def leg_pool(motion: MotionPattern, catalog=None, **kwargs) -> tuple:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from .._progress import add_quiet_argument, progress_bar
 from .._types import integer, path
@@ -28,16 +27,15 @@ named as the literature names them (3-PRS, 3-RRPaR); VARIANT names the leg types
 generated leg's name is its letters and, per letter, the direction codes of its axes: n
 base normal, t base tangent, r radial, o towards the platform centre, l the leg line, c
 through the centre C, x normal to the previous axis and the leg, X/Y the base axes, -
-an S; see docs/synthesis.md). With --passive
-(not with --symmetric), PMs of N actuated legs and one passive constraining leg (no
-actuator, e.g. 4SPS + a passive PRRR for 3T1R) are tried too: their J leaves out the
-passive leg's actuation row. The engine verifications run on 2 local processes by
-default (--jobs), or on a Dask cluster with --workers N / --scheduler ADDRESS (for wider
-searches, --wide); the result equals the serial one. --write DIR writes each listed PM as
-a model YAML, with the definitions of the leg types it uses that the packaged catalog
-lacks, that 'screwkit analyze DIR/FILE.yaml' reads, except the PMs with a passive leg
-(screwkit models cannot declare a passive leg yet: they are named on stderr and not
-written)."""
+an S; see docs/synthesis.md). Unless --no-passive (or --symmetric), PMs of N
+unconstrained actuated legs and one passive central column (the Tricept 3-UPS+UP/passive
+for 1T2R), or a catalog leg type made passive at vertex 1 (4-SPS + a passive PRRR for
+3T1R), are tried too: J has no actuation row for the passive leg. The engine verifications
+run on 2 local processes by default (--jobs), or on a Dask cluster with --workers N /
+--scheduler ADDRESS (for wider searches, --wide); the result equals the serial one. --write
+DIR writes each listed PM as a model YAML (a passive leg declared {leg: NAME, passive:
+true}), with the definitions of the leg types it uses that the packaged catalog lacks,
+that 'screwkit analyze DIR/FILE.yaml' reads."""
 
 EPILOG = """examples:
   screwkit synthesize 3T --limit 5
@@ -60,8 +58,9 @@ def register(sub):
     p.add_argument("--symmetric", action="store_true",
                    help="only symmetric PMs (all legs of one type)")
     p.add_argument("--passive", action="store_true",
-                   help="also PMs with one passive constraining leg (models cannot declare a "
-                        "passive leg yet: these are listed, not written)")
+                   help="also PMs with one passive constraining leg (the default)")
+    p.add_argument("--no-passive", action="store_true",
+                   help="no PMs with a passive leg (a central column or a catalog leg type)")
     p.add_argument("--model", type=path, default=None, metavar="FILE",
                    help="add the leg types of a model file (its 'legs:' list) to the pool")
     p.add_argument("--no-generate", action="store_true",
@@ -107,7 +106,7 @@ def run(args) -> int:
     with progress_bar(args, "synthesize", "candidate") as progress:
         res = synthesize_motion(args.motion, legs=args.legs, limit=args.limit,
                                 asymmetric=not args.symmetric,
-                                passive=args.passive and not args.symmetric,
+                                passive=not args.no_passive and not args.symmetric,
                                 progress=progress, mapper=mapper, catalog=catalog,
                                 generate=not args.no_generate,
                                 variants=args.variants or VARIANTS, wide=args.wide,
@@ -115,10 +114,6 @@ def run(args) -> int:
     written = []
     if args.write is not None:
         for p in res.listed:
-            if p.passive:
-                print(f"screwkit synthesize: {p.name} not written: a model cannot declare a "
-                      "passive leg yet", file=sys.stderr)
-                continue
             target = Path(args.write) / file_name(p.variant)
             write_output(target, p.model_yaml())
             written.append(str(target))
@@ -142,8 +137,8 @@ def run(args) -> int:
         print(f"  {p.rank:>4}  {p.name:<{w}} {p.variant:<{v}} {p.joints:>6}"
               f"  {p.actuator_position:>7.2f}  {p.condition_home:>12.4g}  {p.geometry}")
     if any(p.passive for p in res.listed):
-        print("  passive-X: leg 1 of type X has no actuator (actuators lists the actuated "
-              "legs; cond(J) without its actuation row)")
+        print("  X/passive: a leg of type X with no actuator (a central column, or leg 1); "
+              "J has no actuation row for it")
     if res.listed:
         v = res.listed[0].verdict
         print(f"  each verified at {len(v.checks)} poses (home and {len(v.checks) - 1} along a "
