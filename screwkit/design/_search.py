@@ -72,10 +72,10 @@ def _probe(motion, n, g, catalog, passive=False, central=False):
 def _unconstrained(n, passive=False, central=False):
     from ..synthesis import Candidate, LegKind
     sps = LegKind("SPS", "SPS", "S_PS", 0, 0, 0, 7, 2)
-    if central:
-        return Candidate((sps,) * n, f"{n - 1}SPS+SPS/passive", f"{n - 1}SPS+SPS/passive",
-                         False, (n - 1,), True)
-    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True, (0,) if passive else ())
+    if central or passive:
+        text = f"{n - 1}SPS+SPS/passive"
+        return Candidate((sps,) * n, text, text, False, (n - 1,) if central else (0,), central)
+    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True)
 
 
 def _home_legs(kind_names, g, probe, specs, cache):
@@ -276,7 +276,7 @@ def _screen(m, comps, catalog) -> dict:
     for i, cand in enumerate(comps):
         key = (len(cand.legs), bool(cand.passive), cand.central)
         if key not in probes:
-            probes[key] = [_probe(m, key[0], g, catalog, key[1])
+            probes[key] = [_probe(m, key[0], g, catalog, key[1], key[2])
                            for g in range(len(geometries_for(*key)))]
         names = [k.name for k in cand.legs]
         ok = []

@@ -193,7 +193,8 @@ def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
     ``6 - dof`` (they cannot span the complementary system otherwise).  Symmetric ones
     first, then asymmetric (``k`` of the more constraining type ``A`` at vertices
     ``1..k``, ``n - k`` of ``B``), in pool order.  ``among`` (leg type names): the
-    asymmetric ones only of two of these types with different letters, or of one type and
+    asymmetric ones only of two of these types with different letters, of ``n - 1`` legs
+    of a catalog type with one of these (the Exechon's 2-UPR+SPR), or of one type and
     unconstrained legs that together exert exactly ``6 - dof`` constraints.
     """
     n = motion.dof if n_legs is None else int(n_legs)
@@ -215,9 +216,13 @@ def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
                 if k * a.constraints + (n - k) * b.constraints < need:
                     continue
                 exact = not b.constraints and k * a.constraints == need
-                if among is not None and not exact and (a.string == b.string or not (
-                        a.name in among and b.name in among)):
-                    continue            # mixes of two listed types with different letters
+                # with ``among``: mixes of two listed types with different letters, or of
+                # n - 1 catalog legs with one listed type (the Exechon's 2-UPR+SPR)
+                both = a.name in among and b.name in among if among is not None else True
+                seed = (among is not None and k == n - 1 and a.preferred and b.name in among)
+                if among is not None and not exact and (a.string == b.string
+                                                        or not (both or seed)):
+                    continue
                 name, string = _name([(a, k), (b, n - k)])
                 out.append(Candidate((a,) * k + (b,) * (n - k), name, string, False))
     return out
