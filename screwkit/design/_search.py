@@ -93,7 +93,7 @@ def _home_legs(kind_names, g, probe, specs, cache):
 
 
 def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = None,
-                      asymmetric: bool = True, passive: bool = True,
+                      asymmetric: bool = True, passive: bool | None = None,
                       max_verified: int | None = None, catalog=None, progress=None,
                       mapper=None, generate: bool = True, variants: int = VARIANTS,
                       wide: bool = False) -> TypeSynthesis:
@@ -110,8 +110,9 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
         List at most this many (the best ranked).
     asymmetric : bool
         Also two-type compositions (``2-UPU+SPR``).
-    passive : bool
-        Also the actuated legs plus one passive constraining leg (a verification budget of
+    passive : bool, optional
+        Default: as ``asymmetric``.  Also the actuated legs plus one passive constraining
+        leg (a verification budget of
         their own): unconstrained actuated legs and a generated central column that exerts
         the whole complementary system (:func:`screwkit.synthesis.central_compositions`,
         the Tricept), and the catalog's constraining leg types at vertex 1
@@ -151,6 +152,7 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     ('3-PRRR', '3T')
     """
     m = motion_pattern(motion)
+    passive = bool(asymmetric) if passive is None else bool(passive)
     n = m.dof if legs is None else legs
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not m.dof <= n <= MAX_LEGS \
             or int(n) not in GEOMETRIES:
