@@ -31,6 +31,9 @@ from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_
                         solve_path, solve_pose)
 from ._forward import ForwardResult, forward_kinematics
 from ._motion import check_declared_motion, finite_motion
+from ..pm import set_finite_motion_solver as _set_solver
+
+_set_solver(finite_motion)        # screwkit.pm.mobility reports the finite motion type
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
 

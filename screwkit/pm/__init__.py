@@ -26,7 +26,7 @@ from ._loader import load_pm, pm_names
 from ._schema import model_schema, schema_path, schema_text
 from ._model_check import Problem, check_model_file
 from ._finite import (FINITE_RTOL, FiniteMotion, classify_finite_motion, register_finite_motion,
-                      registered_finite_motion, rotation_vectors)
+                      registered_finite_motion, rotation_vectors, set_finite_motion_solver)
 from ._mobility import (Mobility, declared_motion, describe_twist_space, linkage_graph, mobility,
                         mobility_of_legs, motion_type)
 from ..legs import structure_vector    # re-exported: it was screwkit.pm.structure_vector
@@ -51,7 +51,7 @@ __all__ = [
     "describe_twist_space",
     # the finite motion type (computed by screwkit.engine.finite_motion, classified here)
     "FiniteMotion", "classify_finite_motion", "rotation_vectors", "FINITE_RTOL",
-    "register_finite_motion", "registered_finite_motion",
+    "register_finite_motion", "registered_finite_motion", "set_finite_motion_solver",
     # expressions
     "Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
 ]

@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["FiniteMotion", "classify_finite_motion", "rotation_vectors", "FINITE_RTOL",
-           "RANK_FD_RTOL", "register_finite_motion", "registered_finite_motion"]
+           "RANK_FD_RTOL", "register_finite_motion", "registered_finite_motion",
+           "set_finite_motion_solver"]
 
 #: Tolerance of the invariants, relative (rotations, radians) or to the length ``L``.
 FINITE_RTOL = 1e-7
@@ -217,9 +218,23 @@ def register_finite_motion(model, motion: FiniteMotion) -> None:
     _REGISTRY[model] = motion
 
 
-def registered_finite_motion(model) -> FiniteMotion | None:
-    """The finite motion the engine computed for ``model``, or None."""
+#: The engine's ``finite_motion(model)``, installed when the engine is imported (this layer
+#: never imports the engine: a solved pose comes from it, so it is there).
+_SOLVER: list = []
+
+
+def set_finite_motion_solver(fn) -> None:
+    """Install ``fn(model) -> FiniteMotion`` (:func:`screwkit.engine.finite_motion` does it)."""
+    _SOLVER[:] = [fn]
+
+
+def registered_finite_motion(model, compute: bool = True) -> FiniteMotion | None:
+    """The finite motion the engine computed for ``model`` (computed now with ``compute``
+    when the engine is loaded), or None."""
     try:
-        return _REGISTRY.get(model)
+        hit = _REGISTRY.get(model)
     except TypeError:                   # not weak-referenceable: never registered
         return None
+    if hit is None and compute and _SOLVER and hasattr(model, "independent"):
+        hit = _SOLVER[0](model)
+    return hit

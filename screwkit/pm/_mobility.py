@@ -383,5 +383,5 @@ def mobility(solution, rtol: float = RANK_RTOL, finite=None) -> Mobility:
         else:
             fields["notes"] = fields.get("notes", res.notes) + (
                 "motion_type is the instantaneous count: the finite motion type is computed "
-                "by screwkit.engine.finite_motion (screwkit.load_pm and analyze call it)",)
+                "by screwkit.engine.finite_motion",)
     return Mobility(**fields)
