@@ -16,7 +16,7 @@ import pytest
 pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
-from screwkit.cli._commands.draw import wrench_rows  # noqa: E402
+from screwkit.engine import wrench_rows  # noqa: E402
 from screwkit.paths import path_from_expressions, run_trajectory  # noqa: E402
 from screwkit.viz import draw_pm  # noqa: E402
 
