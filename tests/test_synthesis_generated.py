@@ -69,7 +69,7 @@ def test_a_generated_delta_leg_exerts_two_couples_normal_to_its_hinges():
 
 @pytest.fixture(scope="module")
 def spherical():
-    return synthesize_motion("3R")
+    return synthesize_motion("3R", asymmetric=False, passive=True)   # no mixes: faster
 
 
 def test_3r_lists_the_spherical_3rrr_3upu_and_a_passive_column(spherical, tmp_path):
