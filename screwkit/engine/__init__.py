@@ -36,6 +36,8 @@ from ..pm import set_finite_motion_solver as _set_solver
 _set_solver(finite_motion)        # screwkit.pm.mobility reports the finite motion type
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
+from ._indices import TransmissionIndices
+from ._transmission import power_coefficient, transmission_indices
 from ._scene import scene_of, wrench_rows
 
 __all__ = [
@@ -49,5 +51,5 @@ __all__ = [
     "finite_motion", "check_declared_motion",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
-    "workload_source",
+    "workload_source", "TransmissionIndices", "transmission_indices", "power_coefficient",
 ]

@@ -9,15 +9,22 @@ carries the link ``platform`` on a ``fixed`` joint.  Every joint frame sits at i
 home point with the base orientation, so each joint ``origin`` is a pure translation and
 its ``axis`` the joint's home direction; joint values are 0 at home, as in screwkit.
 
+A parallelogram ``Pa`` is its real four-bar: the first bar (joint ``leg<i>_Pa<k>_bar``), the
+far link turning back with it (``_far``, a URDF ``mimic`` of the bar, multiplier -1, so that
+it translates) and the second bar from the near link (``_twin``, a mimic of the bar).
+
 The loops (legs 2..n meet the platform) are in a JSON sidecar (:func:`closures`): one
 6-D rigid contact per leg between a frame on the leg's last joint and the same platform
-frame on leg 1's last joint, the arguments of ``pinocchio.RigidConstraintModel``::
+frame on leg 1's last joint, and one 3-D point contact per parallelogram (the end of its
+second bar on the far link; ``contact_type`` in the constraint's entry), the arguments of
+``pinocchio.RigidConstraintModel``::
 
     import json, numpy as np, pinocchio as pin
     model = pin.buildModelFromUrdf("pm.urdf")
     loops = json.load(open("pm.closures.json"))
     se3 = lambda p: pin.SE3(np.array(p["rotation"]), np.array(p["translation"]))
-    constraints = [pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model,
+    kind = lambda c: getattr(pin.ContactType, c.get("contact_type", loops["contact_type"]))
+    constraints = [pin.RigidConstraintModel(kind(c), model,
                        model.getJointId(c["joint1"]), se3(c["placement1"]),
                        model.getJointId(c["joint2"]), se3(c["placement2"]),
                        pin.ReferenceFrame.LOCAL) for c in loops["constraints"]]
@@ -65,7 +72,10 @@ def _z_to(d) -> tuple:
     s, c = np.linalg.norm(axis), float(z @ d)
     if s < 1e-12:
         return (math.pi, 0.0, 0.0) if c < 0 else (0.0, 0.0, 0.0)
-    return tuple(Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_euler("xyz"))
+    import warnings
+    with warnings.catch_warnings():      # a cylinder along +-x: any roll of it is the same
+        warnings.simplefilter("ignore")
+        return tuple(Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_euler("xyz"))
 
 
 def _cylinder(p, q, radius, origin_at) -> str:
@@ -99,7 +109,10 @@ def _joint_name(k: int, joint) -> str:
 
 
 def _tree(pm):
-    """Per leg: ``[(joint, urdf joint name, point, direction, kind)]`` with checks."""
+    """Per leg: ``[(joint, urdf joint name, point, direction, kind)]`` with checks.  A ``Pa``
+    is its four-bar: the first bar (``<name>_bar``), the far link turning back with it
+    (``<name>_far``, a mimic of the bar with multiplier -1) in the chain, and the second bar
+    (``<name>_twin``) from the near link, listed by :func:`_twins`."""
     out = []
     for k, leg in enumerate(pm.home_legs):
         rows = []
@@ -107,9 +120,38 @@ def _tree(pm):
             if j.kind == "H":
                 raise InputError(f"leg {k + 1} ({leg.name}): URDF has no helical joint "
                                  f"({j.name}); export a model without H joints")
-            rows.append((j, _joint_name(k, j), np.asarray(j.point, float),
-                         np.asarray(j.direction, float), "revolute" if j.kind == "R" else "prismatic"))
+            p, d = np.asarray(j.point, float), np.asarray(j.direction, float)
+            if j.spec.parallelogram:
+                h = np.asarray(j.hinge, float)
+                rows.append((j, _joint_name(k, j) + "_bar", p, h, "revolute"))
+                rows.append((j, _joint_name(k, j) + "_far", p + np.asarray(j.bar, float), h,
+                             "revolute"))
+                continue
+            rows.append((j, _joint_name(k, j), p, d, "revolute" if j.kind == "R" else "prismatic"))
         out.append(rows)
+    return out
+
+
+def _twins(rows):
+    """The second bars of a leg's parallelograms: ``(joint, name, parent link, parent point,
+    point, hinge, bar, e)`` with ``e = h x b`` (the near link's second hinge at ``p + e``)."""
+    out = []
+    for r, (j, name, p, h, _) in enumerate(rows):
+        if name.endswith("_bar"):
+            parent = ("base", np.zeros(3)) if r == 0 else (f"{rows[r - 1][1]}_link", rows[r - 1][2])
+            b = np.asarray(j.bar, float)
+            e = np.cross(h, b)
+            out.append((j, name[:-4] + "_twin", parent[0], parent[1], p + e, h, b, e))
+    return out
+
+
+def _slot_rows(rows) -> list:
+    """The row of each equivalent joint (a ``Pa``'s first bar) in a leg's rows."""
+    out, seen = [], set()
+    for r, (j, name, *_rest) in enumerate(rows):
+        if id(j) not in seen:
+            seen.add(id(j))
+            out.append(r)
     return out
 
 
@@ -143,11 +185,23 @@ def urdf_text(pm) -> str:
                          f'<axis xyz="{_vec(d)}"/>\n'
                          f'    <limit lower="{_f(lo)}" upper="{_f(hi)}" effort="0" velocity="0"/>\n'
                          f"  </joint>\n")
+            if name.endswith("_far"):                    # the far link translates
+                lines[-1] = lines[-1].replace("  </joint>", f'    <mimic joint="{name[:-4]}_bar" '
+                                              'multiplier="-1" offset="0"/>\n  </joint>')
             visual = _cylinder(p, nxt, (1.6 if kind == "prismatic" else 1.0) * r_link, p)
             if j.spec.origin in "SU" and j.name.endswith("a"):
                 visual += _sphere(p, 2.0 * r_link, p)
             lines.append(f'  <link name="{child}">\n{visual}  </link>\n')
             parent, parent_point = child, p
+        for (j, name, par, par_pt, p, h, b, e) in _twins(rows):   # the parallelograms' second bars
+            lines.append(f'  <joint name="{name}" type="revolute">\n'
+                         f'    <parent link="{par}"/><child link="{name}_link"/>\n'
+                         f'    <origin xyz="{_vec(p - par_pt)}" rpy="0 0 0"/><axis xyz="{_vec(h)}"/>\n'
+                         f'    <limit lower="{_f(-math.pi)}" upper="{_f(math.pi)}" effort="0" '
+                         f'velocity="0"/>\n    <mimic joint="{name[:-5]}_bar" multiplier="1" '
+                         f'offset="0"/>\n  </joint>\n')
+            lines.append(f'  <link name="{name}_link">\n{_cylinder(p, p + b, r_link, p)}'
+                         f'  </link>\n')
         if k == 0:
             lines.append(f'  <joint name="platform_fixed" type="fixed">\n'
                          f'    <parent link="{parent}"/><child link="platform"/>\n'
@@ -175,11 +229,20 @@ def closures(pm, urdf_name: str = "") -> dict:
         cons.append({"name": f"loop{k + 1}", "leg": k + 1, "joint1": j1[1],
                      "placement1": _se3(R_home, o_home - j1[2]), "joint2": carrier[1],
                      "placement2": _se3(R_home, o_home - carrier[2])})
-    actuated = [rows[pm.home_legs[k].actuated_index][1] for k, rows in enumerate(trees)]
+    for k, rows in enumerate(trees):                  # each parallelogram's own loop
+        for (j, name, *_rest, b, e) in _twins(rows):
+            cons.append({"name": f"{name[:-5]}_loop", "leg": k + 1, "contact_type": "CONTACT_3D",
+                         "joint1": name, "placement1": _se3(np.eye(3), b),
+                         "joint2": name[:-5] + "_far", "placement2": _se3(np.eye(3), e)})
+    passive = tuple(getattr(pm, "passive", ()))
+    actuated = [rows[_slot_rows(rows)[pm.home_legs[k].actuated_index]][1]
+                for k, rows in enumerate(trees)
+                if k not in passive]                  # a passive leg has no actuated joint
     return {"format": "screwkit-closures/1", "urdf": urdf_name, "pm": pm.name,
             "units": {"length": pm.units.length, "angle": "rad"},
             "contact_type": "CONTACT_6D", "reference_frame": "LOCAL",
             "constraints": cons, "actuated_joints": actuated,
+            "passive_legs": [k + 1 for k in passive],
             "platform_frame": "platform", "carrier_leg": 1}
 
 
@@ -217,4 +280,5 @@ def to_pinocchio(pm, *, point_contacts: bool = False):
         ``pinocchio.RigidConstraintModel``), ``.chains``, ``.q(joint_values)``.
     """
     from ._pinocchio_model import build_closed_loop_model
-    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts)
+    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts,
+                                   passive=getattr(pm, "passive", ()))

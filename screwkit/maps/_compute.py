@@ -17,7 +17,7 @@ import numpy as np
 from ..engine import CONVERGED, analyze
 from ..engine._report import row_quantity
 
-__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
+__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "INDEX_NAMES", "Meta", "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
 #: Cells per block (8 engine chunks of 8192 poses).
@@ -26,6 +26,8 @@ BLOCK = 16 * 4096
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
 #: ``singular_kind`` codes.
 KIND_CODES = ("regular", "actuation", "constraint")
+#: The per-cell indices of :attr:`screwkit.engine.PMAnalysis.indices` a map keeps.
+INDEX_NAMES = ("iti", "oti", "lti", "cti", "sigma_min")
 
 
 @dataclass(frozen=True)
@@ -138,8 +140,11 @@ def arrays_of(model, res) -> dict:
         "values": np.asarray(st.F_r, float),
         "T_r": np.where(np.array(_linear(model))[None, :], st.T_r, np.nan),
         "extensions": np.asarray(sol._extensions, float),
-        "actuators": np.asarray(sol.actuator_values, float),
+        "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
+    ix = res.indices                        # transmission and constraint indices
+    for name in INDEX_NAMES:
+        out[name] = np.asarray(getattr(ix, name), float)
     if model.dynamics is not None and model.dynamics.has_stiffness:
         # the model declares its legs' stiffness: the Cartesian stiffness of every cell
         from ..dynamics import stiffness_fields
@@ -149,7 +154,9 @@ def arrays_of(model, res) -> dict:
         out[f"dep.{p}"] = np.asarray(sol._params[p], float)
     lim = model.limits
     if lim.declared:
-        chk = lim.check(sol.joint_values, out["actuators"], out["extensions"],
+        per_leg = np.full(out["extensions"].shape, np.nan)         # NaN: a passive leg
+        per_leg[:, list(model.active)] = out["actuators"]
+        chk = lim.check(sol.joint_values, per_leg, out["extensions"],
                         sol.base_points, sol._platform[2])
         out["within_limits"] = chk["within"]
         if lim.min_leg_distance is not None:

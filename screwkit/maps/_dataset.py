@@ -25,6 +25,14 @@ from ._compute import KIND_CODES, LEVEL_CODES
 __all__ = ["xarray", "build_dataset", "write", "to_csv", "FORMATS"]
 
 FORMATS = (".nc", ".zarr", ".csv")
+#: The index variables of a map (``docs/design.md``: definitions and conventions).
+INDEX_LONG_NAMES = {
+    "iti": "input transmission index (smallest over the active legs)",
+    "oti": "output transmission index (smallest over the active legs)",
+    "lti": "local transmission index min(ITI, OTI)",
+    "cti": "constraint transmission index (smallest over the constraint rows; NaN: none)",
+    "sigma_min": "smallest singular value of the normalised J",
+}
 
 
 def xarray():
@@ -96,6 +104,9 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "equilibrium_residual": var(a["equilibrium_residual"], "1",
                                     "relative platform equilibrium residual"),
     }
+    for name, text in INDEX_LONG_NAMES.items():
+        if name in a:
+            dv[name] = var(a[name], "1", text)
     if any(k.startswith("stiff.") for k in a):
         from ..dynamics import STIFFNESS_FIELDS
         for name, (kind, long_name) in STIFFNESS_FIELDS.items():
@@ -122,9 +133,9 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
     for i in range(n):
         dv[f"r{i + 1}"] = var(a["extensions"][:, i], u.length,
                               f"extension |a_{i + 1} - A_{i + 1}| of leg {i + 1}", leg=i + 1)
-    for i in range(n):
+    for k, i in enumerate(model.active):            # a passive leg has no actuator
         rot = not meta.linear[i]
-        v = a["actuators"][:, i]
+        v = a["actuators"][:, k]
         if rot and to_deg:
             v = np.degrees(v)
         dv[f"q_a{i + 1}"] = var(v, _angle_unit(grid) if rot else u.length,
@@ -152,8 +163,12 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "computed_on": ("serial" if cluster is None else "dask"),
         "conventions": "wrenches [f; m] about the base origin O; twists [v; w]",
     }
+    for k, v in model.home_pose.items():           # radians, model lengths
+        attrs[f"home_pose_{k}"] = float(v)
     if grid.samples:
         attrs["seed"] = int(grid.seed)
+        for k, (lo, hi) in (grid.box or {}).items():     # the sampling box
+            attrs[f"box_{k}"] = np.array([lo, hi], float)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 

@@ -23,6 +23,9 @@ from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffn
                        check_inertia, cylinder_body)
 from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._loader import load_pm, pm_names
+from ._variants import Definition, definition_yaml, with_dimensions
+from ._builder import PMBuilder, leg_type_of
+from ._extend import catalog_with_legs
 from ._schema import model_schema, schema_path, schema_text
 from ._model_check import Problem, check_model_file
 from ._finite import (FINITE_RTOL, FiniteMotion, classify_finite_motion, register_finite_motion,
@@ -37,6 +40,8 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    "Definition", "with_dimensions", "definition_yaml", "PMBuilder", "leg_type_of",
+    "catalog_with_legs",
     # the model-file schema and checks
     "model_schema", "schema_text", "schema_path", "check_model_file", "Problem",
     # limits

@@ -60,9 +60,11 @@ def run(args) -> int:
         out.update({"urdf": urdf, "closures": side, "joints": n,
                     "constraints": len(loops["constraints"]),
                     "actuated_joints": loops["actuated_joints"], "length_unit": pm.units.length})
+        n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
         lines.append(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths "
                      f"in {pm.units.length}) and {side} ({len(loops['constraints'])} loop "
-                     f"closures, {loops['contact_type']})")
+                     f"closures, {loops['contact_type']}"
+                     + (f"; {n3} of them parallelogram loops, CONTACT_3D" if n3 else "") + ")")
     if args.mjcf:
         info = write_mjcf(pm, args.mjcf, pose=pose or None, degrees=True, params=args.mass,
                           massless=args.massless)
