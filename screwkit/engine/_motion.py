@@ -110,8 +110,7 @@ def _compute(model) -> FiniteMotion:
         rows = [n + 2 * (b * d + k) for k in range(d)]
         if not ok[b] or not all(ok[i] and ok[i + 1] for i in rows):
             if b == 0:
-                raise CatalogError("the finite motion cannot be sampled: poses next to home "
-                                   "are not assembled", model.name, "home", model.source)
+                break                   # home's neighbours not assembled: counted at home
             continue
         for k, i in enumerate(rows):
             rp = rotation_vectors(R[i] @ R[b].T)[0]
@@ -124,8 +123,15 @@ def _compute(model) -> FiniteMotion:
     from ..screws import is_singular
     singular = (is_singular(model.order, model.home_pose["beta"])
                 and {"alpha", "gamma"} <= set(ind))
+    counts = None
+    if not jac:
+        # the poses next to home are not assembled (e.g. dependent Euler angles at their
+        # representation singularity there): the counts of the twist space at home
+        from ..pm import mobility_of_legs
+        mob = mobility_of_legs(model.home_legs)
+        counts = (int(mob.translations), int(mob.rotations))
     return classify_finite_motion(ind, np.array(jac).reshape(-1, 3, d), R[keep], o[keep], dep, L,
-                                  singular)
+                                  singular, counts)
 
 
 def _counts(label: str):

@@ -71,6 +71,7 @@ class FiniteMotion:
     rotations_away : int
         The rank of the rotations' derivative at the base poses away from home (above
         ``rotations`` when a parasitic rotation varies with the translations there).
+    notes : tuple of str
     deviation : float
         The largest deviation from the invariants named (0 without any).
     """
@@ -87,6 +88,7 @@ class FiniteMotion:
     samples: int = 0
     deviation: float = 0.0
     rotations_away: int = 0
+    notes: tuple = ()
 
     @property
     def text(self) -> str:
@@ -99,6 +101,8 @@ class FiniteMotion:
             out += "; no parasitic motion"
         if self.invariants:
             out += "; " + "; ".join(self.invariants)
+        if self.notes:
+            out += " (" + "; ".join(self.notes) + ")"
         return out
 
     def declared(self, independent) -> tuple:
@@ -125,7 +129,7 @@ def _label(t: int, r: int) -> str:
 
 
 def classify_finite_motion(independent, jacobians, R, o, dependent, length: float,
-                           home_singular: bool = False) -> FiniteMotion:
+                           home_singular: bool = False, counts=None) -> FiniteMotion:
     """Classify sampled motions (see the module docstring).
 
     Parameters
@@ -147,6 +151,9 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
         Home is a representation singularity of the Euler angles with two of them
         independent (the XYX angles at ``beta = 0``): the parameters lose a rotation there,
         not the motion, so the rank is taken at the first base pose away from home.
+    counts : (int, int), optional
+        ``(translations, rotations)`` when no derivative could be sampled (the poses
+        next to home are not assembled): those of the twist space at home, with a note.
     """
     ind = tuple(independent)
     d = len(ind)
@@ -156,10 +163,18 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
         s = np.linalg.svd(Jb, compute_uv=False) if Jb.size else np.zeros(0)
         ranks.append(int(np.sum(s > RANK_FD_RTOL * max(1.0, float(s[0]) if s.size else 1.0))))
     r = (ranks[1] if home_singular and len(ranks) > 1 else ranks[0]) if ranks else 0
+    notes = ()
+    if counts is not None and not ranks:
+        r = int(counts[1])
+        notes = ("the poses next to home are not assembled: translations and rotations "
+                 "counted in the twist space at home",)
     t = d - r
     R = np.asarray(R, float).reshape(-1, 3, 3)
     o = np.asarray(o, float).reshape(-1, 3)
     L = float(length)
+    if len(R) < 2:
+        return FiniteMotion(_label(t, r), t, r, d, (), (), ind, None, None, len(R), 0.0, r,
+                            notes)
     Q = R @ R[0].T
     invariants, dev = [], 0.0
     centre = axis = None
@@ -205,7 +220,7 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
                 moves.append(name)
         parasitic = tuple(moves)
     return FiniteMotion(_label(t, r), t, r, d, tuple(invariants), parasitic, ind, centre, axis,
-                        len(R), dev, max(ranks[1:], default=r))
+                        len(R), dev, max(ranks[1:], default=r), notes)
 
 
 #: The finite motion of each model object the engine has classified
