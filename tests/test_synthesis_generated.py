@@ -5,7 +5,7 @@ axis of a spherical leg through the centre C: forces through C; a Delta leg's hi
 along the base tangent: couples normal to it), the listed PMs against the motion of the
 written model analysed afresh (a fixed centre for 3R), and user leg types against the
 constraint force of a PRS derived by hand.  The 3R search runs in full here; the other
-patterns' textbook families are checked with SCREWKIT_SLOW_TESTS=1 (minutes each; the
+patterns' textbook families are checked with SCREWKIT_TEST_SLOW=1 (minutes each; the
 benchmark prints them all).
 """
 
@@ -157,8 +157,8 @@ TEXTBOOK = {
 }
 
 
-@pytest.mark.skipif(not os.environ.get("SCREWKIT_SLOW_TESTS"),
-                    reason="minutes per pattern: SCREWKIT_SLOW_TESTS=1 (or the benchmark)")
+@pytest.mark.skipif(not os.environ.get("SCREWKIT_TEST_SLOW"),
+                    reason="minutes per pattern: SCREWKIT_TEST_SLOW=1 (or the benchmark)")
 @pytest.mark.parametrize("motion", sorted(TEXTBOOK))
 def test_the_textbook_families_are_listed(motion):
     from screwkit.cli._commands._common import process_mapper
