@@ -52,115 +52,41 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels._layout import RANK_RTOL
-from ..screws import cross
+from ._kernels._layout import LEVERAGE_RTOL, RANK_RTOL, TRANSLATION_RTOL  # noqa: F401
 
 __all__ = ["transmission_indices", "leg_screws", "power_coefficient", "TRANSLATION_RTOL",
            "LEVERAGE_RTOL"]
 
-#: Below this ``|w| L / |V|`` a twist counts as a translation (no axis, no arm).
-TRANSLATION_RTOL = 1e-12
+
+def _c(a, dtype=float):
+    return np.ascontiguousarray(a, dtype)
 
 
 def power_coefficient(W, V, p, couple):
     """``(zeta, arm)``: the power coefficient of wrenches on twists (module docstring).
 
     ``W``, ``V (..., 6)`` about one origin, ``p (..., 3)`` a point of each wrench axis in
-    the same frame, ``couple (...)`` True for pure couples.  ``arm`` is the distance from
-    ``p`` to the twist axis (NaN for translations and couples).  A zero wrench or twist
-    gives 0.
+    the same frame, ``couple (...)`` True for pure couples (broadcast together).  ``arm`` is
+    the distance from ``p`` to the twist axis (NaN for translations and couples).  A zero
+    wrench or twist gives 0.  Computed by the kernel the indices use
+    (``_kernels/_indices.power_one``).
     """
-    f, m = W[..., :3], W[..., 3:]
-    v, w = V[..., :3], V[..., 3:]
-    ff = np.sum(f * f, axis=-1)
-    lam = np.sum(f * m, axis=-1) / np.where(ff > 0, ff, 1.0)
-    vp = v + cross(w, p)
-    u = vp + lam[..., None] * w
-    num = np.abs(np.sum(f * u, axis=-1))
-    den = np.sqrt(ff * np.sum(u * u, axis=-1))
-    cm = np.sqrt(np.sum(m * m, axis=-1))
-    ww = np.sqrt(np.sum(w * w, axis=-1))
-    num = np.where(couple, np.abs(np.sum(m * w, axis=-1)), num)
-    den = np.where(couple, cm * ww, den)
-    zeta = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
-    rot = ww > TRANSLATION_RTOL * np.sqrt(np.sum(V * V, axis=-1))
-    what = np.where(rot, ww, 1.0)
-    wh = w / what[..., None]
-    perp = vp - np.sum(vp * wh, axis=-1)[..., None] * wh
-    arm = np.where(rot & ~couple, np.sqrt(np.sum(perp * perp, axis=-1)) / what, np.nan)
-    return np.minimum(zeta, 1.0), arm
-
-
-def _entry_point(W, q, d):
-    """The point of each wrench axis nearest the line ``q + s d`` (its point nearest ``q``
-    where the two are parallel or ``d`` is 0); ``W (..., 6)``."""
-    f, m = W[..., :3], W[..., 3:]
-    ff = np.sum(f * f, axis=-1, keepdims=True)
-    ff = np.where(ff > 0, ff, 1.0)
-    p0 = cross(f, m) / ff
-    u = f / np.sqrt(ff)
-    dn = np.sqrt(np.sum(d * d, axis=-1, keepdims=True))
-    dh = d / np.where(dn > 0, dn, 1.0)
-    w0 = p0 - q
-    b = np.sum(u * dh, axis=-1, keepdims=True)
-    dd, e = np.sum(u * w0, axis=-1, keepdims=True), np.sum(dh * w0, axis=-1, keepdims=True)
-    den = 1.0 - b * b
-    skew = den > 1e-12
-    t = np.where(skew, (b * e - dd) / np.where(skew, den, 1.0), -dd)
-    return p0 + t * u
-
-
-#: A row whose leverage in its rows' range is below ``1 - LEVERAGE_RTOL`` is redundant: the
-#: other rows keep the rank without it (their smallest singular value stays above about
-#: ``1e-4`` of the largest).
-LEVERAGE_RTOL = 1e-8
-
-
-def _leverage(U, s):
-    """Each row's leverage ``sum_j U[k, j]^2`` over the directions of rank (``s`` above
-    :data:`~screwkit.engine._kernels._layout.RANK_RTOL` of the largest): 1 where the row is
-    needed for the rank, below 1 where the other rows span it."""
-    live = s > RANK_RTOL * np.maximum(s[..., :1], 1e-300)
-    return np.sum(U * U * live[:, None, :], axis=-1)
-
-
-def _null_twists(Wu):
-    """For each row ``k`` of ``Wu (N, K, 6)`` (unit, normalised rows of a regular ``J``): the
-    twist (normalised coordinates, unit) reciprocal to every other row, the column ``k`` of
-    the pseudo-inverse, and whether the row is redundant (no such twist: the other rows
-    have the rank without it).  Singular poses are the caller's."""
-    N, K = Wu.shape[:2]
-    if K < 6:                       # never regular: every twist set is larger than a line
-        return np.zeros((N, K, 6)), np.zeros((N, K), bool)
-    if K == 6:                      # square: the columns of the inverse, no row redundant
-        try:
-            V = np.linalg.inv(Wu).transpose(0, 2, 1)
-        except np.linalg.LinAlgError:                       # an exactly singular pose
-            pass
-        else:
-            V /= np.maximum(np.linalg.norm(V, axis=-1, keepdims=True), 1e-300)
-            return V, np.zeros((N, K), bool)
-    U, s, Vt = np.linalg.svd(Wu, full_matrices=False)      # (N, K, 6), (N, 6), (N, 6, 6)
-    inv = 1.0 / np.maximum(s, 1e-300 * np.maximum(s[:, :1], 1e-300))
-    V = np.einsum("nji,nj,nkj->nki", Vt, inv, U)
-    V /= np.maximum(np.linalg.norm(V, axis=-1, keepdims=True), 1e-300)
-    return V, 1.0 - _leverage(U, s) > LEVERAGE_RTOL
-
-
-def _redundant(Wu, rank=None):
-    """``(N, k)``: True where removing the row leaves the rank of the rows ``Wu (N, k, 6)``
-    unchanged (a redundant row, decided by its leverage); ``rank (N,)``, optional: the
-    rank of the rows where known (all ``k``: none is redundant)."""
-    N, k = Wu.shape[:2]
-    if k < 2 or (rank is not None and np.all(np.asarray(rank) >= k)):
-        return np.zeros((N, k), bool)
-    U, s, _ = np.linalg.svd(Wu, full_matrices=False)
-    return 1.0 - _leverage(U, s) > LEVERAGE_RTOL
+    from ._kernels import kernels
+    W, V, p = (np.asarray(x, float) for x in (W, V, p))
+    couple = np.asarray(couple, bool)
+    shape = np.broadcast_shapes(W.shape[:-1], V.shape[:-1], p.shape[:-1], couple.shape)
+    flat = [_c(np.broadcast_to(x, shape + x.shape[-1:]).reshape(-1, x.shape[-1]))
+            for x in (W, V, p)]
+    cp = _c(np.broadcast_to(couple, shape).reshape(-1), np.int64)
+    zeta, arm = np.empty(len(cp)), np.empty(len(cp))
+    kernels().power_batch(*flat, cp, zeta, arm)
+    return zeta.reshape(shape), arm.reshape(shape)
 
 
 def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line, row_leg,
-                         centre, length, constraint_rank=None):
-    """The index arrays of N poses from plain arrays (the engine-independent core).
+                         centre, length, constraint_rank=None, workers=None):
+    """The index arrays of N poses from plain arrays (the engine-independent core), by the
+    compiled kernel ``_kernels/_indices.indices_range`` (``prange`` over poses).
 
     Parameters
     ----------
@@ -182,6 +108,8 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
         The normalisation of the poses (centroid, characteristic length).
     constraint_rank : ndarray (N,), optional
         The rank of the constraint rows where known (it spares the redundancy test).
+    workers : int, optional
+        Threads (default: up to the two cores for large batches).
 
     Returns
     -------
@@ -191,44 +119,28 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
         Constraint rows whose removal leaves the rank of the constraint rows unchanged
         (their index is NaN).
     """
-    J = np.asarray(J, float)
-    act, con = list(act_rows), list(con_rows)
-    keep = act + con
-    c, L = np.asarray(centre, float), np.asarray(length, float)
-    Lc = L[:, None, None]
-    # normalised coordinates: wrenches [f; m_c / L], twists [v_c; L w], points (x - c) / L
-    f = J[..., :3]
-    Wn = np.concatenate([f, (J[..., 3:] - cross(c[:, None, :], f)) / Lc], axis=-1)
-    size = np.linalg.norm(Wn, axis=-1, keepdims=True)
-    Wu = Wn / np.where(size > 0, size, 1.0)
-    Vn, none = _null_twists(Wu[:, keep])
-
-    def to_norm(x):
-        return (x - c[:, None, :]) / Lc
-
-    W_keep = Wn[:, keep]
-    cpl = np.asarray(couple, bool)[keep]
-    legs = np.asarray(row_leg, int)[keep]
-    q_out, d_out = (np.asarray(a, float) for a in out_line)
-    p = _entry_point(W_keep, to_norm(q_out[:, legs]), d_out[:, legs])
-    zeta, arm = power_coefficient(W_keep, Vn, p, cpl[None, :])
-    na = len(act)
-    redundant = _redundant(Wu[:, con], constraint_rank)
-    none[:, na:] |= redundant
-    zeta = np.where(none, np.nan, zeta)
-    arm = np.where(none, np.nan, arm * L[:, None])
-    # input: the transmission wrench on the actuated joint's unit twist
-    V_in = np.asarray(V_in, float)
-    v, w = V_in[..., :3], V_in[..., 3:]
-    Vin_n = np.concatenate([v + cross(w, c[:, None, :]), w * Lc], axis=-1)
-    q_in, d_in = (np.asarray(a, float) for a in in_line)
-    Wa = W_keep[:, :na]
-    p_in = _entry_point(Wa, to_norm(q_in), d_in)
-    iti, in_arm = power_coefficient(Wa, Vin_n, p_in, cpl[None, :na])
+    from ._kernels import kernels
+    from ._launch import _launch
+    J = _c(J)
+    N = J.shape[0]
+    act, con = [int(k) for k in act_rows], [int(k) for k in con_rows]
+    na, kc = len(act), len(con)
+    n = np.asarray(out_line[0]).shape[1]
+    crank = (np.full(N, -1, np.int64) if constraint_rank is None
+             else _c(np.broadcast_to(constraint_rank, (N,)), np.int64))
+    out = (np.empty((N, na)), np.empty((N, na)), np.empty((N, na)), np.empty((N, na)),
+           np.empty((N, kc)), np.empty((N, kc)), np.zeros((N, kc), bool))
+    iti, oti, in_arm, out_arm, cti, c_arm, red = out
+    k = kernels()
+    args = (J, _c(couple, np.int64), _c(act + con, np.int64), na,
+            _c(np.reshape(V_in, (N, na, 6))), _c(np.reshape(in_line[0], (N, na, 3))),
+            _c(np.reshape(in_line[1], (N, na, 3))), _c(np.reshape(out_line[0], (N, n, 3))),
+            _c(np.reshape(out_line[1], (N, n, 3))), _c(row_leg, np.int64), _c(centre),
+            _c(length), crank, iti, oti, in_arm, out_arm, cti, c_arm, red)
+    _launch(k.indices_range, k.indices_parallel, args, N, workers)
     bad_row = ~np.all(np.isfinite(J[:, act]), axis=-1)
-    iti = np.where(bad_row, 0.0, iti)
-    return (iti, zeta[:, :na], in_arm * L[:, None], arm[:, :na], zeta[:, na:], arm[:, na:],
-            redundant)
+    iti[bad_row] = 0.0
+    return iti, oti, in_arm, out_arm, cti, c_arm, red
 
 
 def leg_screws(solution, active):

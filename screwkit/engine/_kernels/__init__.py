@@ -128,12 +128,12 @@ def kernels() -> SimpleNamespace:
         if _K is None:
             numba = _configure()
             _check_stamp(numba)
-            from . import _driver, _extra, _fk, _probe
+            from . import _driver, _extra, _fk, _indices, _probe
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, about a minute; cached "
                       f"in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
-            for mod in (_driver, _extra, _fk, _probe):
+            for mod in (_driver, _extra, _fk, _indices, _probe):
                 for name in dir(mod):
                     if not name.startswith("_"):
                         setattr(ns, name, getattr(mod, name))

@@ -84,3 +84,11 @@ REF_FLAG = 1e-3
 RANK_RTOL = 1e-8
 #: Above this condition number the statics is solved by the pseudo-inverse.
 REFINE = 1e3
+
+#: Transmission indices: below this ``|w| L / |V|`` a twist counts as a translation (no
+#: axis, no arm).
+TRANSLATION_RTOL = 1e-12
+#: Transmission indices: a row whose leverage in its rows' range is below
+#: ``1 - LEVERAGE_RTOL`` is redundant (the other rows keep the rank without it; their
+#: smallest singular value stays above about ``1e-4`` of the largest).
+LEVERAGE_RTOL = 1e-8

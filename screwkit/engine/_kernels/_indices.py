@@ -1,0 +1,259 @@
+"""The motion/force transmission and constraint indices of N poses, compiled (private).
+
+The definitions (power coefficient, where a wrench acts, the twists reciprocal to all rows
+but one, redundant constraint rows) are in :mod:`screwkit.engine._transmission`; these are
+the kernels that compute them, one pose at a time, ``prange`` over chunks of poses.
+
+Inputs of :func:`indices_range` (poses first): ``J (N, m, 6)`` the rows about O (finite),
+``couple (m,)`` 1 for pure-couple rows, ``keep (K,)`` the rows that take part (the
+``n_a`` actuation rows of the active legs first, then the constraint rows), ``V_in
+(N, n_a, 6)`` the actuated joints' unit twists, ``in_q, in_d (N, n_a, 3)`` and ``out_q,
+out_d (N, n, 3)`` the entry joints' points and directions, ``row_leg (m,)``, the
+normalisation ``centre (N, 3)``, ``length (N,)``, ``crank (N,)`` the rank of the
+constraint rows where known (``-1``: unknown).
+"""
+
+import math
+
+import numpy as np
+from numba import prange
+
+from ._jit import entry, inner, parallel
+from ._layout import LEVERAGE_RTOL, RANK_RTOL, TRANSLATION_RTOL
+from ._small import jacobi_rows, lu_apply, lu_factor
+
+
+@inner
+def power_one(W, V, p, couple):
+    """``(zeta, arm)`` of one wrench ``W (6,)`` on one twist ``V (6,)``, ``p (3,)`` a point of
+    the wrench axis (the formulas of :func:`screwkit.engine.power_coefficient`)."""
+    ff = W[0] * W[0] + W[1] * W[1] + W[2] * W[2]
+    lam = (W[0] * W[3] + W[1] * W[4] + W[2] * W[5]) / (ff if ff > 0 else 1.0)
+    w0, w1, w2 = V[3], V[4], V[5]
+    vp0 = V[0] + (w1 * p[2] - w2 * p[1])
+    vp1 = V[1] + (w2 * p[0] - w0 * p[2])
+    vp2 = V[2] + (w0 * p[1] - w1 * p[0])
+    u0, u1, u2 = vp0 + lam * w0, vp1 + lam * w1, vp2 + lam * w2
+    ww = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    if couple:
+        num = abs(W[3] * w0 + W[4] * w1 + W[5] * w2)
+        den = math.sqrt(W[3] * W[3] + W[4] * W[4] + W[5] * W[5]) * ww
+    else:
+        num = abs(W[0] * u0 + W[1] * u1 + W[2] * u2)
+        den = math.sqrt(ff * (u0 * u0 + u1 * u1 + u2 * u2))
+    zeta = num / den if den > 0 else 0.0
+    vv = 0.0
+    for k in range(6):
+        vv += V[k] * V[k]
+    arm = math.nan
+    if ww > TRANSLATION_RTOL * math.sqrt(vv) and not couple:
+        h0, h1, h2 = w0 / ww, w1 / ww, w2 / ww
+        t = vp0 * h0 + vp1 * h1 + vp2 * h2
+        e0, e1, e2 = vp0 - t * h0, vp1 - t * h1, vp2 - t * h2
+        arm = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2) / ww
+    return min(zeta, 1.0), arm
+
+
+@inner
+def entry_point(W, q, d, out):
+    """``out (3,)``: the point of the axis of ``W (6,)`` nearest the line ``q + s d`` (its
+    point nearest ``q`` where the two are parallel or ``d`` is 0)."""
+    ff = W[0] * W[0] + W[1] * W[1] + W[2] * W[2]
+    ff = ff if ff > 0 else 1.0
+    p0 = (W[1] * W[5] - W[2] * W[4]) / ff
+    p1 = (W[2] * W[3] - W[0] * W[5]) / ff
+    p2 = (W[0] * W[4] - W[1] * W[3]) / ff
+    sf = math.sqrt(ff)
+    u0, u1, u2 = W[0] / sf, W[1] / sf, W[2] / sf
+    dn = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    dn = dn if dn > 0 else 1.0
+    h0, h1, h2 = d[0] / dn, d[1] / dn, d[2] / dn
+    x0, x1, x2 = p0 - q[0], p1 - q[1], p2 - q[2]
+    b = u0 * h0 + u1 * h1 + u2 * h2
+    dd = u0 * x0 + u1 * x1 + u2 * x2
+    e = h0 * x0 + h1 * x1 + h2 * x2
+    den = 1.0 - b * b
+    t = (b * e - dd) / den if den > 1e-12 else -dd
+    out[0], out[1], out[2] = p0 + t * u0, p1 + t * u1, p2 + t * u2
+
+
+@inner
+def _svd_rows(A, k, B, Q, s, order):
+    """One-sided Jacobi of ``A[:k] (k, 6)``: ``A = Q diag(s) Vt`` with the rows of ``Vt``
+    ``B[j] / s_j``; ``order[:g]`` the ``g = min(k, 6)`` largest ``s`` descending.  Returns
+    ``g``."""
+    for i in range(k):
+        for c in range(6):
+            B[i, c] = A[i, c]
+    jacobi_rows(B, k, Q, True)
+    for i in range(k):
+        t = 0.0
+        for c in range(6):
+            t += B[i, c] * B[i, c]
+        s[i] = math.sqrt(t)
+    g = min(k, 6)
+    for q in range(g):
+        best = -1.0
+        bi = 0
+        for i in range(k):
+            seen = False
+            for r in range(q):
+                if order[r] == i:
+                    seen = True
+            if not seen and s[i] > best:
+                best, bi = s[i], i
+        order[q] = bi
+    return g
+
+
+@inner
+def _leverage_redundant(Q, s, order, g, k, out):
+    """``out[:k]``: True where a row's leverage over the directions of rank (``s`` above
+    ``RANK_RTOL`` of the largest) is below ``1 - LEVERAGE_RTOL``."""
+    top = max(s[order[0]], 1e-300)
+    for r in range(k):
+        lev = 0.0
+        for q in range(g):
+            j = order[q]
+            if s[j] > RANK_RTOL * top:
+                lev += Q[r, j] * Q[r, j]
+        out[r] = 1.0 - lev > LEVERAGE_RTOL
+
+
+@inner
+def null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col):
+    """Row ``k`` of ``Vn[:K]``: the unit twist (normalised coordinates) reciprocal to every
+    row of ``Wu[:K]`` but ``k`` (the column ``k`` of the pseudo-inverse); ``none[k]``: the
+    row is redundant (no such twist).  Fewer than 6 rows: zeros."""
+    for r in range(K):
+        none[r] = False
+        for c in range(6):
+            Vn[r, c] = 0.0
+    if K < 6:
+        return
+    if K == 6:
+        for r in range(6):
+            for c in range(6):
+                A[r, c] = Wu[r, c]
+        if lu_factor(A, 6, piv) != 0.0:      # else exactly singular: the SVD below
+            for kk in range(6):               # inv(Wu)^T row kk = column kk of inv(Wu)
+                for c in range(6):
+                    col[c] = 1.0 if c == kk else 0.0
+                lu_apply(A, 6, piv, col)
+                nrm = 0.0
+                for c in range(6):
+                    nrm += col[c] * col[c]
+                nrm = max(math.sqrt(nrm), 1e-300)
+                for c in range(6):
+                    Vn[kk, c] = col[c] / nrm
+            return
+    g = _svd_rows(Wu, K, B, Q, s, order)
+    top = max(s[order[0]], 1e-300)
+    for r in range(K):
+        nrm = 0.0
+        for c in range(6):
+            t = 0.0
+            for q in range(g):
+                j = order[q]
+                sj = max(s[j], 1e-300 * top)
+                t += Q[r, j] * B[j, c] / (sj * sj)
+            Vn[r, c] = t
+            nrm += t * t
+        nrm = max(math.sqrt(nrm), 1e-300)
+        for c in range(6):
+            Vn[r, c] /= nrm
+    _leverage_redundant(Q, s, order, g, K, none)
+
+
+@entry
+def indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
+                  length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop):
+    """The indices of the poses ``start:stop`` (module docstring; outputs as in
+    :func:`screwkit.engine.transmission_indices`)."""
+    K = keep.shape[0]
+    kc = K - n_a
+    cap = max(K, 6)
+    Wn = np.zeros((cap, 6))
+    Wu = np.zeros((cap, 6))
+    Vn = np.zeros((cap, 6))
+    none = np.zeros(cap, np.bool_)
+    A = np.zeros((6, 6))
+    B = np.zeros((cap, 6))
+    Q = np.zeros((cap, cap))
+    s = np.zeros(cap)
+    order = np.zeros(6, np.int64)
+    piv = np.zeros(6, np.int64)
+    col = np.zeros(6)
+    pt = np.zeros(3)
+    qn = np.zeros(3)
+    vin = np.zeros(6)
+    rc = np.zeros(cap, np.bool_)
+    for p in range(start, stop):
+        c0, c1, c2 = centre[p, 0], centre[p, 1], centre[p, 2]
+        L = length[p]
+        for r in range(K):
+            row = J[p, keep[r]]
+            f0, f1, f2 = row[0], row[1], row[2]
+            Wn[r, 0], Wn[r, 1], Wn[r, 2] = f0, f1, f2
+            Wn[r, 3] = (row[3] - (c1 * f2 - c2 * f1)) / L
+            Wn[r, 4] = (row[4] - (c2 * f0 - c0 * f2)) / L
+            Wn[r, 5] = (row[5] - (c0 * f1 - c1 * f0)) / L
+            t = 0.0
+            for c in range(6):
+                t += Wn[r, c] * Wn[r, c]
+            t = math.sqrt(t)
+            t = t if t > 0 else 1.0
+            for c in range(6):
+                Wu[r, c] = Wn[r, c] / t
+        null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col)
+        # redundant constraint rows (their leverage among the constraint rows)
+        for r in range(kc):
+            rc[r] = False
+        if kc >= 2 and not (crank[p] >= kc):
+            g = _svd_rows(Wu[n_a:], kc, B, Q, s, order)
+            _leverage_redundant(Q, s, order, g, kc, rc)
+        for r in range(kc):
+            red[p, r] = rc[r]
+            none[n_a + r] = none[n_a + r] or rc[r]
+        for r in range(K):
+            leg = row_leg[keep[r]]
+            qn[0] = (out_q[p, leg, 0] - c0) / L
+            qn[1] = (out_q[p, leg, 1] - c1) / L
+            qn[2] = (out_q[p, leg, 2] - c2) / L
+            entry_point(Wn[r], qn, out_d[p, leg], pt)
+            z, arm = power_one(Wn[r], Vn[r], pt, couple[keep[r]] != 0)
+            if none[r]:
+                z, arm = math.nan, math.nan
+            if r < n_a:
+                oti[p, r], out_arm[p, r] = z, arm * L
+            else:
+                cti[p, r - n_a], c_arm[p, r - n_a] = z, arm * L
+        for r in range(n_a):
+            w0, w1, w2 = V_in[p, r, 3], V_in[p, r, 4], V_in[p, r, 5]
+            vin[0] = V_in[p, r, 0] + (w1 * c2 - w2 * c1)
+            vin[1] = V_in[p, r, 1] + (w2 * c0 - w0 * c2)
+            vin[2] = V_in[p, r, 2] + (w0 * c1 - w1 * c0)
+            vin[3], vin[4], vin[5] = w0 * L, w1 * L, w2 * L
+            qn[0] = (in_q[p, r, 0] - c0) / L
+            qn[1] = (in_q[p, r, 1] - c1) / L
+            qn[2] = (in_q[p, r, 2] - c2) / L
+            entry_point(Wn[r], qn, in_d[p, r], pt)
+            z, arm = power_one(Wn[r], vin, pt, couple[keep[r]] != 0)
+            iti[p, r], in_arm[p, r] = z, arm * L
+
+
+@parallel
+def indices_parallel(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
+                     length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, nchunks):
+    N = J.shape[0]
+    for c in prange(nchunks):
+        indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
+                      length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red,
+                      c * N // nchunks, (c + 1) * N // nchunks)
+
+
+@entry
+def power_batch(W, V, p, couple, zeta, arm):
+    """:func:`power_one` over ``M`` rows: ``W, V (M, 6)``, ``p (M, 3)``, ``couple (M,)``."""
+    for i in range(W.shape[0]):
+        zeta[i], arm[i] = power_one(W[i], V[i], p[i], couple[i] != 0)
