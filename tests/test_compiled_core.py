@@ -203,3 +203,32 @@ def test_dimensions_and_params_layout():
     f = flatten(pm)
     assert f.unknown == tuple(p for p in PARAMS if p not in pm.independent)
     assert [PARAMS[k] for k in f.Z[0]] == list(f.unknown)
+
+
+@pytest.mark.parametrize("name", ["3RRPRR", "4UPU", "3SPU+SP"])
+def test_the_indices_kernel_batch_equals_its_poses_one_by_one(name):
+    """The transmission indices of 1,000 poses launched on two threads against the same
+    kernel called for each pose alone: the same bits (square, over-determined and
+    redundant-constraint row sets)."""
+    from screwkit.engine._transmission import leg_screws, transmission_indices
+    pm = screwkit.load_pm(name)
+    res = screwkit.analyze(pm, random_pose(pm, 1000, 5, span=8.0, frac=0.08), workers=2,
+                           raise_on_singular=False)
+    jac, sol = res.jacobian, res.solution
+    info = jac.info
+    act = [k for k, r in enumerate(info) if r.kind == "actuation"]
+    con = [k for k, r in enumerate(info) if r.kind != "actuation"]
+    V_in, il, ol = leg_screws(sol, [info[k].leg for k in act])
+    J = np.where(np.isfinite(jac.matrix), jac.matrix, 0.0)
+    couple = np.array([r.member == "couple" for r in info])
+    cond = jac.conditioning
+    crank = np.asarray(cond.constraint_rank)
+    batch = transmission_indices(J, couple, act, con, V_in, il, ol, jac.leg_of_row,
+                                 cond.centre, cond.length, crank, workers=2)
+    for i in range(0, 1000, 7):
+        s = slice(i, i + 1)
+        one = transmission_indices(J[s], couple, act, con, V_in[s], (il[0][s], il[1][s]),
+                                   (ol[0][s], ol[1][s]), jac.leg_of_row, cond.centre[s],
+                                   cond.length[s], crank[s], workers=1)
+        for b, o in zip(batch, one):
+            np.testing.assert_array_equal(b[s], o)
