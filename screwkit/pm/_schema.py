@@ -39,8 +39,9 @@ _PM_TYPES = {
     "note": (_TEXT, "a remark shown with the model"),
     "motion": (_TEXT, "the stated motion type, e.g. 1T2R"),
     "source": (_TEXT, "where the model comes from"),
-    "euler": ({"type": "string", "pattern": "^[XYZ]{3}$"},
-              "intrinsic Euler order of scipy's Rotation (XYX, XYZ, ...)"),
+    "euler": ({"type": "string", "pattern": "^([XYZ]{3}|[xyz]{3})$"},
+              "Euler order of scipy's Rotation: intrinsic in upper case (XYX, XYZ, ...), "
+              "extrinsic in lower case (xyz, ...)"),
     "dimensions": ({"type": "object", "propertyNames": {"pattern": "^[A-Za-z_][A-Za-z0-9_]*$"},
                     "additionalProperties": _NUM}, "named lengths, in the model's length unit"),
     "base": ({"$ref": "#/$defs/shape"}, "the base vertices A_i"),
