@@ -204,3 +204,27 @@ def test_bars_on_a_leg_without_a_parallelogram_are_refused():
         dynamics_for(screwkit.load_pm("3RPS"), {"legs": {"bars": {"P2": {"mass": 1,
                                                                          "width": 2}}}})
     assert "dynamics.legs.bars" in str(exc.value)
+
+
+def test_mjcf_writes_the_bars_where_they_are(delta, tmp_path):
+    """The MJCF export (SI) gives each bar a body on the near link, tied to turn with the
+    Pa: at the exported pose MuJoCo puts the bars' centres where the hand solution has them
+    (``E_i -+ 20 e_i + (C_i - E_i) / 2``, the Pa's translation direction being ``-e_i``) and
+    closes every loop."""
+    mujoco = pytest.importorskip("mujoco", reason="MJCF checks need mujoco")
+    from screwkit.interop import write_mjcf
+    o = (20.0, -10.0, -170.0)
+    out = tmp_path / "delta.xml"
+    write_mjcf(delta, out, pose=dict(zip(("Xo", "Yo", "Zo"), o)))
+    m = mujoco.MjModel.from_xml_path(str(out))
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, 0)
+    mujoco.mj_forward(m, d)
+    assert np.abs(d.efc_pos).max() < 1e-12          # welds and ties hold at the keyframe
+    for i in range(3):
+        _, A, E, C, e = hand_leg(i, o)
+        for n, off in enumerate((-20.0, 20.0)):
+            body = m.body(f"leg{i + 1}_Pa3_bar{n + 1}")
+            assert body.mass[0] == pytest.approx(0.04, rel=1e-12)          # kg
+            centre = (E - off * e + 0.5 * (C - E)) * 1e-3                  # m
+            np.testing.assert_allclose(d.body(body.id).xipos, centre, atol=1e-12)

@@ -6,7 +6,9 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    branch from the universe, native S/U/R/P joints, the platform carried by the first
    leg, each other leg welded to it) gets the same inertias: each massive link on the
    Pinocchio joint it follows (the joint frames are world-oriented at home), the platform
-   on the carrier's last joint, gravity in ``model.gravity``.
+   on the carrier's last joint, gravity in ``model.gravity``; a parallelogram is its real
+   four-bar, a bar per offset of the ``bars:`` block, each with its mass, closed on the
+   far link by a point contact (:mod:`~._pinocchio_model`).
 2. At each sample, the configuration ``q`` is screwkit's solved joint values; that it
    closes every loop (the welded frames coincide) and puts the platform at the solved pose
    is checked with Pinocchio's own forward kinematics (``DynamicsCheck.residual``).  The
@@ -14,7 +16,8 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    accelerations (``Motion``, exact derivatives of the expressions), nothing of screwkit's
    velocity or acceleration solution.
 3. Velocities: ``J_c v = 0`` (``J_c = J_1 - J_2``, the WORLD frame Jacobians of the welded
-   frames) and ``P_ind J_p v = theta_dot_ind``, with ``J_p`` the platform frame's
+   frames, and the in-plane rows of the parallelograms' point contacts; where closures
+   repeat constraints, their independent combinations) and ``P_ind J_p v = theta_dot_ind``, with ``J_p`` the platform frame's
    LOCAL_WORLD_ALIGNED Jacobian (velocity of ``o``, angular velocity) and ``P =
    diag(R0^T, E^-1 R0^T)`` its map to the pose parameters' rates (``E`` the Euler angles'
    columns, built here from scipy's elemental rotations); an idle motion of least kinetic
@@ -28,9 +31,9 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    ``-lambda`` is the wrench of each welded leg on the platform (WORLD, about ``O``); the
    carrier's is what balances the platform's RNEA wrench.
 
-The report compares ``F_a``, the legs' wrenches on the platform, the platform twist and
-acceleration, the actuator rates ``S v`` and the kinetic and potential energies with
-screwkit's (:class:`DynamicsCheck`).
+The report compares ``F_a``, the legs' wrenches on the platform (up to the self-stresses of
+a statically indeterminate PM), the platform twist and acceleration, the actuator rates
+``S v`` and the kinetic and potential energies with screwkit's (:class:`DynamicsCheck`).
 """
 
 from __future__ import annotations
