@@ -195,7 +195,8 @@ class PMAnalysis:
         if not self.single:
             raise TypeError("mobility is defined for one pose: index the result first (res[i])")
         from ..pm import mobility
-        return mobility(self.solution)
+        from ._motion import finite_motion
+        return mobility(self.solution, finite=finite_motion(self.model))
 
     def __repr__(self) -> str:
         if self.single:
