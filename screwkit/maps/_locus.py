@@ -116,7 +116,7 @@ def refine(model, ds, threads=None):
         mid = 0.5 * (a + b)
         res = analyze(model, poses_at(mid), raise_on_singular=False, workers=threads)
         reach = res.solution.reachable_mask
-        s = np.sign(np.linalg.det(res.jacobian.matrix)).astype(int)
+        s = np.asarray(res.quality.det_sign, int)        # the kernels' LU (0: unreachable)
         gone |= ~reach
         same = (s == sign_lo) & reach & ~gone
         move = reach & ~gone
