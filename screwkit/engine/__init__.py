@@ -20,7 +20,7 @@ from ._chains import leg_forward
 from ._closure import ACCEPTED, CONVERGED
 from ._run import CHUNK
 from ._jacobian import COND_THRESHOLD, JacobianResult, JacobianRow
-from ._quality import ILL_CONDITIONED_COND, NEAR_SINGULAR_COND
+from ._quality import CONDITIONING, ILL_CONDITIONED_COND, NEAR_SINGULAR_COND, classify
 from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
 from ._placed import solve_statics, unified_jacobian
@@ -35,7 +35,7 @@ from ._report import constraint_resultants
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD", "CHUNK",
-    "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+    "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND", "CONDITIONING", "classify",
     "PoseSolution", "solve", "solve_pose", "solve_path", "leg_forward",
     "RowInfo", "JacobianRow", "JacobianResult", "unified_jacobian",
     "StaticsResult", "statics", "solve_statics", "workload_wrench",

@@ -17,13 +17,16 @@ import numpy as np
 from ..engine import CONVERGED, analyze
 from ..engine._report import row_quantity
 
-__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
+__all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
 #: Cells per block (8 engine chunks of 8192 poses).
 BLOCK = 16 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
+#: ``conditioning`` codes of a map: the engine's one classification
+#: (:func:`screwkit.engine.classify`), then unreachable.
+CONDITIONING_CODES = ("regular", "near-singular", "singular", "unreachable")
 #: ``singular_kind`` codes.
 KIND_CODES = ("regular", "actuation", "constraint")
 
@@ -133,6 +136,7 @@ def arrays_of(model, res) -> dict:
         "singular": np.asarray(res.singular, bool),
         "singular_kind": kind,
         "level": lev.astype(np.int8),
+        "conditioning": _class_codes(q.conditioning),
         "amplification": nan_unreach(q.amplification),
         "equilibrium_residual": np.asarray(st.equilibrium_residual, float),
         "values": np.asarray(st.F_r, float),
@@ -154,6 +158,13 @@ def arrays_of(model, res) -> dict:
         out["within_limits"] = chk["within"]
         if lim.min_leg_distance is not None:
             out["min_leg_distance"] = chk["min_leg_distance"]
+    return out
+
+
+def _class_codes(classes):
+    out = np.zeros(classes.shape, np.int8)
+    for k, name in enumerate(CONDITIONING_CODES):
+        out[classes == name] = k
     return out
 
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..engine import LENGTH_PARAMS
 from ..errors import InputError
-from ._compute import KIND_CODES, LEVEL_CODES
+from ._compute import CONDITIONING_CODES, KIND_CODES, LEVEL_CODES
 
 __all__ = ["xarray", "build_dataset", "write", "to_csv", "FORMATS"]
 
@@ -88,7 +88,10 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "singular_kind": var(a["singular_kind"], "1", "kind of singularity",
                              flag_values=np.arange(len(KIND_CODES), dtype=np.int8),
                              flag_meanings=" ".join(KIND_CODES)),
-        "level": var(a["level"], "1", "trust level of the cell",
+        "conditioning": var(a["conditioning"], "1", "conditioning class of the cell",
+                            flag_values=np.arange(len(CONDITIONING_CODES), dtype=np.int8),
+                            flag_meanings=" ".join(CONDITIONING_CODES)),
+        "level": var(a["level"], "1", "trust level of the cell's efforts",
                      flag_values=np.arange(len(LEVEL_CODES), dtype=np.int8),
                      flag_meanings=" ".join(LEVEL_CODES)),
         "amplification": var(a["amplification"], "1",

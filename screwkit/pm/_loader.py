@@ -34,18 +34,20 @@ from ..legs._guards import MAX_ANGLE_DEG, MAX_LEGS, MAX_MAGNITUDE, did_you_mean,
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import LegRules, build_leg
 from ..screws import Normalisation, check_order
-from ._checks import dimensions, find_pm, listing, split_path, text_fields, unknown_keys
+from ._checks import (dimensions, find_pm, listing, pm_string, split_path, text_fields,
+                      unknown_keys)
 from ._home import _solve_home
 from ._units import units_from_mapping
 from ._limits import limits_from_mapping
 from ._physical import dynamics_from_mapping
+from ._workload import workload_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 
 __all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
             "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units",
-            "limits", "dynamics"}
+            "limits", "dynamics", "workload"}
 _SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
                "points", "z"}
 
@@ -291,8 +293,6 @@ def _pose_values(raw, ctx, fld, names) -> dict:
 
 
 def _build(name: str, d, cat, overrides: dict) -> PMModel:
-    from ..legs import parse_pm
-
     src = cat.source
     if not isinstance(d, dict):
         raise CatalogError("must be a mapping", name, None, src)
@@ -340,11 +340,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         names.append(spec.name)
         rules.append(r)
         bases.append(tuple(spec.basis))
-    string = str(d.get("string", name))
-    try:
-        pms = parse_pm(string)
-    except ScrewkitError as exc:
-        raise ctx.err(str(exc), "string") from None
+    string, pms = pm_string(d, name, rules, ctx)
     if sorted(ls.text for ls in pms.legs) != sorted(r.string.text for r in rules):
         raise ctx.err(f"the legs {'+'.join(r.string.text for r in rules)} do not make {string}", "legs")
     # pose parametrisation
@@ -396,4 +392,6 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
                                                               legs, units),
                                limits=limits_from_mapping(d.get("limits"), ctx, legs),
+                               workload=workload_from_mapping(d.get("workload"), name, src,
+                                                              units, dims),
                                default_pose=default, notes=tuple(notes))

@@ -61,6 +61,7 @@ def run(args) -> int:
     from ...engine import analyze_pm
 
     rtol = _rtol(args)
+    note = ""
     if args.all:
         if args.pm or args.model or args.set or args.pose:
             raise InputError("--all checks the catalog's PMs at drawn poses: give no PM, --model, "
@@ -83,8 +84,10 @@ def run(args) -> int:
         pose = parse_assignments(args.pose, "--pose")
         n = _poses(args, None)
         checker = PMChecker.for_model(model)
+        from ...interop._check_catalog import check_load
+        F, T, note = check_load(model)
         if n is None:
-            analyses = (analyze_pm(model, pose, degrees=True),)
+            analyses = (analyze_pm(model, pose, degrees=True, force=F, torque=T),)
         else:
             centre = None
             if pose:
@@ -95,6 +98,8 @@ def run(args) -> int:
         print(dump_json([r.as_dict() for r in reports]))
     else:
         print_table(reports)
+        if not args.all:
+            print(f"statics checked under {note}")
     return 0 if all(r.passed for r in reports) else 1
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from ...legs._guards import MAX_ANGLE_DEG, parse_number, shorten
 from .._types import integer, label, output
 from ...errors import InputError
-from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_triple,
+from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, require_load,
                       resolve_model)
 
 HELP = """Draw a PM at a pose (the paper's Figs. 3b and 4b): base and platform polygons, the legs
@@ -129,9 +129,9 @@ def run(args) -> int:
                      for x, w in zip(parts, ("ELEV", "AZIM")))
     if args.dpi < 20 or args.dpi > 1200:
         raise InputError(f"--dpi {args.dpi} must be between 20 and 1200")
-    pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
-    torque = parse_triple(args.torque, "--torque")
+    pose = parse_assignments(args.pose, "--pose")
     model = resolve_model(args)
+    force, torque = require_load(args, model)
     res = analyze_pm(model, pose, degrees=True, force=force, torque=torque,
                      raise_on_singular=False)
     sol = res.solution

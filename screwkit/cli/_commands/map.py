@@ -8,7 +8,8 @@ import sys
 from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dump_json, fmt_num
-from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple
+from .._types import integer, output, scheduler
+from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, require_load
 
 HELP = """Analyse a PM at every cell of a grid of 1 to 3 independent pose parameters
 (--grid NAME=START:STOP:COUNT, angles in degrees; the other independent parameters from --fix
@@ -33,22 +34,26 @@ EPILOG = """examples:
 
 def add_map_arguments(p):
     """The cells, workload and cluster arguments shared by map and size."""
+    from ...legs._guards import MAX_SEED
+    from ...maps import MAX_CELLS
     add_pm_arguments(p, pose=False)
     p.add_argument("--grid", metavar="NAME=START:STOP:COUNT", action="append", default=[],
                    help="a grid parameter (degrees for angles; repeatable, 1 to 3; with "
                         "--samples: NAME=LOW:HIGH, the sampling box)")
     p.add_argument("--fix", metavar="NAME=VALUE", action="append", default=[],
                    help="fix another independent parameter (default: the model's default pose)")
-    p.add_argument("--samples", type=int, metavar="N",
-                   help="N random poses uniform in the --grid box instead of a grid")
-    p.add_argument("--seed", type=int, default=0, help="seed of --samples (default 0)")
+    p.add_argument("--samples", type=integer(1, MAX_CELLS), metavar="N",
+                   help="N random poses uniform in the --grid box instead of a grid "
+                        f"(1 to {MAX_CELLS})")
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0,
+                   help=f"seed of --samples (0 to {MAX_SEED}; default 0)")
     add_load_arguments(p)
-    p.add_argument("--workers", type=int, metavar="N",
+    p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="run the cells on a local Dask cluster of N worker processes "
                         "(127.0.0.1; needs screwkit[dask])")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="run the cells on a running Dask scheduler")
-    p.add_argument("--threads", type=int, metavar="N",
+    p.add_argument("--threads", type=integer(1, 64), metavar="N",
                    help="threads of each block's analysis (as analyze's workers; default: 2 "
                         "for large blocks)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
@@ -75,15 +80,16 @@ def grid_of(args) -> dict:
     return out
 
 
-def map_keywords(args, progress=None) -> dict:
+def map_keywords(args, model, progress=None, load=True) -> dict:
     """Keywords of :func:`screwkit.map` / :func:`screwkit.size` from the arguments."""
     if args.workers is not None and args.scheduler:
         raise InputError("give either --workers N or --scheduler ADDRESS")
-    if args.threads is not None and not 1 <= args.threads <= 64:
-        raise InputError(f"--threads: 1 to 64 threads per block, got {args.threads}")
+    if args.seed and args.samples is None:
+        raise InputError("--seed seeds the random poses of --samples: give --samples N")
+    force, torque = require_load(args, model) if load else (None, None)
     return dict(fix=parse_assignments(args.fix, "--fix"), samples=args.samples,
-                seed=args.seed, degrees=True, force=parse_triple(args.force, "--force"),
-                torque=parse_triple(args.torque, "--torque"), workers=args.threads,
+                seed=args.seed, degrees=True, force=force,
+                torque=torque, workers=args.threads,
                 cluster=args.workers, scheduler=args.scheduler,
                 progress=progress)
 
@@ -93,8 +99,9 @@ def register(sub):
                        "forces, singular loci", description=HELP, epilog=EPILOG,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     add_map_arguments(p)
-    p.add_argument("--out", metavar="FILE", help="write the map: .nc (NetCDF), .zarr, .csv")
-    p.add_argument("--plot", metavar="PNG", help="draw heatmaps of --quantity")
+    p.add_argument("--out", metavar="FILE", type=output,
+                   help="write the map: .nc (NetCDF), .zarr, .csv")
+    p.add_argument("--plot", metavar="PNG", type=output, help="draw heatmaps of --quantity")
     p.add_argument("--quantity", action="append", default=[],
                    help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
                         "forces, constraints or conditioning (repeatable; default: forces and "
@@ -162,7 +169,7 @@ def run(args) -> int:
     model = resolve_model(args)
     grid = grid_of(args)
     with progress_bar(args, "map", "cell") as progress:
-        ds = map_pm(model, grid, **map_keywords(args, progress))
+        ds = map_pm(model, grid, **map_keywords(args, model, progress))
     if args.out:
         write(ds, args.out)
         print(f"wrote {args.out}", file=sys.stderr)

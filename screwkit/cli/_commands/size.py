@@ -8,6 +8,7 @@ import sys
 from ...errors import InputError
 from .._progress import progress_bar
 from ._common import dump_json, fmt_num
+from .._types import path
 from .map import add_map_arguments, grid_of, map_keywords
 
 HELP = """Size a PM's actuators and legs: over every cell of a grid (or random samples; the
@@ -35,7 +36,7 @@ def register(sub):
                    default="near-singular",
                    help="count only cells of this trust level or better (default: every "
                         "regular cell; near-singular cells need efforts > 5x the load)")
-    p.add_argument("--workloads", metavar="CSV",
+    p.add_argument("--workloads", metavar="CSV", type=path,
                    help="workloads to size for (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, "
                         "--torque")
     p.set_defaults(func=run)
@@ -46,18 +47,22 @@ def run(args) -> int:
     from ...maps import read_workloads
     from .analyze import resolve_model
 
-    from ...engine import PAPER_FORCE, PAPER_TORQUE
-    if args.workloads and (args.force != ",".join(str(x) for x in PAPER_FORCE)
-                           or args.torque != ",".join(str(x) for x in PAPER_TORQUE)):
+    if args.workloads and (args.force is not None or args.torque is not None):
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
     model = resolve_model(args)
     grid = grid_of(args)
     with progress_bar(args, "size", "cell") as progress:
-        kw = map_keywords(args, progress)
+        kw = map_keywords(args, model, progress, load=not args.workloads)
         F, T = kw.pop("force"), kw.pop("torque")
-        loads = read_workloads(args.workloads) if args.workloads else \
-            [("--force/--torque", F, T)]
+        if args.workloads:
+            loads = [(f"{n} ({args.workloads})", f, t)
+                     for n, f, t in read_workloads(args.workloads)]
+        elif F is None:
+            w = model.workload
+            loads = [(w.origin, w.force, w.torque)]
+        else:
+            loads = [("command line", F, T)]
         res = size(model, grid, workloads=loads, max_level=args.max_level, **kw)
     if args.json:
         print(dump_json(res.to_dict()))

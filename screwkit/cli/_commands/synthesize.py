@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from .._progress import add_quiet_argument, progress_bar
-from .._types import integer, path
+from .._types import integer, path, scheduler
 from ._common import dask_mapper, dump_json, write_output
 
 HELP = """Type synthesis of PMs for a motion pattern (3T, 3R, 1T2R = 2R1T, 3T1R, 2T3R, 1T3R,
@@ -51,7 +51,7 @@ def register(sub):
                         "passive leg yet: these are listed, not written)")
     p.add_argument("--workers", type=integer(1, 64), default=None, metavar="N",
                    help="verify the candidates on a local Dask cluster of N worker processes")
-    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT", type=scheduler,
                    help="verify the candidates on a running Dask scheduler")
     p.add_argument("--write", type=path, default=None, metavar="DIR",
                    help="write each listed PM as DIR/<name>.yaml")
