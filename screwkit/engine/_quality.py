@@ -129,9 +129,11 @@ class Quality:
             out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}"
                        + ("" if np.isnan(amp) else f", efforts up to {amp:.3g} times the load"))
         if lev != "unreachable" and self.side is not None and self.side[i] <= 0:
-            out.append("the platform centre o is " + ("in the base plane" if self.side[i] == 0
-                                                       else "below the base (home: above)")
-                       + ": a mirror assembly, the legs cross the base plane")
+            out.append("the platform centre o lies in the base plane (home: above it): "
+                       "between the working assembly and its mirror below the base"
+                       if self.side[i] == 0 else
+                       "the platform centre o is below the base (home: above it): a mirror "
+                       "assembly, the legs cross the base plane")
         if self.beyond_singular_surface[i]:
             ref = "home" if self.reference == "home" else "the default pose"
             out.append(f"det J has the opposite sign to {ref}'s: this pose lies beyond a "

@@ -24,10 +24,11 @@ from ._map import map_pm
 from ._plot import plot_map, quantity_names
 from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
 from ._dask import client_for, run_tasks
+from ._units import map_in_units, sizing_in_units
 
 __all__ = [
     "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
     "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
     "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
-    "client_for", "run_tasks",
+    "client_for", "run_tasks", "map_in_units", "sizing_in_units",
 ]

@@ -165,22 +165,29 @@ def read_workloads(path) -> list:
     fewer fields than the header, or a value that is not a number of at most
     :data:`~screwkit.legs._guards.MAX_LOAD` in magnitude, is an :class:`InputError` naming
     the file, line and column."""
-    from ..legs._guards import MAX_LOAD, parse_number
+    import io
+
+    from ..legs._guards import MAX_CSV_BYTES, MAX_LOAD, decode_utf8, parse_number, read_limited
+    text = decode_utf8(read_limited(path, MAX_CSV_BYTES, f"workloads {str(path)!r}"),
+                       f"workloads {str(path)!r}")
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            reader = csv.DictReader(fh)
-            rows = []
-            for r in reader:
-                rows.append((reader.line_num, r))
-                if len(rows) > MAX_WORKLOADS:
-                    raise InputError(f"{path}: more than {MAX_WORKLOADS} workloads")
-            head = [str(h).strip() for h in (reader.fieldnames or [])]
-    except OSError as exc:
-        raise InputError(f"cannot read workloads {str(path)!r}: {exc}") from None
-    except (UnicodeDecodeError, csv.Error) as exc:
+        reader = csv.DictReader(io.StringIO(text, newline=""))
+        rows = []
+        for r in reader:
+            rows.append((reader.line_num, r))
+            if len(rows) > MAX_WORKLOADS:
+                raise InputError(f"{path}: more than {MAX_WORKLOADS} workloads")
+        head = [str(h).strip() for h in (reader.fieldnames or [])]
+    except csv.Error as exc:
         raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     if not rows:
         raise InputError(f"{path}: no workloads (a header Fx,Fy,Fz,Tx,Ty,Tz and one row each)")
+    seen = set()
+    for h in head:
+        if h in seen:
+            raise InputError(f"{path}, line 1: column {h!r} is given twice (csv would keep only "
+                             "the last one)")
+        seen.add(h)
     missing = [c for c in _COLS if c not in head]
     if missing:
         sep = "; the columns must be separated by commas" if any(";" in h for h in head) \

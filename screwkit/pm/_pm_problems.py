@@ -14,9 +14,15 @@ first problem of that is the last one reported.
 
 from __future__ import annotations
 
+import re
+
 from ..errors import CatalogError, InputError, ScrewkitError
 
 __all__ = ["pm_problems"]
+
+#: The fields the home assembly (and so the dynamics: block's check) depends on.
+_GEOMETRY = ("dimensions", "base", "platform", "legs", "string", "independent", "dof", "pose",
+             "home", "guess", "centre", "euler", "units")
 
 
 def pm_problems(name: str, d, cat, build) -> list:
@@ -92,6 +98,12 @@ def pm_problems(name: str, d, cat, build) -> list:
         from ._workload import workload_from_mapping
         attempt(workload_from_mapping, d.get("workload"), name, src, units, dims)
     if out:
+        geometry = [e for e in out if e.field is None or
+                    re.split(r"[.\[]", e.field)[0] in _GEOMETRY]
+        if not geometry and units is not None and d.get("dynamics") is not None:
+            bare = {k: v for k, v in d.items() if k in _PM_KEYS and k not in
+                    ("workload", "limits")}
+            out += _dynamics_problems(bare, name, src, cat)
         return out
     try:                                      # the fields are sound: the PM as a whole
         build()

@@ -160,13 +160,14 @@ def run(args) -> int:
     force, torque = parse_load(args)
     model = resolve_model(args)
     res = analyze_pm(model, pose, degrees=True, force=force, torque=torque, stiffness=stiffness)
-    for w in res.warnings:                           # one line each, on stderr
-        print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     units = None if args.units == "model" else args.units
     missing = None
     if not res.has_workload:                         # kinematics and J print; statics cannot
         from ...engine._workloads import no_workload_message
         missing = no_workload_message(model, LOAD_OPTIONS)
+    else:                                            # (an error is the one line on stderr)
+        for w in res.warnings:                       # one line each, on stderr
+            print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:
         d = res.to_dict(units)
         d["workload"]["source"] = load_source(res) or None

@@ -97,13 +97,11 @@ def run(args) -> int:
     if args.json:
         print(dump_json([r.as_dict() for r in reports]))
     else:
-        print_table(reports)
-        if not args.all:
-            print(f"statics checked under {note}")
+        print_table(reports, note)
     return 0 if all(r.passed for r in reports) else 1
 
 
-def print_table(reports) -> None:
+def print_table(reports, note: str = "") -> None:
     """Columns PM, pose, check, deviation, tolerance, pass; then a summary line."""
     lines = []
     for r in reports:
@@ -126,4 +124,6 @@ def print_table(reports) -> None:
                + ("all passed" if not bad else f"{len(bad)} pose(s) FAILED"))
     if worst is not None:
         summary += f"; largest relative deviation {worst[0]:.2e} ({worst[1]}, {worst[2]})"
+    if note:
+        summary += f"; statics under {note}"
     print(summary)

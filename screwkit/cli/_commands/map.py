@@ -56,6 +56,9 @@ def add_map_arguments(p):
     p.add_argument("--threads", type=integer(1, 64), metavar="N",
                    help="threads of each block's analysis (as analyze's workers; default: 2 "
                         "for large blocks)")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the outputs (files, plot, summary): the model's (default) or "
+                        "SI (m, N, N.m; needs pint)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     add_quiet_argument(p)
 
@@ -115,10 +118,13 @@ def summary(ds) -> dict:
     """The JSON summary of a map (counts, loci, extremes)."""
     import numpy as np
 
-    from ...maps import LEVEL_CODES, extremes, locus_list
+    from ...maps import CONDITIONING_CODES, LEVEL_CODES, extremes, locus_list
     lev = ds["level"].values.reshape(-1)
+    cls = ds["conditioning"].values.reshape(-1)
     counts = {"cells": int(lev.size), "reachable": int(ds["reachable"].sum()),
               "ok": int(ds["ok"].sum()),
+              "conditioning": {name: int(np.sum(cls == k))
+                               for k, name in enumerate(CONDITIONING_CODES)},
               "levels": {name: int(np.sum(lev == k)) for k, name in enumerate(LEVEL_CODES)},
               "singular_actuation": int(np.sum(ds["singular_kind"].values == 1)),
               "singular_constraint": int(np.sum(ds["singular_kind"].values == 2)),
@@ -136,7 +142,7 @@ def summary(ds) -> dict:
                       "torque": ds.attrs["units_torque"], "angle": ds.attrs["units_angle"]},
             "grid": grid, "fixed": {k: float(ds[k].values) for k in ds.coords if ds[k].ndim == 0},
             "workload": {"force": ds.attrs["force"], "torque": ds.attrs["torque"],
-                         "applied_at": "o"},
+                         "applied_at": "o", "source": ds.attrs.get("workload_source", "")},
             "counts": counts, "locus": ds.attrs.get("locus"),
             "singular_locus": locus_list(ds),
             "other_sign_changes": locus_list(ds, singular_only=False),
@@ -159,7 +165,7 @@ def check_outputs(args) -> None:
 
 def run(args) -> int:
     from ...api import map as map_pm
-    from ...maps import plot_map, write
+    from ...maps import map_in_units, plot_map, write
 
     if args.plot:
         from ...viz import require_matplotlib
@@ -167,9 +173,16 @@ def run(args) -> int:
     check_outputs(args)
     from .analyze import resolve_model
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    if units is not None:
+        from ...engine._report import output_scales
+        output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "map", "cell") as progress:
         ds = map_pm(model, grid, **map_keywords(args, model, progress))
+    if ds.attrs.get("workload_source") == "given":
+        ds.attrs["workload_source"] = "command line"
+    ds = map_in_units(ds, units)
     if args.out:
         write(ds, args.out)
         print(f"wrote {args.out}", file=sys.stderr)
@@ -194,10 +207,17 @@ def print_summary(s) -> None:
     print(f"map of {s['pm']}: {grid}" + (f"; fixed {fixed}" if fixed else ""))
     print(f"  units: lengths {u['length']}, forces {u['force']}, torques {u['torque']}, "
           f"angles {u['angle']}")
-    lv = c["levels"]
-    print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; levels ok "
-          f"{lv['ok']}, ill-conditioned {lv['ill-conditioned']}, near-singular "
-          f"{lv['near-singular']}, singular {lv['singular']}, unreachable {lv['unreachable']}")
+    lv, cl = c["levels"], c["conditioning"]
+    w = s["workload"]
+    from ._common import fmt_vec
+    print(f"  workload F = {fmt_vec(w['force'])} {u['force']}, T = {fmt_vec(w['torque'])} "
+          f"{u['torque']} at o ({w['source'] or 'given'})")
+    print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; conditioning "
+          f"regular {cl['regular']}, near-singular {cl['near-singular']}, singular "
+          f"{cl['singular']}, unreachable {cl['unreachable']}")
+    print(f"  trust levels of the efforts: ok {lv['ok']}, ill-conditioned "
+          f"{lv['ill-conditioned']}, near-singular {lv['near-singular']}, singular "
+          f"{lv['singular']}, unreachable {lv['unreachable']}")
     print(f"  det J of the other sign than home's: {c['other_assembly_mode']} cells"
           + (f"; outside the limits: {c['outside_limits']} cells" if "outside_limits" in c
              else ""))
@@ -220,4 +240,4 @@ def print_summary(s) -> None:
             continue
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
               + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
-              + f"  ({r['level']})")
+              + f"  ({r['conditioning']}, trust {r['level']})")

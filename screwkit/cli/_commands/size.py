@@ -51,6 +51,10 @@ def run(args) -> int:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    if units is not None:
+        from ...engine._report import output_scales
+        output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "size", "cell") as progress:
         kw = map_keywords(args, model, progress, load=not args.workloads)
@@ -64,6 +68,8 @@ def run(args) -> int:
         else:
             loads = [("command line", F, T)]
         res = size(model, grid, workloads=loads, max_level=args.max_level, **kw)
+    from ...maps import sizing_in_units
+    res = sizing_in_units(res, units)
     if args.json:
         print(dump_json(res.to_dict()))
         return 0

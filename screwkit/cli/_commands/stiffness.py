@@ -114,7 +114,7 @@ def run(args) -> int:
     else:
         _print(d, hint)
     cls = d["conditioning"]["class"]
-    if cls in ("near-singular", "singular"):
+    if cls in ("near-singular", "singular") and not missing:
         print(f"screwkit stiffness: warning: {cls} pose (normalised condition number "
               f"{d['conditioning']['condition_number']:.3g})" + (
                   ": unrestrained along " + "; ".join(x["description"] for x in
