@@ -30,8 +30,8 @@ __all__ = [
     "load_pm", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
     # maps, sizing, forward kinematics
     "map", "size", "forward", "assembly_modes",
-    # interoperability
-    "to_pinocchio",
+    # interoperability and the 3D view
+    "to_pinocchio", "view",
     "__version__",
 ]
 
@@ -40,6 +40,9 @@ def __getattr__(name):
     if name == "dynamics":              # the dynamics layer; callable: screwkit.dynamics(pm, ...)
         import importlib
         return importlib.import_module(".dynamics", __name__)
+    if name == "view":                  # the interactive 3D view (screwkit.paths.view)
+        from .paths import view
+        return view
     if name in _ENGINE:
         from . import engine
         return getattr(engine, name)

@@ -5,7 +5,7 @@ Every module of ``screwkit`` is parsed with :mod:`ast`; every import at any dept
 a literal name) is an edge of the graph between screwkit modules.  The layers are
 the subpackages, lowest first::
 
-    errors < screws < legs < pm < engine < {paths, synthesis, viz, interop} < api < cli
+    errors < screws < legs < pm < scene < engine < {paths, synthesis, viz, interop, ...} < api < cli
 
 A module may import only from its own layer's subpackage and the layers below
 it; the four layers in braces are peers and do not import each other (except the
@@ -26,10 +26,11 @@ LAYERS = {
     "screws": 1,
     "legs": 2,
     "pm": 3,
-    "engine": 4,
-    "paths": 5, "synthesis": 5, "viz": 5, "interop": 5, "maps": 5, "dynamics": 5, "design": 5,
-    "api": 6,
-    "cli": 7,
+    "scene": 4,            # the 3D view from plain data: below the engine, whose results show it
+    "engine": 5,
+    "paths": 6, "synthesis": 6, "viz": 6, "interop": 6, "maps": 6, "dynamics": 6, "design": 6,
+    "api": 7,
+    "cli": 8,
 }
 
 #: Edges between peer layers that are allowed, with the reason.

@@ -296,7 +296,11 @@ def test_pm_png_not_blank_and_polygons(pm_figure):
 def test_pm_arrows_scale_with_value_and_carry_its_sign(pm_figure):
     legs, fig, _ = pm_figure
     rows = pm_rows(legs)
-    vmax = max(abs(v) for r in rows for v in [r["value"]])
+    from screwkit.viz._pm_drawing import FLOOR, scale_key
+    assert FLOOR == 0.25
+    vmax = {}                      # each kind on its own: actuation forces, constraint forces
+    for r in rows:
+        vmax[scale_key(r)] = max(vmax.get(scale_key(r), 0.0), abs(r["value"]))
     lengths = {}
     for i, r in enumerate(rows):
         (a,) = arrows(fig, f"row:{i}")
@@ -308,10 +312,12 @@ def test_pm_arrows_scale_with_value_and_carry_its_sign(pm_figure):
         assert np.linalg.norm(np.cross(tail - r["point"], line_d)) < 1e-9
         assert np.sign(np.dot(vec, line_d)) == np.sign(r["value"])
         lengths[i] = np.linalg.norm(vec)
-    longest = max(lengths.values())
+    longest = {}
     for i, r in enumerate(rows):
-        want = max(abs(r["value"]) / vmax, 0.15)
-        assert lengths[i] / longest == pytest.approx(want, rel=1e-9)
+        longest[scale_key(r)] = max(longest.get(scale_key(r), 0.0), lengths[i])
+    for i, r in enumerate(rows):
+        want = max(abs(r["value"]) / vmax[scale_key(r)], 0.25)
+        assert lengths[i] / longest[scale_key(r)] == pytest.approx(want, rel=1e-9)
 
 
 def test_pm_actuation_arrows_start_at_the_platform_points(pm_figure):

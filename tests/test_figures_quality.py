@@ -28,7 +28,7 @@ PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
 pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
-from screwkit.cli._commands.draw import wrench_rows  # noqa: E402
+from screwkit.engine import wrench_rows  # noqa: E402
 from screwkit.paths import path_from_expressions, run_trajectory  # noqa: E402
 from screwkit.viz import draw_pm  # noqa: E402
 
@@ -452,18 +452,16 @@ def test_singularity_plot(plots):
 
 @pytest.mark.parametrize("key", [("4UPU", False), ("3RPS", False), ("3UPU", False)])
 def test_drawing_note_names_the_arrows_drawn_at_the_floor(drawings, key):
-    """The note lists exactly the arrows shorter than 15 % of the largest of their unit."""
+    """The note lists exactly the arrows shorter than 25 % of the largest of their kind."""
+    from screwkit.viz._pm_drawing import scale_key
     _, rows, fig, _ = drawings[key]
     top = {}
     for r in rows:
-        q = r.get("quantity") or ("torque" if r["kind"] == "couple" else "force")
-        top[q] = max(top.get(q, 0.0), abs(r["value"]))
-    small = [r["label"] for r in rows
-             if abs(r["value"]) < 0.15 * top[r.get("quantity") or
-                                              ("torque" if r["kind"] == "couple" else "force")]]
+        top[scale_key(r)] = max(top.get(scale_key(r), 0.0), abs(r["value"]))
+    small = [r["label"] for r in rows if abs(r["value"]) < 0.25 * top[scale_key(r)]]
     note = " ".join(t.get_text() for t in fig.texts)
     if small:
-        assert "drawn at 15 % of the largest" in note
+        assert "drawn at 25% of the largest of its kind" in note
         assert note.split("n/a): ")[1].split("\n")[0].split(", ") == small
     else:
-        assert "drawn at 15 %" not in note
+        assert "drawn at 25%" not in note

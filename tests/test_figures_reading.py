@@ -20,7 +20,7 @@ PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
 pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
-from screwkit.cli._commands.draw import wrench_rows  # noqa: E402
+from screwkit.engine import wrench_rows  # noqa: E402
 from screwkit.paths import path_from_expressions, run_trajectory  # noqa: E402
 from screwkit.viz import draw_pm  # noqa: E402
 

@@ -275,3 +275,33 @@ def test_plot_colour_range_hatches_and_loci():
     want = sorted((x["pose"]["alpha"], x["pose"]["gamma"]) for x in screwkit.maps.locus_list(ds))
     assert sum(1 for x in screwkit.maps.locus_list(ds) if x["along"] == "alpha") == 3
     np.testing.assert_allclose(np.array(drawn), np.array(want))
+
+
+def test_forces_of_one_kind_share_one_diverging_scale():
+    """Issue 22: the actuation forces of every leg take one diverging map on one symmetric
+    scale (the largest |F_ai| of the regular cells over all legs, computed here from the
+    map), the condition number the sequential map; every hatch and point style drawn has a
+    legend entry."""
+    pytest.importorskip("matplotlib")
+    ds = screwkit.map("3RRPRR", {"alpha": (-20.0, 20.0, 9), "beta": (-20.0, 20.0, 7)},
+                      fix={"Zo": 80.0}, degrees=True)
+    fig = screwkit.maps.plot_map(ds, None, ["forces", "conditioning"])
+    meshes = [ax.collections[0] for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert len(meshes) == 4
+    calm = ds["level"].values <= 1
+    m = max(np.abs(ds[f"F_a{i}"].values[calm]).max() for i in (1, 2, 3))
+    for mesh in meshes[:3]:                # F_a3 > 0 everywhere: still the shared scale
+        assert mesh.cmap.name == "RdBu_r"
+        assert (mesh.norm.vmin, mesh.norm.vmax) == (pytest.approx(-m), pytest.approx(m))
+    assert meshes[3].cmap.name == "viridis"
+    legend = " ".join(t.get_text() for t in fig.legends[0].get_texts())
+    assert "one colour scale, symmetric about 0, for the actuation forces of every leg" in legend
+    # the 2SPS+2SPR near its singularity: the hatched band and the crossings are explained
+    ds = screwkit.map("2SPS+2SPR", {"alpha": (-10.0, 30.0, 21), "gamma": (-5.0, 5.0, 3)},
+                      fix={"beta": 0.0, "Zo": 75.0}, degrees=True)
+    fig = screwkit.maps.plot_map(ds, None, ["F_a1"])
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    hatches = {c.get_hatch() for c in fig.axes[0].collections if c.get_hatch()}
+    assert hatches == {"xx"}
+    assert any(t.startswith("near-singular") and "hatched, outlined" in t for t in legend)
+    assert any("actuation singularity" in t for t in legend)

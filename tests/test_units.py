@@ -92,7 +92,7 @@ def test_plot_labels_carry_units(tmp_path):
 
 def test_drawing_labels_rotary_torques(tmp_path):
     pytest.importorskip("matplotlib")
-    from screwkit.cli._commands.draw import wrench_rows
+    from screwkit.engine import wrench_rows
     from screwkit.viz import draw_pm
     res = screwkit.analyze("3RSR", **PAPER_LOAD)
     sol = res.solution

@@ -25,13 +25,14 @@ from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
 from ._placed import solve_statics, unified_jacobian
 from ._statics import StaticsResult, statics, workload_wrench
-from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze
+from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze, workload_source
 from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
                         solve_path, solve_pose)
 from ._forward import ForwardResult, forward_kinematics
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
+from ._scene import scene_of, wrench_rows
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD", "CHUNK",
@@ -42,5 +43,6 @@ __all__ = [
     "PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "analyze_pm",
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
-    "LinkFrames", "link_frames", "constraint_resultants",
+    "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
+    "workload_source",
 ]

@@ -43,12 +43,20 @@ if TYPE_CHECKING:
 
     from ..pm import PMModel
 
-__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
+__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "workload_source"]
 
 #: The paper's workload (section 5.1): F in kN, T in kN.cm, applied at o; the declared default
 #: workload of the paper's two PMs (3RRPRR, 2SPS+2SPR), and of no other.
 PAPER_FORCE = (-20.0, -30.0, -60.0)
 PAPER_TORQUE = (-30.0, -30.0, 100.0)
+
+
+def workload_source(force, torque) -> str:
+    """Where a workload comes from, for the outputs that state it: ``the paper's workload``
+    when ``(force, torque)`` is the paper's, else ``given``."""
+    paper = np.array_equal(np.asarray(force, float), PAPER_FORCE) and \
+        np.array_equal(np.asarray(torque, float), PAPER_TORQUE)
+    return "the paper's workload" if paper else "given"
 
 
 @dataclass(frozen=True, eq=False)
@@ -242,6 +250,18 @@ class PMAnalysis:
         :func:`screwkit.engine._frames.to_frame`.  Needs pandas."""
         from ._frames import to_frame
         return to_frame(self)
+
+    def show(self, *, title: str | None = None, start: int = 0) -> Any:
+        """The interactive 3D view of these poses (:class:`screwkit.scene.View`): Jupyter
+        shows it inline; ``.write_html(path)`` writes the self-contained page.  One pose is
+        one state; N poses get a slider over the pose index (a grid of poses with one
+        slider per parameter: :func:`screwkit.view`).  Needs plotly
+        (``pip install "screwkit[view]"``)."""
+        from ..scene import View, require_plotly
+        from ._scene import scene_of
+        require_plotly()
+        return View(scene_of(self, start=start, title=title,
+                             source=workload_source(self.force, self.torque)))
 
     def _repr_html_(self) -> str:
         """The HTML table Jupyter shows for a result."""

@@ -54,7 +54,8 @@ class Chains:
     q_scale : ndarray (n, m)
         The Newton unknowns are ``q / q_scale`` (``L`` for P joints, 1 otherwise).
     actuated : ndarray (n,) of int
-        Slot of each leg's actuated joint.
+        Slot of each leg's actuated joint (a passive leg's is not an actuator: see
+        :attr:`actuator_slots`).
     centre, length : ndarray (3,), float
         The model's normalisation (centroid and characteristic length at home).
     platform_home : (ndarray (3, 3), ndarray (3,))
@@ -103,6 +104,19 @@ class Chains:
     x_scale: np.ndarray
     home: dict
     bars: np.ndarray = None
+    passive: tuple = ()
+
+    @property
+    def active(self) -> np.ndarray:
+        """The actuated legs (0-based, in leg order): every leg but the passive ones."""
+        return np.array([i for i in range(self.n) if i not in self.passive], int)
+
+    @property
+    def actuator_slots(self) -> tuple:
+        """``(legs, slots)``: the index arrays of the actuated joints of the actuated legs,
+        ``q[legs, slots]`` are the actuator values."""
+        act = self.active
+        return act, self.actuated[act]
 
     @property
     def n_unknowns(self) -> int:
@@ -165,7 +179,7 @@ def _build(model) -> Chains:
                  np.asarray(model.platform_points, float), model.order,
                  tuple(model.independent), unknown,
                  np.array([L if u in LENGTH_PARAMS else 1.0 for u in unknown]),
-                 dict(model.home_pose), bars)
+                 dict(model.home_pose), bars, tuple(getattr(model, "passive", ())))
     for a in (D, P, rot, tra, real, qs, bars):
         a.setflags(write=False)
     return out

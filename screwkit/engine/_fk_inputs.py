@@ -12,35 +12,45 @@ def actuator_targets(model, actuators, degrees=False):
     """The actuated joint values ``(N, n)`` (displacements from home) of ``actuators``:
     an array ``(n,)`` / ``(N, n)``, or a mapping ``q<i>`` (the joint value) / ``r<i>`` (the
     extension ``|a_i - A_i|`` of a leg whose actuator is a P joint on the line ``A_i a_i``)
-    -> number or array.  Returns ``(values, single)``."""
+    -> number or array.  Only the actuated legs have an actuator (``model.active``): the
+    array's columns are theirs in leg order, and ``q<i>`` / ``r<i>`` name leg ``i``
+    (1-based).  Returns ``(values (N, n_active), single)``."""
     from ..errors import InputError
-    n = model.n_legs
-    rot = np.array([lg.actuated_joint.kind != "P" for lg in model.home_legs])
+    active = tuple(model.active)
+    n = len(active)
+    names = [f"q{i + 1}" for i in active]
+    rot = np.array([model.home_legs[i].actuated_joint.kind != "P" for i in active], bool)
     if isinstance(actuators, dict):
         cols, N, single = {}, None, True
         for k, v in actuators.items():
             name = str(k)
             if len(name) < 2 or name[0] not in "qr" or not name[1:].isdigit() or \
-                    not 1 <= int(name[1:]) <= n:
-                raise InputError(f"{model.name}: actuator {name!r}: use q1..q{n} (actuated "
-                                 f"joint values from home) or r1..r{n} (leg extensions)")
+                    int(name[1:]) - 1 not in active:
+                passive = [f"{i + 1}" for i in model.passive]
+                raise InputError(f"{model.name}: actuator {name!r}: use "
+                                 f"{', '.join(names)} (actuated joint values from home) or "
+                                 f"{', '.join('r' + x[1:] for x in names)} (leg extensions)"
+                                 + (f"; leg{'s' * (len(passive) > 1)} {', '.join(passive)} "
+                                    "passive (no actuator)" if passive else ""))
             a = np.asarray(v, float)
             if a.ndim > 1 or not np.all(np.isfinite(a)):
                 raise InputError(f"{model.name}: actuator {name} must be finite numbers")
             single &= a.ndim == 0
-            i = int(name[1:]) - 1
+            leg = int(name[1:]) - 1
+            i = active.index(leg)
             if i in cols:
-                raise InputError(f"{model.name}: leg {i + 1}'s actuator is given twice")
+                raise InputError(f"{model.name}: leg {leg + 1}'s actuator is given twice")
             _check_bounds(model, name, a, rot[i] and name[0] == "q", degrees)
             if name[0] == "r":
-                r0 = extension_offset(model, i)
+                r0 = extension_offset(model, leg)
                 a = a - r0
             elif degrees and rot[i]:
                 a = np.radians(a)
             cols[i] = a
-        missing = [f"q{i + 1}" for i in range(n) if i not in cols]
+        missing = [names[i] for i in range(n) if i not in cols]
         if missing:
-            raise InputError(f"{model.name}: no value for {', '.join(missing)} (one per leg)")
+            raise InputError(f"{model.name}: no value for {', '.join(missing)} (one per "
+                             "actuated leg)")
         shapes = {np.shape(v) for v in cols.values() if np.ndim(v)}
         if len(shapes) > 1:
             raise InputError(f"{model.name}: the actuator arrays have different lengths")
@@ -49,12 +59,13 @@ def actuator_targets(model, actuators, degrees=False):
         return out.astype(float), single
     a = np.asarray(actuators, float)
     if a.shape[-1:] != (n,) or a.ndim > 2 or not np.all(np.isfinite(a)):
-        raise InputError(f"{model.name}: give {n} finite actuated joint values (one per leg), "
-                         f"shape (n,) or (N, n); got shape {a.shape}")
+        raise InputError(f"{model.name}: give {n} finite actuated joint values (one per "
+                         f"actuated leg: {', '.join(names)}), shape (n,) or (N, n); got shape "
+                         f"{a.shape}")
     single = a.ndim == 1
     a = np.atleast_2d(a).copy()
     for i in range(n):
-        _check_bounds(model, f"q{i + 1}", a[:, i], bool(rot[i]), degrees)
+        _check_bounds(model, names[i], a[:, i], bool(rot[i]), degrees)
     if degrees:
         a[:, rot] = np.radians(a[:, rot])
     return a, single

@@ -43,7 +43,7 @@ class _Frames:
 
 def _frozen(ch):
     f = np.zeros((ch.n, ch.m), bool)
-    f[np.arange(ch.n), ch.actuated] = True
+    f[ch.actuator_slots] = True
     return f
 
 
@@ -110,7 +110,7 @@ def continuation(ch, start, qa0, target):
     res = np.full(N, np.inf)
     its = np.zeros(N, int)
     how = np.full(N, -1)
-    act = (np.arange(ch.n), ch.actuated)
+    act = ch.actuator_slots
     unit = np.where(ch.rotation[act] > 0, 1.0, ch.length)[:, None]
     delta = target - qa0
     S0 = np.clip(np.ceil(np.max(np.abs(delta) / unit, axis=0) / STEP), 1, MAX_STEPS)
@@ -151,7 +151,7 @@ def seeds(model, ch, target, K, rng):
     rot = (ch.rotation > 0) & ch.real
     q[rot] = rng.uniform(-np.pi, np.pi, (int(rot.sum()), P * K))
     q[:, :, ::K] = 0.0                                       # the first seed is home
-    q[np.arange(ch.n), ch.actuated] = np.repeat(target, K, axis=0).T
+    q[ch.actuator_slots] = np.repeat(target, K, axis=0).T
     _, _, Rl, tl = chain_forward(ch.D, ch.P, ch.rotation, ch.translation, q, bars=ch.bars)
     Rh, ph = (np.asarray(x, float) for x in model.platform_home)
     R = np.einsum("ijN,jk->ikN", Rl[:, :, 0], Rh)

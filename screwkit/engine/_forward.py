@@ -198,7 +198,7 @@ def _start_state(model, ch, guess, N):
         R = np.repeat(Rh[:, :, None], N, axis=2)
         o = np.repeat(ph[:, None], N, axis=1)
         q = np.zeros((ch.n, ch.m, N))
-        return (R, o, q), np.zeros((ch.n, N))
+        return (R, o, q), np.zeros((len(ch.active), N))
     from ._solution import solve
     sol = guess if hasattr(guess, "closures") else None
     if sol is None:
@@ -218,7 +218,7 @@ def _start_state(model, ch, guess, N):
         q, Rp, o = (np.repeat(x, N, axis=-1) for x in (q, Rp, o))
     if q.shape[-1] != N:
         raise InputError(f"{model.name}: the guess has {q.shape[-1]} poses for {N}")
-    return (Rp, o, q), q[np.arange(ch.n), ch.actuated]
+    return (Rp, o, q), q[ch.actuator_slots]
 
 
 def pose_params(model, ch, R, o, reference):
@@ -307,8 +307,8 @@ def finish(model, ch, R, o, q, res, its, how, target, single, ref, notes=()):
         (np.max(np.abs(sol._platform[1] - o.T), axis=1) <= 1e-8 * ch.length)
     ok = (res <= CONVERGED) & sol.reachable_mask & same
     q_an = np.nan_to_num(np.asarray(sol.actuator_values), nan=np.inf)
-    ok &= np.max(np.abs(q_an - target) / np.where(np.array(
-        [lg.actuated_joint.kind == "P" for lg in model.home_legs]), ch.length, 1.0), axis=1) <= 1e-8
+    linear = np.array([model.home_legs[i].actuated_joint.kind == "P" for i in ch.active], bool)
+    ok &= np.max(np.abs(q_an - target) / np.where(linear, ch.length, 1.0), axis=1) <= 1e-8
     det = an.quality.det_sign
     out = ForwardResult(model, {p: params[p] for p in PARAMS}, R.transpose(2, 0, 1).copy(),
                         o.T.copy(), target, res, ok, its, how,

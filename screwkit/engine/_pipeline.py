@@ -88,7 +88,8 @@ def templates_of(model) -> tuple:
         R0, p0 = model.frame
         Rh, oh = model.platform_home
         refs = tuple(model.constraint_references) or ((),) * len(model.home_legs)
-        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i])
+        passive = set(getattr(model, "passive", ()))
+        t = tuple(RowTemplate(lg, lg.analyze(), R0, p0, Rh, oh, refs[i], i in passive)
                   for i, lg in enumerate(model.home_legs))
         _TEMPLATES[model] = t
     return t
@@ -116,9 +117,11 @@ def _make_labels(templates):
     kc = 0
     for i, t in enumerate(templates):
         a = t.actuation
-        info_a.append(RowInfo(i, t.name, "actuation", a.member if a.kind != "none" else "none",
-                              a.names[0] if a.names else None, t.names[t.actuated],
-                              f"F_a{i + 1}"))
+        if not t.passive:          # a passive leg has no actuation row
+            info_a.append(RowInfo(i, t.name, "actuation",
+                                  a.member if a.kind != "none" else "none",
+                                  a.names[0] if a.names else None, t.names[t.actuated],
+                                  f"F_a{i + 1}"))
         for kind, pname in t.member_kinds:
             kc += 1
             sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")
@@ -175,37 +178,40 @@ def model_rows(model, frames, templates=None) -> Rows:
     return assemble_rows(templates, geos, frames.o)
 
 
-def legs_rows(legs, o, analyses) -> Rows:
-    """The rows of ``J`` of placed legs at one pose (the base frame is the world)."""
+def legs_rows(legs, o, analyses, passive=()) -> Rows:
+    """The rows of ``J`` of placed legs at one pose (the base frame is the world);
+    ``passive``: the indices of the legs without an actuation row."""
     o = np.asarray(o, float)
     templates, geos = [], []
-    for lg, an in zip(legs, analyses):
-        t = RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o)
+    for i, (lg, an) in enumerate(zip(legs, analyses)):
+        t = RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o, passive=i in passive)
         templates.append(t)
         geos.append(geometry_of(lg, np.eye(3), np.zeros(3), np.eye(3), o))
     return assemble_rows(templates, geos, o[:, None])
 
 
 def assemble_rows(templates, geos, o) -> Rows:
-    """Stack every leg's rows (actuation rows first) at the poses of ``geos``."""
+    """Stack every leg's rows at the poses of ``geos``: the actuation rows of the actuated
+    legs first (leg order; a passive leg has none), then every leg's constraint rows."""
     N = o.shape[-1]
     acts, scales_a, cons, pts_a, pts_c, struct, ok = [], [], [], [], [], [], np.ones(N, bool)
     leg_pts = []
     for t, geo in zip(templates, geos):
         act, member, scale, c, good, sok = t.rows(geo)
-        acts.append(act)
-        scales_a.append(scale)
+        if not t.passive:
+            acts.append(act)
+            scales_a.append(scale)
+            pts_a.append(t.actuation_point(geo))
         cons.append(c)
         struct.append(sok)
         ok &= good
-        pts_a.append(t.actuation_point(geo))
         pts_c.append(t.member_points(geo, c))
         leg_pts += [np.broadcast_to(geo.A[:, None], (3, N)), geo.a] + list(geo.points)
     leg_pts.append(o)
     c, L = _spread(leg_pts)
     J = np.concatenate([np.stack(acts)] + [c for c in cons if len(c)], axis=0)   # (m, 6, N)
     P = np.concatenate([np.stack(pts_a)] + [p for p in pts_c if len(p)], axis=0)
-    n = len(templates)
+    n = len(acts)                                         # the actuation rows
     scale = np.concatenate([np.stack(scales_a), np.ones((J.shape[0] - n, N))], axis=0)
     return Rows(np.ascontiguousarray(J.transpose(2, 0, 1)), _labels(templates), n,
                 scale.T.copy(), np.ascontiguousarray(P.transpose(2, 0, 1)), c, L,

@@ -25,7 +25,8 @@ __all__ = ["unified_jacobian", "solve_statics"]
 
 def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
                      analyses: Sequence[LegAnalysis] | None = None, *,
-                     threshold: float = COND_THRESHOLD) -> JacobianResult:
+                     threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
+                     ) -> JacobianResult:
     """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
 
     Parameters
@@ -38,6 +39,8 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         Each leg's analysis (computed if omitted): it decides what each row is.
     threshold : float
         Normalised condition number above which the pose counts as singular.
+    passive : sequence of int
+        0-based indices of passive legs: no actuation row, their constraint rows only.
 
     Returns
     -------
@@ -64,14 +67,21 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         for i, (leg, an) in enumerate(zip(legs, analyses)):
             if getattr(an, "leg", None) is not leg:
                 raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
-    rows = legs_rows(legs, o, analyses)
+    passive = tuple(passive)
+    if any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < len(legs)
+           for i in passive) or len(set(passive)) == len(legs):
+        raise InputError(f"passive must list distinct 0-based leg indices below {len(legs)} "
+                         f"(at least one leg actuated), got {passive!r:.60}")
+    rows = legs_rows(legs, o, analyses, passive)
     return JacobianResult.from_rows(rows, o[None], threshold=threshold, single=True,
                                     leg_provider=lambda _: legs, analyses=analyses)
 
 
 def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
                   analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
-                  threshold: float = COND_THRESHOLD) -> StaticsResult:
-    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at ``o``."""
-    jac = unified_jacobian(legs, o, analyses, threshold=threshold)
+                  threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
+                  ) -> StaticsResult:
+    """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at
+    ``o`` (``passive``: the passive legs' indices)."""
+    jac = unified_jacobian(legs, o, analyses, threshold=threshold, passive=passive)
     return statics(jac, F, T, o, raise_on_singular=raise_on_singular)

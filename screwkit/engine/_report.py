@@ -167,12 +167,15 @@ def report(analysis, units=None) -> dict:
             cons.append(c)
         entry = {
             "index": i + 1, "leg": leg.name, "string": leg.string.marked,
+            "passive": i in model.passive,
             "A": leg.A * kl, "a": leg.a * kl, "extension": sol.extensions[i] * kl,
-            "actuator_value": sol.actuator_values[i] * (kl if linear[i] else 1.0),
-            "actuator_value_unit": ublock["length"] if linear[i] else "rad",
             "joint_values": sol.joint_values[i],
             "constraints": cons,
         }
+        if i not in model.passive:       # a passive leg has no actuator
+            entry["actuator_value"] = (sol.actuator_values[model.active.index(i)]
+                                       * (kl if linear[i] else 1.0))
+            entry["actuator_value_unit"] = ublock["length"] if linear[i] else "rad"
         if act:
             r = jac.rows[act[0]]
             q = row_quantity(r)
@@ -222,7 +225,8 @@ def report(analysis, units=None) -> dict:
                      "instantaneous": m.instantaneous, "redundant": m.redundant,
                      "common": m.common, "constraint_rank": m.constraint_rank,
                      "n_constraints": m.n_constraints, "gruebler": m.gruebler,
-                     "stated_dof": model.stated_dof},
+                     "stated_dof": model.stated_dof, "actuators": m.actuators,
+                     "passive_legs": [i + 1 for i in model.passive]},
         "workload": ({"force": analysis.force * kf, "torque": analysis.torque * kt,
                       "applied_at": "o", "force_unit": ublock["force"],
                       "torque_unit": ublock["torque"], "source": analysis.workload_source}

@@ -66,7 +66,8 @@ class Actuation:
     """How the actuation member is found: ``kind`` ``"line"`` (the force on the line through
     the two named points ``names``, at ``points``), ``"least-norm"`` (the passive-reciprocal
     wrench orthogonal to the constraint system; ``member`` ``"force"`` when its pitch is
-    zero at home, else ``"screw"``) or ``"none"`` (the actuated joint is dependent)."""
+    zero at home, else ``"screw"``), ``"none"`` (the actuated joint is dependent) or
+    ``"passive"`` (a passive leg: no actuation row)."""
 
     kind: str
     points: tuple = ()
@@ -87,10 +88,15 @@ class RowTemplate:
     platform_rotation, o : the platform frame at the reference geometry
     references : sequence, optional
         Declared reference directions (catalog), tried before the defaults.
+    passive : bool
+        A leg without an actuator (:attr:`screwkit.pm.PMModel.passive`): it has no
+        actuation row (``actuation.kind == "passive"``).
     """
 
-    def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=()):
+    def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=(),
+                 passive=False):
         self.name = leg.name
+        self.passive = bool(passive)
         self.names = tuple(j.name for j in leg.joints)
         self.kinds = tuple(j.kind for j in leg.joints)
         self.actuated = leg.actuated_index
@@ -123,7 +129,8 @@ class RowTemplate:
             self.member_kinds = tuple((c.kind, None) for c in cons)
         else:
             self.member_kinds = tuple((g.kind, g.point) for g in self.groups for _ in range(g.dim))
-        self.actuation = self._actuation_template(leg, analysis, geo, cand)
+        self.actuation = (Actuation("passive") if self.passive else
+                          self._actuation_template(leg, analysis, geo, cand))
 
     # -- subspaces -------------------------------------------------------------------
     def _rows_for(self, geo, kind, pref, joints):
@@ -263,9 +270,9 @@ class RowTemplate:
         v, w = geo.twist(self.actuated)
         xi = np.concatenate([v, w])
         L = leg_length(geo)
-        if a.kind == "none":
+        if a.kind in ("none", "passive"):
             z = np.zeros((6, N))
-            return z, z, np.zeros(N), np.zeros(N, bool)
+            return z, z, np.zeros(N), np.full(N, a.kind == "passive")
         passive = [j for j in range(len(self.names)) if j != self.actuated]
         if a.kind == "line":
             X, Y = (named_point(geo, r) for r in a.points)

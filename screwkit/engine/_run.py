@@ -179,8 +179,8 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     closures = Closures(ch, X, {k: np.asarray(v, float) for k, v in fixed.items()}, res, its,
                         how, sing)
     if not rows:
-        return Computed(closures, (), ch.n, diagnostics=diag)
+        return Computed(closures, (), len(ch.active), diagnostics=diag)
     cond = Conditioning(*(out[f"cond.{f}"] for f in Conditioning.__dataclass_fields__))
-    return Computed(closures, _labels(templates), ch.n, out["J"], out["scale"], cond,
+    return Computed(closures, _labels(templates), len(ch.active), out["J"], out["scale"], cond,
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), diag)

@@ -165,7 +165,7 @@ class PoseSolution:
     def actuator_values(self) -> np.ndarray:
         """Each leg's actuated joint value (displacement from home), ``(n,)`` / ``(N, n)``."""
         ch = self.closures.chains
-        v = np.ascontiguousarray(self._q[np.arange(ch.n), ch.actuated].T)
+        v = np.ascontiguousarray(self._q[ch.actuator_slots].T)
         v.setflags(write=False)
         return self._sq(v)
 

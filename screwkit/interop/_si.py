@@ -6,7 +6,8 @@ converted through pint) and converts points, lengths, masses and inertia tensors
 :func:`si_bodies` of a model are its massive bodies (the ``dynamics:`` block, or a given
 :class:`~screwkit.pm.DynamicsParameters`) in SI, placed in the world frame at home, each
 with the equivalent joint it follows.  An exporter takes these and writes them in its own
-syntax; nothing in here knows a file format.
+syntax; nothing in here knows a file format (the URDF writer and the MJCF writer,
+:mod:`~._mjcf`'s ``si_factors``, both take their factors from here).
 
 Examples
 --------
@@ -54,6 +55,13 @@ class SIConversion:
     @property
     def inertia(self) -> float:
         return self.mass * self.length ** 2
+
+    def factors(self) -> dict:
+        """``length`` (m), ``force`` (N), ``torque`` (N.m), ``mass`` (kg), ``inertia``
+        (kg.m^2) per model unit."""
+        return {"length": self.length, "force": self.force,
+                "torque": self.length * self.force, "mass": self.mass,
+                "inertia": self.inertia}
 
     def points(self, x) -> np.ndarray:
         return np.asarray(x, float) * self.length

@@ -12,8 +12,8 @@
   :meth:`Leg.analyze`).
 """
 
-from ._parsing import (JOINT_DOF, JOINT_LETTERS, EquivalentJoint, LegString, PMString, PMTerm,
-                       parse_leg, parse_pm)
+from ._parsing import JOINT_DOF, JOINT_LETTERS, EquivalentJoint, LegString, parse_leg
+from ._pm_string import PASSIVE_SUFFIX, PMString, PMTerm, parse_pm
 from ._chain import Joint, Leg
 from ._explicit import leg_from_joints
 from ._placement import Placement, default_placement
@@ -27,7 +27,7 @@ from ._analysis import ActuationWrench, LegAnalysis, actuation_wrench, analyze_l
 __all__ = [
     # leg and PM strings
     "JOINT_LETTERS", "JOINT_DOF", "EquivalentJoint", "LegString", "PMTerm", "PMString",
-    "parse_leg", "parse_pm",
+    "parse_leg", "parse_pm", "PASSIVE_SUFFIX",
     # placed chains
     "Joint", "Leg", "leg_from_joints", "Placement", "default_placement",
     # catalog rules

@@ -11,7 +11,8 @@ Without a marker the actuated joint is the first prismatic joint of the
 equivalent chain (a P, or the P part of a C), or its first revolute joint (an R
 or the first R of a U or an S) when there is none.
 
-PM strings: ``3RRPRR``, ``3-RPS``, ``2SPS+2SPR``, ``4SPS+SPR``, ``3SPU+UPR``.
+PM strings (``3RRPRR``, ``2SPS+2SPR``, ``3UPS+UP/passive``) are parsed by
+:mod:`screwkit.legs._pm_string`.
 
 Expansion: S -> three intersecting non-coplanar R (``S1a S1b S1c``),
 U -> two crossed R (``U1a U1b``), C -> coaxial P and R (``C2p C2r``).
@@ -21,8 +22,6 @@ Examples
 >>> leg = parse_leg("RR_PRR")
 >>> [j.name for j in leg.equivalent], leg.actuated_name
 (['R1', 'R2', 'P3', 'R4', 'R5'], 'P3')
->>> [(t.count, t.leg.text) for t in parse_pm("2SPS+2SPR").terms]
-[(2, 'SPS'), (2, 'SPR')]
 """
 
 from __future__ import annotations
@@ -31,8 +30,7 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
-from ._guards import MAX_LEG_JOINTS, MAX_LEG_LETTERS, MAX_LEG_STRING, MAX_LEGS, \
-    MAX_PM_STRING, shorten
+from ._guards import MAX_LEG_JOINTS, MAX_LEG_LETTERS, MAX_LEG_STRING, MAX_LEGS, shorten
 from ..errors import ParseError
 
 __all__ = [
@@ -40,10 +38,7 @@ __all__ = [
     "JOINT_DOF",
     "EquivalentJoint",
     "LegString",
-    "PMTerm",
-    "PMString",
     "parse_leg",
-    "parse_pm",
 ]
 
 #: Joint letters and their meaning.
@@ -159,29 +154,6 @@ class LegString:
         """``"linear"`` (P actuated), ``"rotational"`` (R) or ``"helical"``."""
         return {"P": "linear", "R": "rotational", "H": "helical"}[
             self.equivalent[self.actuated_index].kind]
-
-
-@dataclass(frozen=True)
-class PMTerm:
-    count: int
-    leg: LegString
-
-
-@dataclass(frozen=True)
-class PMString:
-    """A parsed PM string: ``terms`` in order, e.g. ``2SPS+2SPR`` -> (2, SPS), (2, SPR)."""
-
-    text: str
-    terms: tuple
-
-    @property
-    def legs(self) -> tuple:
-        """One LegString per leg, in order (``2SPS+SPR`` -> SPS, SPS, SPR)."""
-        return tuple(t.leg for t in self.terms for _ in range(t.count))
-
-    @property
-    def canonical(self) -> str:
-        return "+".join((str(t.count) if t.count > 1 else "") + t.leg.text for t in self.terms)
 
 
 def _tokens(text: str) -> list:
@@ -332,58 +304,3 @@ def parse_leg(text: str, offset: int = 0, source: str | None = None) -> LegStrin
     shown = [t if h is None else f"{t}({h:g})" for t, h in zip(letters, pitches)]
     marked = "".join(shown[: actuated - 1]) + "_" + "".join(shown[actuated - 1:])
     return LegString(s, marked, actuated, explicit, _expand(letters, actuated, pitches))
-
-
-# spaces (ASCII only) may surround the count and the dash: "3 - RPS + 2 SPR"
-_TERM = re.compile(r" *([0-9]*) *(-?) *([^+]*)")
-
-
-def parse_pm(text: str) -> PMString:
-    """Parse a PM string such as ``"3RRPRR"``, ``"3-RPS"`` or ``"2SPS+2SPR"``.
-
-    A leg count is one ASCII digit from 1 to 6, a PM has at most :data:`MAX_LEGS`
-    legs and its string at most :data:`MAX_PM_STRING` characters.
-
-    Raises
-    ------
-    ParseError
-        Naming the offending character and its 0-based position.
-    """
-    if not isinstance(text, str):
-        raise ParseError(f"a PM string must be a str, got {type(text).__name__}")
-    if len(text) > MAX_PM_STRING:
-        raise ParseError(f"a PM string of {len(text)} characters is too long (at most "
-                         f"{MAX_PM_STRING}): {shorten(text, 40)}")
-    if text.strip() == "":
-        raise ParseError("empty PM string: expected e.g. '3RRPRR' or '2SPS+2SPR'", text, None)
-    terms = []
-    pos = 0
-    for chunk in text.split("+"):
-        start = pos
-        m = _TERM.fullmatch(chunk)
-        if m is None:                 # _TERM matches any chunk; a guard for the type checker
-            raise ParseError("not a PM term", text, start)
-        count_txt, dash, leg_txt = m.group(1), m.group(2), m.group(3)
-        leg_start = start + m.start(3)
-        if leg_txt.strip(" ") == "":
-            where = start + len(chunk) - 1 if chunk else start
-            what = "a '+' with no leg after it" if not chunk.strip(" ") else \
-                "a term with no leg letters"
-            raise ParseError(f"{what}", text, max(0, min(where, len(text) - 1)))
-        if len(count_txt) > 1:
-            raise ParseError(f"leg count {shorten(count_txt, 20)}: a PM has 1 to {MAX_LEGS} "
-                             "legs of one type", text, start + m.start(1))
-        count = int(count_txt) if count_txt else 1
-        if count < 1:
-            raise ParseError("leg count must be at least 1", text, start + m.start(1))
-        if count > MAX_LEGS:
-            raise ParseError(f"{count} legs of one type: a PM has at most {MAX_LEGS} legs", text,
-                             start + m.start(1))
-        stripped = leg_txt.rstrip(" ")
-        terms.append(PMTerm(count, parse_leg(stripped, offset=leg_start, source=text)))
-        pos = start + len(chunk) + 1
-    pm = PMString(text, tuple(terms))
-    n_legs = sum(t.count for t in terms)
-    if n_legs > MAX_LEGS:
-        raise ParseError(f"{n_legs} legs in total: a PM has at most {MAX_LEGS} legs", text, None)
-    return pm

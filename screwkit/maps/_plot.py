@@ -97,11 +97,14 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     panels = [{"z": arr(n), "label": _label(ds, n), "log": n in _LOG,
                "title": f"{n}: {ds[n].attrs['long_name']}" if "long_name" in ds[n].attrs
                else _label(ds, n),
-               "limits_from": None if n in _LOG else calm} for n in names]
+               "limits_from": None if n in _LOG else calm,
+               # the rows of J are signed: one symmetric scale per kind across the legs
+               "signed": "row" in ds[n].attrs, "group": ds[n].attrs.get("kind")
+               if "row" in ds[n].attrs else None} for n in names]
     for pan, n in zip(panels, names):
         codes = _codes(ds[n])
         if codes:            # a flag or a boolean: every value in range, the codes named
-            pan.update(label=f"{n} (code)", log=False,
+            pan.update(label=f"{n} (code)", log=False, signed=False, group=None,
                        title=pan["title"] + "\n" + ", ".join(f"{k} {m}" for k, m in codes),
                        limits_from=np.ones(pan["z"].shape, bool))
     masks = [(~sub["reachable"].transpose(*free).values, "unreachable")]

@@ -90,6 +90,8 @@ class TrajectoryResult:
     resultant_determined : ndarray (N, n) of bool, optional
         False where a constraint row of the leg is not determined by statics (then the
         resultant may not be either: a conservative flag).
+    analysis : PMAnalysis, optional
+        The batched analysis of the samples (the placed legs of :meth:`show`).
     """
 
     pm: str
@@ -122,6 +124,7 @@ class TrajectoryResult:
     resultant_moment: np.ndarray | None = None
     resultant_determined: np.ndarray | None = None
     workload_source: str = "given"
+    analysis: object = field(default=None, repr=False, compare=False)
 
     @property
     def conditioning(self) -> np.ndarray:
@@ -318,6 +321,24 @@ class TrajectoryResult:
         from ._plotting import plot_trajectory
 
         return plot_trajectory(self, out, title=title, units=units, dpi=dpi)
+
+
+    def show(self, *, title=None, start: int = 0):
+        """The interactive 3D view of the path (:class:`screwkit.scene.View`): a time slider
+        with play/pause over the samples; Jupyter shows it inline, ``.write_html(path)``
+        writes the page.  In the model's units.  Needs plotly (``screwkit[view]``)."""
+        from ..engine import scene_of, workload_source
+        from ..scene import TimeControls, View, require_plotly
+
+        if self.analysis is None:
+            from ..scene import MAX_STATES
+            raise InputError(f"this result keeps no batched analysis to show (computed sample "
+                             f"by sample, or more than {MAX_STATES} samples): run_trajectory("
+                             "..., vectorised=True) on a shorter path")
+        require_plotly()
+        a = self.analysis
+        return View(scene_of(a, TimeControls(np.asarray(self.t, float)), start=start,
+                             title=title, source=workload_source(a.force, a.torque)))
 
 
 def _math(label: str) -> str:

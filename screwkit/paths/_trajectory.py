@@ -241,7 +241,15 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
                             constraint_points=_constraint_points(model, parts, info, st_ok),
                             resultant_force=out["res_f"], resultant_moment=out["res_m"],
                             workload_source=source,
-                            resultant_determined=out["res_det"])
+                            resultant_determined=out["res_det"],
+                            analysis=_kept(res, N))
+
+
+def _kept(res, N):
+    """The batched analysis a result keeps for its 3D view (``show``): only when a view can
+    hold every sample (no large path keeps its Jacobians alive)."""
+    from ..scene import MAX_STATES
+    return None if isinstance(res, _Stacked) or N > MAX_STATES else res
 
 
 def _base_points(part, n):

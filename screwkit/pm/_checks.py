@@ -107,9 +107,10 @@ def dimensions(dims_raw: dict, overrides, name, src) -> dict:
     return dims
 
 
-def pm_string(d, name, rules, ctx):
+def pm_string(d, name, rules, ctx, passive=()):
     """The PM string: ``string:`` when given; else the name when it is one that the legs
-    make (``3RRPRR``); else the legs' own (``my3SPR`` of three SPR legs is ``3SPR``)."""
+    make (``3RRPRR``); else the legs' own (``my3SPR`` of three SPR legs is ``3SPR``; a
+    passive leg written ``LEG/passive``)."""
     from ..errors import ScrewkitError
     from ..legs import parse_pm
 
@@ -119,15 +120,16 @@ def pm_string(d, name, rules, ctx):
             return string, parse_pm(string)
         except ScrewkitError as exc:
             raise ctx.err(str(exc), "string") from None
-    texts = [r.string.text for r in rules]
+    declared = sorted((r.string.text, i in passive) for i, r in enumerate(rules))
     try:
         pms = parse_pm(name)
-        if sorted(ls.text for ls in pms.legs) == sorted(texts):
+        if sorted((ls.text, k in pms.passive) for k, ls in enumerate(pms.legs)) == declared:
             return name, pms
     except ScrewkitError:
         pass                          # a name, not a PM string: the legs say what it is
     counts: dict = {}
-    for t in texts:
+    for i, r in enumerate(rules):
+        t = r.string.text + ("/passive" if i in passive else "")
         counts[t] = counts.get(t, 0) + 1
     string = "+".join(f"{c if c > 1 else ''}{t}" for t, c in counts.items())
     try:

@@ -30,9 +30,9 @@ import os
 
 import numpy as np
 
-from ..legs._guards import MAX_ANGLE_DEG, MAX_LEGS, MAX_MAGNITUDE, did_you_mean, real, shorten
+from ..legs._guards import MAX_ANGLE_DEG, MAX_MAGNITUDE, did_you_mean, real, shorten
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
-from ..legs import LegRules, build_leg
+from ..legs import build_leg
 from ..screws import Normalisation, check_order
 from ._checks import (dimensions, find_pm, listing, pm_string, split_path, text_fields,
                       unknown_keys)
@@ -42,14 +42,16 @@ from ._limits import limits_from_mapping
 from ._physical import dynamics_from_mapping
 from ._workload import workload_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
+from ._vertices import _SHAPE_KEYS, override_axes as _override, vertices as _vertices  # noqa: F401
 
 __all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
             "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units",
             "limits", "dynamics", "workload"}
-_SHAPE_KEYS = {"shape", "side", "circumradius", "radius", "sides", "angles", "count", "start",
-               "points", "z"}
+#: The keys of a leg entry of ``legs:`` written as a mapping.
+_PM_LEG_KEYS = ("leg", "axes", "passive")
+
 
 
 
@@ -147,132 +149,6 @@ class _Ctx:
         return np.array([self.num(x, f"{fld}[{k}]") for k, x in enumerate(v)])
 
 
-def _vertices(spec, ctx: _Ctx, fld: str) -> np.ndarray:
-    if not isinstance(spec, dict):
-        raise ctx.err("must be a mapping with 'shape' (triangle, square, rectangle, circle, points)", fld)
-    unknown_keys(spec, _SHAPE_KEYS, ctx.err, fld)
-    shape = spec.get("shape", "points" if "points" in spec else None)
-    for k in ("angles", "points"):
-        if k in spec and not (isinstance(spec[k], list) and len(spec[k]) <= MAX_LEGS):
-            raise ctx.err(f"must be a list of at most {MAX_LEGS} items (one per leg)",
-                          f"{fld}.{k}")
-
-    def need(k):
-        if k not in spec:
-            raise ctx.err(f"a {shape} needs {k!r}", f"{fld}.{k}")
-        return spec[k]
-
-    def ring(radius, angles):
-        a = np.radians(angles)
-        return np.column_stack([radius * np.cos(a), radius * np.sin(a), np.zeros(len(a))])
-
-    if shape == "triangle":
-        if ("side" in spec) == ("circumradius" in spec):
-            raise ctx.err("a triangle needs exactly one of 'side' and 'circumradius'", fld)
-        r = (ctx.num(spec["side"], f"{fld}.side") / np.sqrt(3) if "side" in spec
-             else ctx.num(spec["circumradius"], f"{fld}.circumradius"))
-        ang = [ctx.num(x, f"{fld}.angles") for x in spec.get("angles", [-30, 90, 210])]
-        if len(ang) != 3:
-            raise ctx.err("a triangle has 3 angles", f"{fld}.angles")
-        pts = ring(r, ang)
-    elif shape in ("square", "rectangle"):
-        if shape == "square":
-            s1 = s2 = ctx.num(need("side"), f"{fld}.side")
-        else:
-            sides = need("sides")
-            if not (isinstance(sides, (list, tuple)) and len(sides) == 2):
-                raise ctx.err("must be [l1, l2]", f"{fld}.sides")
-            s1, s2 = (ctx.num(x, f"{fld}.sides") for x in sides)
-        pts = 0.5 * np.array([[s1, -s2, 0], [s1, s2, 0], [-s1, s2, 0], [-s1, -s2, 0]])
-    elif shape == "circle":
-        r = ctx.num(need("radius"), f"{fld}.radius")
-        if "angles" in spec:
-            ang = [ctx.num(x, f"{fld}.angles") for x in spec["angles"]]
-        else:
-            n = need("count")
-            if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_LEGS):
-                raise ctx.err(f"must be an integer from 1 to {MAX_LEGS} (one vertex per leg), "
-                              f"got {shorten(n)}", f"{fld}.count")
-            st = ctx.num(spec.get("start", 0), f"{fld}.start")
-            ang = [st + 360.0 * k / n for k in range(n)]
-        pts = ring(r, ang)
-    elif shape == "points":
-        raw = need("points")
-        if not isinstance(raw, list) or not raw:
-            raise ctx.err("must be a list of [x, y, z]", f"{fld}.points")
-        pts = np.array([ctx.vec(p, f"{fld}.points[{k}]") for k, p in enumerate(raw)])
-    else:
-        shapes = ("triangle", "square", "rectangle", "circle", "points")
-        raise ctx.err(f"unknown shape {shorten(shape)}{did_you_mean(shape, shapes)} "
-                      f"({', '.join(shapes)})", f"{fld}.shape")
-    if "z" in spec:
-        pts[:, 2] += ctx.num(spec["z"], f"{fld}.z")
-    if len(pts) > 1 and np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)) <= 0:
-        raise ctx.err("degenerate vertices (all at one point)", fld)
-    return pts
-
-
-def _vertex_vector(names, base_pts, plat_pts, ctx, fld, kind):
-    if not (isinstance(names, (list, tuple)) and len(names) == 2):
-        raise ctx.err("needs two vertex names, e.g. [a3, a1]", fld)
-    pts = []
-    for nm in names:
-        nm = str(nm)
-        if kind == "platform":
-            table = {"o": np.zeros(3), **{f"a{k + 1}": p for k, p in enumerate(plat_pts)}}
-        else:
-            table = {"O": np.zeros(3), **{f"A{k + 1}": p for k, p in enumerate(base_pts)}}
-        if nm not in table:
-            raise ctx.err(f"unknown vertex {nm!r} (one of {', '.join(table)})", fld)
-        pts.append(table[nm])
-    v = pts[1] - pts[0]
-    if np.linalg.norm(v) == 0:
-        raise ctx.err("the two vertices coincide", fld)
-    return [float(x) for x in v]
-
-
-def _override(rules: LegRules, axes, base_pts, plat_pts, ctx, fld) -> LegRules:
-    """Rules with some joint axes replaced (a PM's per-vertex choice)."""
-    if not isinstance(axes, dict):
-        raise ctx.err("must be a mapping joint name -> direction rule", fld)
-    joints = list(rules.joints)
-    for jname, rule in axes.items():
-        f = f"{fld}.{jname}"
-        if isinstance(rule, dict) and len(rule) == 1 and next(iter(rule)) in ("platform_toward", "base_toward"):
-            (k, v), = rule.items()
-            kind = k.split("_")[0]
-            rule = {kind: _vertex_vector(v, base_pts, plat_pts, ctx, f, kind)}
-        jn = str(jname)
-        if not (isinstance(jname, str) and 2 <= len(jn) <= 8 and jn[0] in "RPHUSC"):
-            raise ctx.err(f"{shorten(jname)} is not a joint name of {rules.string.text} "
-                          "(R3, U1a, ...)", f)
-        part = jn[-1] if jn[-1] in "abc" and len(jn) > 2 and not jn[-2].isalpha() else ""
-        digits = jn[1:len(jn) - len(part)]
-        try:
-            if not (digits.isascii() and digits.isdigit()):
-                raise ValueError(digits)
-            pos = int(digits)
-        except ValueError:
-            raise ctx.err(f"not a joint name of {rules.string.text} (R3, U1a, ...)", f) from None
-        if not (1 <= pos <= len(joints)) or joints[pos - 1].letter != jn[0]:
-            raise ctx.err(f"{rules.string.text} has no joint {jn!r}", f)
-        jr = joints[pos - 1]
-        if part:
-            if jr.letter not in "US" or not jr.axes:
-                raise ctx.err(f"{jn[:-1]} has no listed axes to replace", f)
-            ax = list(jr.axes)
-            idx = "abc".index(part)
-            if idx >= len(ax):
-                raise ctx.err(f"{jn[:-1]} has {len(ax)} axes", f)
-            ax[idx] = rule
-            joints[pos - 1] = dataclasses.replace(jr, axes=tuple(ax))
-        else:
-            if jr.letter not in "RPHC":
-                raise ctx.err(f"name a part of {jn} ({jn}a, {jn}b ...)", f)
-            joints[pos - 1] = dataclasses.replace(jr, axis=rule)
-    return dataclasses.replace(rules, joints=tuple(joints))
-
-
 def _pose_values(raw, ctx, fld, names) -> dict:
     if raw is None:
         return {}
@@ -316,17 +192,23 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         raise ctx.err("must be a list with one leg per vertex", "legs")
     if not (len(raw_legs) == n == len(plat)):
         raise ctx.err(f"{len(raw_legs)} legs for {n} base and {len(plat)} platform vertices", "legs")
-    names, rules, bases = [], [], []
+    names, rules, bases, passive = [], [], [], []
     for i, entry in enumerate(raw_legs):
         fld = f"legs[{i}]"
         axes = None
         if isinstance(entry, dict):
-            extra = [k for k in entry if k not in ("leg", "axes")]
+            extra = [k for k in entry if k not in _PM_LEG_KEYS]
             if "leg" not in entry or extra:
-                hint = did_you_mean(extra[0], ("leg", "axes")) if extra else ""
-                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}}"
+                hint = did_you_mean(extra[0], _PM_LEG_KEYS) if extra else ""
+                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}, "
+                              "passive: true}"
                               + (f"; unknown key {shorten(extra[0], 40)}{hint}" if extra else ""),
                               fld)
+            flag = entry.get("passive", False)
+            if not isinstance(flag, bool):
+                raise ctx.err(f"must be true or false, got {shorten(flag)}", f"{fld}.passive")
+            if flag:
+                passive.append(i)
             axes, entry = entry.get("axes"), entry["leg"]
         if not isinstance(entry, str):
             raise ctx.err("must be a leg name", fld)
@@ -340,9 +222,17 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         names.append(spec.name)
         rules.append(r)
         bases.append(tuple(spec.basis))
-    string, pms = pm_string(d, name, rules, ctx)
-    if sorted(ls.text for ls in pms.legs) != sorted(r.string.text for r in rules):
-        raise ctx.err(f"the legs {'+'.join(r.string.text for r in rules)} do not make {string}", "legs")
+    string, pms = pm_string(d, name, rules, ctx, passive)
+    declared = sorted((r.string.text, i in passive) for i, r in enumerate(rules))
+    if sorted((ls.text, k in pms.passive) for k, ls in enumerate(pms.legs)) != declared:
+        legs_text = "+".join(r.string.text + ("/passive" if i in passive else "")
+                             for i, r in enumerate(rules))
+        raise ctx.err(f"the legs {legs_text} do not make {string}"
+                      + (" (a passive leg is written LEG/passive in the string and "
+                         "{leg: LEG, passive: true} in the legs)"
+                         if passive or pms.passive else ""), "legs")
+    if len(passive) == len(rules):
+        raise ctx.err("every leg is passive: a PM needs at least one actuated leg", "legs")
     # pose parametrisation
     order = d.get("euler", "XYX")
     try:
@@ -394,4 +284,4 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                limits=limits_from_mapping(d.get("limits"), ctx, legs),
                                workload=workload_from_mapping(d.get("workload"), name, src,
                                                               units, dims),
-                               default_pose=default, notes=tuple(notes))
+                               default_pose=default, notes=tuple(notes), passive=tuple(passive))

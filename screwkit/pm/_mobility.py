@@ -87,6 +87,12 @@ class Mobility:
     freedoms : tuple of screwkit.screws.Freedom
         The twist space classified (translations, rotations about lines, helical motions
         with their pitch; :func:`screwkit.screws.classify_freedoms`).
+    actuators : int
+        The actuated legs (every leg but the model's passive ones): a passive leg adds its
+        constraint wrenches to the count above and no actuator (a note says when the
+        actuators do not match the DOF).
+    passive : tuple of int
+        0-based indices of the passive legs.
     """
 
     dof: int
@@ -110,6 +116,8 @@ class Mobility:
     instantaneous_type: str = ""
     finite: str = ""
     freedoms: tuple = ()
+    actuators: int = 0
+    passive: tuple = ()
 
 
 def finite_motion(model) -> tuple:
@@ -223,7 +231,7 @@ def mobility_of_legs(legs, rtol: float = RANK_RTOL) -> Mobility:
             f"{len(pitches)}H(p={','.join(f'{h:.4g}' for h in pitches)})"
     return Mobility(dof, label, dof - rot, rot, rank, n_con, redundant,
                     common, gruebler, n_links, n_joints, loops, idle, tuple(dims), twists,
-                    wrenches, tuple(notes), freedoms=tuple(classified))
+                    wrenches, tuple(notes), freedoms=tuple(classified), actuators=len(legs))
 
 
 def describe_twist_space(twists, length: float, rtol: float = 1e-8) -> str:
@@ -347,6 +355,18 @@ def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
         fields["notes"] = res.notes + (
             f"the definition states {stated} DOF: this pose is singular or the geometry "
             "does not have the stated mobility",)
+    passive = tuple(getattr(model, "passive", ()))
+    fields["passive"] = passive
+    fields["actuators"] = len(solution.legs) - len(passive)
+    if passive:
+        fields["notes"] = fields.get("notes", res.notes) + (
+            f"passive leg{'s' * (len(passive) > 1)} "
+            f"{', '.join(str(i + 1) for i in passive)}: constraint wrenches, no actuator",)
+    if fields["actuators"] != res.dof:
+        fields["notes"] = fields.get("notes", res.notes) + (
+            f"{fields['actuators']} actuator(s) for {res.dof} DOF: "
+            + ("redundantly actuated" if fields["actuators"] > res.dof else
+               "the actuators do not fix every freedom"),)
     if model is not None and hasattr(model, "independent"):
         # the finite motion type is the parametrisation's; the twist space here may count
         # differently (a tilted 1T2R platform's twists are three screws of finite pitch)

@@ -143,6 +143,12 @@ class PMModel:
     def n_legs(self) -> int:
         return len(self.legs)
 
+    @property
+    def active(self) -> tuple:
+        """0-based indices of the actuated legs (every leg but the :attr:`passive` ones), in
+        leg order: the order of the actuation rows of ``J`` and of the actuator values."""
+        return tuple(i for i in range(len(self.legs)) if i not in self.passive)
+
     def placement(self, i: int, pose: dict) -> Placement:
         """The :class:`Placement` of leg ``i`` (0-based) at ``pose`` (radians)."""
         R0, p0 = self.frame

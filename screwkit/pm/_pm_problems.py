@@ -70,9 +70,9 @@ def pm_problems(name: str, d, cat, build) -> list:
             good, v = attempt(_vertices, d[part], ctx, part)
             if good:
                 verts[part] = v
-    rules = _legs(d, ctx, cat, verts, attempt, _override)
-    if rules is not None and not any(e.field == "string" for e in out):
-        attempt(pm_string, d, name, rules, ctx)
+    got = _legs(d, ctx, cat, verts, attempt, _override)
+    if got is not None and not any(e.field == "string" for e in out):
+        attempt(pm_string, d, name, got[0], ctx, got[1])
     ind = d.get("independent")
     good_ind = isinstance(ind, list) and ind and all(isinstance(p, str) and p in PARAMS
                                                      for p in ind) and len(set(ind)) == len(ind)
@@ -137,27 +137,36 @@ def _units(d, name, src, attempt):
 
 
 def _legs(d, ctx, cat, verts, attempt, override):
-    """Each leg entry on its own; the rules when every entry is sound, else None."""
+    """Each leg entry on its own; ``(rules, passive)`` when every entry is sound, else None."""
     from ..legs._guards import did_you_mean, shorten
+    from ._loader import _PM_LEG_KEYS
     raw = d.get("legs")
     if raw is None:
         return None
     if not isinstance(raw, list) or not raw:
         attempt(_raise, ctx.err("must be a list with one leg per vertex", "legs"))
         return None
-    rules, good = [], True
+    rules, passive, good = [], [], True
     for i, entry in enumerate(raw):
         fld = f"legs[{i}]"
         axes = None
         if isinstance(entry, dict):
-            extra = [k for k in entry if k not in ("leg", "axes")]
+            extra = [k for k in entry if k not in _PM_LEG_KEYS]
             if "leg" not in entry or extra:
-                hint = did_you_mean(extra[0], ("leg", "axes")) if extra else ""
+                hint = did_you_mean(extra[0], _PM_LEG_KEYS) if extra else ""
                 attempt(_raise, ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: "
-                                        "DIRECTION}}" + (f"; unknown key {shorten(extra[0], 40)}"
-                                                         f"{hint}" if extra else ""), fld))
+                                        "DIRECTION}, passive: true}"
+                                        + (f"; unknown key {shorten(extra[0], 40)}{hint}"
+                                           if extra else ""), fld))
                 good = False
                 continue
+            flag = entry.get("passive", False)
+            if not isinstance(flag, bool):
+                attempt(_raise, ctx.err(f"must be true or false, got {shorten(flag)}",
+                                        f"{fld}.passive"))
+                good = False
+            elif flag:
+                passive.append(i)
             axes, entry = entry.get("axes"), entry["leg"]
         if not isinstance(entry, str):
             attempt(_raise, ctx.err("must be a leg name", fld))
@@ -180,7 +189,7 @@ def _legs(d, ctx, cat, verts, attempt, override):
     if len(verts) == 2 and not (len(raw) == n[0] == n[1]):
         attempt(_raise, ctx.err(f"{len(raw)} legs for {n[0]} base and {n[1]} platform "
                                 "vertices", "legs"))
-    return rules if good else None
+    return (rules, passive) if good else None
 
 
 def _raise(exc):

@@ -119,7 +119,7 @@ def model_schema() -> dict:
     from ..legs._rules import _JOINT_KEYS
     from ._catalog import _EXPECT_KEYS, _LEG_KEYS, _TOP_KEYS
     from ._limits import _KEYS as _LIMIT_KEYS
-    from ._loader import _PM_KEYS, _SHAPE_KEYS
+    from ._loader import _PM_KEYS, _PM_LEG_KEYS, _SHAPE_KEYS
     from ._model import PARAMS
     from ._physical import _BEAM_KEYS, _BLOCK_KEYS, _LEG_KEYS as _DYN_LEG_KEYS, _STIFF_KEYS
     from ._units import FORCE_UNITS, LENGTH_UNITS
@@ -145,6 +145,13 @@ def model_schema() -> dict:
         "stiffness": {"oneOf": [stiff, {"type": "array", "items": stiff}]},
     }, _BLOCK_KEYS)
     pm_types = dict(_PM_TYPES)
+    pm_leg_types = {
+        "leg": (_TEXT, "a leg type's name"),
+        "axes": ({"type": "object", "propertyNames": {"pattern": "^[RPHUSC][0-9]+[abc]?$"},
+                  "additionalProperties": _RULE}, "{JOINT: direction rule} replaced"),
+        "passive": ({"type": "boolean"}, "a leg without an actuator (true): it adds its "
+                    "constraint wrenches and no actuation row"),
+    }
     top_types = {
         "version": ({"type": "integer", "const": 1}, "the file format version"),
         "units": ({"$ref": "#/$defs/units"}, "units of every PM of the file that declares none"),
@@ -174,10 +181,7 @@ def model_schema() -> dict:
             "pm_leg": {"oneOf": [
                 {"type": "string", "description": "a leg type's name"},
                 {"type": "object", "required": ["leg"], "additionalProperties": False,
-                 "properties": {"leg": _TEXT, "axes": {
-                     "type": "object", "description": "{JOINT: direction rule} replaced",
-                     "propertyNames": {"pattern": "^[RPHUSC][0-9]+[abc]?$"},
-                     "additionalProperties": _RULE}}}]},
+                 "properties": _props(pm_leg_types, _PM_LEG_KEYS)}]},
             "pm": _obj(pm_types, _PM_KEYS,
                        required=("base", "platform", "legs", "independent", "dof")),
             "joint": {"oneOf": [{"type": "null"}, _obj(_JOINT_TYPES, _JOINT_KEYS)]},

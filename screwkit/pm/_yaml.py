@@ -7,7 +7,8 @@ walks the composed node graph once to refuse
 
 * duplicate keys in a mapping (``dof: 3`` twice: YAML would keep the last silently),
 * keys that are not plain names, and booleans anywhere (``yes``, ``on``, ``true``: YAML 1.1
-  reads them as booleans; quote them when they are text),
+  reads them as booleans; quote them when they are text) except ``true`` / ``false`` as the
+  value of a key in :data:`BOOLEAN_KEYS` (a leg's ``passive: true``),
 * numbers written with more than :data:`~screwkit.legs._guards.MAX_NUMBER_CHARS` characters,
   and ``.nan`` / ``.inf``,
 * a document whose aliases expand to more than :data:`~screwkit.legs._guards.MAX_YAML_NODES`
@@ -36,6 +37,8 @@ _FLOAT = "tag:yaml.org,2002:float"
 _BOOL = "tag:yaml.org,2002:bool"
 _MERGE = "tag:yaml.org,2002:merge"
 _NONFINITE = {".nan", ".inf", "-.inf", "+.inf"}
+#: The keys whose value is a boolean, written ``true`` or ``false``.
+BOOLEAN_KEYS = frozenset({"passive"})
 
 
 class _Refused(Exception):
@@ -133,8 +136,13 @@ def _check_node(node, path) -> None:
     if isinstance(node, yaml.ScalarNode):
         v = node.value
         if node.tag == _BOOL:
-            raise _Refused(f"{v!r} is read as a boolean (true/false); no field of a model is a "
-                           f"boolean: write a number, or quote the text ('{v}')",
+            if path and path[-1] in BOOLEAN_KEYS and v in ("true", "false"):
+                return
+            if path and path[-1] in BOOLEAN_KEYS:
+                raise _Refused(f"{v!r} is read as a boolean: write true or false",
+                               node.start_mark, path)
+            raise _Refused(f"{v!r} is read as a boolean (true/false); no field of a model but "
+                           f"'passive' is a boolean: write a number, or quote the text ('{v}')",
                            node.start_mark, path)
         if node.tag in (_INT, _FLOAT):
             if len(v) > MAX_NUMBER_CHARS:

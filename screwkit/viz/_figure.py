@@ -10,23 +10,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
+from ..scene import COLORS, LEG_COLORS, leg_color   # one palette for every picture
 
 __all__ = ["require_matplotlib", "new_figure", "save_figure", "COLORS", "DEFAULT_VIEW",
            "LEG_COLORS", "LEG_MARKERS", "POSE_COLORS", "leg_color", "leg_marker"]
-
-
-#: Colours of the drawing elements (the wrenches of a one-leg drawing are coloured by kind;
-#: a PM drawing colours every leg and its wrenches with :func:`leg_color`).
-COLORS = {
-    "chain": "#9a9a9a", "R": "#262626", "P": "#525252", "P_fill": "#e6e6e6", "S": "#6a3d9a",
-    "U": "#6a3d9a", "end": "#000000", "force": "#2166ac", "couple": "#1b7837",
-    "screw": "#c51b7d", "actuation": "#d6261e", "base": "#bdbdbd", "platform": "#8c8c8c",
-}
-
-#: The leg palette: leg i (0-based) is drawn in ``LEG_COLORS[i % len(LEG_COLORS)]`` in the PM
-#: drawings and in every panel of the Fig. 5 plots (its r_i, F_ai, F_ci, T_ri curves).
-LEG_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
-              "#e377c2", "#17becf")
 
 #: The marker of leg i on the curves of the Fig. 5 plots (with its colour).
 LEG_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
@@ -34,11 +21,6 @@ LEG_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 #: Colours of the pose parameters in panel (a) (none of them is a leg colour).
 POSE_COLORS = {"alpha": "#000000", "beta": "#737373", "gamma": "#b8860b", "Xo": "#00838f",
                "Yo": "#ad1457", "Zo": "#5d4037"}
-
-
-def leg_color(i: int) -> str:
-    """The colour of leg ``i`` (0-based) in every drawing and plot."""
-    return LEG_COLORS[int(i) % len(LEG_COLORS)]
 
 
 def leg_marker(i: int) -> str:

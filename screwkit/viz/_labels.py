@@ -22,11 +22,12 @@ from ._view import _View
 
 _ANGLES = np.radians(np.arange(0.0, 360.0, 22.5))
 _RADII = (0.0, 4.0, 9.0, 16.0, 26.0, 40.0, 58.0)       # points beyond the base gap
-_PAD = 1.5                                              # pixels kept free around a box
+_PAD = 3.0                                              # pixels kept free around a box
 _W_LABEL, _W_MARKER, _W_OUT, _W_AXES = 100.0, 60.0, 100.0, 4.0
 _W_HARD = 500.0          # any overlap with a label, a marker or a text: a last resort
 _W_HULL = 300.0          # a label leaving the box of the 3D axes (over the tick labels)
 _W_SEGMENT, _W_DIST, _W_PREF, _W_TAKEN = 0.3, 0.07, 1.5, 1.2
+_W_OWNER = 200.0         # a label nearer another arrow than its own (it would be misread)
 
 
 def _cross2(u, v) -> float:
@@ -76,6 +77,7 @@ class _Request:
     gap: float             # points between the anchor and the text
     priority: int
     box: tuple = field(default=None)
+    owner: int | None = None    # the index of its arrow in _Labeller.arrows
 
 
 def _overlaps(boxes, obstacles, area) -> np.ndarray:
@@ -104,6 +106,17 @@ def _leaders_cross(anchor, boxes, others, with_leader) -> np.ndarray:
     hit = ((x > others[None, None, :, 0]) & (x < others[None, None, :, 2])
            & (y > others[None, None, :, 1]) & (y < others[None, None, :, 3]))
     return lead & hit.any(axis=(1, 2))
+
+
+def _box_segment_distances(boxes, segments) -> np.ndarray:
+    """Screen distance ``(c, k)`` from the centre of each box ``(c, 4)`` to each segment
+    ``(k, 2, 2)``."""
+    c = 0.5 * (boxes[:, :2] + boxes[:, 2:])                                # (c, 2)
+    a, ab = segments[:, 0], segments[:, 1] - segments[:, 0]                # (k, 2)
+    t = np.einsum("ckx,kx->ck", c[:, None, :] - a[None], ab) / np.maximum(
+        np.einsum("kx,kx->k", ab, ab), 1e-12)[None]
+    near = a[None] + np.clip(t, 0.0, 1.0)[..., None] * ab[None]
+    return np.linalg.norm(c[:, None, :] - near, axis=-1)
 
 
 def _text_boxes(fig, ax, renderer) -> np.ndarray:
@@ -140,6 +153,7 @@ class _Labeller:
         self.requests = []
         self.markers = []      # (point (3,), radius in points)
         self.segments = []     # (p0 (3,), p1 (3,))
+        self.arrows = []       # (p0 (3,), p1 (3,)): arrows whose labels must sit by their own
 
     # -- what the labels must avoid --------------------------------------------------------
     def _key(self, p):
@@ -158,6 +172,11 @@ class _Labeller:
     def segment(self, p0, p1):
         """A drawn segment that a label should not lie on."""
         self.segments.append((np.asarray(p0, float), np.asarray(p1, float)))
+
+    def arrow(self, p0, p1) -> int:
+        """Register an arrow (3D tail and head); returns its index for a label's ``owner``."""
+        self.arrows.append((np.asarray(p0, float), np.asarray(p1, float)))
+        return len(self.arrows) - 1
 
     def _score(self, point, s):
         return min((-float(np.dot(s, t)) for t in self.taken.get(self._key(point), [])),
@@ -188,11 +207,15 @@ class _Labeller:
         s = self.view.screen(np.asarray(d, float))
         return self._request(tip, text, color, size, [s] if np.any(s) else [], 3.0, priority)
 
-    def beside(self, tip, d, text, color, size, gap=None, priority=0):
-        """Label beside the head of an arrow along ``d`` (off its line): either side."""
+    def beside(self, tip, d, text, color, size, gap=None, priority=0, owner=None):
+        """Label beside the head of an arrow along ``d`` (off its line): either side.
+        ``owner``: the index of the arrow (:meth:`arrow`); the label is then kept nearer
+        it than any other registered arrow."""
         s = self.view.screen(np.asarray(d, float))
         prefs = [np.array([-s[1], s[0]]), np.array([s[1], -s[0]])] if np.any(s) else []
-        return self._request(tip, text, color, size, prefs, 5.0, priority)
+        art = self._request(tip, text, color, size, prefs, 5.0, priority)
+        self.requests[-1].owner = owner
+        return art
 
     def around(self, point, text, color, size, dist=None, priority=1):
         """Label next to ``point``, in the screen direction freest of what is drawn there."""
@@ -223,6 +246,8 @@ class _Labeller:
         fixed.append(_text_boxes(fig, ax, renderer))
         marks = np.vstack(fixed)
         seg_pts = self._segment_points(ax)
+        arrows = (_anchor_display(ax, [p for a in self.arrows for p in a]).reshape(-1, 2, 2)
+                  if self.arrows else np.zeros((0, 2, 2)))
         fb, ab = fig.bbox, ax.bbox
         hull = _box_hull(ax) if getattr(ax, "name", "") == "3d" else None
         sizes = []
@@ -268,6 +293,10 @@ class _Labeller:
                     inside = hull.contains_points(corners).reshape(-1, 4).all(axis=1)
                     cost += _W_HULL * ~inside
                 cost += _W_HARD * _leaders_cross(a, boxes, others, extra >= 9.0)
+                if r.owner is not None and len(arrows) > 1:
+                    d = _box_segment_distances(boxes, arrows)                # (c, k)
+                    rival = np.delete(d, r.owner, axis=1).min(axis=1)
+                    cost += _W_OWNER * (rival < d[:, r.owner])
                 if len(seg_pts):
                     inside = ((seg_pts[None, :, 0] > boxes[:, None, 0])
                               & (seg_pts[None, :, 0] < boxes[:, None, 2])

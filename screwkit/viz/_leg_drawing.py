@@ -180,8 +180,17 @@ def _leg_geometry(ax, leg, ext: _Extent, view: _View, joint_labels=True,
     lab.marker(leg.A, 2.5)
     lab.marker(leg.a, 2.5)
     if end_labels:
-        lab.around(leg.A, end_labels[0], "k", label_size + 1)
-        lab.around(leg.a, end_labels[1], "k", label_size + 1)
+        ends = list(end_labels)
+        for k, p in enumerate((leg.A, leg.a)):
+            # a U or S centre at an end point: one label for both ("a, U3"), not two
+            # labels fighting for the same spot
+            same = [t for t in centre_labels if np.linalg.norm(t[0] - p) <= 1e-9 * L] \
+                if leg_tag is None else []          # (a PM's joint labels keep leg colours)
+            if same:
+                ends[k] = ", ".join([ends[k]] + [t[1] for t in same])
+                centre_labels = [t for t in centre_labels if not any(t is x for x in same)]
+        lab.around(leg.A, ends[0], "k", label_size + 1)
+        lab.around(leg.a, ends[1], "k", label_size + 1)
     for q, text, c in centre_labels:
         lab.around(q, text, c, label_size, priority=2)
     return kinds

@@ -21,6 +21,30 @@ from ._view import _choose_pm_view
 __all__ = ["draw_pm"]
 
 _ROW_KINDS = ("actuation", "force", "couple")
+#: The shortest arrow, as a fraction of the longest of its kind (so that small values show).
+FLOOR = 0.25
+
+
+def scale_key(row) -> tuple:
+    """The arrows one row's length is proportional with: its quantity (force or torque) and
+    whether it is an actuation wrench (actuation forces, constraint forces and torques are
+    each scaled on their own)."""
+    q = row.get("quantity") or ("torque" if row["kind"] == "couple" else "force")
+    return q, bool(row.get("actuation", row["kind"] == "actuation"))
+
+
+#: How far (times the drawing's size) a constraint force starting on a joint centre or an end
+#: point is moved along its line, out of the marker drawn there.
+_CLEAR = 0.08
+
+
+def _on_a_marker(p, legs, size) -> bool:
+    """True where ``p`` is an S or U centre or an end point A, a of a leg (a marker)."""
+    for leg in legs:
+        pts = [leg.A, leg.a] + [j.point for j in leg.joints if j.spec.origin in "SU"]
+        if np.min(np.linalg.norm(np.asarray(pts, float) - p, axis=1)) <= 1e-6 * size:
+            return True
+    return False
 
 
 def _check_rows(rows, values, n_legs):
@@ -150,10 +174,13 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         fix the value, e.g. the least-norm couples of an indeterminate PM; its label gets
         a ``*`` and the note explains it).  The drawn vector is ``value * direction``
         (direction normalised); arrow lengths are proportional to ``|value|``
-        relative to the largest of the same unit (forces and couples scaled
-        separately), with a floor of 15 % so that small values stay visible.
+        relative to the largest of the same kind (:func:`scale_key`: actuation forces,
+        constraint forces and torques scaled each on their own), with a floor of 25 %
+        (:data:`FLOOR`) so that small values stay visible.
         A force is drawn on its line at the point nearest to its leg's
-        platform point ``a``, its line dashed (dash-dotted for an actuation force);
+        platform point ``a`` (a constraint force that would start on a joint centre or an
+        end point is moved along its line, clear of the marker there), its line dashed
+        (dash-dotted for an actuation force);
         a couple as a double-headed arrow beside its leg, where it is clear of the
         joints, chains and other arrows, tied to the leg by a dotted line.  A NaN value
         is drawn at the floor length and labelled ``n/a``.
@@ -234,11 +261,11 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
                 labeller.segment(*seg)
     note = []
     if rows:
-        note.append("arrow lengths proportional to |value|\n(forces and torques scaled "
-                    "separately)")
+        note.append("arrow lengths proportional to |value|\n(actuation forces, constraint "
+                    "forces\nand torques each scaled on their own)")
         if floored:
-            note.append("drawn at 15 % of the largest arrow\n(value below 15 % or n/a): "
-                        + ", ".join(floored))
+            note.append(f"drawn at {FLOOR:.0%} of the largest of its kind\n(value below "
+                        f"{FLOOR:.0%} or n/a): " + ", ".join(floored))
     if any(not r["determined"] for r in rows):
         note.append("* " + (indeterminate_note or
                             "not determined by statics\n  (least-norm value)"))
@@ -256,9 +283,8 @@ def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, 
     max_len = 0.6 * size
     vmax, kinds, floored = {}, set(), []
     for r in rows:
-        key = r.get("quantity") or ("torque" if r["kind"] == "couple" else "force")
         if np.isfinite(r["value"]):
-            vmax[key] = max(vmax.get(key, 0.0), abs(r["value"]))
+            vmax[scale_key(r)] = max(vmax.get(scale_key(r), 0.0), abs(r["value"]))
     for irow, r in enumerate(rows):
         leg = legs[r["leg"]]
         is_couple = r["kind"] == "couple"
@@ -273,12 +299,12 @@ def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, 
         shown = value_format.format(val) if value_format else _three_digits(val)
         text = f"{r['label']} = {shown} {unit}{star}" if np.isfinite(val) \
             else f"{r['label']} = n/a"
-        top = vmax.get(key, 0.0)
+        top = vmax.get(scale_key(r), 0.0)
         if np.isfinite(val) and top > 0:
-            frac, sgn = max(abs(val) / top, 0.15), (-1.0 if val < 0 else 1.0)
+            frac, sgn = max(abs(val) / top, FLOOR), (-1.0 if val < 0 else 1.0)
         else:
-            frac, sgn = 0.15, 1.0
-        if not (np.isfinite(val) and top > 0 and abs(val) >= 0.15 * top):
+            frac, sgn = FLOOR, 1.0
+        if not (np.isfinite(val) and top > 0 and abs(val) >= FLOOR * top):
             floored.append(r["label"])
         vec = sgn * frac * max_len * r["direction"]
         if is_couple:
@@ -291,14 +317,19 @@ def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, 
         else:
             d, q = r["direction"], r["point"]
             p0 = q + float(np.dot(leg.a - q, d)) * d  # the line's point nearest to a
+            if not r["actuation"] and _on_a_marker(p0, legs, size):
+                # a force slides on its line: start it clear of the ball or dot it would
+                # hide under (the 2SPS+2SPR's F_c2 at the S centre A2)
+                p0 = p0 + _CLEAR * size * vec / np.linalg.norm(vec)
             _arrow(ax, p0, p0 + vec, color, lw=2.2, scale=13, gid=f"row:{irow}", hollow=hollow)
         r["_p0"] = p0
         ext.add(p0, p0 + vec)
         labeller.segment(p0, p0 + vec)
         labeller.marker(p0 + vec, 5.0)
+        owner = labeller.arrow(p0, p0 + vec)
         u = vec / np.linalg.norm(vec)
         if is_couple:
             labeller.tip(p0 + vec, u, text, color, 7.5, priority=0)
         else:
-            labeller.beside(p0 + 0.75 * vec, u, text, color, 7.5)
+            labeller.beside(p0 + 0.75 * vec, u, text, color, 7.5, owner=owner)
     return kinds, floored

@@ -218,7 +218,8 @@ def print_text(res, units=None) -> None:
         print(f"  {model.summary}")
     print("legs:")
     for i, leg in enumerate(sol.legs, 1):
-        print(f"  {i}. {leg.name:<12} [{leg.string.marked}]  A{i} = {fmt_vec(leg.A * kl)}  "
+        tag = "passive" if i - 1 in model.passive else leg.string.marked
+        print(f"  {i}. {leg.name:<12} [{tag}]  A{i} = {fmt_vec(leg.A * kl)}  "
               f"a{i} = {fmt_vec(leg.a * kl)} {u.length}")
     print(f"mobility: {mob.dof} DOF ({mob.motion_type}); constraint rank {mob.constraint_rank} of "
           f"{mob.n_constraints} constraint wrenches; redundant {mob.redundant}; common {mob.common}; "

@@ -39,58 +39,6 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def wrench_rows(analysis, values: bool = True):
-    """The rows of ``draw_pm`` from a :class:`~screwkit.engine.PMAnalysis`.
-
-    Returns
-    -------
-    rows : list of dict
-        ``kind`` (actuation | force | couple), ``leg``, ``direction``, ``point``,
-        ``value`` (the statics' value; NaN when singular or ``values`` is False),
-        ``label`` (``F_a1``, ``F_c2``, ``T_c3``; an actuation torque is ``T_a1``),
-        ``determined`` (False where a self-stress of an indeterminate PM can change the
-        value: it is the least-norm or compliance-weighted choice).
-    skipped : list of str
-        Rows that cannot be drawn (finite-pitch wrenches, a dependent actuator).
-    """
-    jac, st = analysis.jacobian, analysis.statics
-    have = st is not None and values
-    vals = st.values if have else np.full(len(jac.rows), np.nan)
-    det = st.determined if have else np.ones(len(jac.rows), bool)
-    rows, skipped = [], []
-    for r, v, dt in zip(jac.rows, vals, det):
-        i = r.leg + 1
-        n0 = len(rows)
-        if r.kind == "actuation":
-            rotary = r.joint is not None and r.joint[0] in "RH"
-            if r.member == "force":
-                # a rotary actuator's effort is a torque: its row is the force it transmits
-                rows.append(dict(kind="actuation", leg=r.leg, direction=r.direction,
-                                 point=r.point, value=v,
-                                 label=f"$T_{{a{i}}}$" if rotary else f"$F_{{a{i}}}$",
-                                 quantity="torque" if rotary else "force"))
-            elif r.member == "couple":
-                rows.append(dict(kind="couple", leg=r.leg, direction=r.direction, point=None,
-                                 value=v, label=f"$T_{{a{i}}}$", actuation=True))
-            else:
-                skipped.append(f"leg {i}: actuation {r.member}")
-        elif r.kind in ("force", "couple"):
-            sym = "F_{c" if r.kind == "force" else "T_{c"
-            rows.append(dict(kind=r.kind, leg=r.leg, direction=r.direction, point=r.point,
-                             value=v, label=f"${sym}{i}}}$"))
-        else:
-            skipped.append(f"leg {i}: constraint {r.kind}")
-        for row in rows[n0:]:
-            row["determined"] = bool(dt)
-    labels = [r["label"] for r in rows]
-    count = {}
-    for r in rows:
-        if labels.count(r["label"]) > 1:
-            count[r["label"]] = count.get(r["label"], 0) + 1
-            r["label"] = r["label"][:-2] + f",{count[r['label']]}}}$"
-    return rows, skipped
-
-
 def _title(res, force_unit, length_unit, singular) -> str:
     p = res.solution.params_degrees()
     scale = res.model.normalisation.length
@@ -117,7 +65,7 @@ def _title(res, force_unit, length_unit, singular) -> str:
 
 def run(args) -> int:
     from ...viz import draw_pm, require_matplotlib
-    from ...engine import analyze_pm
+    from ...engine import analyze_pm, wrench_rows
 
     require_matplotlib()
     view = None

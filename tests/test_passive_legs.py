@@ -1,0 +1,214 @@
+"""Passive legs: a leg without an actuator adds its constraint rows to J and no actuation row.
+
+The Tricept-type 3UPS+UP/passive (K.-E. Neumann, US patent 4,732,525; the kinematics of
+B. Siciliano, "The Tricept robot: inverse kinematics, manipulability analysis and closed-loop
+direct kinematics algorithm", Robotica 17, 1999) is written here as a model file of its own,
+with the passive central column a UP leg: a U at the base centre O (first axis the base X
+axis, second axis normal to it and to the column) and a P along the column, rigidly fixed to
+the platform at its centre o.  Everything the engine prints is compared with a derivation
+by hand:
+
+* the platform orientation is that of the column, R = Rx(alpha) Ry(beta) (so with the
+  intrinsic XYZ order gamma = 0), and o = s R z with s = Zo / (R z)_z;
+* the column exerts the wrenches reciprocal to its twists [0; X], [0; Rx(alpha) Y] (the
+  U's rotations about lines through O) and [R z; 0] (the P): forces through O normal to
+  the column and a couple along X x Rx(alpha) Y;
+* the platform's freedoms are those three twists; virtual work on each of them gives the
+  three actuator forces of the UPS legs, whose actuation rows are unit forces along the
+  legs: sum_i F_ai (u_i . v + (B_i x u_i) . w) = -(W . T) for each freedom T = [v; w],
+  with W = [F; T + o x F] about O.
+"""
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.errors import CatalogError, InputError, ParseError
+from screwkit.legs import parse_pm
+
+X, Y, Z = np.eye(3)
+
+TRICEPT = """\
+units: {length: mm, force: N}
+legs:
+  - name: UP/column
+    string: U_P
+    summary: the Tricept's passive column
+    joints:
+      - {at: A, axes: [base.X, {perpendicular: [U1a, leg]}]}
+      - {axis: leg}
+    structure:
+      - {perpendicular: [U1b, leg]}
+pms:
+  tricept:
+    string: 3UPS+UP/passive
+    dimensions: {R: 300, r: 110, H: 650}
+    base: {points: [[R, 0, 0], [-R/2, R*sqrt(3)/2, 0], [-R/2, -R*sqrt(3)/2, 0], [0, 0, 0]]}
+    platform: {points: [[r, 0, 0], [-r/2, r*sqrt(3)/2, 0], [-r/2, -r*sqrt(3)/2, 0], [0, 0, 0]]}
+    legs: [UPS, UPS, UPS, {leg: UP/column, passive: true}]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    home: {alpha: 0, beta: 0, Zo: H}
+    pose: {alpha: 5, beta: -3, Zo: H}
+    dof: 3
+    motion: 1T2R
+"""
+
+
+def _rx(t):
+    c, s = np.cos(t), np.sin(t)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def _ry(t):
+    c, s = np.cos(t), np.sin(t)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+@pytest.fixture(scope="module")
+def tricept(tmp_path_factory):
+    p = tmp_path_factory.mktemp("passive") / "tricept.yaml"
+    p.write_text(TRICEPT)
+    return screwkit.load_pm(str(p))
+
+
+def _hand(alpha, beta, Zo, R=300.0, r=110.0):
+    """Pose, actuation rows, freedoms and constraint wrenches of the Tricept, by hand."""
+    Rp = _rx(alpha) @ _ry(beta)
+    d = Rp @ Z
+    o = (Zo / d[2]) * d
+    ang = np.radians([0.0, 120.0, 240.0])
+    B = np.column_stack([R * np.cos(ang), R * np.sin(ang), np.zeros(3)])
+    P = o + (Rp @ np.column_stack([r * np.cos(ang), r * np.sin(ang), np.zeros(3)]).T).T
+    u = (P - B) / np.linalg.norm(P - B, axis=1)[:, None]
+    Ja = np.hstack([u, np.cross(B, u)])
+    e2 = _rx(alpha) @ Y
+    freedoms = np.array([np.r_[0, 0, 0, X], np.r_[0, 0, 0, e2], np.r_[d, 0, 0, 0]])
+    n = np.cross(X, e2)
+    f1 = np.cross(d, X)
+    f1 /= np.linalg.norm(f1)
+    constraints = np.array([np.r_[f1, 0, 0, 0], np.r_[np.cross(d, f1), 0, 0, 0],
+                            np.r_[0, 0, 0, n / np.linalg.norm(n)]])
+    return Rp, o, np.linalg.norm(P - B, axis=1), Ja, freedoms, constraints
+
+
+def _actuator_forces(Ja, freedoms, F, T, o):
+    W = np.r_[F, np.asarray(T) + np.cross(o, F)]
+    # virtual work on each freedom: sum_i F_ai (Ja_i . T_k) = -(W . T_k)
+    return np.linalg.solve(freedoms @ Ja.T, -(freedoms @ W))
+
+
+POSES = [(0.0, 0.0, 650.0), (5.0, -3.0, 650.0), (-12.0, 8.0, 590.0), (9.0, 14.0, 720.0)]
+
+
+@pytest.mark.parametrize("alpha,beta,Zo", POSES)
+def test_tricept_against_the_hand_derivation(tricept, alpha, beta, Zo):
+    F, T = np.array([30.0, -20.0, -500.0]), np.array([4000.0, -2500.0, 1500.0])
+    res = screwkit.analyze(tricept, {"alpha": alpha, "beta": beta, "Zo": Zo}, degrees=True,
+                           force=F, torque=T)
+    Rp, o, lengths, Ja, freedoms, constraints = _hand(np.radians(alpha), np.radians(beta), Zo)
+    sol = res.solution
+    # inverse displacement: the column's orientation and the platform centre on it
+    np.testing.assert_allclose(sol.rotation, Rp, atol=1e-10)
+    np.testing.assert_allclose(sol.position, o, atol=1e-8)
+    assert abs(sol.params["gamma"]) < 1e-10
+    np.testing.assert_allclose(sol.extensions[:3], lengths, rtol=1e-10)
+    # J: 3 actuation rows (the UPS legs), 3 constraint rows of the passive column
+    jac = res.jacobian
+    assert jac.n_actuated == 3 and jac.J.shape == (6, 6)
+    assert jac.labels[:3] == ("F_a1", "F_a2", "F_a3")
+    assert [r.leg for r in jac.info] == [0, 1, 2, 3, 3, 3]
+    assert all(r.kind != "actuation" for r in jac.info if r.leg == 3)
+    np.testing.assert_allclose(jac.J_a, Ja, atol=1e-10)
+    # the column's rows span the hand constraint system (and are reciprocal to its twists)
+    s = np.linalg.svd(np.vstack([constraints, jac.J_c]), compute_uv=False)
+    assert s[3] < 1e-9 * s[0]
+    # statics: actuator forces from virtual work; the column takes the rest
+    Fa = _actuator_forces(Ja, freedoms, F, T, o)
+    np.testing.assert_allclose(res.statics.active, Fa, rtol=1e-9, atol=1e-9 * np.abs(Fa).max())
+    W = np.r_[F, T + np.cross(o, F)]
+    column = res.statics.leg_wrenches[3]
+    np.testing.assert_allclose(column, -(W + Fa @ Ja), atol=1e-8 * np.abs(W).max())
+    assert abs(column[:3] @ (Rp @ Z)) < 1e-8 * np.abs(W).max()          # no force along it
+    # mobility: 3 DOF, the three actuated legs; the twist space is the hand freedoms
+    m = res.mobility
+    assert (m.dof, m.constraint_rank, m.n_constraints, m.actuators) == (3, 3, 3, 3)
+    assert m.passive == (3,) and m.motion_type == "1T2R"
+    per_length = np.r_[np.ones(3), np.full(3, Zo)]          # v / L and w on one scale
+    s = np.linalg.svd(np.vstack([freedoms, m.twists]) * per_length, compute_uv=False)
+    assert s[3] < 1e-8 * s[0]
+
+
+def test_tricept_report_names_the_passive_leg(tricept):
+    res = screwkit.analyze(tricept, force=[0, 0, -100.0], torque=[0, 0, 0])
+    d = res.to_dict()
+    legs = d["legs"]
+    assert [lg["passive"] for lg in legs] == [False, False, False, True]
+    assert "actuation" not in legs[3] and "actuator_value" not in legs[3]
+    assert all("actuator_value" in lg for lg in legs[:3])
+    assert d["statics"]["labels"][:3] == ["F_a1", "F_a2", "F_a3"]
+    assert len(d["statics"]["active"]) == 3
+    assert d["mobility"]["actuators"] == 3 and d["mobility"]["passive_legs"] == [4]
+    assert res.solution.actuator_values.shape == (3,)
+
+
+def test_passive_in_pm_strings():
+    p = parse_pm("3UPS+UP/passive")
+    assert p.passive == (3,) and p.canonical == "3UPS+UP/passive"
+    assert [ls.text for ls in p.legs] == ["UPS", "UPS", "UPS", "UP"]
+    p = parse_pm("2UP/passive + 3-UPS")
+    assert p.passive == (0, 1) and p.canonical == "2UP/passive+3UPS"
+    assert parse_pm("3RPS").passive == ()
+    for bad, where in (("3UPS+UP/pasive", 7), ("3UPS+/passive", 5), ("UPS/", 3)):
+        with pytest.raises(ParseError) as e:
+            parse_pm(bad)
+        assert f"position {where}" in str(e.value)
+
+
+def _variant(tmp_path, legs_line, string="3UPS+UP/passive"):
+    text = TRICEPT.replace("    legs: [UPS, UPS, UPS, {leg: UP/column, passive: true}]",
+                           f"    legs: {legs_line}").replace(
+        "string: 3UPS+UP/passive", f"string: {string}")
+    p = tmp_path / "m.yaml"
+    p.write_text(text)
+    return str(p)
+
+
+def test_passive_declarations_must_agree(tmp_path):
+    # the string says passive, the legs do not
+    with pytest.raises(CatalogError, match=r"do not make 3UPS\+UP/passive.*LEG/passive"):
+        screwkit.load_pm(_variant(tmp_path, "[UPS, UPS, UPS, UP/column]"))
+    # the legs say passive, the string does not
+    with pytest.raises(CatalogError, match="do not make 3UPS"):
+        screwkit.load_pm(_variant(tmp_path, "[UPS, UPS, UPS, {leg: UP/column, passive: true}]",
+                                  "3UPS+UP"))
+    # a boolean only as true / false, only for 'passive'
+    with pytest.raises(CatalogError, match="write true or false"):
+        screwkit.load_pm(_variant(tmp_path, "[UPS, UPS, UPS, {leg: UP/column, passive: yes}]"))
+    with pytest.raises(CatalogError, match=r"passive.*did you mean"):
+        screwkit.load_pm(_variant(tmp_path, "[UPS, UPS, UPS, {leg: UP/column, pasive: 1}]"))
+    with pytest.raises(CatalogError, match="at least one actuated leg"):
+        screwkit.load_pm(_variant(
+            tmp_path, "[{leg: UPS, passive: true}, {leg: UPS, passive: true}, "
+                      "{leg: UPS, passive: true}, {leg: UP/column, passive: true}]",
+            "3UPS/passive+UP/passive"))
+
+
+def test_passive_leg_is_not_an_actuator_in_the_engine(tricept):
+    sol = screwkit.solve(tricept, {"alpha": np.radians([2.0, -4.0]), "beta": 0.05,
+                                   "Zo": [640.0, 660.0]})
+    assert sol.actuator_values.shape == (2, 3)
+    with pytest.raises(InputError, match="q1, q2, q3.*leg 4 passive"):
+        screwkit.forward(tricept, {"q1": 0.0, "q2": 0.0, "q3": 0.0, "q4": 1.0})
+
+
+def test_placed_legs_take_passive_indices(tricept):
+    F, T = [10.0, 0.0, -300.0], [500.0, 0.0, 0.0]
+    res = screwkit.analyze(tricept, {"alpha": 0.1, "beta": -0.05, "Zo": 630.0}, force=F,
+                           torque=T)
+    from screwkit.engine import solve_statics
+    st = solve_statics(res.solution.legs, res.solution.position, F, T, passive=(3,))
+    assert st.jacobian.n_actuated == 3
+    np.testing.assert_allclose(st.active, res.statics.active, rtol=1e-9)
+    with pytest.raises(InputError, match="passive"):
+        solve_statics(res.solution.legs, res.solution.position, F, T, passive=(0, 1, 2, 3))
