@@ -188,7 +188,7 @@ def test_analyze_without_a_workload_prints_kinematics_then_one_line_error():
 
 def test_every_output_says_which_workload_and_where_from():
     code, out, _ = cli("analyze", "3RRPRR")
-    assert code == 0 and "(workload: declared default (the paper, section 5.1))" in out
+    assert code == 0 and "(workload: declared default (the paper's workload, section 5.1))" in out
     code, out, _ = cli("analyze", "3RPS", "--force", "0,0,-1")
     assert code == 0 and "T = (0, 0, 0) kN.cm at o (workload: command line)" in out
     code, out, _ = cli("analyze", "3RPS", "--force", "0,0,-1", "--json")

@@ -25,7 +25,7 @@ from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
 from ._placed import solve_statics, unified_jacobian
 from ._statics import StaticsResult, statics, workload_wrench
-from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze, workload_source
+from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze
 from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
                         solve_path, solve_pose)
@@ -44,5 +44,4 @@ __all__ = [
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
-    "workload_source",
 ]

@@ -43,20 +43,12 @@ if TYPE_CHECKING:
 
     from ..pm import PMModel
 
-__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "workload_source"]
+__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
 
 #: The paper's workload (section 5.1): F in kN, T in kN.cm, applied at o; the declared default
 #: workload of the paper's two PMs (3RRPRR, 2SPS+2SPR), and of no other.
 PAPER_FORCE = (-20.0, -30.0, -60.0)
 PAPER_TORQUE = (-30.0, -30.0, 100.0)
-
-
-def workload_source(force, torque) -> str:
-    """Where a workload comes from, for the outputs that state it: ``the paper's workload``
-    when ``(force, torque)`` is the paper's, else ``given``."""
-    paper = np.array_equal(np.asarray(force, float), PAPER_FORCE) and \
-        np.array_equal(np.asarray(torque, float), PAPER_TORQUE)
-    return "the paper's workload" if paper else "given"
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,14 +152,12 @@ class PMAnalysis:
         r = self.solution.closures.residual
         from ._closure import CONVERGED
         good = (r <= CONVERGED) & ~self.jacobian.singular_mask & np.atleast_1d(self.rows_ok)
-        if not self.has_workload:
-            pass                                 # no statics to balance: the kinematics decide
-        elif self.statics is not None:
+        if self.statics is None:
+            good &= False
+        elif self.has_workload:                          # (no load: the kinematics decide)
             eq = np.asarray(self.statics.equilibrium_residual if not self.single
                             else [self.statics.equilibrium_residual])
             good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
-        else:
-            good &= False
         return bool(good[0]) if self.single else good
 
     @property
@@ -260,8 +250,8 @@ class PMAnalysis:
         from ..scene import View, require_plotly
         from ._scene import scene_of
         require_plotly()
-        return View(scene_of(self, start=start, title=title,
-                             source=workload_source(self.force, self.torque)))
+        return View(scene_of(self, start=start, title=title, source=self.workload_source
+                             if self.has_workload else "none (no efforts)"))
 
     def _repr_html_(self) -> str:
         """The HTML table Jupyter shows for a result."""

@@ -327,7 +327,7 @@ class TrajectoryResult:
         """The interactive 3D view of the path (:class:`screwkit.scene.View`): a time slider
         with play/pause over the samples; Jupyter shows it inline, ``.write_html(path)``
         writes the page.  In the model's units.  Needs plotly (``screwkit[view]``)."""
-        from ..engine import scene_of, workload_source
+        from ..engine import scene_of
         from ..scene import TimeControls, View, require_plotly
 
         if self.analysis is None:
@@ -338,7 +338,7 @@ class TrajectoryResult:
         require_plotly()
         a = self.analysis
         return View(scene_of(a, TimeControls(np.asarray(self.t, float)), start=start,
-                             title=title, source=workload_source(a.force, a.torque)))
+                             title=title, source=a.workload_source))
 
 
 def _math(label: str) -> str:

@@ -7,7 +7,7 @@ with its units, and every output says which workload it used and where it came f
       force: [-20, -30, -60]
       torque: [-30, -30, 100]
       units: {force: kN, length: cm}   # torque in kN.cm; 'model': the model's own units
-      source: the paper, section 5.1   # optional: where it comes from
+      source: the paper's workload, section 5.1   # optional: where it comes from
 
 A model without ``workload:`` has none: its statics need one given (``force=``/``torque=``
 in the Python API, ``--force``/``--torque`` at the command line), while its kinematics,
@@ -71,7 +71,7 @@ class Workload:
 
     @property
     def origin(self) -> str:
-        """``source`` with its note: ``"declared default (the paper, section 5.1)"``."""
+        """``source`` with its note: ``"declared default (the paper's workload, section 5.1)"``."""
         return f"{self.source} ({self.note})" if self.note else self.source
 
     def describe(self, force_unit: str, torque_unit: str, kf: float = 1.0,
