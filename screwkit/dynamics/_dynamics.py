@@ -63,10 +63,8 @@ def resolve_parameters(model, params=None, gravity=None) -> DynamicsParameters:
             raise InputError(f"the dynamics parameters of leg {i + 1} have {len(ld.viscous)} "
                              f"joints, {lg.name} has {len(lg.joints)}")
     if gravity is not None:
-        g = np.asarray(gravity, float).reshape(-1)
-        if g.shape != (3,) or not np.all(np.isfinite(g)):
-            raise InputError(f"gravity must be 3 finite numbers, got {gravity!r}")
-        params = params.with_gravity(g)
+        from ..legs._guards import MAX_MAGNITUDE, real_vector
+        params = params.with_gravity(real_vector(gravity, "gravity", 3, bound=MAX_MAGNITUDE))
     return params
 
 

@@ -48,6 +48,9 @@ def run_dynamics(args, model, fmt, progress, force=None, torque=None) -> int:
         print("screwkit trajectory: " + "; ".join(said), file=sys.stderr)
     text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
     emit_table(args.out, text)
+    from .analyze import workload_note
+    print(workload_note("trajectory", model, res.force, res.torque, res,
+                        "external workload"), file=sys.stderr)
     if args.plot:
         res.plot(args.plot, title=args.title)
         print(f"wrote {args.plot}", file=sys.stderr)

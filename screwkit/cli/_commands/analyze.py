@@ -99,6 +99,13 @@ def require_load(args, model):
     return F, T
 
 
+def workload_note(command, model, force, torque, res, what="workload") -> str:
+    """``screwkit CMD: workload F = (..) kN, T = (..) kN.cm at o (command line)``."""
+    u = model.units
+    return (f"screwkit {command}: {what} F = {fmt_vec(force)} {u.force}, T = "
+            f"{fmt_vec(torque)} {u.torque} at o ({load_source(res)})")
+
+
 def load_source(res) -> str:
     """Where the workload of a result comes from, as the command line says it."""
     src = getattr(res, "workload_source", "") or ""

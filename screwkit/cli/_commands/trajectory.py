@@ -8,7 +8,8 @@ from ...errors import InputError
 from .._types import integer, label, output, scheduler
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dask_mapper, dump_json, emit_table
-from .analyze import add_load_arguments, add_pm_arguments, require_load, resolve_model
+from .analyze import (add_load_arguments, add_pm_arguments, load_source, require_load,
+                      resolve_model, workload_note)
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
 pose (unified inverse displacement, warm-started), the leg extensions r_i, the active forces F_ai,
@@ -109,9 +110,14 @@ def run(args) -> int:
                           model.units.length if model.units.declared else None)
     with progress_bar(args, "trajectory", "step") as progress:
         res = run_trajectory(model, path, force, torque, progress=progress, mapper=mapper)
-    text = (dump_json(res.to_dict(table_units)) + "\n" if fmt == "json"
-            else res.to_csv(units=table_units))
+    if fmt == "json":
+        d = res.to_dict(table_units)
+        d["workload"]["source"] = load_source(res)
+        text = dump_json(d) + "\n"
+    else:
+        text = res.to_csv(units=table_units)
     emit_table(args.out, text)
+    print(workload_note("trajectory", model, res.force, res.torque, res), file=sys.stderr)
     if args.plot:
         units = {}
         if table_units is not None:
