@@ -7,7 +7,8 @@ import sys
 
 import numpy as np
 
-from ...legs._guards import MAX_LOAD, MAX_NAME, parse_number, shorten
+from ...legs._guards import (MAX_LOAD, MAX_NAME, MAX_STIFFNESS, MIN_STIFFNESS, parse_number,
+                             shorten)
 from ...errors import InputError
 from .._types import path
 from ...legs import point_label
@@ -46,10 +47,6 @@ def parse_triple(text: str, what: str, *, bound: float | None = MAX_LOAD):
     if len(parts) != 3:
         raise InputError(f"{what} {shorten(text)} must be three numbers X,Y,Z")
     return [parse_number(p, f"{what} {'XYZ'[k]}", bound=bound) for k, p in enumerate(parts)]
-
-
-#: Largest stiffness of a row (--stiffness), in the model's units.
-MAX_STIFFNESS = 1e20
 
 
 def add_pm_arguments(p, pose=True):
@@ -163,6 +160,10 @@ def run(args) -> int:
         stiffness = "model"
     else:
         stiffness = parse_assignments(given, "--stiffness", bound=MAX_STIFFNESS) or None
+        for name, k in (stiffness or {}).items():
+            if not k >= MIN_STIFFNESS:
+                raise InputError(f"--stiffness {name}: {k:g} is not a positive stiffness from "
+                                 f"{MIN_STIFFNESS:g} to {MAX_STIFFNESS:g}")
     pose = parse_assignments(args.pose, "--pose")
     force, torque = parse_load(args)
     model = resolve_model(args)
