@@ -3,7 +3,8 @@ status 0 with finite (or flagged) output, or exit status 2 with one line on stde
 exit 3, a traceback, a warning before the error, or an unbounded run.
 
 One hypothesis test per family of ``tests/hostile.py`` (analyze, stiffness, map and size,
-trajectory, fk, export, the model keys, freedom), derandomised and kept small so the suite
+trajectory, fk, export, the model keys, freedom, draw, the other commands' counts, seeds,
+addresses and outputs), derandomised and kept small so the suite
 stays fast; ``benchmarks/fuzz_hostile.py`` runs the same families longer and prints the
 counts (inputs, exit 0, exit 2, exit 3, hangs).
 """
@@ -19,7 +20,7 @@ pytest.importorskip("xarray")
 
 #: Examples per family in the suite (the benchmark runs many more).
 EXAMPLES = {"analyze": 6, "stiffness": 6, "map/size": 5, "trajectory": 5, "fk": 4,
-            "export": 4, "model keys": 5, "freedom": 6}
+            "export": 4, "model keys": 5, "freedom": 6, "draw": 3, "other commands": 4}
 
 
 def _settings(n):
