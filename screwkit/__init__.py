@@ -10,7 +10,7 @@ from .errors import (CatalogError, GeometryError, InputError, ParseError, Screwk
 from .screws import FreedomResult, Line, Twist, Wrench, freedoms
 from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
-from .api import assembly_modes, forward, map, size  # noqa: A004 (screwkit.map)
+from .api import assembly_modes, forward, map, optimize, size  # noqa: A004 (screwkit.map)
 from .api import to_pinocchio
 
 __version__ = "0.1.0"
@@ -29,7 +29,7 @@ __all__ = [
     # PMs and the engine
     "load_pm", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
     # maps, sizing, forward kinematics
-    "map", "size", "forward", "assembly_modes",
+    "map", "size", "optimize", "forward", "assembly_modes",
     # interoperability and the 3D view
     "to_pinocchio", "view",
     "__version__",

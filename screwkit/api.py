@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     import xarray
 
     from .engine import AssemblyModes, ForwardResult, PMAnalysis, PoseSolution
+    from .design import OptimizationResult
     from .maps import Sizing
     from .pm import Catalog, LegSpec, PMModel
 
@@ -24,7 +25,8 @@ if TYPE_CHECKING:
     PoseLike = Mapping[str, ArrayLike]
 
 __all__ = ["leg", "load_pm", "solve", "solve_path", "analyze", "define_leg", "load_legs",
-           "extend_catalog", "map", "size", "forward", "assembly_modes", "to_pinocchio"]
+           "extend_catalog", "map", "size", "optimize", "forward", "assembly_modes",
+           "to_pinocchio"]
 
 
 def leg(name: str, placement: Placement | None = None, *, seed: int = 0,
@@ -109,16 +111,8 @@ def define_leg(name: str, string: str, joints: Sequence[Mapping[str, Any]],
 
 
 def load_legs(path: str | os.PathLike) -> tuple[LegSpec, ...]:
-    """Leg types from a YAML file with a ``legs:`` list (the catalog's schema).
-
-    Parameters
-    ----------
-    path : str or path-like
-
-    Returns
-    -------
-    tuple of screwkit.pm.LegSpec
-        In file order.
+    """The leg types (:class:`~screwkit.pm.LegSpec`, in file order) of a YAML file (``str``
+    or path-like) with a ``legs:`` list (the catalog's schema).
 
     Raises
     ------
@@ -334,6 +328,16 @@ def size(pm: PMLike, grid: Mapping[str, Any], fix: Mapping[str, float] | None = 
     from .maps import size as _size
 
     return _size(pm, grid, fix, **kwargs)
+
+
+def optimize(pm: PMLike, vary: Mapping[str, Any], grid: Mapping[str, Any],
+             fix: Mapping[str, float] | None = None, **kwargs: Any) -> OptimizationResult:
+    """Dimensional synthesis: the dimensions ``vary`` (``{"l": (30, 120)}``, model lengths) of
+    a PM that are best over a task (the cells and workloads of :func:`size`), the whole task
+    usable: :func:`screwkit.design.optimize` (objectives, constraints, search options)."""
+    from .design import optimize as _optimize
+
+    return _optimize(pm, vary, grid, fix, **kwargs)
 
 
 def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],

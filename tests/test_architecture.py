@@ -42,6 +42,8 @@ ALLOWED_PEER_EDGES = {
     ("dynamics", "viz"): "DynamicsResult.plot draws the dynamic panels with viz.plot_dynamics",
     ("dynamics", "interop"): "check_dynamics builds the closed-loop Pinocchio model of interop",
     ("design", "synthesis"): "the PM type synthesis verifies synthesis's candidate PMs with the engine",
+    ("design", "maps"): "dimensional synthesis sizes each candidate over a task's cells as maps.size does",
+    ("design", "viz"): "OptimizationResult.plot draws the search or the Pareto front with viz",
 }
 
 #: Edges to a lower layer that are nevertheless forbidden.

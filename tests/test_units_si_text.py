@@ -132,11 +132,19 @@ def test_text_si_values_are_the_model_values_times_the_factors(capsys, pm):
             _close(_nums(" ".join(lb)), _nums(" ".join(la)), L)
             assert "(m/rad)" in b
             seen.add("twists")
+        elif re.match(r"\s+leg \d+: ITI", a) or a.lstrip().startswith("constraint rows:"):
+            # transmission indices (unit-free: unchanged) and their arms (lengths)
+            ia, ib = (re.findall(r"(?:ITI|OTI|CTI) (" + NUM + "|n/a)", x) for x in (a, b))
+            assert ia == ib, (a, b)
+            aa = re.findall(r"arm (" + NUM + r") cm\)", a)
+            ab = re.findall(r"arm (" + NUM + r") m\)", b)
+            _close([float(x) for x in ab], [float(x) for x in aa], L)
+            seen.add("transmission arms")
         elif a.startswith("units:"):
             assert b.startswith("units: lengths m, forces N, torques N.m, angles deg")
         else:
             pytest.fail(f"a line whose numbers change and that this test does not check: {b}")
-    want = {"legs", "pose", "extensions", "J", "workload", "resultants"}
+    want = {"legs", "pose", "extensions", "J", "workload", "resultants", "transmission arms"}
     want |= {"3RRPRR": {"force rows", "T_r", "twists"}, "3RSR": {"torque rows", "twists"},
              "3SPU+PRRR": {"force rows", "torque rows", "T_r"}}[pm]
     assert want <= seen, want - seen

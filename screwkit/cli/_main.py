@@ -17,7 +17,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: Sub-command modules, in the order of ``screwkit --help``.
 COMMANDS = ["leg", "catalog", "analyze", "check", "model", "trajectory", "draw", "validate", "map", "size",
-            "fk", "stiffness", "freedom", "export", "view", "synthesize"]
+            "optimize", "fk", "stiffness", "freedom", "export", "view", "synthesize"]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -32,6 +32,8 @@ from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_
 from ._forward import ForwardResult, forward_kinematics
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
+from ._indices import TransmissionIndices
+from ._transmission import power_coefficient, transmission_indices
 from ._scene import scene_of, wrench_rows
 
 __all__ = [
@@ -44,4 +46,5 @@ __all__ = [
     "load_assembled_pm", "check_default_pose", "default_full_pose",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
+    "TransmissionIndices", "transmission_indices", "power_coefficient",
 ]

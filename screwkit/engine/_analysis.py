@@ -171,6 +171,14 @@ class PMAnalysis:
         from ._quality import quality
         return quality(self, analyze)
 
+    @cached_property
+    def indices(self):
+        """Motion/force transmission, constraint and conditioning indices of every pose:
+        ``iti``, ``oti``, ``lti``, ``cti``, ``sigma_min``, ``condition_number``,
+        ``amplification`` (:class:`~screwkit.engine.TransmissionIndices`; ``docs/design.md``)."""
+        from ._indices import transmission
+        return transmission(self)
+
     @property
     def conditioning(self):
         """THE conditioning class of each pose: ``regular``, ``near-singular``, ``singular``

@@ -218,6 +218,7 @@ def report(analysis, units=None) -> dict:
                                 "effort, [1/length; 1] for a torque)"),
         "condition_number": jac.condition_number,
         "conditioning": analysis.quality.as_dict(0),
+        "transmission": _transmission(analysis, kl, ublock["length"]),
         "singular": jac.singular,
         "singularity_kind": jac.singularity_kind,
         "mobility": {"dof": m.dof, "motion_type": m.motion_type, "finite": m.finite,
@@ -261,3 +262,22 @@ def _wrench(w, kl, kf, kt):
     """A wrench ``[f; m]`` in the output units."""
     w = np.asarray(w, float)
     return np.concatenate([w[..., :3] * kf, w[..., 3:] * kt])
+
+
+def _transmission(analysis, kl, length) -> dict:
+    """The transmission and constraint indices of the pose, arms in the report's length."""
+    d = analysis.indices.as_dict(0)
+    for e in d["legs"]:
+        for k in ("input_arm", "output_arm"):
+            e[k] = None if e[k] is None else e[k] * kl
+    for e in d["constraints"]:
+        e["arm"] = None if e["arm"] is None else e["arm"] * kl
+    d["arm_unit"] = length
+    d["convention"] = ("power coefficients |W.V| / (|f| |v(p) + lambda w|) in [0, 1] (Wang, Wu "
+                       "and Liu 2010; Liu, Wu and Wang 2012): ITI of each active leg's "
+                       "transmission wrench on its actuated joint's twist, OTI on the platform "
+                       "twist with the other actuators locked, LTI = min(ITI, OTI), CTI of each "
+                       "constraint row on the twist it alone stops; arms: the distance from the "
+                       "wrench's entry point to the twist axis; null: not defined "
+                       "(a translation, a redundant row); see docs/design.md")
+    return d

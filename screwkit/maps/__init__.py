@@ -9,6 +9,8 @@
   and a list of workloads (:func:`read_workloads`), with the pose where it occurs;
 * files: :func:`write` (NetCDF, Zarr, CSV long format);
 * pictures: :func:`plot_map` (heatmaps through :mod:`screwkit.viz`);
+* workspace measures (:func:`workspace`): the reachable, singularity-free (connected to
+  home) and good-transmission (``LTI >= 0.7``) volumes and their fractions of the box;
 * Dask: :func:`client_for` (a local cluster or a running scheduler), :func:`run_tasks`
   (any picklable function over a list, on the cluster; used by ``validate --workers``).
 
@@ -25,10 +27,12 @@ from ._plot import plot_map, quantity_names
 from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
 from ._dask import client_for, run_tasks
 from ._units import map_in_units, sizing_in_units
+from ._workspace import GOOD_TRANSMISSION, Workspace, workspace
 
 __all__ = [
     "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
     "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
     "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
-    "client_for", "run_tasks", "map_in_units", "sizing_in_units",
+    "client_for", "run_tasks", "map_in_units", "sizing_in_units", "Workspace", "workspace",
+    "GOOD_TRANSMISSION",
 ]

@@ -17,7 +17,8 @@ import numpy as np
 from ..engine import CONVERGED, analyze
 from ..engine._report import row_quantity
 
-__all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "Meta", "meta_of", "evaluate", "evaluate_loads",
+__all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NAMES", "Meta",
+           "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
 #: Cells per block (8 engine chunks of 8192 poses).
@@ -29,6 +30,8 @@ LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachabl
 CONDITIONING_CODES = ("regular", "near-singular", "singular", "unreachable")
 #: ``singular_kind`` codes.
 KIND_CODES = ("regular", "actuation", "constraint")
+#: The per-cell indices of :attr:`screwkit.engine.PMAnalysis.indices` a map keeps.
+INDEX_NAMES = ("iti", "oti", "lti", "cti", "sigma_min")
 
 
 @dataclass(frozen=True)
@@ -144,6 +147,9 @@ def arrays_of(model, res) -> dict:
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),
     }
+    ix = res.indices                        # transmission and constraint indices
+    for name in INDEX_NAMES:
+        out[name] = np.asarray(getattr(ix, name), float)
     if model.dynamics is not None and model.dynamics.has_stiffness:
         # the model declares its legs' stiffness: the Cartesian stiffness of every cell
         from ..dynamics import stiffness_fields

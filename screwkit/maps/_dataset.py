@@ -25,6 +25,14 @@ from ._compute import CONDITIONING_CODES, KIND_CODES, LEVEL_CODES
 __all__ = ["xarray", "build_dataset", "write", "to_csv", "FORMATS"]
 
 FORMATS = (".nc", ".zarr", ".csv")
+#: The index variables of a map (``docs/design.md``: definitions and conventions).
+INDEX_LONG_NAMES = {
+    "iti": "input transmission index (smallest over the active legs)",
+    "oti": "output transmission index (smallest over the active legs)",
+    "lti": "local transmission index min(ITI, OTI)",
+    "cti": "constraint transmission index (smallest over the constraint rows; NaN: none)",
+    "sigma_min": "smallest singular value of the normalised J",
+}
 
 
 def xarray():
@@ -99,6 +107,9 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "equilibrium_residual": var(a["equilibrium_residual"], "1",
                                     "relative platform equilibrium residual"),
     }
+    for name, text in INDEX_LONG_NAMES.items():
+        if name in a:
+            dv[name] = var(a[name], "1", text)
     if any(k.startswith("stiff.") for k in a):
         from ..dynamics import STIFFNESS_FIELDS
         for name, (kind, long_name) in STIFFNESS_FIELDS.items():
@@ -155,8 +166,12 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "computed_on": ("serial" if cluster is None else "dask"),
         "conventions": "wrenches [f; m] about the base origin O; twists [v; w]",
     }
+    for k, v in model.home_pose.items():           # radians, model lengths
+        attrs[f"home_pose_{k}"] = float(v)
     if grid.samples:
         attrs["seed"] = int(grid.seed)
+        for k, (lo, hi) in (grid.box or {}).items():     # the sampling box
+            attrs[f"box_{k}"] = np.array([lo, hi], float)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 

@@ -47,6 +47,8 @@ class Grid:
     samples : bool
         Random samples in a box (no neighbours: no singular loci).
     seed : int or None
+    box : dict str -> (low, high), optional
+        The sampling box of random samples (in the units given).
     """
 
     dims: tuple
@@ -56,6 +58,7 @@ class Grid:
     degrees: bool
     samples: bool = False
     seed: int | None = None
+    box: dict | None = None
 
     @property
     def shape(self) -> tuple:
@@ -224,18 +227,19 @@ def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> 
             raise InputError(f"{model.name}: seed must be an integer from 0 to {MAX_SEED}, got "
                              f"{seed!r:.40}")
         rng = np.random.default_rng(int(seed))
-        coords = {}
-        for k, box in grid.items():
+        coords, box = {}, {}
+        for k, side in grid.items():
             try:
-                lo, hi = (float(x) for x in box)
+                lo, hi = (float(x) for x in side)
             except (TypeError, ValueError):
                 raise InputError(f"{model.name}: sampling box {k}: give (low, high), got "
-                                 f"{box!r}") from None
+                                 f"{side!r}") from None
             if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
                 raise InputError(f"{model.name}: sampling box {k}: need finite low <= high")
             _within(model, k, np.array([lo, hi]), degrees, f"sampling box {k}")
             coords[k] = rng.uniform(lo, hi, int(samples))
-        return Grid(("sample",), coords, fix, defaults, bool(degrees), True, int(seed))
+            box[k] = (lo, hi)
+        return Grid(("sample",), coords, fix, defaults, bool(degrees), True, int(seed), box)
     if len(grid) > MAX_GRID_DIMS:
         raise InputError(f"{model.name}: a map has 1 to {MAX_GRID_DIMS} grid parameters, got "
                          f"{len(grid)} (fix the others, or use samples)")

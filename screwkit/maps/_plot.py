@@ -16,6 +16,8 @@ from ..errors import InputError
 __all__ = ["plot_map", "quantity_names"]
 
 _LOG = {"condition_number", "constraint_condition_number", "amplification", "residual"}
+#: Indices drawn on their whole range [0, 1].
+_UNIT_RANGE = {"iti", "oti", "lti", "cti"}
 
 
 def quantity_names(ds, quantity: str) -> list:
@@ -29,10 +31,13 @@ def quantity_names(ds, quantity: str) -> list:
         return [k for k in rows if ds[k].attrs.get("kind") != "actuation"]
     if quantity == "conditioning":
         return ["condition_number"]
+    if quantity == "transmission":
+        return [k for k in ("iti", "oti", "lti", "cti") if k in ds.data_vars
+                and np.isfinite(ds[k].values).any()]
     if quantity not in ds.data_vars or ds[quantity].dims != cell:
         names = [k for k, v in ds.data_vars.items() if v.dims == cell]
         raise InputError(f"no quantity {quantity!r} in the map; one of forces, constraints, "
-                         f"conditioning, {', '.join(names)}")
+                         f"conditioning, transmission, {', '.join(names)}")
     return [quantity]
 
 
@@ -95,6 +100,7 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     lev = sub["level"].transpose(*free).values
     calm = lev <= 1       # the colour range: ok and ill-conditioned cells (arrows: some beyond)
     panels = [{"z": arr(n), "label": _label(ds, n), "log": n in _LOG,
+               "limits": (0.0, 1.0) if n in _UNIT_RANGE else None,
                "title": f"{n}: {ds[n].attrs['long_name']}" if "long_name" in ds[n].attrs
                else _label(ds, n),
                "limits_from": None if n in _LOG else calm,

@@ -60,6 +60,11 @@ def map_in_units(ds, units=None):
             out = out.assign_coords({name: conv})
         else:
             out[name] = conv
+    for k in ("Xo", "Yo", "Zo"):               # the recorded home pose and sampling box
+        for key in (f"home_pose_{k}", f"box_{k}"):
+            if key in a:
+                out.attrs[key] = np.asarray(a[key], float) * kl if key.startswith("box") \
+                    else float(a[key]) * kl
     out.attrs.update(units_length="m", units_force="N", units_torque="N.m",
                      force=np.asarray(a["force"], float) * kf,
                      torque=np.asarray(a["torque"], float) * kt,

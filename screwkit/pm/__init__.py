@@ -23,6 +23,7 @@ from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffn
 from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._workload import Workload, workload_from_mapping
 from ._loader import load_pm, pm_names
+from ._variants import Definition, definition_yaml, with_dimensions
 from ._schema import model_schema, schema_path, schema_text
 from ._model_check import Problem, check_model_file
 from ._mobility import (Mobility, describe_twist_space, finite_motion, linkage_graph, mobility,
@@ -35,6 +36,7 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
+    "Definition", "with_dimensions", "definition_yaml",
     # the model-file schema and checks
     "model_schema", "schema_text", "schema_path", "check_model_file", "Problem",
     # limits

@@ -42,6 +42,7 @@ from ._limits import limits_from_mapping
 from ._physical import dynamics_from_mapping
 from ._workload import workload_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
+from ._variants import Definition
 from ._vertices import _SHAPE_KEYS, override_axes as _override, vertices as _vertices  # noqa: F401
 
 __all__ = ["load_pm", "pm_names"]
@@ -51,7 +52,6 @@ _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "cent
             "limits", "dynamics", "workload"}
 #: The keys of a leg entry of ``legs:`` written as a mapping.
 _PM_LEG_KEYS = ("leg", "axes", "passive")
-
 
 
 
@@ -284,4 +284,5 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                limits=limits_from_mapping(d.get("limits"), ctx, legs),
                                workload=workload_from_mapping(d.get("workload"), name, src,
                                                               units, dims),
-                               default_pose=default, notes=tuple(notes), passive=tuple(passive))
+                               default_pose=default, notes=tuple(notes), passive=tuple(passive),
+                               definition=Definition(name, d, cat, dict(overrides), _build))

@@ -87,6 +87,9 @@ class PMModel:
         The default workload at ``o`` the definition declares (``workload:``, in the
         model's units and world axes, :mod:`screwkit.pm._workload`), or None: then the
         statics need one given.
+    definition : Definition or None
+        The ``pms:`` entry the model was built from (:meth:`with_dimensions` evaluates it
+        again with other dimensions); None for a model built otherwise.
     """
 
     name: str
@@ -117,6 +120,7 @@ class PMModel:
     dynamics: object = None
     passive: tuple = ()
     workload: object = None
+    definition: object = dataclasses.field(default=None, repr=False)
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
@@ -160,6 +164,16 @@ class PMModel:
         """Every leg built afresh by its catalog rules at ``pose`` (for checks)."""
         return tuple(build_leg(r, self.placement(i, pose), check_structure)
                      for i, r in enumerate(self.leg_rules))
+
+    def with_dimensions(self, values: dict) -> "PMModel":
+        """The same PM with the dimensions ``values`` (``{"l": 80}``, model units), the others
+        as they are: its definition evaluated again, no file read or parsed
+        (:func:`screwkit.pm.with_dimensions`); equal to ``load_pm(name, {...})``."""
+        if self.definition is None:
+            from ..errors import InputError
+            raise InputError(f"model {self.name}: no definition to rebuild it from (load it "
+                             "with screwkit.load_pm)")
+        return self.definition.rebuild(self, values)
 
     def moved(self, rotation, translation) -> "PMModel":
         """The same PM with its base frame placed at ``x -> R x + p`` in the world.

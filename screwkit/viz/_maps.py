@@ -66,6 +66,8 @@ def _panel_limits(panels):
         if log and lim is not None and lim[1] < 10 * lim[0]:
             # less than a decade: a log axis would print ticks like "2.6x10^0"
             log, lim = False, _limits(zr, False, clip=base is None)
+        if pan.get("limits") is not None:           # a fixed range (indices in [0, 1])
+            lim = tuple(float(v) for v in pan["limits"])
         out.append([lim, log, signed or (lim is not None and lim[0] < 0 < lim[1])])
     for g in {pan.get("group") for pan in panels} - {None}:
         members = [k for k, pan in enumerate(panels) if pan.get("group") == g and out[k][0]]
@@ -90,8 +92,9 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
         ``z`` ``(nx, ny)`` (or ``(nx,)``), ``label`` (with its unit), ``log`` (bool),
         optionally ``limits_from`` (bool, like ``z``: the cells the colour range is taken
         from, so that near-singular efforts do not wash the picture out), ``signed``
-        (a signed force or torque: the diverging map on a symmetric range) and ``group``
-        (panels of one group share their colour range: the forces of one kind).
+        (a signed force or torque: the diverging map on a symmetric range), ``group``
+        (panels of one group share their colour range: the forces of one kind) and
+        ``limits`` (a fixed colour range, e.g. ``(0, 1)`` for an index).
     xlabel, ylabel : str
     masks : list of (ndarray bool, str)
         Regions to hatch (same shape as ``z``) and their legend text.

@@ -260,6 +260,7 @@ def print_text(res, units=None) -> None:
           + f"; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
           + (f"  BEYOND A SINGULAR SURFACE FROM {q['det_reference'].upper()}"
              if q["beyond_singular_surface"] else ""))
+    _print_transmission(res, kl, u.length)
     for r, row in zip(jac.rows, jac.J):
         q = row_quantity(r)
         print(f"  {' '.join(f'{x:10.5g}' for x in unit_row(row, q, k))}   leg {r.leg + 1} "
@@ -313,3 +314,25 @@ def print_text(res, units=None) -> None:
         print(f"  leg {i + 1} force ({u.force}) {fmt_vec(res_f[i] * kf)}{bf}  moment about "
               f"A{i + 1} ({u.torque}) {fmt_vec(res_m[i] * kt)}{bm}")
     print(f"  platform equilibrium residual {st.equilibrium_residual:.2e}")
+
+
+def _print_transmission(res, kl: float, length: str) -> None:
+    """The transmission and constraint indices of the pose (docs/design.md)."""
+    d = res.indices.as_dict(0)
+
+    def g(x):
+        return "n/a" if x is None else f"{x:.4g}"
+
+    def arm(x):
+        return "" if x is None else f" (arm {fmt_num(x * kl)} {length})"
+    print(f"  transmission: LTI {g(d['lti'])} = min(ITI {g(d['iti'])}, OTI {g(d['oti'])}); "
+          f"CTI {g(d['cti'])}; smallest singular value {g(d['sigma_min'])} (all in [0, 1], "
+          "0 at a singularity; docs/design.md)")
+    for e in d["legs"]:
+        print(f"    leg {e['leg']}: ITI {g(e['iti'])}{arm(e['input_arm'])}, "
+              f"OTI {g(e['oti'])}{arm(e['output_arm'])}")
+    if d["constraints"]:
+        print("    constraint rows: " + ", ".join(
+            f"{e['label']} CTI {g(e['cti'])}{arm(e['arm'])}" for e in d["constraints"])
+            + ("  (n/a: a redundant row)" if any(e["cti"] is None for e in d["constraints"])
+               else ""))

@@ -107,18 +107,20 @@ def register(sub):
     p.add_argument("--plot", metavar="PNG", type=output, help="draw heatmaps of --quantity")
     p.add_argument("--quantity", action="append", default=[],
                    help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
-                        "forces, constraints or conditioning (repeatable; default: forces and "
-                        "conditioning)")
+                        "forces, constraints, conditioning or transmission (iti, oti, lti, "
+                        "cti) (repeatable; default: forces and conditioning)")
     p.add_argument("--at", metavar="NAME=VALUE", action="append", default=[],
                    help="the slice of a 3-D map that --plot draws (default: the middle)")
+    p.add_argument("--lti-threshold", type=float, default=0.7, metavar="X",
+                   help="the LTI bound of the good-transmission workspace (default 0.7)")
     p.set_defaults(func=run)
 
 
-def summary(ds) -> dict:
+def summary(ds, lti_threshold: float = 0.7) -> dict:
     """The JSON summary of a map (counts, loci, extremes)."""
     import numpy as np
 
-    from ...maps import CONDITIONING_CODES, LEVEL_CODES, extremes, locus_list
+    from ...maps import CONDITIONING_CODES, LEVEL_CODES, extremes, locus_list, workspace
     lev = ds["level"].values.reshape(-1)
     cls = ds["conditioning"].values.reshape(-1)
     counts = {"cells": int(lev.size), "reachable": int(ds["reachable"].sum()),
@@ -146,7 +148,8 @@ def summary(ds) -> dict:
             "counts": counts, "locus": ds.attrs.get("locus"),
             "singular_locus": locus_list(ds),
             "other_sign_changes": locus_list(ds, singular_only=False),
-            "extremes": extremes(ds)}
+            "extremes": extremes(ds),
+            "workspace": workspace(ds, lti_threshold).to_dict()}
 
 
 def check_outputs(args) -> None:
@@ -171,6 +174,8 @@ def run(args) -> int:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
     check_outputs(args)
+    if not 0 < args.lti_threshold <= 1:
+        raise InputError(f"--lti-threshold must be in (0, 1], got {args.lti_threshold:g}")
     from .analyze import resolve_model
     model = resolve_model(args)
     units = None if args.units == "model" else args.units
@@ -190,7 +195,7 @@ def run(args) -> int:
         plot_map(ds, args.plot, args.quantity or ["forces", "conditioning"],
                  at=parse_assignments(args.at, "--at"))
         print(f"wrote {args.plot}", file=sys.stderr)
-    s = summary(ds)
+    s = summary(ds, args.lti_threshold)
     if args.json:
         print(dump_json(s))
         return 0
@@ -241,3 +246,14 @@ def print_summary(s) -> None:
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
               + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
               + f"  ({r['conditioning']}, trust {r['level']})")
+    print_workspace(s["workspace"])
+
+
+def print_workspace(w) -> None:
+    """The workspace lines of a summary (docs/maps.md#workspace-measures)."""
+    box = ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in w["box"].items())
+    print(f"  workspace (task box {box}: {fmt_num(w['box_volume'])} {w['units']}):")
+    for name, r in w["regions"].items():
+        err = "" if r["stderr"] is None else f" +- {fmt_num(r['stderr'], 3)}"
+        print(f"    {name.replace('_', '-'):<18} {fmt_num(r['volume'])}{err} {w['units']}  "
+              f"{100 * r['fraction']:.1f}% of the box ({r['cells']} cells; {r['definition']})")
