@@ -70,13 +70,24 @@ def one_line_error(code, err, *words):
     (["fk", "3RPS", "--actuators", "r1=67,r2=69,r3=64", "--seeds", "5"], ["--seeds", "--all"]),
     (["fk", "3RPS", "--actuators", "r1=67,r2=69,r3=64", "--all", "--seeds", "-3"],
      ["--seeds"]),
-    (["map", "3RPS", "--grid", "alpha=-5:5:3"], ["--force FX,FY,FZ", "declares no workload"]),
+    (["size", "3RPS", "--grid", "alpha=-5:5:3"], ["--force FX,FY,FZ", "declares no workload"]),
+    (["map", "3RPS", "--grid", "alpha=-5:5:3", "--plot", "m.png", "--quantity", "forces"],
+     ["--force FX,FY,FZ", "declares no workload"]),
     (["trajectory", "3RPS", "--expr", "alpha=t", "--expr", "beta=0", "--expr", "Zo=60"],
      ["--force FX,FY,FZ", "declares no workload"]),
 ])
 def test_bad_values_are_one_line_errors_naming_the_option(argv, words):
     code, _, err = cli(*argv)
     one_line_error(code, err, *words)
+
+
+def test_a_map_without_a_workload_has_no_forces_and_says_so():
+    code, out, err = cli("map", "3RPS", "--grid", "alpha=-5:5:3", "--quiet", "--json")
+    d = json.loads(out)
+    assert code == 0 and d["workload"]["source"].startswith("none")
+    assert d["extremes"]["rows"] == [] and d["counts"]["conditioning"]["regular"] == 3
+    code, out, err = cli("map", "3RPS", "--grid", "alpha=-5:5:3", "--quiet")
+    assert "no forces: no workload" in out and "--force" in out
 
 
 def test_workloads_csv_with_a_duplicated_column(tmp_path):

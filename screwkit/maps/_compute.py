@@ -117,7 +117,8 @@ def _level_codes(names):
 
 def arrays_of(model, res) -> dict:
     """The map's per-cell arrays of an analysis of N cells (see :func:`evaluate`)."""
-    sol, jac, st = res.solution, res.jacobian, res.statics
+    sol, jac = res.solution, res.jacobian
+    st = res.statics if res.has_workload else None          # no workload: no forces
     reach = sol.reachable_mask
     c = jac.conditioning
     q = res.quality
@@ -141,12 +142,15 @@ def arrays_of(model, res) -> dict:
         "level": lev.astype(np.int8),
         "conditioning": _class_codes(q.conditioning),
         "amplification": nan_unreach(q.amplification),
-        "equilibrium_residual": np.asarray(st.equilibrium_residual, float),
-        "values": np.asarray(st.F_r, float),
-        "T_r": np.where(np.array(_linear(model))[None, :], st.T_r, np.nan),
+        "equilibrium_residual": (np.full(len(reach), np.nan) if st is None else
+                                 np.asarray(st.equilibrium_residual, float)),
+        "values": None if st is None else np.asarray(st.F_r, float),
+        "T_r": None if st is None else np.where(np.array(_linear(model))[None, :], st.T_r,
+                                                np.nan),
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),
     }
+    out = {k: v for k, v in out.items() if v is not None}
     ix = res.indices                        # transmission and constraint indices
     for name in INDEX_NAMES:
         out[name] = np.asarray(getattr(ix, name), float)

@@ -121,15 +121,15 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         if p not in LENGTH_PARAMS and to_deg:
             v = np.degrees(v)
         dv[p] = var(v, unit, f"dependent pose parameter {p}")
-    for k, (lab, q, kind, leg) in enumerate(zip(meta.labels, meta.quantities, meta.kinds,
-                                                meta.legs)):
+    rows = zip(meta.labels, meta.quantities, meta.kinds, meta.legs) if "values" in a else ()
+    for k, (lab, q, kind, leg) in enumerate(rows):       # (no workload: no force variables)
         what = ("active " + ("torque" if q == "torque" else "force") if kind == "actuation"
                 else f"constraint {kind}")
         dv[lab] = var(a["values"][:, k], u.of(q), f"{what} of leg {leg + 1}",
                       row=k, leg=leg + 1, kind=kind)
     n = len(meta.linear)
     for i in range(n):
-        if meta.linear[i]:
+        if meta.linear[i] and "T_r" in a:
             dv[f"T_r{i + 1}"] = var(a["T_r"][:, i], u.torque,
                                     f"moment of leg {i + 1}'s constraint wrench about its axis",
                                     leg=i + 1)
@@ -157,7 +157,8 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "defaults": ",".join(grid.defaults),
         "units_length": u.length, "units_force": u.force, "units_torque": u.torque,
         "units_angle": _angle_unit(grid), "units_declared": int(u.declared),
-        "force": np.asarray(force, float), "torque": np.asarray(torque, float),
+        "force": np.full(3, np.nan) if force is None else np.asarray(force, float),
+        "torque": np.full(3, np.nan) if torque is None else np.asarray(torque, float),
         "workload_applied_at": "o",
         "condition_threshold": float(engine.COND_THRESHOLD),
         "home_det_sign": int(meta.home_det_sign),

@@ -17,7 +17,11 @@ from __future__ import annotations
 
 from ..errors import InputError
 
-__all__ = ["map_pm", "map_dataset", "resolve_model", "workload"]
+__all__ = ["map_pm", "map_dataset", "resolve_model", "workload", "NO_WORKLOAD"]
+
+#: The workload source of a map made without one: no force variables, the rest is there.
+NO_WORKLOAD = ("none: the model declares no workload and none was given (no forces; give "
+               "force=/torque=, at the command line --force/--torque)")
 
 
 def resolve_model(pm, overrides=None):
@@ -67,7 +71,9 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
         ``samples`` random poses uniform in the box ``grid`` (seed ``seed``).
     force, torque : array_like (3,), optional
         Workload at ``o`` (model units; one without the other: the other is zero; neither:
-        the model's declared default, else an :class:`~screwkit.errors.InputError`).
+        the model's declared default, else none: the map has no force variables, its
+        attribute ``workload_source`` says so, and the reachability, conditioning, indices,
+        extensions and loci are all there).
     stiffness : optional
         Row stiffnesses for indeterminate statics (as :func:`screwkit.analyze`).
     locus : bool
@@ -103,7 +109,9 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
 
     xarray()                                        # fail before a long run, not after
     model = resolve_model(pm, overrides)
-    F, T, source = workload(model, force, torque)
+    from ..engine._workloads import resolve_workload
+    load = resolve_workload(model, force, torque)
+    F, T, source = load if load is not None else (None, None, NO_WORKLOAD)
     g = make_grid(model, grid, fix, samples=samples, seed=seed, degrees=degrees)
     cl = _cluster(cluster, scheduler)
     ds, meta, _ = map_dataset(model, g, F, T, stiffness=stiffness, workers=workers,

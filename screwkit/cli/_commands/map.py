@@ -9,7 +9,8 @@ from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dump_json, fmt_num
 from .._types import integer, output, scheduler
-from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, require_load
+from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_load,
+                      require_load)
 
 HELP = """Analyse a PM at every cell of a grid of 1 to 3 independent pose parameters
 (--grid NAME=START:STOP:COUNT, angles in degrees; the other independent parameters from --fix
@@ -87,9 +88,10 @@ def map_keywords(args, model, progress=None, load=True) -> dict:
     """Keywords of :func:`screwkit.map` / :func:`screwkit.size` from the arguments."""
     if args.workers is not None and args.scheduler:
         raise InputError("give either --workers N or --scheduler ADDRESS")
-    if args.seed and args.samples is None:
+    if args.seed and args.samples is None and args.command in ("map", "size"):
         raise InputError("--seed seeds the random poses of --samples: give --samples N")
-    force, torque = require_load(args, model) if load else (None, None)
+    force, torque = (require_load(args, model) if load == "required" else parse_load(args)) \
+        if load else (None, None)
     return dict(fix=parse_assignments(args.fix, "--fix"), samples=args.samples,
                 seed=args.seed, degrees=True, force=force,
                 torque=torque, workers=args.threads,
@@ -187,12 +189,18 @@ def run(args) -> int:
         ds = map_pm(model, grid, **map_keywords(args, model, progress))
     if ds.attrs.get("workload_source") == "given":
         ds.attrs["workload_source"] = "command line"
+    forces = "F_a1" in ds or any("row" in v.attrs for v in ds.data_vars.values())
+    quantities = args.quantity or (["forces", "conditioning"] if forces else ["conditioning"])
+    if args.plot and not forces and any(q in ("forces", "constraints") or q.startswith(
+            ("F_", "T_c", "T_a", "T_r")) for q in quantities):
+        raise InputError(f"--quantity {', '.join(quantities)}: {model.name} declares no "
+                         "workload: give --force FX,FY,FZ and/or --torque TX,TY,TZ for its forces")
     ds = map_in_units(ds, units)
     if args.out:
         write(ds, args.out)
         print(f"wrote {args.out}", file=sys.stderr)
     if args.plot:
-        plot_map(ds, args.plot, args.quantity or ["forces", "conditioning"],
+        plot_map(ds, args.plot, quantities,
                  at=parse_assignments(args.at, "--at"))
         print(f"wrote {args.plot}", file=sys.stderr)
     s = summary(ds, args.lti_threshold)
@@ -215,8 +223,11 @@ def print_summary(s) -> None:
     lv, cl = c["levels"], c["conditioning"]
     w = s["workload"]
     from ._common import fmt_vec
-    print(f"  workload F = {fmt_vec(w['force'])} {u['force']}, T = {fmt_vec(w['torque'])} "
-          f"{u['torque']} at o ({w['source'] or 'given'})")
+    if str(w["source"]).startswith("none"):
+        print(f"  workload {w['source']}".replace("force=/torque=, at the command line ", ""))
+    else:
+        print(f"  workload F = {fmt_vec(w['force'])} {u['force']}, T = "
+              f"{fmt_vec(w['torque'])} {u['torque']} at o ({w['source'] or 'given'})")
     print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; conditioning "
           f"regular {cl['regular']}, near-singular {cl['near-singular']}, singular "
           f"{cl['singular']}, unreachable {cl['unreachable']}")
@@ -238,6 +249,14 @@ def print_summary(s) -> None:
     if len(loc) > 5:
         print(f"    ... {len(loc) - 5} more (--json lists them)")
     ex = s["extremes"]
+    if not ex["rows"]:
+        print("  no forces: no workload")
+    else:
+        _print_extremes(ex, c)
+    print_workspace(s["workspace"])
+
+
+def _print_extremes(ex, c) -> None:
     print(f"  largest |value| over the {ex['usable_cells']} usable cells (ok"
           + (", within the limits" if "outside_limits" in c else "") + "):")
     for r in ex["rows"]:
@@ -246,7 +265,6 @@ def print_summary(s) -> None:
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
               + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
               + f"  ({r['conditioning']}, trust {r['level']})")
-    print_workspace(s["workspace"])
 
 
 def print_workspace(w) -> None:

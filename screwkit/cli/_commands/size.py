@@ -57,7 +57,8 @@ def run(args) -> int:
         output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "size", "cell") as progress:
-        kw = map_keywords(args, model, progress, load=not args.workloads)
+        kw = map_keywords(args, model, progress,
+                          load="required" if not args.workloads else False)
         F, T = kw.pop("force"), kw.pop("torque")
         if args.workloads:
             loads = [(f"{n} ({args.workloads})", f, t)
