@@ -12,6 +12,7 @@ from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
 from .api import assembly_modes, forward, map, optimize, size  # noqa: A004 (screwkit.map)
 from .api import to_pinocchio
+from .pm import PMBuilder
 
 __version__ = "0.1.0"
 
@@ -27,7 +28,7 @@ __all__ = [
     "Line", "Twist", "Wrench", "freedoms", "FreedomResult", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
     "leg_from_joints", "leg", "define_leg", "load_legs", "extend_catalog",
     # PMs and the engine
-    "load_pm", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
+    "load_pm", "PMBuilder", "solve", "solve_path", "analyze", *_ENGINE, "dynamics",
     # maps, sizing, forward kinematics
     "map", "size", "optimize", "forward", "assembly_modes",
     # interoperability and the 3D view

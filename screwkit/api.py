@@ -16,10 +16,10 @@ if TYPE_CHECKING:
     from .engine import AssemblyModes, ForwardResult, PMAnalysis, PoseSolution
     from .design import OptimizationResult
     from .maps import Sizing
-    from .pm import Catalog, LegSpec, PMModel
+    from .pm import Catalog, LegSpec, PMBuilder, PMModel
 
-    #: A PM: a loaded model, or a catalog name, a YAML path or ``"path.yaml#NAME"``.
-    PMLike = Union[PMModel, str, os.PathLike]
+    #: A PM: a model, a catalog name, a YAML path, ``"path.yaml#NAME"``, a mapping, a builder.
+    PMLike = Union[PMModel, str, os.PathLike, Mapping[str, Any], PMBuilder]
     #: Pose parameters: numbers (one pose), 1-D arrays of one length N, or a pandas
     #: DataFrame with one column per parameter (any mapping of column names to columns).
     PoseLike = Mapping[str, ArrayLike]
@@ -148,37 +148,20 @@ def extend_catalog(legs: LegSpec | Iterable[LegSpec] | Catalog, catalog: Catalog
     -------
     screwkit.pm.Catalog
     """
-    from .pm import Catalog, LegSpec, default_catalog
-    from .errors import CatalogError
+    from .pm import catalog_with_legs
 
-    base = catalog if catalog is not None else default_catalog()
-    if isinstance(legs, Catalog):
-        extra = list(legs.legs.values())
-    elif isinstance(legs, LegSpec):
-        extra = [legs]
-    else:
-        extra = list(legs)
-    merged = dict(base.legs)
-    seen = set()
-    for i, spec in enumerate(extra):
-        if not isinstance(spec, LegSpec):
-            raise CatalogError(f"expected a LegSpec (from define_leg or load_legs), got "
-                               f"{type(spec).__name__}", f"legs[{i}]")
-        if spec.name in seen or (spec.name in merged and not replace):
-            raise CatalogError("a leg type of this name already exists (pass replace=True "
-                               "to override it)", spec.name, "name")
-        seen.add(spec.name)
-        merged[spec.name] = spec
-    return Catalog(merged, list(base.table1), dict(base.pms), base.source)
+    return catalog_with_legs(legs, catalog, replace=replace)
 
 
-def load_pm(name: str | os.PathLike, overrides: Mapping[str, float] | None = None, *,
-            catalog: Catalog | None = None) -> PMModel:
-    """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path, or
-    ``"path.yaml#NAME"``; ``overrides`` changes dimensions (``{"L": 150}``).
+def load_pm(pm: str | os.PathLike | Mapping[str, Any] | PMBuilder,
+            overrides: Mapping[str, float] | None = None, *, catalog: Catalog | None = None,
+            name: str | None = None) -> PMModel:
+    """A parallel manipulator model: a catalog name (``"3RRPRR"``), a YAML path,
+    ``"path.yaml#NAME"``, one PM's mapping as a model file holds it under ``pms:`` (its
+    name ``name``), or a :class:`PMBuilder`; ``overrides`` changes dimensions.
 
-    The model is built by :func:`screwkit.pm.load_pm`, then its default pose is
-    solved (:func:`screwkit.engine.check_default_pose`).
+    The model is built by :func:`screwkit.pm.load_pm` (the same checks for a file and a
+    mapping), then its default pose is solved (:func:`screwkit.engine.check_default_pose`).
 
     Returns
     -------
@@ -197,8 +180,9 @@ def load_pm(name: str | os.PathLike, overrides: Mapping[str, float] | None = Non
     from .engine import check_default_pose
     from .pm import load_pm as _load
 
-    text = os.fspath(name) if isinstance(name, os.PathLike) else name     # a pathlib.Path too
-    return check_default_pose(_load(text, None if overrides is None else dict(overrides), catalog))
+    text = os.fspath(pm) if isinstance(pm, os.PathLike) else pm     # a pathlib.Path too
+    return check_default_pose(_load(text, None if overrides is None else dict(overrides), catalog,
+                                    name=name))
 
 
 def _model(pm: PMLike, overrides: Mapping[str, float] | None = None,

@@ -36,7 +36,7 @@ def test_batch_equals_a_loop_of_single_poses(name):
     pm = screwkit.load_pm(name)
     pose = _random_pose(pm, N_LOOP, 7)
     res = screwkit.analyze(pm, pose, **PAPER_LOAD)
-    assert res.statics.active.shape == (N_LOOP, pm.n_legs)
+    assert res.statics.active.shape == (N_LOOP, len(pm.active))     # one per actuator
     assert res.jacobian.matrix.shape[:2] == (N_LOOP, res.jacobian.n_rows)
     L = pm.normalisation.length
     for i in range(N_LOOP):

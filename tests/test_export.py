@@ -25,7 +25,9 @@ def _constraints(model, loops):
     # the lines of docs/pinocchio.md
     def se3(p):
         return pin.SE3(np.array(p["rotation"]), np.array(p["translation"]))
-    return [pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model,
+    def kind(c):
+        return getattr(pin.ContactType, c.get("contact_type", loops["contact_type"]))
+    return [pin.RigidConstraintModel(kind(c), model,
                                      model.getJointId(c["joint1"]), se3(c["placement1"]),
                                      model.getJointId(c["joint2"]), se3(c["placement2"]),
                                      pin.ReferenceFrame.LOCAL) for c in loops["constraints"]]

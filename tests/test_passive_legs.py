@@ -66,10 +66,16 @@ def _ry(t):
 
 
 @pytest.fixture(scope="module")
-def tricept(tmp_path_factory):
+def tricept_file(tmp_path_factory):
     p = tmp_path_factory.mktemp("passive") / "tricept.yaml"
     p.write_text(TRICEPT)
     return screwkit.load_pm(str(p))
+
+
+@pytest.fixture(scope="module")
+def tricept():
+    """The catalog's Tricept (the same dimensions as the file above)."""
+    return screwkit.load_pm("3UPS+UP/passive")
 
 
 def _hand(alpha, beta, Zo, R=300.0, r=110.0):
@@ -137,6 +143,15 @@ def test_tricept_against_the_hand_derivation(tricept, alpha, beta, Zo):
     per_length = np.r_[np.ones(3), np.full(3, Zo)]          # v / L and w on one scale
     s = np.linalg.svd(np.vstack([freedoms, m.twists]) * per_length, compute_uv=False)
     assert s[3] < 1e-8 * s[0]
+
+
+def test_the_file_and_the_catalog_tricept_agree(tricept, tricept_file):
+    pose = {"alpha": 0.07, "beta": -0.04, "Zo": 610.0}
+    a = screwkit.analyze(tricept, pose, force=[1.0, 2.0, -300.0], torque=[0, 0, 0])
+    b = screwkit.analyze(tricept_file, pose, force=[1.0, 2.0, -300.0], torque=[0, 0, 0])
+    assert tricept.string == tricept_file.string == "3UPS+UP/passive"
+    np.testing.assert_allclose(a.jacobian.J, b.jacobian.J, atol=1e-12)
+    np.testing.assert_allclose(a.statics.values, b.statics.values, rtol=1e-12, atol=1e-12)
 
 
 def test_tricept_report_names_the_passive_leg(tricept):
@@ -212,3 +227,55 @@ def test_placed_legs_take_passive_indices(tricept):
     np.testing.assert_allclose(st.active, res.statics.active, rtol=1e-9)
     with pytest.raises(InputError, match="passive"):
         solve_statics(res.solution.legs, res.solution.position, F, T, passive=(0, 1, 2, 3))
+
+
+def test_forward_kinematics_takes_the_actuated_legs_only(tricept):
+    pose = {"alpha": np.radians(4.0), "beta": np.radians(-2.5), "Zo": 640.0}
+    sol = screwkit.solve(tricept, pose)
+    fk = screwkit.forward(tricept, sol.actuator_values)          # 3 values, legs 1-3
+    assert bool(fk.success[0])
+    got = fk.pose(0)
+    for p, v in pose.items():
+        want = np.degrees(v) if p in ("alpha", "beta") else v
+        assert abs(got[p] - want) < 1e-8 * (1 if p in ("alpha", "beta") else 650)
+    # leg extensions name the actuated legs: r1..r3 (r4 is the passive column)
+    r = {f"r{i + 1}": float(sol.extensions[i]) for i in range(3)}
+    assert bool(screwkit.forward(tricept, r).success[0])
+    with pytest.raises(InputError, match="give 3 finite actuated joint values"):
+        screwkit.forward(tricept, np.zeros(4))
+
+
+def test_maps_trajectories_and_export_name_the_actuated_legs(tricept, tmp_path):
+    ds = screwkit.map(tricept, {"alpha": (-4, 4, 3)}, fix={"beta": 0.0, "Zo": 650.0},
+                      degrees=True, force=[0, 0, -100.0], torque=[0, 0, 0])
+    assert {"q_a1", "q_a2", "q_a3", "F_a1", "F_a3", "T_c4"} <= set(ds.data_vars)
+    assert "q_a4" not in ds.data_vars and "F_a4" not in ds.data_vars
+    from screwkit.paths import path_from_expressions, run_trajectory
+    path = path_from_expressions(["alpha=3*sin(2*pi*t)", "beta=0", "Zo=650"],
+                                 tricept.independent, samples=5)
+    tr = run_trajectory(tricept, path, force=[0, 0, -100.0], torque=[0, 0, 0])
+    assert tr.active.shape == (5, 3) and tr.actuated == (0, 1, 2)
+    cols = [c for c, _ in tr.columns()]
+    assert "F_a3" in cols and "F_a4" not in cols and "T_c4" in cols
+    from screwkit.interop import closures
+    assert closures(tricept)["actuated_joints"] == ["leg1_P2", "leg2_P2", "leg3_P2"]
+    assert closures(tricept)["passive_legs"] == [4]
+
+
+def test_dynamics_of_the_tricept_against_pinocchio(tricept):
+    pytest.importorskip("pinocchio")
+    from screwkit.dynamics import check_dynamics, motion_from_expressions
+    ups = {"cylinder": {"mass": 6, "length": 350, "radius": 30, "inner_radius": 25},
+           "piston": {"mass": 3, "length": 350, "radius": 20}}
+    params = {"units": {"mass": "kg", "length": "mm", "force": "N"},
+              "platform": {"mass": 30, "inertia": {"disc": {"radius": 120, "thickness": 20}}},
+              "legs": [ups, ups, ups,
+                       {"cylinder": {"mass": 12, "length": 450, "radius": 50,
+                                     "inner_radius": 40}}]}
+    m = motion_from_expressions(["alpha=6*sin(2*pi*t)", "beta=4*cos(2*pi*t)", "Zo=650+40*t"],
+                                tricept.independent, samples=9, t_range=(0, 0.5))
+    res = screwkit.dynamics(tricept, m, params=params, force=[0, 0, -200.0], torque=[0, 0, 0])
+    assert res.dynamic_active.shape == (9, 3) and res.actuator_rates.shape == (9, 3)
+    chk = check_dynamics(tricept, result=res)
+    assert chk.passed(1e-9), chk.errors
+    assert chk.residual < 1e-9

@@ -93,7 +93,8 @@ def pinocchio_model_with_inertias(model, params):
     import pinocchio as pin
     from ..interop import build_closed_loop_model
 
-    clm = build_closed_loop_model(model.home_legs, model.platform_home)
+    clm = build_closed_loop_model(model.home_legs, model.platform_home,
+                                  passive=getattr(model, "passive", ()))
     pm = clm.model
     R0, p0 = (np.asarray(x, float) for x in model.frame)
     for ch, ld in zip(clm.chains, params.legs):
@@ -211,10 +212,12 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
     clm = pinocchio_model_with_inertias(model, params)
     pm, data = clm.model, clm.model.createData()
     nv, n = pm.nv, model.n_legs
+    active = list(model.active)                    # a passive leg has no actuator
+    na = len(active)
     idx = np.flatnonzero(res.ok) if samples is None else np.asarray(samples, int)
     car = clm.chains[clm.carrier]
-    S = np.zeros((n, nv))
-    for i, ch in enumerate(clm.chains):
+    S = np.zeros((na, nv))
+    for i, ch in enumerate(clm.chains[k] for k in active):
         a = ch.leg.actuated_index
         blk = next(b for b in ch.blocks if a in b.sk)
         if blk.kind not in ("prismatic", "revolute", "helical", "universal") or \
@@ -280,7 +283,7 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
         th_ang = (P @ (Jp @ v))[3:]
         bias = np.concatenate([np.zeros(3), Einv @ _euler_columns(model.order, angles,
                                                                   th_ang)[1]])
-        gp = (P @ drift - bias)[ind] if drive == "path" else np.zeros(n)
+        gp = (P @ drift - bias)[ind] if drive == "path" else np.zeros(na)
         o = Mc.translation
         Wext = np.concatenate([res.force, res.torque + np.cross(o, res.force)])
         fext = [pin.Force.Zero() for _ in range(pm.njoints)]
@@ -288,7 +291,7 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
         h = pin.rnea(pm, data, q, v, np.zeros(nv), fext) + _friction(clm, params, v)
         nc = len(Jc)
         # [M, -Jc^T, -S^T; Jc, 0, 0; D, 0, 0] [a; lambda; F] = [-h; -gamma; rddot - gp]
-        A = np.zeros((nv + nc + n, nv + nc + n))
+        A = np.zeros((nv + nc + na, nv + nc + na))
         A[:nv, :nv], A[:nv, nv:nv + nc], A[:nv, nv + nc:] = M, -Jc.T, -S.T
         A[nv:nv + nc, :nv], A[nv + nc:, :nv] = Jc, D
         b = np.concatenate([-h, -gam, rdd - gp])

@@ -159,12 +159,13 @@ class DynamicsResult:
         return self._per_leg("ID")
 
     def _actuated(self, key):
-        act = [lg.actuated_index for lg in self.model.home_legs]
-        return self.data[key][:, np.arange(len(act)), act]
+        legs = list(self.model.active)                 # a passive leg has no actuator
+        act = [self.model.home_legs[i].actuated_index for i in legs]
+        return self.data[key][:, legs, act]
 
     @property
     def actuator_rates(self) -> np.ndarray:
-        """``(N, n)``: the actuated joints' rates."""
+        """``(N, n_a)``: the actuated joints' rates (the actuated legs, ``model.active``)."""
         return self._actuated("qd")
 
     @property
@@ -266,6 +267,7 @@ class DynamicsResult:
         """``(name, (N,) array, unit)`` of the CSV (angles in degrees)."""
         u = self.model.units
         n = self.model.n_legs
+        act = self.model.active                        # the actuated legs
         sol = self.analysis.solution
         cols = [("t", self.t, "s")]
         for k in PARAMS:
@@ -276,13 +278,15 @@ class DynamicsResult:
         cols += [(f"r{i + 1}", ext[:, i], u.length) for i in range(n)]
         act_u = [u.torque if r else u.force for r in self.rotary]
         rate_u = [f"{'rad' if r else u.length}/s" for r in self.rotary]
-        cols += [(f"rdot{i + 1}", self.actuator_rates[:, i], rate_u[i]) for i in range(n)]
+        cols += [(f"rdot{i + 1}", self.actuator_rates[:, k], rate_u[i])
+                 for k, i in enumerate(act)]
         acc_u = [f"{'rad' if r else u.length}/s^2" for r in self.rotary]
-        cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, i], acc_u[i])
-                 for i in range(n)]
-        cols += [(f"F_a{i + 1}", self.static_active[:, i], act_u[i]) for i in range(n)]
-        cols += [(f"F_a{i + 1}_dyn", self.dynamic_active[:, i], act_u[i]) for i in range(n)]
-        info = self.analysis.jacobian.info[n:]
+        cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, k], acc_u[i])
+                 for k, i in enumerate(act)]
+        cols += [(f"F_a{i + 1}", self.static_active[:, k], act_u[i]) for k, i in enumerate(act)]
+        cols += [(f"F_a{i + 1}_dyn", self.dynamic_active[:, k], act_u[i])
+                 for k, i in enumerate(act)]
+        info = self.analysis.jacobian.info[len(act):]
         cu = [u.torque if r.kind == "couple" else u.force for r in info]
         cols += [(r.label, self.static_constraint[:, j], cu[j]) for j, r in enumerate(info)]
         cols += [(f"{r.label}_dyn", self.dynamic_constraint[:, j], cu[j])
@@ -335,8 +339,9 @@ class DynamicsResult:
         p = self.params_values
         pose = {k: (p[k] if k in LENGTH_PARAMS else np.degrees(p[k]))
                 for k in self.model.independent}
-        labels = [r.label for r in self.analysis.jacobian.info[self.model.n_legs:]]
-        kinds = [r.kind for r in self.analysis.jacobian.info[self.model.n_legs:]]
+        n_a = len(self.model.active)
+        labels = [r.label for r in self.analysis.jacobian.info[n_a:]]
+        kinds = [r.kind for r in self.analysis.jacobian.info[n_a:]]
         if title is None:
             title = (f"{self.model.name}: static (dashed) and dynamic (solid); "
                      f"F = [{', '.join(f'{x:g}' for x in self.force)}] {u.force}, "
@@ -347,7 +352,9 @@ class DynamicsResult:
                              self.kinetic_energy + self.potential_energy, self.actuator_power,
                              units={"length": u.length, "force": u.force, "torque": u.torque,
                                     "energy": f"{u.force}·{u.length}"},
-                             flags=~self.ok, out=out, title=title, dpi=dpi)
+                             flags=~self.ok, out=out, title=title, dpi=dpi,
+                             active_legs=self.model.active,
+                             constraint_legs=[r.leg for r in self.analysis.jacobian.info[n_a:]])
 
 
 def _write(text: str, out) -> None:

@@ -71,7 +71,7 @@ def _leg_rows(chain: LegChain, model, data, q, platform_pose, placed_leg, wrench
         wn = norm.wrenches(w)
         tau_pin = J.T @ w                                  # Pinocchio generalised forces
         tau = M.T @ tau_pin                                # on the screwkit joints
-        ia = chain.leg.actuated_index
+        ia = None if chain.passive else chain.leg.actuated_index
         act_cols = chain.actuated_columns()
         dev = 0.0
         for i in range(chain.m):
@@ -82,7 +82,7 @@ def _leg_rows(chain: LegChain, model, data, q, platform_pose, placed_leg, wrench
                 for c in range(b.idx_v, b.idx_v + 3):
                     dev = max(dev, _rel_product(wn, norm.twists(J[:, c])))
         rows.append(_row(f"{prefix}statics.passive", dev, rtol))
-        if actuator_force is not None:
+        if actuator_force is not None and ia is not None:
             Vn = norm.twists(Jsk[:, ia])
             scale = max(L * float(np.linalg.norm(wn) * np.linalg.norm(Vn)), abs(float(actuator_force)), _TINY)
             rows.append(_row(f"{prefix}statics.actuator", abs(tau[ia] - float(actuator_force)) / scale, rtol))

@@ -142,10 +142,10 @@ def _mobility(clm: ClosedLoopModel, data, Jc, legs, norm: Normalisation) -> Mobi
     rank, k, dof, twists, smin = platform_motion(list(range(model.nv)))
     locked_rank, kl, locked_dof, _, _ = platform_motion(keep)
     idle = locked_idle = 0
-    for lg in legs:
+    for lg, ch in zip(legs, clm.chains):
         T = lg.twists
         idle += len(T) - reciprocal_system(T, lg.points).rank
-        Tp = np.delete(T, lg.actuated_index, axis=0)
+        Tp = T if ch.passive else np.delete(T, lg.actuated_index, axis=0)
         locked_idle += len(Tp) - reciprocal_system(Tp, lg.points).rank
     twists.setflags(write=False)
     return Mobility(dof, locked_dof, rank, locked_rank, idle, locked_idle, model.nv, smin,

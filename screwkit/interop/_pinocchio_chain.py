@@ -45,7 +45,11 @@ class JointBlock:
     Attributes
     ----------
     kind : str
-        ``"spherical"``, ``"universal"``, ``"revolute"``, ``"prismatic"`` or ``"helical"``.
+        ``"spherical"``, ``"universal"``, ``"revolute"``, ``"prismatic"``, ``"helical"``, or
+        for a parallelogram ``Pa`` its three hinges in the model: ``"bar"`` (the first bar
+        about the near link's first hinge), ``"bar_far"`` (the far link about the bar's
+        end) and ``"bar_twin"`` (the second bar, a branch of the near link closed on the far
+        link by a point contact).
     joint_id : int
         Pinocchio joint index.
     sk : tuple of int
@@ -54,6 +58,13 @@ class JointBlock:
         Slices of the Pinocchio configuration and velocity vectors.
     axes : ndarray (k, 3)
         Home axes of the equivalent joints (world = joint frame at home).
+    scale : float
+        Pinocchio's joint value per unit screwkit value: 1, or for a ``Pa`` (whose screwkit
+        value is the arc length ``|b| theta``) ``1 / |b|`` for the two bars and ``-1 / |b|``
+        for the far link (which so keeps its orientation).
+    origin : ndarray (3,) or None
+        The joint frame's home point when it is not the equivalent joint's point (the far
+        hinge and the second bar of a ``Pa``).
     """
 
     kind: str
@@ -64,6 +75,8 @@ class JointBlock:
     idx_v: int
     nv: int
     axes: np.ndarray
+    scale: float = 1.0
+    origin: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,6 +102,13 @@ class LegChain:
         replaces it, see :func:`build_closed_loop_model`): ``frame_id`` and
         ``end_frame_id`` are then a frame at the S centre on the link before the S,
         with the world orientation at home, and the S's joints have no column.
+    passive : bool
+        A passive leg (no actuator): every joint is passive, :meth:`actuated_columns` is
+        empty.
+    loops : tuple
+        The parallelogram loops inside the leg: ``(joint1, point1, joint2, point2)`` per
+        ``Pa``, the end of its second bar and the same point of its far link (translations
+        in each joint's frame), tied by a ``CONTACT_3D`` in a closed-loop model.
     """
 
     leg: Leg
@@ -98,6 +118,8 @@ class LegChain:
     end_frame_id: int
     platform_home: tuple
     truncated: bool = False
+    passive: bool = False
+    loops: tuple = ()
 
     @property
     def m(self) -> int:
@@ -122,13 +144,18 @@ class LegChain:
         None for the joints of a dropped S (``truncated``)."""
         out = [None] * self.m
         for b in self.blocks:
+            if b.kind in ("bar_far", "bar_twin"):    # a Pa's value is its first bar's turn
+                continue
             cols = tuple(range(b.idx_v, b.idx_v + b.nv))
             for k, i in enumerate(b.sk):
                 out[i] = cols if b.kind == "spherical" else cols[k]
         return tuple(out)
 
     def actuated_columns(self) -> tuple:
-        """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S)."""
+        """Pinocchio velocity columns carrying the actuated joint (3 for an actuated S; none
+        for a passive leg)."""
+        if self.passive:
+            return ()
         c = self.v_columns()[self.leg.actuated_index]
         return c if isinstance(c, tuple) else (c,)
 
@@ -138,7 +165,11 @@ class LegChain:
         out = np.zeros(self.m)
         for b in self.blocks:
             vb = np.asarray(v[b.idx_v:b.idx_v + b.nv], float)
-            if b.kind == "spherical":
+            if b.kind in ("bar_far", "bar_twin"):
+                continue
+            if b.kind == "bar":
+                out[b.sk[0]] = vb[0] / b.scale
+            elif b.kind == "spherical":
                 M = self.velocity_map(q, len(v))[b.idx_v:b.idx_v + 3][:, list(b.sk)]
                 out[list(b.sk)] = np.linalg.solve(M, vb)
             else:
@@ -156,7 +187,7 @@ class LegChain:
                 R = _rot(b.axes[0], vals[0]) @ _rot(b.axes[1], vals[1]) @ _rot(b.axes[2], vals[2])
                 out[b.idx_q:b.idx_q + 4] = pin.Quaternion(R).normalized().coeffs()
             else:
-                out[b.idx_q:b.idx_q + b.nq] = vals
+                out[b.idx_q:b.idx_q + b.nq] = b.scale * vals
 
     def read_q(self, qpin, hint=None) -> np.ndarray:
         """Screwkit joint values (m,) of a Pinocchio configuration (S angles nearest ``hint``)."""
@@ -168,6 +199,10 @@ class LegChain:
                 quat = pin.Quaternion(np.asarray(qpin[b.idx_q:b.idx_q + 4], float))
                 q[list(b.sk)] = sphere_angles(quat.normalized().toRotationMatrix(), b.axes,
                                               h[list(b.sk)])
+            elif b.kind == "bar":
+                q[b.sk[0]] = qpin[b.idx_q] / b.scale
+            elif b.kind in ("bar_far", "bar_twin"):
+                continue
             else:
                 q[list(b.sk)] = qpin[b.idx_q:b.idx_q + b.nq]
         return q
@@ -175,8 +210,8 @@ class LegChain:
     def velocity_map(self, q, nv: int) -> np.ndarray:
         """Matrix ``M`` (nv, m) with ``v_pin = M qdot`` at screwkit joint values ``q``.
 
-        One to one except on an S, whose Pinocchio velocity is the angular velocity
-        in the joint frame: ``R^T (u1 q1' + R1 u2 q2' + R1 R2 u3 q3')`` with
+        ``scale`` on one-DOF blocks (1, or the bars of a ``Pa``: ``+-1 / |b|``), and on an S
+        the angular velocity in the joint frame: ``R^T (u1 q1' + R1 u2 q2' + R1 R2 u3 q3')`` with
         ``R = R1 R2 R3``.
         """
         M = np.zeros((nv, self.m))
@@ -191,7 +226,7 @@ class LegChain:
                 M[sl, i3] = R.T @ (R1 @ R2 @ b.axes[2])
             else:
                 for k, i in enumerate(b.sk):
-                    M[b.idx_v + k, i] = 1.0
+                    M[b.idx_v + k, i] = b.scale
         return M
 
 

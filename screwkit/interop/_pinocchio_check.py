@@ -85,6 +85,9 @@ class PMChecker:
         a passive S is tied by a 3-D point contact, the others by 6-D contacts);
         checks c), the loop closure and the closed-loop virtual work.
     name : str
+    passive : tuple of int
+        0-based indices of the passive legs: no actuated joint (``J^T w`` vanishes on all
+        their joints; the actuator forces are the actuated legs' only).
     """
 
     home_legs: tuple
@@ -92,21 +95,25 @@ class PMChecker:
     leg_models: tuple
     closed: ClosedLoopModel
     name: str = ""
+    passive: tuple = ()
 
     @classmethod
     def build(cls, home_legs, platform_home, name: str = "", *,
-              point_contacts: bool = True) -> "PMChecker":
+              point_contacts: bool = True, passive=()) -> "PMChecker":
         """Build the models (Pinocchio joints placed from the home legs' geometry)."""
         legs = tuple(home_legs)
+        passive = tuple(sorted(set(int(i) for i in passive)))
         ph = as_pose(platform_home, "platform_home")
-        lms = tuple(build_leg_model(lg, ph) for lg in legs)
-        clm = build_closed_loop_model(legs, ph, point_contacts=point_contacts)
-        return cls(legs, ph, lms, clm, str(name))
+        lms = tuple(build_leg_model(lg, ph, passive=k in passive) for k, lg in enumerate(legs))
+        clm = build_closed_loop_model(legs, ph, point_contacts=point_contacts, passive=passive)
+        return cls(legs, ph, lms, clm, str(name), passive)
 
     @classmethod
     def for_model(cls, pm_model) -> "PMChecker":
-        """Build for a :class:`screwkit.pm.PMModel` (its home legs and platform home pose)."""
-        return cls.build(pm_model.home_legs, pm_model.platform_home, getattr(pm_model, "name", ""))
+        """Build for a :class:`screwkit.pm.PMModel` (its home legs, platform home pose and
+        passive legs)."""
+        return cls.build(pm_model.home_legs, pm_model.platform_home, getattr(pm_model, "name", ""),
+                         passive=getattr(pm_model, "passive", ()))
 
     def check(self, joint_values, platform_pose=None, placed_legs=None, leg_wrenches=None,
               actuator_forces=None, workload=None, expected_dof=None, expected_twists=None, *,
@@ -129,7 +136,11 @@ class PMChecker:
         qs = tuple(np.asarray(q, float).reshape(-1) for q in _per_leg(joint_values, n, "joint_values"))
         placed = _per_leg(placed_legs, n, "placed_legs")
         ws = _per_leg(leg_wrenches, n, "leg_wrenches")
-        fs = _per_leg(actuator_forces, n, "actuator_forces")
+        active = [k for k in range(n) if k not in self.passive]
+        fa = _per_leg(actuator_forces, len(active), "actuator_forces (one per actuated leg)")
+        fs = [None] * n
+        for k, f in zip(active, fa):
+            fs[k] = f
         rows = []
         for k, lm in enumerate(self.leg_models):
             lm.q(qs[k])                                    # validates the shape
@@ -153,7 +164,7 @@ class PMChecker:
                 dev = max(dev, float(np.linalg.norm(cd.oMc1.translation - cd.oMc2.translation) / L))
         rows.append(_row("loop.closure", dev, rtol))
         mob = _mobility(clm, data, Jc, legs, norm)
-        if workload is not None and all(f is not None for f in fs):
+        if workload is not None and all(fs[k] is not None for k in active):
             rows.append(_row("statics.work", self._work(Jc, data, qs, fs, workload, norm), rtol))
         if expected_dof is not None:
             e = int(expected_dof)
@@ -186,13 +197,15 @@ class PMChecker:
         Jn = rowscale[:, None] * Jc * colscale[None, :]
         r, _, Vt = _svd_rank(Jn) if len(Jn) else (0, None, np.eye(clm.model.nv))
         Jp = pin.getFrameJacobian(clm.model, data, clm.chains[clm.carrier].frame_id, pin.WORLD)
-        F = np.array([float(f) for f in fs])
-        per = np.array([1.0 if ch.leg.actuated_joint.kind == "P" else 1.0 / L for ch in clm.chains])
+        act = [ch for ch in clm.chains if not ch.passive]
+        F = np.array([float(f) for f in fs if f is not None])
+        per = np.array([1.0 if ch.leg.actuated_joint.kind == "P" else 1.0 / L for ch in act])
         scale = L * (float(np.linalg.norm(norm.wrenches(W))) + float(np.sum(np.abs(F) * per)))
         dev = 0.0
         for x in Vt[r:]:
             v = colscale * x                               # Pinocchio joint velocities
-            rates = [ch.rates(q, v)[ch.leg.actuated_index] for ch, q in zip(clm.chains, qs)]
+            rates = [ch.rates(q, v)[ch.leg.actuated_index] for ch, q in zip(clm.chains, qs)
+                     if not ch.passive]
             power = float(F @ np.array(rates) + W @ (Jp @ v))
             dev = max(dev, abs(power) / max(scale, _TINY))
         return dev
@@ -201,7 +214,7 @@ class PMChecker:
 def check_closed_loop(home_legs, joint_values, platform_home, platform_pose=None, placed_legs=None,
                       leg_wrenches=None, actuator_forces=None, expected_dof=None, *,
                       workload=None, expected_twists=None, full_closure: bool = False,
-                      rtol: float = CHECK_RTOL) -> CheckReport:
+                      rtol: float = CHECK_RTOL, passive=()) -> CheckReport:
     """Cross-check a PM at a pose with Pinocchio (builds a :class:`PMChecker`).
 
     Parameters
@@ -216,12 +229,15 @@ def check_closed_loop(home_legs, joint_values, platform_home, platform_pose=None
     leg_wrenches : sequence of array_like (6,), optional
         Each leg's wrench on the platform, about O.
     actuator_forces : sequence of float, optional
+        One per actuated leg (every leg but the ``passive`` ones), in leg order.
     expected_dof : int, optional
         Adds a ``mobility`` row (deviation ``max(|dof - e|, |nv - rank - idle - e|)``,
         tolerance 0).
     workload, expected_twists, full_closure
         See :meth:`PMChecker.check` (default: S-ended legs compare their S centre only).
     rtol : float
+    passive : sequence of int
+        0-based indices of the passive legs.
 
     Returns
     -------
@@ -232,7 +248,7 @@ def check_closed_loop(home_legs, joint_values, platform_home, platform_pose=None
         ``constraint_rank``, ``locked_rank``, ``idle``, ``locked_idle``, ``internal``,
         ``nv``, ``condition``.
     """
-    checker = PMChecker.build(home_legs, platform_home)
+    checker = PMChecker.build(home_legs, platform_home, passive=passive)
     return checker.check(joint_values, platform_pose, placed_legs, leg_wrenches, actuator_forces,
                          workload, expected_dof, expected_twists, full_closure=full_closure, rtol=rtol)
 
@@ -290,7 +306,8 @@ def check_pm(solution, statics=None, *, mobility=None, expected_dof=None, checke
             forces = getattr(statics, "active", None)
         workload = getattr(statics, "workload", None)
     if checker is None:
-        checker = PMChecker.build(model.home_legs, home, getattr(model, "name", ""))
+        checker = PMChecker.build(model.home_legs, home, getattr(model, "name", ""),
+                                  passive=getattr(model, "passive", ()))
     elif len(checker.home_legs) != len(solution.joint_values):
         raise InputError(f"the checker has {len(checker.home_legs)} legs, the solution "
                          f"{len(solution.joint_values)}")

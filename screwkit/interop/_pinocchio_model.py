@@ -135,7 +135,8 @@ def _values(q, chain: LegChain) -> np.ndarray:
     return q
 
 
-def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False) -> LegChain:
+def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False,
+               passive: bool = False) -> LegChain:
     """Append ``leg`` to ``model`` as a branch from the universe (depth first).
 
     With ``point_contact`` a passive last S is left out: the chain ends at the link
@@ -157,20 +158,23 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
             groups.append(("spherical" if n == 3 else "universal", tuple(grp)))
             i += n
         elif j.spec.parallelogram:
-            raise InputError(f"leg {leg.name}: the Pinocchio check does not cover the "
-                             f"parallelogram {j.name} yet (its far link moves on a circle, not "
-                             "along a prismatic joint)")
+            groups.append(("parallelogram", (i,)))
+            i += 1
         else:
             groups.append(({"R": "revolute", "P": "prismatic", "H": "helical"}[j.kind], (i,)))
             i += 1
     truncated = bool(point_contact and groups[-1][0] == "spherical"
-                     and leg.actuated_index not in groups[-1][1])
+                     and (passive or leg.actuated_index not in groups[-1][1]))
     if truncated:
         groups = groups[:-1]
     parent, parent_point = 0, np.zeros(3)
-    blocks = []
+    blocks, twins = [], []
     for kind, grp in groups:
         j0 = joints[grp[0]]
+        if kind == "parallelogram":
+            parent, parent_point = _add_parallelogram(model, j0, grp[0], parent, parent_point,
+                                                      prefix, blocks, twins)
+            continue
         axes = np.array([joints[k].direction for k in grp])
         if kind == "spherical":
             jm = pin.JointModelSpherical()
@@ -189,15 +193,60 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
         axes.setflags(write=False)
         blocks.append(JointBlock(kind, jid, grp, jmod.idx_q, jmod.nq, jmod.idx_v, jmod.nv, axes))
         parent, parent_point = jid, j0.point
+    # the second bars after the main branch: depth first, the near link's subtree through
+    # the first bar comes before the second bar
+    loops = [_add_twin(model, prefix, blocks, *t) for t in twins]
     if truncated:
         c = np.asarray(joints[-1].point, float)
         fid = model.addFrame(pin.Frame(f"{prefix}contact", parent, pin.SE3(np.eye(3), c - parent_point),
                                        pin.FrameType.OP_FRAME))
-        return LegChain(leg, tuple(blocks), parent, fid, fid, (R_home, o_home), True)
+        return LegChain(leg, tuple(blocks), parent, fid, fid, (R_home, o_home), True, passive,
+                        tuple(loops))
     fid = model.addFrame(pin.Frame(f"{prefix}platform", parent, pin.SE3(R_home, o_home - parent_point),
                                    pin.FrameType.OP_FRAME))
     eid = model.addFrame(pin.Frame(f"{prefix}end", parent, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
-    return LegChain(leg, tuple(blocks), parent, fid, eid, (R_home, o_home))
+    return LegChain(leg, tuple(blocks), parent, fid, eid, (R_home, o_home), False, passive,
+                    tuple(loops))
+
+
+def _add_parallelogram(model, j, slot, parent, parent_point, prefix, blocks, twins):
+    """A ``Pa`` as its real four-bar: the first bar on a hinge at the Pa's point ``p``, the
+    far link on a hinge at the bar's end ``p + b`` (turning back by the bar's angle, so that
+    it translates); the second bar (added by :func:`_add_twin` once the leg's main branch is
+    in) on a hinge at ``p + e`` of the near link, its end tied to the far link's
+    ``p + e + b`` (``e = h x b``, normal to the hinges and the bar, ``|e| = |b|``).  Returns
+    the far link's joint and home point."""
+    import pinocchio as pin
+    h = np.asarray(j.hinge, float)
+    p, b = np.asarray(j.point, float), np.asarray(j.bar, float)
+    nb = float(np.linalg.norm(b))
+    axes = h[None, :].copy()
+    axes.setflags(write=False)
+    ids = []
+    for kind, par, at, rel, scale in (("bar", parent, p, p - parent_point, 1.0 / nb),
+                                      ("bar_far", None, p + b, b, -1.0 / nb)):
+        jid = model.addJoint(ids[0] if par is None else par, pin.JointModelRevoluteUnaligned(h),
+                             pin.SE3(np.eye(3), rel), f"{prefix}{j.name}.{kind}")
+        jm = model.joints[jid]
+        ids.append(jid)
+        blocks.append(JointBlock(kind, jid, (slot,), jm.idx_q, jm.nq, jm.idx_v, jm.nv, axes,
+                                 scale, np.array(at, float)))
+    twins.append((j.name, slot, parent, parent_point, p, b, h, ids[1], axes, 1.0 / nb))
+    return ids[1], p + b
+
+
+def _add_twin(model, prefix, blocks, name, slot, parent, parent_point, p, b, h, far, axes,
+              scale):
+    """The second bar of a ``Pa`` (see :func:`_add_parallelogram`); returns its loop
+    ``(twin joint, b, far joint, e)``: the same point ``p + e + b`` in each joint's frame."""
+    import pinocchio as pin
+    e = np.cross(h, b)
+    jid = model.addJoint(parent, pin.JointModelRevoluteUnaligned(h),
+                         pin.SE3(np.eye(3), p + e - parent_point), f"{prefix}{name}.bar_twin")
+    jm = model.joints[jid]
+    blocks.append(JointBlock("bar_twin", jid, (slot,), jm.idx_q, jm.nq, jm.idx_v, jm.nv, axes,
+                             scale, np.array(p + e, float)))
+    return jid, b, far, e
 
 
 def _check_home(model, chains, platform_home) -> None:
@@ -213,7 +262,7 @@ def _check_home(model, chains, platform_home) -> None:
         L = max(ch.leg.length, 1e-300)
         for b in ch.blocks:
             M = data.oMi[b.joint_id]
-            p = ch.leg.joints[b.sk[0]].point
+            p = ch.leg.joints[b.sk[0]].point if b.origin is None else b.origin
             if np.abs(M.rotation - np.eye(3)).max() > _HOME_RTOL or \
                     np.linalg.norm(M.translation - p) > _HOME_RTOL * max(L, np.linalg.norm(p)):
                 raise GeometryError(f"leg {ch.leg.name}: Pinocchio joint {b.joint_id} is not at its home point")
@@ -224,7 +273,7 @@ def _check_home(model, chains, platform_home) -> None:
             raise GeometryError(f"leg {ch.leg.name}: Pinocchio platform frame is not at the home pose")
 
 
-def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
+def build_leg_model(home_leg: Leg, platform_home=None, *, passive: bool = False) -> LegModel:
     """Pinocchio model of one serial leg with native joints (see module docstring).
 
     Parameters
@@ -233,6 +282,8 @@ def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
         The leg at its home geometry (joint values 0).
     platform_home : tuple (R (3, 3), p (3,)), optional
         Platform home pose; default ``(I, home_leg.a)``.
+    passive : bool
+        A leg without an actuator (every joint passive).
 
     Returns
     -------
@@ -242,12 +293,13 @@ def build_leg_model(home_leg: Leg, platform_home=None) -> LegModel:
     ph = as_pose(platform_home if platform_home is not None else (np.eye(3), home_leg.a), "platform_home")
     model = pin.Model()
     model.name = home_leg.name
-    chain = _add_chain(model, home_leg, ph, "")
+    chain = _add_chain(model, home_leg, ph, "", passive=passive)
     _check_home(model, [chain], ph)
     return LegModel(model, chain, ph)
 
 
-def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False) -> ClosedLoopModel:
+def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False,
+                            passive=()) -> ClosedLoopModel:
     """One Pinocchio model with every leg (depth first) and its loop closures.
 
     Every leg is a branch from the universe, added depth first in leg order.  The
@@ -271,6 +323,8 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
     home_legs : sequence of Leg
     platform_home : tuple (R (3, 3), p (3,))
     point_contacts : bool
+    passive : sequence of int
+        0-based indices of the passive legs (no actuated joint).
 
     Returns
     -------
@@ -290,7 +344,9 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
     if point_contacts:
         carrier = next((k for k, lg in enumerate(legs) if not s_ended(lg)), 0)
     model = pin.Model()
-    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier)
+    passive = set(passive)
+    chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier,
+                              k in passive)
                    for k, lg in enumerate(legs))
     _check_home(model, chains, ph)
     c0 = chains[carrier]
@@ -312,4 +368,12 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
         cm.name = f"loop{k + 1}"
         cons.append(cm)
         owners.append(k)
+    for k, ch in enumerate(chains):                     # the parallelograms' own loops
+        for n, (j1, p1, j2, p2) in enumerate(ch.loops):
+            cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, j1,
+                                          pin.SE3(np.eye(3), p1), j2, pin.SE3(np.eye(3), p2),
+                                          pin.ReferenceFrame.LOCAL)
+            cm.name = f"leg{k + 1}.parallelogram{n + 1}"
+            cons.append(cm)
+            owners.append(k)
     return ClosedLoopModel(model, chains, tuple(cons), ph, carrier, tuple(owners))

@@ -9,15 +9,22 @@ carries the link ``platform`` on a ``fixed`` joint.  Every joint frame sits at i
 home point with the base orientation, so each joint ``origin`` is a pure translation and
 its ``axis`` the joint's home direction; joint values are 0 at home, as in screwkit.
 
+A parallelogram ``Pa`` is its real four-bar: the first bar (joint ``leg<i>_Pa<k>_bar``), the
+far link turning back with it (``_far``, a URDF ``mimic`` of the bar, multiplier -1, so that
+it translates) and the second bar from the near link (``_twin``, a mimic of the bar).
+
 The loops (legs 2..n meet the platform) are in a JSON sidecar (:func:`closures`): one
 6-D rigid contact per leg between a frame on the leg's last joint and the same platform
-frame on leg 1's last joint, the arguments of ``pinocchio.RigidConstraintModel``::
+frame on leg 1's last joint, and one 3-D point contact per parallelogram (the end of its
+second bar on the far link; ``contact_type`` in the constraint's entry), the arguments of
+``pinocchio.RigidConstraintModel``::
 
     import json, numpy as np, pinocchio as pin
     model = pin.buildModelFromUrdf("pm.urdf")
     loops = json.load(open("pm.closures.json"))
     se3 = lambda p: pin.SE3(np.array(p["rotation"]), np.array(p["translation"]))
-    constraints = [pin.RigidConstraintModel(pin.ContactType.CONTACT_6D, model,
+    kind = lambda c: getattr(pin.ContactType, c.get("contact_type", loops["contact_type"]))
+    constraints = [pin.RigidConstraintModel(kind(c), model,
                        model.getJointId(c["joint1"]), se3(c["placement1"]),
                        model.getJointId(c["joint2"]), se3(c["placement2"]),
                        pin.ReferenceFrame.LOCAL) for c in loops["constraints"]]
@@ -69,7 +76,10 @@ def _z_to(d) -> tuple:
     s, c = np.linalg.norm(axis), float(z @ d)
     if s < 1e-12:
         return (math.pi, 0.0, 0.0) if c < 0 else (0.0, 0.0, 0.0)
-    return tuple(Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_euler("xyz"))
+    import warnings
+    with warnings.catch_warnings():      # a cylinder along +-x: any roll of it is the same
+        warnings.simplefilter("ignore")
+        return tuple(Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_euler("xyz"))
 
 
 def _cylinder(p, q, radius, origin_at) -> str:
@@ -103,7 +113,10 @@ def _joint_name(k: int, joint) -> str:
 
 
 def _tree(pm):
-    """Per leg: ``[(joint, urdf joint name, point, direction, kind)]`` with checks."""
+    """Per leg: ``[(joint, urdf joint name, point, direction, kind)]`` with checks.  A ``Pa``
+    is its four-bar: the first bar (``<name>_bar``), the far link turning back with it
+    (``<name>_far``, a mimic of the bar with multiplier -1) in the chain, and the second bar
+    (``<name>_twin``) from the near link, listed by :func:`_twins`."""
     out = []
     for k, leg in enumerate(pm.home_legs):
         rows = []
@@ -111,9 +124,50 @@ def _tree(pm):
             if j.kind == "H":
                 raise InputError(f"leg {k + 1} ({leg.name}): URDF has no helical joint "
                                  f"({j.name}); export a model without H joints")
-            rows.append((j, _joint_name(k, j), np.asarray(j.point, float),
-                         np.asarray(j.direction, float), "revolute" if j.kind == "R" else "prismatic"))
+            p, d = np.asarray(j.point, float), np.asarray(j.direction, float)
+            if j.spec.parallelogram:
+                h = np.asarray(j.hinge, float)
+                rows.append((j, _joint_name(k, j) + "_bar", p, h, "revolute"))
+                rows.append((j, _joint_name(k, j) + "_far", p + np.asarray(j.bar, float), h,
+                             "revolute"))
+                continue
+            rows.append((j, _joint_name(k, j), p, d, "revolute" if j.kind == "R" else "prismatic"))
         out.append(rows)
+    return out
+
+
+def _twins(rows):
+    """The second bars of a leg's parallelograms: ``(joint, name, parent link, parent point,
+    point, hinge, bar, e)`` with ``e = h x b`` (the near link's second hinge at ``p + e``)."""
+    out = []
+    for r, (j, name, p, h, _) in enumerate(rows):
+        if name.endswith("_bar"):
+            parent = ("base", np.zeros(3)) if r == 0 else (f"{rows[r - 1][1]}_link", rows[r - 1][2])
+            b = np.asarray(j.bar, float)
+            e = np.cross(h, b)
+            out.append((j, name[:-4] + "_twin", parent[0], parent[1], p + e, h, b, e))
+    return out
+
+
+def _last_rows(rows) -> list:
+    """The last row of each equivalent joint in a leg's rows (the link after it)."""
+    out, seen = [], []
+    for r, (j, *_rest) in enumerate(rows):
+        if seen and seen[-1] is j:
+            out[-1] = r
+        else:
+            seen.append(j)
+            out.append(r)
+    return out
+
+
+def _slot_rows(rows) -> list:
+    """The row of each equivalent joint (a ``Pa``'s first bar) in a leg's rows."""
+    out, seen = [], set()
+    for r, (j, name, *_rest) in enumerate(rows):
+        if id(j) not in seen:
+            seen.add(id(j))
+            out.append(r)
     return out
 
 
@@ -159,7 +213,8 @@ def urdf_text(pm, params=None) -> str:
         leg = pm.home_legs[k_leg]
         parent, parent_point = "base", np.zeros(3)
         ends = [r[2] * k for r in rows[1:]] + [np.asarray(leg.a, float) * k]
-        for slot, ((j, name, p, d, kind), nxt) in enumerate(zip(rows, ends)):
+        slot_of = {r: s for s, r in enumerate(_last_rows(rows))}   # a Pa: its far link
+        for row, ((j, name, p, d, kind), nxt) in enumerate(zip(rows, ends)):
             p = p * k
             child = f"{name}_link"
             big = 10.0 * scale
@@ -170,13 +225,26 @@ def urdf_text(pm, params=None) -> str:
                          f'<axis xyz="{_vec(d)}"/>\n'
                          f'    <limit lower="{_f(lo)}" upper="{_f(hi)}" effort="0" velocity="0"/>\n'
                          f"  </joint>\n")
+            if name.endswith("_far"):                    # the far link translates
+                lines[-1] = lines[-1].replace("  </joint>", f'    <mimic joint="{name[:-4]}_bar" '
+                                              'multiplier="-1" offset="0"/>\n  </joint>')
             visual = _cylinder(p, nxt, (1.6 if kind == "prismatic" else 1.0) * r_link, p)
             if j.spec.origin in "SU" and j.name.endswith("a"):
                 visual += _sphere(p, 2.0 * r_link, p)
-            body = by_slot.get((k_leg, slot))
+            body = by_slot.get((k_leg, slot_of.get(row)))
             inertial = "" if body is None else _inertial(body, p)
             lines.append(f'  <link name="{child}">\n{inertial}{visual}  </link>\n')
             parent, parent_point = child, p
+        for (j, name, par, par_pt, p, h, b, e) in _twins(rows):   # the parallelograms' second bars
+            p, par_pt, b = p * k, par_pt * k, b * k                  # (metres)
+            lines.append(f'  <joint name="{name}" type="revolute">\n'
+                         f'    <parent link="{par}"/><child link="{name}_link"/>\n'
+                         f'    <origin xyz="{_vec(p - par_pt)}" rpy="0 0 0"/><axis xyz="{_vec(h)}"/>\n'
+                         f'    <limit lower="{_f(-math.pi)}" upper="{_f(math.pi)}" effort="0" '
+                         f'velocity="0"/>\n    <mimic joint="{name[:-5]}_bar" multiplier="1" '
+                         f'offset="0"/>\n  </joint>\n')
+            lines.append(f'  <link name="{name}_link">\n{_cylinder(p, p + b, r_link, p)}'
+                         f'  </link>\n')
         if k_leg == 0:
             lines.append(f'  <joint name="platform_fixed" type="fixed">\n'
                          f'    <parent link="{parent}"/><child link="platform"/>\n'
@@ -195,27 +263,36 @@ def closures(pm, urdf_name: str = "") -> dict:
     """The loop closures of :func:`urdf_text`'s tree (JSON-ready): one ``CONTACT_6D`` per leg
     2..n, ``joint1`` its last joint, ``joint2`` leg 1's last joint, ``placement1/2`` the
     platform frame in each joint's frame (rotation (3, 3), translation (3,) in metres, as
-    the URDF)."""
+    the URDF); and one ``CONTACT_3D`` per parallelogram (its second bar's loop)."""
     from ._si import SIConversion
 
-    k = SIConversion.of(pm).length
+    m = SIConversion.of(pm).length                  # metres per model length
     R_home, o_home = pm.platform_home
-    o_home = o_home * k
-    trees = [[(j, name, p * k, d, kind) for j, name, p, d, kind in rows] for rows in _tree(pm)]
+    o_home = o_home * m
+    trees = [[(j, name, p * m, d, kind) for j, name, p, d, kind in rows] for rows in _tree(pm)]
     last = [rows[-1] for rows in trees]
     carrier = last[0]
     cons = []
-    for k in range(1, len(trees)):
-        j1 = last[k]
-        cons.append({"name": f"loop{k + 1}", "leg": k + 1, "joint1": j1[1],
+    for i in range(1, len(trees)):
+        j1 = last[i]
+        cons.append({"name": f"loop{i + 1}", "leg": i + 1, "joint1": j1[1],
                      "placement1": _se3(R_home, o_home - j1[2]), "joint2": carrier[1],
                      "placement2": _se3(R_home, o_home - carrier[2])})
-    actuated = [rows[pm.home_legs[k].actuated_index][1] for k, rows in enumerate(trees)]
+    for i, rows in enumerate(trees):                  # each parallelogram's own loop
+        for (j, name, *_rest, b, e) in _twins(rows):
+            cons.append({"name": f"{name[:-5]}_loop", "leg": i + 1, "contact_type": "CONTACT_3D",
+                         "joint1": name, "placement1": _se3(np.eye(3), b * m),
+                         "joint2": name[:-5] + "_far", "placement2": _se3(np.eye(3), e * m)})
+    passive = tuple(getattr(pm, "passive", ()))
+    actuated = [rows[_slot_rows(rows)[pm.home_legs[i].actuated_index]][1]
+                for i, rows in enumerate(trees)
+                if i not in passive]                  # a passive leg has no actuated joint
     return {"format": "screwkit-closures/1", "urdf": urdf_name, "pm": pm.name,
             "units": {"length": "m", "angle": "rad", "model_length": pm.units.length,
-                      "metres_per_model_length": k},
+                      "metres_per_model_length": m},
             "contact_type": "CONTACT_6D", "reference_frame": "LOCAL",
             "constraints": cons, "actuated_joints": actuated,
+            "passive_legs": [i + 1 for i in passive],
             "platform_frame": "platform", "carrier_leg": 1}
 
 
@@ -255,4 +332,5 @@ def to_pinocchio(pm, *, point_contacts: bool = False):
         ``pinocchio.RigidConstraintModel``), ``.chains``, ``.q(joint_values)``.
     """
     from ._pinocchio_model import build_closed_loop_model
-    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts)
+    return build_closed_loop_model(pm.home_legs, pm.platform_home, point_contacts=point_contacts,
+                                   passive=getattr(pm, "passive", ()))

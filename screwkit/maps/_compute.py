@@ -148,7 +148,7 @@ def arrays_of(model, res) -> dict:
         "T_r": None if st is None else np.where(np.array(_linear(model))[None, :], st.T_r,
                                                 np.nan),
         "extensions": np.asarray(sol._extensions, float),
-        "actuators": np.asarray(sol.actuator_values, float),
+        "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
     out = {k: v for k, v in out.items() if v is not None}
     ix = res.indices                        # transmission and constraint indices
@@ -163,7 +163,9 @@ def arrays_of(model, res) -> dict:
         out[f"dep.{p}"] = np.asarray(sol._params[p], float)
     lim = model.limits
     if lim.declared:
-        chk = lim.check(sol.joint_values, out["actuators"], out["extensions"],
+        per_leg = np.full(out["extensions"].shape, np.nan)         # NaN: a passive leg
+        per_leg[:, list(model.active)] = out["actuators"]
+        chk = lim.check(sol.joint_values, per_leg, out["extensions"],
                         sol.base_points, sol._platform[2])
         out["within_limits"] = chk["within"]
         if lim.min_leg_distance is not None:

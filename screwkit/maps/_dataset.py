@@ -136,9 +136,9 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
     for i in range(n):
         dv[f"r{i + 1}"] = var(a["extensions"][:, i], u.length,
                               f"extension |a_{i + 1} - A_{i + 1}| of leg {i + 1}", leg=i + 1)
-    for i in range(n):
+    for k, i in enumerate(model.active):            # a passive leg has no actuator
         rot = not meta.linear[i]
-        v = a["actuators"][:, i]
+        v = a["actuators"][:, k]
         if rot and to_deg:
             v = np.degrees(v)
         dv[f"q_a{i + 1}"] = var(v, _angle_unit(grid) if rot else u.length,

@@ -86,9 +86,10 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
     p = res.params_degrees()
     pose = {k: p[k] for k in res.independent}
     n = res.n_legs
+    acts = res.actuated
     det = res.determined if res.determined is not None else \
-        np.ones((len(res), n + len(res.constraint_kinds)), bool)
-    det_c = det[:, n:]
+        np.ones((len(res), len(acts) + len(res.constraint_kinds)), bool)
+    det_c = det[:, len(acts):]
     force_cols = [j for j, k in enumerate(res.constraint_kinds) if k != "couple"]
     couple_cols = [j for j, k in enumerate(res.constraint_kinds) if k == "couple"]
     Fc = res.constraint[:, force_cols] if force_cols else None
@@ -111,9 +112,9 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
     note = zero_torque_note(res, zero) if res.ok.any() else ""
     Tc = np.column_stack(torques) if torques else None
     labels = {"extensions": [f"$r_{{{i + 1}}}$" for i in range(n)],
-              "active": [f"$F_{{a{i + 1}}}$" for i in range(n)]}
-    legs = {}
-    determined = {"active": det[:, :n]}
+              "active": [f"$F_{{a{i + 1}}}$" for i in acts]}
+    legs = {"active": list(acts)}
+    determined = {"active": det[:, :len(acts)]}
     if Fc is not None:
         labels["constraint_forces"] = [_math(res.constraint_labels[j]) for j in force_cols]
         legs["constraint_forces"] = [res.constraint_legs[j] for j in force_cols]

@@ -40,10 +40,11 @@ class TrajectoryResult:
         ``Xo Yo Zo alpha beta gamma`` (model length unit, radians).
     extensions : ndarray (N, n)
         ``r_i = |a_i - A_i|``.
-    actuator_values : ndarray (N, n)
-        Displacement of each actuated joint from home.
-    active : ndarray (N, n)
-        Active forces ``F_ai`` (> 0 pushes the platform away from ``A_i``).
+    actuator_values : ndarray (N, n_a)
+        Displacement of each actuated joint from home (the actuated legs, :attr:`actuated`).
+    active : ndarray (N, n_a)
+        Active forces ``F_ai`` of the actuated legs (> 0 pushes the platform away from
+        ``A_i``).
     constraint : ndarray (N, k)
         Constraint force / couple values, columns :attr:`constraint_labels`
         (the value times the row's unit direction is the force on its line).
@@ -90,6 +91,8 @@ class TrajectoryResult:
     resultant_determined : ndarray (N, n) of bool, optional
         False where a constraint row of the leg is not determined by statics (then the
         resultant may not be either: a conservative flag).
+    active_legs : tuple of int, optional
+        The actuated legs (0-based; None: every leg), the columns of :attr:`active`.
     analysis : PMAnalysis, optional
         The batched analysis of the samples (the placed legs of :meth:`show`).
     """
@@ -124,7 +127,13 @@ class TrajectoryResult:
     resultant_moment: np.ndarray | None = None
     resultant_determined: np.ndarray | None = None
     workload_source: str = "given"
+    active_legs: tuple | None = None
     analysis: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def actuated(self) -> tuple:
+        """The actuated legs (0-based): every leg but the passive ones."""
+        return tuple(range(self.n_legs)) if self.active_legs is None else tuple(self.active_legs)
 
     @property
     def conditioning(self) -> np.ndarray:
@@ -182,8 +191,8 @@ class TrajectoryResult:
         cols += [(q, p[q] * kl, ub["length"]) if q in LENGTH_PARAMS else (q, p[q], "deg")
                  for q in PARAMS]
         cols += [(f"r{i + 1}", self.extensions[:, i] * kl, ub["length"]) for i in range(n)]
-        cols += [(f"F_a{i + 1}", self.active[:, i] * (kt if rot[i] else kf),
-                  ub["torque" if rot[i] else "force"]) for i in range(n)]
+        cols += [(f"F_a{i + 1}", self.active[:, k] * (kt if rot[i] else kf),
+                  ub["torque" if rot[i] else "force"]) for k, i in enumerate(self.actuated)]
         cols += [(lab, self.constraint[:, j] * (kt if kind == "couple" else kf),
                   ub["torque" if kind == "couple" else "force"])
                  for j, (lab, kind) in enumerate(zip(self.constraint_labels,
@@ -237,7 +246,8 @@ class TrajectoryResult:
             "pm": self.pm,
             "independent": list(self.independent),
             "units": ub,
-            "active_units": [ub["torque"] if r else ub["force"] for r in rot],
+            "active_units": [ub["torque"] if rot[i] else ub["force"] for i in self.actuated],
+            "active_legs": [i + 1 for i in self.actuated],
             "workload": {"force": self.force * kf, "torque": self.torque * kt,
                          "applied_at": "o", "force_unit": ub["force"],
                          "torque_unit": ub["torque"], "source": self.workload_source},
@@ -250,7 +260,7 @@ class TrajectoryResult:
             "pose_units": {q: ub["length"] if q in LENGTH_PARAMS else "deg" for q in PARAMS},
             "extensions": self.extensions * kl,
             "extensions_unit": ub["length"],
-            "active": self.active * np.array([kt if r else kf for r in rot]),
+            "active": self.active * np.array([kt if rot[i] else kf for i in self.actuated]),
             "constraint": {"labels": list(self.constraint_labels),
                            "kinds": list(self.constraint_kinds),
                            "legs": [i + 1 for i in self.constraint_legs],
@@ -302,8 +312,9 @@ class TrajectoryResult:
             params={q: (np.asarray(v, float) * kl if q in LENGTH_PARAMS else v)
                     for q, v in self.params.items()},
             extensions=self.extensions * kl,
-            actuator_values=self.actuator_values * np.array([1.0 if r else kl for r in rot]),
-            active=self.active * np.array([kt if r else kf for r in rot]),
+            actuator_values=self.actuator_values * np.array([1.0 if rot[i] else kl
+                                                             for i in self.actuated]),
+            active=self.active * np.array([kt if rot[i] else kf for i in self.actuated]),
             constraint=self.constraint * np.array([kt if kind == "couple" else kf
                                                    for kind in self.constraint_kinds]),
             T_r=self.T_r * kt, leg_wrenches=lw, force=self.force * kf, torque=self.torque * kt,

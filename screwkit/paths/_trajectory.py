@@ -177,14 +177,14 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
     params = {k: col(lambda p, k=k: p.solution._params[k]) for k in PARAMS}
     ext = col(lambda p: p.solution._extensions)
     ext[~reach] = np.nan
-    act_v = col(lambda p: np.asarray(p.solution.actuator_values).reshape(len(p), n))
+    nact = len(model.active)                   # the actuated legs (not the passive ones)
+    act_v = col(lambda p: np.asarray(p.solution.actuator_values).reshape(len(p), nact))
     st_ok = reach & ~sing_mask
     vals = col(lambda p: p.statics.F_r)
     legw = col(lambda p: p.statics._derived[2])
     conw = col(lambda p: p.statics._derived[3])
     Tr = col(lambda p: p.statics._derived[4])
     eq = col(lambda p: p.statics._derived[5])
-    nact = n
     cond = np.where(reach, cond, np.nan)
     message = []
     notes = [p.solution.notes if not p.solution.single else (p.solution.notes,) for p in parts]
@@ -242,7 +242,7 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
                             resultant_force=out["res_f"], resultant_moment=out["res_m"],
                             workload_source=source,
                             resultant_determined=out["res_det"],
-                            analysis=_kept(res, N))
+                            active_legs=tuple(model.active), analysis=_kept(res, N))
 
 
 def _kept(res, N):

@@ -24,6 +24,8 @@ from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._workload import Workload, workload_from_mapping
 from ._loader import load_pm, pm_names
 from ._variants import Definition, definition_yaml, with_dimensions
+from ._builder import PMBuilder, leg_type_of
+from ._extend import catalog_with_legs
 from ._schema import model_schema, schema_path, schema_text
 from ._model_check import Problem, check_model_file
 from ._mobility import (Mobility, describe_twist_space, finite_motion, linkage_graph, mobility,
@@ -36,7 +38,8 @@ __all__ = [
     "leg_spec_from_mapping",
     # models
     "PMModel", "PARAMS", "LENGTH_PARAMS", "load_pm", "pm_names", "structure_vector",
-    "Definition", "with_dimensions", "definition_yaml",
+    "Definition", "with_dimensions", "definition_yaml", "PMBuilder", "leg_type_of",
+    "catalog_with_legs",
     # the model-file schema and checks
     "model_schema", "schema_text", "schema_path", "check_model_file", "Problem",
     # limits

@@ -60,6 +60,9 @@ class LegSpec:
     used_by: tuple = ()
     note: str = ""
     basis: tuple = ()
+    #: The mapping the leg type was read from (as a file's ``legs:`` holds it), to write the
+    #: leg type back (``PMModel.to_mapping``).
+    definition: dict | None = field(default=None, compare=False, repr=False)
 
     @property
     def name(self) -> str:
@@ -200,8 +203,9 @@ def leg_spec_from_mapping(d: dict, source=None, index: int | None = None) -> Leg
         if not isinstance(d.get(k, ""), str):
             raise CatalogError("must be a string", name, k, source)
     basis = _basis(d.get("constraint_basis") or [], rules, name, source)
+    import copy
     return LegSpec(rules, str(d.get("summary", "")), pl, dict(expect), tuple(used_by),
-                   str(d.get("note", "")), basis)
+                   str(d.get("note", "")), basis, copy.deepcopy(dict(d)))
 
 
 def _basis(raw, rules, name, source) -> tuple:

@@ -63,6 +63,7 @@ class Limits:
         joint_values : sequence of ndarray (N, m_i)
             Each leg's joint values from home.
         actuator_values, extensions : ndarray (N, n)
+            Per leg (a passive leg's actuator value is NaN: it has no actuator limit).
         A : ndarray (n, 3) ; a : ndarray (N, n, 3)
             The legs' end points (world).
 
@@ -180,9 +181,10 @@ def _per_leg(raw, ctx, fld, n, rotary):
     return tuple(_pair(raw, ctx, fld, rotary[i]) for i in range(n))
 
 
-def limits_from_mapping(raw, ctx, home_legs) -> Limits:
+def limits_from_mapping(raw, ctx, home_legs, passive=()) -> Limits:
     """The :class:`Limits` of a definition's ``limits:`` mapping (``ctx``: the loader's
-    evaluation context, for expressions and errors naming the field)."""
+    evaluation context, for expressions and errors naming the field; ``passive``: the
+    passive legs, which have no actuator to limit)."""
     if raw is None:
         return NO_LIMITS
     if not isinstance(raw, dict):
@@ -218,6 +220,14 @@ def limits_from_mapping(raw, ctx, home_legs) -> Limits:
                 lo, hi = _pair(v, ctx, fld, rot)
                 joints[i].append((slot, lo, hi, str(name), rot))
     acts = _per_leg(raw.get("actuators"), ctx, "limits.actuators", n, rot_act)
+    if acts and passive:
+        listed = isinstance(raw["actuators"], (list, tuple)) and \
+            any(isinstance(v, (list, tuple)) for v in raw["actuators"])
+        bad = [i for i in passive if listed and acts[i] is not None]
+        if bad:
+            raise ctx.err(f"leg {bad[0] + 1} is passive: it has no actuator (null here; limit "
+                          "its joints under 'joints')", f"limits.actuators[{bad[0]}]")
+        acts = tuple(None if i in passive else b for i, b in enumerate(acts))
     exts = _per_leg(raw.get("extensions"), ctx, "limits.extensions", n, [False] * n)
     dmin = raw.get("min_leg_distance")
     if dmin is not None:

@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Mapping
 
 import numpy as np
 
-from ..legs._guards import MAX_ANGLE_DEG, MAX_MAGNITUDE, did_you_mean, real, shorten
+from ..legs._guards import MAX_ANGLE_DEG, MAX_MAGNITUDE, MAX_NAME, did_you_mean, real, shorten
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..screws import Normalisation, check_order
@@ -44,6 +45,8 @@ from ._workload import workload_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 from ._variants import Definition
 from ._vertices import _SHAPE_KEYS, override_axes as _override, vertices as _vertices  # noqa: F401
+from ._definition import MEMORY, definition_of, inline_leg, plain_mapping
+from ._catalog import LegSpec
 
 __all__ = ["load_pm", "pm_names"]
 
@@ -62,19 +65,28 @@ def pm_names(catalog=None) -> list:
     return sorted(cat.pms)
 
 
-def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> PMModel:
-    """Load a PM by catalog name or from a YAML file.
+def load_pm(name_or_path, overrides: dict | None = None, catalog=None, *,
+            name: str | None = None) -> PMModel:
+    """Load a PM by catalog name, from a YAML file, or from a mapping in memory.
 
     Parameters
     ----------
-    name_or_path : str
+    name_or_path : str, path, mapping or PMBuilder
         A catalog PM name (``"3RRPRR"``, ``"3-RRPRR"``), or a path to a YAML
         file with ``pms:`` (and optionally ``legs:``, which add to or shadow the
-        catalog's legs); ``path.yaml#NAME`` picks one of several PMs.
+        catalog's legs); ``path.yaml#NAME`` picks one of several PMs.  Or one PM's
+        mapping exactly as it stands under ``pms:`` in a model file (its leg types by
+        catalog name or written inline, ``{leg: {name: ..., string: ..., joints: [...]}}``),
+        or a whole model file's mapping (``{legs: [...], pms: {...}}``), or a
+        :class:`~screwkit.pm.PMBuilder`.  A mapping is read by the very same loader as a
+        file: the same checks and the same errors (without a line number).
     overrides : dict, optional
         Dimension values replacing the defaults, e.g. ``{"L": 150}``.
     catalog : Catalog, optional
         Default: the packaged catalog.
+    name : str, optional
+        The model's name for one PM's mapping (default its ``string``), or the PM to pick
+        from a file's mapping.
 
     Raises
     ------
@@ -86,10 +98,21 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
     from ._catalog import Catalog, default_catalog, load_catalog
 
     cat = catalog if catalog is not None else default_catalog()
+    if hasattr(name_or_path, "to_mapping") and not isinstance(name_or_path, PMModel):
+        b = name_or_path                                  # a PMBuilder
+        return load_pm(b.to_mapping(), overrides, cat, name=name or b.name)
+    if isinstance(name_or_path, Mapping):
+        return _from_mapping(name_or_path, overrides, cat, name)
     if isinstance(name_or_path, os.PathLike):
         name_or_path = os.fspath(name_or_path)
+    if isinstance(name_or_path, (list, tuple)) and name_or_path and \
+            all(type(x).__name__ == "Leg" for x in name_or_path):
+        raise InputError("a list of legs is not a PM: assemble one with screwkit.PMBuilder "
+                         "(its legs, their base and platform attachments, the pose "
+                         "parametrisation; docs/building_pms.md)")
     if not isinstance(name_or_path, str) or not name_or_path.strip():
-        raise InputError("a PM name or a path to a YAML file is required")
+        raise InputError("a PM name, a path to a YAML file, a PM mapping or a PMBuilder is "
+                         f"required, got {type(name_or_path).__name__}")
     path, pick = split_path(name_or_path)
     if path is not None:
         user = load_catalog(path)
@@ -104,6 +127,11 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
         name = pick
     else:
         name = name_or_path.strip()
+    return _load_entry(cat, name, overrides, path)
+
+
+def _load_entry(cat, name, overrides, path=None) -> PMModel:
+    """The PM ``name`` of ``cat`` (a catalog, a file or a mapping read as one)."""
     key = find_pm(cat, name)
     try:
         try:
@@ -116,6 +144,29 @@ def load_pm(name_or_path: str, overrides: dict | None = None, catalog=None) -> P
             raise
         from ._locate import with_line_of_file
         raise with_line_of_file(exc, path) from None
+
+
+def _from_mapping(raw, overrides, cat, name) -> PMModel:
+    """A PM from a mapping: one PM's entry (under ``pms:`` in a file) or a whole file's."""
+    from ._catalog import Catalog
+    d = plain_mapping(raw)
+    if "pms" in d:                                     # a model file's mapping
+        user = Catalog.from_mapping(d, MEMORY)
+        if not user.pms:
+            raise CatalogError("the mapping defines no PM (its 'pms:' is empty)", source=MEMORY)
+        if name is None:
+            if len(user.pms) > 1:
+                raise CatalogError(f"the mapping defines {len(user.pms)} PMs "
+                                   f"({listing(user.pms)}): pick one with name=", source=MEMORY)
+            name = next(iter(user.pms))
+        return _load_entry(Catalog({**cat.legs, **user.legs}, cat.table1, user.pms, MEMORY),
+                           name, overrides)
+    if name is None:
+        s = d.get("string")
+        name = s if isinstance(s, str) and s.strip() else "pm"
+    if not isinstance(name, str) or not name.strip() or len(name) > MAX_NAME:
+        raise InputError(f"name must be a non-empty text of at most {MAX_NAME} characters")
+    return _load_entry(Catalog(cat.legs, cat.table1, {name: d}, MEMORY), name, overrides)
 
 
 class _Ctx:
@@ -192,7 +243,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         raise ctx.err("must be a list with one leg per vertex", "legs")
     if not (len(raw_legs) == n == len(plat)):
         raise ctx.err(f"{len(raw_legs)} legs for {n} base and {len(plat)} platform vertices", "legs")
-    names, rules, bases, passive = [], [], [], []
+    names, rules, bases, passive, specs = [], [], [], [], []
     for i, entry in enumerate(raw_legs):
         fld = f"legs[{i}]"
         axes = None
@@ -210,9 +261,11 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
             if flag:
                 passive.append(i)
             axes, entry = entry.get("axes"), entry["leg"]
-        if not isinstance(entry, str):
-            raise ctx.err("must be a leg name", fld)
-        spec = cat.find_leg(entry)
+            if isinstance(entry, dict):                 # a leg type written inline
+                entry = inline_leg(entry, ctx, f"{fld}.leg")
+        if not isinstance(entry, (str, LegSpec)):
+            raise ctx.err("must be a leg name or a leg type's mapping", fld)
+        spec = entry if isinstance(entry, LegSpec) else cat.find_leg(entry)
         if spec is None:
             raise ctx.err(f"unknown leg {shorten(entry)}{did_you_mean(entry, list(cat.legs))} "
                           "(not in the catalog's legs)", fld)
@@ -222,6 +275,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         names.append(spec.name)
         rules.append(r)
         bases.append(tuple(spec.basis))
+        specs.append(spec)
     string, pms = pm_string(d, name, rules, ctx, passive)
     declared = sorted((r.string.text, i in passive) for i, r in enumerate(rules))
     if sorted((ls.text, k in pms.passive) for k, ls in enumerate(pms.legs)) != declared:
@@ -281,8 +335,10 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                constraint_references=tuple(bases), units=units,
                                dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
                                                               legs, units),
-                               limits=limits_from_mapping(d.get("limits"), ctx, legs),
+                               limits=limits_from_mapping(d.get("limits"), ctx, legs, passive),
                                workload=workload_from_mapping(d.get("workload"), name, src,
                                                               units, dims),
                                default_pose=default, notes=tuple(notes), passive=tuple(passive),
-                               definition=Definition(name, d, cat, dict(overrides), _build))
+                               definition=Definition(
+                                   name, d, cat, dict(overrides), _build,
+                                   definition_of(d, specs, dims if overrides else None)))

@@ -9,8 +9,9 @@ has ``dof`` independent ones.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -88,8 +89,11 @@ class PMModel:
         model's units and world axes, :mod:`screwkit.pm._workload`), or None: then the
         statics need one given.
     definition : Definition or None
-        The ``pms:`` entry the model was built from (:meth:`with_dimensions` evaluates it
-        again with other dimensions); None for a model built otherwise.
+        How the model was defined: the ``pms:`` entry as read with its catalog and overrides
+        (:meth:`with_dimensions` evaluates it again with other dimensions), and the same entry
+        self-contained (``Definition.mapping``: leg types not of the packaged catalog written
+        inline, dimension overrides applied; :meth:`to_mapping`, :meth:`to_yaml`). None for a
+        model built otherwise.
     """
 
     name: str
@@ -120,11 +124,55 @@ class PMModel:
     dynamics: object = None
     passive: tuple = ()
     workload: object = None
-    definition: object = dataclasses.field(default=None, repr=False)
+    definition: object = field(default=None, repr=False)
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
                 f"independent={self.independent}, order={self.order!r})")
+
+    # -- the definition -----------------------------------------------------
+    def to_mapping(self) -> dict:
+        """The model's definition, as a model file holds it under ``pms:`` (a new copy):
+        ``screwkit.load_pm(pm.to_mapping(), name=pm.name)`` builds the same model
+        (:meth:`same_as`)."""
+        if self.definition is None:
+            from ..errors import InputError
+            raise InputError(f"{self.name}: this model keeps no definition to write")
+        return copy.deepcopy(self.definition.mapping)
+
+    def to_yaml(self, path=None) -> str | None:
+        """The model as a model file (``pms: {NAME: definition}``): the text, or written to
+        ``path`` (then None).  Reading the file gives the same model (:meth:`same_as`)."""
+        import yaml
+        text = yaml.safe_dump({"pms": {self.name: self.to_mapping()}}, sort_keys=False,
+                              default_flow_style=None, allow_unicode=True, width=100)
+        if path is None:
+            return text
+        from pathlib import Path
+        Path(path).write_text(text, encoding="utf-8")
+        return None
+
+    def same_as(self, other) -> bool:
+        """True when ``other`` is the same model, number for number: the same name,
+        definition, pose parametrisation, units, passive legs and, bit for bit, the same
+        vertices, home pose and home legs (every joint's axis and point)."""
+        if not isinstance(other, PMModel):
+            return False
+        a, b = self, other
+        same = (a.name == b.name and a.string == b.string and a.legs == b.legs
+                and _mapping(a) == _mapping(b) and a.independent == b.independent
+                and a.order == b.order and a.stated_dof == b.stated_dof
+                and a.units == b.units and a.passive == b.passive and a.motion == b.motion
+                and a.home_pose == b.home_pose and a.default_pose == b.default_pose
+                and a.dimensions == b.dimensions and len(a.home_legs) == len(b.home_legs))
+        arrays = [(a.base_points, b.base_points), (a.platform_points, b.platform_points),
+                  (a.centre, b.centre)]
+        for la, lb in zip(a.home_legs, b.home_legs):
+            same = same and la.string.marked == lb.string.marked
+            arrays += [(la.A, lb.A), (la.a, lb.a)]
+            arrays += [(x, y) for ja, jb in zip(la.joints, lb.joints)
+                       for x, y in ((ja.direction, jb.direction), (ja.point, jb.point))]
+        return bool(same and all(np.array_equal(x, y) for x, y in arrays))
 
     # -- geometry ---------------------------------------------------------
     def pose_matrix(self, pose: dict):
@@ -190,3 +238,8 @@ class PMModel:
         load = None if self.workload is None else self.workload.moved(R)
         return dataclasses.replace(self, home_legs=legs, frame=frame, normalisation=norm,
                                    workload=load)
+
+
+def _mapping(model):
+    """The self-contained definition of ``model`` (None if it keeps none)."""
+    return None if model.definition is None else model.definition.mapping

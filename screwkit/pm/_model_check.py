@@ -236,7 +236,7 @@ def check_model_file(path, load=None) -> list:
         uses = [x.get("leg") if isinstance(x, dict) else x
                 for x in (d.get("legs") or [] if isinstance(d, dict) else [])] \
             if isinstance(d, dict) and isinstance(d.get("legs"), list) else []
-        if any(u in broken for u in uses):
+        if any(isinstance(u, str) and u in broken for u in uses):
             continue                      # its leg types are reported above
         def build(name=name):
             if whole:

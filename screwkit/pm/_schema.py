@@ -146,7 +146,8 @@ def model_schema() -> dict:
     }, _BLOCK_KEYS)
     pm_types = dict(_PM_TYPES)
     pm_leg_types = {
-        "leg": (_TEXT, "a leg type's name"),
+        "leg": ({"oneOf": [{"type": "string"}, {"$ref": "#/$defs/leg"}]},
+                "a leg type's name, or a leg type written inline (as an entry of legs:)"),
         "axes": ({"type": "object", "propertyNames": {"pattern": "^[RPHUSC][0-9]+[abc]?$"},
                   "additionalProperties": _RULE}, "{JOINT: direction rule} replaced"),
         "passive": ({"type": "boolean"}, "a leg without an actuator (true): it adds its "

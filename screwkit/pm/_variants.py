@@ -35,6 +35,9 @@ class Definition:
         The dimension values the model was loaded with.
     build : callable
         The loader's ``build(name, raw, catalog, overrides) -> PMModel``.
+    mapping : dict
+        The entry self-contained, as ``PMModel.to_mapping`` returns it: leg types not of the
+        packaged catalog written inline, the overrides applied to its dimensions.
     """
 
     name: str
@@ -42,6 +45,7 @@ class Definition:
     catalog: object
     overrides: dict
     build: object
+    mapping: dict
 
     def rebuild(self, model, values) -> "PMModel":  # noqa: F821
         """:func:`with_dimensions` of ``model`` (built from this definition)."""
@@ -74,26 +78,17 @@ def with_dimensions(model, values) -> "PMModel":  # noqa: F821
 
 
 def definition_yaml(model, note: str = "") -> str:
-    """The model as a model file (YAML text): its ``pms:`` entry with the model's
-    dimensions, and the ``legs:`` of the file it came from, if any (catalog legs are
-    found by name).  ``note`` goes into the entry's ``source`` field."""
+    """The model as a model file (YAML text): its self-contained ``pms:`` entry
+    (``PMModel.to_mapping``: leg types not of the packaged catalog written inline) with the
+    model's dimensions.  ``note`` goes into the entry's ``source`` field."""
     import yaml
 
-    from ._catalog import default_catalog
-    d = model.definition
-    if d is None:
+    if model.definition is None:
         raise InputError(f"model {model.name}: no definition to write (load it with "
                          "screwkit.load_pm)")
-    entry = dict(d.raw)
+    entry = model.to_mapping()
     entry["dimensions"] = {k: float(v) for k, v in model.dimensions.items()}
     if note:
         entry["source"] = note
-    out = {}
-    src = d.catalog.source
-    if src and src != default_catalog().source:
-        from ._yaml import load_yaml_file
-        data, _ = load_yaml_file(src, "YAML file")
-        if isinstance(data, dict) and data.get("legs"):
-            out["legs"] = data["legs"]
-    out["pms"] = {d.name: entry}
-    return yaml.safe_dump(out, sort_keys=False, allow_unicode=True, width=100)
+    return yaml.safe_dump({"pms": {model.name: entry}}, sort_keys=False, allow_unicode=True,
+                          width=100)

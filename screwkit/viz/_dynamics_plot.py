@@ -78,7 +78,7 @@ def _place_legends(fig, pending):
 def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None,
                   constraint_dynamic=None, constraint_labels=(), constraint_kinds=(),
                   energy=None, power=None, *, constraint_legs=None, units=None, flags=None,
-                  out=None, title=None, dpi: int = 150):
+                  out=None, title=None, dpi: int = 150, active_legs=None):
     """Draw the static and dynamic efforts of a PM along a motion (module docstring).
 
     Parameters
@@ -96,6 +96,9 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         Kinetic plus potential energy and the actuators' power.
     constraint_legs : sequence of int, optional
         The leg (0-based) of each constraint column (its colour); default from the label.
+    active_legs : sequence of int, optional
+        The leg (0-based) of each active column (default: column i is leg i; a PM with a
+        passive leg has no active column for it).
     units : dict, optional
         ``length``, ``force``, ``torque``, ``energy`` (printed on the axes).
     flags : array_like (N,) of bool, optional
@@ -146,10 +149,11 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
     ax.set_title("(a) independent pose parameters", loc="left", fontsize=10)
     # (b) active forces
     ax = axes[1]
-    for i in range(Fs.shape[1]):
+    act_legs = list(active_legs) if active_legs is not None else list(range(Fs.shape[1]))
+    for k, i in enumerate(act_legs):
         c = leg_color(i)
-        ax.plot(t, masked(Fs[:, i]), color=c, ls="--", lw=1.2, label=f"$F_{{a{i + 1}}}$ static")
-        ax.plot(t, masked(Fd[:, i]), color=c, lw=2.0, label=f"$F_{{a{i + 1}}}$ dynamic")
+        ax.plot(t, masked(Fs[:, k]), color=c, ls="--", lw=1.2, label=f"$F_{{a{i + 1}}}$ static")
+        ax.plot(t, masked(Fd[:, k]), color=c, lw=2.0, label=f"$F_{{a{i + 1}}}$ dynamic")
     ax.set_ylabel(f"active force [{U['force']}]")
     pending.append((ax, ax.get_lines(), dict(fontsize=7, ncol=2)))
     ax.set_title("(b) active forces: static (dashed), dynamic (solid)", loc="left", fontsize=10)

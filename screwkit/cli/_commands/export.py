@@ -70,9 +70,11 @@ def run(args) -> int:
                     "actuated_joints": loops["actuated_joints"], "length_unit": "m",
                     "mass_unit": "kg", "massive_links": [b.name for b in bodies],
                     "inertias": note})
+        n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
         lines.append(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths "
                      f"in m, masses in kg) and {side} ({len(loops['constraints'])} loop "
-                     f"closures, {loops['contact_type']})")
+                     f"closures, {loops['contact_type']}"
+                     + (f"; {n3} of them parallelogram loops, CONTACT_3D" if n3 else "") + ")")
         lines.append(f"  inertias: {note}" + (f" ({len(bodies)} massive links)" if bodies
                                               else ""))
     if args.mjcf:

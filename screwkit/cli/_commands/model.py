@@ -1,4 +1,5 @@
-"""``screwkit model check FILE`` / ``screwkit model schema``: model files and their schema."""
+"""``screwkit model check FILE`` / ``screwkit model schema`` / ``screwkit model write PM``:
+model files, their schema, and a model written back as a self-contained file."""
 
 from __future__ import annotations
 
@@ -8,7 +9,9 @@ from .._types import output, path
 from ._common import dump_json, write_output
 
 HELP = """Check a catalog or model file (every problem at once, each with its line, entry and
-field), or print the JSON Schema of model files (for editors: completion and validation)."""
+field), print the JSON Schema of model files (for editors: completion and validation), or write
+a model (a catalog PM, a file's PM, with --set overrides) back as a self-contained model file
+to edit: its leg types that are not the catalog's are written inline."""
 
 
 def register(sub):
@@ -29,7 +32,28 @@ def register(sub):
     s.add_argument("--out", type=output, help="write it to this file instead")
     s.add_argument("--path", action="store_true", help="print the packaged file's path and exit")
     s.set_defaults(func=run_schema)
+    w = msub.add_parser("write", help="write a model back as a self-contained model file",
+                        description="Write a PM (a catalog name or --model FILE, with --set "
+                                    "overrides applied) as a model file: its definition under "
+                                    "pms:, leg types that are not the catalog's written inline. "
+                                    "Reading the file again gives the same model.")
+    from .analyze import add_pm_arguments
+    add_pm_arguments(w, pose=False)
+    w.add_argument("--out", type=output, help="write it to this file instead of printing it")
+    w.set_defaults(func=run_write)
     p.set_defaults(func=lambda args: (p.print_help(), 1)[1])
+
+
+def run_write(args) -> int:
+    from .analyze import resolve_model
+
+    pm = resolve_model(args)
+    if args.out:
+        write_output(args.out, pm.to_yaml())
+        print(f"wrote {args.out} ({pm.name}: {len(pm.legs)} legs)")
+    else:
+        print(pm.to_yaml(), end="")
+    return 0
 
 
 def run_check(args) -> int:
