@@ -49,8 +49,9 @@ def run_dynamics(args, model, fmt, progress, force=None, torque=None) -> int:
     text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
     emit_table(args.out, text)
     from .analyze import workload_note
-    print(workload_note("trajectory", model, res.force, res.torque, res,
-                        "external workload"), file=sys.stderr)
+    if sys.stderr.isatty() and not getattr(args, "quiet", False):   # (JSON: workload.source)
+        print(workload_note("trajectory", model, res.force, res.torque, res,
+                            "external workload"), file=sys.stderr)
     if args.plot:
         res.plot(args.plot, title=args.title)
         print(f"wrote {args.plot}", file=sys.stderr)

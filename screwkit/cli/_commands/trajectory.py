@@ -117,7 +117,8 @@ def run(args) -> int:
     else:
         text = res.to_csv(units=table_units)
     emit_table(args.out, text)
-    print(workload_note("trajectory", model, res.force, res.torque, res), file=sys.stderr)
+    if sys.stderr.isatty() and not getattr(args, "quiet", False):   # (JSON: workload.source)
+        print(workload_note("trajectory", model, res.force, res.torque, res), file=sys.stderr)
     if args.plot:
         units = {}
         if table_units is not None:
