@@ -15,7 +15,7 @@ from screwkit.design import synthesize_motion
 
 @pytest.fixture(scope="module")
 def planar(tmp_path_factory):
-    res = synthesize_motion("2T1R", asymmetric=False, limit=4)
+    res = synthesize_motion("2T1R", asymmetric=False, limit=4, generate=False)
     path = tmp_path_factory.mktemp("planar") / "3rrr.yaml"
     best = res.listed[0]
     path.write_text(best.model_yaml())
@@ -24,7 +24,8 @@ def planar(tmp_path_factory):
 
 def test_the_planar_3rrr_and_3prr_are_found_first(planar):
     res, _ = planar
-    assert res.names()[:2] == ["3RRR/planar", "3PRR/planar"]
+    assert res.variants()[:2] == ["3RRR/planar", "3PRR/planar"]
+    assert res.names()[:2] == ["3-RRR", "3-PRR"]
     assert all(p.verdict.success for p in res.listed)
     assert {p.motion for p in res.listed} == {"2T1R"}
 

@@ -312,12 +312,24 @@ def test_the_finite_motion_type_is_the_parametrisations_at_every_pose(name):
     assert pm.motion == _count(pm)                       # the catalog states the same
     res = screwkit.analyze(pm, _random_poses(pm, 2, np.random.default_rng(3)),
                            raise_on_singular=False, **PAPER_LOAD)
+    params = res.solution.params
+    L = float(pm.normalisation.length)
     for i in range(len(res)):
         m = res[i].mobility
         assert m.motion_type == _count(pm)
         assert m.finite.startswith(_count(pm) + ": independent " + ", ".join(pm.independent))
+        # the parasitic motions are the dependent parameters that vary with the others
+        # (computed from the finite motion: a translational PM has none; the translations
+        # of a spherical PM are its rotations about the fixed point, not parasitic)
+        named = m.finite.split("parasitic motion ")[1].split(" (")[0].split(", ") \
+            if "; parasitic motion " in m.finite else []
+        fixed_point = "a base-fixed point" in m.finite
         for p in pm.dependent:
-            assert p in m.finite.split("parasitic")[1]
+            scale = 1.0 if p in ("alpha", "beta", "gamma") else L
+            if fixed_point and p in LENGTHS:
+                continue
+            if np.ptp(np.asarray(params[p], float)) > 1e-6 * scale:
+                assert p in named, (p, m.finite)
 
 
 # --------------------------------------------------------------------------- signs

@@ -21,7 +21,6 @@ import pytest
 
 import screwkit
 from screwkit.cli import main
-from screwkit.errors import InputError
 from screwkit.design import actuation_condition, synthesize_motion
 from screwkit.pm import Catalog, default_catalog
 from screwkit.synthesis import leg_pool, motion_pattern, passive_compositions
@@ -35,27 +34,26 @@ def _catalog(*names):
 @pytest.fixture(scope="module")
 def passive_1t2r():
     return synthesize_motion("1T2R", asymmetric=False, passive=True,
-                             catalog=_catalog("SPR", "SPS"))
+                             catalog=_catalog("SPR", "SPS"), generate=False)
 
 
 @pytest.fixture(scope="module")
 def passive_3t1r():
     return synthesize_motion("3T1R", asymmetric=False, passive=True,
-                             catalog=_catalog("PRRR", "SPS"))
+                             catalog=_catalog("PRRR", "SPS"), generate=False)
 
 
 def _listed(res, name):
-    hit = [p for p in res.listed if p.name == name]
-    assert hit, f"{name} not in {res.names()}"
+    hit = [p for p in res.listed if p.variant == name]
+    assert hit, f"{name} not in {res.variants()}"
     return hit[0]
 
 
 def _home(p, tmp_path):
-    path = tmp_path / (p.name.replace("/", "-") + ".yaml")
-    with pytest.raises(InputError, match="passive leg"):
-        p.model_yaml()                          # no passive-leg field in models yet
-    path.write_text(p.model_yaml(as_actuated=True), encoding="utf-8")
+    path = tmp_path / (p.variant.replace("/", "-") + ".yaml")
+    path.write_text(p.model_yaml(), encoding="utf-8")
     model = screwkit.load_pm(str(path))
+    assert model.passive == (0,)                # written as a passive leg
     a = screwkit.analyze(model, {k: model.home_pose[k] for k in model.independent},
                          raise_on_singular=False)
     return model, a
@@ -105,7 +103,7 @@ def test_passive_compositions_complete_the_complementary_system_exactly():
     for motion, name, legs in (("1T2R", "passive-SPR+2SPR+SPS", ("SPR", "SPR", "SPR", "SPS")),
                                ("3T1R", "passive-PRRR+4SPS", ("PRRR",) + ("SPS",) * 4)):
         m = motion_pattern(motion)
-        comps = {c.name: c for c in passive_compositions(m, leg_pool(m))}
+        comps = {c.name: c for c in passive_compositions(m, leg_pool(m, generate=False))}
         c = comps[name]
         assert tuple(k.name for k in c.legs) == legs and c.passive == (0,)
         assert len(c.actuated) == m.dof
@@ -175,12 +173,15 @@ def test_3t1r_lists_a_passive_prrr_leg_against_its_hand_couples(passive_3t1r, tm
     R = np.asarray(res.solution.rotation, float)
     assert bool(np.all(res.solution.success))
     assert float(np.max(np.abs(R[:, :, 2] - [0, 0, 1]))) <= 1e-9
-    assert "passive" in p.definition["note"] and "redundant actuator" in p.definition["note"]
+    assert "passive" in p.definition["note"]
+    # the written model declares leg 1 passive: no actuation row for it in the engine's J
+    assert not [r for r in a.jacobian.info if r.leg == 0 and r.kind == "actuation"]
+    assert {"leg": "PRRR", "passive": True} in p.definition["legs"]
 
 
 def test_dask_synthesis_equals_the_serial_one(capsys):
     distributed = pytest.importorskip("distributed")
-    args = ["synthesize", "3T1R", "--passive", "--json", "--quiet"]
+    args = ["synthesize", "3T1R", "--passive", "--no-generate", "--json", "--quiet"]
     assert main(args) == 0
     serial = json.loads(capsys.readouterr().out)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,

@@ -36,176 +36,46 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..errors import GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..pm import load_pm, mobility_of_legs
-from ..synthesis import (GEOMETRIES, compositions_for, geometries_for, leg_pool, model_yaml,
-                         motion_pattern, passive_compositions, pm_definition, synthesis_catalog)
+from ..synthesis import (CENTRAL_GEOMETRIES, GEOMETRIES, build_pool, catalog_compositions,
+                         central_compositions, compositions_for, geometries_for, motion_pattern,
+                         passive_compositions, pm_definition, synthesis_catalog)
+from ..synthesis._leg_types import VARIANTS
+from ._results import SynthesizedPM, TypeSynthesis
 from ._tasks import monotonic_progress, run_round
-from ._verify import Verdict
 
-__all__ = ["MAX_LEGS", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis", "synthesize_motion"]
+__all__ = ["MAX_LEGS", "MAX_MIX", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis",
+           "synthesize_motion"]
 
 #: Largest number of legs (the standard geometries have 3, 4 or 5 vertices).
 MAX_LEGS = max(GEOMETRIES)
 #: Default budget of engine verifications (a candidate on one geometry) of one search, for
 #: the actuated compositions and again for the passive-leg ones.
-MAX_VERIFIED = 60
+MAX_VERIFIED = 400
+#: Leg types whose symmetric PMs verified that are mixed two by two (the best ranked).
+MAX_MIX = 4
 
 
-@dataclass(frozen=True)
-class SynthesizedPM:
-    """One verified PM of :func:`synthesize_motion`.
-
-    Attributes
-    ----------
-    rank : int
-        1 is the best.
-    name, string : str
-        ``"2UPU/force+SPR"`` (catalog leg names) and the PM string ``"2UPU+SPR"``.
-    motion : str
-    legs : tuple of str
-        Leg type per vertex.
-    symmetric : bool
-    geometry : str
-        The standard geometry it was verified on.
-    joints : int
-        Equivalent 1-DOF joints of all legs.
-    actuators : tuple of str
-        The legs' strings with the actuated joint marked (``"U_PU"``).
-    actuator_position : float
-        Mean 1-based position of the actuated letter in its leg (1: every actuator on
-        the base).
-    condition_home : float
-        Length-normalised condition number of ``J`` at home.
-    verdict : Verdict
-        The engine's verification (mobility at every checked pose, finite invariant).
-    definition : dict
-        The ``pms:`` entry (write it with :meth:`model_yaml`).
-    passive : tuple of str
-        The passive legs' types (no actuator; ``actuators`` lists the actuated legs only).
-    """
-
-    rank: int
-    name: str
-    string: str
-    motion: str
-    legs: tuple
-    symmetric: bool
-    geometry: str
-    joints: int
-    actuators: tuple
-    actuator_position: float
-    condition_home: float
-    verdict: Verdict
-    definition: dict
-    passive: tuple = ()
-
-    def model_yaml(self, as_actuated: bool = False) -> str:
-        """The model YAML (``screwkit.load_pm`` reads it, with any extra leg types).
-
-        A PM with a passive leg raises :class:`~screwkit.errors.InputError` unless
-        ``as_actuated``: screwkit models cannot declare a passive leg yet, so the file
-        would actuate every leg; its mobility and constraint rows are this PM's, its
-        actuator forces those of the all-actuated PM (redundantly actuated)."""
-        if self.passive and not as_actuated:
-            from ..errors import InputError
-            raise InputError(f"{self.name}: a model cannot declare the passive leg "
-                             f"{', '.join(self.passive)} yet (model_yaml(as_actuated=True) "
-                             "writes it with every leg actuated)")
-        return model_yaml(self.name, self.definition)
-
-    def to_dict(self) -> dict:
-        v = self.verdict
-        return {"rank": self.rank, "name": self.name, "string": self.string,
-                "motion": self.motion, "legs": list(self.legs), "symmetric": self.symmetric,
-                "geometry": self.geometry, "joints": self.joints,
-                "actuators": list(self.actuators), "actuator_position": self.actuator_position,
-                "condition_home": self.condition_home,
-                "verified_poses": [{"pose": c.pose, "dof": c.dof, "motion_type": c.motion_type,
-                                    "translations": c.translations, "rotations": c.rotations,
-                                    "condition_number": c.condition_number} for c in v.checks],
-                "path_samples_reached": v.reached, "singular_on_path": v.singular_on_path,
-                "finite_check": v.finite, "notes": list(v.notes),
-                "passive_legs": list(self.passive), "definition": self.definition}
-
-
-@dataclass(frozen=True)
-class TypeSynthesis:
-    """Result of :func:`synthesize_motion`.
-
-    Attributes
-    ----------
-    motion : MotionPattern
-    n_legs : int
-    pool : tuple of LegKind
-        The leg types whose constraint systems fit the motion (counts).
-    listed : tuple of SynthesizedPM
-        The verified PMs, ranked (at most ``limit``).
-    verified : int
-        Verified PMs before the limit.
-    tried : int
-        Candidate compositions.
-    rejected : tuple of (str, str)
-        ``(name, reason)`` of the candidates that reached the engine and failed.
-    screened_out : int
-        Candidates whose legs did not span the complementary system at home on any
-        geometry (or could not be built there by their rules).
-    not_verified : int
-        Candidates that passed the screen but were not verified: the budget
-        ``max_verified`` of engine verifications was spent.
-    pruned : int
-        Asymmetric candidates not tried because the symmetric PM of the more
-        constraining type did not verify (see the module docstring for the rule).
-    """
-
-    motion: object
-    n_legs: int
-    pool: tuple
-    listed: tuple
-    verified: int
-    tried: int
-    rejected: tuple
-    screened_out: int
-    not_verified: int = 0
-    pruned: int = 0
-
-    def __len__(self) -> int:
-        return len(self.listed)
-
-    def names(self) -> list:
-        return [p.name for p in self.listed]
-
-    def to_dict(self) -> dict:
-        m = self.motion
-        return {"motion": m.name, "dof": m.dof, "independent": list(m.independent),
-                "complement": m.complement, "legs": self.n_legs,
-                "pool": [{"name": k.name, "string": k.marked, "forces": k.forces,
-                          "couples": k.couples} for k in self.pool],
-                "tried": self.tried, "screened_out": self.screened_out,
-                "not_verified": self.not_verified, "pruned": self.pruned,
-                "verified": self.verified, "listed": [p.to_dict() for p in self.listed],
-                "rejected": [{"name": n, "reason": r} for n, r in self.rejected],
-                "units": {"length": "cm", "angle": "deg"}}
-
-
-def _probe(motion, n, g, catalog, passive=False):
+def _probe(motion, n, g, catalog, passive=False, central=False):
     """A model of ``n`` unconstrained legs on geometry ``g``: its placements at home."""
-    probe = pm_definition(_unconstrained(n, passive), motion, g)
+    probe = pm_definition(_unconstrained(n, passive, central), motion, g)
     try:
         return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}))
     except ScrewkitError:
         return None
 
 
-def _unconstrained(n, passive=False):
+def _unconstrained(n, passive=False, central=False):
     from ..synthesis import Candidate, LegKind
     sps = LegKind("SPS", "SPS", "S_PS", 0, 0, 0, 7, 2)
-    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True, (0,) if passive else ())
+    if central or passive:
+        text = f"{n - 1}SPS+SPS/passive"
+        return Candidate((sps,) * n, text, text, False, (n - 1,) if central else (0,), central)
+    return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True)
 
 
 def _home_legs(kind_names, g, probe, specs, cache):
@@ -223,9 +93,10 @@ def _home_legs(kind_names, g, probe, specs, cache):
 
 
 def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = None,
-                      asymmetric: bool = True, passive: bool = False,
+                      asymmetric: bool = True, passive: bool | None = None,
                       max_verified: int | None = None, catalog=None, progress=None,
-                      mapper=None) -> TypeSynthesis:
+                      mapper=None, generate: bool = True, variants: int = VARIANTS,
+                      wide: bool = False) -> TypeSynthesis:
     """PMs with the motion pattern ``motion``, verified by the engine and ranked.
 
     Parameters
@@ -238,27 +109,37 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     limit : int, optional
         List at most this many (the best ranked).
     asymmetric : bool
-        Also two-type compositions (``2UPU/force+SPR``).
-    passive : bool
-        Also the actuated legs plus one passive constraining leg
+        Also two-type compositions (``2-UPU+SPR``).
+    passive : bool, optional
+        Default: as ``asymmetric``.  Also the actuated legs plus one passive constraining
+        leg (a verification budget of
+        their own): unconstrained actuated legs and a generated central column that exerts
+        the whole complementary system (:func:`screwkit.synthesis.central_compositions`,
+        the Tricept), and the catalog's constraining leg types at vertex 1
         (:func:`screwkit.synthesis.passive_compositions`; ``legs + 1`` legs, tried when a
-        standard geometry has that many vertices, with a verification budget of their
-        own).  Off by default: models cannot declare a passive leg yet, so these PMs are
-        listed but cannot be written as a model (:meth:`SynthesizedPM.model_yaml`).
+        standard geometry has that many vertices).  The written model declares the leg
+        passive (``{leg: NAME, passive: true}``).
     max_verified : int, optional
         At most this many engine verifications (one candidate on one geometry; default
         ``MAX_VERIFIED``) for the actuated compositions, and as many for the passive-leg
         ones.  They go geometry by geometry (every candidate on the first geometry where
         it passed the screen, then the ones that failed there on their next), candidates
-        symmetric first, then by joint count, so the budget goes to the simplest.
+        symmetric first, the catalog's before generated ones, then by joint count.
     catalog : Catalog, optional
-        Leg types (default: the packaged catalog), plus the extra arrangements.
+        Leg types (default: the packaged catalog, e.g. extended with a model file's leg
+        types, :func:`screwkit.extend_catalog`), plus the extra arrangements.
     progress : callable, optional
         ``progress(done, total)`` as candidates are screened and verified.
     mapper : callable, optional
         ``mapper(fn, items, progress)`` -> ``[fn(x) for x in items]`` in order: runs the
         engine verifications (``functools.partial(screwkit.maps.run_tasks, cluster)`` on a
         Dask cluster); default serial.  The result is the same either way.
+    generate : bool
+        Add the leg types generated for the pattern to the pool
+        (:func:`screwkit.synthesis.generated_legs`); ``False``: the catalog's only.
+    variants, wide
+        Of the leg generation: leg types kept per letter word, and the wide enumeration
+        (H joints, five-joint legs of four or five letters; slower: use a Dask cluster).
 
     Returns
     -------
@@ -268,9 +149,10 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     --------
     >>> res = synthesize_motion("3T", limit=3)          # doctest: +SKIP
     >>> res.listed[0].name, res.listed[0].verdict.checks[1].motion_type  # doctest: +SKIP
-    ('3PRRR/translational', '3T')
+    ('3-PRRR', '3T')
     """
     m = motion_pattern(motion)
+    passive = bool(asymmetric) if passive is None else bool(passive)
     n = m.dof if legs is None else legs
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not m.dof <= n <= MAX_LEGS \
             or int(n) not in GEOMETRIES:
@@ -278,64 +160,107 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
                          f"{MAX_LEGS} with a standard geometry "
                          f"({', '.join(map(str, sorted(GEOMETRIES)))} legs), got {legs!r:.20}")
     n = int(n)
-    if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, np.integer))
-                              or limit < 1):
-        raise InputError(f"--limit must be a positive integer, got {limit!r:.20}")
-    if max_verified is not None and (isinstance(max_verified, bool) or not isinstance(
-            max_verified, (int, np.integer)) or not 1 <= max_verified <= 10000):
-        raise InputError(f"max_verified must be an integer from 1 to 10000, got {max_verified!r:.20}")
-    pool = leg_pool(m, catalog)
-    comps = sorted(compositions_for(m, pool, n, asymmetric),
-                   key=lambda c: (not c.symmetric, c.joints))       # stable: pool order on ties
-    if passive and n + 1 in GEOMETRIES:
-        comps += sorted(passive_compositions(m, pool, n), key=lambda c: c.joints)
-    total = len(comps)
+    for what, v, hi in (("--limit", limit, None), ("max_verified", max_verified, 10000),
+                        ("variants", variants, 20)):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer))
+                              or v < 1 or (hi is not None and v > hi)):
+            raise InputError(f"{what} must be a positive integer{f' up to {hi}' if hi else ''}, "
+                             f"got {v!r:.20}")
+    pool = build_pool(m, catalog, generate=generate, variants=int(variants), wide=bool(wide))
+    kinds, cat = pool.kinds, pool.catalog
+    order = {k.name: i for i, k in enumerate(kinds)}
+
+    def first(c):
+        return (not c.symmetric, not c.preferred, c.joints, order[c.legs[0].name])
+
+    comps = compositions_for(m, kinds, n, asymmetric, among=frozenset())
+    known = {c.name for c in comps}
+    seeds = [c for c in catalog_compositions(m, kinds, cat, n) if c.name not in known
+             and (asymmetric or c.symmetric)]
+    comps = sorted(comps + seeds, key=first)
+    n_mixes = _count_mixes(m, kinds, n) if asymmetric else 0
+    total = n_mixes + len(comps)
     if progress is not None:
         progress = monotonic_progress(progress)
-    screened = _screen(m, comps, catalog)                 # {index: ((g, definition), ...)}
     budget = MAX_VERIFIED if max_verified is None else max_verified
-    # round 1: symmetric, and constraining + unconstrained legs without redundancy;
-    # round 2: the other asymmetric ones, when the symmetric PM of their type verified
-    # (the two share the budget); round 3: the passive-leg ones (a budget of their own)
-    independent = [i for i, c in enumerate(comps) if not c.passive and (c.symmetric or (
-        not c.legs[-1].constraints and c.constraints == m.constraints))]
+    # round 1: symmetric, and constraining + unconstrained legs without redundancy
     outcome: dict = {}
-    sent = run_round(m, comps, screened, independent, budget, catalog, mapper, progress, outcome,
-                      0, total)
-    good = {comps[i].legs[0].name for i, r in outcome.items()
-            if comps[i].symmetric and r.geometry is not None}
-    rest = [i for i, c in enumerate(comps) if not c.passive and i not in set(independent)]
-    pruned = sum(1 for i in rest if comps[i].legs[0].name not in good)
-    rest = [i for i in rest if comps[i].legs[0].name in good]
-    run_round(m, comps, screened, rest, budget - sent, catalog, mapper, progress, outcome,
-               len(independent) + pruned, total)
-    with_passive = [i for i, c in enumerate(comps) if c.passive]
-    independent += with_passive
-    run_round(m, comps, screened, with_passive, budget, catalog, mapper, progress, outcome,
-               total - len(with_passive), total)
+    screened = _screen(m, comps, cat)                 # {index: ((g, definition), ...)}
+    spent = run_round(m, comps, screened, list(range(len(comps))), budget, cat, mapper,
+                      progress, outcome, 0, total)
+    # round 2: mixes of two leg types whose symmetric PMs verified (the best MAX_MIX)
+    good = [comps[i] for i, r in sorted(outcome.items()) if comps[i].symmetric
+            and r.geometry is not None]
+    good.sort(key=lambda c: _rank_key(c, outcome[comps.index(c)].verdict))
+    top = frozenset(c.legs[0].name for c in good[:MAX_MIX])
+    known = {c.name for c in comps}
+    mixes = [c for c in compositions_for(m, kinds, n, asymmetric, among=top)
+             if c.name not in known] if asymmetric else []
+    start = len(comps)
+    comps += sorted(mixes, key=first)
+    screened.update({start + i: g for i, g in _screen(m, comps[start:], cat).items()})
+    spent += run_round(m, comps, screened, list(range(start, len(comps))), budget - spent, cat,
+                       mapper, progress, outcome, start, total)
+    pruned = max(0, n_mixes - len(mixes) - sum(1 for c in comps[:start] if not c.symmetric))
+    # round 3: the passive-leg ones (a budget of their own): a central column, or the
+    # catalog's constraining leg types at vertex 1
+    if passive:
+        start = len(comps)
+        extra = central_compositions(m, pool.columns, kinds, n) if n in CENTRAL_GEOMETRIES \
+            else []
+        if n + 1 in GEOMETRIES:
+            extra += passive_compositions(m, [k for k in kinds if k.preferred], n)
+        comps += sorted(extra, key=lambda c: (not c.central, not c.preferred, c.joints))
+        total += len(comps) - start
+        screened.update({start + i: g for i, g in _screen(m, comps[start:], cat).items()})
+        spent += run_round(m, comps, screened, list(range(start, len(comps))), budget, cat,
+                           mapper, progress, outcome, start, total)
     found, rejected, skipped = [], [], 0
     for i, cand in enumerate(comps):
         r = outcome.get(i)
         if r is None:
-            skipped += i in screened and (i in independent or cand.legs[0].name in good)
+            skipped += i in screened
         elif r.geometry is not None:
             found.append((cand, r.geometry, r.definition, r.verdict))
         else:
             rejected.append((cand.name, r.reason))
-    screened_out = sum(1 for i in range(total) if i not in screened and i not in outcome
-                       and (i in independent or comps[i].legs[0].name in good))
-    found.sort(key=lambda x: (x[0].joints, _act_pos(x[0]), x[3].condition_home, x[0].name))
+    screened_out = sum(1 for i in range(len(comps)) if i not in screened and i not in outcome)
+    found.sort(key=lambda x: _rank_key(x[0], x[3]))
     listed = []
     for r, (cand, g, d, verdict) in enumerate(found[:limit] if limit else found, start=1):
         nl = len(cand.legs)
+        names = [k.name for k in cand.legs]
         listed.append(SynthesizedPM(
-            r, cand.name, cand.string, m.name, tuple(k.name for k in cand.legs), cand.symmetric,
-            geometries_for(nl, bool(cand.passive))[g][0], cand.joints,
+            r, cand.literature, cand.string, m.name, tuple(names), cand.symmetric,
+            geometries_for(nl, bool(cand.passive), cand.central)[g][0], cand.joints,
             tuple(k.marked for i, k in enumerate(cand.legs) if i not in cand.passive),
             _act_pos(cand), verdict.condition_home, verdict, d,
-            tuple(cand.legs[i].name for i in cand.passive)))
-    return TypeSynthesis(m, n, pool, tuple(listed), len(found), total, tuple(rejected),
-                         screened_out, skipped, pruned)
+            tuple(cand.legs[i].name for i in cand.passive), cand.name,
+            tuple(pool.definitions(names)), tuple(k.origin for k in cand.legs)))
+    return TypeSynthesis(m, n, kinds, tuple(listed), len(found), total, tuple(rejected),
+                         screened_out, skipped, pruned, pool.generated, spent)
+
+
+def _rank_key(cand, verdict) -> tuple:
+    """Actuators nearer the base first, then fewer joints, the catalog's leg types before
+    generated ones, the better condition number of ``J`` at home."""
+    return (_act_pos(cand), cand.joints, not cand.preferred, verdict.condition_home, cand.name)
+
+
+def _count_mixes(m, kinds, n) -> int:
+    """The number of asymmetric compositions :func:`compositions_for` forms without
+    ``among`` (counted, not formed)."""
+    need = m.constraints
+    count = 0
+    for i, a in enumerate(kinds):
+        if not a.constraints:
+            continue
+        for j, b in enumerate(kinds):
+            if b is a or (b.constraints, -j) > (a.constraints, -i):
+                continue
+            count += sum(1 for k in range(1, n)
+                         if k * a.constraints + (n - k) * b.constraints >= need)
+    return count
 
 
 def _act_pos(cand) -> float:
@@ -344,15 +269,16 @@ def _act_pos(cand) -> float:
 
 def _screen(m, comps, catalog) -> dict:
     """``{index: ((g, definition), ...)}`` of the candidates whose legs, built by their
-    rules at the nominal home of a geometry ``g``, span the complementary system there."""
-    specs = synthesis_catalog(catalog).legs
+    rules at the nominal home of a geometry ``g``, span the complementary system there
+    (``catalog``: every leg type of the pool)."""
+    specs = catalog.legs
     probes: dict = {}
     cache: dict = {}
     out = {}
     for i, cand in enumerate(comps):
-        key = (len(cand.legs), bool(cand.passive))
+        key = (len(cand.legs), bool(cand.passive), cand.central)
         if key not in probes:
-            probes[key] = [_probe(m, key[0], g, catalog, key[1])
+            probes[key] = [_probe(m, key[0], g, catalog, key[1], key[2])
                            for g in range(len(geometries_for(*key)))]
         names = [k.name for k in cand.legs]
         ok = []

@@ -18,7 +18,7 @@ from ..synthesis import motion_pattern, synthesis_catalog
 from ._verify import Verdict, load_candidate, verify_model
 
 __all__ = ["VerifyTask", "TaskResult", "monotonic_progress", "run_round", "serial_map",
-           "verify_candidate"]
+           "task_catalog", "verify_candidate"]
 
 
 @dataclass(frozen=True)
@@ -112,7 +112,7 @@ def run_round(m, comps, screened, order, budget, catalog, mapper, progress, outc
     while todo and spent < budget:
         batch = todo[:budget - spent]
         tasks = [VerifyTask(comps[i].name, m.name, comps[i].passive, (screened[i][step],),
-                            catalog) for i in batch]
+                            task_catalog(catalog, comps[i])) for i in batch]
         prog = None
         if progress is not None and step == 0:
             prog = lambda d, _t: progress(base + d, total)         # noqa: E731
@@ -136,6 +136,16 @@ def run_round(m, comps, screened, order, budget, catalog, mapper, progress, outc
     if progress is not None:
         progress(start + len(order), total)
     return spent
+
+
+def task_catalog(catalog, cand):
+    """The leg types of ``cand`` only, from ``catalog`` (a task carries no more than it
+    needs to a Dask worker); None stays None (the packaged catalog)."""
+    if catalog is None:
+        return None
+    from ..pm import Catalog
+    names = dict.fromkeys(k.name for k in cand.legs)
+    return Catalog({n: catalog.legs[n] for n in names}, [], {}, "<task>")
 
 
 def monotonic_progress(progress):

@@ -20,7 +20,9 @@ median step).  It is accepted when
   base-fixed point stays fixed (3R: the least-squares centre of the displacements has a
   residual below ``FINITE_RTOL`` times the characteristic length);
 * at home ``J = [J_a; J_c]`` is non-singular (rank 6, length-normalised condition number
-  below the engine's ``COND_THRESHOLD``): the actuators control the motion.
+  below the engine's ``COND_THRESHOLD``): the actuators control the motion;
+* the finite motion type computed from motions sampled from home
+  (:func:`screwkit.engine.finite_motion`) has the pattern's translations and rotations.
 
 A candidate with passive legs (no actuator, :func:`screwkit.synthesis.passive_compositions`)
 is loaded with the actuated joint its leg type marks, and its ``J`` is the engine's
@@ -35,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..engine import COND_THRESHOLD, analyze, check_default_pose
+from ..engine import COND_THRESHOLD, analyze, check_default_pose, finite_motion
 from ..errors import ScrewkitError
 from ..pm import load_pm, mobility
 from ..screws import RANK_RTOL
@@ -103,6 +105,9 @@ class Verdict:
     singular_on_path : int
         Path samples where ``J`` is singular (allowed, reported).
     notes : tuple of str
+    motion : str
+        The finite motion type computed from home (:func:`screwkit.engine.finite_motion`),
+        with its parasitic motions and invariants.
     """
 
     success: bool
@@ -113,6 +118,7 @@ class Verdict:
     reached: int = 0
     singular_on_path: int = 0
     notes: tuple = ()
+    motion: str = ""
 
 
 def verification_path(model, samples: int = PATH_SAMPLES) -> dict:
@@ -257,13 +263,19 @@ def verify_model(model, motion, passive=()) -> Verdict:
     if not ok:
         return Verdict(False, f"the finite motion breaks the {motion.name} invariant ({finite})",
                        tuple(checks), float(cond[0]), finite, reached)
+    fm = finite_motion(model)
+    if (fm.translations, fm.rotations) != (motion.translations, motion.rotations):
+        return Verdict(False, f"the finite motion computed from home is {fm.label}, not "
+                       f"{motion.name} ({fm.text})", tuple(checks), float(cond[0]), finite,
+                       reached)
     if passive:
         notes.append(f"J without the actuation row of passive leg "
                      f"{', '.join(str(i + 1) for i in passive)}")
     n_sing = int(np.sum(sing))
     if n_sing:
         notes.append(f"J is singular at {n_sing} of {n} path samples")
-    return Verdict(True, "", tuple(checks), float(cond[0]), finite, reached, n_sing, tuple(notes))
+    return Verdict(True, "", tuple(checks), float(cond[0]), finite, reached, n_sing, tuple(notes),
+                   fm.text)
 
 
 def load_candidate(name: str, catalog):
@@ -271,6 +283,7 @@ def load_candidate(name: str, catalog):
     candidates' default pose is home), or ``(None, error)``: the
     :class:`~screwkit.errors.ScrewkitError` that says why it cannot be built."""
     try:
-        return check_default_pose(load_pm(name, None, catalog)), None
+        # the finite motion type is checked by verify_model, once the path holds
+        return check_default_pose(load_pm(name, None, catalog), check_motion=False), None
     except ScrewkitError as exc:
         return None, exc

@@ -30,6 +30,10 @@ from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
                         solve_path, solve_pose)
 from ._forward import ForwardResult, forward_kinematics
+from ._motion import check_declared_motion, finite_motion
+from ..pm import set_finite_motion_solver as _set_solver
+
+_set_solver(finite_motion)        # screwkit.pm.mobility reports the finite motion type
 from ._modes import AssemblyModes, assembly_modes
 from ._report import constraint_resultants
 from ._indices import TransmissionIndices
@@ -44,6 +48,7 @@ __all__ = [
     "StaticsResult", "statics", "solve_statics", "workload_wrench",
     "PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "analyze_pm",
     "load_assembled_pm", "check_default_pose", "default_full_pose",
+    "finite_motion", "check_declared_motion",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
     "TransmissionIndices", "transmission_indices", "power_coefficient",

@@ -218,7 +218,8 @@ class PMAnalysis:
         if not self.single:
             raise TypeError("mobility is defined for one pose: index the result first (res[i])")
         from ..pm import mobility
-        return mobility(self.solution)
+        from ._motion import finite_motion
+        return mobility(self.solution, finite=finite_motion(self.model))
 
     def __repr__(self) -> str:
         if self.single:
@@ -256,10 +257,10 @@ class PMAnalysis:
         slider per parameter: :func:`screwkit.view`).  Needs plotly
         (``pip install "screwkit[view]"``)."""
         from ..scene import View, require_plotly
-        from ._scene import scene_of
+        from ._scene import NO_WORKLOAD, scene_of
         require_plotly()
         return View(scene_of(self, start=start, title=title, source=self.workload_source
-                             if self.has_workload else "none (no efforts)"))
+                             if self.has_workload else NO_WORKLOAD))
 
     def _repr_html_(self) -> str:
         """The HTML table Jupyter shows for a result."""

@@ -27,17 +27,26 @@ def _default_is_home(model) -> bool:
     return not any(abs(model.default_pose[p] - model.home_pose[p]) > 0 for p in model.independent)
 
 
-def check_default_pose(model):
+def check_default_pose(model, check_motion: bool = True):
     """``model``, after checking that its default pose can be assembled.
 
     The default pose is solved from the home assembly (unless it is the home pose); the
     notes of that solution are added to the model's ``notes`` as ``"default pose: ..."``.
 
+    With ``check_motion``, its finite motion type is computed from motions sampled from
+    home (:func:`~screwkit.engine.finite_motion`) and checked against what the model
+    declares (its ``motion`` and the translations and angles among its ``independent``
+    parameters).
+
     Raises
     ------
     CatalogError
-        ``the default pose cannot be assembled: ...`` (field ``pose``).
+        ``the default pose cannot be assembled: ...`` (field ``pose``); the declared
+        motion is not the computed one (field ``motion`` or ``independent``, naming both).
     """
+    from ._motion import check_declared_motion
+
+    fm = check_declared_motion(model) if check_motion else None
     if _default_is_home(model):
         return model
     try:
@@ -45,8 +54,12 @@ def check_default_pose(model):
     except ScrewkitError as exc:
         raise CatalogError(f"the default pose cannot be assembled: {exc}", model.name, "pose",
                            model.source) from None
-    return dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}"
-                                                                for t in sol.notes))
+    out = dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}"
+                                                               for t in sol.notes))
+    if fm is not None:
+        from ..pm import register_finite_motion
+        register_finite_motion(out, fm)
+    return out
 
 
 def load_assembled_pm(name_or_path, overrides: dict | None = None, catalog=None):

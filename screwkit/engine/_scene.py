@@ -11,7 +11,37 @@ import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
 
-__all__ = ["wrench_rows", "scene_rows", "scene_of"]
+__all__ = ["wrench_rows", "scene_rows", "scene_of", "ROUND_OFF", "zero_round_off"]
+
+#: A row value below this fraction of its pose's statics scale (the workload and the largest
+#: effort at the pose, torques divided by the model's characteristic length) is the round-off
+#: of an exact zero (the least-norm couples of a Delta under a central force come out as
+#: 1e-13 N.mm): drawings show it as 0, as ``analyze`` prints it, not as a value with an arrow
+#: scaled up to the longest of its kind.
+ROUND_OFF = 1e-9
+
+
+def zero_round_off(values, torque_rows, force, torque, length):
+    """``values (N, m)`` (or ``(m,)``) with the round-off of exact zeros set to 0.
+
+    Parameters
+    ----------
+    values : array_like (..., m)
+        Row values of each pose (NaN where not solved: kept).
+    torque_rows : array_like (m,) of bool
+        Rows whose value is a torque (a couple, a rotary actuator's effort).
+    force, torque : array_like (3,)
+        The workload at ``o``.
+    length : float
+        The model's characteristic length (a torque over it is a force).
+    """
+    v = np.array(values, float)
+    as_force = np.where(np.asarray(torque_rows, bool), np.abs(v) / length, np.abs(v))
+    load = max(float(np.linalg.norm(force)), float(np.linalg.norm(torque)) / length)
+    finite = np.where(np.isfinite(as_force), as_force, 0.0)
+    scale = np.maximum(finite.max(axis=-1, initial=0.0), load)
+    v[as_force <= ROUND_OFF * scale[..., None]] = 0.0         # NaN compares False: kept
+    return v
 
 
 def wrench_rows(analysis, values: bool = True):
@@ -35,6 +65,7 @@ def wrench_rows(analysis, values: bool = True):
     vals = st.values if have else np.full(len(jac.rows), np.nan)
     det = st.determined if have else np.ones(len(jac.rows), bool)
     kinds, skipped = scene_rows(analysis.model, jac.rows)
+    vals = _shown(analysis, vals, jac.info)
     rows = []
     for k, sr in kinds:
         r = jac.rows[k]
@@ -79,6 +110,18 @@ def scene_rows(model, info):
     return out, skipped
 
 
+def _torque_rows(info):
+    """Which rows' values are torques: couples and rotary actuators' efforts."""
+    return np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
+                                              and r.joint[0] in "RH") for r in info], bool)
+
+
+def _shown(analysis, values, info):
+    """The values as the pictures show them: round-off of exact zeros set to 0."""
+    return zero_round_off(values, _torque_rows(info), analysis.force, analysis.torque,
+                          float(analysis.model.normalisation.length))
+
+
 def _line_points(J, points, force_rows):
     """A point of each force row's line: its named point, else the line's point nearest
     the origin (``f x m / |f|^2``); ``(N, m, 3)``."""
@@ -86,6 +129,10 @@ def _line_points(J, points, force_rows):
     nearest = np.cross(f, m) / np.maximum(np.einsum("...i,...i", f, f), 1e-300)[..., None]
     missing = ~np.all(np.isfinite(points), axis=-1) & force_rows[None, :]
     return np.where(missing[..., None], nearest, points)
+
+
+#: The source of a view without a workload (the scene says "none (...)" with it, once).
+NO_WORKLOAD = "the model declares none and none was given"
 
 
 def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = None,
@@ -125,7 +172,7 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
     if st is None:
         values, det = np.full((N, m), np.nan), np.ones((N, m), bool)
     else:
-        values = per_pose(st.values, (m,))
+        values = _shown(analysis, per_pose(st.values, (m,)), jac.info)
         det = np.asarray(st.determined, bool).reshape(N, m)
     reach = np.asarray(sol.reachable_mask, bool).reshape(N)
     cls = np.asarray(analysis.conditioning).reshape(N)             # the one classification
@@ -155,10 +202,12 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
         controls = TimeControls(np.arange(N, dtype=float))
     units = model.units
     lead = [f"not drawn: {s}" for s in skipped]
+    loaded = getattr(analysis, "has_workload", True)     # an analysis without a workload
     return Scene(model.name, tuple(lg.name for lg in model.home_legs),
                  tuple(sr for _, sr in rows), tuple(states), controls,
                  {"length": units.length, "force": units.force, "torque": units.torque},
-                 np.asarray(analysis.force, float), np.asarray(analysis.torque, float),
+                 np.asarray(analysis.force, float) if loaded else None,
+                 np.asarray(analysis.torque, float) if loaded else None,
                  source,
                  tuple(sorted(getattr(model, "passive", ()) or ())), int(start),
                  title or model.name, tuple(lead) + tuple(notes))

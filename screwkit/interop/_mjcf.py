@@ -66,18 +66,6 @@ def _rotvec_quat(axis, angle) -> np.ndarray:
     return np.array([w, x, y, z])
 
 
-def _letters(leg):
-    """The leg's joints grouped by letter: ``[(letter, [(slot, joint)])]``."""
-    out, index = [], {}
-    for slot, j in enumerate(leg.joints):
-        key = (j.spec.origin, j.spec.position)
-        if key not in index:
-            index[key] = len(out)
-            out.append((j.spec.origin, []))
-        out[index[key]][1].append((slot, j))
-    return out
-
-
 def _inertial(body, origin, k) -> str:
     """An ``inertial`` element of a Body given in the world frame (home), in a body frame at
     ``origin`` with the world's orientation (model units in, SI out)."""
@@ -103,7 +91,7 @@ class _Writer:
         massive links ``{slot: Body (world)}``."""
         k, L = self.k, self.k["length"]
         passive = tuple(getattr(self.pm, "passive", ()) or ())
-        letters = _letters(leg)
+        letters = leg.letters()
         ends = [js[0][1].point for _, js in letters[1:]] + [leg.a]
         parent, depth, opened = np.zeros(3), 2, 0
         for (letter, js), nxt in zip(letters, ends):

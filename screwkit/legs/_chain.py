@@ -225,6 +225,21 @@ class Leg:
                 out.setdefault(f"{j.spec.origin}{j.spec.position}", j.point)
         return out
 
+    def letters(self) -> list:
+        """The joints grouped by the letter of the leg string they come from, in order:
+        ``[(letter, [(index, Joint), ...]), ...]`` (an S is three R joints through one
+        centre, a U two crossed R, a C a P and an R on one axis; ``index`` in
+        :attr:`joints`).  The drawings, the 3D view and the MJCF export read a leg so."""
+        out: list = []
+        where: dict = {}
+        for k, j in enumerate(self.joints):
+            key = (j.spec.origin, j.spec.position)
+            if key not in where:
+                where[key] = len(out)
+                out.append((j.spec.origin, []))
+            out[where[key]][1].append((k, j))
+        return out
+
     def moved(self, rotation: ArrayLike, translation: ArrayLike, scale: float = 1.0) -> "Leg":
         """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units)."""
         R = np.asarray(rotation, float)

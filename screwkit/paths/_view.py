@@ -185,9 +185,9 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
 
 
 def _source(res) -> str:
-    """Where the view's workload comes from (none: the page says so)."""
-    return res.workload_source if res.has_workload else \
-        "none: the model declares no workload and none was given (no efforts)"
+    """Where the view's workload comes from (said once; the scene's text says 'none')."""
+    from ..engine._scene import NO_WORKLOAD
+    return res.workload_source if res.has_workload else NO_WORKLOAD
 
 
 def _start(start, n):

@@ -7,7 +7,8 @@
   solvers of :mod:`screwkit.engine` take as input (this layer never imports the
   engine; :func:`screwkit.load_pm` also checks that the default pose assembles);
 * the units a model declares (:class:`Units`);
-* the mobility of an assembled PM (:func:`mobility`);
+* the mobility of an assembled PM (:func:`mobility`) and the classification of its finite
+  motion from sampled poses (:func:`classify_finite_motion`);
 * the safe expressions of the dimensions and paths (:func:`parse_expression`).
 """
 
@@ -28,7 +29,9 @@ from ._builder import PMBuilder, leg_type_of
 from ._extend import catalog_with_legs
 from ._schema import model_schema, schema_path, schema_text
 from ._model_check import Problem, check_model_file
-from ._mobility import (Mobility, describe_twist_space, finite_motion, linkage_graph, mobility,
+from ._finite import (FINITE_RTOL, FiniteMotion, classify_finite_motion, register_finite_motion,
+                      registered_finite_motion, rotation_vectors, set_finite_motion_solver)
+from ._mobility import (Mobility, declared_motion, describe_twist_space, linkage_graph, mobility,
                         mobility_of_legs, motion_type)
 from ..legs import structure_vector    # re-exported: it was screwkit.pm.structure_vector
 
@@ -52,8 +55,11 @@ __all__ = [
     # units
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility
-    "Mobility", "mobility", "mobility_of_legs", "motion_type", "finite_motion", "linkage_graph",
+    "Mobility", "mobility", "mobility_of_legs", "motion_type", "declared_motion", "linkage_graph",
     "describe_twist_space",
+    # the finite motion type (computed by screwkit.engine.finite_motion, classified here)
+    "FiniteMotion", "classify_finite_motion", "rotation_vectors", "FINITE_RTOL",
+    "register_finite_motion", "registered_finite_motion", "set_finite_motion_solver",
     # expressions
     "Expression", "parse_expression", "evaluate", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
 ]

@@ -77,6 +77,40 @@ class LegSpec:
         return build_leg(self.rules, placement or self.placement or default_placement(),
                          check_structure)
 
+    def to_mapping(self) -> dict:
+        """The ``legs:`` entry of this leg type (what :func:`leg_spec_from_mapping` reads
+        back into an equal leg type): a model file that uses it writes it so."""
+        joints = []
+        for jr in self.rules.joints:
+            e: dict = {}
+            if jr.axis is not None:
+                e["axis"] = _plain(jr.axis)
+            if jr.axes:
+                e["axes"] = [_plain(a) for a in jr.axes]
+            if jr.at is not None:
+                e["at"] = _plain(jr.at)
+            if jr.to is not None:
+                e["to"] = _plain(jr.to)
+            if jr.pitch:
+                e["pitch"] = float(jr.pitch)
+            joints.append(e)
+        d: dict = {"name": self.name, "string": self.string.marked}
+        if self.summary:
+            d["summary"] = self.summary
+        d["joints"] = joints
+        if self.rules.structure:
+            d["structure"] = [_plain(c) for c in self.rules.structure]
+        if self.placement is not None:
+            pl = self.placement
+            d["placement"] = {k: [float(x) for x in getattr(pl, k)] for k in ("A", "a", "O", "o")}
+        if self.expect:
+            d["expect"] = _plain(self.expect)
+        if self.note:
+            d["note"] = self.note
+        if self.basis:
+            d["constraint_basis"] = [_plain(b) for b in self.basis]
+        return d
+
     def check_expectation(self, analysis) -> list:
         """Differences between the analysis and ``expect``: empty when the expectation holds.
 
@@ -232,6 +266,17 @@ def _basis(raw, rules, name, source) -> tuple:
                                "{perpendicular: [REF, REF]})", name, f"constraint_basis[{i}]",
                                source)
     return tuple(_freeze(r) for r in raw)
+
+
+def _plain(x):
+    """A rule as plain YAML data (lists for tuples, floats for numpy numbers)."""
+    if isinstance(x, dict):
+        return {k: _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.generic):
+        return x.item()
+    return x
 
 
 def _freeze(ref):

@@ -32,9 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._finite import registered_finite_motion
 from ..screws import Normalisation, RANK_RTOL, classify_freedoms, reciprocal_system
 
-__all__ = ["Mobility", "finite_motion", "mobility", "mobility_of_legs", "motion_type", "linkage_graph"]
+__all__ = ["Mobility", "declared_motion", "mobility", "mobility_of_legs", "motion_type", "linkage_graph"]
 
 
 @dataclass(frozen=True)
@@ -45,9 +46,11 @@ class Mobility:
     ----------
     dof : int
     motion_type : str
-        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...: the finite motion type of the PM, from its
-        independent pose parameters (:func:`finite_motion`; it does not change with the
-        pose), or, for legs without a model, the instantaneous one.  A helical freedom (a principal screw of
+        ``"1T2R"``, ``"3T"``, ``"2T2R"`` ...: the finite motion type of the PM, computed
+        from motions sampled from home (:func:`screwkit.engine.finite_motion`: the
+        dimension of the platform's rotations and the invariants of its displacements; it
+        does not change with the pose), or, for legs without a model or a model the engine
+        has not classified, the instantaneous one (with a note).  A helical freedom (a principal screw of
         the twist space with a non-zero pitch, :func:`screwkit.screws.classify_freedoms`)
         is labelled with its pitch in model lengths per radian, e.g. ``"1H(p=2.5)"`` for a
         platform on one H joint, not counted as a rotation.
@@ -59,9 +62,10 @@ class Mobility:
         The twist space classified by its screws: translations (directions), rotations
         (about lines through a common point when they are), helical motions (pitch).
     finite : str
-        The finite type with its independent and parasitic parameters, e.g.
-        ``"1T2R: independent alpha, beta, Zo; parasitic Xo, Yo, gamma (functions of them)"``
-        (empty for legs without a model).
+        The finite type with its independent parameters, its parasitic motions (the
+        dependent parameters that vary) and its invariants, e.g. ``"1T2R: independent
+        alpha, beta, Zo; parasitic motion Xo, Yo, gamma (functions of them)"`` (empty when
+        not computed).
     translations, rotations : int
     constraint_rank : int
         Rank of the union of the legs' constraint wrenches.
@@ -120,13 +124,13 @@ class Mobility:
     passive: tuple = ()
 
 
-def finite_motion(model) -> tuple:
-    """``(label, text)``: the finite motion type of a PM from its pose parametrisation.
+def declared_motion(model) -> tuple:
+    """``(label, text)``: the motion type a model *declares* by its pose parametrisation.
 
-    The independent pose parameters are the platform's finite freedoms: each of ``Xo, Yo,
-    Zo`` among them is a translation, each Euler angle a rotation (``"1T2R"`` for
-    ``alpha, beta, Zo``); the dependent ones are parasitic motions, functions of the
-    independent ones.  The label does not depend on the pose.
+    Each of ``Xo, Yo, Zo`` among the independent parameters counts as a translation, each
+    Euler angle as a rotation (``"1T2R"`` for ``alpha, beta, Zo``).  A declaration, not a
+    result: the finite motion type is computed by :func:`screwkit.engine.finite_motion`,
+    and the engine checks the declaration against it when a model is loaded.
     """
     ind = tuple(model.independent)
     t = sum(p in ("Xo", "Yo", "Zo") for p in ind)
@@ -337,11 +341,13 @@ def _fmt(v):
     return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
 
 
-def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
+def mobility(solution, rtol: float = RANK_RTOL, finite=None) -> Mobility:
     """Mobility of a PM at a solved pose (:class:`~screwkit.engine.PoseSolution`).
 
-    A note is added when the DOF differs from the definition's stated DOF (a
-    singular pose or a geometry that cannot have the stated mobility).
+    ``finite``: the model's :class:`~screwkit.pm.FiniteMotion` (default: the one the
+    engine computed for it, :func:`screwkit.engine.finite_motion`).  A note is added when
+    the DOF differs from the definition's stated DOF (a singular pose or a geometry that
+    cannot have the stated mobility).
     """
     res = mobility_of_legs(solution.legs, rtol)
     model = getattr(solution, "model", None)
@@ -368,13 +374,14 @@ def mobility(solution, rtol: float = RANK_RTOL) -> Mobility:
             + ("redundantly actuated" if fields["actuators"] > res.dof else
                "the actuators do not fix every freedom"),)
     if model is not None and hasattr(model, "independent"):
-        # the finite motion type is the parametrisation's; the twist space here may count
-        # differently (a tilted 1T2R platform's twists are three screws of finite pitch)
-        label, fields["finite"] = finite_motion(model)
-        fields["motion_type"] = label
-        stated = getattr(model, "motion", "")
-        if stated and stated != label:
+        # the finite motion type is computed from sampled motions by the engine (which
+        # checked it against the declaration); the twist space here may count otherwise
+        # (a tilted 1T2R platform's twists are three screws of finite pitch)
+        fm = finite if finite is not None else registered_finite_motion(model)
+        if fm is not None:
+            fields["motion_type"], fields["finite"] = fm.label, fm.text
+        else:
             fields["notes"] = fields.get("notes", res.notes) + (
-                f"the definition states motion {stated}, its independent parameters make it "
-                f"{label}",)
+                "motion_type is the instantaneous count: the finite motion type is computed "
+                "by screwkit.engine.finite_motion",)
     return Mobility(**fields)

@@ -188,10 +188,7 @@ def _platform(v, r: _Reader) -> Body:
 
 def _letters(leg):
     """``{letter name: last slot}`` of a leg (``R1``, ``U2``, ``S3``, ``P3``...)."""
-    out = {}
-    for k, j in enumerate(leg.joints):
-        out[f"{j.spec.origin}{j.spec.position}"] = k
-    return out
+    return {f"{letter}{js[0][1].spec.position}": js[-1][0] for letter, js in leg.letters()}
 
 
 def _linear_link(spec, fld, r, leg, which) -> tuple:

@@ -62,9 +62,11 @@ class PageSession:
         self.errors, self.requests = [], []
 
     def wait_drawn(self, timeout_ms: int = 30000) -> None:
-        """Wait until plotly has drawn the 3D scene (its WebGL canvas exists)."""
+        """Wait until plotly has drawn the 3D scene (its WebGL canvas exists) and the page
+        has placed its labels for plotly's camera."""
         self.page.wait_for_function(
-            "() => window.screwkitView && document.querySelector('#sk-plot canvas') "
+            "() => window.screwkitView && (!window.screwkitView.ready || window.screwkitView.ready()) "
+            "&& document.querySelector('#sk-plot canvas') "
             "&& document.querySelector('#sk-plot .gl-container')", timeout=timeout_ms)
         self.page.wait_for_timeout(400)
 

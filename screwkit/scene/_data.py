@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ._arrows import FLOOR, arrow_fractions, scale_key
 from ._palette import COLORS, leg_color
 
 __all__ = ["SceneRow", "PoseState", "GridControls", "TimeControls", "Scene", "MAX_STATES",
@@ -78,7 +79,7 @@ class SceneRow:
     def scale_key(self) -> str:
         """The arrows this row's length is proportional with (``force-a``, ``force-c``,
         ``torque-c``...): its quantity and whether it is an actuation wrench."""
-        return f"{self.quantity}-{'a' if self.actuation else 'c'}"
+        return scale_key(self.quantity, self.actuation)
 
     def __post_init__(self):
         if self.kind not in _ROW_KINDS:
@@ -172,8 +173,9 @@ class Scene:
     controls : GridControls or TimeControls
     units : dict
         ``length``, ``force``, ``torque``.
-    force, torque : ndarray (3,)
-        The workload at ``o``.
+    force, torque : ndarray (3,) or None
+        The workload at ``o``; None when the view has none (no efforts: the wrenches are
+        drawn on their lines without values, and the page says so).
     workload_source : str
         Where the workload comes from (``the paper's workload``, ``given``...).
     start : int
@@ -187,8 +189,8 @@ class Scene:
     states: tuple
     controls: object
     units: dict
-    force: np.ndarray
-    torque: np.ndarray
+    force: np.ndarray | None
+    torque: np.ndarray | None
     workload_source: str = ""
     passive: tuple = ()
     start: int = 0
@@ -213,6 +215,10 @@ class Scene:
     @property
     def workload_text(self) -> str:
         u = self.units
+        if self.force is None or self.torque is None:
+            why = f" ({self.workload_source})" if self.workload_source else ""
+            return (f"none{why}: no efforts; the wrenches are drawn on their lines without "
+                    "values (give a force and a torque at o to see them)")
         F = ", ".join(format_value(float(x), 6) for x in self.force)
         T = ", ".join(format_value(float(x), 6) for x in self.torque)
         src = f" ({self.workload_source})" if self.workload_source else ""
@@ -232,9 +238,11 @@ class Scene:
         from ._geometry import leg_json, scene_box, scene_size
 
         size = scene_size(self.states)
+        keys = [r.scale_key for r in self.rows]
         states = []
         for s in self.states:
             drawn = s.status != "unreachable"
+            frac, floored = arrow_fractions(s.values, keys)
             states.append({
                 "pose": {k: _num(v) for k, v in s.pose.items()},
                 "status": s.status, "level": s.level,
@@ -247,6 +255,7 @@ class Scene:
                 "directions": _arr(s.directions),
                 "determined": [bool(x) for x in s.determined],
                 "text": [self.row_text(s, k) for k in range(len(self.rows))],
+                "frac": _arr(frac), "floored": [bool(x) for x in floored],
             })
         if isinstance(self.controls, GridControls):
             controls = {"type": "grid", "params": [
@@ -259,7 +268,8 @@ class Scene:
         return {
             "format": "screwkit-view/1", "pm": self.pm, "title": self.title or self.pm,
             "units": dict(self.units), "workload": {
-                "force": _arr(self.force), "torque": _arr(self.torque),
+                "force": None if self.force is None else _arr(self.force),
+                "torque": None if self.torque is None else _arr(self.torque),
                 "source": self.workload_source, "text": self.workload_text},
             "legs": [{"name": n, "color": leg_color(i), "passive": i in self.passive,
                       "label": f"leg {i + 1} ({n})" + (" · passive" if i in self.passive
@@ -267,7 +277,7 @@ class Scene:
                      for i, n in enumerate(self.leg_names)],
             "rows": [{"label": r.label, "kind": r.kind, "leg": r.leg, "quantity": r.quantity,
                       "actuation": r.actuation, "scale": r.scale_key} for r in self.rows],
-            "colors": dict(COLORS), "size": size,
+            "colors": dict(COLORS), "size": size, "floor": FLOOR,
             "box": {"lo": _arr(lo), "hi": _arr(hi)},
             "controls": controls, "start": int(self.start), "states": states,
             "notes": list(self.notes),

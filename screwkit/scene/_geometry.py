@@ -17,18 +17,6 @@ def _v(x) -> list:
     return [float(c) for c in np.asarray(x, float)]
 
 
-def _groups(leg):
-    """The leg's joints grouped by their letter, in order: ``[(letter, [joints])]``."""
-    out, index = [], {}
-    for j in leg.joints:
-        key = (j.spec.origin, j.spec.position)
-        if key not in index:
-            index[key] = len(out)
-            out.append((j.spec.origin, []))
-        out[index[key]][1].append(j)
-    return out
-
-
 def _joint_json(letter: str, joints) -> dict:
     j0 = joints[0]
     name = f"{letter}{j0.spec.position}"
@@ -61,7 +49,8 @@ def leg_json(leg, size: float) -> dict:
             pts.append(p)
     return {"name": leg.name, "A": _v(leg.A), "a": _v(leg.a),
             "chain": [_v(p) for p in pts],
-            "joints": [_joint_json(letter, js) for letter, js in _groups(leg)]}
+            "joints": [_joint_json(letter, [j for _, j in js])
+                       for letter, js in leg.letters()]}
 
 
 def scene_size(states) -> float:

@@ -3,7 +3,8 @@
 The page holds everything it needs: plotly.js (from the ``plotly`` package, embedded as a
 ``data:`` script, so that the page fetches nothing and names no address), the scene's data
 (JSON in ``<script type="application/json" id="screwkit-data">``) and the drawing code
-(``view.js`` beside this module).  It opens from a file with no network.  In Jupyter a
+(:data:`SCRIPTS` beside this module, joined in one function).  It opens from a file with
+no network.  In Jupyter a
 :class:`View` shows the same page inline (in an ``iframe``).
 """
 
@@ -20,6 +21,9 @@ from ..errors import InputError
 __all__ = ["View", "page_html", "require_plotly"]
 
 _HERE = Path(__file__).resolve().parent
+#: The page's code, in this order, joined inside one function (they share its scope): the
+#: traces of a state, the labels' placement, the page around the plot and its controls.
+SCRIPTS = ("view_draw.js", "view_labels.js", "view_page.js")
 
 _STYLE = """
 body { font-family: Arial, Helvetica, sans-serif; margin: 0; color: #222; background: #fff; }
@@ -41,7 +45,7 @@ body { font-family: Arial, Helvetica, sans-serif; margin: 0; color: #222; backgr
 #sk-values { flex: 0 0 240px; border-collapse: collapse; font-size: 12px; margin-left: 8px; }
 #sk-values td, #sk-values th { padding: 1px 6px; border-bottom: 1px solid #eee; text-align: left; }
 #sk-values .sk-num { text-align: right; font-variant-numeric: tabular-nums; }
-#sk-notes { font-size: 11px; color: #555; margin-top: 4px; }
+#sk-notes, #sk-scale { font-size: 11px; color: #555; margin-top: 4px; }
 """
 
 
@@ -65,7 +69,8 @@ def _library() -> str:
 
 @lru_cache(maxsize=1)
 def _app() -> str:
-    return (_HERE / "view.js").read_text(encoding="utf-8")
+    parts = [(_HERE / name).read_text(encoding="utf-8") for name in SCRIPTS]
+    return "(function () {\n\"use strict\";\n" + "\n".join(parts) + "\n})();"
 
 
 def page_html(scene) -> str:
@@ -80,7 +85,7 @@ def page_html(scene) -> str:
         "<div id=\"screwkit-view\">\n<h1 id=\"sk-title\"></h1>\n<div id=\"sk-workload\"></div>\n"
         "<div id=\"sk-controls\"></div>\n<div id=\"sk-status\"></div>\n"
         "<div id=\"sk-main\"><div id=\"sk-plot\"></div><table id=\"sk-values\"></table></div>\n"
-        "<div id=\"sk-notes\"></div>\n</div>\n"
+        "<div id=\"sk-scale\"></div>\n<div id=\"sk-notes\"></div>\n</div>\n"
         f"<script type=\"application/json\" id=\"screwkit-data\">{data}</script>\n"
         f"<script>\n{_app()}\n</script>\n</body>\n</html>\n")
 

@@ -6,7 +6,8 @@
 * :func:`validate_string`, :func:`validate_catalog` and :func:`validate_table1`
   verify every synthesized leg with the reciprocal-screw solver (:func:`verify`)
   and reproduce the paper's Table I (read from the catalog, :mod:`screwkit.pm`);
-* :func:`motion_pattern`, :func:`leg_pool`, :func:`compositions_for` and
+* :func:`motion_pattern`, :func:`build_pool` (the catalog's leg types and those
+  :func:`generated_legs` enumerates for the pattern), :func:`compositions_for` and
   :func:`pm_definition` form the candidate PMs of a motion pattern (the type synthesis
   of PMs; :mod:`screwkit.design` verifies them with the engine).
 """
@@ -22,9 +23,13 @@ from ._reports import (CatalogCheck, DrawResult, LegValidation, TargetResult, Va
                        catalog_rows, chain_text, composition_label, report_rows)
 from ._validation import DEFAULT_DRAWS, validate_catalog, validate_string, validate_table1
 from ._motions import MOTIONS, MotionPattern, motion_pattern
-from ._candidates import (EXTRA_LEGS_YAML, GEOMETRIES, PASSIVE_GEOMETRIES, Candidate, LegKind,
-                          compositions_for, extra_legs, geometries_for, leg_pool, model_yaml, passive_compositions, pm_definition,
-                          synthesis_catalog)
+from ._leg_types import GeneratedLeg, SYNTHESIS_PLACEMENT, generated_legs, pattern_twists
+from ._pool import (EXTRA_LEGS_YAML, LegKind, LegPool, build_pool, extra_legs, leg_pool,
+                    synthesis_catalog)
+from ._candidates import (CENTRAL_GEOMETRIES, GEOMETRIES, PASSIVE_GEOMETRIES, Candidate,
+                          catalog_compositions, central_compositions, compositions_for,
+                          geometries_for, literature_name, model_yaml, passive_compositions,
+                          pm_definition)
 
 __all__ = [
     # synthesis
@@ -43,6 +48,10 @@ __all__ = [
     "composition_label", "chain_text", "report_rows", "catalog_rows", "DEFAULT_DRAWS",
     # motion patterns and candidate PMs (verified by screwkit.design)
     "MOTIONS", "MotionPattern", "motion_pattern", "EXTRA_LEGS_YAML", "GEOMETRIES", "Candidate",
-    "PASSIVE_GEOMETRIES", "LegKind", "compositions_for", "extra_legs", "geometries_for", "leg_pool", "model_yaml", "passive_compositions",
-    "pm_definition", "synthesis_catalog",
+    "PASSIVE_GEOMETRIES", "LegKind", "compositions_for", "extra_legs", "geometries_for",
+    "leg_pool", "model_yaml", "passive_compositions", "pm_definition", "synthesis_catalog",
+    "literature_name", "LegPool", "build_pool", "catalog_compositions", "central_compositions",
+    "CENTRAL_GEOMETRIES",
+    # legs generated for a motion pattern
+    "GeneratedLeg", "SYNTHESIS_PLACEMENT", "generated_legs", "pattern_twists",
 ]

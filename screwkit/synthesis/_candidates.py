@@ -3,14 +3,10 @@
 This is the combinatorial half of the type synthesis of PMs (the engine-checked half
 is :mod:`screwkit.design`).  For a :class:`~screwkit.synthesis.MotionPattern`:
 
-1. **Leg pool** (:func:`leg_pool`).  Every leg type of the catalog (the accepted
-   arrangements of Table I strings, `docs/catalog.md`) and the extra arrangements of
-   :data:`EXTRA_LEGS` is built at its default placement and its constraint system is
-   computed by the reciprocal-screw solver (:meth:`screwkit.legs.Leg.analyze`): the
-   numbers of pure forces, couples and finite-pitch wrenches.  A leg type is kept when
-   those fit in the motion's complementary wrench system
-   (:meth:`MotionPattern.admits`); legs with no constraint (SPS, UPS, SPU) are kept
-   as unconstrained actuated legs.
+1. **Leg pool** (:func:`~screwkit.synthesis.build_pool`, :mod:`screwkit.synthesis._pool`):
+   the catalog's leg types, the user's and the ones generated for the pattern whose
+   constraint systems fit its complementary wrench system; legs with no constraint
+   (SPS, UPS, SPU) are kept as unconstrained actuated legs.
 2. **Compositions** (:func:`compositions_for`).  ``n`` actuated legs (``n`` = the DOF,
    one actuator per leg): symmetric (``n`` legs of one type) and asymmetric (``k`` legs
    of one type, ``n - k`` of another, the more constraining type first), whose constraint
@@ -20,8 +16,9 @@ is :mod:`screwkit.design`).  For a :class:`~screwkit.synthesis.MotionPattern`:
 3. **Model definitions** (:func:`pm_definition`).  A composition is placed on one of the
    standard geometries (:data:`GEOMETRIES`: triangle, rectangle, pentagon) as a ``pms:``
    entry, the schema of `docs/pm_models.md` (the default pose is home, where the
-   engine has checked ``J``); :func:`model_yaml` writes it (with the
-   extra leg types it uses) as a model YAML that ``screwkit.load_pm`` reads.
+   engine has checked ``J``); :func:`model_yaml` writes it (with the definitions of
+   the leg types it uses that the packaged catalog lacks) as a model YAML that
+   ``screwkit.load_pm`` reads.
 
 Whether the legs' systems really span the complementary system, at home and along a
 finite motion, is decided by the engine in :mod:`screwkit.design`, not here.
@@ -30,63 +27,14 @@ finite motion, is decided by the engine in :mod:`screwkit.design`, not here.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import yaml
 
 from ._motions import MotionPattern
 
-__all__ = ["EXTRA_LEGS_YAML", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate", "LegKind", "compositions_for",
-           "extra_legs", "geometries_for", "leg_pool", "model_yaml", "passive_compositions", "pm_definition",
-           "synthesis_catalog"]
-
-#: Arrangements the type synthesis adds to the catalog's: the PRRR leg turned so that its
-#: P and its three parallel R axes point from the base vertex towards the platform centre
-#: (one leg of the translational 3-PRRR; Kong and Gosselin, Type Synthesis of Parallel
-#: Mechanisms, Springer 2007, ch. 5: a PRRR leg with P parallel to the R axes exerts two
-#: couples normal to them); and two planar legs, RRR and PRR with their R axes along the
-#: base normal (the legs of the planar 3-RRR and 3-PRR: a force along the axes and two
-#: couples normal to them, the complementary system of a planar motion).
-EXTRA_LEGS_YAML = """
-legs:
-  - name: PRRR/translational
-    string: _PRRR
-    summary: "P along A->o (home), then three R axes parallel to P, not coplanar: two couples normal to them"
-    joints:
-      - {axis: {toward: [A, o]}}
-      - {axis: {parallel: P1}, at: A}
-      - {axis: {parallel: P1}, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
-      - {axis: {parallel: P1}, at: a}
-    structure:
-      - {parallel: [R2, P1]}
-      - {parallel: [R4, P1]}
-    expect:
-      forces: 0
-      couples: 2
-      words: two constraint couples perpendicular to the P axis and the three parallel R axes
-  - name: RRR/planar
-    string: _RRR
-    summary: "three R axes along the base normal (at A, at an elbow beside the leg, at a): a planar leg"
-    joints:
-      - {axis: base.Z, at: A}
-      - {axis: base.Z, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
-      - {axis: base.Z, at: a}
-    expect:
-      forces: 1
-      couples: 2
-      words: a constraint force along the parallel R axes and two constraint couples perpendicular to them
-  - name: PRR/planar
-    string: _PRR
-    summary: "P along A->O in the base plane, then two R axes along the base normal (at an elbow beside the leg, at a): a planar leg"
-    joints:
-      - {axis: base.AO}
-      - {axis: base.Z, at: {offset: {between: [A, a], t: 0.5}, along: base.tangent, fraction: 0.3}}
-      - {axis: base.Z, at: a}
-    expect:
-      forces: 1
-      couples: 2
-      words: a constraint force along the parallel R axes and two constraint couples perpendicular to them
-"""
+__all__ = ["CENTRAL_GEOMETRIES", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate",
+           "catalog_compositions", "central_compositions", "compositions_for", "geometries_for",
+           "literature_name", "model_yaml", "passive_compositions", "pm_definition"]
 
 #: Standard geometries by number of legs: (label, base, platform, dimensions, home Zo,
 #: extra fields).  Tried in order until one verifies.  The platform pentagon is irregular
@@ -128,48 +76,39 @@ PASSIVE_GEOMETRIES = {
 }
 
 
-def geometries_for(n_legs: int, passive: bool = False) -> tuple:
+def _ring(radius: str, angles) -> list:
+    """Vertices at ``angles`` (degrees) on a circle of the dimension ``radius``, as
+    expressions, then the centre: a PM with a central column."""
+    pts = [[f"{radius}*cos({a}*pi/180)", f"{radius}*sin({a}*pi/180)", 0] for a in angles]
+    return pts + [[0, 0, 0]]
+
+
+#: Geometries of PMs with a central passive column (the Tricept's), by the number of
+#: actuated legs: the standard ones with the centres of base and platform added as the
+#: last vertex.
+CENTRAL_GEOMETRIES = {
+    3: (("triangle R=60 r=30 and a central column", {"points": _ring("R", (-30, 90, 210))},
+         {"points": _ring("r", (-30, 90, 210))}, {"R": 60, "r": 30}, "R", {}),
+        ("triangle R=60 r=30 turned 60 deg and a central column",
+         {"points": _ring("R", (-30, 90, 210))}, {"points": _ring("r", (30, 150, 270))},
+         {"R": 60, "r": 30}, "R", {})),
+    4: (("square L=100, rectangle 60 x 40 and a central column",
+         {"points": [["L/2", "-L/2", 0], ["L/2", "L/2", 0], ["-L/2", "L/2", 0],
+                     ["-L/2", "-L/2", 0], [0, 0, 0]]},
+         {"points": [["l1/2", "-l2/2", 0], ["l1/2", "l2/2", 0], ["-l1/2", "l2/2", 0],
+                     ["-l1/2", "-l2/2", 0], [0, 0, 0]]},
+         {"L": 100, "l1": 60, "l2": 40}, "0.8*L", {}),),
+}
+
+
+def geometries_for(n_legs: int, passive: bool = False, central: bool = False) -> tuple:
     """The standard geometries of ``n_legs`` legs, in the order they are tried (the
-    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg)."""
+    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg; with a central column,
+    :data:`CENTRAL_GEOMETRIES` of ``n_legs - 1`` actuated legs)."""
+    if central:
+        return tuple(CENTRAL_GEOMETRIES.get(n_legs - 1, ()))
     return (tuple(PASSIVE_GEOMETRIES.get(n_legs, ())) if passive else ()) + tuple(
         GEOMETRIES.get(n_legs, ()))
-
-
-@dataclass(frozen=True)
-class LegKind:
-    """A leg type of the pool and its constraint system (at its default placement).
-
-    Attributes
-    ----------
-    name : str
-        Catalog name (``"UPU/couple"``).
-    string : str
-        The leg string's letters (``"UPU"``).
-    marked : str
-        With the actuated joint marked (``"U_PU"``).
-    forces, couples, screws : int
-        Pure forces, pure couples and finite-pitch wrenches of its constraint system.
-    joints : int
-        Equivalent 1-DOF joints.
-    actuated_position : int
-        1-based position of the actuated letter (1: on the base).
-    extra : bool
-        From :data:`EXTRA_LEGS_YAML`, not the catalog.
-    """
-
-    name: str
-    string: str
-    marked: str
-    forces: int
-    couples: int
-    screws: int
-    joints: int
-    actuated_position: int
-    extra: bool = False
-
-    @property
-    def constraints(self) -> int:
-        return self.forces + self.couples + self.screws
 
 
 @dataclass(frozen=True)
@@ -188,6 +127,9 @@ class Candidate:
     symmetric : bool
     passive : tuple of int
         0-based indices of the passive legs (no actuator; :func:`passive_compositions`).
+    central : bool
+        The last leg is a central column from the base centre to the platform centre
+        (:func:`central_compositions`).
     """
 
     legs: tuple
@@ -195,6 +137,7 @@ class Candidate:
     string: str
     symmetric: bool
     passive: tuple = ()
+    central: bool = False
 
     @property
     def joints(self) -> int:
@@ -209,48 +152,31 @@ class Candidate:
     def constraints(self) -> int:
         return sum(k.constraints for k in self.legs)
 
+    @property
+    def literature(self) -> str:
+        """The name as the literature writes it (:func:`literature_name`)."""
+        return literature_name(self)
 
-def extra_legs() -> dict:
-    """The :data:`EXTRA_LEGS_YAML` leg types, ``{name: LegSpec}``."""
-    return dict(_extra())
-
-
-@lru_cache(maxsize=1)
-def _extra():
-    from ..pm import Catalog
-    return tuple(Catalog.from_mapping(yaml.safe_load(EXTRA_LEGS_YAML), "<synthesis legs>")
-                 .legs.items())
+    @property
+    def preferred(self) -> bool:
+        """Every leg type from the catalog (or the user's, or the extra ones)."""
+        return all(k.preferred for k in self.legs)
 
 
-def synthesis_catalog(catalog=None, pms: dict | None = None):
-    """The catalog (default: the packaged one) with the extra leg types and ``pms``."""
-    from ..pm import Catalog, default_catalog
-    cat = catalog if catalog is not None else default_catalog()
-    return Catalog({**cat.legs, **extra_legs()}, cat.table1, dict(pms or {}), "<synthesis>")
-
-
-def _kinds_of(catalog) -> tuple:
-    cat = synthesis_catalog(catalog)
-    extra = set(extra_legs())
-    out = []
-    for name, spec in cat.legs.items():
-        an = spec.build().analyze()
-        ls = spec.string
-        out.append(LegKind(name, ls.text, ls.marked, an.n_forces, an.n_couples, an.n_screws,
-                           len(ls.equivalent), ls.actuated_position, name in extra))
-    return tuple(out)
-
-
-@lru_cache(maxsize=1)
-def _default_kinds() -> tuple:
-    return _kinds_of(None)
-
-
-def leg_pool(motion: MotionPattern, catalog=None) -> tuple:
-    """The leg types (:class:`LegKind`) whose constraint systems fit in the motion's
-    complementary wrench system (counts), catalog order, extra legs last."""
-    kinds = _default_kinds() if catalog is None else _kinds_of(catalog)
-    return tuple(k for k in kinds if motion.admits(k.forces, k.couples, k.screws))
+def literature_name(cand: Candidate) -> str:
+    """``"3-PRS"``, ``"3-RRPaR"``, ``"2-UPU+SPR"``, ``"3-UPS+UP/passive"``: the counts and
+    letters of the actuated legs, then each passive leg's letters with ``/passive``."""
+    parts: list = []
+    for i, k in enumerate(cand.legs):
+        if i in cand.passive:
+            continue
+        if parts and parts[-1][0] == k.string:
+            parts[-1][1] += 1
+        else:
+            parts.append([k.string, 1])
+    text = "+".join(f"{n}-{s}" if n > 1 else s for s, n in parts)
+    text += "".join(f"+{cand.legs[i].string}/passive" for i in cand.passive)
+    return text
 
 
 def _name(groups) -> tuple:
@@ -260,13 +186,16 @@ def _name(groups) -> tuple:
 
 
 def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
-                     asymmetric: bool = True) -> list:
+                     asymmetric: bool = True, among=None) -> list:
     """Symmetric and asymmetric compositions of ``n_legs`` legs (default: the DOF).
 
     A composition is kept when its legs' constraint dimensions add up to at least
     ``6 - dof`` (they cannot span the complementary system otherwise).  Symmetric ones
     first, then asymmetric (``k`` of the more constraining type ``A`` at vertices
-    ``1..k``, ``n - k`` of ``B``), in pool order.
+    ``1..k``, ``n - k`` of ``B``), in pool order.  ``among`` (leg type names): the
+    asymmetric ones only of two of these types with different letters, of ``n - 1`` legs
+    of a catalog type with one of these (the Exechon's 2-UPR+SPR), or of one type and
+    unconstrained legs that together exert exactly ``6 - dof`` constraints.
     """
     n = motion.dof if n_legs is None else int(n_legs)
     need = motion.constraints
@@ -286,8 +215,44 @@ def compositions_for(motion: MotionPattern, pool, n_legs: int | None = None,
             for k in range(1, n):
                 if k * a.constraints + (n - k) * b.constraints < need:
                     continue
+                exact = not b.constraints and k * a.constraints == need
+                # with ``among``: mixes of two listed types with different letters, or of
+                # n - 1 catalog legs with one listed type (the Exechon's 2-UPR+SPR)
+                both = a.name in among and b.name in among if among is not None else True
+                seed = (among is not None and k == n - 1 and a.preferred and b.name in among)
+                if among is not None and not exact and (a.string == b.string
+                                                        or not (both or seed)):
+                    continue
                 name, string = _name([(a, k), (b, n - k)])
                 out.append(Candidate((a,) * k + (b,) * (n - k), name, string, False))
+    return out
+
+
+def catalog_compositions(motion: MotionPattern, pool, catalog, n_legs: int | None = None) -> list:
+    """The compositions of the catalog's PMs of ``motion`` with ``n_legs`` legs (their leg
+    types in their order, every one in ``pool``): tried on the standard geometries like the
+    others, so that a catalog design whose types do not mix by the rules of
+    :func:`compositions_for` (the 2-UPU+SPR) is tried too."""
+    n = motion.dof if n_legs is None else int(n_legs)
+    kinds = {k.name: k for k in pool}
+    out, seen = [], set()
+    for d in (catalog.pms if catalog is not None else {}).values():
+        if not isinstance(d, dict) or d.get("motion") != motion.name:
+            continue
+        names = [x.get("leg") if isinstance(x, dict) else x for x in d.get("legs") or []]
+        if len(names) != n or not all(isinstance(x, str) and x in kinds for x in names):
+            continue
+        groups: list = []
+        for x in names:
+            if groups and groups[-1][0] is kinds[x]:
+                groups[-1][1] += 1
+            else:
+                groups.append([kinds[x], 1])
+        name, string = _name(groups)
+        if name in seen:
+            continue
+        seen.add(name)
+        out.append(Candidate(tuple(kinds[x] for x in names), name, string, len(groups) == 1))
     return out
 
 
@@ -318,16 +283,37 @@ def passive_compositions(motion: MotionPattern, pool, n_legs: int | None = None)
             groups = [(p, k), (b, n - k)] if k else [(b, n)]
             name, string = _name(groups)
             legs = (p,) * (k + 1) + (b,) * (n - k)
-            out.append(Candidate(legs, f"passive-{p.name}+{name}", f"{p.string}+{string}",
-                                 False, (0,)))
+            out.append(Candidate(legs, f"passive-{p.name}+{name}",
+                                 f"{string}+{p.string}/passive", False, (0,)))
+    return out
+
+
+def central_compositions(motion: MotionPattern, columns, pool, n_legs: int | None = None
+                         ) -> list:
+    """``n_legs`` unconstrained actuated legs (default: the DOF; SPS, UPS, SPU of ``pool``)
+    at the vertices and ONE passive central column of ``columns`` (generated with
+    ``central=True``: from the base centre to the platform centre) that exerts the whole
+    complementary system: the Tricept (3-UPS + a passive UP column) for 1T2R, a 3-UPS + a
+    passive S column for 3R."""
+    n = motion.dof if n_legs is None else int(n_legs)
+    out = []
+    for p in columns:
+        if p.constraints != motion.constraints:
+            continue
+        for b in (k for k in pool if not k.constraints):
+            name, string = _name([(b, n)])
+            out.append(Candidate((b,) * n + (p,), f"{name}+{p.name}/passive",
+                                 f"{string}+{p.string}/passive", False, (n,), True))
     return out
 
 
 def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> dict:
     """The ``pms:`` entry of a composition on standard geometry ``geometry`` (an index
-    into :func:`geometries_for` its number of legs); angles in degrees, lengths in cm (the catalog's units)."""
+    into :func:`geometries_for` its number of legs); angles in degrees, lengths in cm (the
+    catalog's units).  A passive leg is written ``{leg: NAME, passive: true}``, and
+    ``NAME/passive`` in the PM string."""
     n = len(cand.legs)
-    geos = geometries_for(n, bool(cand.passive))
+    geos = geometries_for(n, bool(cand.passive), cand.central)
     if not geos or not 0 <= geometry < len(geos):
         from ..errors import InputError
         raise InputError(f"no standard geometry {geometry} for {n} legs "
@@ -341,29 +327,29 @@ def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> 
     d = {"summary": f"{cand.name}, synthesized for the {motion.name} motion",
          "source": f"screwkit synthesize {motion.name} (geometry: {label})",
          "string": cand.string, "dimensions": dict(dims), "base": dict(base),
-         "platform": dict(plat), "legs": [k.name for k in cand.legs], "euler": "XYZ",
+         "platform": dict(plat), "euler": "XYZ",
+         "legs": [{"leg": k.name, "passive": True} if i in cand.passive else k.name
+                  for i, k in enumerate(cand.legs)],
          "independent": list(motion.independent), "home": home, "pose": dict(home),
          "dof": motion.dof, "motion": motion.name, "units": {"length": "cm", "force": "kN"}}
     if guess:
         d["guess"] = guess
     if cand.passive:
         which = ", ".join(f"{i + 1} ({cand.legs[i].name})" for i in cand.passive)
-        d["note"] = (f"leg {which} is passive (no actuator): its constraint system completes "
-                     f"the complementary wrench system; the synthesis verified J without "
-                     f"its actuation row. screwkit's models have no passive-leg field yet: "
-                     f"analysed as written, that leg's joint {cand.legs[cand.passive[0]].marked}"
-                     f" counts as a redundant actuator")
+        d["note"] = (f"leg {which} is passive (no actuator)"
+                     + (", a central column from the base centre to the platform centre"
+                        if cand.central else "")
+                     + ": its constraint system completes the complementary wrench system")
     d.update(extra)
     return d
 
 
-def model_yaml(name: str, definition: dict) -> str:
-    """A model YAML (``pms: {name: definition}``, with the extra leg types it uses) that
-    ``screwkit.load_pm(path)`` reads."""
-    data = {}
-    used = [x for x in definition.get("legs", []) if x in extra_legs()]
-    if used:
-        legs = [e for e in yaml.safe_load(EXTRA_LEGS_YAML)["legs"] if e["name"] in used]
-        data["legs"] = legs
+def model_yaml(name: str, definition: dict, legs=()) -> str:
+    """A model YAML (``pms: {name: definition}``, after the ``legs:`` entries ``legs`` of
+    the leg types it uses that the packaged catalog lacks) that ``screwkit.load_pm(path)``
+    reads."""
+    data: dict = {}
+    if legs:
+        data["legs"] = [dict(e) for e in legs]
     data["pms"] = {name: definition}
     return yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=100)

@@ -55,8 +55,10 @@ def _finish_axes(ax, box, view: _View, length_unit, title, legend_kinds, legend=
     unit = f" [{length_unit}]" if length_unit else ""
     ax.set_xlabel("x" + unit, fontsize=8, labelpad=2)
     ax.set_ylabel("y" + unit, fontsize=8, labelpad=2)
-    ax.set_zlabel("z" + unit, fontsize=8, labelpad=2)
     ax.tick_params(labelsize=7, pad=0)
+    # the z ticks point at their labels: without a gap the minus of -50 merges with the tick
+    ax.tick_params(axis="z", pad=4)
+    ax.set_zlabel("z" + unit, fontsize=8, labelpad=5)
     ax.locator_params(nbins=5)
     lo, hi = box
     ax.set_xlim(lo[0], hi[0])

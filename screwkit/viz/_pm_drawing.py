@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..scene import FLOOR, arrow_fractions
+from ..scene import scale_key as _kind_key
 from ._artists import _Extent, _arrow, _clip_line, _double_head
 from ._axes import _check_3d_axes, _check_view, _finish_axes
 from ._figure import COLORS, leg_color, new_figure, require_matplotlib, save_figure
@@ -21,16 +23,13 @@ from ._view import _choose_pm_view
 __all__ = ["draw_pm"]
 
 _ROW_KINDS = ("actuation", "force", "couple")
-#: The shortest arrow, as a fraction of the longest of its kind (so that small values show).
-FLOOR = 0.25
 
 
-def scale_key(row) -> tuple:
-    """The arrows one row's length is proportional with: its quantity (force or torque) and
-    whether it is an actuation wrench (actuation forces, constraint forces and torques are
-    each scaled on their own)."""
+def scale_key(row) -> str:
+    """The arrows one row (a dict) is scaled with: :func:`screwkit.scene.scale_key` of its
+    quantity (force or torque) and whether it is an actuation wrench."""
     q = row.get("quantity") or ("torque" if row["kind"] == "couple" else "force")
-    return q, bool(row.get("actuation", row["kind"] == "actuation"))
+    return _kind_key(q, bool(row.get("actuation", row["kind"] == "actuation")))
 
 
 #: How far (times the drawing's size) a constraint force starting on a joint centre or an end
@@ -174,9 +173,9 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         fix the value, e.g. the least-norm couples of an indeterminate PM; its label gets
         a ``*`` and the note explains it).  The drawn vector is ``value * direction``
         (direction normalised); arrow lengths are proportional to ``|value|``
-        relative to the largest of the same kind (:func:`scale_key`: actuation forces,
-        constraint forces and torques scaled each on their own), with a floor of 25 %
-        (:data:`FLOOR`) so that small values stay visible.
+        relative to the largest of the same kind (:func:`screwkit.scene.arrow_fractions`:
+        actuation forces, constraint forces and torques scaled each on their own), with a
+        floor of 25 % (:data:`screwkit.scene.FLOOR`) so that small values stay visible.
         A force is drawn on its line at the point nearest to its leg's
         platform point ``a`` (a constraint force that would start on a joint centre or an
         end point is moved along its line, clear of the marker there), its line dashed
@@ -264,8 +263,10 @@ def draw_pm(legs, base_points, platform_points_world, o, rows=None, values=None,
         note.append("arrow lengths proportional to |value|\n(actuation forces, constraint "
                     "forces\nand torques each scaled on their own)")
         if floored:
+            # four labels a line: the note keeps inside the figure however many there are
+            lines = [", ".join(floored[k:k + 4]) for k in range(0, len(floored), 4)]
             note.append(f"drawn at {FLOOR:.0%} of the largest of its kind\n(value below "
-                        f"{FLOOR:.0%} or n/a): " + ", ".join(floored))
+                        f"{FLOOR:.0%} or n/a): " + ",\n".join(lines))
     if any(not r["determined"] for r in rows):
         note.append("* " + (indeterminate_note or
                             "not determined by statics\n  (least-norm value)"))
@@ -281,10 +282,8 @@ def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, 
     """The wrench arrows of ``rows`` and their value labels; returns the kinds drawn and the
     labels of the arrows drawn at the floor length."""
     max_len = 0.6 * size
-    vmax, kinds, floored = {}, set(), []
-    for r in rows:
-        if np.isfinite(r["value"]):
-            vmax[scale_key(r)] = max(vmax.get(scale_key(r), 0.0), abs(r["value"]))
+    kinds, floored = set(), []
+    fracs, low = arrow_fractions([r["value"] for r in rows], [scale_key(r) for r in rows])
     for irow, r in enumerate(rows):
         leg = legs[r["leg"]]
         is_couple = r["kind"] == "couple"
@@ -299,14 +298,9 @@ def _draw_rows(ax, legs, rows, labeller, ext, v, size, force_unit, torque_unit, 
         shown = value_format.format(val) if value_format else _three_digits(val)
         text = f"{r['label']} = {shown} {unit}{star}" if np.isfinite(val) \
             else f"{r['label']} = n/a"
-        top = vmax.get(scale_key(r), 0.0)
-        if np.isfinite(val) and top > 0:
-            frac, sgn = max(abs(val) / top, FLOOR), (-1.0 if val < 0 else 1.0)
-        else:
-            frac, sgn = FLOOR, 1.0
-        if not (np.isfinite(val) and top > 0 and abs(val) >= FLOOR * top):
+        if low[irow]:
             floored.append(r["label"])
-        vec = sgn * frac * max_len * r["direction"]
+        vec = fracs[irow] * max_len * r["direction"]
         if is_couple:
             p0, root = couple_tail(v, leg.A, leg.a, vec, size,
                                    [m[0] for m in labeller.markers], labeller.segments)

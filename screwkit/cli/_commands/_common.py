@@ -87,6 +87,29 @@ def dask_mapper(args):
     return partial(run_tasks, args.scheduler or args.workers)
 
 
+def catalog_with_model_legs(path, option: str = "--model"):
+    """The packaged catalog extended with the leg types of the model file ``path`` (its
+    ``legs:`` list): a file without leg types is an InputError naming ``option``."""
+    from ...errors import InputError
+    from ...pm import Catalog, default_catalog, load_catalog
+
+    extra = load_catalog(path)
+    if not extra.legs:
+        raise InputError(f"{option} {path}: the file defines no leg types (a 'legs:' list)")
+    cat = default_catalog()
+    return Catalog({**cat.legs, **extra.legs}, cat.table1, cat.pms, cat.source)
+
+
+def default_jobs(jobs):
+    """``jobs``, or by default 2 forked processes on Linux with 2 or more cores (elsewhere
+    fork is unsafe or unavailable: 1, serial)."""
+    import os
+
+    if jobs is not None:
+        return jobs
+    return min(2, os.cpu_count() or 1) if sys.platform.startswith("linux") else 1
+
+
 def process_mapper(jobs):
     """``mapper(fn, items, progress)`` on ``jobs`` local worker processes, or None (serial) for
     ``jobs <= 1``, a single item, or where processes cannot be forked (they inherit the

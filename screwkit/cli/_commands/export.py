@@ -53,6 +53,8 @@ def run(args) -> int:
         raise InputError("--pose and --massless are options of --mjcf")
     if args.mass and args.massless:
         raise InputError("give either --mass FILE or --massless, not both")
+    if args.urdf and args.mjcf:
+        _distinct_outputs(args.urdf, args.mjcf)
     pose = parse_assignments(args.pose, "--pose")
     pm = resolve_model(args)
     params = None
@@ -94,3 +96,14 @@ def run(args) -> int:
     for line in lines:
         print(line)
     return 0
+
+
+def _distinct_outputs(urdf, mjcf) -> None:
+    """The MJCF must not overwrite the URDF or its closures sidecar (written first)."""
+    from pathlib import Path
+
+    u = Path(urdf).resolve()
+    side = u.with_name(u.stem + ".closures.json")
+    if Path(mjcf).resolve() in (u, side):
+        raise InputError(f"--mjcf {mjcf} would overwrite what --urdf writes ({urdf} and "
+                         f"{side.name}): give another file name")

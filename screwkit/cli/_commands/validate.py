@@ -5,20 +5,22 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 import sys
 
 from ...legs._guards import MAX_DRAWS, MAX_ENTRIES, MAX_SEED
-from .._types import integer, output, scheduler
+from .._types import integer, output, path, scheduler
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dask_mapper, dump_json, process_mapper, write_output
+from ._common import (catalog_with_model_legs, dask_mapper, default_jobs, dump_json,
+                      process_mapper, write_output)
 
 HELP = """For every Table I string (or the STRINGs given): analyse a generic geometry, then
 for each target constraint system (one force, one couple; for legs with fewer than five
 independent joints every mix of forces and couples) synthesize a structural arrangement
 from the three observation rules and verify it with the reciprocal-screw solver, over
 several random draws. The catalog's accepted legs are checked against their stated
-constraint systems. Exit status 1 on any disagreement."""
+constraint systems. --model FILE adds the leg types of a model file: each is checked like
+the catalog's (its 'expect', the observation rules, its actuation wrench) and its string is
+validated with the others. Exit status 1 on any disagreement."""
 
 _COLUMNS = [("leg", "Leg"), ("chain", "Equivalent chain"), ("connectivity", "Connectivity"),
             ("generic", "Generic constraints"), ("force", "Constraint force"),
@@ -41,6 +43,9 @@ def register(sub):
                    help="random draws per target (default 3)")
     p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the random draws (default 0)")
     p.add_argument("--no-catalog", action="store_true", help="skip the catalog's legs")
+    p.add_argument("--model", metavar="FILE", type=path,
+                   help="also check the leg types of a model file (its 'legs:' list) and "
+                        "validate their strings")
     p.add_argument("--jobs", type=integer(1, 64), metavar="N", default=None,
                    help="local worker processes (default: 2 on Linux with 2 or more cores, else "
                         "1: serial); the report equals the serial one")
@@ -155,13 +160,21 @@ def run(args) -> int:
         raise InputError("give either --jobs N (local processes) or a Dask cluster")
     if mapper is None:
         # by default 2 forked processes on Linux (elsewhere fork is unsafe or unavailable)
-        auto = min(2, os.cpu_count() or 1) if sys.platform.startswith("linux") else 1
-        jobs = args.jobs if args.jobs is not None else auto
-        mapper = process_mapper(jobs)
+        mapper = process_mapper(default_jobs(args.jobs))
+    catalog, strings = None, args.strings or None
+    if args.model:
+        from ...pm import default_catalog
+
+        catalog = catalog_with_model_legs(args.model)
+        mine = [s.string.marked for n, s in catalog.legs.items()
+                if default_catalog().legs.get(n) is not s]
+        strings = list(dict.fromkeys((strings or catalog.table1_distinct()) + mine))
+        if args.no_catalog:
+            raise InputError("--model checks the file's leg types: not with --no-catalog")
     with progress_bar(args, "validate", "string") as progress:
-        report = validate_table1(draws=draws, seed=args.seed, strings=args.strings or None,
+        report = validate_table1(draws=draws, seed=args.seed, strings=strings,
                                  check_catalog=not args.no_catalog, progress=progress,
-                                 mapper=mapper)
+                                 mapper=mapper, catalog=catalog)
     rows, cat_rows = report_rows(report), catalog_rows(report)
     if args.format == "json":
         text = dump_json(report_json(report)) + "\n"

@@ -95,6 +95,9 @@ def run(args) -> int:
         if has_path:
             path = path_from_args(args, model.independent,
                                   model.units.length if model.units.declared else None)
+            if args.frame is not None and args.frame >= len(path):
+                raise InputError(f"--frame {args.frame}: the path has {len(path)} samples "
+                                 f"(0 to {len(path) - 1})")
             v = view(model, path=path, force=force, torque=torque, title=args.title,
                      start=args.frame, progress=progress)
         else:
@@ -110,17 +113,30 @@ def run(args) -> int:
         if shot["errors"]:
             raise InputError(f"the page reported errors in Chromium: {shot['errors'][0]}")
     state = sc.states[sc.start]
+    levels = _level_counts(sc.states)
     if args.json:
         print(dump_json({"html": written, "png": shot["png"] if shot else None, "pm": sc.pm,
                          "states": len(sc.states), "start": sc.start,
                          "controls": "grid" if hasattr(sc.controls, "params") else "time",
-                         "workload": sc.workload_text, "level": state.level}))
+                         "workload": sc.workload_text, "level": state.level,
+                         "levels": levels}))
         return 0
+    n = len(sc.states)
     kind = (f"{' x '.join(str(len(v)) for v in sc.controls.values)} poses on sliders "
             f"({', '.join(sc.controls.params)})" if hasattr(sc.controls, "params")
-            else f"{len(sc.states)} samples on a time slider")
+            else f"{n} sample{'s' if n != 1 else ''} on a time slider")
+    # a state that is not regular is flagged on the page; the summary counts them
+    flagged = "; ".join(f"{c} of {n} {lv}" for lv, c in levels.items() if lv != "ok")
     print(f"wrote {written} ({sc.pm}: {kind}; workload {sc.workload_text}; shown first: "
-          f"level {state.level})")
+          f"level {state.level}" + (f"; {flagged}" if flagged else "") + ")")
     if shot:
         print(f"wrote {shot['png']}", file=sys.stderr)
     return 0
+
+
+def _level_counts(states) -> dict:
+    """How many states are at each singularity level, from the best to the worst."""
+    order = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
+    seen = [s.level for s in states]
+    return {lv: seen.count(lv) for lv in order + tuple(sorted(set(seen) - set(order)))
+            if seen.count(lv)}

@@ -1,0 +1,142 @@
+"""The motion type computed from the finite motion (``screwkit.engine.finite_motion``).
+
+The label of every catalog PM is compared with the literature's (written here, not read
+from the catalog), and the invariants and parasitic motions with what the engine's own
+solutions show when read independently (rotations compared, dependent parameters varied).
+A model whose declared motion or independent parameters disagree with the computed type
+fails to load, with both named.
+
+Literature (the project writes 2R1T as 1T2R):
+
+* 3-RRPRR and 2-SPS+2-SPR: Hu, Lu, Zhang, Yu, "Unified analysis of statics of some
+  limited-DOF parallel manipulators" (the paper this project follows), sections 3 and 4:
+  two rotations and a translation (alpha, beta, Zo); three rotations and a translation.
+* 3-RPS: K.-M. Lee, D. K. Shah, "Kinematic analysis of a three-degrees-of-freedom in-parallel
+  actuated manipulator", IEEE J. Robotics and Automation 4(3), 1988: 2R1T with parasitic
+  translations and rotation (J. A. Carretero, R. P. Podhorodeski et al., J. Mech. Des.
+  122, 2000).
+* 3-SPR, 3-UPRR, 3-RPRU, 3-RPUR, 3-RSR, 2-UPU+SPR: 2R1T PMs of Q. Li, J. M. Hervé,
+  "1T2R parallel mechanisms without parasitic motion", IEEE Trans. Robotics 26(3), 2010,
+  and X. Kong, C. Gosselin, "Type Synthesis of Parallel Mechanisms", Springer 2007, ch. 8
+  (3-DOF 2R1T); the 3-RSR of Z. Huang, Y. Fang, Robotica 2005.
+* translational 3-UPU: L.-W. Tsai, "Kinematics of a three-DOF platform with three extensible
+  limbs", in Recent Advances in Robot Kinematics, 1996: 3T.
+* spherical 3-UPU: R. Di Gregorio, "Kinematics of the 3-UPU wrist", Mech. Mach. Theory 38,
+  2003: 3R about a fixed point.
+* 4-UPU, 2-UPS+2-UPU, 3-SPU+PRRR: Schoenflies (3T1R), Kong and Gosselin 2007 ch. 9; the
+  rotations about one fixed direction.
+* the Exechon 2-UPR+SPR: Z. M. Bi, Y. Jin, "Kinematic modeling of Exechon parallel kinematic
+  machine", Robotics and Computer-Integrated Manufacturing 27, 2011: 2R1T; the Tricept
+  3-UPS+UP (B. Siciliano, Robotica 17, 1999): 2R1T; the 3-UPS with a passive spherical
+  column: 3R about the column's S.
+* 3-SPU+SP, 2-UPS+2-SPR: 1T3R (the SP leg's two forces through one point); 4-SPS+SPR,
+  4-SPS+UPU, 4-SPS+URPR: 2T3R (one constraint force); 3-SPU+UPR, 3-SPU+RPRR: 2T2R (a
+  force and a couple): the motion types of Kong and Gosselin's wrench-system
+  classification, ch. 2 (a PM's motion is the reciprocal of its legs' constraints).
+"""
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.engine import finite_motion
+from screwkit.errors import CatalogError
+from screwkit.pm import load_pm, mobility, pm_names
+
+LITERATURE = {
+    "3RRPRR": "1T2R", "2SPS+2SPR": "1T3R", "3RPS": "1T2R", "3SPR": "1T2R", "3UPRR": "1T2R",
+    "3RPRU": "1T2R", "3RPUR": "1T2R", "3RSR": "1T2R", "2UPU+SPR": "1T2R", "3UPU": "3T",
+    "3UPU/spherical": "3R", "4UPU": "3T1R", "2UPS+2UPU": "3T1R", "3SPU+PRRR": "3T1R",
+    "3SPU+SP": "1T3R", "2UPS+2SPR": "1T3R", "4SPS+SPR": "2T3R", "4SPS+UPU": "2T3R",
+    "4SPS+URPR": "2T3R", "3SPU+UPR": "2T2R", "3SPU+RPRR": "2T2R",
+    "2UPR+SPR": "1T2R", "3UPS+UP/passive": "1T2R", "3UPS+S/passive": "3R",
+}
+
+
+def test_every_catalog_pm_has_its_literature_motion_type():
+    names = pm_names()
+    assert set(names) <= set(LITERATURE), "a catalog PM without its literature motion type"
+    for name in names:
+        fm = finite_motion(load_pm(name))
+        assert fm.label == LITERATURE[name], name
+
+
+def _solve(model, k=6, seed=1):
+    rng = np.random.default_rng(seed)
+    L = float(model.normalisation.length)
+    pose = {p: model.home_pose[p] + (np.radians(4.0) if p in ("alpha", "beta", "gamma")
+                                     else 0.04 * L) * rng.uniform(-1, 1, k)
+            for p in model.independent}
+    return screwkit.solve(model, pose)
+
+
+def test_invariants_against_the_solutions_read_independently():
+    # 3T: the rotation never changes; 3R: o - C = R R0^T (o0 - C) with the catalog's centre
+    tri = load_pm("3UPU")
+    sol = _solve(tri)
+    assert float(np.max(np.abs(sol.rotation - np.eye(3)))) <= 1e-9
+    fm = finite_motion(tri)
+    assert "fixed orientation" in fm.invariants and fm.parasitic == ()
+    sph = load_pm("3UPU/spherical")
+    fm = finite_motion(sph)
+    C = np.asarray(sph.centre, float)
+    np.testing.assert_allclose(fm.centre, C, atol=1e-6 * float(sph.normalisation.length))
+    sol = _solve(sph)
+    R0, o0 = sol.rotation[0], sol.position[0]
+    for R, o in zip(sol.rotation, sol.position):
+        assert np.linalg.norm((o - C) - R @ R0.T @ (o0 - C)) <= 1e-8 * 60
+    # Schoenflies: every rotation about the base normal
+    sch = load_pm("4UPU")
+    sol = _solve(sch)
+    assert float(np.max(np.abs(sol.rotation[:, :, 2] - [0, 0, 1]))) <= 1e-9
+    fm = finite_motion(sch)
+    np.testing.assert_allclose(np.abs(fm.axis), [0, 0, 1], atol=1e-9)
+
+
+def test_the_3rps_parasitic_motions_are_its_varying_dependent_parameters():
+    rps = load_pm("3RPS")
+    fm = finite_motion(rps)
+    sol = _solve(rps)
+    varies = {p for p in rps.dependent
+              if np.ptp(np.asarray(sol.params[p], float)) > 1e-6}
+    assert varies == {"Xo", "Yo", "gamma"} == set(fm.parasitic)
+    assert fm.text.startswith("1T2R: independent alpha, beta, Zo; parasitic motion")
+
+
+def test_mobility_reports_the_computed_type_and_the_instantaneous_one_apart():
+    rps = screwkit.load_pm("3RPS")
+    a = screwkit.analyze(rps, {"alpha": 0.1, "beta": -0.05, "Zo": 62.0})
+    m = a.mobility
+    assert m.motion_type == "1T2R" and "parasitic motion" in m.finite
+    assert m.instantaneous_type != m.motion_type        # tilted: screws of finite pitch
+    assert mobility(a.solution).motion_type == "1T2R"   # the registered computed type
+
+
+DECLARED = """
+pms:
+  wrong:
+    string: 3RPS
+    dimensions: {R: 60, r: 30}
+    base: {shape: triangle, circumradius: R}
+    platform: {shape: triangle, circumradius: r}
+    legs: [RPS, RPS, RPS]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    home: {alpha: 0, beta: 0, Zo: R}
+    pose: {alpha: 0, beta: 0, Zo: R}
+    dof: 3
+    motion: MOTION
+"""
+
+
+def test_a_declared_motion_that_is_not_the_computed_one_is_an_error(tmp_path, capsys):
+    path = tmp_path / "wrong.yaml"
+    path.write_text(DECLARED.replace("MOTION", "3T"))
+    with pytest.raises(CatalogError, match="declares motion 3T.*computed from home is 1T2R"):
+        screwkit.load_pm(str(path))
+    path.write_text(DECLARED.replace("MOTION", "2R1T"))     # the literature's order reads
+    assert screwkit.load_pm(str(path)).motion == "2R1T"
+    from screwkit.cli import main
+    assert main(["analyze", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "1T2R" in out and "parasitic motion Xo, Yo, gamma" in out
