@@ -238,8 +238,9 @@ def main(argv=None):
     for name in ("2SPS+2SPR", "3RPS", "4SPS+SPR", "6SPS"):
         m = screwkit.load_pm(name)
         pose = _random_pose(m, n, rng)
-        screwkit.analyze(m, {k: v[:10] for k, v in pose.items()})
-        t, r = _best(lambda: screwkit.analyze(m, pose), args.repeat)
+        screwkit.analyze(m, {k: v[:10] for k, v in pose.items()}, force=F_LOAD, torque=T_LOAD)
+        t, r = _best(lambda: screwkit.analyze(m, pose, force=F_LOAD, torque=T_LOAD),
+                     args.repeat)
         line(f"engine {name} random", n / t, f">= 500,000; {int(np.sum(r.ok))}/{n} ok")
     s = np.linspace(0, 1, n)
     path = {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
@@ -255,9 +256,10 @@ def main(argv=None):
             one = dict(m.default_pose)
             near = {p: v + (0.002 if p in ("alpha", "beta", "gamma") else 0.1)
                     for p, v in one.items()}
-        prev = screwkit.analyze(m, one)
+        prev = screwkit.analyze(m, one, force=F_LOAD, torque=T_LOAD)
         k = 500
-        t, _ = _best(lambda: [screwkit.analyze(m, near, guess=prev.solution)
+        t, _ = _best(lambda: [screwkit.analyze(m, near, guess=prev.solution, force=F_LOAD,
+                                               torque=T_LOAD)
                               for _ in range(k)], args.repeat)
         t1, _ = _best(lambda: fused_closed_form(alpha[:1], beta[:1], Zo[:1], threads=1),
                       args.repeat)

@@ -87,7 +87,8 @@ def test_a_batch_equals_its_poses_one_by_one_bit_for_bit(name):
     from screwkit.engine._solve import predictor_of
     pm = screwkit.load_pm(name)
     pose = random_pose(pm, 1000, 11, span=8.0, frac=0.08)
-    res = screwkit.analyze(pm, pose, workers=2, raise_on_singular=False)
+    res = screwkit.analyze(pm, pose, workers=2, raise_on_singular=False,
+                           force=F, torque=T)
     ch = chains_of(pm)
     one = _one_by_one(ch.flat, predictor_of(ch), ch.full_params(pose, 1000))
     ok = res.solution.reachable_mask
@@ -127,7 +128,7 @@ def test_six_sps_statics_from_its_leg_lines():
     intrinsic XYZ angles, the catalog's geometry written here)."""
     pm = screwkit.load_pm("6SPS")
     pose = random_pose(pm, 20, 5, span=6.0, frac=0.05)
-    res = screwkit.analyze(pm, pose)
+    res = screwkit.analyze(pm, pose, force=F, torque=T)
     assert res.ok.all() and res.jacobian.matrix.shape[1:] == (6, 6)
     ang_b = np.radians([-2.5, 2.5, 117.5, 122.5, 237.5, 242.5])
     ang_p = np.radians([-50, 50, 70, 170, 190, 290])

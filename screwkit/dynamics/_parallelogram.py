@@ -3,8 +3,8 @@
 A Pa is one equivalent joint whose value ``s`` is the arc length of its bars' ends
 (``theta = s / |b|`` the bars' turn about the hinges ``h`` relative to the near link); the
 far link translates along a circle: its unit twist is the translation ``xi = [d; 0]`` with
-``d = h x b_hat`` turning with the bars (:mod:`screwkit.engine._poe`).  Two consequences
-for the dynamics (poses first throughout):
+``d = h x b_hat`` turning with the bars (the kernels' product of exponentials,
+``engine/_kernels/_kin.py``).  Two consequences for the dynamics (poses first throughout):
 
 * **its own twist rate.**  ``d`` turns with the near link (the screw product ``V_(j-1) x
   xi``, as every joint twist) *and* with the Pa's own angle: ``d(d)/dt = ... + (h x d)
