@@ -10,7 +10,8 @@ and, through a model file, of the model keys it reads (``workload:``, ``dynamics
   check that failed, counts as such an answer); or
 * exit status 2 with exactly one line on stderr, ``screwkit CMD: error: ...``;
 * never exit status 3 (an internal error), a traceback, another line (a warning) before
-  the error, or a run longer than :data:`LIMIT` seconds.
+  the error, a Python warning (numpy's overflow ...) on stderr, or a run longer than
+  :data:`LIMIT` seconds.
 
 :data:`COUNTS` tallies per family the inputs, exits 0, 2 and 3 and hangs.
 """
@@ -23,6 +24,7 @@ import os
 import re
 import signal
 import tempfile
+import warnings
 
 from hypothesis import strategies as st
 
@@ -175,6 +177,8 @@ def trajectory_argv(draw):
         ["trajectory", pm, *expr, "--samples", n],
         ["trajectory", pm, "--expr", f"alpha={v}*t", "--expr", "beta=0", "--expr", "Zo=70",
          "--samples", "3"],
+        ["trajectory", pm, "--expr", "alpha=0", "--expr", "beta=0", "--expr", f"Zo=70+{v}*t",
+         "--samples", "3"],
         ["trajectory", pm, *expr, "--samples", "3", "--force", draw(_triple(v))],
         ["trajectory", pm, *expr, "--samples", "3", "--out", draw(PATHS)],
         ["trajectory", pm, *expr, "--samples", "3", "--mass", mass],
@@ -247,10 +251,12 @@ def other_argv(draw):
     """The other commands' counts, seeds, addresses and outputs."""
     v, n = draw(NUMS), draw(INTS)
     return draw(st.sampled_from([
-        ["synthesize", "3T", "--legs", n, "--limit", "1"],
+        ["synthesize", "3T", "--legs", n, "--limit", "1", *QUICK_SYNTHESIS],
         ["synthesize", "3T", "--scheduler", draw(st.sampled_from(["tcp://nonsense", "",
                                                                   "tcp://h:0"]))],
-        ["synthesize", "3T", "--write", draw(PATHS), "--limit", "1"],
+        ["synthesize", "3T", "--write", draw(PATHS), "--limit", "1", *QUICK_SYNTHESIS],
+        ["synthesize", "3T", "--max-verified", n, "--jobs", n, "--limit", "1",
+         "--no-generate", "--no-passive"],
         ["check", "3RPS", "--poses", n, "--seed", draw(INTS)],
         ["check", "3RPS", "--rtol", v],
         ["view", "3RPS", "--html", draw(PATHS), "--steps", n],
@@ -259,6 +265,10 @@ def other_argv(draw):
         ["leg", "RPS", "--seed", n],
     ]))
 
+
+#: Options that keep a synthesis to a second (the catalog's leg types, a few verifications):
+#: the family checks the inputs, not the search.
+QUICK_SYNTHESIS = ("--no-generate", "--no-passive", "--jobs", "1", "--max-verified", "3")
 
 #: The families: name -> strategy of command lines.
 FAMILIES = {"analyze": analyze_argv(), "stiffness": stiffness_argv(), "map/size": map_argv(),
@@ -270,8 +280,8 @@ FLAG_WORDS = ("singular", "unreachable", "invalid", "not computed", "not solved"
               "null", "rigid", "status")
 
 
-class _Hang(Exception):
-    pass
+class _Hang(BaseException):
+    """Not an Exception: the CLI's last-resort handler (exit 3) must not swallow it."""
 
 
 def _alarm(signum, frame):
@@ -292,7 +302,9 @@ def run(family: str, argv) -> tuple:
     cwd = os.getcwd()
     try:
         os.chdir(DIR)
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
+                warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")        # each would reach the user's stderr
             try:
                 code = screwkit.cli.main([str(a) for a in argv])
             except SystemExit as exc:
@@ -309,6 +321,7 @@ def run(family: str, argv) -> tuple:
         code = 0                  # check's own verdict: a check failed (its documented exit 1)
     c[f"exit {code}"] = c.get(f"exit {code}", 0) + 1
     assert code in (0, 2), (argv, code, e[-600:])
+    assert not caught, (argv, [f"{w.category.__name__}: {w.message}" for w in caught][:3])
     assert "Traceback" not in e and "internal error" not in e, (argv, e[-600:])
     lines = [ln for ln in e.splitlines() if ln.strip()]
     if code == 2:

@@ -11,6 +11,8 @@ counts (inputs, exit 0, exit 2, exit 3, hangs).
 
 from __future__ import annotations
 
+import os
+
 import pytest
 from hypothesis import HealthCheck, given, settings
 
@@ -18,9 +20,12 @@ from hostile import COUNTS, FAMILIES, run
 
 pytest.importorskip("xarray")
 
-#: Examples per family in the suite (the benchmark runs many more).
+#: Examples per family in the suite (the benchmark runs many more); ten times as many with
+#: SCREWKIT_TEST_SLOW=1.
 EXAMPLES = {"analyze": 6, "stiffness": 6, "map/size": 5, "trajectory": 5, "fk": 4,
             "export": 4, "model keys": 5, "freedom": 6, "draw": 3, "other commands": 4}
+if os.environ.get("SCREWKIT_TEST_SLOW") == "1":
+    EXAMPLES = {k: 10 * v for k, v in EXAMPLES.items()}
 
 
 def _settings(n):

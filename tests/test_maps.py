@@ -113,7 +113,7 @@ def test_unreachable_cells_are_flagged_not_solved():
     ds = screwkit.map("3RSR", {"Zo": (20.0, 400.0, 20)}, degrees=True, **PAPER_LOAD)
     bad = ~ds["reachable"].values
     assert bad.any() and ds["reachable"].values.any()
-    assert np.all(np.isnan(ds["F_a1"].values[bad])) and np.all(ds["level"].values[bad] == 4)
+    assert np.all(np.isnan(ds["T_a1"].values[bad])) and np.all(ds["level"].values[bad] == 4)
     one = screwkit.analyze("3RSR", {"Zo": np.array([float(ds.Zo[np.flatnonzero(bad)[0]])])}, **PAPER_LOAD)
     assert one.unreachable[0]
     # the plot hatches exactly those cells and says so

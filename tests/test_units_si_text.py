@@ -193,7 +193,7 @@ def test_trajectory_csv_header_units_and_si_table(capsys, pm):
         _close(si[cb].to_numpy(), model[ca].to_numpy(), SI_UNIT[unit][1], rtol=1e-10)
     heads = list(model.columns)
     if pm == "3RSR":                      # rotary actuators: torques; no T_r columns
-        assert "F_a1 [kN.cm]" in heads and not any(h.startswith("T_r") for h in heads)
+        assert "T_a1 [kN.cm]" in heads and not any(h.startswith("T_r") for h in heads)
     else:                                 # the PRRR leg's couples are torques
         assert "F_a1 [kN]" in heads and {"T_c4.1 [kN.cm]", "T_c4.2 [kN.cm]"} <= set(heads)
 

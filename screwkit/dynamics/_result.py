@@ -283,8 +283,10 @@ class DynamicsResult:
         acc_u = [f"{'rad' if r else u.length}/s^2" for r in self.rotary]
         cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, k], acc_u[i])
                  for k, i in enumerate(act)]
-        cols += [(f"F_a{i + 1}", self.static_active[:, k], act_u[i]) for k, i in enumerate(act)]
-        cols += [(f"F_a{i + 1}_dyn", self.dynamic_active[:, k], act_u[i])
+        fa = ["T_a" if r else "F_a" for r in self.rotary]         # a rotary actuator: torque
+        cols += [(f"{fa[i]}{i + 1}", self.static_active[:, k], act_u[i])
+                 for k, i in enumerate(act)]
+        cols += [(f"{fa[i]}{i + 1}_dyn", self.dynamic_active[:, k], act_u[i])
                  for k, i in enumerate(act)]
         info = self.analysis.jacobian.info[len(act):]
         cu = [u.torque if r.kind == "couple" else u.force for r in info]

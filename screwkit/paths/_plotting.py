@@ -112,7 +112,7 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
     note = zero_torque_note(res, zero) if res.ok.any() else ""
     Tc = np.column_stack(torques) if torques else None
     labels = {"extensions": [f"$r_{{{i + 1}}}$" for i in range(n)],
-              "active": [f"$F_{{a{i + 1}}}$" for i in acts]}
+              "active": [f"${'T' if rot[i] else 'F'}_{{a{i + 1}}}$" for i in acts]}
     legs = {"active": list(acts)}
     determined = {"active": det[:, :len(acts)]}
     if Fc is not None:

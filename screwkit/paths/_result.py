@@ -191,7 +191,8 @@ class TrajectoryResult:
         cols += [(q, p[q] * kl, ub["length"]) if q in LENGTH_PARAMS else (q, p[q], "deg")
                  for q in PARAMS]
         cols += [(f"r{i + 1}", self.extensions[:, i] * kl, ub["length"]) for i in range(n)]
-        cols += [(f"F_a{i + 1}", self.active[:, k] * (kt if rot[i] else kf),
+        cols += [(f"{'T' if rot[i] else 'F'}_a{i + 1}",          # a rotary actuator: torque
+                  self.active[:, k] * (kt if rot[i] else kf),
                   ub["torque" if rot[i] else "force"]) for k, i in enumerate(self.actuated)]
         cols += [(lab, self.constraint[:, j] * (kt if kind == "couple" else kf),
                   ub["torque" if kind == "couple" else "force"])

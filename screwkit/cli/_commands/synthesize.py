@@ -97,6 +97,8 @@ def run(args) -> int:
     from ...design import VARIANTS, synthesize_motion
     from ...errors import InputError
 
+    if args.write is not None and Path(args.write).exists() and not Path(args.write).is_dir():
+        raise InputError(f"--write {args.write}: not a directory (give one for the models)")
     mapper = dask_mapper(args)
     if mapper is not None and args.jobs is not None:
         raise InputError("give either --jobs N (local processes) or a Dask cluster")
