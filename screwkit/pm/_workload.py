@@ -170,6 +170,8 @@ def _factors(raw, units, err):
     if not units.declared:
         raise err("the model declares no units: declare them (units: {length: .., force: ..}) "
                   "or write the workload in the model's own units with 'units: model'", "units")
+    if str(raw["force"]) == units.force and str(raw["length"]) == units.length:
+        return 1.0, 1.0                  # the model's own units: no pint import at start-up
     try:
         ff = units.factor(str(raw["force"]), "force")
         fl = units.factor(str(raw["length"]), "length")
