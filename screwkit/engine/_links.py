@@ -95,10 +95,12 @@ class LinkFrames:
         return self.q.shape[-1]
 
 
-def link_frames(solution, sl=slice(None)) -> LinkFrames:
+def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
     """The :class:`LinkFrames` of the poses ``sl`` of a :class:`PoseSolution`.
 
-    Unreachable poses have NaN joint values, hence NaN screws.
+    Unreachable poses have NaN joint values, hence NaN screws.  Without ``slots`` the
+    links' displacements ``R``, ``t`` are not formed (empty arrays): the joint twists and
+    points alone, for the transmission indices.
     """
     c = solution.closures
     ch = c.chains
@@ -120,11 +122,11 @@ def link_frames(solution, sl=slice(None)) -> LinkFrames:
     X[:, nu:] = q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
     P6 = np.stack([np.asarray(params[k], float) for k in PARAMS], axis=1)
     given = (np.zeros(0, np.int64), np.zeros(0))
-    fr = frames(ch.flat, given, P6, X[:, nu:], slots=True, twists=True)
+    fr = frames(ch.flat, given, P6, X[:, nu:], slots=slots, twists=True)
     fa = fr["axes_points"]                                 # (N, n, m, 6)
     points = np.ascontiguousarray(fa[..., 3:].transpose(2, 3, 1, 0))
     twists = np.ascontiguousarray(fr["twists"].transpose(2, 3, 1, 0))
-    Rs = np.ascontiguousarray(fr["R"].transpose(2, 3, 4, 1, 0))
+    Rs = np.ascontiguousarray(fr["R"].transpose(2, 3, 4, 1, 0))    # (empty without slots)
     ts = np.ascontiguousarray(fr["t"].transpose(2, 3, 1, 0))
     fp = fr["platform"]
     Rp = np.ascontiguousarray(fp[:, 6:15].reshape(N, 3, 3).transpose(1, 2, 0))

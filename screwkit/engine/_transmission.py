@@ -154,7 +154,7 @@ def leg_screws(solution, active):
     ch = solution.closures.chains
     if ch.bars is not None and ch.bars.any():
         return _placed_leg_screws(solution, active)
-    lf = link_frames(solution)
+    lf = link_frames(solution, slots=False)
     N = lf.N
     rot = np.asarray(lf.rotation, float)                  # (n, m)
     n = rot.shape[0]
