@@ -62,3 +62,29 @@ def test_the_view_refuses_an_empty_output_path(capsys, opt):
     assert main(["view", "3RPS", opt, ""]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"argument {opt}: an empty file name" in err[0]
+
+
+MODEL = """units: {length: mm, force: N}
+pms:
+  H3SPR:
+    dimensions: {R: 80, r: 30}
+    base: {shape: triangle, circumradius: R}
+    platform: {shape: triangle, circumradius: r}
+    legs: [SPR, SPR, SPR]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    pose: {alpha: 5, beta: -3, Zo: R}
+    dof: 3
+    workload: {torque: [1, 2, 3], force: [0, 0, 1], units: {force: N, length: LENGTH}}
+"""
+
+
+@pytest.mark.parametrize("length", ["{}", "'{}'", "'()'", "'m**'", "3"])
+def test_a_workload_unit_pint_cannot_read_is_one_line_naming_the_field(tmp_path, capsys,
+                                                                       length):
+    """pint's parser fails on '{}' with a bare AssertionError: it was an internal error."""
+    path = tmp_path / "m.yaml"
+    path.write_text(MODEL.replace("LENGTH", length))
+    assert main(["analyze", "--model", str(path), "--force", "1,2,3"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "line 12" in err[0] and "workload.units" in err[0], err

@@ -95,12 +95,15 @@ class Units:
         except ImportError:
             raise InputError("unit conversions need the 'pint' package "
                              "(pip install 'screwkit[units]')") from None
+        if not isinstance(unit, str) or not unit.strip() or len(unit) > 100:
+            raise InputError(f"{str(unit)[:100]!r} is not a unit name (kg, m, N, s ...)")
         ureg = _registry(pint)
         try:
             return float(ureg.Quantity(1.0, unit).to(target).magnitude)
-        except (pint.errors.PintError, AttributeError, TypeError, ValueError) as exc:
-            raise InputError(f"cannot convert {unit!r} to a {dimension} "
-                             f"({type(exc).__name__}: {exc})") from None
+        except Exception as exc:          # pint's parser fails on a bad name in many ways
+            # (PintError, ValueError, an AssertionError on '{}'): every one is a bad unit
+            why = f"{type(exc).__name__}: {exc}" if str(exc) else "not a unit pint reads"
+            raise InputError(f"cannot convert {unit!r} to a {dimension} ({why})") from None
 
 
 _REG = []

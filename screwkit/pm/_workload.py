@@ -170,11 +170,15 @@ def _factors(raw, units, err):
     if not units.declared:
         raise err("the model declares no units: declare them (units: {length: .., force: ..}) "
                   "or write the workload in the model's own units with 'units: model'", "units")
-    if str(raw["force"]) == units.force and str(raw["length"]) == units.length:
+    for key in ("force", "length"):
+        if not isinstance(raw[key], str):
+            raise err(f"must be a unit name (kN, cm ...), not {str(raw[key])[:40]!r}",
+                      f"units.{key}")
+    if raw["force"] == units.force and raw["length"] == units.length:
         return 1.0, 1.0                  # the model's own units: no pint import at start-up
     try:
-        ff = units.factor(str(raw["force"]), "force")
-        fl = units.factor(str(raw["length"]), "length")
+        ff = units.factor(raw["force"], "force")
+        fl = units.factor(raw["length"], "length")
     except InputError as exc:
         raise err(str(exc), "units") from None
     return ff, ff * fl
