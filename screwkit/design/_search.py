@@ -66,9 +66,12 @@ MAX_PAIR = 40
 
 def _probe(motion, n, g, catalog, passive=False, central=False, pair=False):
     """A model of ``n`` unconstrained legs on geometry ``g``: its placements at home."""
+    from ..pm import default_catalog
     probe = pm_definition(_unconstrained(n, passive, central, pair), motion, g)
+    # the probe's SPS legs only place the vertices: the packaged SPS, whatever the catalog
+    sps = {"SPS": default_catalog().legs["SPS"]}
     try:
-        return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}))
+        return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}, sps))
     except ScrewkitError:
         return None
 
