@@ -34,6 +34,9 @@ CASES = [
     (str(Path(__file__).resolve().parents[1] / "tests" / "data" / "stewart_6sps.yaml"),
      ["Xo=3*sin(2*pi*t)", "Yo=2*sin(2*pi*t+1)", "Zo=70+5*t", "alpha=4*sin(2*pi*t)",
       "beta=3*sin(2*pi*t+2)", "gamma=5*t"]),
+    # legs with parallelograms: the bars' Newton-Euler and the Pa's own twist rate
+    (str(Path(__file__).resolve().parents[1] / "tests" / "data" / "delta_3rrpar.yaml"),
+     ["Xo=20*sin(2*pi*t)", "Yo=15*cos(2*pi*t)-15", "Zo=-160+10*sin(4*pi*t)"]),
 ]
 
 

@@ -207,12 +207,12 @@ def test_a_large_batch_of_poses_matches_the_hand_solution(model):
     np.testing.assert_allclose(sol.rotation, np.broadcast_to(np.eye(3), (180, 3, 3)), atol=1e-12)
 
 
-def test_leg_forward_moves_a_pa_along_its_circle_and_dynamics_refuse(model):
+def test_leg_forward_moves_a_pa_along_its_circle_and_the_link_frames_carry_it(model):
     """A lone Pa: the far link translates by Rot(h, s / |b|) b - b (Rodrigues by hand) and its
-    twist is the translation normal to the turned bar; the link frames of the dynamics
-    refuse Pa legs with a one-line error."""
+    twist is the translation normal to the turned bar; the link frames of the dynamics (which
+    refused Pa legs before their dynamics was written) give the same: the Pa's twist the
+    translation normal to the placed bar and to the hinges, its far link not turned."""
     from screwkit.engine import leg_forward, link_frames
-    from screwkit.errors import InputError
     h, b = np.array([0.0, 0.0, 1.0]), np.array([3.0, 4.0, 0.0])
     leg = screwkit.leg_from_joints([("Pa", h, [1.0, 2.0, 3.0], b)])
     s = 2.0
@@ -223,5 +223,10 @@ def test_leg_forward_moves_a_pa_along_its_circle_and_dynamics_refuse(model):
     np.testing.assert_allclose(t, bt - b, atol=1e-12)
     np.testing.assert_allclose(tw[0], np.r_[np.cross(h, bt) / 5.0, 0, 0, 0], atol=1e-12)
     sol = screwkit.solve(model, {"Xo": 5.0, "Yo": 0.0, "Zo": -150.0})
-    with pytest.raises(InputError, match="parallelogram"):
-        link_frames(sol)
+    lf = link_frames(sol)
+    for i, placed in enumerate(sol.legs):
+        pa = placed.joints[2]
+        np.testing.assert_allclose(lf.twists[2, :, i, 0], np.r_[pa.direction, 0, 0, 0],
+                                   atol=1e-12)
+        assert abs(lf.twists[2, :3, i, 0] @ pa.bar) < 1e-9 * np.linalg.norm(pa.bar)
+        np.testing.assert_allclose(lf.R[2, :, :, i, 0], lf.R[1, :, :, i, 0], atol=1e-15)

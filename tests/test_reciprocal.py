@@ -108,6 +108,33 @@ def test_system_is_invariant_under_change_of_frame_and_units(leg, R, p, k):
                                  res2.system.normalisation)
 
 
+@pytest.mark.parametrize("seed", [4, 119])
+@pytest.mark.parametrize("k", [1e-3, 1.0, 1e3])
+@pytest.mark.parametrize("turn", [None, 0, 1, 2])
+def test_generic_pru_rules_agree_in_every_frame_and_unit(seed, k, turn):
+    """Regression (hypothesis examples of the property above): a generic PRU moved by p =
+    (0, 0, 64) and scaled by 1e-3 got a second force 'through U3' 5e-6 from the first one
+    (a near-null vector of the parallel-to-a-direction condition written on moments about
+    O in the model's units, with an absolute floor in its tolerance).  The rules must find
+    the same members in every frame and unit: the force through U3 and one force that
+    meets R2 and is perpendicular to P1, each reciprocal to every joint twist."""
+    leg = generic_leg("PRU", seed=seed)
+    R = np.eye(3) if turn is None else Rotation.random(random_state=turn).as_matrix()
+    p = np.array([0.0, 0.0, 64.0])
+    res, res2 = leg.analyze(), leg.moved(R, p, k).analyze()
+    assert res.agrees() and res2.agrees()
+    assert [c.kind for c in res2.constraints] == [c.kind for c in res.constraints] == \
+        ["force", "force"]
+    assert [c.point_name for c in res2.constraints] == [c.point_name for c in res.constraints]
+    assert max(c.reciprocity for c in res2.constraints) < 1e-9
+    # the two forces are distinct lines: the second is not a copy of the first
+    d1, d2 = (c.direction for c in res2.constraints)
+    assert np.linalg.norm(np.cross(d1, d2)) > 0.1
+    mapped = transform_wrenches(R, p, res.system.wrenches * np.r_[1, 1, 1, k, k, k])
+    assert same_span(mapped, [c.wrench.vector for c in res2.constraints],
+                     res2.system.normalisation)
+
+
 @pytest.mark.parametrize("name", ["PPPP", "PRRR", "RRPRR", "SP", "UPU/couple"])
 @pytest.mark.parametrize("k", [1e-6, 1e6])
 def test_extreme_units_do_not_change_ranks(name, k):

@@ -32,6 +32,7 @@ import numpy as np
 from ..screws import RANK_RTOL
 from ._legs import LegSolver, bias_terms
 from ._newton_euler import leg_efforts, mass_product, platform_wrench
+from ._parallelogram import pa_state
 from ._spatial import cross3, cross_motion
 
 __all__ = ["Context", "chunk_dynamics", "column_rates", "dependent_inverse"]
@@ -91,14 +92,14 @@ def dependent_inverse(A):
     return P * s[:, :, None] * r[:, None, :], cond
 
 
-def _idle_rates(st, solver, tw, Rs, ts, x, scale):
+def _idle_rates(st, solver, tw, Rs, ts, x, scale, pa=None):
     """The null-space component that makes ``x`` (rates or, with ``effort``, ...) of least
     kinetic energy: ``x - N (N^T M N)^-1 N^T M x`` (x unchanged where the idle motion
     carries no inertia)."""
     Nn = solver.null
-    MN = mass_product(st, tw, Nn, Rs, ts)                        # (N, m, k)
+    MN = mass_product(st, tw, Nn, Rs, ts, pa)                    # (N, m, k)
     K = np.einsum("nmk,nml->nkl", Nn, MN)
-    rhs = np.einsum("nmk,nm->nk", Nn, mass_product(st, tw, x, Rs, ts))
+    rhs = np.einsum("nmk,nm->nk", Nn, mass_product(st, tw, x, Rs, ts, pa))
     return Nn, MN, K, rhs, _idle_solve(K, rhs, scale)
 
 
@@ -153,17 +154,21 @@ def chunk_dynamics(ctx: Context, lf, J, thd_ind, thdd_ind, dependent=None) -> di
         tw = np.ascontiguousarray(lf.twists[:m, :, i].transpose(2, 0, 1))
         Rs = lf.R[:m, :, :, i].transpose(3, 0, 1, 2)
         ts = lf.t[:m, :, i].transpose(2, 0, 1)
+        pa = pa_state(st.pa, tw, lf.q[i, :m].T, Rs, ts)
         sol = LegSolver(st, tw, ctx.c, ctx.L)
         qd = sol.particular(V)
         idle = None
         if st.dep.size and not st.massless:
             scale = float(np.sum(st.mass) * ctx.L ** 2 + np.trace(st.inertia, axis1=1,
                                                                      axis2=2).sum())
-            Nn, MN, K, _, z = _idle_rates(st, sol, tw, Rs, ts, qd, scale)
+            if st.pa is not None:
+                scale += float(np.sum(st.pa.bar_mass) * ctx.L ** 2
+                               + np.trace(st.pa.bar_inertia, axis1=1, axis2=2).sum())
+            Nn, MN, K, _, z = _idle_rates(st, sol, tw, Rs, ts, qd, scale, pa)
             qd = qd + np.einsum("nmk,nk->nm", Nn, z)
             idle = (Nn, MN, K, scale)
-        b = bias_terms(tw, qd).sum(axis=1)
-        legs.append((st, tw, Rs, ts, sol, qd, b, idle))
+        b = bias_terms(tw, qd, curv=None if pa is None else pa.curv).sum(axis=1)
+        legs.append((st, tw, Rs, ts, sol, qd, b, idle, pa))
     colr = column_rates(Xi, thd, lf.euler_chain)
     if ctx.dep.size and dependent is None:
         rhs = (np.einsum("nra,nra->nr", Jc, np.stack([legs[k][6] for k in ctx.row_leg], axis=1))
@@ -176,10 +181,10 @@ def chunk_dynamics(ctx: Context, lf, J, thd_ind, thdd_ind, dependent=None) -> di
     u = np.zeros((N, n, 6))
     kinetic, potential = np.zeros(N), np.zeros(N)
     vres, ares, bal = np.zeros(N), np.zeros(N), np.zeros(N)
-    for i, (st, tw, Rs, ts, sol, qd, b, idle) in enumerate(legs):
+    for i, (st, tw, Rs, ts, sol, qd, b, idle, pa) in enumerate(legs):
         target = A - b
         qdd = sol.particular(target)
-        ID, ke, pe = leg_efforts(st, tw, qd, qdd, Rs, ts, g)
+        ID, ke, pe = leg_efforts(st, tw, qd, qdd, Rs, ts, g, pa=pa)
         if idle is not None:
             Nn, MN, K, scale = idle
             z = _idle_solve(K, np.einsum("nmk,nm->nk", Nn, ID), scale)

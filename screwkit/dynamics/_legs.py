@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._parallelogram import setup_parallelograms
 from ._spatial import cross_motion, normalise_twists
 
 __all__ = ["LegSetup", "setup_legs", "LegSolver"]
@@ -38,7 +39,8 @@ class LegSetup:
     """Constant data of one leg: ``m`` joints, independent joints ``indep``, dependent
     ``dep`` (idle motions), ``actuated`` slot, massive links ``slots`` with their ``mass``,
     ``com (k, 3)`` and ``inertia (k, 3, 3)`` at home (world), friction ``viscous`` and
-    ``coulomb (m,)``."""
+    ``coulomb (m,)``, the parallelograms ``pa`` (:class:`~._parallelogram.PaSetup`, None
+    without one)."""
 
     m: int
     indep: np.ndarray
@@ -50,10 +52,11 @@ class LegSetup:
     inertia: np.ndarray
     viscous: np.ndarray
     coulomb: np.ndarray
+    pa: object = None
 
     @property
     def massless(self) -> bool:
-        return self.slots.size == 0
+        return self.slots.size == 0 and (self.pa is None or self.pa.massless)
 
     @property
     def frictionless(self) -> bool:
@@ -77,7 +80,8 @@ def setup_legs(model, params) -> tuple:
             np.array([s for s, _ in bodies], int), np.array([b.mass for _, b in bodies]),
             np.array([b.com for _, b in bodies]).reshape(-1, 3),
             np.array([b.inertia for _, b in bodies]).reshape(-1, 3, 3),
-            np.asarray(ld.viscous, float), np.asarray(ld.coulomb, float)))
+            np.asarray(ld.viscous, float), np.asarray(ld.coulomb, float),
+            setup_parallelograms(lg, ld, R0, p0)))
     return tuple(out)
 
 
@@ -155,9 +159,14 @@ def cumulative_twists(tw, qd):
     return np.cumsum(tw * qd[..., None], axis=1)
 
 
-def bias_terms(tw, qd, Vc=None):
+def bias_terms(tw, qd, Vc=None, curv=None):
     """Per joint ``(V_(j-1) x xi_j) qdot_j`` ``(N, m, 6)`` (the screw-product part of the
-    leg's acceleration); ``Vc`` the cumulative twists."""
+    leg's acceleration); ``Vc`` the cumulative twists; ``curv (N, m, 3)`` the own twist
+    rate of the parallelograms (:func:`~._parallelogram.pa_state`): their joint twist
+    also turns with their own value, adding ``[curv qdot^2; 0]``."""
     Vc = cumulative_twists(tw, qd) if Vc is None else Vc
     prev = np.concatenate([np.zeros_like(Vc[:, :1]), Vc[:, :-1]], axis=1)
-    return cross_motion(prev, tw) * qd[..., None]
+    out = cross_motion(prev, tw) * qd[..., None]
+    if curv is not None:
+        out[..., :3] += curv * (qd * qd)[..., None]
+    return out

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._legs import LegSetup, bias_terms, cumulative_twists
+from ._parallelogram import bar_efforts, bar_mass_product
 from ._spatial import body_wrench, place_body
 
 __all__ = ["leg_efforts", "mass_product", "platform_wrench", "friction_efforts"]
@@ -29,7 +30,7 @@ def friction_efforts(st: LegSetup, qd):
     return st.viscous * qd + st.coulomb * np.sign(qd)
 
 
-def leg_efforts(st: LegSetup, tw, qd, qdd, Rs, ts, g, *, friction: bool = True):
+def leg_efforts(st: LegSetup, tw, qd, qdd, Rs, ts, g, *, friction: bool = True, pa=None):
     """The joint efforts a leg's links need, with their energies.
 
     Parameters
@@ -43,6 +44,9 @@ def leg_efforts(st: LegSetup, tw, qd, qdd, Rs, ts, g, *, friction: bool = True):
         Displacement of the link after each joint from home.
     g : ndarray (3,)
         Gravity (world).
+    pa : PaState, optional
+        The leg's parallelograms at the poses (:func:`~._parallelogram.pa_state`): their own
+        twist rate and their bars.
 
     Returns
     -------
@@ -55,19 +59,22 @@ def leg_efforts(st: LegSetup, tw, qd, qdd, Rs, ts, g, *, friction: bool = True):
     if st.massless:
         return ID, kin, pot
     Vc = cumulative_twists(tw, qd)
-    Ac = np.cumsum(tw * qdd[..., None] + bias_terms(tw, qd, Vc), axis=1)
+    curv = None if pa is None else pa.curv
+    Ac = np.cumsum(tw * qdd[..., None] + bias_terms(tw, qd, Vc, curv), axis=1)
     for k, s in enumerate(st.slots):
         c, I = place_body(Rs[:, s], ts[:, s], st.com[k], st.inertia[k])
         W, ke, _ = body_wrench(st.mass[k], c, I, Vc[:, s], Ac[:, s], g)
         ID[:, :s + 1] += np.einsum("nja,na->nj", tw[:, :s + 1], W)
         kin += ke
         pot -= st.mass[k] * (c @ g)
-    return ID, kin, pot
+    kb, pb = bar_efforts(pa, tw, qd, qdd, Vc, Ac, g, ID)
+    return ID, kin + kb, pot + pb
 
 
-def mass_product(st: LegSetup, tw, x, Rs, ts):
+def mass_product(st: LegSetup, tw, x, Rs, ts, pa=None):
     """``M x`` ``(N, m[, k])``: the joint efforts of the accelerations ``x (N, m[, k])`` alone
-    (no velocity, gravity or friction): the leg's joint-space inertia times ``x``."""
+    (no velocity, gravity or friction): the leg's joint-space inertia times ``x`` (with
+    the bars of its parallelograms ``pa``, a :class:`~._parallelogram.PaState`)."""
     vec = x.ndim == 2
     X = x[..., None] if vec else x
     N, m, K = X.shape
@@ -80,6 +87,7 @@ def mass_product(st: LegSetup, tw, x, Rs, ts):
             Z = np.zeros((N, K, 6))
             W, _, _ = body_wrench(st.mass[k], c[:, None], I[:, None], Z, A[:, s], zero)
             out[:, :s + 1] += np.einsum("nja,nka->njk", tw[:, :s + 1], W)
+        bar_mass_product(pa, tw, X, A, out)
     return out[..., 0] if vec else out
 
 

@@ -6,7 +6,9 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    branch from the universe, native S/U/R/P joints, the platform carried by the first
    leg, each other leg welded to it) gets the same inertias: each massive link on the
    Pinocchio joint it follows (the joint frames are world-oriented at home), the platform
-   on the carrier's last joint, gravity in ``model.gravity``.
+   on the carrier's last joint, gravity in ``model.gravity``; a parallelogram is its real
+   four-bar, a bar per offset of the ``bars:`` block, each with its mass, closed on the
+   far link by a point contact (:mod:`~._pinocchio_model`).
 2. At each sample, the configuration ``q`` is screwkit's solved joint values; that it
    closes every loop (the welded frames coincide) and puts the platform at the solved pose
    is checked with Pinocchio's own forward kinematics (``DynamicsCheck.residual``).  The
@@ -14,7 +16,8 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    accelerations (``Motion``, exact derivatives of the expressions), nothing of screwkit's
    velocity or acceleration solution.
 3. Velocities: ``J_c v = 0`` (``J_c = J_1 - J_2``, the WORLD frame Jacobians of the welded
-   frames) and ``P_ind J_p v = theta_dot_ind``, with ``J_p`` the platform frame's
+   frames, and the in-plane rows of the parallelograms' point contacts; where closures
+   repeat constraints, their independent combinations) and ``P_ind J_p v = theta_dot_ind``, with ``J_p`` the platform frame's
    LOCAL_WORLD_ALIGNED Jacobian (velocity of ``o``, angular velocity) and ``P =
    diag(R0^T, E^-1 R0^T)`` its map to the pose parameters' rates (``E`` the Euler angles'
    columns, built here from scipy's elemental rotations); an idle motion of least kinetic
@@ -28,9 +31,9 @@ Pinocchio side (:func:`check_dynamics`), independent of screwkit's dynamics code
    ``-lambda`` is the wrench of each welded leg on the platform (WORLD, about ``O``); the
    carrier's is what balances the platform's RNEA wrench.
 
-The report compares ``F_a``, the legs' wrenches on the platform, the platform twist and
-acceleration, the actuator rates ``S v`` and the kinetic and potential energies with
-screwkit's (:class:`DynamicsCheck`).
+The report compares ``F_a``, the legs' wrenches on the platform (up to the self-stresses of
+a statically indeterminate PM), the platform twist and acceleration, the actuator rates
+``S v`` and the kinetic and potential energies with screwkit's (:class:`DynamicsCheck`).
 """
 
 from __future__ import annotations
@@ -41,8 +44,13 @@ import numpy as np
 
 from ..engine import PARAMS
 from ..errors import InputError
+from ._pinocchio_model import (friction_efforts, independent_rows, parallelogram_frames,
+                               parallelogram_rows, pinocchio_model_with_inertias, self_stresses)
 
 __all__ = ["DynamicsCheck", "check_dynamics", "pinocchio_model_with_inertias"]
+
+# (the model with screwkit's masses, the friction, the parallelograms' loops and the
+# self-stresses of an indeterminate PM: ._pinocchio_model)
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,6 +78,10 @@ class DynamicsCheck:
         representation singularity, where the ``path`` drive loses digits).
     drive : str
         ``path`` or ``actuators`` (:func:`check_dynamics`).
+    self_stress : ndarray (K,) of int
+        The number of independent self-stresses at each sample (leg wrenches that load
+        nothing: 0 for a PM whose legs' wrenches are determined, 3 for the Delta's couples);
+        ``leg_wrenches`` compares the wrenches up to them.
     """
 
     samples: np.ndarray
@@ -83,44 +95,10 @@ class DynamicsCheck:
     residual: float
     euler_condition: np.ndarray = None
     drive: str = "path"
+    self_stress: np.ndarray = None
 
     def passed(self, rtol: float = 1e-8) -> bool:
         return all(v <= rtol for v in self.errors.values())
-
-
-def pinocchio_model_with_inertias(model, params):
-    """The closed-loop Pinocchio model of ``model`` with the inertias of ``params``."""
-    import pinocchio as pin
-    from ..interop import build_closed_loop_model
-
-    clm = build_closed_loop_model(model.home_legs, model.platform_home,
-                                  passive=getattr(model, "passive", ()))
-    pm = clm.model
-    R0, p0 = (np.asarray(x, float) for x in model.frame)
-    for ch, ld in zip(clm.chains, params.legs):
-        ends = {b.sk[-1]: b for b in ch.blocks}
-        for slot, body in ld.links:
-            if slot not in ends:
-                raise InputError(f"leg {ch.leg.name}: the link after joint "
-                                 f"{ch.leg.joints[slot].name} is inside a compound joint")
-            b = ends[slot]
-            bw = body.moved(R0, p0)
-            origin = ch.leg.joints[b.sk[0]].point
-            pm.inertias[b.joint_id] = pin.Inertia(bw.mass, bw.com - origin, bw.inertia)
-        for k, b in enumerate(ch.blocks):
-            if b.nv > 1 and (np.any(ld.viscous[list(b.sk)])
-                                                     or np.any(ld.coulomb[list(b.sk)])):
-                if b.kind != "universal":
-                    raise InputError(f"leg {ch.leg.name}: friction on the joints of a "
-                                     f"{b.kind} joint has no Pinocchio counterpart here")
-    car = clm.chains[clm.carrier]
-    Rh, oh = model.platform_home
-    pb = params.platform
-    origin = car.leg.joints[car.blocks[-1].sk[0]].point
-    pm.inertias[car.end_joint] = pin.Inertia(pb.mass, Rh @ pb.com + oh - origin,
-                                             Rh @ pb.inertia @ Rh.T)
-    pm.gravity = pin.Motion(np.concatenate([R0 @ params.gravity, np.zeros(3)]))
-    return clm
 
 
 def _euler_columns(order, angles, rates=None):
@@ -166,20 +144,6 @@ def _solve(A, b):
     return c * y
 
 
-def _friction(clm, params, v):
-    """Friction efforts on Pinocchio's velocity vector ``v`` (one-dof and universal blocks,
-    whose velocity components are the joint rates themselves)."""
-    tau = np.zeros(clm.model.nv)
-    for ch, ld in zip(clm.chains, params.legs):
-        for b in ch.blocks:
-            if b.kind in ("spherical",):
-                continue
-            for k, s in enumerate(b.sk):
-                qd = v[b.idx_v + k]
-                tau[b.idx_v + k] += ld.viscous[s] * qd + ld.coulomb[s] * np.sign(qd)
-    return tau
-
-
 def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str = "path",
                    **kwargs) -> DynamicsCheck:
     """Compare screwkit's inverse dynamics with Pinocchio's (module docstring).
@@ -210,6 +174,7 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
     res, model = result, result.model
     params = res.params
     clm = pinocchio_model_with_inertias(model, params)
+    pa_frames = parallelogram_frames(clm)
     pm, data = clm.model, clm.model.createData()
     nv, n = pm.nv, model.n_legs
     active = list(model.active)                    # a passive leg has no actuator
@@ -227,11 +192,16 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
         S[i, blk.idx_v + blk.sk.index(a)] = 1.0
     jv = res.analysis.solution.joint_values
     L = float(model.normalisation.length)
-    out = {k: [] for k in ("F", "w", "V", "A", "r", "T", "U")}
-    worst, cond = 0.0, []
+    out = {k: [] for k in ("F", "w", "wn", "V", "A", "r", "T", "U")}
+    worst, cond, n_self = 0.0, [], []
     motion = res.motion
     R0, p0 = (np.asarray(x, float) for x in model.frame)
     ind = [PARAMS.index(p) for p in model.independent]
+    c = np.asarray(model.normalisation.centre, float)
+
+    def nw(W):                               # normalised wrenches
+        return np.concatenate([W[..., :3], (W[..., 3:] - np.cross(c, W[..., :3])) / L], axis=-1)
+
     for k in idx:
         q = clm.q([np.asarray(v)[k] for v in jv])
         pin.computeJointJacobians(pm, data, q)
@@ -243,9 +213,17 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
                 gap = pin.log6(Mc.actInv(data.oMf[ch.frame_id])).vector
                 worst = max(worst, float(np.linalg.norm(
                     np.concatenate([gap[:3] / L, gap[3:]]))))
+        for f1, f2, _, _ in pa_frames:      # and every parallelogram's second bar
+            worst = max(worst, float(np.linalg.norm(data.oMf[f1].translation
+                                                    - data.oMf[f2].translation)) / L)
         Jc = np.vstack([pin.getFrameJacobian(pm, data, ch.frame_id, pin.WORLD)
                         - pin.getFrameJacobian(pm, data, car.frame_id, pin.WORLD)
-                        for j, ch in enumerate(clm.chains) if j != clm.carrier])
+                        for j, ch in enumerate(clm.chains) if j != clm.carrier]
+                       + [np.zeros((0, nv))])
+        n_leg_rows = len(Jc)
+        Jc = np.vstack([Jc, parallelogram_rows(pm, data, pa_frames)[0]])
+        Q = independent_rows(Jc)          # repeated closures (the Delta's): their combinations
+        Jr = Jc if Q is None else Q.T @ Jc
         M = pin.crba(pm, data, q)
         M = np.triu(M) + np.triu(M, 1).T
         # the independent pose parameters' rows: P maps the platform frame's twist
@@ -266,17 +244,19 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
             rdd = np.array([motion.accelerations[p][k] for p in model.independent])
         else:
             D, rd, rdd = S, res.actuator_rates[k], res.actuator_accelerations[k]
-        C = np.vstack([Jc, D])
+        C = np.vstack([Jr, D])
         # velocities of least kinetic energy: [M C^T; C 0] [v; mu] = [0; (0, theta_dot)]
         K = np.block([[M, C.T], [C, np.zeros((len(C), len(C)))]])
-        rhs = np.concatenate([np.zeros(nv), np.zeros(len(Jc)), rd])
+        rhs = np.concatenate([np.zeros(nv), np.zeros(len(Jr)), rd])
         v = _solve(K, rhs)[:nv]
         pin.forwardKinematics(pm, data, q, v, np.zeros(nv))
         pin.updateFramePlacements(pm, data)
         gam = np.concatenate([
             pin.getFrameAcceleration(pm, data, ch.frame_id, pin.WORLD).vector
             - pin.getFrameAcceleration(pm, data, car.frame_id, pin.WORLD).vector
-            for j, ch in enumerate(clm.chains) if j != clm.carrier])
+            for j, ch in enumerate(clm.chains) if j != clm.carrier]
+            + [parallelogram_rows(pm, data, pa_frames)[1]])
+        gam = gam if Q is None else Q.T @ gam
         # theta_ddot = P (J_p a + drift) - [0; E^-1 Edot theta_dot]
         drift = pin.getFrameClassicalAcceleration(pm, data, car.frame_id,
                                                   pin.LOCAL_WORLD_ALIGNED).vector
@@ -288,16 +268,17 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
         Wext = np.concatenate([res.force, res.torque + np.cross(o, res.force)])
         fext = [pin.Force.Zero() for _ in range(pm.njoints)]
         fext[car.end_joint] = data.oMi[car.end_joint].actInv(pin.Force(Wext))
-        h = pin.rnea(pm, data, q, v, np.zeros(nv), fext) + _friction(clm, params, v)
-        nc = len(Jc)
+        h = pin.rnea(pm, data, q, v, np.zeros(nv), fext) + friction_efforts(clm, params, v)
+        nc = len(Jr)
         # [M, -Jc^T, -S^T; Jc, 0, 0; D, 0, 0] [a; lambda; F] = [-h; -gamma; rddot - gp]
         A = np.zeros((nv + nc + na, nv + nc + na))
-        A[:nv, :nv], A[:nv, nv:nv + nc], A[:nv, nv + nc:] = M, -Jc.T, -S.T
-        A[nv:nv + nc, :nv], A[nv + nc:, :nv] = Jc, D
+        A[:nv, :nv], A[:nv, nv:nv + nc], A[:nv, nv + nc:] = M, -Jr.T, -S.T
+        A[nv:nv + nc, :nv], A[nv + nc:, :nv] = Jr, D
         b = np.concatenate([-h, -gam, rdd - gp])
         x = _solve(A, b)
         worst = max(worst, float(np.linalg.norm(A @ x - b) / max(np.linalg.norm(b), 1e-300)))
-        a, lam, F = x[:nv], x[nv:nv + nc].reshape(-1, 6), x[nv + nc:]
+        lam = x[nv:nv + nc] if Q is None else Q @ x[nv:nv + nc]
+        a, lam, F = x[:nv], lam[:n_leg_rows].reshape(-1, 6), x[nv + nc:]
         pin.forwardKinematics(pm, data, q, v, a)
         Vp = data.oMi[car.end_joint].act(data.v[car.end_joint]).vector
         Ap = data.oMi[car.end_joint].act(data.a[car.end_joint]).vector
@@ -307,6 +288,13 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
         others = [j for j in range(n) if j != clm.carrier]
         w[others] = -lam
         w[clm.carrier] = NE - Wext - w[others].sum(axis=0)
+        # up to the leg wrenches that load nothing (an indeterminate PM): the difference
+        # from screwkit's without its part along them
+        Sb = self_stresses(Jc, n_leg_rows, n, clm.carrier, nw)
+        n_self.append(len(Sb))
+        ws = nw(res.leg_wrenches[k]).reshape(-1)
+        dn = nw(w).reshape(-1) - ws
+        out["wn"].append((ws + dn - Sb.T @ (Sb @ dn)).reshape(n, 6))
         out["F"].append(F)
         out["r"].append(S @ v)
         out["T"].append(0.5 * v @ M @ v)                       # kinetic energy
@@ -317,10 +305,6 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
     F, w, V, A, r, T, U = (np.array(out[k]) for k in ("F", "w", "V", "A", "r", "T", "U"))
     Fs, ws = res.dynamic_active[idx], res.leg_wrenches[idx]
     Vs, As = res.twist[idx], res.acceleration[idx]
-    c = np.asarray(model.normalisation.centre, float)
-
-    def nw(W):                               # normalised wrenches
-        return np.concatenate([W[..., :3], (W[..., 3:] - np.cross(c, W[..., :3])) / L], axis=-1)
 
     def nt(T):                               # normalised twists
         return np.concatenate([(T[..., :3] - np.cross(c, T[..., 3:])) / L, T[..., 3:]], axis=-1)
@@ -332,9 +316,11 @@ def check_dynamics(model, motion=None, *, result=None, samples=None, drive: str 
             d, s = d.max(axis=-1), s.max(axis=-1)
         return float(np.max(d / np.maximum(s, 1e-300))) if d.size else 0.0
 
-    errors = {"active": rel(F, Fs, -1), "leg_wrenches": rel(nw(w), nw(ws), -1),
+    wn = np.array(out["wn"]).reshape(len(idx), n, 6)
+    errors = {"active": rel(F, Fs, -1), "leg_wrenches": rel(wn, nw(ws), -1),
               "twist": rel(nt(V), nt(Vs), -1), "acceleration": rel(nt(A), nt(As), -1),
               "actuator_rates": rel(r, res.actuator_rates[idx], -1),
               "energy": _energy_error(T, U, res.kinetic_energy[idx],
                                       res.potential_energy[idx])}
-    return DynamicsCheck(idx, F, Fs, w, ws, V, A, errors, worst, np.array(cond), drive)
+    return DynamicsCheck(idx, F, Fs, w, ws, V, A, errors, worst, np.array(cond), drive,
+                         np.array(n_self, int))

@@ -338,6 +338,7 @@ class DynamicsResult:
                                     "energy": f"{u.force}·{u.length}"},
                              flags=~self.ok, out=out, title=title, dpi=dpi,
                              active_legs=self.model.active,
+                             active_rotary=[self.rotary[i] for i in self.model.active],
                              constraint_legs=[r.leg for r in self.analysis.jacobian.info[n_a:]])
 
 

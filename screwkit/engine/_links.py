@@ -49,7 +49,9 @@ class LinkFrames:
     q : ndarray (n, m, N)
         Joint values (radians for R and H, model lengths for P; 0 in padded slots).
     twists : ndarray (m, 6, n, N)
-        Current unit joint twists ``[v; w]`` about ``O`` (zero in padded slots).
+        Current unit joint twists ``[v; w]`` about ``O`` (zero in padded slots); a
+        parallelogram Pa's is its current translation ``[d(theta); 0]``, whose own rate
+        with ``theta`` the dynamics adds (:mod:`screwkit.dynamics._parallelogram`).
     R, t : ndarray (m, 3, 3, n, N), (m, 3, n, N)
         Displacement ``x -> R x + t`` of the link after each slot from its home pose.
     points : ndarray (m, 3, n, N)
@@ -101,11 +103,6 @@ def link_frames(solution, sl=slice(None)) -> LinkFrames:
     """
     c = solution.closures
     ch = c.chains
-    if ch.bars is not None and ch.bars.any():
-        from ..errors import InputError
-        raise InputError(f"model {ch.name}: the link frames (dynamics) of legs with a "
-                         "parallelogram Pa are not covered yet (the bars' inertia and the rate "
-                         "of the Pa's own twist); kinematics and statics are")
     X = c.X[:, sl]
     N = X.shape[-1]
     nu, n, m = len(ch.unknown), ch.n, ch.m

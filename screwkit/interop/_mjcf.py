@@ -6,7 +6,9 @@ body, leg 1 carrying the platform.  Each letter of a leg string is one body, at 
 home point with the world's orientation, holding its joints: an R a ``hinge``, a P a
 ``slide``, a U two hinges (its cross), a C a slide and a hinge on one axis, an S one
 ``ball``, an H a hinge and a slide tied by a ``joint`` equality (slide = pitch x angle), a
-Pa a bar body and its far body, each on a hinge, tied so that the far body only translates.
+Pa a bar body and its far body, each on a hinge, tied so that the far body only translates;
+the bars the ``dynamics:`` block gives a Pa (``bars:``) each a body on the near body's hinge at
+its offset, tied to turn with the Pa's bar (at offset 0, the Pa's bar body itself).
 Joint names are the URDF's (``leg2_U1a``; an S is one ball ``leg1_S1``, the URDF's three
 ``leg1_S1a..c`` meeting at its centre).
 
@@ -90,9 +92,10 @@ class _Writer:
     def add(self, depth, text):
         self.lines.append("  " * depth + text)
 
-    def leg(self, i, leg, values, links, platform=None):
-        """Leg ``i`` (0-based) with its joint values at the exported pose (m,) and its
-        massive links ``{slot: Body (world)}``."""
+    def leg(self, i, leg, values, links, platform=None, bars=None):
+        """Leg ``i`` (0-based) with its joint values at the exported pose (m,), its
+        massive links ``{slot: Body (world)}`` and the bars of its parallelograms ``{slot:
+        [(offset, Body (world))]}``."""
         k, L = self.k, self.k["length"]
         passive = tuple(getattr(self.pm, "passive", ()) or ())
         letters = leg.letters()
@@ -102,7 +105,13 @@ class _Writer:
             j0 = js[0][1]
             here = np.asarray(j0.point, float)
             name = f"leg{i + 1}_{letter}{j0.spec.position}"
+            own = None                            # the inertial of a bar on the Pa's own hinge
+            if j0.spec.parallelogram:
+                slot = js[0][0]
+                own = self._bars(depth, i, j0, values[slot], parent, (bars or {}).get(slot, ()))
             self.add(depth, f'<body name={quoteattr(name)} pos="{_v((here - parent) * L)}">')
+            if own is not None:
+                self.add(depth + 1, _inertial(own, here, k))
             opened += 1
             slots = [s for s, _ in js]
             if j0.spec.parallelogram:             # the bar turns, the far body only translates
@@ -166,6 +175,28 @@ class _Writer:
         for _ in range(opened):
             depth -= 1
             self.add(depth, "</body>")
+
+    def _bars(self, depth, i, j, value, parent, bars):
+        """The bars of a Pa beside its own (a body on the near link per bar off the Pa's
+        hinge, at ``p + o d``, its hinge tied to the Pa's: a parallelogram's bars turn
+        together); returns the body of a bar on the Pa's own hinge (offset 0), if any."""
+        L, own = self.k["length"], None
+        theta = value / np.linalg.norm(j.bar)
+        for n, (o, body) in enumerate(bars):
+            if o == 0:
+                own = body
+                continue
+            at = np.asarray(j.point, float) + o * np.asarray(j.direction, float)
+            jn = f"leg{i + 1}_{j.name}_bar{n + 1}"
+            self.add(depth, f'<body name={quoteattr(jn)} pos="{_v((at - parent) * L)}">')
+            self._hinge(depth + 1, jn, j.hinge, j, theta)
+            self.add(depth + 1, f'<geom type="capsule" fromto="0 0 0 {_v(j.bar * L)}" '
+                     f'size="{_f(0.6 * self.r)}"/>')
+            self.add(depth + 1, _inertial(body, at, self.k))
+            self.add(depth, "</body>")
+            self.eq.append(f'<joint name={quoteattr(jn + "_tie")} joint1={quoteattr(jn)} '
+                           f'joint2={quoteattr(f"leg{i + 1}_{j.name}")} polycoef="0 1 0 0 0"/>')
+        return own
 
     def _hinge(self, depth, name, axis, joint, value, here=None):
         pos = np.zeros(3) if here is None else (np.asarray(joint.point) - here) * self.k["length"]
@@ -254,11 +285,14 @@ def mjcf_text(pm, joint_values=None, *, params=None, massless: bool = False,
         platform.append(f'<site name="platform_a{n + 1}" pos="{_v(R_home.T @ (a - o_home) * k["length"])}" '  # noqa: E501
                         f'size="{_f(w.r)}"/>')
     for i, leg in enumerate(pm.home_legs):
-        links = {}
+        links, bars = {}, {}
         if params is not None:
             links = {slot: body.moved(R0, p0) for slot, body in params.legs[i].links
                      if not body.massless}
-        w.leg(i, leg, np.asarray(joint_values[i], float), links, platform if i == 0 else None)
+            bars = {pair.slot: [(o, b.moved(R0, p0)) for o, b in zip(pair.offsets, pair.bodies)]
+                    for pair in params.legs[i].bars}
+        w.leg(i, leg, np.asarray(joint_values[i], float), links, platform if i == 0 else None,
+              bars)
     # (massless: MuJoCo's default direction, standard gravity; a massless model feels none)
     g = (R0 @ params.gravity * k["length"]) if params is not None else np.array([0, 0, -9.80665])
     base_r = 1.05 * float(np.max(np.linalg.norm(base_pts - p0, axis=1))) * k["length"]

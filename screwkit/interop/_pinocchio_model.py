@@ -136,11 +136,13 @@ def _values(q, chain: LegChain) -> np.ndarray:
 
 
 def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool = False,
-               passive: bool = False) -> LegChain:
+               passive: bool = False, bar_offsets=None) -> LegChain:
     """Append ``leg`` to ``model`` as a branch from the universe (depth first).
 
     With ``point_contact`` a passive last S is left out: the chain ends at the link
-    before it, with frames ``contact`` at the S centre (see :class:`LegChain`)."""
+    before it, with frames ``contact`` at the S centre (see :class:`LegChain`).
+    ``bar_offsets`` ``{slot: offsets}`` places a parallelogram's bars (see
+    :func:`build_closed_loop_model`)."""
     import pinocchio as pin
     R_home, o_home = platform_home
     joints = leg.joints
@@ -173,7 +175,8 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
         j0 = joints[grp[0]]
         if kind == "parallelogram":
             parent, parent_point = _add_parallelogram(model, j0, grp[0], parent, parent_point,
-                                                      prefix, blocks, twins)
+                                                      prefix, blocks, twins,
+                                                      (bar_offsets or {}).get(grp[0]))
             continue
         axes = np.array([joints[k].direction for k in grp])
         if kind == "spherical":
@@ -209,13 +212,16 @@ def _add_chain(model, leg: Leg, platform_home, prefix: str, point_contact: bool 
                     tuple(loops))
 
 
-def _add_parallelogram(model, j, slot, parent, parent_point, prefix, blocks, twins):
+def _add_parallelogram(model, j, slot, parent, parent_point, prefix, blocks, twins,
+                       offsets=None):
     """A ``Pa`` as its real four-bar: the first bar on a hinge at the Pa's point ``p``, the
     far link on a hinge at the bar's end ``p + b`` (turning back by the bar's angle, so that
     it translates); the second bar (added by :func:`_add_twin` once the leg's main branch is
     in) on a hinge at ``p + e`` of the near link, its end tied to the far link's
-    ``p + e + b`` (``e = h x b``, normal to the hinges and the bar, ``|e| = |b|``).  Returns
-    the far link's joint and home point."""
+    ``p + e + b`` (``e = h x b``, normal to the hinges and the bar, ``|e| = |b|``).  With
+    ``offsets`` (the bars' offsets ``o`` along the Pa's translation direction ``d``), one
+    such bar at ``e = o d`` for each non-zero offset (a zero offset is the first bar).
+    Returns the far link's joint and home point."""
     import pinocchio as pin
     h = np.asarray(j.hinge, float)
     p, b = np.asarray(j.point, float), np.asarray(j.bar, float)
@@ -231,18 +237,23 @@ def _add_parallelogram(model, j, slot, parent, parent_point, prefix, blocks, twi
         ids.append(jid)
         blocks.append(JointBlock(kind, jid, (slot,), jm.idx_q, jm.nq, jm.idx_v, jm.nv, axes,
                                  scale, np.array(at, float)))
-    twins.append((j.name, slot, parent, parent_point, p, b, h, ids[1], axes, 1.0 / nb))
+    d = np.asarray(j.direction, float)
+    places = [np.cross(h, b)] if offsets is None else [o * d for o in offsets if o != 0]
+    for n, e in enumerate(places):
+        twins.append((j.name, slot, parent, parent_point, p, b, h, ids[1], axes, 1.0 / nb, e,
+                      "" if n == 0 else str(n + 1)))
     return ids[1], p + b
 
 
 def _add_twin(model, prefix, blocks, name, slot, parent, parent_point, p, b, h, far, axes,
-              scale):
-    """The second bar of a ``Pa`` (see :func:`_add_parallelogram`); returns its loop
-    ``(twin joint, b, far joint, e)``: the same point ``p + e + b`` in each joint's frame."""
+              scale, e, suffix=""):
+    """A second bar of a ``Pa`` at ``p + e`` (see :func:`_add_parallelogram`); returns its
+    loop ``(twin joint, b, far joint, e)``: the same point ``p + e + b`` in each joint's
+    frame."""
     import pinocchio as pin
-    e = np.cross(h, b)
     jid = model.addJoint(parent, pin.JointModelRevoluteUnaligned(h),
-                         pin.SE3(np.eye(3), p + e - parent_point), f"{prefix}{name}.bar_twin")
+                         pin.SE3(np.eye(3), p + e - parent_point),
+                         f"{prefix}{name}.bar_twin{suffix}")
     jm = model.joints[jid]
     blocks.append(JointBlock("bar_twin", jid, (slot,), jm.idx_q, jm.nq, jm.idx_v, jm.nv, axes,
                              scale, np.array(p + e, float)))
@@ -299,7 +310,7 @@ def build_leg_model(home_leg: Leg, platform_home=None, *, passive: bool = False)
 
 
 def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = False,
-                            passive=()) -> ClosedLoopModel:
+                            passive=(), bar_offsets=None) -> ClosedLoopModel:
     """One Pinocchio model with every leg (depth first) and its loop closures.
 
     Every leg is a branch from the universe, added depth first in leg order.  The
@@ -325,6 +336,12 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
     point_contacts : bool
     passive : sequence of int
         0-based indices of the passive legs (no actuated joint).
+    bar_offsets : mapping, optional
+        ``{(leg, slot): offsets}`` (0-based): where a parallelogram's real bars are, each
+        offset ``o`` a bar on the near link's hinge at ``p + o d`` (``p`` the Pa's point,
+        ``d`` its translation direction at home; 0 is the chain's own bar), each other bar
+        closed on the far link by a point contact (the bars' masses go on them, see
+        :func:`screwkit.dynamics.check_dynamics`).  Default: one second bar at ``|b| d``.
 
     Returns
     -------
@@ -345,8 +362,9 @@ def build_closed_loop_model(home_legs, platform_home, *, point_contacts: bool = 
         carrier = next((k for k, lg in enumerate(legs) if not s_ended(lg)), 0)
     model = pin.Model()
     passive = set(passive)
+    offs = dict(bar_offsets or {})
     chains = tuple(_add_chain(model, lg, ph, f"leg{k + 1}.", point_contacts and k != carrier,
-                              k in passive)
+                              k in passive, {s: o for (i, s), o in offs.items() if i == k})
                    for k, lg in enumerate(legs))
     _check_home(model, chains, ph)
     c0 = chains[carrier]

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..screws import (GEOMETRY_RTOL, Line, ReciprocalSystem, couple_wrench, force_wrench,
                       independent_subset, reciprocal_system, same_span)
-from ._decompose import constraint_kinds, decompose, reciprocity_residual
+from ._decompose import _null, _through_matrix, constraint_kinds, decompose, reciprocity_residual
 from ._observation import ConstraintWrench, RuleNote, candidate_points, explain_couple, explain_force
 from ..screws import cross
 
@@ -172,12 +172,11 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
             break
     if choice is None:
         # a force through a named point, along the actuated joint if possible
+        # the null spaces on the normalised basis (dimensionless, the same decision in
+        # every frame and unit; see screwkit.legs._decompose.NULL_RTOL)
+        Nn = norm.wrenches(N)
         for p in pts.values():
-            F, M = N[:, :3].T, N[:, 3:].T
-            sk = np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-            _, s, Vt = np.linalg.svd(M - sk @ F)
-            cs = Vt[int(np.sum(s > 1e-9 * max(1, s[0]))):]
-            for c in cs:
+            for c in _null(_through_matrix(Nn, (p - norm.centre) / norm.length)):
                 w = c @ N
                 if np.linalg.norm(w[:3]) > 0 and member_ok(w):
                     choice = ("force", w)
@@ -186,9 +185,7 @@ def actuation_wrench(leg: "Leg", system: ReciprocalSystem | None = None) -> Actu
                 break
     if choice is None:
         # a pure couple
-        F = N[:, :3].T
-        _, s, Vt = np.linalg.svd(F, full_matrices=True)
-        for c in Vt[int(np.sum(s > 1e-9 * max(1, s[0] if s.size else 1))):]:
+        for c in _null(N[:, :3].T):
             w = c @ N
             if member_ok(w):
                 choice = ("couple", w)

@@ -20,6 +20,20 @@ from ._observation import (ConstraintWrench, RuleNote, _point_name, candidate_po
 from ..screws import cross
 from ..screws._svd import decided_count, small_rank, small_singular_values, svd_full, svd_values
 
+#: Relative tolerance of the null spaces the search takes its members from: the through-a-
+#: point and parallel-to-a-direction conditions are written on the length-normalised basis
+#: (``[f; (m - c x f) / L]``, orthonormal rows) and a singular value below ``NULL_RTOL *
+#: max(1, s_max)`` counts as zero, so a decision is the same in every base frame and unit.
+NULL_RTOL = RANK_RTOL / 10
+
+#: Smallest force part, relative to the normalised wrench, of a member taken as a force
+#: from the null space of a through-a-point condition (the couples are taken before).
+THROUGH_FORCE_RTOL = NULL_RTOL
+
+#: The same for a parallel-to-a-direction condition (whose null space also holds the
+#: couples normal to the direction).
+PARALLEL_FORCE_RTOL = 100 * RANK_RTOL
+
 # ``leg`` arguments are :class:`screwkit.legs.Leg` objects, used by duck typing
 # (``joints``, ``twists``, ``points``, ``A``, ``a``, ``length``, ``centres()``):
 # the chain module is not imported, so that ``Leg.analyze`` can import this module
@@ -39,7 +53,8 @@ def _rank(Mn, rtol=RANK_RTOL):
     return r
 
 
-def _null(M, rtol=1e-9):
+def _null(M, rtol=NULL_RTOL):
+    """The null vectors of ``M`` (a dimensionless matrix: see :data:`NULL_RTOL`)."""
     M = np.atleast_2d(M)
     _, s, Vt = svd_full(M)
     tol = rtol * max(1.0, s[0] if s.size else 1.0)
@@ -47,7 +62,7 @@ def _null(M, rtol=1e-9):
     return Vt[r:]
 
 
-def _nulls(Ms, rtol=1e-9) -> list:
+def _nulls(Ms, rtol=NULL_RTOL) -> list:
     """:func:`_null` of each matrix of a list of same-shape matrices, in one SVD call
     (numpy's stacked SVD runs the same LAPACK routine per matrix: the same bases)."""
     if not Ms:
@@ -65,7 +80,7 @@ def _surely_empty(cols) -> bool:
     (one or two lists of floats) is surely empty: every singular value clearly above its
     threshold.  Most candidate lines fail this way; the others get the SVD."""
     s = small_singular_values(cols)
-    return s is not None and decided_count(s, 1e-9 * max(1.0, s[0])) == len(cols)
+    return s is not None and decided_count(s, NULL_RTOL * max(1.0, s[0])) == len(cols)
 
 
 def _through_rows(Fl, Ml, p) -> list:
@@ -108,23 +123,20 @@ def reciprocity_residual(w, twists, norm: Normalisation) -> float:
     return float(np.max(num / den))
 
 
-def _forces_through(Wbasis, p):
-    """Coefficients of forces through point p in span(Wbasis): m - p x f = 0."""
-    return _null(_through_matrix(Wbasis, p))
+def _through_matrix(Wn, pn):
+    """The condition ``m - p x f = 0`` (the force passes through ``p``) on the combinations
+    of the normalised basis ``Wn``, with ``pn = (p - c) / L`` the normalised point: ``m - p
+    x f = L (m_n - p_n x f)`` for ``m_n = (m - c x f) / L``, so the null space is the same
+    and the matrix is dimensionless (its decisions do not depend on the frame or the unit)."""
+    F, M = Wn[:, :3].T, Wn[:, 3:].T
+    return M - _skew(pn) @ F
 
 
-def _forces_parallel(Wbasis, d):
-    """Coefficients of zero-pitch wrenches with f parallel to d: d x f = 0, d . m = 0."""
-    return _null(_parallel_matrix(Wbasis, d))
-
-
-def _through_matrix(Wbasis, p):
-    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
-    return M - _skew(p) @ F
-
-
-def _parallel_matrix(Wbasis, d):
-    F, M = Wbasis[:, :3].T, Wbasis[:, 3:].T
+def _parallel_matrix(Wn, d):
+    """The conditions ``d x f = 0, d . m = 0`` (zero-pitch wrenches with ``f`` along ``d``)
+    on the combinations of the normalised basis ``Wn``: where ``f`` is along ``d``, ``d . m
+    = L d . m_n`` (``d . (c x f) = 0``), so the null space is the same, dimensionless."""
+    F, M = Wn[:, :3].T, Wn[:, 3:].T
     return np.vstack([_skew(d) @ F, d @ M])
 
 
@@ -185,7 +197,10 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
     Wn = norm.wrenches(W)
     chosen: list[np.ndarray] = []          # normalised rows
     out: list = []
-    Fl, Ml = W[:, :3].tolist(), W[:, 3:].tolist()
+    # the null spaces below are taken on the normalised basis (its combinations are those of
+    # W: the normalisation is linear), never on moments in the model's units about O
+    Fl, Ml = Wn[:, :3].tolist(), Wn[:, 3:].tolist()
+    centre = np.asarray(norm.centre, float)
 
     def try_add(w, kind):
         wn = norm.wrenches(w)
@@ -218,12 +233,13 @@ def _decompose(wrenches, leg, norm: Normalisation, seed: int, make) -> tuple:
     # the null spaces of every candidate point (then direction) in one SVD call each;
     # they do not depend on what is chosen, only the loops stop early
     if len(chosen) < k:
-        cand = [p for p in pts.values() if not _surely_empty(_through_rows(Fl, Ml, p))]
-        add_forces(_nulls([_through_matrix(W, p) for p in cand]), 1e-9)
+        pns = [(p - centre) / L for p in pts.values()]
+        cand = [pn for pn in pns if not _surely_empty(_through_rows(Fl, Ml, pn))]
+        add_forces(_nulls([_through_matrix(Wn, pn) for pn in cand]), THROUGH_FORCE_RTOL)
     if len(chosen) < k:
         cand = [d for d in _candidate_directions(leg)
                 if not _surely_empty(_parallel_rows(Fl, Ml, d))]
-        add_forces(_nulls([_parallel_matrix(W, d) for d in cand]), 1e-6)
+        add_forces(_nulls([_parallel_matrix(Wn, d) for d in cand]), PARALLEL_FORCE_RTOL)
     # 3. randomised search on the zero-pitch quadric f.m = 0 of the system: along random
     #    lines w1 + s w2 of the (normalised, orthonormal) basis, so no combination vanishes
     if k >= 2 and len(chosen) < k:

@@ -19,7 +19,7 @@ from ._catalog import (Catalog, LegSpec, catalog_path, default_catalog, leg_spec
 from ._units import FORCE_UNITS, LENGTH_UNITS, UNDECLARED, Units, units_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 from ._limits import NO_LIMITS, Limits
-from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffness,
+from ._inertia import (NO_BODY, BarPair, Body, DynamicsParameters, LegDynamics, LegStiffness,
                        check_inertia, cylinder_body)
 from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
 from ._loader import load_pm, pm_names
@@ -47,8 +47,8 @@ __all__ = [
     # limits
     "Limits", "NO_LIMITS",
     # masses, inertias, friction, stiffness (the dynamics: block)
-    "Body", "NO_BODY", "LegDynamics", "LegStiffness", "DynamicsParameters", "cylinder_body",
-    "check_inertia", "dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY",
+    "Body", "BarPair", "NO_BODY", "LegDynamics", "LegStiffness", "DynamicsParameters",
+    "cylinder_body", "check_inertia", "dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY",
     # units
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility

@@ -29,8 +29,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["Body", "LegDynamics", "LegStiffness", "DynamicsParameters", "cylinder_body",
-           "check_inertia", "NO_BODY"]
+__all__ = ["Body", "BarPair", "LegDynamics", "LegStiffness", "DynamicsParameters",
+           "cylinder_body", "check_inertia", "NO_BODY"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,6 +132,37 @@ class LegStiffness:
 
 
 @dataclass(frozen=True, eq=False)
+class BarPair:
+    """The two bars of a parallelogram ``Pa`` (its four-bar loop's moving sides).
+
+    A Pa's equivalent joint is its first hinge axis and its bar vector ``b``; the real
+    bars are parallel to ``b``, each on a hinge of the near link at ``p + o d_0`` (``p`` the
+    Pa's point, ``d_0`` its translation direction at home, in the four-bar's plane, ``o``
+    the bar's offset) and turning by the Pa's angle ``theta = s / |b|`` relative to that
+    link; their far ends hinge on the far link (the link after the Pa, which only
+    translates).
+
+    Attributes
+    ----------
+    slot : int
+        The Pa's equivalent joint (0-based).
+    offsets : tuple of float
+        Each bar's offset ``o`` along ``d_0`` (model lengths).
+    bodies : tuple of Body
+        Each bar's mass, centre and inertia (base frame at home), in the order of
+        ``offsets``.
+    """
+
+    slot: int
+    offsets: tuple
+    bodies: tuple
+
+    @property
+    def massless(self) -> bool:
+        return all(b.massless for b in self.bodies)
+
+
+@dataclass(frozen=True, eq=False)
 class LegDynamics:
     """The massive links and the joint friction of one leg.
 
@@ -146,6 +177,8 @@ class LegDynamics:
         sign(qdot)`` resisting the motion (force or torque; model units, seconds).
     stiffness : LegStiffness
     notes : tuple of str
+    bars : tuple of BarPair
+        The bars of the leg's parallelograms ``Pa`` that have a mass.
     """
 
     links: tuple
@@ -153,10 +186,11 @@ class LegDynamics:
     coulomb: np.ndarray
     stiffness: LegStiffness = field(default_factory=LegStiffness)
     notes: tuple = ()
+    bars: tuple = ()
 
     @property
     def massless(self) -> bool:
-        return all(b.massless for _, b in self.links)
+        return all(b.massless for _, b in self.links) and all(p.massless for p in self.bars)
 
     @property
     def frictionless(self) -> bool:
@@ -210,4 +244,5 @@ class DynamicsParameters:
         return DynamicsParameters(self.platform, self.legs, g, self.mass_unit, self.notes)
 
     def total_mass(self) -> float:
-        return self.platform.mass + sum(b.mass for lg in self.legs for _, b in lg.links)
+        return self.platform.mass + sum(b.mass for lg in self.legs for _, b in lg.links) + \
+            sum(b.mass for lg in self.legs for p in lg.bars for b in p.bodies)

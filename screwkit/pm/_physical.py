@@ -23,6 +23,8 @@
                                                 # moments/3x3 in the base axes, {rod: length} or
                                                 # {cylinder: {length: l, radius: r}} along the leg
         friction: {P: {viscous: 100, coulomb: 5}, R1: {viscous: 0.5}}   # by joint name or kind
+        bars: {Pa3: {mass: 0.05, width: 40, inertia: {rod: 180}}}   # a parallelogram's two
+                                                # bars (screwkit.pm._bars)
       stiffness:                                # one mapping for every leg, or a list
         actuator: 2.0e6                         # force/length (torque/rad for rotary actuators)
         force: 5.0e6                            # each constraint force row (force/length)
@@ -42,6 +44,7 @@ import numpy as np
 
 from ..errors import CatalogError, InputError
 from ..screws import GEOMETRY_RTOL
+from ._bars import read_bars
 from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffness,
                        check_inertia, cylinder_body)
 
@@ -51,7 +54,7 @@ __all__ = ["dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY"]
 STANDARD_GRAVITY = 9.80665
 
 _BLOCK_KEYS = {"units", "gravity", "platform", "legs", "stiffness"}
-_LEG_KEYS = {"cylinder", "piston", "links", "friction"}
+_LEG_KEYS = {"cylinder", "piston", "links", "friction", "bars"}
 _STIFF_KEYS = {"actuator", "force", "couple", "beam"}
 _BEAM_KEYS = {"E", "G", "area", "I", "J"}
 
@@ -268,8 +271,9 @@ def _leg(v, fld, r, leg, stiff) -> LegDynamics:
                             "given twice (cylinder/piston and links)", f"{fld}.links")
             links[slot] = body
     visc, coul = _friction(s.get("friction"), f"{fld}.friction", r, leg)
+    bars = () if s.get("bars") is None else read_bars(s["bars"], f"{fld}.bars", r, leg, _inertia)
     return LegDynamics(tuple(sorted(links.items(), key=lambda x: x[0])), visc, coul, stiff,
-                       tuple(notes))
+                       tuple(notes), bars)
 
 
 def _stiffness(v, fld, r, leg) -> LegStiffness:

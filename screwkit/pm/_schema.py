@@ -39,8 +39,9 @@ _PM_TYPES = {
     "note": (_TEXT, "a remark shown with the model"),
     "motion": (_TEXT, "the stated motion type, e.g. 1T2R"),
     "source": (_TEXT, "where the model comes from"),
-    "euler": ({"type": "string", "pattern": "^[XYZ]{3}$"},
-              "intrinsic Euler order of scipy's Rotation (XYX, XYZ, ...)"),
+    "euler": ({"type": "string", "pattern": "^([XYZ]{3}|[xyz]{3})$"},
+              "Euler order of scipy's Rotation: intrinsic in upper case (XYX, XYZ, ...), "
+              "extrinsic in lower case (xyz, ...)"),
     "dimensions": ({"type": "object", "propertyNames": {"pattern": "^[A-Za-z_][A-Za-z0-9_]*$"},
                     "additionalProperties": _NUM}, "named lengths, in the model's length unit"),
     "base": ({"$ref": "#/$defs/shape"}, "the base vertices A_i"),
@@ -119,6 +120,7 @@ def model_schema() -> dict:
     from ._limits import _KEYS as _LIMIT_KEYS
     from ._loader import _PM_KEYS, _PM_LEG_KEYS, _SHAPE_KEYS
     from ._model import PARAMS
+    from ._bars import BAR_KEYS
     from ._physical import _BEAM_KEYS, _BLOCK_KEYS, _LEG_KEYS as _DYN_LEG_KEYS, _STIFF_KEYS
     from ._units import FORCE_UNITS, LENGTH_UNITS
 
@@ -130,7 +132,17 @@ def model_schema() -> dict:
         "min_leg_distance": _NUM,
     }
     num_or_obj = {"type": ["number", "string", "array", "object"]}
-    dyn_leg = _obj({k: {"type": "object"} for k in _DYN_LEG_KEYS}, _DYN_LEG_KEYS)
+    bar = _obj({"mass": (_NUM, "each bar's mass"),
+                "com": (_NUM, "fraction of the bar from its near hinge (default 0.5)"),
+                "inertia": num_or_obj,
+                "width": (_NUM, "the bars at -width/2 and +width/2 from the Pa's bar line"),
+                "offsets": ({"type": "array", "items": _NUM, "minItems": 2, "maxItems": 2},
+                            "each bar's offset along the Pa's translation direction")},
+               BAR_KEYS, required=("mass",))
+    dyn_leg_types = {k: {"type": "object"} for k in _DYN_LEG_KEYS}
+    dyn_leg_types["bars"] = ({"type": "object", "additionalProperties": bar},
+                             "{Pa name: its two bars} (a parallelogram's bars)")
+    dyn_leg = _obj(dyn_leg_types, _DYN_LEG_KEYS)
     stiff = _obj({"actuator": _NUM, "force": _NUM, "couple": _NUM,
                   "beam": _obj({k: _NUM for k in _BEAM_KEYS}, _BEAM_KEYS)}, _STIFF_KEYS)
     dyn = _obj({

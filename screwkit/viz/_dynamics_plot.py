@@ -78,7 +78,7 @@ def _place_legends(fig, pending):
 def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None,
                   constraint_dynamic=None, constraint_labels=(), constraint_kinds=(),
                   energy=None, power=None, *, constraint_legs=None, units=None, flags=None,
-                  out=None, title=None, dpi: int = 150, active_legs=None):
+                  out=None, title=None, dpi: int = 150, active_legs=None, active_rotary=None):
     """Draw the static and dynamic efforts of a PM along a motion (module docstring).
 
     Parameters
@@ -99,6 +99,9 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
     active_legs : sequence of int, optional
         The leg (0-based) of each active column (default: column i is leg i; a PM with a
         passive leg has no active column for it).
+    active_rotary : sequence of bool, optional
+        Per active column: a rotary actuator (its effort a torque, on the torque unit);
+        default: every actuator linear.
     units : dict, optional
         ``length``, ``force``, ``torque``, ``energy`` (printed on the axes).
     flags : array_like (N,) of bool, optional
@@ -154,9 +157,13 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         c = leg_color(i)
         ax.plot(t, masked(Fs[:, k]), color=c, ls="--", lw=1.2, label=f"$F_{{a{i + 1}}}$ static")
         ax.plot(t, masked(Fd[:, k]), color=c, lw=2.0, label=f"$F_{{a{i + 1}}}$ dynamic")
-    ax.set_ylabel(f"active force [{U['force']}]")
+    rot = set(bool(x) for x in (active_rotary if active_rotary is not None else [False]))
+    what = {frozenset({False}): ("force", U["force"]), frozenset({True}): ("torque", U["torque"])
+            }.get(frozenset(rot), ("effort", f"{U['force']} or {U['torque']}"))
+    ax.set_ylabel(f"active {what[0]} [{what[1]}]")
     pending.append((ax, ax.get_lines(), dict(fontsize=7, ncol=2)))
-    ax.set_title("(b) active forces: static (dashed), dynamic (solid)", loc="left", fontsize=10)
+    ax.set_title(f"(b) active {what[0]}s: static (dashed), dynamic (solid)", loc="left",
+                 fontsize=10)
     # (c) constraint forces and couples
     ax = axes[2]
     if constraint_static is not None and len(constraint_labels):
