@@ -23,6 +23,10 @@
    (constraining legs and unconstrained actuated legs without redundancy, as the
    4-SPS+SPR or the 3-SPU+PRRR).  This keeps one motion pattern to seconds: an
    over-constrained candidate that cannot move costs the engine's continuation from home.
+   Three-leg *pair* compositions (:func:`screwkit.synthesis.pair_compositions`: two legs
+   of one type on a base diameter whose constraint systems are redundant together, and a
+   third type completing the complementary system, the Exechon's 2-UPR+SPR) come next,
+   on the pair geometry, with a budget of their own (``MAX_PAIR``).
    PMs of ``n`` actuated legs and one *passive* constraining leg
    (:func:`screwkit.synthesis.passive_compositions`: the 4-SPS + passive PRRR) come
    last, with a budget of their own; their ``J`` leaves out the passive leg's actuation
@@ -49,7 +53,7 @@ from ..synthesis._leg_types import VARIANTS
 from ._results import SynthesizedPM, TypeSynthesis
 from ._tasks import monotonic_progress, run_round
 
-__all__ = ["MAX_LEGS", "MAX_MIX", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis",
+__all__ = ["MAX_LEGS", "MAX_MIX", "MAX_PAIR", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis",
            "synthesize_motion"]
 
 #: Largest number of legs (the standard geometries have 3, 4 or 5 vertices).
