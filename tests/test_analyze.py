@@ -18,11 +18,15 @@ from screwkit.cli import main
 from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
 from screwkit.errors import SingularityError
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 
 @pytest.mark.parametrize("name", ["3RRPRR", "2SPS+2SPR", "4SPS+SPR", "3UPU"])
 def test_moving_the_base_frame_changes_no_force(name):
     model = screwkit.load_pm(name)
-    ref = screwkit.analyze(model)
+    ref = screwkit.analyze(model, **PAPER_LOAD)
     R = Rotation.from_euler("zyx", [40, -25, 70], degrees=True).as_matrix()
     p = np.array([123.0, -45.0, 300.0])
     moved = model.moved(R, p)
@@ -40,7 +44,7 @@ def _det_J(model, alpha_plus_gamma, Zo=80.0):
     """det of the paper-style J (rows about o) at beta = 0, alpha = gamma."""
     half = alpha_plus_gamma / 2
     res = screwkit.analyze(model, {"alpha": half, "beta": 0.0, "gamma": half, "Zo": Zo},
-                           degrees=True, raise_on_singular=False)
+                           degrees=True, raise_on_singular=False, **PAPER_LOAD)
     return np.linalg.det(res.jacobian.rows_about(res.solution.position)), res
 
 
@@ -64,12 +68,12 @@ def test_2sps2spr_actuation_singularity_is_reported():
     assert res.jacobian.singular and res.jacobian.singularity_kind == "actuation"
     with pytest.raises(SingularityError) as exc:
         screwkit.analyze(model, {"alpha": root / 2, "beta": 0.0, "gamma": root / 2, "Zo": 80.0},
-                         degrees=True)
+                         degrees=True, **PAPER_LOAD)
     assert exc.value.kind == "actuation"
     assert "condition number" in str(exc.value)
     # near it (0.5 deg away) the pose is regular but the active forces dwarf the load
     near = screwkit.analyze(model, {"alpha": (root - 0.5) / 2, "beta": 0.0,
-                                    "gamma": (root - 0.5) / 2, "Zo": 80.0}, degrees=True)
+                                    "gamma": (root - 0.5) / 2, "Zo": 80.0}, degrees=True, **PAPER_LOAD)
     assert np.max(np.abs(near.statics.active)) > 10 * np.linalg.norm(PAPER_FORCE)
 
 
@@ -135,7 +139,7 @@ def test_user_model_file(capsys):
     from equilibrium_check import leg_equilibrium_error
 
     path = Path(__file__).with_name("data") / "user_3prs.yaml"
-    res = screwkit.analyze(str(path), {"alpha": 4, "beta": -3, "Zo": 58}, degrees=True)
+    res = screwkit.analyze(str(path), {"alpha": 4, "beta": -3, "Zo": 58}, degrees=True, **PAPER_LOAD)
     assert res.mobility.dof == 3 and res.mobility.motion_type == "1T2R"
     sol, st = res.solution, res.statics
     for i, leg in enumerate(sol.legs):
@@ -147,6 +151,6 @@ def test_user_model_file(capsys):
         tangent = np.cross([0, 0, 1], A) / np.linalg.norm(A)
         assert abs(abs(row.direction @ tangent) - 1) < 1e-9
         assert np.linalg.norm(np.cross(leg.a - row.point, row.direction)) < 1e-9 * np.linalg.norm(A)
-    assert main(["analyze", "--model", str(path), "--json"]) == 0
+    assert main(["analyze", "--model", str(path), "--json", *PAPER_ARGS]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["pm"] == "3PRS" and d["mobility"]["dof"] == 3

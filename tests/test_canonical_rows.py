@@ -15,6 +15,10 @@ from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
 from screwkit.pm import load_pm, pm_names
 from test_paper_examples import REGULAR_3RRPRR, paper_3rrprr
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 
 @pytest.mark.parametrize("a, b, Zo", REGULAR_3RRPRR)
 def test_3rrprr_constraint_values_have_the_papers_sign(a, b, Zo):
@@ -25,7 +29,7 @@ def test_3rrprr_constraint_values_have_the_papers_sign(a, b, Zo):
 
 
 def test_sp_forces_follow_the_leg_and_the_base_normal():
-    res = screwkit.analyze("3SPU+SP", {"alpha": 4, "beta": -3, "gamma": 2}, degrees=True)
+    res = screwkit.analyze("3SPU+SP", {"alpha": 4, "beta": -3, "gamma": 2}, degrees=True, **PAPER_LOAD)
     jac, sol = res.jacobian, res.solution
     i = 3                                          # the SP leg
     leg = sol.legs[i]
@@ -44,8 +48,8 @@ def test_sp_forces_follow_the_leg_and_the_base_normal():
 
 
 def test_prrr_couples_along_the_base_axes():
-    res = screwkit.analyze("3SPU+PRRR", {"Xo": 3, "Yo": -2, "Zo": 60, "gamma": 0.1}) \
-        if "gamma" in load_pm("3SPU+PRRR").independent else screwkit.analyze("3SPU+PRRR")
+    res = screwkit.analyze("3SPU+PRRR", {"Xo": 3, "Yo": -2, "Zo": 60, "gamma": 0.1}, **PAPER_LOAD) \
+        if "gamma" in load_pm("3SPU+PRRR").independent else screwkit.analyze("3SPU+PRRR", **PAPER_LOAD)
     jac = res.jacobian
     couples = [r.direction for r in jac.rows if r.kind == "couple"]
     np.testing.assert_allclose(couples, [[1, 0, 0], [0, 1, 0]], atol=1e-12)
@@ -63,7 +67,7 @@ def _poses(pm, n, seed):
 def test_every_row_is_unchanged_by_a_frame_move_and_by_units(name):
     pm = load_pm(name)
     pose = _poses(pm, 20, 11)
-    ref = screwkit.analyze(pm, pose)
+    ref = screwkit.analyze(pm, pose, **PAPER_LOAD)
     R = Rotation.from_euler("zyx", [0.7, -0.4, 1.1]).as_matrix()
     p = np.array([300.0, -120.0, 45.0])
     moved = screwkit.analyze(pm.moved(R, p), pose, force=R @ np.array(PAPER_FORCE),
@@ -72,7 +76,7 @@ def test_every_row_is_unchanged_by_a_frame_move_and_by_units(name):
     small = load_pm(name, {d: v / k for d, v in pm.dimensions.items()})
     scaled = screwkit.analyze(small, {q: (v / k if q in ("Xo", "Yo", "Zo") else v)
                                       for q, v in pose.items()},
-                              torque=np.array(PAPER_TORQUE) / k)
+                              force=np.array(PAPER_FORCE), torque=np.array(PAPER_TORQUE) / k)
     ok = ref.ok
     assert ok.sum() >= 15 and np.array_equal(moved.ok, ok) and np.array_equal(scaled.ok, ok)
     torque_rows = np.array([r.member == "couple" or (r.kind == "actuation" and
@@ -98,7 +102,7 @@ def test_rows_are_continuous_along_a_path(name):
     for k, p in enumerate(pm.independent):
         amp = 0.015 * (abs(c.get("Zo", 1.0)) or 1.0) if p in ("Xo", "Yo", "Zo") else np.radians(1.5)
         pose[p] = c[p] + amp * np.sin(2 * np.pi * s + k)
-    res = screwkit.analyze(pm, pose, path=True)
+    res = screwkit.analyze(pm, pose, path=True, **PAPER_LOAD)
     assert res.ok.all()
     v = res.statics.values
     step = np.abs(np.diff(v, axis=0))

@@ -7,6 +7,10 @@ import pytest
 
 from screwkit.cli import COMMANDS, main
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 EXPR = ["--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=6*sin(2*pi*t+1)", "--expr", "Zo=70+20*t"]
 
 CASES = [
@@ -58,12 +62,12 @@ def test_model_option_takes_file_hash_name(tmp_path, capsys):
             "    pose: {alpha: 5, beta: -3, Zo: 80}\n"
             "    dof: 3\n    motion: 1T2R\n")
     f.write_text("units: {length: cm, force: kN}\npms:\n  A:\n" + body % 120 + "  B:\n" + body % 130)
-    assert main(["analyze", "--model", str(f), "--json"]) == 2
+    assert main(["analyze", "--model", str(f), "--json", *PAPER_ARGS]) == 2
     assert f"{f.name}#NAME" in capsys.readouterr().err
-    assert main(["analyze", "--model", f"{f}#B", "--json"]) == 0
+    assert main(["analyze", "--model", f"{f}#B", "--json", *PAPER_ARGS]) == 0
     import json
     assert json.loads(capsys.readouterr().out)["pm"] == "B"
-    assert main(["analyze", "--model", f"{f}#C"]) == 2
+    assert main(["analyze", "--model", f"{f}#C", *PAPER_ARGS]) == 2
     assert "unknown PM 'C'" in capsys.readouterr().err
-    assert main(["analyze", "A", "--model", f"{f}#B"]) == 2
+    assert main(["analyze", "A", "--model", f"{f}#B", *PAPER_ARGS]) == 2
     assert "already names its PM" in capsys.readouterr().err

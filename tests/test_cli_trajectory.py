@@ -99,7 +99,8 @@ def test_user_model_file(capsys):
     from pathlib import Path
     data = Path(__file__).with_name("data") / "user_3prs.yaml"
     rc, out, err = _cli(capsys, "trajectory", "3PRS", "--model", str(data), "--expr", "alpha=2*t",
-                        "--expr", "beta=-1", "--expr", "Zo=60", "--samples", "3")
+                        "--expr", "beta=-1", "--expr", "Zo=60", "--samples", "3",
+                        "--force=-20,-30,-60", "--torque=-30,-30,100")
     assert rc == 0, err
     rows = _rows(out)
     assert [r["status"] for r in rows] == ["ok"] * 3 and float(rows[2]["alpha"]) == 2.0

@@ -14,6 +14,10 @@ from scipy.spatial.transform import Rotation
 import screwkit
 from random_poses import random_pose
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 F = np.array([-20.0, -30.0, -60.0])
 T = np.array([-30.0, -30.0, 100.0])
 
@@ -101,8 +105,8 @@ def test_the_force_amplification_does_not_depend_on_the_base_frame():
     pm = screwkit.load_pm("3RRPRR")
     pose = {"alpha": np.radians([20.0, -30.0]), "beta": np.radians([25.0, 10.0]),
             "Zo": np.array([60.0, 100.0])}
-    a = screwkit.analyze(pm, pose)
-    b = screwkit.analyze(pm.moved(np.eye(3), [300.0, 0.0, 0.0]), pose)
+    a = screwkit.analyze(pm, pose, **PAPER_LOAD)
+    b = screwkit.analyze(pm.moved(np.eye(3), [300.0, 0.0, 0.0]), pose, **PAPER_LOAD)
     np.testing.assert_allclose(b.statics.values, a.statics.values, rtol=1e-9)   # same efforts
     np.testing.assert_allclose(b.quality.amplification, a.quality.amplification, rtol=1e-9)
 
@@ -115,7 +119,7 @@ def test_bad_poses_in_a_batch_are_flagged_and_the_others_equal_single_poses():
     mixed = [far] + rows[:3] + [far] + rows[3:] + [far]
     kind = ["bad"] + ["good"] * 3 + ["bad"] + ["good"] * 3 + ["bad"]
     batch = {k: np.array([m[k] for m in mixed]) for k in pm.independent}
-    res = screwkit.analyze(pm, batch, chunk=3, workers=2)      # bad poses at chunk edges
+    res = screwkit.analyze(pm, batch, chunk=3, workers=2, **PAPER_LOAD)      # bad poses at chunk edges
     assert len(res) == len(mixed)
     bad = np.array([k == "bad" for k in kind])
     assert res.unreachable.tolist() == bad.tolist() and not res.ok[bad].any()
@@ -123,7 +127,7 @@ def test_bad_poses_in_a_batch_are_flagged_and_the_others_equal_single_poses():
     assert (res.solution.residual[bad] > 1e-6).all()
     assert np.array_equal(res.solution.params["Zo"][bad], np.full(3, 400.0))   # kept as given
     for i in np.where(~bad)[0]:
-        one = screwkit.analyze(pm, mixed[i])
+        one = screwkit.analyze(pm, mixed[i], **PAPER_LOAD)
         assert res.ok[i]
         fs = np.abs(one.statics.values).max()
         np.testing.assert_allclose(res.statics.values[i], one.statics.values, rtol=0,
@@ -138,7 +142,7 @@ def test_bad_poses_in_a_batch_are_flagged_and_the_others_equal_single_poses():
 def test_an_unreachable_pose_has_no_condition_level_of_its_own():
     pm = screwkit.load_pm("3RSR")
     z = pm.default_pose["Zo"]
-    res = screwkit.analyze(pm, {"alpha": 0.02, "beta": -0.01, "Zo": [z, 400.0]})
+    res = screwkit.analyze(pm, {"alpha": 0.02, "beta": -0.01, "Zo": [z, 400.0]}, **PAPER_LOAD)
     assert res.unreachable.tolist() == [False, True]
     assert res.level[1] != "ok" and not np.isfinite(res.jacobian.condition_number[1])
 
@@ -161,11 +165,11 @@ def test_a_path_that_leaves_the_workspace_and_comes_back():
     s = np.linspace(0.0, 1.0, 41)
     pose = {"alpha": np.full(41, 0.02), "beta": np.full(41, -0.01),
             "Zo": z + 300.0 * np.sin(np.pi * s) ** 2}          # out and back
-    res = screwkit.analyze(pm, pose, path=True, raise_on_singular=False)
+    res = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **PAPER_LOAD)
     far = pose["Zo"] > z + 150.0
     assert res.unreachable[far].all() and res.ok[:3].all() and res.ok[-3:].all()
     for i in np.flatnonzero(res.ok):
         one = screwkit.analyze(pm, {k: float(v[i]) for k, v in pose.items()},
-                               raise_on_singular=False)
+                               raise_on_singular=False, **PAPER_LOAD)
         np.testing.assert_allclose(res.statics.values[i], one.statics.values, rtol=0,
                                    atol=1e-9 * np.abs(one.statics.values).max())

@@ -24,12 +24,12 @@ EXPECT = {
                            "F_c3 = (15.5661, 12.9556, 0.5425) kN"],
     "user_pm_yaml.py": ["my_3prs.yaml: valid", "3PRS: independent alpha, beta, Zo", "3 DOF (1T2R)",
                         "F_a1 + F_a2 + F_a3 = 500.000000 N"],
-    "trajectory_plot.py": ["{'ok': 201, 'singular': 0, 'unreachable': 0}", "F_a3            51.817",
+    "trajectory_plot.py": ["{'ok': 201, 'near-singular': 0, 'singular': 0, 'unreachable': 0}", "F_a3            51.817",
                            "wrote 3rrprr_path.csv and 3rrprr_fig5.png"],
     # the locus at alpha + gamma = 2 x 8.617907 deg (the root of det of the paper's J)
     "singularity_map.py": ["441 poses, 441 reachable", "alpha + gamma = 17.2358 deg",
                            "wrote singularity_map.png"],
-    "dynamics_3rrprr.py": ["{'ok': 201, 'singular': 0, 'unreachable': 0", "energy balance"],
+    "dynamics_3rrprr.py": ["{'ok': 201, 'near-singular': 0, 'singular': 0, 'unreachable': 0", "energy balance"],
 }
 #: Optional packages an example needs.
 NEEDS = {"trajectory_plot.py": ["matplotlib"], "singularity_map.py": ["xarray", "matplotlib"]}

@@ -53,24 +53,27 @@ def test_urdf_loads_in_pinocchio_and_closes_at_a_solved_pose(name, pose, tmp_pat
     model = pin.buildModelFromUrdf(str(out))
     loops = json.loads(side.read_text(encoding="utf-8"))
     pm = screwkit.load_pm(name)
+    m = 0.01                                             # URDF is in metres: the model's cm
+    assert loops["units"]["length"] == "m"
     assert model.nq == model.nv == sum(len(lg.joints) for lg in pm.home_legs)
     assert len(loops["constraints"]) == pm.n_legs - 1
     cons = _constraints(model, loops)
     # home (q = 0): every loop closed
     gaps, _ = _closure_gaps(model, cons, pin.neutral(model))
-    assert max(gaps) < 1e-9 * pm.normalisation.length
+    assert max(gaps) < 1e-9 * pm.normalisation.length * m
     # a pose solved by screwkit: joint values by name -> closed loops, platform at the pose
     sol = screwkit.solve(pm, pose, degrees=True)
     q = pin.neutral(model)
     for k, (leg, jv) in enumerate(zip(pm.home_legs, sol.joint_values)):
         for j, v in zip(leg.joints, np.asarray(jv).reshape(-1)):
-            q[model.joints[model.getJointId(f"leg{k + 1}_{j.name}")].idx_q] = v
+            q[model.joints[model.getJointId(f"leg{k + 1}_{j.name}")].idx_q] = \
+                v * (m if j.kind == "P" else 1.0)
     gaps, data = _closure_gaps(model, cons, q)
-    assert max(gaps) < 1e-8 * pm.normalisation.length, gaps
+    assert max(gaps) < 1e-8 * pm.normalisation.length * m, gaps
     F = data.oMf[model.getFrameId("platform")]
     assert np.allclose(F.rotation, sol.rotation, atol=1e-10)
-    assert np.allclose(F.translation, np.asarray(sol.position).reshape(3),
-                       atol=1e-9 * pm.normalisation.length)
+    assert np.allclose(F.translation, np.asarray(sol.position).reshape(3) * m,
+                       atol=1e-9 * pm.normalisation.length * m)
     # moving one actuated joint alone opens a loop (the closures really constrain)
     q2 = q.copy()
     q2[model.joints[model.getJointId(loops["actuated_joints"][1])].idx_q] += 1.0

@@ -13,6 +13,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 pytest.importorskip("matplotlib")
 
 import screwkit  # noqa: E402
@@ -30,7 +34,7 @@ def to_rgb(c):
 def drawn():
     out = {}
     for pm, joints in (("4UPU", True), ("3UPU", False)):
-        res = screwkit.analyze(pm)
+        res = screwkit.analyze(pm, **PAPER_LOAD)
         sol = res.solution
         rows, _ = wrench_rows(res)
         fig = draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position, rows,
@@ -105,7 +109,7 @@ def plotted():
     for pm, exprs in specs.items():
         model = screwkit.load_pm(pm)
         res = run_trajectory(model, path_from_expressions(exprs, model.independent,
-                                                          samples=21))
+                                                          samples=21), **PAPER_LOAD)
         fig = res.plot(None, dpi=50)
         fig.canvas.draw()
         out[pm] = (res, fig)

@@ -137,6 +137,6 @@ def test_a_declared_motion_that_is_not_the_computed_one_is_an_error(tmp_path, ca
     path.write_text(DECLARED.replace("MOTION", "2R1T"))     # the literature's order reads
     assert screwkit.load_pm(str(path)).motion == "2R1T"
     from screwkit.cli import main
-    assert main(["analyze", str(path)]) == 0
+    assert main(["analyze", str(path), "--force=0,0,-1"]) == 0     # (a stated workload)
     out = capsys.readouterr().out
     assert "1T2R" in out and "parasitic motion Xo, Yo, gamma" in out

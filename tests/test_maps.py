@@ -16,6 +16,10 @@ import pytest
 import screwkit
 from screwkit.cli import main
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 pytest.importorskip("xarray")
 
 GRID = {"alpha": (-12.0, 12.0, 25), "beta": (-12.0, 12.0, 17), "Zo": (60.0, 100.0, 12)}
@@ -24,7 +28,7 @@ GRID = {"alpha": (-12.0, 12.0, 25), "beta": (-12.0, 12.0, 17), "Zo": (60.0, 100.
 @pytest.fixture(scope="module")
 def rrprr():
     pm = screwkit.load_pm("3RRPRR")
-    return pm, screwkit.map(pm, GRID, degrees=True, block=4096)
+    return pm, screwkit.map(pm, GRID, degrees=True, block=4096, **PAPER_LOAD)
 
 
 def test_100_random_cells_equal_analyze_at_their_pose(rrprr, capsys):
@@ -36,7 +40,7 @@ def test_100_random_cells_equal_analyze_at_their_pose(rrprr, capsys):
     for flat in rng.choice(ds["ok"].size, 100, replace=False):
         i, j, k = np.unravel_index(flat, shape)
         pose = {"alpha": float(ds.alpha[i]), "beta": float(ds.beta[j]), "Zo": float(ds.Zo[k])}
-        one = screwkit.analyze(pm, pose, degrees=True, raise_on_singular=False)
+        one = screwkit.analyze(pm, pose, degrees=True, raise_on_singular=False, **PAPER_LOAD)
         cell = ds.isel(alpha=i, beta=j, Zo=k)
         scale = max(1.0, float(np.max(np.abs(one.statics.values))))
         for lab, v in zip(one.jacobian.labels, one.statics.values):
@@ -106,11 +110,11 @@ def test_files_round_trip(rrprr, tmp_path):
 
 
 def test_unreachable_cells_are_flagged_not_solved():
-    ds = screwkit.map("3RSR", {"Zo": (20.0, 400.0, 20)}, degrees=True)
+    ds = screwkit.map("3RSR", {"Zo": (20.0, 400.0, 20)}, degrees=True, **PAPER_LOAD)
     bad = ~ds["reachable"].values
     assert bad.any() and ds["reachable"].values.any()
-    assert np.all(np.isnan(ds["F_a1"].values[bad])) and np.all(ds["level"].values[bad] == 4)
-    one = screwkit.analyze("3RSR", {"Zo": np.array([float(ds.Zo[np.flatnonzero(bad)[0]])])})
+    assert np.all(np.isnan(ds["T_a1"].values[bad])) and np.all(ds["level"].values[bad] == 4)
+    one = screwkit.analyze("3RSR", {"Zo": np.array([float(ds.Zo[np.flatnonzero(bad)[0]])])}, **PAPER_LOAD)
     assert one.unreachable[0]
     # the plot hatches exactly those cells and says so
     pytest.importorskip("matplotlib")
@@ -167,7 +171,7 @@ def test_limits_mark_the_cells_outside(tmp_path):
     pm = screwkit.load_pm(str(f))
     assert pm.limits.declared and pm.limits.min_leg_distance == 8.0
     grid = {"alpha": (-15.0, 15.0, 9), "Zo": (60.0, 110.0, 11)}
-    ds = screwkit.map(pm, grid, fix={"beta": 4.0}, degrees=True)
+    ds = screwkit.map(pm, grid, fix={"beta": 4.0}, degrees=True, **PAPER_LOAD)
     poses = {"alpha": np.repeat(ds.alpha.values, 11), "beta": np.full(99, 4.0),
              "Zo": np.tile(ds.Zo.values, 9)}
     sol = screwkit.solve(pm, poses, degrees=True)

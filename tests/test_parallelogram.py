@@ -30,6 +30,10 @@ from screwkit.errors import InputError
 from screwkit.pm import linkage_graph, mobility_of_legs
 from screwkit.screws import force_wrench, freedoms
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 RB, RP, LA, LB = 100.0, 40.0, 80.0, 180.0        # base and platform radii, arm, bars
 PHI = np.radians([0.0, 120.0, 240.0])
 POSES = [(0.0, 0.0, -150.0), (20.0, -10.0, -170.0), (-30.0, 25.0, -140.0), (10.0, 30.0, -190.0)]
@@ -183,7 +187,7 @@ def test_a_pa_leg_type_in_yaml_and_a_pm_of_them_in_the_engine(tmp_path, capsys):
     np.testing.assert_allclose(lg.twists, ex.twists, atol=1e-9)
     np.testing.assert_allclose(lg.joints[2].bar, b, atol=1e-9)
     assert lg.analyze().summary() == "2 couples"
-    assert main(["analyze", str(path)]) == 0
+    assert main(["analyze", str(path), *PAPER_ARGS]) == 0
     assert "mobility: 3 DOF (3T)" in capsys.readouterr().out
 
 

@@ -122,12 +122,13 @@ def test_the_urdf_writes_the_four_bars(delta, tmp_path):
                 q[model.joints[model.getJointId(f"leg{k + 1}_{j.name}")].idx_q] = v
     data = model.createData()
     pin.framesForwardKinematics(model, data, q)
+    m = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}[delta.units.length]     # URDF is in metres
     for c in cons:
         M1 = data.oMi[c.joint1_id] * c.joint1_placement
         M2 = data.oMi[c.joint2_id] * c.joint2_placement
-        assert np.linalg.norm(M1.translation - M2.translation) < 1e-9 * 100
+        assert np.linalg.norm(M1.translation - M2.translation) < 1e-9 * 100 * m
         if c.type == pin.ContactType.CONTACT_6D:
             assert np.linalg.norm(pin.log3(M1.rotation.T @ M2.rotation)) < 1e-10
     F = data.oMf[model.getFrameId("platform")]
     assert np.allclose(F.rotation, np.eye(3), atol=1e-10)
-    assert np.allclose(F.translation, sol.position, atol=1e-8)
+    assert np.allclose(F.translation, sol.position * m, atol=1e-8 * m)

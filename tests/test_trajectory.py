@@ -25,6 +25,10 @@ from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, analyze_pm
 from screwkit.errors import InputError, SingularityError, UnreachablePoseError
 from screwkit.paths import PathSpec, path_from_csv, path_from_expressions, run_trajectory
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 F_LOAD, T_LOAD = np.array(PAPER_FORCE), np.array(PAPER_TORQUE)
 PATHS = {
     "3RRPRR": ["alpha=8*sin(2*pi*t)", "beta=6*sin(2*pi*t+1)", "Zo=70+20*t"],
@@ -43,7 +47,7 @@ def runs(models):
     out = {}
     for name, ex in PATHS.items():
         path = path_from_expressions(ex, models[name].independent, samples=33)
-        out[name] = (path, run_trajectory(models[name], path, anchor_every=16))
+        out[name] = (path, run_trajectory(models[name], path, anchor_every=16, **PAPER_LOAD))
     return out
 
 
@@ -63,7 +67,7 @@ def test_every_sample_equals_analyze(models, runs, name):
     assert res.diagnostics["batched"] >= len(path) - 3
     assert res.diagnostics["anchors"] < len(path) / 2
     for i in range(len(path)):
-        a = analyze_pm(model, path.sample(i))      # home start, like `screwkit analyze`
+        a = analyze_pm(model, path.sample(i), **PAPER_LOAD)      # home start, like `screwkit analyze`
         st, sol = a.statics, a.solution
         fs = np.abs(st.values).max()
         L = model.normalisation.length
@@ -89,9 +93,9 @@ def test_per_pose_mode_and_refinement_levels_agree(models, runs):
     refinement (anchors every 16, then 1) give the same numbers."""
     model = models["3RRPRR"]
     path, ref = runs["3RRPRR"]
-    slow = run_trajectory(model, path, vectorised=False)
+    slow = run_trajectory(model, path, vectorised=False, **PAPER_LOAD)
     assert slow.diagnostics["batched"] == 0
-    fine = run_trajectory(model, path, anchor_every=4, chunk=8)
+    fine = run_trajectory(model, path, anchor_every=4, chunk=8, **PAPER_LOAD)
     for other in (slow, fine):
         assert other.status.tolist() == ref.status.tolist()
         for attr in ("extensions", "active", "constraint", "T_r", "condition_number"):
@@ -104,11 +108,11 @@ def test_3upu_couples_match_analyze():
     model = screwkit.load_pm("3UPU")
     path = path_from_expressions(["Xo=5*sin(2*pi*t)", "Yo=-3+4*t", "Zo=60+5*t"],
                                  model.independent, samples=17)
-    res = run_trajectory(model, path, anchor_every=8)
+    res = run_trajectory(model, path, anchor_every=8, **PAPER_LOAD)
     assert res.constraint_kinds == ("couple",) * 3 and res.constraint_labels[0] == "T_c1"
     assert res.diagnostics["batched"] == len(path)
     for i in (0, 7, 16):
-        st = analyze_pm(model, path.sample(i)).statics
+        st = analyze_pm(model, path.sample(i), **PAPER_LOAD).statics
         _close(res.active[i], st.active, np.abs(st.values).max())
         _close(res.constraint[i], st.constraint, np.abs(st.values).max() * 60)
 
@@ -209,14 +213,14 @@ def test_singular_sample_is_flagged_and_the_run_continues():
     ang = np.radians([s - 1.0, s - 0.5, s, s + 0.5, s + 1.0])
     path = PathSpec(np.arange(5.0), {"alpha": ang, "beta": np.zeros(5), "gamma": ang,
                                      "Zo": np.full(5, 80.0)})
-    res = run_trajectory(model, path)
+    res = run_trajectory(model, path, **PAPER_LOAD)
     assert res.status.tolist() == ["ok", "ok", "singular", "ok", "ok"]
     assert res.singularity[2] == "actuation" and res.condition_number[2] > 1e8
     assert "actuation singularity" in res.message[2]
     assert np.all(np.isnan(res.active[2])) and np.all(np.isnan(res.constraint[2]))
     assert np.all(np.isfinite(res.extensions[2]))        # the pose itself is assembled
     with pytest.raises(SingularityError):
-        analyze_pm(model, path.sample(2))
+        analyze_pm(model, path.sample(2), **PAPER_LOAD)
     # the active forces change sign through the singularity (they pass through infinity)
     assert np.all(np.sign(res.active[1]) == -np.sign(res.active[3]))
     assert res.flagged.tolist() == [False, False, True, False, False]
@@ -228,7 +232,7 @@ def test_unreachable_samples_are_flagged_and_the_run_recovers(tmp_path):
     f.write_text("t,alpha,beta,Zo\n0,20,-3,80\n1,30,-3,80\n2,60,-3,80\n3,70,-3,80\n"
                  "4,30,-3,80\n5,20,-3,80\n")
     path = path_from_csv(f, model.independent)
-    res = run_trajectory(model, path)
+    res = run_trajectory(model, path, **PAPER_LOAD)
     assert res.status.tolist() == ["ok", "ok", "unreachable", "unreachable", "ok", "ok"]
     with pytest.raises(UnreachablePoseError):
         screwkit.solve(model, path.sample(3))
@@ -237,7 +241,7 @@ def test_unreachable_samples_are_flagged_and_the_run_recovers(tmp_path):
         assert res.params["alpha"][i] == pytest.approx(path.values["alpha"][i])  # as given
         assert res.message[i].startswith("unreachable")
     _close(res.active[4], res.active[1], np.abs(res.active[1]).max(), rtol=1e-9)
-    assert res.counts() == {"ok": 4, "singular": 0, "unreachable": 2}
+    assert res.counts() == {"ok": 4, "near-singular": 0, "singular": 0, "unreachable": 2}
 
 
 def test_representation_singularity_sample_takes_the_continuous_limit():
@@ -247,11 +251,11 @@ def test_representation_singularity_sample_takes_the_continuous_limit():
     path = PathSpec(t, {"alpha": np.radians(6 * t), "beta": np.radians(4 - 8 * t),
                         "Zo": 80 + 0 * t})
     assert path.values["beta"][4] == 0.0
-    res = run_trajectory(model, path)
+    res = run_trajectory(model, path, **PAPER_LOAD)
     assert res.ok.all()
     assert res.params["gamma"][4] == pytest.approx(path.values["alpha"][4], abs=1e-7)
     assert "representation singularity" in res.message[4]
-    st = analyze_pm(model, path.sample(4)).statics
+    st = analyze_pm(model, path.sample(4), **PAPER_LOAD).statics
     _close(res.active[4], st.active, np.abs(st.values).max(), rtol=1e-6)
 
 
@@ -271,7 +275,8 @@ def test_csv_has_the_columns_and_values(runs):
     assert head[18:22] == ["T_r1", "T_r2", "T_r3", "T_r4"]
     assert head[22:46] == [f"res{i}_{q}" for i in range(1, 5)       # the legs' resultants
                            for q in ("fx", "fy", "fz", "mx", "my", "mz")]
-    assert head[46:] == ["condition_number", "closure_residual", "equilibrium_residual", "message"]
+    assert head[46:] == ["condition_number", "closure_residual", "equilibrium_residual",
+                         "conditioning", "message"]
     assert len(rows) == len(path) + 1
     k = 7
     vals = dict(zip(head, rows[k + 1]))
@@ -285,7 +290,7 @@ def test_json_is_column_oriented_with_nulls_for_nan():
     model = screwkit.load_pm("3RRPRR")
     path = PathSpec([0.0, 1.0], {"alpha": np.radians([5.0, 70.0]), "beta": np.radians([-3, -3.0]),
                                  "Zo": [80.0, 80.0]})
-    res = run_trajectory(model, path)
+    res = run_trajectory(model, path, **PAPER_LOAD)
     d = json.loads(dump_json(res.to_dict()))
     assert d["status"] == ["ok", "unreachable"] and d["counts"]["unreachable"] == 1
     assert d["pose"]["alpha"] == [pytest.approx(5.0), pytest.approx(70.0)]
@@ -334,7 +339,7 @@ def test_progress_is_reported_up_to_the_total(models):
     path = path_from_expressions(PATHS["3RRPRR"], models["3RRPRR"].independent, samples=20)
     seen = []
     run_trajectory(models["3RRPRR"], path, progress=lambda d, n: seen.append((d, n)), chunk=4,
-                   anchor_every=2)
+                   anchor_every=2, **PAPER_LOAD)
     # 2 N steps: the closures of the path, then the rows and statics (run_trajectory's docstring)
     assert seen[-1] == (40, 40) and all(n == 40 for _, n in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)

@@ -35,6 +35,10 @@ from screwkit.cli import main
 from screwkit.engine import PAPER_FORCE, PAPER_TORQUE
 from screwkit.pm import load_pm, pm_names
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 F0, T0 = np.array(PAPER_FORCE, float), np.array(PAPER_TORQUE, float)
 LENGTHS = ("Xo", "Yo", "Zo")
 
@@ -74,7 +78,7 @@ def test_every_printed_value_is_invariant_under_a_random_frame_and_times_1000(na
     pm = load_pm(name)
     rng = np.random.default_rng(zlib.crc32(name.encode()))
     pose = _random_poses(pm, 20, rng)
-    ref = screwkit.analyze(pm, pose)
+    ref = screwkit.analyze(pm, pose, **PAPER_LOAD)
     R = Rotation.random(random_state=int(rng.integers(1 << 31))).as_matrix()
     p = rng.uniform(-500, 500, 3)
     moved_pm = pm.moved(R, p)
@@ -82,7 +86,7 @@ def test_every_printed_value_is_invariant_under_a_random_frame_and_times_1000(na
     k = 1000.0
     big = load_pm(name, {d: v * k for d, v in pm.dimensions.items()})
     scaled = screwkit.analyze(big, {q: (v * k if q in LENGTHS else v) for q, v in pose.items()},
-                              torque=T0 * k)
+                              force=F0, torque=T0 * k)
     ok = ref.ok
     assert ok.sum() >= 15, (name, ok.sum())
     assert np.array_equal(moved.ok, ok) and np.array_equal(scaled.ok, ok)
@@ -146,8 +150,8 @@ def test_per_row_values_are_continuous_over_1000_samples_path_or_map(name, deg, 
             pose[p] = c[p] + frac * abs(c.get("Zo", 1.0)) * np.sin(2 * np.pi * s + j)
         else:
             pose[p] = c[p] + np.radians(deg) * np.sin(2 * np.pi * s + j)
-    path = screwkit.analyze(pm, pose, path=True)
-    grid = screwkit.analyze(pm, pose)                 # every pose on its own, as in a map
+    path = screwkit.analyze(pm, pose, path=True, **PAPER_LOAD)
+    grid = screwkit.analyze(pm, pose, **PAPER_LOAD)                 # every pose on its own, as in a map
     assert path.ok.all() and grid.ok.all()
     assert not path.quality.beyond_singular_surface.any()
     np.testing.assert_allclose(grid.statics.values, path.statics.values, rtol=0,
@@ -165,7 +169,7 @@ def test_3spu_sp_zo_steps_of_0025_move_the_forces_a_little():
     c = pm.default_pose
     zo = c["Zo"] + np.arange(-500, 500) * 0.025
     pose = {p: (zo if p == "Zo" else np.full(zo.shape, c[p])) for p in pm.independent}
-    res = screwkit.analyze(pm, pose)
+    res = screwkit.analyze(pm, pose, **PAPER_LOAD)
     assert res.ok.all()
     cons = [k for k, r in enumerate(res.jacobian.info) if r.kind == "force"]
     assert len(cons) == 2
@@ -177,7 +181,7 @@ def test_3spu_sp_zo_steps_of_0025_move_the_forces_a_little():
 # --------------------------------------------------------------------------- resultants
 
 def test_leg_resultants_in_text_and_json(capsys):
-    assert main(["analyze", "3SPU+SP", "--json"]) == 0
+    assert main(["analyze", "3SPU+SP", "--json", *PAPER_ARGS]) == 0
     d = json.loads(capsys.readouterr().out)
     J = np.array(d["jacobian"])
     v = np.array(d["statics"]["values"])
@@ -197,13 +201,13 @@ def test_leg_resultants_in_text_and_json(capsys):
         delta = (np.array(leg["a"]) - A) / np.linalg.norm(np.array(leg["a"]) - A)
         assert r["moment"] @ delta == pytest.approx(leg["torque"], abs=1e-9 * 100 * np.abs(v).max())
         assert r["force_determined"] and r["moment_determined"]
-    assert main(["analyze", "3SPU+SP"]) == 0
+    assert main(["analyze", "3SPU+SP", *PAPER_ARGS]) == 0
     text = capsys.readouterr().out
     assert "constraint resultant" in text and "moment about A4" in text and "(kN.cm)" in text
 
 
 def test_4upu_resultant_moments_are_flagged_and_a_self_stress_moves_them(capsys):
-    assert main(["analyze", "4UPU", "--json"]) == 0
+    assert main(["analyze", "4UPU", "--json", *PAPER_ARGS]) == 0
     d = json.loads(capsys.readouterr().out)
     J = np.array(d["jacobian"])
     S = null_space(J.T).T                                # self-stresses, here by SVD
@@ -213,7 +217,7 @@ def test_4upu_resultant_moments_are_flagged_and_a_self_stress_moves_them(capsys)
         assert r["force_determined"] and not r["moment_determined"]
         k = 4 + i                                        # the leg's couple row
         assert np.abs(S[:, k]).max() > 1e-3              # a self-stress moves it
-    assert main(["analyze", "4UPU"]) == 0
+    assert main(["analyze", "4UPU", *PAPER_ARGS]) == 0
     text = capsys.readouterr().out
     lines = [ln for ln in text.splitlines() if ln.startswith("  leg ") and "moment about A" in ln]
     assert len(lines) == 4 and all(ln.rstrip().endswith("*") for ln in lines)
@@ -225,9 +229,9 @@ def test_4upu_compliance_weighted_from_the_command_line(capsys):
     k = {"F_a1": 1e3, "F_a2": 1e3, "F_a3": 1e3, "F_a4": 1e3,
          "T_c1": 1e6, "T_c2": 4e6, "T_c3": 2e6, "T_c4": 9e6}
     args = [f"--stiffness={lab}={val}" for lab, val in k.items()]
-    assert main(["analyze", "4UPU", "--json"]) == 0
+    assert main(["analyze", "4UPU", "--json", *PAPER_ARGS]) == 0
     ln = json.loads(capsys.readouterr().out)
-    assert main(["analyze", "4UPU", "--json", *args]) == 0
+    assert main(["analyze", "4UPU", "--json", *args, *PAPER_ARGS]) == 0
     cw = json.loads(capsys.readouterr().out)
     assert ln["statics"]["solution"] == "least-norm"
     assert cw["statics"]["solution"] == "compliance-weighted"
@@ -265,7 +269,7 @@ def test_plot_labels_of_a_linear_pm_and_a_pm_with_couples(tmp_path, name, expr, 
     from screwkit.paths import path_from_expressions, run_trajectory
     pm = load_pm(name)
     path = path_from_expressions(expr, pm.independent, samples=9)
-    fig = run_trajectory(pm, path).plot()              # the figure, not written
+    fig = run_trajectory(pm, path, **PAPER_LOAD).plot()              # the figure, not written
     labels = _panel_labels(fig)
     ylabels = [ax.get_ylabel() for ax in fig.axes]
     assert any("[kN]" in y for y in ylabels), ylabels
@@ -274,7 +278,7 @@ def test_plot_labels_of_a_linear_pm_and_a_pm_with_couples(tmp_path, name, expr, 
 
 
 def test_couples_in_text_carry_torque_units(capsys):
-    assert main(["analyze", "3UPU"]) == 0
+    assert main(["analyze", "3UPU", *PAPER_ARGS]) == 0
     text = capsys.readouterr().out
     rows = [ln for ln in text.splitlines() if ln.startswith("  leg ") and "constraint couple" in ln]
     assert len(rows) == 3 and all(" kN.cm " in ln and ln.rstrip().endswith("kN.cm") for ln in rows)
@@ -287,7 +291,7 @@ def test_rotary_trajectory_reports_no_T_r(tmp_path, capsys):
     from screwkit.paths import path_from_expressions, run_trajectory
     pm = load_pm("3RSR")
     res = run_trajectory(pm, path_from_expressions(["alpha=2*sin(2*pi*t)", "beta=-1", "Zo=40"],
-                                                   pm.independent, samples=9))
+                                                   pm.independent, samples=9), **PAPER_LOAD)
     assert not any(name.startswith("T_r") for name, _ in res.columns())
     assert res.to_dict()["T_r"] == [None, None, None]
     fig = res.plot()
@@ -307,7 +311,7 @@ def test_the_finite_motion_type_is_the_parametrisations_at_every_pose(name):
     pm = load_pm(name)
     assert pm.motion == _count(pm)                       # the catalog states the same
     res = screwkit.analyze(pm, _random_poses(pm, 2, np.random.default_rng(3)),
-                           raise_on_singular=False)
+                           raise_on_singular=False, **PAPER_LOAD)
     params = res.solution.params
     L = float(pm.normalisation.length)
     for i in range(len(res)):
@@ -332,7 +336,7 @@ def test_the_finite_motion_type_is_the_parametrisations_at_every_pose(name):
 
 def test_the_3spr_legs_have_symmetric_constraint_signs():
     pm = load_pm("3SPR")
-    res = screwkit.analyze(pm, {p: pm.home_pose[p] for p in pm.independent})
+    res = screwkit.analyze(pm, {p: pm.home_pose[p] for p in pm.independent}, **PAPER_LOAD)
     legs = res.solution.legs
     rows = [r for r in res.jacobian.rows if r.kind == "force"]
     for i, j in ((0, 1), (1, 2), (2, 0)):
@@ -394,8 +398,8 @@ def test_the_documented_thresholds_are_the_engines():
 def test_the_default_pose_is_in_the_reference_assembly_mode(name):
     pm = load_pm(name)
     home = screwkit.analyze(pm, {p: pm.home_pose[p] for p in pm.independent},
-                            raise_on_singular=False)
-    res = screwkit.analyze(pm, raise_on_singular=False)
+                            raise_on_singular=False, **PAPER_LOAD)
+    res = screwkit.analyze(pm, raise_on_singular=False, **PAPER_LOAD)
     q = res.quality
     J = res.jacobian.J
     if J.shape != (6, 6):
@@ -418,7 +422,7 @@ def _sps_singular_sum():
 
     def det(x):
         r = screwkit.analyze(pm, {"alpha": x / 2, "beta": 0.0, "gamma": x / 2, "Zo": 75.0},
-                             raise_on_singular=False)
+                             raise_on_singular=False, **PAPER_LOAD)
         return np.linalg.det(r.jacobian.J)
 
     return np.degrees(brentq(det, np.radians(15), np.radians(18), xtol=1e-15))
@@ -484,13 +488,13 @@ pms:
 def test_stiffness_from_the_model_equals_the_same_stiffness_given_by_row(tmp_path, capsys):
     f = tmp_path / "upu.yaml"
     f.write_text(_UPU_WITH_STIFFNESS)
-    assert main(["analyze", "--model", str(f), "--stiffness", "model", "--json"]) == 0
+    assert main(["analyze", "--model", str(f), "--stiffness", "model", "--json", *PAPER_ARGS]) == 0
     from_model = json.loads(capsys.readouterr().out)["statics"]
     k = {"F_a1": 1e3, "F_a2": 1e3, "F_a3": 1e3, "F_a4": 1e3,
          "T_c1": 1e6, "T_c2": 4e6, "T_c3": 2e6, "T_c4": 9e6}
-    by_row = screwkit.analyze("4UPU", stiffness=k).statics.values
+    by_row = screwkit.analyze("4UPU", stiffness=k, **PAPER_LOAD).statics.values
     assert from_model["solution"] == "compliance-weighted"
     np.testing.assert_allclose(from_model["values"], by_row, rtol=1e-12,
                                atol=1e-12 * np.abs(by_row).max())
-    assert main(["analyze", "4UPU", "--stiffness", "model"]) == 2      # the catalog's has none
+    assert main(["analyze", "4UPU", "--stiffness", "model", *PAPER_ARGS]) == 2      # the catalog's has none
     assert "declares no stiffness" in capsys.readouterr().err

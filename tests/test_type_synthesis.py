@@ -24,6 +24,10 @@ from screwkit.errors import InputError
 from screwkit.synthesis import extra_legs, leg_pool, motion_pattern
 from screwkit.pm import default_catalog
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 
 @pytest.fixture(scope="module")
 def found():
@@ -98,7 +102,7 @@ def test_3t_lists_3upu_couple_and_3prrr(found, tmp_path):
         assert len(p.verdict.checks) >= 1 + 5 and all(c.dof == 3 for c in p.verdict.checks)
         model, _ = _written_model(p, tmp_path)
         pose = {"Xo": [0.0, 4.0, -3.0], "Yo": [0.0, -2.0, 3.0], "Zo": [60.0, 63.0, 57.0]}
-        a = screwkit.analyze(model, pose)
+        a = screwkit.analyze(model, pose, **PAPER_LOAD)
         assert bool(np.all(a.ok))
         # by hand: a translational PM does not rotate, and its constraint rows are couples
         assert float(np.max(np.abs(a.solution.rotation - np.eye(3)))) <= 1e-9
@@ -114,7 +118,7 @@ def test_1t2r_lists_3rps_and_3spr(found, tmp_path):
         p = _by_name(res, name)
         assert all((c.translations, c.rotations) == (1, 2) for c in p.verdict.checks)
     model, _ = _written_model(_by_name(res, "3RPS"), tmp_path)
-    a = screwkit.analyze(model, {"alpha": 0.05, "beta": -0.03, "Zo": 62.0})
+    a = screwkit.analyze(model, {"alpha": 0.05, "beta": -0.03, "Zo": 62.0}, **PAPER_LOAD)
     # by hand: each RPS exerts a force through its S centre (the platform vertex a_i)
     # parallel to its base R axis (horizontal, tangent to the base circle)
     rows = np.asarray(a.jacobian.J_c, float)
@@ -132,7 +136,7 @@ def test_3r_lists_a_spherical_pm_with_a_fixed_centre(found, tmp_path):
     C = np.asarray(model.centre, float)
     ang = {"alpha": np.radians([0.0, 6.0, -4.0]), "beta": np.radians([0.0, -3.0, 5.0]),
            "gamma": np.radians([0.0, 4.0, 2.0])}
-    a = screwkit.analyze(model, ang)
+    a = screwkit.analyze(model, ang, **PAPER_LOAD)
     R, o = a.solution.rotation, a.solution.position
     for i in range(3):       # by hand: o - C = R (R_0^T (o_0 - C))
         assert np.linalg.norm(o[i] - C - R[i] @ R[0].T @ (o[0] - C)) <= 1e-8 * 60
@@ -147,7 +151,7 @@ def test_3t1r_lists_a_4upu_schoenflies_type(found, tmp_path):
     assert len(p.legs) == 4 and p.verdict.checks[-1].dof == 4
     model, _ = _written_model(p, tmp_path)
     a = screwkit.analyze(model, {"Xo": [0.0, 5.0], "Yo": [0.0, -3.0], "Zo": [80.0, 84.0],
-                                 "gamma": np.radians([0.0, 10.0])})
+                                 "gamma": np.radians([0.0, 10.0])}, **PAPER_LOAD)
     z = a.solution.rotation[:, :, 2]
     assert float(np.max(np.abs(z - [0, 0, 1]))) <= 1e-9      # the normal stays vertical
     Jc = np.asarray(a.jacobian.J_c, float)[1]
@@ -183,7 +187,7 @@ def test_wrong_pms_are_not_listed(found):
 
 def test_written_model_analyses_from_the_cli(found, tmp_path, capsys):
     _, path = _written_model(_by_name(found["3T"], "3UPU/couple"), tmp_path)
-    assert main(["analyze", str(path), "--json"]) == 0
+    assert main(["analyze", str(path), "--json", *PAPER_ARGS]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["pm"] == "3UPU/couple"
 

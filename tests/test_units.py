@@ -13,6 +13,10 @@ import screwkit
 from screwkit.cli import main
 from screwkit.errors import CatalogError, InputError
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 
 def _json(capsys, *argv):
     assert main(list(argv) + ["--json"]) == 0
@@ -32,28 +36,28 @@ def test_linear_actuators_in_kn(capsys):
 
 
 def test_rotary_actuators_are_torques(capsys):
-    d = _json(capsys, "analyze", "3RSR")
+    d = _json(capsys, "analyze", "3RSR", *PAPER_ARGS)
     for leg in d["legs"]:
         assert leg["active_unit"] == "kN.cm" and leg["actuation"]["effort"] == "torque"
         assert "torque" not in leg                 # T_r is defined for linear legs only
     assert d["statics"]["units"][:3] == ["kN.cm"] * 3
     assert d["statics"]["T_r"] == [None, None, None]
-    assert main(["analyze", "3RSR"]) == 0
+    assert main(["analyze", "3RSR", *PAPER_ARGS]) == 0
     text = capsys.readouterr().out
     active = [ln for ln in text.splitlines() if " active " in ln]
     assert len(active) == 3 and all(" kN.cm " in ln for ln in active)
 
 
 def test_constraint_couples_are_torques(capsys):
-    d = _json(capsys, "analyze", "3UPU")
+    d = _json(capsys, "analyze", "3UPU", *PAPER_ARGS)
     units = [c["unit"] for leg in d["legs"] for c in leg["constraints"]]
     kinds = [c["kind"] for leg in d["legs"] for c in leg["constraints"]]
     assert kinds == ["couple"] * 3 and units == ["kN.cm"] * 3
 
 
 def test_si_conversion(capsys):
-    model = _json(capsys, "analyze", "3RSR")
-    assert main(["analyze", "3RSR", "--json", "--units", "SI"]) == 0
+    model = _json(capsys, "analyze", "3RSR", *PAPER_ARGS)
+    assert main(["analyze", "3RSR", "--json", "--units", "SI", *PAPER_ARGS]) == 0
     si = json.loads(capsys.readouterr().out)
     assert si["units"]["length"] == "m" and si["units"]["torque"] == "N.m"
     np.testing.assert_allclose(si["statics"]["active"], np.array(model["statics"]["active"]) * 10,
@@ -63,7 +67,7 @@ def test_si_conversion(capsys):
     np.testing.assert_allclose(si["extensions"], np.array(model["extensions"]) / 100, rtol=1e-12)
     assert si["pose"]["alpha"] == pytest.approx(model["pose"]["alpha"])      # degrees stay
     # the text report converts too (its values: tests/test_units_si_text.py)
-    assert main(["analyze", "3RSR", "--units", "SI"]) == 0
+    assert main(["analyze", "3RSR", "--units", "SI", *PAPER_ARGS]) == 0
     assert "units: lengths m, forces N, torques N.m" in capsys.readouterr().out
 
 
@@ -80,7 +84,7 @@ def test_plot_labels_carry_units(tmp_path):
     pm = screwkit.load_pm("3RSR")
     path = path_from_expressions(["alpha=2*sin(2*pi*t)", "beta=-1", "Zo=40"], pm.independent,
                                  samples=9)
-    fig = run_trajectory(pm, path).plot(tmp_path / "rsr.png")
+    fig = run_trajectory(pm, path, **PAPER_LOAD).plot(tmp_path / "rsr.png")
     labels = [ax.get_ylabel() for ax in fig.axes]
     assert any("F_{ai}" in lab and "kN·cm" in lab for lab in labels), labels
     assert any("cm" in lab and "length" in lab for lab in labels)
@@ -90,7 +94,7 @@ def test_drawing_labels_rotary_torques(tmp_path):
     pytest.importorskip("matplotlib")
     from screwkit.engine import wrench_rows
     from screwkit.viz import draw_pm
-    res = screwkit.analyze("3RSR")
+    res = screwkit.analyze("3RSR", **PAPER_LOAD)
     sol = res.solution
     rows, _ = wrench_rows(res)
     u = res.model.units
@@ -105,8 +109,8 @@ def test_drawing_labels_rotary_torques(tmp_path):
 def test_undeclared_and_bad_units(tmp_path, capsys):
     pm = screwkit.load_pm(str(__import__("pathlib").Path(__file__).parent / "data" /
                               "user_pm.yaml"))
-    assert not pm.units.declared and pm.units.length == "length unit"
-    res = screwkit.analyze(pm)
+    assert not pm.units.declared and pm.units.length == "[L]"   # a dimension, not a placeholder
+    res = screwkit.analyze(pm, **PAPER_LOAD)
     with pytest.raises(InputError, match="declares no units"):
         res.to_dict("SI")
     text = (__import__("pathlib").Path(__file__).parent / "data" / "user_pm.yaml").read_text()
@@ -125,7 +129,7 @@ def test_trajectory_in_si_by_hand_factors_and_on_its_plot(tmp_path):
     pm = screwkit.load_pm("3RRPRR")
     path = path_from_expressions(["alpha=4*sin(2*pi*t)", "beta=2", "Zo=70+20*t"],
                                  pm.independent, samples=11)
-    res = run_trajectory(pm, path)
+    res = run_trajectory(pm, path, **PAPER_LOAD)
     si = res.in_units("SI")
     assert res.in_units() is res
     np.testing.assert_allclose(si.extensions, 0.01 * res.extensions, rtol=1e-12)

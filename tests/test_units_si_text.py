@@ -17,13 +17,17 @@ import pytest
 
 from screwkit.cli import main
 
+# the paper's workload, stated (only 3RRPRR and 2SPS+2SPR declare it as their default)
+PAPER_LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+PAPER_ARGS = ["--force=-20,-30,-60", "--torque=-30,-30,100"]
+
 pytest.importorskip("pint")
 
 L, F, T = 0.01, 1000.0, 10.0            # cm -> m, kN -> N, kN.cm -> N.m (by hand)
 NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?"
 PMS = {"3RRPRR": ["--pose", "alpha=5", "--pose", "beta=-3", "--pose", "Zo=80"],   # linear
-       "3RSR": [],                                                                 # rotary
-       "3SPU+PRRR": []}                                                            # couples
+       "3RSR": PAPER_ARGS,                                                         # rotary
+       "3SPU+PRRR": PAPER_ARGS}                                                    # couples
 
 
 def _run(capsys, *argv):
@@ -150,7 +154,7 @@ def test_text_si_values_are_the_model_values_times_the_factors(capsys, pm):
 def test_si_json_rows_balance_the_load_in_si(capsys, pm):
     """The SI report's rows of J (rotary rows: force per torque; couple rows) times the SI
     values balance the SI workload ``[F; T + o x F]`` about O, and sum to each leg's wrench."""
-    d = json.loads(_run(capsys, "analyze", pm, "--json", "--units", "SI"))
+    d = json.loads(_run(capsys, "analyze", pm, *PMS[pm], "--json", "--units", "SI"))
     J, x = np.array(d["jacobian"]), np.array(d["statics"]["values"])
     o = np.array([d["pose"][k] for k in ("Xo", "Yo", "Zo")])
     Fw, Tw = np.array(d["workload"]["force"]), np.array(d["workload"]["torque"])
@@ -173,8 +177,8 @@ def test_trajectory_csv_header_units_and_si_table(capsys, pm):
     pd = pytest.importorskip("pandas")
     expr = EXPR if pm == "3RSR" else ["--expr", "Xo=5+2*t", "--expr", "Yo=-3", "--expr",
                                       "Zo=80", "--expr", "gamma=10+10*t", "--samples", "5"]
-    model = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr)))
-    si = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr, "--units", "SI")))
+    model = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr, *PAPER_ARGS)))
+    si = pd.read_csv(io.StringIO(_run(capsys, "trajectory", pm, *expr, "--units", "SI", *PAPER_ARGS)))
     assert len(model) == len(si) == 5 and (model["status"] == "ok").all()
     assert model.columns[0] == "t" and model.columns[-1] == "message"
     for ca, cb in zip(model.columns, si.columns):
@@ -189,7 +193,7 @@ def test_trajectory_csv_header_units_and_si_table(capsys, pm):
         _close(si[cb].to_numpy(), model[ca].to_numpy(), SI_UNIT[unit][1], rtol=1e-10)
     heads = list(model.columns)
     if pm == "3RSR":                      # rotary actuators: torques; no T_r columns
-        assert "F_a1 [kN.cm]" in heads and not any(h.startswith("T_r") for h in heads)
+        assert "T_a1 [kN.cm]" in heads and not any(h.startswith("T_r") for h in heads)
     else:                                 # the PRRR leg's couples are torques
         assert "F_a1 [kN]" in heads and {"T_c4.1 [kN.cm]", "T_c4.2 [kN.cm]"} <= set(heads)
 
@@ -200,9 +204,9 @@ def test_trajectory_resultants_equal_analyze(capsys):
     pd = pytest.importorskip("pandas")
     expr = ["--expr", "Xo=5+2*t", "--expr", "Yo=-3", "--expr", "Zo=80", "--expr", "gamma=10+10*t",
             "--samples", "3"]
-    df = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3SPU+PRRR", *expr)))
-    js = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json"))
-    js_si = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json",
+    df = pd.read_csv(io.StringIO(_run(capsys, "trajectory", "3SPU+PRRR", *expr, *PAPER_ARGS)))
+    js = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json", *PAPER_ARGS, *PAPER_ARGS))
+    js_si = json.loads(_run(capsys, "trajectory", "3SPU+PRRR", *expr, "--format", "json", *PAPER_ARGS,
                             "--units", "SI"))
     res, res_si = js["constraint_resultant"], js_si["constraint_resultant"]
     assert res["force_unit"] == "kN" and res_si["moment_unit"] == "N.m"
@@ -211,7 +215,7 @@ def test_trajectory_resultants_equal_analyze(capsys):
     k = 2
     pose = [f"--pose={p}={float(df[f'{p} [cm]' if p != 'gamma' else 'gamma [deg]'][k])!r}"
             for p in ("Xo", "Yo", "Zo", "gamma")]
-    a = json.loads(_run(capsys, "analyze", "3SPU+PRRR", *pose, "--json"))
+    a = json.loads(_run(capsys, "analyze", "3SPU+PRRR", *pose, "--json", *PAPER_ARGS))
     for i, leg in enumerate(a["legs"]):
         r = leg["constraint_resultant"]
         scale = max(np.abs(r["moment"]).max(), 1.0)
@@ -225,10 +229,10 @@ def test_trajectory_resultants_equal_analyze(capsys):
 
 def test_trajectory_si_refusals(capsys):
     data = Path(__file__).with_name("data") / "user_3prs.yaml"        # declares no units
-    rc = main(["trajectory", "3PRS", "--model", str(data), *EXPR, "--units", "SI"])
+    rc = main(["trajectory", "3PRS", "--model", str(data), *EXPR, "--units", "SI", *PAPER_ARGS])
     err = capsys.readouterr().err
     assert rc == 2 and "declares no units" in err and err.count("\n") == 1
-    rc = main(["analyze", "3PRS", "--model", str(data), "--units", "SI"])
+    rc = main(["analyze", "3PRS", "--model", str(data), "--units", "SI", *PAPER_ARGS])
     err = capsys.readouterr().err
     assert rc == 2 and "declares no units" in err
 

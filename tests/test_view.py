@@ -118,7 +118,8 @@ def test_joint_kinds_of_compound_letters():
 
 
 def test_rotary_actuator_is_a_torque():
-    d = page_data(screwkit.analyze("3RSR", raise_on_singular=False).show().html)
+    d = page_data(screwkit.analyze("3RSR", raise_on_singular=False, force=(-20.0, -30.0, -60.0),
+                                   torque=(-30.0, -30.0, 100.0)).show().html)   # stated
     assert [r["label"] for r in d["rows"][:3]] == ["T_a1", "T_a2", "T_a3"]
     assert d["rows"][0]["quantity"] == "torque"
     assert d["states"][0]["text"][0].endswith("kN.cm")

@@ -15,7 +15,8 @@ from ..legs._guards import (MAX_LABEL, argtype, check_path_text, parse_int, pars
                             shorten)
 from ..errors import InputError
 
-__all__ = ["number", "integer", "label", "path", "output", "OneLineParser", "UsageError"]
+__all__ = ["number", "integer", "label", "path", "output", "scheduler", "OneLineParser",
+           "UsageError"]
 
 
 def number(*, bound: float | None = None, lo: float | None = None, hi: float | None = None):
@@ -47,15 +48,31 @@ def label(limit: int = MAX_LABEL):
     return argtype(convert, "label")
 
 
-#: A file path: no NUL character, not over-long.
-path = argtype(lambda text: check_path_text(text, "value"), "path")
+def _path(text):
+    s = check_path_text(text, "value")
+    if not s.strip():
+        raise InputError("an empty file name")
+    return s
+
+
+#: A file path: not empty, no NUL character, not over-long.
+path = argtype(_path, "path")
 
 
 def _output(text):
-    s = check_path_text(text, "value")
-    if os.path.isdir(s):
+    s = _path(text)
+    if os.path.isdir(s) or s.endswith(("/", os.sep)):
         raise InputError(f"{shorten(s)} is a directory, not a file name")
     return s
+
+
+def _scheduler(text):
+    from ..maps._dask import check_address
+    return check_address(text, "value")
+
+
+#: A Dask scheduler address ``tcp://HOST:PORT``.
+scheduler = argtype(_scheduler, "address")
 
 
 #: A file to write: a :data:`path` that is not an existing directory.

@@ -226,7 +226,8 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
         The task's cells, as :func:`screwkit.size` takes them (``seed`` also seeds the
         optimiser: the same seed gives the same result).
     force, torque, workloads
-        The workloads, as :func:`screwkit.size` (default: the paper's).
+        The workloads, as :func:`screwkit.size` (default: the model's declared workload;
+        an :class:`InputError` when it declares none).
     objective : str or sequence of str
         One or several of :data:`~screwkit.design._evaluate.OBJECTIVES`.
     constraints : sequence of str
@@ -247,21 +248,16 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
     overrides : mapping, optional
         Dimensions of ``pm`` (given by name) other than the model file's.
     """
-    from ..engine import PAPER_FORCE, PAPER_TORQUE
     from ..maps._map import resolve_model, workload
     from ._problem import problem
     base = resolve_model(pm, overrides)
     if workloads is not None and (force is not None or torque is not None):
         raise InputError("give the workloads or force/torque, not both")
-    if workloads is None:
-        given = force is not None or torque is not None
-        F, T = workload(PAPER_FORCE if force is None and not given else
-                        (force if force is not None else (0, 0, 0)),
-                        PAPER_TORQUE if torque is None and not given else
-                        (torque if torque is not None else (0, 0, 0)))
-        loads = [("force/torque" if given else "paper", F, T)]
+    if workloads is None:                  # given (one alone: the other zero), else declared
+        F, T, source = workload(base, force, torque)
+        loads = [("force/torque" if source == "given" else source, F, T)]
     else:
-        loads = [(str(n),) + tuple(workload(f, t)) for n, f, t in workloads]
+        loads = [(str(n),) + tuple(workload(base, f, t)[:2]) for n, f, t in workloads]
         if not 1 <= len(loads) <= 1000:
             raise InputError(f"1 to 1000 workloads, got {len(loads)}")
     objectives = (objective,) if isinstance(objective, str) else tuple(objective)

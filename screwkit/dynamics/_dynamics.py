@@ -27,8 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import PAPER_FORCE, PAPER_TORQUE, PARAMS, link_frames, statics
-from ..engine._workloads import load_vector
+from ..engine import PARAMS, link_frames, statics
 from ..errors import InputError
 from ..pm import DynamicsParameters, PMModel, dynamics_for
 from ..paths import PathSpec
@@ -64,10 +63,8 @@ def resolve_parameters(model, params=None, gravity=None) -> DynamicsParameters:
             raise InputError(f"the dynamics parameters of leg {i + 1} have {len(ld.viscous)} "
                              f"joints, {lg.name} has {len(lg.joints)}")
     if gravity is not None:
-        g = np.asarray(gravity, float).reshape(-1)
-        if g.shape != (3,) or not np.all(np.isfinite(g)):
-            raise InputError(f"gravity must be 3 finite numbers, got {gravity!r}")
-        params = params.with_gravity(g)
+        from ..legs._guards import MAX_MAGNITUDE, real_vector
+        params = params.with_gravity(real_vector(gravity, "gravity", 3, bound=MAX_MAGNITUDE))
     return params
 
 
@@ -83,7 +80,7 @@ def _motion(model, motion) -> Motion:
     return motion
 
 
-def dynamics(model, motion, *, params=None, force=PAPER_FORCE, torque=PAPER_TORQUE,
+def dynamics(model, motion, *, params=None, force=None, torque=None,
              gravity=None, overrides=None, chunk: int = CHUNK, workers=None,
              progress=None) -> DynamicsResult:
     """Inverse dynamics of a PM along a motion: dynamic active forces, constraint wrenches,
@@ -98,8 +95,10 @@ def dynamics(model, motion, *, params=None, force=PAPER_FORCE, torque=PAPER_TORQ
         :class:`~screwkit.paths.PathSpec` is splined (:func:`motion_from_path`).
     params : DynamicsParameters, mapping or path, optional
         Masses, inertias, friction, gravity (default: the model's ``dynamics:`` block).
-    force, torque : array_like (3,)
-        External workload at ``o`` (model units; default the paper's).
+    force, torque : array_like (3,), optional
+        External workload at ``o`` besides gravity and inertia (model units; one without the
+        other: the other is zero; neither: the model's declared default workload, else an
+        :class:`~screwkit.errors.InputError`).
     gravity : array_like (3,), optional
         Replaces the parameters' gravity (base frame, model length / s^2).
     chunk, workers, progress :
@@ -116,7 +115,11 @@ def dynamics(model, motion, *, params=None, force=PAPER_FORCE, torque=PAPER_TORQ
         model = load_assembled_pm(model, overrides)
     params = resolve_parameters(model, params, gravity)
     motion = _motion(model, motion)
-    F, T = load_vector(force, "force"), load_vector(torque, "torque")
+    from ..engine._workloads import no_workload_message, resolve_workload
+    load = resolve_workload(model, force, torque)
+    if load is None:
+        raise InputError(no_workload_message(model))
+    F, T, source = load
     try:
         C = int(chunk)
     except (TypeError, ValueError):
@@ -174,4 +177,4 @@ def dynamics(model, motion, *, params=None, force=PAPER_FORCE, torque=PAPER_TORQ
     for k in ("qd", "qdd", "ID", "mapped", "theta_dot", "theta_ddot", "twist", "acceleration",
               "platform_wrench", "workload", "kinetic", "potential", "kinetic_platform"):
         out[k][undetermined | ~reach] = np.nan
-    return DynamicsResult(model, motion, params, an, dyn, out, bad, undetermined, F, T)
+    return DynamicsResult(model, motion, params, an, dyn, out, bad, undetermined, F, T, source)

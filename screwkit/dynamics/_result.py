@@ -14,8 +14,9 @@ from ..engine import LENGTH_PARAMS, PARAMS
 
 __all__ = ["DynamicsResult", "STATUSES"]
 
-#: The values of :attr:`DynamicsResult.status`.
-STATUSES = ("ok", "singular", "unreachable", "undetermined")
+#: The values of :attr:`DynamicsResult.status`: ``ok`` (solved, regular), the conditioning
+#: class of :func:`screwkit.engine.classify` where it is not regular, or ``undetermined``.
+STATUSES = ("ok", "near-singular", "singular", "unreachable", "undetermined")
 
 
 def _ro(a):
@@ -43,6 +44,8 @@ class DynamicsResult:
     flagged, undetermined : ndarray (N,) of bool
     force, torque : ndarray (3,)
         External workload at ``o``.
+    workload_source : str
+        Where it comes from (``given``, ``declared default (...)``).
 
     All values are in the model's units and seconds (angles in radians).
     """
@@ -57,6 +60,7 @@ class DynamicsResult:
     undetermined: np.ndarray = field(repr=False)
     force: np.ndarray = field(repr=False)
     torque: np.ndarray = field(repr=False)
+    workload_source: str = "given"
 
     def __len__(self) -> int:
         return len(self.motion)
@@ -73,14 +77,21 @@ class DynamicsResult:
 
     @cached_property
     def status(self) -> np.ndarray:
-        """``ok``, ``singular`` (J singular), ``unreachable``, or ``undetermined`` (the rates
-        of the dependent parameters are not determined there: a representation singularity
-        of the Euler angles or a constraint singularity), per sample."""
-        an = self.analysis
-        s = np.where(~an.solution.reachable_mask, "unreachable",
-                     np.where(an.jacobian.singular_mask, "singular",
-                              np.where(self.undetermined, "undetermined", "ok")))
+        """``ok`` (regular), ``near-singular``, ``singular`` (J singular), ``unreachable``
+        (the conditioning class of :func:`screwkit.engine.classify`, as every command says
+        it), or ``undetermined`` (the rates of the dependent parameters are not determined
+        there: a representation singularity of the Euler angles or a constraint
+        singularity), per sample."""
+        cls = self.conditioning
+        s = np.where((cls == "near-singular") & self.undetermined, "undetermined", cls)
+        s = np.where(cls == "regular", np.where(self.undetermined, "undetermined", "ok"), s)
         return s.astype(str)
+
+    @property
+    def conditioning(self) -> np.ndarray:
+        """The conditioning class of each sample (``regular``, ``near-singular``,
+        ``singular``, ``unreachable``): :attr:`PMAnalysis.conditioning` of the samples."""
+        return np.atleast_1d(self.analysis.conditioning)
 
     @property
     def ok(self) -> np.ndarray:
@@ -272,8 +283,10 @@ class DynamicsResult:
         acc_u = [f"{'rad' if r else u.length}/s^2" for r in self.rotary]
         cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, k], acc_u[i])
                  for k, i in enumerate(act)]
-        cols += [(f"F_a{i + 1}", self.static_active[:, k], act_u[i]) for k, i in enumerate(act)]
-        cols += [(f"F_a{i + 1}_dyn", self.dynamic_active[:, k], act_u[i])
+        fa = ["T_a" if r else "F_a" for r in self.rotary]         # a rotary actuator: torque
+        cols += [(f"{fa[i]}{i + 1}", self.static_active[:, k], act_u[i])
+                 for k, i in enumerate(act)]
+        cols += [(f"{fa[i]}{i + 1}_dyn", self.dynamic_active[:, k], act_u[i])
                  for k, i in enumerate(act)]
         info = self.analysis.jacobian.info[len(act):]
         cu = [u.torque if r.kind == "couple" else u.force for r in info]
@@ -287,14 +300,17 @@ class DynamicsResult:
         return cols
 
     def to_csv(self, out=None):
-        """CSV: a header row (``name [unit]``), ``status`` after ``t``; NaN as ``nan``."""
+        """CSV: a header row (``name [unit]``), ``status`` after ``t``, ``conditioning``
+        last; NaN as ``nan``."""
         cols = self.columns()
+        cls = self.conditioning
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
-        w.writerow([f"{cols[0][0]} [s]", "status"] + [f"{c} [{un}]" for c, _, un in cols[1:]])
+        w.writerow([f"{cols[0][0]} [s]", "status"] + [f"{c} [{un}]" for c, _, un in cols[1:]]
+                   + ["conditioning"])
         for i in range(len(self)):
             w.writerow([f"{cols[0][1][i]:.12g}", self.status[i]]
-                       + [f"{float(v[i]):.12g}" for _, v, _ in cols[1:]])
+                       + [f"{float(v[i]):.12g}" for _, v, _ in cols[1:]] + [cls[i]])
         text = buf.getvalue()
         if out is None:
             return text
@@ -307,11 +323,13 @@ class DynamicsResult:
         return {"pm": self.model.name, "n_samples": len(self), "counts": self.counts(),
                 "units": {**self.model.units.as_dict(), "time": "s",
                           "mass": self.params.mass_unit},
-                "workload": {"force": self.force, "torque": self.torque, "applied_at": "o"},
+                "workload": {"force": self.force, "torque": self.torque, "applied_at": "o",
+                             "source": self.workload_source},
                 "gravity": self.params.gravity, "motion": {"source": self.motion.source,
                                                            "derivatives": self.motion.method},
                 "notes": list(self.params.notes) + list(self.motion.notes),
                 "status": self.status.tolist(),
+                "conditioning": self.conditioning.tolist(),
                 "columns": {c: {"unit": un, "values": v} for c, v, un in cols},
                 "residuals": {k: v for k, v in self.residuals.items()}}
 

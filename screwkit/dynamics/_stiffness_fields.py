@@ -75,7 +75,8 @@ def stiffness_fields(analysis, params=None, *, actuator=None, force_stiffness=No
     good = np.asarray(st.restrained).reshape(N)
     kt = np.asarray(st.principal("translational")[0], float).reshape(N, 3)
     kr = np.asarray(st.principal("rotational")[0], float).reshape(N, 3)
-    d = np.asarray(st.deflection, float).reshape(N, 6)
+    d = np.full((N, 6), np.nan) if st.deflection is None else \
+        np.asarray(st.deflection, float).reshape(N, 6)        # (no workload: no deflection)
     rank = np.where(good, np.asarray(st.rank).reshape(N), -1)
     vals = {
         "stiffness_rank": rank,

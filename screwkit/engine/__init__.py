@@ -20,12 +20,12 @@ from ._chains import leg_forward
 from ._closure import ACCEPTED, CONVERGED
 from ._run import CHUNK
 from ._jacobian import COND_THRESHOLD, JacobianResult, JacobianRow
-from ._quality import ILL_CONDITIONED_COND, NEAR_SINGULAR_COND
+from ._quality import CONDITIONING, ILL_CONDITIONED_COND, NEAR_SINGULAR_COND, classify
 from ._pipeline import RowInfo
 from ._solution import STATUSES, PoseSolution, solve
 from ._placed import solve_statics, unified_jacobian
 from ._statics import StaticsResult, statics, workload_wrench
-from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze, workload_source
+from ._analysis import PAPER_FORCE, PAPER_TORQUE, PMAnalysis, analyze
 from ._links import LinkFrames, link_frames
 from ._assembly import (analyze_pm, check_default_pose, default_full_pose, load_assembled_pm,
                         solve_path, solve_pose)
@@ -42,7 +42,7 @@ from ._scene import scene_of, wrench_rows
 
 __all__ = [
     "PARAMS", "LENGTH_PARAMS", "CONVERGED", "ACCEPTED", "STATUSES", "COND_THRESHOLD", "CHUNK",
-    "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+    "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND", "CONDITIONING", "classify",
     "PoseSolution", "solve", "solve_pose", "solve_path", "leg_forward",
     "RowInfo", "JacobianRow", "JacobianResult", "unified_jacobian",
     "StaticsResult", "statics", "solve_statics", "workload_wrench",
@@ -51,5 +51,5 @@ __all__ = [
     "finite_motion", "check_declared_motion",
     "ForwardResult", "forward_kinematics", "AssemblyModes", "assembly_modes",
     "LinkFrames", "link_frames", "constraint_resultants", "scene_of", "wrench_rows",
-    "workload_source", "TransmissionIndices", "transmission_indices", "power_coefficient",
+    "TransmissionIndices", "transmission_indices", "power_coefficient",
 ]

@@ -33,28 +33,22 @@ from ._pipeline import workload_about_origin
 from ._run import CHUNK, compute, row_points
 from ._inputs import pose_index
 from ._path import check_path
-from ._solution import PoseSolution, check_reachable, make_solution, prepare
+from ._solution import PoseSolution, check_reachable, make_solution, mark_invalid, prepare
 from ._statics import StaticsResult
-from ._workloads import _compliance, _mask, load_vector
+from ._workloads import (MissingStatics, _compliance, _mask, no_workload_message,
+                         resolve_workload)
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
     from ..pm import PMModel
 
-__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze", "workload_source"]
+__all__ = ["PAPER_FORCE", "PAPER_TORQUE", "PMAnalysis", "analyze"]
 
-#: The paper's workload (section 5.1): F in kN, T in kN.cm, applied at o.
+#: The paper's workload (section 5.1): F in kN, T in kN.cm, applied at o; the declared default
+#: workload of the paper's two PMs (3RRPRR, 2SPS+2SPR), and of no other.
 PAPER_FORCE = (-20.0, -30.0, -60.0)
 PAPER_TORQUE = (-30.0, -30.0, 100.0)
-
-
-def workload_source(force, torque) -> str:
-    """Where a workload comes from, for the outputs that state it: ``the paper's workload``
-    when ``(force, torque)`` is the paper's, else ``given``."""
-    paper = np.array_equal(np.asarray(force, float), PAPER_FORCE) and \
-        np.array_equal(np.asarray(torque, float), PAPER_TORQUE)
-    return "the paper's workload" if paper else "given"
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,9 +62,14 @@ class PMAnalysis:
     jacobian : JacobianResult
     statics : StaticsResult or None
         None for one singular pose analysed with ``raise_on_singular=False``; for N poses
-        the values of singular and unreachable poses are NaN (flagged).
+        the values of singular and unreachable poses are NaN (flagged).  Without a workload
+        (none given, none declared by the model) any use of it raises the
+        :class:`~screwkit.errors.InputError` that says how to give one.
     force, torque : ndarray (3,)
-        The workload applied at ``o``.
+        The workload applied at ``o`` (zeros when there is none: see ``workload``).
+    workload_source : str
+        Where the workload comes from: ``"given"``, ``"declared default (...)"``, or ``""``
+        when there is none.
     """
 
     model: PMModel
@@ -81,10 +80,25 @@ class PMAnalysis:
     torque: np.ndarray
     diagnostics: dict = field(default_factory=dict, repr=False)
     stiffness: object = field(default=None, repr=False)
+    workload_source: str = "given"
 
     @property
     def single(self) -> bool:
         return self.solution.single
+
+    @property
+    def workload(self):
+        """The :class:`~screwkit.pm.Workload` of the statics (force, torque, source), or
+        None when the analysis has none (its statics cannot be used)."""
+        if isinstance(self.statics, MissingStatics):
+            return None
+        from ..pm import Workload
+        src, _, note = self.workload_source.partition(" (")
+        return Workload(self.force, self.torque, src, note[:-1] if note else "")
+
+    @property
+    def has_workload(self) -> bool:
+        return not isinstance(self.statics, MissingStatics)
 
     def __len__(self) -> int:
         return len(self.solution)
@@ -95,13 +109,14 @@ class PMAnalysis:
         if self.single:
             raise TypeError("a one-pose PMAnalysis cannot be indexed")
         i = pose_index(i, len(self))
-        st = self.statics[i] if self.statics is not None else None
+        st = self.statics[i] if self.statics is not None else None     # (MissingStatics too)
         diag = dict(self.diagnostics)
         for key in ("rows_ok", "structure_ok"):
             if diag.get(key) is not None:
                 diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
-                          self.torque, diag, _stiffness_of_poses(self.stiffness, i, len(self)))
+                          self.torque, diag, _stiffness_of_poses(self.stiffness, i, len(self)),
+                          self.workload_source)
 
     # -- per-pose flags -----------------------------------------------------------------
     @property
@@ -137,12 +152,12 @@ class PMAnalysis:
         r = self.solution.closures.residual
         from ._closure import CONVERGED
         good = (r <= CONVERGED) & ~self.jacobian.singular_mask & np.atleast_1d(self.rows_ok)
-        if self.statics is not None:
+        if self.statics is None:
+            good &= False
+        elif self.has_workload:                          # (no load: the kinematics decide)
             eq = np.asarray(self.statics.equilibrium_residual if not self.single
                             else [self.statics.equilibrium_residual])
             good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
-        else:
-            good &= False
         return bool(good[0]) if self.single else good
 
     @property
@@ -163,6 +178,14 @@ class PMAnalysis:
         ``amplification`` (:class:`~screwkit.engine.TransmissionIndices`; ``docs/design.md``)."""
         from ._indices import transmission
         return transmission(self)
+
+    @property
+    def conditioning(self):
+        """THE conditioning class of each pose: ``regular``, ``near-singular``, ``singular``
+        or ``unreachable`` (:func:`~screwkit.engine._quality.classify`; the same in every
+        command and output)."""
+        c = self.quality.conditioning
+        return str(c[0]) if self.single else c
 
     @property
     def level(self):
@@ -234,10 +257,10 @@ class PMAnalysis:
         slider per parameter: :func:`screwkit.view`).  Needs plotly
         (``pip install "screwkit[view]"``)."""
         from ..scene import View, require_plotly
-        from ._scene import scene_of
+        from ._scene import NO_WORKLOAD, scene_of
         require_plotly()
-        return View(scene_of(self, start=start, title=title,
-                             source=workload_source(self.force, self.torque)))
+        return View(scene_of(self, start=start, title=title, source=self.workload_source
+                             if self.has_workload else NO_WORKLOAD))
 
     def _repr_html_(self) -> str:
         """The HTML table Jupyter shows for a result."""
@@ -283,7 +306,7 @@ def _stiffness_of_poses(stiffness, i, N):
     return stiffness
 
 
-def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees: bool = False,
+def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
             progress=None, stiffness=None, mapper=None) -> PMAnalysis:
@@ -295,9 +318,12 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
     pose : dict or DataFrame, optional
         Independent pose parameters: numbers (one pose) or arrays ``(N,)``; missing ones
         from the default pose.
-    force, torque : array_like (3,)
-        Workload at ``o`` (default: the paper's F = [-20, -30, -60] kN,
-        T = [-30, -30, 100] kN.cm).
+    force, torque : array_like (3,), optional
+        Workload at ``o`` (model units, world axes).  One without the other means the other
+        is zero.  Neither: the model's declared default (``model.workload``), else no
+        workload: the pose, ``J`` and mobility are computed, and any use of ``statics``
+        raises an :class:`~screwkit.errors.InputError` (``res.under(force, torque)`` adds
+        the statics later, on the same ``J``).
     degrees : bool
         Angles of ``pose`` in degrees.
     guess : PoseSolution or dict, optional
@@ -329,15 +355,17 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         to the serial run bit for bit.
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
-    F, T = load_vector(force, "force"), load_vector(torque, "torque")
-    fixed, N, single, notes, X0, side = prepare(model, pose, guess, degrees)
+    load = resolve_workload(model, force, torque)
+    F, T, source = load if load is not None else (np.zeros(3), np.zeros(3), "")
+    fixed, N, single, notes, X0, side, invalid = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
                    compliance=compliance, mapper=mapper)
-    sol = make_solution(model, comp.closures, single, notes, side)
+    sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
+                        invalid)
     if single:
         check_reachable(sol)
     cond = comp.conditioning
@@ -355,7 +383,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
                          float(threshold), bool(single), sol.legs_at)
     if single and raise_on_singular:
         jac.check()
-    st = None
+    st: Any = None
     if not (single and jac.singular):
         st = StaticsResult(jac, comp.values,
                            lambda: workload_about_origin(np.broadcast_to(F, (N, 3)),
@@ -366,5 +394,7 @@ def analyze(model, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE, degrees
         bad = ~sol.reachable_mask | jac.singular_mask
         if bad.any():
             st = _mask(st, bad)
+        if load is None:
+            st = MissingStatics(no_workload_message(model))
     diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok)
-    return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness)
+    return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness, source)

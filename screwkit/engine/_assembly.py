@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import CatalogError, InputError, ScrewkitError, UnreachablePoseError
 from ..pm import PARAMS, PMModel, load_pm
-from ._analysis import PAPER_FORCE, PAPER_TORQUE, analyze
+from ._analysis import analyze
 from ._solution import solve
 
 __all__ = ["load_assembled_pm", "check_default_pose", "default_full_pose", "solve_pose",
@@ -119,7 +119,7 @@ def solve_path(model, poses, guess=None, degrees: bool = False) -> tuple:
     return tuple(sol[i] for i in range(len(sol)))
 
 
-def analyze_pm(pm, pose=None, *, force=PAPER_FORCE, torque=PAPER_TORQUE,
+def analyze_pm(pm, pose=None, *, force=None, torque=None,
                overrides: dict | None = None, degrees: bool = False, guess=None,
                raise_on_singular: bool = True, catalog=None, **kwargs):
     """:func:`analyze` of a PM given by name, YAML path or model (see :func:`screwkit.analyze`)."""

@@ -124,7 +124,18 @@ def gauss_newton(ch: Chains, fixed: dict, X0, *, tol: float = STOP, max_iter: in
     Returns
     -------
     NewtonResult
+
+    Notes
+    -----
+    An iterate that runs away (an absurd target far outside the workspace) may overflow:
+    its residual is then not finite, the pose stops and is flagged (``stalled``, then
+    unreachable), so numpy's overflow warnings are silenced here rather than printed.
     """
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return _gauss_newton(ch, fixed, X0, tol, max_iter)
+
+
+def _gauss_newton(ch: Chains, fixed: dict, X0, tol, max_iter):
     X = np.array(X0, float)
     N = X.shape[1]
     tol = np.broadcast_to(np.asarray(tol, float), (N,))

@@ -112,6 +112,31 @@ class ForwardResult:
         return (self.det_sign == self.reference_det_sign) | (self.det_sign == 0) | \
             (self.reference_det_sign == 0)
 
+    @property
+    def side(self) -> np.ndarray:
+        """Which side of the base plane each solution's platform centre is on: ``+1`` home's
+        side (above the base), ``-1`` the other (below: a mirror mode), ``0`` in the plane
+        (:func:`~screwkit.engine._quality.base_side`)."""
+        from ._quality import base_side
+        return base_side(self.model, np.asarray(self.position, float).reshape(-1, 3))
+
+    @property
+    def working_mode(self) -> np.ndarray:
+        """The working mode's sign pattern: above the base and ``det J`` of the reference's
+        sign (where the PM is built to work)."""
+        return (self.side > 0) & self.same_mode_as_reference
+
+    def mode_text(self, i: int = 0) -> str:
+        """``above the base, det J -1 (the working mode's sign pattern)``: solution ``i``'s
+        mode in words."""
+        side = {1: "above the base", 0: "in the base plane", -1: "below the base (mirror)"}[
+            int(self.side[i])]
+        sign = f"det J {int(self.det_sign[i]):+d}" if self.det_sign[i] else "J not square"
+        tail = ("the working mode's sign pattern" if self.working_mode[i] else
+                f"not the working mode ({self.reference}: above the base, det J "
+                f"{self.reference_det_sign:+d})")
+        return f"{side}, {sign}: {tail}"
+
     def pose(self, i: int = 0, degrees: bool = True) -> dict:
         """The six pose parameters of solution ``i`` (degrees for angles by default)."""
         return {k: float(np.degrees(v[i]) if (degrees and k not in LENGTH_PARAMS) else v[i])
@@ -126,6 +151,10 @@ class ForwardResult:
                 "det_sign": int(self.det_sign[i]),
                 "reference": self.reference, "reference_det_sign": int(self.reference_det_sign),
                 "same_assembly_mode_as_reference": bool(self.same_mode_as_reference[i]),
+                "side_of_base": {1: "above", 0: "in the base plane", -1: "below"}[
+                    int(self.side[i])],
+                "working_mode": bool(self.working_mode[i]), "mode": self.mode_text(i),
+                "conditioning": str(np.atleast_1d(self.analysis.conditioning)[i]),
                 "level": str(np.atleast_1d(self.analysis.level)[i]),
                 "extensions": np.atleast_2d(self.analysis.solution.extensions)[i].tolist(),
                 "continuation_steps": int(self.steps[i]), "tracked": bool(self.tracked[i]),

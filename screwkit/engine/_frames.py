@@ -30,7 +30,8 @@ def long_records(res) -> dict:
     level = np.atleast_1d(np.asarray(res.level, dtype=object))
     cond = np.atleast_1d(res.jacobian.condition_number)
     ext = _per_pose(res.solution.extensions, single)
-    vals = _per_pose(res.statics.values, single) if res.statics is not None else None
+    vals = _per_pose(res.statics.values, single) \
+        if res.statics is not None and res.has_workload else None
     rows = res.jacobian.info
     cols = {k: [] for k in _COLUMNS}
 
@@ -96,19 +97,23 @@ def to_html(res, max_poses: int = 10) -> str:
         body = [(q, "" if leg is None else leg, k, _g(v), un)
                 for q, leg, k, v, un in zip(cols["quantity"], cols["leg"], cols["kind"],
                                             cols["value"], cols["unit"])]
-        status = (f"level <b>{html.escape(str(res.level))}</b>, ok {bool(res.ok)}, closure "
-                  f"residual {float(res.residual):.2g}")
+        status = (f"conditioning <b>{html.escape(str(res.conditioning))}</b>, trust level "
+                  f"{html.escape(str(res.level))}, ok {bool(res.ok)}, closure "
+                  f"residual {float(res.residual):.2g}"
+                  + ("" if res.has_workload else "; no workload: no statics"))
         return f"<div>{title}<br>{status}{_table(('quantity', 'leg', 'kind', 'value', 'unit'), body)}</div>"
     n = len(res)
     k = min(n, max_poses)
     labels = [r.label for r in res.jacobian.info]
-    vals = res.statics.values if res.statics is not None else np.full((n, len(labels)), np.nan)
+    vals = res.statics.values if res.statics is not None and res.has_workload else \
+        np.full((n, len(labels)), np.nan)
     params = res.solution.params_degrees()
     body = []
     for i in range(k):
         body.append([i, *(_g(np.atleast_1d(params[p])[i]) for p in pm.independent),
                      *(_g(v) for v in vals[i]), str(np.atleast_1d(res.level)[i])])
     status = (f"{n} poses: {int(np.sum(res.ok))} ok, {int(np.sum(res.singular))} singular, "
-              f"{int(np.sum(res.unreachable))} unreachable" + (f"; first {k} shown" if k < n else ""))
+              f"{int(np.sum(res.unreachable))} unreachable" + (f"; first {k} shown" if k < n else "")
+              + ("" if res.has_workload else "; no workload: no statics"))
     return (f"<div>{title}<br>{status}"
             f"{_table(('pose', *pm.independent, *labels, 'level'), body)}</div>")

@@ -171,6 +171,8 @@ def _amplification(analysis, reach):
     of :mod:`screwkit.engine._quality`, without the home pose's det J sign)."""
     from ._quality import trust
     st, jac = analysis.statics, analysis.jacobian
+    if not analysis.has_workload:
+        return np.full(len(jac), np.nan)          # no workload: no amplification to give
     if st is None:
         return np.full(len(jac), np.inf)
     amp, _ = trust(jac, np.asarray(st.F_r, float).reshape(len(jac), -1),

@@ -43,12 +43,17 @@ def _errors():
 
 
 def pose_arrays(model, pose, degrees: bool = False):
-    """Validate independent pose parameters; return ``(dict of (N,) arrays, N, single, notes)``.
+    """Validate independent pose parameters; return ``(dict of (N,) arrays, N, single, notes,
+    invalid)``.
 
     ``pose``: a mapping (or a pandas DataFrame) of the model's independent parameters
     to numbers or 1-D arrays of one length; missing ones take the model's default.
     Angles are limited to +-3600 degrees, lengths to 1e12 times the model's size
-    (``screwkit.legs._guards``); booleans, strings and non-finite values are refused.
+    (``screwkit.legs._guards``); booleans and strings are refused, and so are non-finite
+    or out-of-range values of one pose.  In a batch, a pose with such a value is *flagged*
+    and the others kept: ``invalid`` maps its index to the reason, and its values are
+    replaced by the default pose's (solved, then marked unsolved by the caller).  An array
+    longer than ``MAX_BATCH`` is refused before it is converted.
     """
     from ..legs._guards import MAX_BATCH, did_you_mean, real_array, shorten
     err = _errors()
@@ -60,6 +65,7 @@ def pose_arrays(model, pose, degrees: bool = False):
         raise err.InputError(f"{model.name}: the independent pose parameters must be a mapping "
                              f"name -> value of {', '.join(model.independent)}")
     vals, single, n = {}, True, None
+    invalid: dict = {}
     for k, v in pose.items():
         if k not in PARAMS:
             raise err.InputError(f"{model.name}: unknown pose parameter {shorten(k)}"
@@ -68,18 +74,20 @@ def pose_arrays(model, pose, degrees: bool = False):
         if k not in model.independent:
             raise err.InputError(f"{model.name}: {k} is a dependent pose parameter; give "
                                  f"{', '.join(model.independent)}")
-        # numbers only (no booleans, strings, NaN, infinity, overflow), within the limits
-        a = real_array(v, f"{model.name}: pose parameter {k}")
+        # numbers only (no booleans, strings), sized before anything is converted
+        a = real_array(v, f"{model.name}: pose parameter {k}", max_size=MAX_BATCH,
+                       finite=not _is_batch(v))
         if a.ndim == 1:
-            if a.size > MAX_BATCH:
-                raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values: "
-                                     f"one call takes at most {MAX_BATCH} poses (split the batch)")
             single = False
             if n is not None and a.size != n:
                 raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values, "
                                      f"the others {n}")
             n = a.size
-        _pose_bound(model, k, a, degrees)
+            bad = _flag(model, k, a, degrees, invalid)
+            if bad.any():
+                a = np.where(bad, _default(model, k, degrees), a)
+        else:
+            _pose_bound(model, k, a, degrees)
         vals[k] = np.radians(a) if (degrees and k not in LENGTH_PARAMS) else a
     N = 1 if n is None else n
     if N == 0:
@@ -90,7 +98,40 @@ def pose_arrays(model, pose, degrees: bool = False):
         vals[k] = np.asarray(model.default_pose[k], float)
     if missing:
         notes.append(f"{', '.join(missing)} taken from the default pose")
-    return {k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single, notes
+    return ({k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single,
+            notes, invalid)
+
+
+def _is_batch(v) -> bool:
+    return (isinstance(v, np.ndarray) and v.ndim == 1) or isinstance(v, (list, tuple))
+
+
+def _default(model, k, degrees):
+    v = float(model.default_pose.get(k, 0.0)) if k in model.default_pose else 0.0
+    return np.degrees(v) if (degrees and k not in LENGTH_PARAMS) else v
+
+
+def _flag(model, k, a, degrees, invalid) -> np.ndarray:
+    """The poses of a batch whose value of ``k`` is not finite or beyond the limits, each
+    with its reason added to ``invalid`` (index -> text)."""
+    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
+    with np.errstate(invalid="ignore"):
+        if k in LENGTH_PARAMS:
+            size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
+            lim, unit = MAX_LENGTH_FACTOR * size, ""
+            over = np.abs(a) > lim
+        else:
+            lim = MAX_ANGLE_DEG if degrees else np.radians(MAX_ANGLE_DEG)
+            unit = " deg" if degrees else " rad"
+            over = np.abs(a) > lim
+    bad = ~np.isfinite(a) | over
+    for i in np.flatnonzero(bad)[:1000]:
+        why = "is not a finite number" if not np.isfinite(a[i]) else \
+            f"is beyond the limit +-{lim:g}{unit}"
+        invalid.setdefault(int(i), []).append(f"pose parameter {k} = {a[i]:g}{unit} {why}")
+    for i in np.flatnonzero(bad)[1000:]:
+        invalid.setdefault(int(i), []).append(f"pose parameter {k} is not valid")
+    return bad
 
 
 def _pose_bound(model, k, a, degrees):
@@ -152,11 +193,11 @@ def _start_of(model, guess, N):
 
 
 def prepare(model, pose, guess, degrees):
-    """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side)``."""
-    fixed, N, one, notes = pose_arrays(model, pose, degrees)
+    """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side, invalid)``."""
+    fixed, N, one, notes, invalid = pose_arrays(model, pose, degrees)
     X0, bside = _start_of(model, guess, N)
     side = None
     if bside is not None and "beta" in fixed:
         d = np.asarray(bside) - fixed["beta"]
         side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
-    return fixed, N, one, notes, X0, side
+    return fixed, N, one, notes, X0, side, invalid

@@ -37,7 +37,9 @@ class AssemblyModes:
     Attributes
     ----------
     solutions : ForwardResult
-        One pose per distinct solution (sorted by ``Zo``, then the rotation).
+        One pose per distinct solution: those above the base first (home's side of the base
+        plane), then in it, then below (mirror modes); within each, those of the working
+        mode's ``det J`` sign first, then by ``Zo`` (highest first) and the rotation.
     seeds, converged : int
         Seeds tried, and seeds that converged.
     """
@@ -110,10 +112,17 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
     keep = good[_distinct(R[..., good], o[:, good], ch.length)]
     if keep.size == 0:
         raise InputError(f"{model.name}: no seed of {K} converged at these actuator values")
-    order = np.lexsort((np.round(R[2, 2, keep], 9), np.round(o[2, keep], 9)))
+    from ._quality import base_side
+    side = base_side(model, o[:, keep].T)
+    order = np.lexsort((np.round(R[2, 2, keep], 9), -np.round(o[2, keep], 9), -side))
     keep = keep[order]
     n = keep.size
     ref = {p: np.full(n, model.home_pose[p]) for p in ("alpha", "beta", "gamma")}
-    sols = finish(model, ch, R[..., keep], o[:, keep], q[..., keep], res[keep], its[keep],
-                  np.zeros(n, int), np.repeat(target, n, axis=0), False, ref)
+    def solutions(keep):
+        return finish(model, ch, R[..., keep], o[:, keep], q[..., keep], res[keep], its[keep],
+                      np.zeros(n, int), np.repeat(target, n, axis=0), False, ref)
+    sols = solutions(keep)
+    perm = np.lexsort((np.arange(n), ~sols.same_mode_as_reference, -sols.side))
+    if np.any(perm != np.arange(n)):           # the working mode's sign first on each side
+        sols = solutions(keep[perm])
     return AssemblyModes(sols, K, int(good.size), target[0])

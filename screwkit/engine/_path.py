@@ -53,7 +53,7 @@ def check_path(fixed: dict, path: bool, length: float = 1.0) -> tuple:
     median = float(np.median(np.max(steps, axis=0)))
     if median <= SCATTERED_STEP:
         return True, ()
-    return False, (f"path=True, but successive poses are far apart (median step "
+    return False, (f"given as a path, but successive poses are far apart (median step "
                    f"{100 * median:.0f}% of their spread): solved as scattered poses, each "
                    "from home",)
 

@@ -31,7 +31,7 @@ class RowInfo:
     ``leg`` (0-based), ``leg_name``, ``kind`` (``actuation``, ``force``, ``couple``,
     ``screw``), ``member`` (the geometric kind of the wrench), ``point_name`` (the
     named point of the leg on the force line, or None), ``joint`` (the actuated joint
-    of an actuation row), ``label`` (``F_a1``, ``F_c2``, ``T_c3``...).
+    of an actuation row), ``label`` (``F_a1``, ``F_c2``, ``T_c3``; rotary: ``T_a1``).
     """
 
     leg: int
@@ -118,10 +118,10 @@ def _make_labels(templates):
     for i, t in enumerate(templates):
         a = t.actuation
         if not t.passive:          # a passive leg has no actuation row
-            info_a.append(RowInfo(i, t.name, "actuation",
-                                  a.member if a.kind != "none" else "none",
-                                  a.names[0] if a.names else None, t.names[t.actuated],
-                                  f"F_a{i + 1}"))
+            joint, member = t.names[t.actuated], a.member if a.kind != "none" else "none"
+            torque = member == "couple" or (joint is not None and joint[0] in "RH")  # rotary
+            info_a.append(RowInfo(i, t.name, "actuation", member, a.names[0] if a.names
+                                  else None, joint, f"{'T' if torque else 'F'}_a{i + 1}"))
         for kind, pname in t.member_kinds:
             kc += 1
             sym = {"force": "F_c", "couple": "T_c"}.get(kind, "W_c")

@@ -1,11 +1,18 @@
-"""How much to trust each pose: condition level, force amplification, assembly mode (private).
+"""How much to trust each pose: the conditioning class, the trust level of the efforts, the
+force amplification and the assembly mode (private).
 
+* ``conditioning`` (:func:`classify`): THE classification of a pose that every command and
+  output uses (analyze, trajectory, map, size, stiffness, dynamics): ``regular``,
+  ``near-singular`` (the normalised condition number above :data:`NEAR_SINGULAR_COND`) or
+  ``singular`` (above the Jacobian's threshold, :data:`~screwkit.engine.COND_THRESHOLD` by
+  default); ``unreachable`` where the pose has no assembly (and no conditioning);
 * ``condition_number``: the normalised one of :mod:`screwkit.engine._jacobian`;
 * ``amplification``: the largest effort over the size of the workload, in consistent
   units: forces as they are, couples and rotary-actuator torques divided by the
   characteristic length ``L`` of the pose (the normalisation's), the workload's size
   ``sqrt(|F|^2 + |T / L|^2)``; 1 means the legs carry no more than the load;
-* ``level``: ``singular`` above :data:`~screwkit.engine.COND_THRESHOLD`; else
+* ``level``, the trust level of the efforts: the class, made worse by the force
+  amplification: ``singular`` above :data:`~screwkit.engine.COND_THRESHOLD`; else
   ``near-singular`` when the condition number exceeds :data:`NEAR_SINGULAR_COND` or the
   amplification :data:`NEAR_SINGULAR_AMPLIFICATION`; else ``ill-conditioned`` above
   :data:`ILL_CONDITIONED_COND` or :data:`ILL_CONDITIONED_AMPLIFICATION`; else ``ok``;
@@ -25,16 +32,68 @@ import numpy as np
 
 from ..errors import ScrewkitError
 
-__all__ = ["LEVELS", "det_reference", "trust", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+__all__ = ["CONDITIONING", "classify", "LEVELS", "det_reference", "base_side", "trust", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
            "quality", "home_det_sign"]
 
+#: The conditioning classes of a reachable pose, from best to worst (:func:`classify`).
+CONDITIONING = ("regular", "near-singular", "singular")
 #: The levels, from best to worst (an unreachable pose has the level ``unreachable``).
 LEVELS = ("ok", "ill-conditioned", "near-singular", "singular")
 ILL_CONDITIONED_COND = 1e2
 NEAR_SINGULAR_COND = 1e3
 ILL_CONDITIONED_AMPLIFICATION = 2.0
 NEAR_SINGULAR_AMPLIFICATION = 5.0
+
+
+def classify(condition_number, singular, reachable=None) -> np.ndarray:
+    """The conditioning class of each pose, ``(N,)`` strings: ``regular``, ``near-singular``
+    (normalised condition number above :data:`NEAR_SINGULAR_COND`), ``singular`` (flagged
+    singular by the Jacobian's threshold), or ``unreachable`` (``reachable`` False: no
+    assembly, so no conditioning).  The one classification of every output.
+
+    Examples
+    --------
+    >>> classify([50.0, 6.3e7, 2e9], [False, False, True]).tolist()
+    ['regular', 'near-singular', 'singular']
+    """
+    cond = np.atleast_1d(np.asarray(condition_number, float))
+    sing = np.broadcast_to(np.asarray(singular, bool), cond.shape)
+    out = np.full(cond.shape, "regular", dtype="<U13")
+    out[~(cond <= NEAR_SINGULAR_COND)] = "near-singular"      # (NaN: not regular)
+    out[sing] = "singular"
+    if reachable is not None:
+        out[~np.broadcast_to(np.asarray(reachable, bool), cond.shape)] = "unreachable"
+    return out
+
+
+def describe_class(cls: str, cond: float) -> str:
+    """``near-singular (normalised condition number 6.3e+07 > 1e3)``: a class in words."""
+    if cls == "unreachable":
+        return "unreachable (no assembly)"
+    if cls == "regular":
+        return f"regular (normalised condition number {cond:.3g})"
+    from ._pipeline import COND_THRESHOLD
+    limit = NEAR_SINGULAR_COND if cls == "near-singular" else COND_THRESHOLD
+    return f"{cls} (normalised condition number {cond:.3g} > {limit:g})"
+
+
+def base_side(model, o) -> np.ndarray:
+    """Which side of the base plane the platform centre ``o (N, 3)`` is on, ``(N,)``: ``+1``
+    the side of home (above the base), ``-1`` the other (below: a mirror assembly), ``0``
+    in the base plane (within ``GEOMETRY_RTOL`` of the model's length); all ``+1`` when home
+    itself is in the base plane (a planar PM)."""
+    from ..screws import GEOMETRY_RTOL
+    R0, _ = model.frame
+    n = np.asarray(R0, float)[:, 2]
+    c = np.asarray(model.world_base_points, float).mean(axis=0)
+    tol = GEOMETRY_RTOL * float(model.normalisation.length)
+    home = float(n @ (model.platform_home[1] - c))
+    o = np.asarray(o, float).reshape(-1, 3)
+    if abs(home) <= tol:
+        return np.ones(len(o), int)
+    h = (o - c) @ n * np.sign(home)
+    return np.where(np.abs(h) <= tol, 0, np.where(h < 0, -1, 1)).astype(int)   # (NaN: +1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,11 +107,13 @@ class Quality:
     home_det_sign: int
     beyond_singular_surface: np.ndarray
     reference: str = "home"
+    conditioning: np.ndarray = None
+    side: np.ndarray = None
 
     def take(self, sl) -> "Quality":
         return Quality(self.condition_number[sl], self.amplification[sl], self.level[sl],
                        self.det_sign[sl], self.home_det_sign, self.beyond_singular_surface[sl],
-                       self.reference)
+                       self.reference, self.conditioning[sl], self.side[sl])
 
     def warnings(self, i: int = 0) -> tuple:
         """One line per thing worth a warning at pose ``i``."""
@@ -60,15 +121,19 @@ class Quality:
         lev = str(self.level[i])
         if lev == "unreachable":
             out.append("unreachable pose: no assembly was found (Newton and continuation from "
-                       "home; another branch may exist: pass guess=); J, its conditioning and "
+                       "home; another branch may exist: start from a solved pose near it); J, its "
+                       "conditioning and "
                        "the efforts here are not defined")
-        elif lev in ("near-singular", "singular"):
-            out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}, "
-                       f"efforts up to {self.amplification[i]:.3g} times the load")
-        elif lev == "ill-conditioned":
-            out.append(f"ill-conditioned pose: normalised condition number "
-                       f"{self.condition_number[i]:.3g}, efforts up to "
-                       f"{self.amplification[i]:.3g} times the load")
+        elif lev in ("near-singular", "singular", "ill-conditioned"):
+            amp = self.amplification[i]
+            out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}"
+                       + ("" if np.isnan(amp) else f", efforts up to {amp:.3g} times the load"))
+        if lev != "unreachable" and self.side is not None and self.side[i] <= 0:
+            out.append("the platform centre o lies in the base plane (home: above it): "
+                       "between the working assembly and its mirror below the base"
+                       if self.side[i] == 0 else
+                       "the platform centre o is below the base (home: above it): a mirror "
+                       "assembly, the legs cross the base plane")
         if self.beyond_singular_surface[i]:
             ref = "home" if self.reference == "home" else "the default pose"
             out.append(f"det J has the opposite sign to {ref}'s: this pose lies beyond a "
@@ -76,12 +141,17 @@ class Quality:
         return tuple(out)
 
     def as_dict(self, i: int = 0) -> dict:
-        return {"condition_number": float(self.condition_number[i]),
-                "force_amplification": float(self.amplification[i]),
+        amp = float(self.amplification[i])
+        return {"class": str(self.conditioning[i]),
+                "classes": list(CONDITIONING),
+                "condition_number": float(self.condition_number[i]),
+                "force_amplification": None if np.isnan(amp) else amp,
                 "level": str(self.level[i]),
                 "det_sign": int(self.det_sign[i]), "home_det_sign": int(self.home_det_sign),
                 "beyond_singular_surface": bool(self.beyond_singular_surface[i]),
                 "det_reference": self.reference,
+                "side_of_base": {1: "above", 0: "in the base plane", -1: "below"}[
+                    int(self.side[i])] if self.side is not None else None,
                 "thresholds": {"ill_conditioned": {"condition_number": ILL_CONDITIONED_COND,
                                                    "amplification": ILL_CONDITIONED_AMPLIFICATION},
                                "near_singular": {"condition_number": NEAR_SINGULAR_COND,
@@ -117,7 +187,7 @@ def amplification(values, info, W, L, o):
     return np.nanmax(eff, axis=(1, 2), initial=0.0) / np.maximum(np.max(size, axis=1), 1e-300)
 
 
-def trust(jac, values, W, o, reachable) -> tuple:
+def trust(jac, values, W, o, reachable, no_load: bool = False) -> tuple:
     """``(amplification, level)`` of every pose of ``jac`` (a batch) under the workload
     ``W (N, 6)`` about the base origin whose efforts are ``values (N, m)`` (None: no
     statics, amplification infinite); ``o (N, 3)`` the platform centres.  An unreachable
@@ -125,7 +195,7 @@ def trust(jac, values, W, o, reachable) -> tuple:
     ``unreachable``, amplification NaN."""
     c = jac.conditioning
     N = len(jac)
-    amp = np.full(N, np.inf) if values is None else \
+    amp = np.full(N, np.nan if no_load else np.inf) if values is None else \
         amplification(values, jac.info, W, c.length, o)
     sing = jac.singular_mask
     amp = np.where(sing, np.inf, amp)
@@ -178,8 +248,9 @@ def quality(analysis, analyze) -> Quality:
     N = len(jac)
     cond = jac.conditioning.condition_number
     reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
-    amp, lev = trust(jac, None if st is None else st.F_r, None if st is None else st._W,
-                     analysis.solution._platform[1], reach)
+    loaded = st is not None and analysis.has_workload
+    amp, lev = trust(jac, st.F_r if loaded else None, st._W if loaded else None,
+                     analysis.solution._platform[1], reach, no_load=not analysis.has_workload)
     unreach = ~reach
     if jac.matrix.shape[1:] == (6, 6):
         det = np.sign(np.linalg.det(jac.matrix)).astype(int)
@@ -188,4 +259,7 @@ def quality(analysis, analyze) -> Quality:
     home, ref = det_reference(analysis.model, analyze)
     det[unreach] = 0
     beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
-    return Quality(cond, amp, lev, det, home, beyond, ref)
+    cls = classify(cond, jac.singular_mask, reach)
+    side = base_side(analysis.model, analysis.solution._platform[1])
+    side[unreach] = 1
+    return Quality(cond, amp, lev, det, home, beyond, ref, cls, side)

@@ -134,6 +134,8 @@ def report(analysis, units=None) -> dict:
     if not analysis.single:
         raise TypeError("to_dict describes one pose: index the result first (res[i])")
     sol, jac, st, model = analysis.solution, analysis.jacobian, analysis.statics, analysis.model
+    if not analysis.has_workload:
+        st = None                            # no workload: kinematics and J only
     ublock, k = _scales(model, units)
     kl, kf, kt = k["length"], k["force"], k["torque"]
     p = sol.params_degrees()
@@ -226,9 +228,12 @@ def report(analysis, units=None) -> dict:
                      "n_constraints": m.n_constraints, "gruebler": m.gruebler,
                      "stated_dof": model.stated_dof, "actuators": m.actuators,
                      "passive_legs": [i + 1 for i in model.passive]},
-        "workload": {"force": analysis.force * kf, "torque": analysis.torque * kt,
-                     "applied_at": "o", "force_unit": ublock["force"],
-                     "torque_unit": ublock["torque"]},
+        "workload": ({"force": analysis.force * kf, "torque": analysis.torque * kt,
+                      "applied_at": "o", "force_unit": ublock["force"],
+                      "torque_unit": ublock["torque"], "source": analysis.workload_source}
+                     if analysis.has_workload else
+                     {"force": None, "torque": None, "applied_at": "o", "source": None}),
+        "statics": None,
     }
     if st is not None:
         scale = np.array([kt if row_quantity(r) == "torque" else kf for r in jac.info])

@@ -59,7 +59,8 @@ def wrench_rows(analysis, values: bool = True):
     skipped : list of str
         Rows that cannot be drawn (finite-pitch wrenches, a dependent actuator).
     """
-    jac, st = analysis.jacobian, analysis.statics
+    jac = analysis.jacobian
+    st = analysis.statics if analysis.has_workload else None      # no load: no values
     have = st is not None and values
     vals = st.values if have else np.full(len(jac.rows), np.nan)
     det = st.determined if have else np.ones(len(jac.rows), bool)
@@ -130,6 +131,10 @@ def _line_points(J, points, force_rows):
     return np.where(missing[..., None], nearest, points)
 
 
+#: The source of a view without a workload (the scene says "none (...)" with it, once).
+NO_WORKLOAD = "the model declares none and none was given"
+
+
 def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = None,
              notes=(), source: str = ""):
     """The :class:`~screwkit.scene.Scene` of an analysis: one state per pose.
@@ -146,11 +151,12 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
     notes : sequence of str
         Shown under the view.
     source : str
-        Where the workload comes from (:func:`~screwkit.engine.workload_source`).
+        Where the workload comes from (the analysis' ``workload_source``).
     """
     from ..scene import PoseState, Scene, TimeControls
 
-    model, sol, jac, st = analysis.model, analysis.solution, analysis.jacobian, analysis.statics
+    model, sol, jac = analysis.model, analysis.solution, analysis.jacobian
+    st = analysis.statics if analysis.has_workload else None      # no load: no values
     N = 1 if analysis.single else len(analysis)
     m = len(jac.info)
 
@@ -169,7 +175,7 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
         values = _shown(analysis, per_pose(st.values, (m,)), jac.info)
         det = np.asarray(st.determined, bool).reshape(N, m)
     reach = np.asarray(sol.reachable_mask, bool).reshape(N)
-    singular = np.asarray(analysis.singular, bool).reshape(N)
+    cls = np.asarray(analysis.conditioning).reshape(N)             # the one classification
     level = np.asarray(analysis.level).reshape(N)
     cond = per_pose(jac.conditioning.condition_number, ())
     L = float(model.normalisation.length)
@@ -186,7 +192,7 @@ def scene_of(analysis, controls=None, *, start: int = 0, title: str | None = Non
         legs = (sol.legs if analysis.single else sol.legs_at(i)) if ok else ()
         states.append(PoseState(
             pose={k: float(params[k][i]) for k in PARAMS},
-            status="unreachable" if not ok else "singular" if singular[i] else "ok",
+            status="unreachable" if not ok else "ok" if cls[i] == "regular" else str(cls[i]),
             level=str(level[i]) if ok else "unreachable",
             condition_number=float(cond[i]), legs=tuple(legs), base_points=base,
             platform_points=plat[i], o=o[i],

@@ -38,8 +38,9 @@ __all__ = ["PoseSolution", "Closures", "solve", "STATUSES", "STRUCTURE_TOL"]
 
 #: Largest structure-check residual regarded as satisfied (dimensionless).
 STRUCTURE_TOL = 1e-7
-#: Per-pose status of a solution.
-STATUSES = ("ok", "not converged", "unreachable")
+#: Per-pose status of a solution (``invalid input``: a pose of a batch given a non-finite or
+#: out-of-range value, flagged and not solved; it counts as unreachable).
+STATUSES = ("ok", "not converged", "unreachable", "invalid input")
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,10 +76,12 @@ class PoseSolution:
         c = self.closures
         ch = c.chains
         bad = ~self.reachable_mask
+        given_bad = ~np.isfinite(c.residual)            # invalid input: no value of its own
         out = {}
         for k in PARAMS:
             if k in c.fixed:
                 v = np.array(c.fixed[k], float)
+                v[given_bad] = np.nan
             else:
                 j = ch.unknown.index(k)
                 v = c.X[j] * ch.x_scale[j]
@@ -187,7 +190,9 @@ class PoseSolution:
         """``ok``, ``not converged`` (residual above CONVERGED, below ACCEPTED) or
         ``unreachable``, per pose."""
         r = self.closures.residual
-        s = np.where(r <= CONVERGED, "ok", np.where(r <= ACCEPTED, "not converged", "unreachable"))
+        s = np.where(r <= CONVERGED, "ok", np.where(r <= ACCEPTED, "not converged",
+                                                    np.where(np.isfinite(r), "unreachable",
+                                                             "invalid input")))
         return str(s[0]) if self.single else s
 
     @property
@@ -277,30 +282,47 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     from ._path import check_path
     from ._run import compute
 
-    fixed, N, one, notes, X0, side = prepare(model, pose, guess, degrees)
+    fixed, N, one, notes, X0, side, invalid = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     single = one if single is None else single
     comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)
-    sol = make_solution(model, comp.closures, single, notes, side)
+    sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
+                        invalid)
     if (single if raise_unreachable is None else raise_unreachable):
         check_reachable(sol)
     return sol
 
 
-def make_solution(model, closures: Closures, single, notes, side=None) -> PoseSolution:
+def mark_invalid(closures: Closures, invalid: dict) -> Closures:
+    """The closures with the poses of ``invalid`` (index -> reasons) marked not solved
+    (residual infinite: unreachable, status ``invalid input``)."""
+    if not invalid:
+        return closures
+    import dataclasses
+    r = np.array(closures.residual, float)
+    r[np.fromiter(invalid, int)] = np.inf
+    return dataclasses.replace(closures, residual=r)
+
+
+def make_solution(model, closures: Closures, single, notes, side=None,
+                  invalid=None) -> PoseSolution:
     """The :class:`PoseSolution` of solved closures, with the notes of each pose."""
     ch = closures.chains
-    pose_notes = {}
+    pose_notes: dict[int, tuple[str, ...]] = {
+        int(i): (f"invalid input, not solved: {'; '.join(why)}",)
+        for i, why in (invalid or {}).items()}
     fixed = closures.fixed
     for i in np.flatnonzero(closures.singular_beta):
+        if int(i) in pose_notes:                 # invalid input: not solved, no more to say
+            continue
         pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
         b = np.degrees(fixed["beta"][i])
         how = ("the one-sided limit from the warm start's side" if side is not None and side[i]
                else "the limit beta -> " + f"{b:.6g} deg (average of both sides)")
         txt = ", ".join(f"{p} = {np.degrees(closures.X[ch.unknown.index(p), i]):.6g} deg"
                         for p in pair)
-        pose_notes[int(i)] = (
+        pose_notes[int(i)] = pose_notes.get(int(i), ()) + (
             f"beta = {b:.6g} deg is a representation singularity of {model.order} (alpha and "
             f"gamma turn about the same axis): {' and '.join(pair)} resolved by continuity as "
             f"{how}: {txt}",)
@@ -334,7 +356,8 @@ def check_reachable(sol: PoseSolution):
     raise err.UnreachablePoseError(
         f"{sol.model.name}: pose {given} is unreachable from the home assembly: the loop "
         f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g}); a solution "
-        "on another branch may exist (pass guess=, or reach the pose along a path)", residual=f)
+        "on another branch may exist (start from a solved pose near it, or reach it along a "
+        "path)", residual=f)
 
 
 def _fmt(k, v):

@@ -358,6 +358,10 @@ def compliance_of(stiffness, m, N):
     k = np.asarray(stiffness, dtype=float)
     if k.shape not in ((m,), (N, m)):
         raise InputError(f"stiffness must have one value per row of J ({m}), got shape {k.shape}")
+    from ..legs._guards import MAX_STIFFNESS, MIN_STIFFNESS
     if not (np.all(np.isfinite(k)) and np.all(k > 0)):
         raise InputError("stiffness values must be positive and finite")
+    if not np.all((k >= MIN_STIFFNESS) & (k <= MAX_STIFFNESS)):
+        raise InputError(f"stiffness values must be from {MIN_STIFFNESS:g} to {MAX_STIFFNESS:g} "
+                         "in the model's units")
     return np.broadcast_to(1.0 / k, (N, m))

@@ -15,7 +15,7 @@ import numpy as np
 from ._pipeline import default_compliance, statics_values, workload_about_origin
 from ._statics import StaticsResult
 
-__all__ = ["load_vector", "under"]
+__all__ = ["load_vector", "under", "resolve_workload", "MissingStatics", "no_workload_message"]
 
 
 def under(analysis, force, torque):
@@ -33,10 +33,14 @@ def under(analysis, force, torque):
         The same solution and Jacobian; ``statics``, ``force``, ``torque`` and the quality
         (force amplification, trust level) of the new workload.
     """
-    F, T = load_vector(force, "force"), load_vector(torque, "torque")
+    load = resolve_workload(analysis.model, force, torque)
+    if load is None:
+        from ..errors import InputError
+        raise InputError(no_workload_message(analysis.model))
+    F, T, src = load
     jac, sol = analysis.jacobian, analysis.solution
     if analysis.statics is None:            # one singular pose: no statics, whatever the load
-        return dataclasses.replace(analysis, force=F, torque=T)
+        return dataclasses.replace(analysis, force=F, torque=T, workload_source=src)
     N = len(jac)
     W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)),
                               jac.origin)
@@ -47,12 +51,61 @@ def under(analysis, force, torque):
     values = statics_values(Jn, d, c.singular_values, c, W, comp)
     for x in (W, values):
         x.setflags(write=False)
-    old = analysis.statics
-    st = StaticsResult(jac, values, W, old.A, old.a, np.ones(N, bool))
+    st = StaticsResult(jac, values, W, sol.base_points, lambda: sol._platform[2],
+                       np.ones(N, bool))
     bad = ~sol.reachable_mask | jac.singular_mask
     if bad.any():
         st = _mask(st, bad)
-    return dataclasses.replace(analysis, statics=st, force=F, torque=T)
+    return dataclasses.replace(analysis, statics=st, force=F, torque=T, workload_source=src)
+
+
+def no_workload_message(model, options=("force=", "torque=")) -> str:
+    """The error of statics asked of a model without a workload, naming ``options``."""
+    return (f"{model.name} declares no workload: give one ({options[0]} and/or {options[1]} at "
+            f"o; the missing one is zero), or declare its default in the model "
+            f"(workload: {{force: [..], torque: [..], units: {{force: .., length: ..}}}})")
+
+
+def resolve_workload(model, force=None, torque=None, source: str = "given"):
+    """The workload of an analysis: ``(F, T, source)``, or ``None`` when there is none.
+
+    A force without a torque (or a torque without a force) means the other is zero; with
+    neither, the model's declared default (``model.workload``, source ``"declared
+    default"``) is used, else there is no workload (the statics cannot be solved)."""
+    if force is None and torque is None:
+        w = getattr(model, "workload", None)
+        if w is None:
+            return None
+        return np.array(w.force), np.array(w.torque), w.origin
+    F = np.zeros(3) if force is None else load_vector(force, "force")
+    T = np.zeros(3) if torque is None else load_vector(torque, "torque")
+    return F, T, source
+
+
+class MissingStatics:
+    """The statics of an analysis made without a workload: any use raises the
+    :class:`~screwkit.errors.InputError` that says how to give one (kinematics, mobility and
+    ``J`` of the analysis are there)."""
+
+    __slots__ = ("message",)
+
+    def __init__(self, message: str):
+        object.__setattr__(self, "message", message)
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        from ..errors import InputError
+        raise InputError(self.message)
+
+    def __getitem__(self, i):
+        return self
+
+    def __reduce__(self):
+        return (MissingStatics, (self.message,))
+
+    def __repr__(self) -> str:
+        return "MissingStatics(no workload)"
 
 
 def load_vector(x, name):

@@ -135,6 +135,21 @@ def check_analysis(analysis, checker=None, *, rtol: float = CHECK_RTOL) -> PMChe
     return PMCheckReport(str(getattr(analysis.model, "name", "")), _pose_of(sol), summarize(detail), detail)
 
 
+def check_load(model) -> tuple:
+    """``(force, torque, note)``: the workload the statics rows of a check use: the model's
+    declared one, else the *check load* (any load serves the identities checked; this one
+    is a unit force along ``(1, 2, 3) / sqrt(14)`` and a torque of ``L`` times it, ``L`` the
+    model's length), said in ``note``."""
+    w = getattr(model, "workload", None)
+    if w is not None:
+        return np.array(w.force), np.array(w.torque), f"the {w.origin} workload"
+    u = np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)
+    L = float(model.normalisation.length)
+    return u, L * u, ("the check load (the model declares no workload; any load serves "
+                      "the identities): a unit force along (1, 2, 3)/sqrt(14), torque L times "
+                      "it")
+
+
 def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = None,
                      angle: float = np.radians(8.0), length_fraction: float = 0.08,
                      max_draws: int | None = None, **analyze_kwargs) -> tuple:
@@ -186,6 +201,9 @@ def regular_analyses(pm, n: int = 10, seed: int = 0, *, centre: dict | None = No
     zref = abs(float(c.get("Zo", 0.0))) or float(model.normalisation.length)
     rng = np.random.default_rng([int(seed), zlib.crc32(model.name.encode())])
     limit = 5 * int(n) + 20 if max_draws is None else int(max_draws)
+    if "force" not in analyze_kwargs and "torque" not in analyze_kwargs:
+        F, T, _ = check_load(model)
+        analyze_kwargs = dict(analyze_kwargs, force=F, torque=T)
     out = []
     for _ in range(limit):
         pose = {}

@@ -43,12 +43,8 @@ BOUND_INERTIA = 1e-9
 def si_factors(pm) -> dict:
     """Factors from the model's units to SI: ``length`` (m), ``mass`` (kg, the model's mass
     unit force.s^2/length), ``inertia`` (kg.m^2), ``force`` (N), ``torque`` (N.m)."""
-    if not pm.units.declared:
-        raise InputError(f"{pm.name} declares no units (units: {{length: ..., force: ...}}): "
-                         "MJCF is in SI, so the export needs them")
-    f = pm.units.si_factors()
-    lf, ff = f["length"], f["force"]
-    return {"length": lf, "force": ff, "torque": lf * ff, "mass": ff / lf, "inertia": ff * lf}
+    from ._si import SIConversion
+    return SIConversion.of(pm).factors()          # the one conversion of every SI export
 
 
 def _f(x) -> str:

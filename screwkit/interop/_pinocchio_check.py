@@ -286,7 +286,8 @@ def check_pm(solution, statics=None, *, mobility=None, expected_dof=None, checke
         ``mobility``, ``mobility.twists``, ``mobility.locked``.
     """
     if _is_analysis(solution):
-        statics = solution.statics if statics is None else statics
+        if statics is None and getattr(solution, "has_workload", True):
+            statics = solution.statics           # (none without a workload: kinematics only)
         mobility = solution.mobility if mobility is None else mobility
         solution = solution.solution
     model = solution.model

@@ -31,9 +31,13 @@ second bar on the far link; ``contact_type`` in the constraint's entry), the arg
 
 Visual geometry is simple: a cylinder along each link between consecutive joint points, a
 sphere at each S or U centre, a thin disc for the base and for the platform (sized from
-their vertices).  Links carry no inertia (the dynamics of :mod:`screwkit.dynamics` use the
-model's ``dynamics:`` block).  Lengths are in the model's length unit (URDF readers
-assume metres: scale with ``--scale`` when a tool needs SI).
+their vertices).
+
+Units are URDF's: metres, kilograms, radians (:mod:`~._si` converts the model's, through
+pint; a model that declares no units cannot be exported).  The links' ``<inertial>``
+elements are the masses and inertias of the model's ``dynamics:`` block (or of the
+``params`` given), each about its centre of mass in its link's frame; without one every
+link is massless, and the file's header comment says so.
 """
 
 from __future__ import annotations
@@ -145,6 +149,18 @@ def _twins(rows):
     return out
 
 
+def _last_rows(rows) -> list:
+    """The last row of each equivalent joint in a leg's rows (the link after it)."""
+    out, seen = [], []
+    for r, (j, *_rest) in enumerate(rows):
+        if seen and seen[-1] is j:
+            out[-1] = r
+        else:
+            seen.append(j)
+            out.append(r)
+    return out
+
+
 def _slot_rows(rows) -> list:
     """The row of each equivalent joint (a ``Pa``'s first bar) in a leg's rows."""
     out, seen = [], set()
@@ -155,27 +171,51 @@ def _slot_rows(rows) -> list:
     return out
 
 
-def urdf_text(pm) -> str:
-    """The URDF (text) of the spanning tree of ``pm`` at its home pose (module docstring)."""
+def _inertial(body, origin_at) -> str:
+    """The ``<inertial>`` of an :class:`~._si.SIBody` in a link frame at ``origin_at`` (world
+    axes; the platform's in its own frame)."""
+    c = np.asarray(body.com, float) - origin_at
+    I = np.asarray(body.inertia, float)
+    return (f'    <inertial><origin xyz="{_vec(c)}" rpy="0 0 0"/><mass value="{_f(body.mass)}"/>'
+            f'<inertia ixx="{_f(I[0, 0])}" ixy="{_f(I[0, 1])}" ixz="{_f(I[0, 2])}" '
+            f'iyy="{_f(I[1, 1])}" iyz="{_f(I[1, 2])}" izz="{_f(I[2, 2])}"/></inertial>\n')
+
+
+def urdf_text(pm, params=None) -> str:
+    """The URDF (text) of the spanning tree of ``pm`` at its home pose, in metres and
+    kilograms, with the link inertias of ``params`` (default: the model's ``dynamics:``
+    block; none without one) (module docstring)."""
+    from ._si import SIConversion, si_bodies
+
+    si = SIConversion.of(pm)
+    k = si.length
+    bodies, note = si_bodies(pm, params)
+    by_slot = {(b.leg, b.slot): b for b in bodies if b.leg is not None}
+    plat_body = next((b for b in bodies if b.leg is None), None)
     R_home, o_home = pm.platform_home
-    scale = float(pm.normalisation.length) or 1.0
+    o_home = o_home * k
+    scale = (float(pm.normalisation.length) or 1.0) * k
     r_link = 0.02 * scale
-    base_pts = pm.world_base_points
-    plat_pts = (R_home @ pm.platform_points.T).T + o_home
+    base_pts = pm.world_base_points * k
+    plat_pts = (R_home @ pm.platform_points.T).T * k + o_home
     R0, p0 = pm.frame
+    p0 = np.asarray(p0, float) * k
     lines = [f'<?xml version="1.0"?>\n<robot name={quoteattr(pm.name)}>\n',
-             f"  <!-- screwkit export of {pm.name} ({'+'.join(pm.legs)}), home pose, lengths in "
-             f"{pm.units.length}; loop closures in the .closures.json sidecar -->\n",
+             f"  <!-- screwkit export of {pm.name} ({'+'.join(pm.legs)}), home pose; lengths "
+             f"in m (the model's {pm.units.length} x {k:g}), masses in kg, angles in rad; "
+             f"{note}; loop closures in the .closures.json sidecar -->\n",
              '  <link name="base">\n',
              _disc(p0, R0, float(np.max(np.linalg.norm(base_pts - p0, axis=1))) * 1.05,
                    0.02 * scale, np.zeros(3)),
              "  </link>\n"]
     trees = _tree(pm)
-    for k, rows in enumerate(trees):
-        leg = pm.home_legs[k]
+    for k_leg, rows in enumerate(trees):
+        leg = pm.home_legs[k_leg]
         parent, parent_point = "base", np.zeros(3)
-        ends = [r[2] for r in rows[1:]] + [np.asarray(leg.a, float)]
-        for (j, name, p, d, kind), nxt in zip(rows, ends):
+        ends = [r[2] * k for r in rows[1:]] + [np.asarray(leg.a, float) * k]
+        slot_of = {r: s for s, r in enumerate(_last_rows(rows))}   # a Pa: its far link
+        for row, ((j, name, p, d, kind), nxt) in enumerate(zip(rows, ends)):
+            p = p * k
             child = f"{name}_link"
             big = 10.0 * scale
             lo, hi = (-math.pi, math.pi) if kind == "revolute" else (-big, big)
@@ -191,9 +231,12 @@ def urdf_text(pm) -> str:
             visual = _cylinder(p, nxt, (1.6 if kind == "prismatic" else 1.0) * r_link, p)
             if j.spec.origin in "SU" and j.name.endswith("a"):
                 visual += _sphere(p, 2.0 * r_link, p)
-            lines.append(f'  <link name="{child}">\n{visual}  </link>\n')
+            body = by_slot.get((k_leg, slot_of.get(row)))
+            inertial = "" if body is None else _inertial(body, p)
+            lines.append(f'  <link name="{child}">\n{inertial}{visual}  </link>\n')
             parent, parent_point = child, p
         for (j, name, par, par_pt, p, h, b, e) in _twins(rows):   # the parallelograms' second bars
+            p, par_pt, b = p * k, par_pt * k, b * k                  # (metres)
             lines.append(f'  <joint name="{name}" type="revolute">\n'
                          f'    <parent link="{par}"/><child link="{name}_link"/>\n'
                          f'    <origin xyz="{_vec(p - par_pt)}" rpy="0 0 0"/><axis xyz="{_vec(h)}"/>\n'
@@ -202,13 +245,14 @@ def urdf_text(pm) -> str:
                          f'offset="0"/>\n  </joint>\n')
             lines.append(f'  <link name="{name}_link">\n{_cylinder(p, p + b, r_link, p)}'
                          f'  </link>\n')
-        if k == 0:
+        if k_leg == 0:
             lines.append(f'  <joint name="platform_fixed" type="fixed">\n'
                          f'    <parent link="{parent}"/><child link="platform"/>\n'
                          f'    <origin xyz="{_vec(o_home - parent_point)}" '
                          f'rpy="{_vec(_rpy(R_home))}"/>\n  </joint>\n')
             rad = float(np.max(np.linalg.norm(plat_pts - o_home, axis=1))) * 1.05
             lines.append('  <link name="platform">\n'
+                         + ("" if plat_body is None else _inertial(plat_body, np.zeros(3)))
                          + _disc(np.zeros(3), np.eye(3), rad, 0.02 * scale, np.zeros(3))
                          + "  </link>\n")
     lines.append("</robot>\n")
@@ -218,36 +262,43 @@ def urdf_text(pm) -> str:
 def closures(pm, urdf_name: str = "") -> dict:
     """The loop closures of :func:`urdf_text`'s tree (JSON-ready): one ``CONTACT_6D`` per leg
     2..n, ``joint1`` its last joint, ``joint2`` leg 1's last joint, ``placement1/2`` the
-    platform frame in each joint's frame (rotation (3, 3), translation (3,))."""
+    platform frame in each joint's frame (rotation (3, 3), translation (3,) in metres, as
+    the URDF); and one ``CONTACT_3D`` per parallelogram (its second bar's loop)."""
+    from ._si import SIConversion
+
+    m = SIConversion.of(pm).length                  # metres per model length
     R_home, o_home = pm.platform_home
-    trees = _tree(pm)
+    o_home = o_home * m
+    trees = [[(j, name, p * m, d, kind) for j, name, p, d, kind in rows] for rows in _tree(pm)]
     last = [rows[-1] for rows in trees]
     carrier = last[0]
     cons = []
-    for k in range(1, len(trees)):
-        j1 = last[k]
-        cons.append({"name": f"loop{k + 1}", "leg": k + 1, "joint1": j1[1],
+    for i in range(1, len(trees)):
+        j1 = last[i]
+        cons.append({"name": f"loop{i + 1}", "leg": i + 1, "joint1": j1[1],
                      "placement1": _se3(R_home, o_home - j1[2]), "joint2": carrier[1],
                      "placement2": _se3(R_home, o_home - carrier[2])})
-    for k, rows in enumerate(trees):                  # each parallelogram's own loop
+    for i, rows in enumerate(trees):                  # each parallelogram's own loop
         for (j, name, *_rest, b, e) in _twins(rows):
-            cons.append({"name": f"{name[:-5]}_loop", "leg": k + 1, "contact_type": "CONTACT_3D",
-                         "joint1": name, "placement1": _se3(np.eye(3), b),
-                         "joint2": name[:-5] + "_far", "placement2": _se3(np.eye(3), e)})
+            cons.append({"name": f"{name[:-5]}_loop", "leg": i + 1, "contact_type": "CONTACT_3D",
+                         "joint1": name, "placement1": _se3(np.eye(3), b * m),
+                         "joint2": name[:-5] + "_far", "placement2": _se3(np.eye(3), e * m)})
     passive = tuple(getattr(pm, "passive", ()))
-    actuated = [rows[_slot_rows(rows)[pm.home_legs[k].actuated_index]][1]
-                for k, rows in enumerate(trees)
-                if k not in passive]                  # a passive leg has no actuated joint
+    actuated = [rows[_slot_rows(rows)[pm.home_legs[i].actuated_index]][1]
+                for i, rows in enumerate(trees)
+                if i not in passive]                  # a passive leg has no actuated joint
     return {"format": "screwkit-closures/1", "urdf": urdf_name, "pm": pm.name,
-            "units": {"length": pm.units.length, "angle": "rad"},
+            "units": {"length": "m", "angle": "rad", "model_length": pm.units.length,
+                      "metres_per_model_length": m},
             "contact_type": "CONTACT_6D", "reference_frame": "LOCAL",
             "constraints": cons, "actuated_joints": actuated,
-            "passive_legs": [k + 1 for k in passive],
+            "passive_legs": [i + 1 for i in passive],
             "platform_frame": "platform", "carrier_leg": 1}
 
 
-def write_urdf(pm, path) -> tuple:
-    """Write ``path`` (URDF) and ``<stem>.closures.json`` beside it; returns both paths."""
+def write_urdf(pm, path, params=None) -> tuple:
+    """Write ``path`` (URDF, SI, with the inertias of ``params`` or the model's
+    ``dynamics:`` block) and ``<stem>.closures.json`` beside it; returns both paths."""
     from pathlib import Path
 
     from ..errors import InputError as _Err
@@ -256,7 +307,8 @@ def write_urdf(pm, path) -> tuple:
     side = p.with_name(p.stem + ".closures.json")
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(urdf_text(pm), encoding="utf-8")
+        text = urdf_text(pm, params)
+        p.write_text(text, encoding="utf-8")
         side.write_text(json.dumps(closures(pm, p.name), indent=2) + "\n", encoding="utf-8")
     except OSError as exc:
         raise _Err(f"cannot write {str(p)!r}: {exc.strerror or exc}") from None

@@ -29,7 +29,8 @@ from ..errors import InputError
 __all__ = [
     "MAX_LEG_STRING", "MAX_LEG_LETTERS", "MAX_LEG_JOINTS", "MAX_PM_STRING", "MAX_LEGS",
     "MAX_NAME", "MAX_TEXT", "MAX_NUMBER_CHARS", "MAX_MAGNITUDE", "MAX_ANGLE_DEG",
-    "MAX_LENGTH_FACTOR", "MAX_LOAD", "MAX_SAMPLES", "MAX_BATCH", "MAX_POSES", "MAX_DRAWS", "MAX_SEED",
+    "MAX_LENGTH_FACTOR", "MAX_LOAD", "MIN_STIFFNESS", "MAX_STIFFNESS", "MAX_SAMPLES",
+    "MAX_BATCH", "MAX_POSES", "MAX_DRAWS", "MAX_SEED",
     "MAX_MODEL_BYTES", "MAX_CSV_BYTES", "MAX_YAML_NODES", "MAX_YAML_DEPTH", "MAX_ENTRIES",
     "MAX_STRUCTURE_CHECKS", "MAX_PATH_CHARS", "MAX_LABEL",
     "did_you_mean", "shorten", "parse_number", "parse_int", "real", "real_vector", "real_array",
@@ -60,6 +61,11 @@ MAX_ANGLE_DEG = 3600.0
 MAX_LENGTH_FACTOR = 1e12
 #: Largest magnitude of a workload component (force, torque) in the model's units.
 MAX_LOAD = 1e12
+#: Range of a stiffness (a row's, a leg's; force/length or torque/rad, model units): a
+#: stiffness below it would be a free row (leave the model without it), above it a rigid
+#: one (leave the row out); in between every deflection stays finite.
+MIN_STIFFNESS = 1e-20
+MAX_STIFFNESS = 1e20
 #: Samples of a trajectory (--samples, rows of a path file), poses of ``check --poses``,
 #: random draws of ``validate --draws``; seeds are 0 .. MAX_SEED.
 MAX_SAMPLES = 100_000
@@ -217,9 +223,16 @@ def real_vector(value, what: str, n: int = 3, *, bound: float | None = None,
                      for k, x in enumerate(items)], dtype=float)
 
 
-def real_array(value, what: str, error=InputError) -> np.ndarray:
+def real_array(value, what: str, error=InputError, *, max_size: int | None = None,
+               finite: bool = True) -> np.ndarray:
     """A number or a 1-D array of numbers as a float array: no booleans, no strings, no
-    objects that are not numbers, finite (NaN, infinity and overflow refused)."""
+    objects that are not numbers, finite (NaN, infinity and overflow refused; with
+    ``finite=False`` they are kept, for the caller to flag).  With ``max_size``, a longer
+    array is refused before anything is converted or copied."""
+    n = value.size if isinstance(value, np.ndarray) else (
+        len(value) if isinstance(value, (list, tuple)) else 1)
+    if max_size is not None and n > max_size:
+        raise error(f"{what} has {n} values: at most {max_size} (split the batch)")
     if isinstance(value, (bool, np.bool_)):
         raise error(f"{what} must be a number, not a boolean ({value})")
     if isinstance(value, (str, bytes)):
@@ -244,10 +257,11 @@ def real_array(value, what: str, error=InputError) -> np.ndarray:
     elif a.dtype.kind not in "iuf":
         raise error(f"{what} must be a number or a 1-D array of numbers, got "
                     f"{shorten(value)}")
-    a = a.astype(float)
     if a.ndim > 1:
         raise error(f"{what} must be a number or a 1-D array, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
+    with np.errstate(over="ignore"):
+        a = a.astype(float)
+    if finite and not np.all(np.isfinite(a)):
         bad = a if a.ndim == 0 else a[~np.isfinite(a)][0]
         raise error(f"{what} is {float(bad)} (must be finite)")
     return a

@@ -19,18 +19,20 @@ first use.
 """
 
 from ._grid import MAX_CELLS, MAX_GRID_DIMS, Grid, make_grid, parse_range
-from ._compute import BLOCK, KIND_CODES, LEVEL_CODES
+from ._compute import BLOCK, CONDITIONING_CODES, KIND_CODES, LEVEL_CODES
 from ._locus import LOCUS_KINDS, REFINE, locus_list
 from ._dataset import FORMATS, to_csv, write
 from ._map import map_pm
 from ._plot import plot_map, quantity_names
 from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
 from ._dask import client_for, run_tasks
+from ._units import map_in_units, sizing_in_units
 from ._workspace import GOOD_TRANSMISSION, Workspace, workspace
 
 __all__ = [
     "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
-    "LEVEL_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
+    "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
     "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
-    "client_for", "run_tasks", "Workspace", "workspace", "GOOD_TRANSMISSION",
+    "client_for", "run_tasks", "map_in_units", "sizing_in_units", "Workspace", "workspace",
+    "GOOD_TRANSMISSION",
 ]

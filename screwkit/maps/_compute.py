@@ -17,13 +17,17 @@ import numpy as np
 from ..engine import CONVERGED, analyze
 from ..engine._report import row_quantity
 
-__all__ = ["BLOCK", "LEVEL_CODES", "KIND_CODES", "INDEX_NAMES", "Meta", "meta_of", "evaluate", "evaluate_loads",
+__all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NAMES", "Meta",
+           "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
 #: Cells per block (8 engine chunks of 8192 poses).
 BLOCK = 16 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
+#: ``conditioning`` codes of a map: the engine's one classification
+#: (:func:`screwkit.engine.classify`), then unreachable.
+CONDITIONING_CODES = ("regular", "near-singular", "singular", "unreachable")
 #: ``singular_kind`` codes.
 KIND_CODES = ("regular", "actuation", "constraint")
 #: The per-cell indices of :attr:`screwkit.engine.PMAnalysis.indices` a map keeps.
@@ -113,7 +117,8 @@ def _level_codes(names):
 
 def arrays_of(model, res) -> dict:
     """The map's per-cell arrays of an analysis of N cells (see :func:`evaluate`)."""
-    sol, jac, st = res.solution, res.jacobian, res.statics
+    sol, jac = res.solution, res.jacobian
+    st = res.statics if res.has_workload else None          # no workload: no forces
     reach = sol.reachable_mask
     c = jac.conditioning
     q = res.quality
@@ -135,13 +140,17 @@ def arrays_of(model, res) -> dict:
         "singular": np.asarray(res.singular, bool),
         "singular_kind": kind,
         "level": lev.astype(np.int8),
+        "conditioning": _class_codes(q.conditioning),
         "amplification": nan_unreach(q.amplification),
-        "equilibrium_residual": np.asarray(st.equilibrium_residual, float),
-        "values": np.asarray(st.F_r, float),
-        "T_r": np.where(np.array(_linear(model))[None, :], st.T_r, np.nan),
+        "equilibrium_residual": (np.full(len(reach), np.nan) if st is None else
+                                 np.asarray(st.equilibrium_residual, float)),
+        "values": None if st is None else np.asarray(st.F_r, float),
+        "T_r": None if st is None else np.where(np.array(_linear(model))[None, :], st.T_r,
+                                                np.nan),
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
+    out = {k: v for k, v in out.items() if v is not None}
     ix = res.indices                        # transmission and constraint indices
     for name in INDEX_NAMES:
         out[name] = np.asarray(getattr(ix, name), float)
@@ -161,6 +170,13 @@ def arrays_of(model, res) -> dict:
         out["within_limits"] = chk["within"]
         if lim.min_leg_distance is not None:
             out["min_leg_distance"] = chk["min_leg_distance"]
+    return out
+
+
+def _class_codes(classes):
+    out = np.zeros(classes.shape, np.int8)
+    for k, name in enumerate(CONDITIONING_CODES):
+        out[classes == name] = k
     return out
 
 

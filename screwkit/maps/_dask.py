@@ -20,10 +20,12 @@ runs any picklable function over a list of items the same way (``screwkit valida
 from __future__ import annotations
 
 import contextlib
+import re
 
 from ..errors import InputError
 
-__all__ = ["client_for", "run_tasks", "MAX_LOCAL_WORKERS", "LOCAL_CONFIG", "SCHEDULER_TIMEOUT"]
+__all__ = ["client_for", "run_tasks", "check_address", "MAX_LOCAL_WORKERS", "LOCAL_CONFIG",
+           "SCHEDULER_TIMEOUT"]
 
 #: Largest local cluster started by ``cluster=N``.
 MAX_LOCAL_WORKERS = 64
@@ -36,6 +38,25 @@ SCHEDULER_TIMEOUT = 10.0
 LOCAL_CONFIG = {"distributed.worker.daemon": False,
                 "distributed.logging.distributed": "error",
                 "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+
+
+_ADDRESS = re.compile(r"(tcp|tls|ucx|ws|wss)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9](?:[A-Za-z0-9.-]"
+                      r"{0,251}[A-Za-z0-9])?):([0-9]{1,5})")
+
+
+def check_address(address, what: str = "scheduler") -> str:
+    """A Dask scheduler address ``tcp://HOST:PORT`` (also tls, ucx, ws, wss): a host name,
+    an IPv4 or a bracketed IPv6 address, a port from 1 to 65535; an :class:`InputError`
+    naming ``what`` otherwise (checked before any connection is tried)."""
+    from ..legs._guards import shorten
+    if not isinstance(address, str):
+        raise InputError(f"{what}: an address tcp://HOST:PORT is text, got "
+                         f"{type(address).__name__}")
+    m = _ADDRESS.fullmatch(address.strip())
+    if m is None or not 1 <= int(m.group(3)) <= 65535:
+        raise InputError(f"{what}: {shorten(address)} is not a Dask scheduler address "
+                         "tcp://HOST:PORT (port 1 to 65535)")
+    return address.strip()
 
 
 def _distributed():
@@ -74,14 +95,13 @@ def client_for(cluster):
                 lc.close()
         return
     if isinstance(cluster, str):
-        if not cluster.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
-            raise InputError(f"a Dask scheduler address looks like tcp://HOST:PORT, got "
-                             f"{cluster!r}")
+        cluster = check_address(cluster)
         try:
             client = dist.Client(cluster, timeout=SCHEDULER_TIMEOUT)
-        except OSError as exc:
+        except Exception as exc:            # noqa: BLE001 - OSError, TimeoutError, a bad host
+            msg = " ".join(str(exc).split())[:200] or type(exc).__name__
             raise InputError(f"cannot reach the Dask scheduler {cluster} within "
-                             f"{SCHEDULER_TIMEOUT:g} s: {exc}") from None
+                             f"{SCHEDULER_TIMEOUT:g} s: {msg}") from None
         try:
             yield client
         finally:

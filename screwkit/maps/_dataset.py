@@ -20,7 +20,7 @@ import numpy as np
 
 from ..engine import LENGTH_PARAMS
 from ..errors import InputError
-from ._compute import KIND_CODES, LEVEL_CODES
+from ._compute import CONDITIONING_CODES, KIND_CODES, LEVEL_CODES
 
 __all__ = ["xarray", "build_dataset", "write", "to_csv", "FORMATS"]
 
@@ -96,7 +96,10 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "singular_kind": var(a["singular_kind"], "1", "kind of singularity",
                              flag_values=np.arange(len(KIND_CODES), dtype=np.int8),
                              flag_meanings=" ".join(KIND_CODES)),
-        "level": var(a["level"], "1", "trust level of the cell",
+        "conditioning": var(a["conditioning"], "1", "conditioning class of the cell",
+                            flag_values=np.arange(len(CONDITIONING_CODES), dtype=np.int8),
+                            flag_meanings=" ".join(CONDITIONING_CODES)),
+        "level": var(a["level"], "1", "trust level of the cell's efforts",
                      flag_values=np.arange(len(LEVEL_CODES), dtype=np.int8),
                      flag_meanings=" ".join(LEVEL_CODES)),
         "amplification": var(a["amplification"], "1",
@@ -118,15 +121,15 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         if p not in LENGTH_PARAMS and to_deg:
             v = np.degrees(v)
         dv[p] = var(v, unit, f"dependent pose parameter {p}")
-    for k, (lab, q, kind, leg) in enumerate(zip(meta.labels, meta.quantities, meta.kinds,
-                                                meta.legs)):
+    rows = zip(meta.labels, meta.quantities, meta.kinds, meta.legs) if "values" in a else ()
+    for k, (lab, q, kind, leg) in enumerate(rows):       # (no workload: no force variables)
         what = ("active " + ("torque" if q == "torque" else "force") if kind == "actuation"
                 else f"constraint {kind}")
         dv[lab] = var(a["values"][:, k], u.of(q), f"{what} of leg {leg + 1}",
                       row=k, leg=leg + 1, kind=kind)
     n = len(meta.linear)
     for i in range(n):
-        if meta.linear[i]:
+        if meta.linear[i] and "T_r" in a:
             dv[f"T_r{i + 1}"] = var(a["T_r"][:, i], u.torque,
                                     f"moment of leg {i + 1}'s constraint wrench about its axis",
                                     leg=i + 1)
@@ -154,7 +157,8 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "defaults": ",".join(grid.defaults),
         "units_length": u.length, "units_force": u.force, "units_torque": u.torque,
         "units_angle": _angle_unit(grid), "units_declared": int(u.declared),
-        "force": np.asarray(force, float), "torque": np.asarray(torque, float),
+        "force": np.full(3, np.nan) if force is None else np.asarray(force, float),
+        "torque": np.full(3, np.nan) if torque is None else np.asarray(torque, float),
         "workload_applied_at": "o",
         "condition_threshold": float(engine.COND_THRESHOLD),
         "home_det_sign": int(meta.home_det_sign),

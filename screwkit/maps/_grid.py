@@ -106,44 +106,57 @@ class Grid:
 def parse_range(text: str, what: str = "--grid"):
     """``"NAME=START:STOP:COUNT"`` -> ``(NAME, (start, stop, count))``; ``"NAME=LOW:HIGH"``
     -> ``(NAME, (low, high))`` (a sampling box)."""
+    from ..legs._guards import MAX_MAGNITUDE, MAX_NAME, parse_int, parse_number, shorten
     name, sep, rng = str(text).partition("=")
     name = name.strip()
     if not sep or not name:
-        raise InputError(f"{what} {text!r} must look like NAME=START:STOP:COUNT")
+        raise InputError(f"{what} {shorten(text)} must look like NAME=START:STOP:COUNT")
+    if len(name) > MAX_NAME or not name.isidentifier():
+        raise InputError(f"{what} {shorten(name)}: not a pose parameter name")
     parts = rng.split(":")
-    try:
-        nums = [float(p) for p in parts]
-    except ValueError:
-        raise InputError(f"{what} {name}: {rng!r} must be START:STOP:COUNT (numbers)") from None
-    if len(nums) not in (2, 3):
-        raise InputError(f"{what} {name}: {rng!r} must be START:STOP:COUNT (or LOW:HIGH for "
-                         "--samples)")
-    if len(nums) == 3:
-        if nums[2] != int(nums[2]):
-            raise InputError(f"{what} {name}: the count {parts[2]!r} must be an integer")
-        nums[2] = int(nums[2])
+    if len(parts) not in (2, 3):
+        raise InputError(f"{what} {name}: {shorten(rng)} must be START:STOP:COUNT (or LOW:HIGH "
+                         "for --samples)")
+    nums = [parse_number(p, f"{what} {name} {w}", bound=MAX_MAGNITUDE)
+            for p, w in zip(parts[:2], ("START", "STOP"))]
+    if len(parts) == 3:
+        nums.append(parse_int(parts[2], f"{what} {name} COUNT", 1, MAX_CELLS))
     return name, tuple(nums)
 
 
-def _values(name, spec, model):
+def _values(name, spec, model, degrees):
+    from ..legs._guards import real, real_array
     if isinstance(spec, tuple) and len(spec) == 3 and isinstance(spec[2], (int, np.integer)) \
             and not isinstance(spec[2], bool):
         a, b, n = spec
-        if not (np.isfinite(a) and np.isfinite(b)):
-            raise InputError(f"{model.name}: grid {name}: start and stop must be finite")
+        what = f"{model.name}: grid {name}"
+        a, b = (real(x, f"{what} {w}") for x, w in ((a, "start"), (b, "stop")))
         if not 1 <= n <= MAX_CELLS:
-            raise InputError(f"{model.name}: grid {name}: the count must be 1 to {MAX_CELLS}, "
-                             f"got {n}")
-        return np.linspace(float(a), float(b), int(n))
-    try:
-        v = np.asarray(spec, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{model.name}: grid {name}: give (start, stop, count) or an array "
-                         f"of values, got {spec!r}") from None
-    if v.ndim != 1 or v.size == 0 or not np.all(np.isfinite(v)):
+            raise InputError(f"{what}: the count must be 1 to {MAX_CELLS}, got {n}")
+        _within(model, name, np.array([a, b]), degrees, f"grid {name}")
+        return np.linspace(a, b, int(n))
+    v = real_array(spec, f"{model.name}: grid {name}", max_size=MAX_CELLS)
+    if v.ndim != 1 or v.size == 0:
         raise InputError(f"{model.name}: grid {name}: the values must be a non-empty 1-D "
                          "array of finite numbers")
+    _within(model, name, v, degrees, f"grid {name}")
     return v
+
+
+def _within(model, name, values, degrees, what) -> None:
+    """Pose values within the engine's limits (angles +-3600 deg, lengths 1e12 model sizes),
+    checked where the grid is made: a map of out-of-range cells is refused at once."""
+    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
+    m = float(np.max(np.abs(values))) if np.size(values) else 0.0
+    if name in LENGTH_PARAMS:
+        lim = MAX_LENGTH_FACTOR * float(model.normalisation.length)
+        unit = ""
+    else:
+        lim = MAX_ANGLE_DEG if degrees else float(np.radians(MAX_ANGLE_DEG))
+        unit = " deg" if degrees else " rad"
+    if not m <= lim:
+        raise InputError(f"{model.name}: {what}: {m:g}{unit} is beyond the limit "
+                         f"+-{lim:g}{unit}")
 
 
 def _shown_degrees(rad: float) -> float:
@@ -194,20 +207,26 @@ def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> 
         _check_name(model, k, "fixed parameter")
         if k in grid:
             raise InputError(f"{model.name}: {k} is both a grid parameter and fixed")
-        if isinstance(v, bool) or not np.isfinite(np.asarray(v, float)).all() \
-                or np.ndim(v) != 0:
-            raise InputError(f"{model.name}: fixed parameter {k} must be one finite number, "
-                             f"got {v!r}")
+        from ..legs._guards import real
+        v = real(v, f"{model.name}: fixed parameter {k}")
+        _within(model, k, np.array([v]), degrees, f"fixed parameter {k}")
+        fix[k] = v
     defaults = tuple(p for p in model.independent if p not in grid and p not in fix)
     for p in defaults:
         d = float(model.default_pose[p])
         fix[p] = _shown_degrees(d) if (degrees and p not in LENGTH_PARAMS) else d
     fix = {p: float(fix[p]) for p in model.independent if p in fix}
     if samples is not None:
-        if isinstance(samples, bool) or int(samples) != samples or not 1 <= samples <= MAX_CELLS:
+        from ..legs._guards import MAX_SEED
+        if isinstance(samples, (bool, np.bool_)) or not isinstance(samples, (int, np.integer)) \
+                or not 1 <= samples <= MAX_CELLS:
             raise InputError(f"{model.name}: samples must be an integer from 1 to {MAX_CELLS}, "
-                             f"got {samples!r}")
-        rng = np.random.default_rng(seed)
+                             f"got {samples!r:.40}")
+        if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or \
+                not 0 <= seed <= MAX_SEED:
+            raise InputError(f"{model.name}: seed must be an integer from 0 to {MAX_SEED}, got "
+                             f"{seed!r:.40}")
+        rng = np.random.default_rng(int(seed))
         coords, box = {}, {}
         for k, side in grid.items():
             try:
@@ -217,6 +236,7 @@ def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> 
                                  f"{side!r}") from None
             if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
                 raise InputError(f"{model.name}: sampling box {k}: need finite low <= high")
+            _within(model, k, np.array([lo, hi]), degrees, f"sampling box {k}")
             coords[k] = rng.uniform(lo, hi, int(samples))
             box[k] = (lo, hi)
         return Grid(("sample",), coords, fix, defaults, bool(degrees), True, int(seed), box)
@@ -224,7 +244,7 @@ def make_grid(model, grid, fix=None, *, samples=None, seed=0, degrees=False) -> 
         raise InputError(f"{model.name}: a map has 1 to {MAX_GRID_DIMS} grid parameters, got "
                          f"{len(grid)} (fix the others, or use samples)")
     dims = tuple(grid)                      # the caller's order: the first is the x axis
-    coords = {k: _values(k, grid[k], model) for k in dims}
+    coords = {k: _values(k, grid[k], model, degrees) for k in dims}
     size = int(np.prod([len(v) for v in coords.values()], dtype=float))
     if size > MAX_CELLS:
         raise InputError(f"{model.name}: the grid has {size} cells, more than {MAX_CELLS}")

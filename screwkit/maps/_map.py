@@ -15,10 +15,13 @@ Examples
 
 from __future__ import annotations
 
-from ..engine import PAPER_FORCE, PAPER_TORQUE
 from ..errors import InputError
 
-__all__ = ["map_pm", "map_dataset", "resolve_model", "workload"]
+__all__ = ["map_pm", "map_dataset", "resolve_model", "workload", "NO_WORKLOAD"]
+
+#: The workload source of a map made without one: no force variables, the rest is there.
+NO_WORKLOAD = ("none: the model declares no workload and none was given (no forces; give "
+               "force=/torque=, at the command line --force/--torque)")
 
 
 def resolve_model(pm, overrides=None):
@@ -32,10 +35,15 @@ def resolve_model(pm, overrides=None):
     return load_assembled_pm(pm, overrides)
 
 
-def workload(force, torque):
-    """The workload as two validated 3-vectors (the engine's checks)."""
-    from ..engine._workloads import load_vector
-    return [load_vector(force, "force"), load_vector(torque, "torque")]
+def workload(model, force=None, torque=None):
+    """``[F, T, source]``: the workload as two validated 3-vectors and where it comes from
+    (the engine's checks and rules: one without the other means the other is zero; neither,
+    the model's declared default); an :class:`InputError` when there is none."""
+    from ..engine._workloads import no_workload_message, resolve_workload
+    load = resolve_workload(model, force, torque)
+    if load is None:
+        raise InputError(no_workload_message(model))
+    return list(load)
 
 
 def _cluster(cluster, scheduler):
@@ -46,7 +54,7 @@ def _cluster(cluster, scheduler):
 
 
 def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = False,
-           force=PAPER_FORCE, torque=PAPER_TORQUE, stiffness=None, locus: bool = True,
+           force=None, torque=None, stiffness=None, locus: bool = True,
            workers=None, cluster=None, scheduler=None, progress=None, block=None,
            overrides=None):
     """A map of a PM: every cell of a grid of independent pose parameters analysed.
@@ -61,8 +69,11 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
         The other independent parameters (default: the model's default pose).
     samples : int, optional
         ``samples`` random poses uniform in the box ``grid`` (seed ``seed``).
-    force, torque : array_like (3,)
-        Workload at ``o`` (default: the paper's).
+    force, torque : array_like (3,), optional
+        Workload at ``o`` (model units; one without the other: the other is zero; neither:
+        the model's declared default, else none: the map has no force variables, its
+        attribute ``workload_source`` says so, and the reachability, conditioning, indices,
+        extensions and loci are all there).
     stiffness : optional
         Row stiffnesses for indeterminate statics (as :func:`screwkit.analyze`).
     locus : bool
@@ -98,11 +109,14 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
 
     xarray()                                        # fail before a long run, not after
     model = resolve_model(pm, overrides)
-    F, T = workload(force, torque)
+    from ..engine._workloads import resolve_workload
+    load = resolve_workload(model, force, torque)
+    F, T, source = load if load is not None else (None, None, NO_WORKLOAD)
     g = make_grid(model, grid, fix, samples=samples, seed=seed, degrees=degrees)
     cl = _cluster(cluster, scheduler)
     ds, meta, _ = map_dataset(model, g, F, T, stiffness=stiffness, workers=workers,
                               cluster=cl, progress=progress, block=block)
+    ds.attrs["workload_source"] = source
     if locus and not g.samples and meta.square:
         from ._locus import locus_variables, refine
         loc = refine(model, ds, threads=workers)

@@ -21,9 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..engine import PAPER_FORCE, PAPER_TORQUE
 from ..errors import InputError
-from ._compute import LEVEL_CODES
+from ._compute import CONDITIONING_CODES, LEVEL_CODES
 
 __all__ = ["Sizing", "extremes", "size", "read_workloads", "MAX_WORKLOADS", "pose_at"]
 
@@ -81,6 +80,7 @@ def extremes(ds, workload_name: str = "", max_level: str = "near-singular", *,
     own = usable(ds, max_level)
     use_rows, use = own, (own if use is None else np.asarray(use, bool))
     lev = ds["level"].values.reshape(-1)
+    cls = ds["conditioning"].values.reshape(-1)
     rows = []
     names = [k for k, v in ds.data_vars.items() if "row" in v.attrs]
     names += [k for k in ds.data_vars if k.startswith("T_r")]
@@ -90,12 +90,13 @@ def extremes(ds, workload_name: str = "", max_level: str = "near-singular", *,
         entry = {"name": k, "kind": v.attrs.get("kind", "T_r"), "leg": int(v.attrs["leg"]),
                  "unit": v.attrs["units"], "long_name": v.attrs["long_name"]}
         if not use_rows.any() or not np.isfinite(a).any():
-            entry.update(max_abs=None, value=None, pose=None, level=None, workload=None)
+            entry.update(max_abs=None, value=None, pose=None, level=None, conditioning=None,
+                         workload=None)
         else:
             i = int(np.argmax(a))
             entry.update(max_abs=float(a[i]), value=float(v.values.reshape(-1)[i]),
                          pose=pose_at(ds, i), level=LEVEL_CODES[int(lev[i])],
-                         workload=workload_name)
+                         conditioning=CONDITIONING_CODES[int(cls[i])], workload=workload_name)
         rows.append(entry)
     ranges = []
     for k in [k for k in ds.data_vars if k[:1] == "r" and k[1:].isdigit()] + \
@@ -164,22 +165,29 @@ def read_workloads(path) -> list:
     fewer fields than the header, or a value that is not a number of at most
     :data:`~screwkit.legs._guards.MAX_LOAD` in magnitude, is an :class:`InputError` naming
     the file, line and column."""
-    from ..legs._guards import MAX_LOAD, parse_number
+    import io
+
+    from ..legs._guards import MAX_CSV_BYTES, MAX_LOAD, decode_utf8, parse_number, read_limited
+    text = decode_utf8(read_limited(path, MAX_CSV_BYTES, f"workloads {str(path)!r}"),
+                       f"workloads {str(path)!r}")
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            reader = csv.DictReader(fh)
-            rows = []
-            for r in reader:
-                rows.append((reader.line_num, r))
-                if len(rows) > MAX_WORKLOADS:
-                    raise InputError(f"{path}: more than {MAX_WORKLOADS} workloads")
-            head = [str(h).strip() for h in (reader.fieldnames or [])]
-    except OSError as exc:
-        raise InputError(f"cannot read workloads {str(path)!r}: {exc}") from None
-    except (UnicodeDecodeError, csv.Error) as exc:
+        reader = csv.DictReader(io.StringIO(text, newline=""))
+        rows = []
+        for r in reader:
+            rows.append((reader.line_num, r))
+            if len(rows) > MAX_WORKLOADS:
+                raise InputError(f"{path}: more than {MAX_WORKLOADS} workloads")
+        head = [str(h).strip() for h in (reader.fieldnames or [])]
+    except csv.Error as exc:
         raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     if not rows:
         raise InputError(f"{path}: no workloads (a header Fx,Fy,Fz,Tx,Ty,Tz and one row each)")
+    seen = set()
+    for h in head:
+        if h in seen:
+            raise InputError(f"{path}, line 1: column {h!r} is given twice (csv would keep only "
+                             "the last one)")
+        seen.add(h)
     missing = [c for c in _COLS if c not in head]
     if missing:
         sep = "; the columns must be separated by commas" if any(";" in h for h in head) \
@@ -210,7 +218,8 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
     pm, grid, fix, samples, seed, degrees, stiffness, workers, cluster, scheduler
         As :func:`screwkit.map`.
     workloads : list of (name, force, torque), optional
-        Default: the paper's workload.  At most :data:`MAX_WORKLOADS`.
+        Default: the model's declared workload (an :class:`InputError` when it declares
+        none).  At most :data:`MAX_WORKLOADS`.
     progress : callable(done, total), optional
         Over all workloads' cells.
     max_level : str
@@ -224,10 +233,14 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
     from ._map import _cluster, resolve_model, workload
 
     model = resolve_model(pm, overrides)
-    loads = workloads if workloads is not None else [("paper", PAPER_FORCE, PAPER_TORQUE)]
+    if workloads is None:
+        F, T, source = workload(model)
+        loads = [(source, F, T)]
+    else:
+        loads = workloads
     if not 1 <= len(loads) <= MAX_WORKLOADS:
         raise InputError(f"1 to {MAX_WORKLOADS} workloads, got {len(loads)}")
-    loads = [(str(n),) + tuple(workload(F, T)) for n, F, T in loads]
+    loads = [(str(n),) + tuple(workload(model, F, T)[:2]) for n, F, T in loads]
     cl = _cluster(cluster, scheduler)
     if cl is None:
         return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,
@@ -265,8 +278,10 @@ def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, c
                 i = int(red["index"][k, q])
                 row.update(max_abs=float(m), value=float(red["value"][k, q]),
                            pose=pose_at(first, i), level=LEVEL_CODES[int(red["level"][k, q])],
+                           conditioning=CONDITIONING_CODES[int(
+                               first["conditioning"].values.reshape(-1)[i])],
                            workload=loads[1 + k][0])
-    _mark_determined(model, best["rows"], first, stiffness)
+    _mark_determined(model, best["rows"], first, stiffness, F0, T0)
     u = model.units
     return Sizing(model.name, best["rows"], best["ranges"],
                   [{"name": n, "force": F.tolist(), "torque": T.tolist()} for n, F, T in loads],
@@ -274,7 +289,7 @@ def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, c
                   dict(u.as_dict(), angle=first.attrs["units_angle"]), first)
 
 
-def _mark_determined(model, rows, ds, stiffness) -> None:
+def _mark_determined(model, rows, ds, stiffness, F, T) -> None:
     """Set each row's ``determined``: True where statics alone fixes its value at the pose
     of its extreme, False where a self-stress of a statically indeterminate ``J`` changes
     it (the value is then the least-norm or compliance-weighted choice, as ``*`` marks it
@@ -291,7 +306,8 @@ def _mark_determined(model, rows, ds, stiffness) -> None:
     rad = {p: str(ds[p].attrs.get("units", "")) == "deg" for p in keys}
     batch = {p: np.array([np.radians(r["pose"][p]) if rad[p] else r["pose"][p] for r in at])
              for p in keys}
-    res = analyze(model, batch, stiffness=stiffness, raise_on_singular=False)  # a batch
+    res = analyze(model, batch, force=F, torque=T, stiffness=stiffness,
+                  raise_on_singular=False)                                   # a batch
     labels = list(res.jacobian.labels)
     for k, r in enumerate(at):
         one = res[k]

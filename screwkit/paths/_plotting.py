@@ -112,7 +112,7 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
     note = zero_torque_note(res, zero) if res.ok.any() else ""
     Tc = np.column_stack(torques) if torques else None
     labels = {"extensions": [f"$r_{{{i + 1}}}$" for i in range(n)],
-              "active": [f"$F_{{a{i + 1}}}$" for i in acts]}
+              "active": [f"${'T' if rot[i] else 'F'}_{{a{i + 1}}}$" for i in acts]}
     legs = {"active": list(acts)}
     determined = {"active": det[:, :len(acts)]}
     if Fc is not None:
@@ -129,7 +129,8 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
         title = (f"{res.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
                  f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")
     return plot_fig5(res.t, pose, res.extensions, res.active, Fc, Tc, labels=labels,
-                     units=plot_units, flags=res.flagged, out=out, title=title, dpi=dpi,
+                     units=plot_units, flags=np.isin(res.status, ("singular", "unreachable")),
+                     out=out, title=title, dpi=dpi,
                      legs=legs, determined=determined, condition_number=res.condition_number,
                      condition_levels={"ill-conditioned": ILL_CONDITIONED_COND,
                                        "near-singular": NEAR_SINGULAR_COND,

@@ -14,8 +14,9 @@ from ..errors import InputError
 
 __all__ = ["TrajectoryResult", "STATUSES"]
 
-#: The values of :attr:`TrajectoryResult.status`.
-STATUSES = ("ok", "singular", "unreachable")
+#: The values of :attr:`TrajectoryResult.status`: ``ok`` (solved, regular), then the
+#: conditioning class of :func:`screwkit.engine.classify` where it is not regular.
+STATUSES = ("ok", "near-singular", "singular", "unreachable")
 
 
 
@@ -32,7 +33,9 @@ class TrajectoryResult:
     independent : tuple of str
     t : ndarray (N,)
     status : ndarray (N,) of str
-        ``ok``, ``singular`` or ``unreachable`` (see the module docstring).
+        ``ok`` (solved, regular), ``near-singular``, ``singular`` or ``unreachable`` (see
+        the module docstring): the sample's conditioning class
+        (:func:`screwkit.engine.classify`), ``ok`` where it is regular.
     params : dict str -> ndarray (N,)
         ``Xo Yo Zo alpha beta gamma`` (model length unit, radians).
     extensions : ndarray (N, n)
@@ -65,6 +68,8 @@ class TrajectoryResult:
         Leg index (0-based) of each constraint column.
     force, torque : ndarray (3,)
         The workload at ``o``.
+    workload_source : str
+        Where the workload comes from (``given``, ``declared default (...)``).
     units : Units
         The model's units (:class:`screwkit.pm.Units`).
     rotary : tuple of bool
@@ -121,6 +126,7 @@ class TrajectoryResult:
     resultant_force: np.ndarray | None = None
     resultant_moment: np.ndarray | None = None
     resultant_determined: np.ndarray | None = None
+    workload_source: str = "given"
     active_legs: tuple | None = None
     analysis: object = field(default=None, repr=False, compare=False)
 
@@ -128,6 +134,12 @@ class TrajectoryResult:
     def actuated(self) -> tuple:
         """The actuated legs (0-based): every leg but the passive ones."""
         return tuple(range(self.n_legs)) if self.active_legs is None else tuple(self.active_legs)
+
+    @property
+    def conditioning(self) -> np.ndarray:
+        """The conditioning class of each sample: ``regular``, ``near-singular``,
+        ``singular`` or ``unreachable`` (:func:`screwkit.engine.classify`)."""
+        return np.where(self.status == "ok", "regular", self.status)
 
     def __len__(self) -> int:
         return len(self.t)
@@ -148,7 +160,7 @@ class TrajectoryResult:
 
     @property
     def flagged(self) -> np.ndarray:
-        """True at singular or unreachable samples."""
+        """True at near-singular, singular or unreachable samples."""
         return self.status != "ok"
 
     def counts(self) -> dict:
@@ -179,7 +191,8 @@ class TrajectoryResult:
         cols += [(q, p[q] * kl, ub["length"]) if q in LENGTH_PARAMS else (q, p[q], "deg")
                  for q in PARAMS]
         cols += [(f"r{i + 1}", self.extensions[:, i] * kl, ub["length"]) for i in range(n)]
-        cols += [(f"F_a{i + 1}", self.active[:, k] * (kt if rot[i] else kf),
+        cols += [(f"{'T' if rot[i] else 'F'}_a{i + 1}",          # a rotary actuator: torque
+                  self.active[:, k] * (kt if rot[i] else kf),
                   ub["torque" if rot[i] else "force"]) for k, i in enumerate(self.actuated)]
         cols += [(lab, self.constraint[:, j] * (kt if kind == "couple" else kf),
                   ub["torque" if kind == "couple" else "force"])
@@ -200,10 +213,11 @@ class TrajectoryResult:
 
     def to_csv(self, out=None, units=None) -> str | None:
         """CSV with a header row ``name [unit]`` (bare names for ``t``, ``status``, the
-        condition number, residuals and ``message``): ``t, status``, the pose (angles in
-        degrees), ``r_i``, ``F_ai``, the constraint columns, ``T_ri``, each leg's
-        constraint resultant ``res<i>_f<x|y|z>`` and its moment about ``A_i``
-        ``res<i>_m<x|y|z>``, the condition number and residuals, ``message``.  In the
+        condition number, residuals, ``conditioning`` and ``message``): ``t, status``, the
+        pose (angles in degrees), ``r_i``, ``F_ai``, the constraint columns, ``T_ri``, each
+        leg's constraint resultant ``res<i>_f<x|y|z>`` and its moment about ``A_i``
+        ``res<i>_m<x|y|z>``, the condition number and residuals, the conditioning class,
+        ``message``.  In the
         model's units, or in SI with ``units="SI"``.  NaN is written ``nan``.  Returns the
         text when ``out`` is None, else writes to ``out`` (a path or a text file object).
         ``pandas.read_csv`` reads it as it is."""
@@ -211,10 +225,11 @@ class TrajectoryResult:
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
         w.writerow([cols[0][0], "status"] + [f"{c} [{un}]" if un else c for c, _, un in cols[1:]]
-                   + ["message"])
+                   + ["conditioning", "message"])
+        cls = self.conditioning
         for i in range(len(self)):
             w.writerow([_fmt(cols[0][1][i]), self.status[i]]
-                       + [_fmt(v[i]) for _, v, _ in cols[1:]] + [self.message[i]])
+                       + [_fmt(v[i]) for _, v, _ in cols[1:]] + [cls[i], self.message[i]])
         return _write(buf.getvalue(), out)
 
     def to_dict(self, units=None) -> dict:
@@ -236,11 +251,12 @@ class TrajectoryResult:
             "active_legs": [i + 1 for i in self.actuated],
             "workload": {"force": self.force * kf, "torque": self.torque * kt,
                          "applied_at": "o", "force_unit": ub["force"],
-                         "torque_unit": ub["torque"]},
+                         "torque_unit": ub["torque"], "source": self.workload_source},
             "n_samples": len(self),
             "counts": self.counts(),
             "t": self.t,
             "status": self.status.tolist(),
+            "conditioning": self.conditioning.tolist(),
             "pose": {q: p[q] * kl if q in LENGTH_PARAMS else p[q] for q in PARAMS},
             "pose_units": {q: ub["length"] if q in LENGTH_PARAMS else "deg" for q in PARAMS},
             "extensions": self.extensions * kl,
@@ -323,7 +339,7 @@ class TrajectoryResult:
         """The interactive 3D view of the path (:class:`screwkit.scene.View`): a time slider
         with play/pause over the samples; Jupyter shows it inline, ``.write_html(path)``
         writes the page.  In the model's units.  Needs plotly (``screwkit[view]``)."""
-        from ..engine import scene_of, workload_source
+        from ..engine import scene_of
         from ..scene import TimeControls, View, require_plotly
 
         if self.analysis is None:
@@ -334,7 +350,7 @@ class TrajectoryResult:
         require_plotly()
         a = self.analysis
         return View(scene_of(a, TimeControls(np.asarray(self.t, float)), start=start,
-                             title=title, source=workload_source(a.force, a.torque)))
+                             title=title, source=a.workload_source))
 
 
 def _math(label: str) -> str:

@@ -7,6 +7,9 @@ constraint forces/couples, constraint torques ``T_ri`` and the condition number
 at every sample, with a per-sample ``status``:
 
 * ``ok`` - solved, regular;
+* ``near-singular`` - solved, but the normalised condition number is above
+  :data:`~screwkit.engine.NEAR_SINGULAR_COND` (the conditioning class of
+  :func:`screwkit.engine.classify`, as ``analyze`` says): the statics are kept;
 * ``singular`` - the pose is assembled but the unified Jacobian is singular
   (condition number above :data:`~screwkit.engine.COND_THRESHOLD`): the
   statics are NaN, the pose, extensions and condition number are kept;
@@ -28,7 +31,7 @@ Examples
 >>> from screwkit.paths import run_trajectory
 >>> path = path_from_expressions(["alpha=5*sin(2*pi*t)", "beta=3", "Zo=70+20*t"],
 ...                              ("alpha", "beta", "Zo"), samples=5)
->>> res = run_trajectory("3RRPRR", path)
+>>> res = run_trajectory("3RRPRR", path)          # 3RRPRR declares the paper's workload
 >>> res.status.tolist()
 ['ok', 'ok', 'ok', 'ok', 'ok']
 >>> res.active.shape, res.constraint_labels
@@ -39,8 +42,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import CHUNK, PAPER_FORCE, PAPER_TORQUE, PARAMS
-from ..engine._workloads import load_vector
+from ..engine import CHUNK, PARAMS
+from ..engine._workloads import no_workload_message, resolve_workload
 from ..errors import InputError
 from ._pathspec import PathSpec
 from ._result import STATUSES, TrajectoryResult
@@ -61,7 +64,7 @@ def _check_path(model, path) -> PathSpec:
     return path
 
 
-def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE,
+def run_trajectory(model, path: PathSpec, force=None, torque=None,
                    progress=None, *, overrides: dict | None = None, anchor_every=None,
                    chunk: int = CHUNK, vectorised: bool = True, workers=None,
                    mapper=None) -> TrajectoryResult:
@@ -73,9 +76,9 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
         A loaded model, a catalog PM name or a YAML model path.
     path : PathSpec
         The independent pose parameters at N samples (angles in radians).
-    force, torque : array_like (3,)
-        Workload at ``o`` (default: the paper's F = [-20, -30, -60] kN,
-        T = [-30, -30, 100] kN.cm).
+    force, torque : array_like (3,), optional
+        Workload at ``o`` (model units; one without the other: the other is zero; neither:
+        the model's declared default, else an :class:`~screwkit.errors.InputError`).
     progress : callable(done, total), optional
         Called as the work advances (``done`` grows to ``total``: 2 N steps, the closures of
         the path then the rows and statics; N samples with ``vectorised=False``).
@@ -104,7 +107,10 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
 
     if not isinstance(model, PMModel):
         model = load_assembled_pm(model, overrides)
-    F, T = load_vector(force, "force"), load_vector(torque, "torque")
+    load = resolve_workload(model, force, torque)
+    if load is None:
+        raise InputError(no_workload_message(model))
+    F, T, source = load
     path = _check_path(model, path)
     try:
         K = None if anchor_every is None else int(anchor_every)
@@ -118,7 +124,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
     if vectorised:
         res = analyze(model, pose, force=F, torque=T, path=True, anchor_every=K, chunk=C,
                       workers=workers, progress=progress, mapper=mapper)
-        return _result(model, path, res, F, T, res.diagnostics)
+        return _result(model, path, res, F, T, res.diagnostics, source)
     parts, prev = [], None
     for i in range(N):
         r = analyze(model, {k: v[i:i + 1] for k, v in pose.items()}, force=F, torque=T,
@@ -129,7 +135,7 @@ def run_trajectory(model, path: PathSpec, force=PAPER_FORCE, torque=PAPER_TORQUE
         if progress:
             progress(i + 1, N)
     return _result(model, path, _Stacked(parts), F, T,
-                   {"anchors": 0, "batched": 0, "per_pose": N})
+                   {"anchors": 0, "batched": 0, "per_pose": N}, source)
 
 
 class _Stacked:
@@ -148,7 +154,7 @@ class _Stacked:
         return np.concatenate([np.asarray(get(p)) for p in self.parts], axis=0)
 
 
-def _result(model, path, res, F, T, diag) -> TrajectoryResult:
+def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
     """The :class:`TrajectoryResult` of a batched analysis along the path."""
     from ..engine import CONVERGED, constraint_resultants
 
@@ -164,7 +170,10 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
     sing_mask = col(lambda p: p.jacobian.singular_mask) & reach
     kinds_arr = col(lambda p: p.jacobian.kind_array)
     cond = col(lambda p: p.jacobian.conditioning.condition_number)
-    status = np.where(~reach, "unreachable", np.where(sing_mask, "singular", "ok"))
+    from ..engine import classify
+    from ..engine._quality import describe_class
+    cls = classify(cond, sing_mask, reach)
+    status = np.where(cls == "regular", "ok", cls)
     params = {k: col(lambda p, k=k: p.solution._params[k]) for k in PARAMS}
     ext = col(lambda p: p.solution._extensions)
     ext[~reach] = np.nan
@@ -186,7 +195,9 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
             msg.append(f"unreachable: closure residual {resid[i]:.3g}")
         elif sing_mask[i]:
             msg.append(f"{kinds_arr[i]} singularity (condition number {cond[i]:.3g})")
-        elif resid[i] > CONVERGED:
+        elif cls[i] == "near-singular":
+            msg.append(describe_class("near-singular", cond[i]))
+        if reach[i] and resid[i] > CONVERGED:
             msg.append(f"not converged: closure residual {resid[i]:.3g}")
         msg += [t for t in flat_notes[i] if "taken from the default pose" not in t]
         message.append("; ".join(msg))
@@ -229,6 +240,7 @@ def _result(model, path, res, F, T, diag) -> TrajectoryResult:
                             determined=det,
                             constraint_points=_constraint_points(model, parts, info, st_ok),
                             resultant_force=out["res_f"], resultant_moment=out["res_m"],
+                            workload_source=source,
                             resultant_determined=out["res_det"],
                             active_legs=tuple(model.active), analysis=_kept(res, N))
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..engine import LENGTH_PARAMS, PAPER_FORCE, PAPER_TORQUE
+from ..engine import LENGTH_PARAMS
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -102,8 +102,8 @@ def _axes(model, centre, grid, steps, degrees):
 
 def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
          grid: Mapping[str, Any] | None = None, steps: int | None = None,
-         path: "PathSpec | None" = None, force: "ArrayLike" = PAPER_FORCE,
-         torque: "ArrayLike" = PAPER_TORQUE, degrees: bool = False,
+         path: "PathSpec | None" = None, force: "ArrayLike | None" = None,
+         torque: "ArrayLike | None" = None, degrees: bool = False,
          overrides: Mapping[str, float] | None = None, title: str | None = None,
          start: int | None = None,
          progress: Callable[[int, int], None] | None = None) -> "View":
@@ -126,8 +126,10 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
         1000 poses).  The grid holds at most :data:`screwkit.scene.MAX_STATES` poses.
     path : PathSpec, optional
         A path instead of a grid: a time slider with play/pause over its samples.
-    force, torque : array_like (3,)
-        The workload at ``o`` (default: the paper's); the page states it.
+    force, torque : array_like (3,), optional
+        The workload at ``o`` (one without the other: the other is zero; neither: the
+        model's declared default, else none: the page shows the kinematics without
+        efforts and says so); the page states it and where it comes from.
     degrees : bool
         Angles of ``pose`` and ``grid`` in degrees.
     overrides : dict, optional
@@ -141,13 +143,12 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
     -------
     screwkit.scene.View
     """
-    from ..engine import analyze, load_assembled_pm, scene_of, workload_source
+    from ..engine import analyze, load_assembled_pm, scene_of
     from ..pm import PMModel
     from ..scene import MAX_STATES, GridControls, TimeControls, View, require_plotly
 
     require_plotly()
     model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, dict(overrides or {}))
-    source = workload_source(force, torque)
     if path is not None:
         if grid is not None or pose is not None:
             raise InputError("give either a path or a pose/grid, not both")
@@ -159,7 +160,8 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
         res = analyze(model, {k: np.asarray(path.values[k], float) for k in model.independent},
                       force=force, torque=torque, path=True, progress=progress)
         return View(scene_of(res, TimeControls(np.asarray(path.t, float)),
-                             start=_start(start, len(path)), title=title, source=source,
+                             start=_start(start, len(path)), title=title,
+                             source=_source(res),
                              notes=(f"path: {path.source}",) if path.source else ()))
     centre = _centre(model, pose, degrees)
     api, shown = _axes(model, centre, grid, steps, degrees)
@@ -178,8 +180,14 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
     first = controls.index(cell) if start is None else _start(start, total)
     note = (f"{' x '.join(str(len(v)) for v in api)} poses solved by the engine; the sliders "
             "move between them")
-    return View(scene_of(res, controls, start=first, title=title, source=source,
+    return View(scene_of(res, controls, start=first, title=title, source=_source(res),
                          notes=(note,)))
+
+
+def _source(res) -> str:
+    """Where the view's workload comes from (said once; the scene's text says 'none')."""
+    from ..engine._scene import NO_WORKLOAD
+    return res.workload_source if res.has_workload else NO_WORKLOAD
 
 
 def _start(start, n):

@@ -22,6 +22,7 @@ from ._limits import NO_LIMITS, Limits
 from ._inertia import (NO_BODY, BarPair, Body, DynamicsParameters, LegDynamics, LegStiffness,
                        check_inertia, cylinder_body)
 from ._physical import STANDARD_GRAVITY, dynamics_for, dynamics_from_mapping
+from ._workload import Workload, workload_from_mapping
 from ._loader import load_pm, pm_names
 from ._variants import Definition, definition_yaml, with_dimensions
 from ._builder import PMBuilder, leg_type_of
@@ -47,8 +48,10 @@ __all__ = [
     # limits
     "Limits", "NO_LIMITS",
     # masses, inertias, friction, stiffness (the dynamics: block)
-    "Body", "BarPair", "NO_BODY", "LegDynamics", "LegStiffness", "DynamicsParameters",
-    "cylinder_body", "check_inertia", "dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY",
+    "Body", "BarPair", "NO_BODY", "LegDynamics", "LegStiffness", "DynamicsParameters", "cylinder_body",
+    "check_inertia", "dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY",
+    # workloads
+    "Workload", "workload_from_mapping",
     # units
     "Units", "UNDECLARED", "LENGTH_UNITS", "FORCE_UNITS", "units_from_mapping",
     # mobility

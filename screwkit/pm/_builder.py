@@ -305,6 +305,12 @@ class PMBuilder:
         self._fields["dynamics"] = copy.deepcopy(dict(dynamics))
         return self
 
+    def set_workload(self, workload: Mapping[str, Any]) -> "PMBuilder":
+        """The ``workload:`` block: the default workload at ``o`` with its units
+        (``{"force": [..], "torque": [..], "units": {"force": "N", "length": "m"}}``)."""
+        self._fields["workload"] = copy.deepcopy(dict(workload))
+        return self
+
     # -- output ---------------------------------------------------------------------------
     def _home_platform(self):
         f = self._fields

@@ -9,7 +9,8 @@ from ..errors import CatalogError, InputError
 from ..legs._guards import (MAX_MAGNITUDE, MAX_NAME, MAX_PATH_CHARS, did_you_mean, parse_number,
                             real, shorten)
 
-__all__ = ["split_path", "listing", "find_pm", "unknown_keys", "text_fields", "dimensions"]
+__all__ = ["split_path", "listing", "find_pm", "unknown_keys", "text_fields", "dimensions",
+           "pm_string"]
 
 
 def split_path(name_or_path: str):
@@ -104,3 +105,34 @@ def dimensions(dims_raw: dict, overrides, name, src) -> dict:
             raise bad(f"{k} = {x:g} must be a positive length")
         dims[k] = x
     return dims
+
+
+def pm_string(d, name, rules, ctx, passive=()):
+    """The PM string: ``string:`` when given; else the name when it is one that the legs
+    make (``3RRPRR``); else the legs' own (``my3SPR`` of three SPR legs is ``3SPR``; a
+    passive leg written ``LEG/passive``)."""
+    from ..errors import ScrewkitError
+    from ..legs import parse_pm
+
+    if "string" in d:
+        string = str(d["string"])
+        try:
+            return string, parse_pm(string)
+        except ScrewkitError as exc:
+            raise ctx.err(str(exc), "string") from None
+    declared = sorted((r.string.text, i in passive) for i, r in enumerate(rules))
+    try:
+        pms = parse_pm(name)
+        if sorted((ls.text, k in pms.passive) for k, ls in enumerate(pms.legs)) == declared:
+            return name, pms
+    except ScrewkitError:
+        pass                          # a name, not a PM string: the legs say what it is
+    counts: dict = {}
+    for i, r in enumerate(rules):
+        t = r.string.text + ("/passive" if i in passive else "")
+        counts[t] = counts.get(t, 0) + 1
+    string = "+".join(f"{c if c > 1 else ''}{t}" for t, c in counts.items())
+    try:
+        return string, parse_pm(string)
+    except ScrewkitError as exc:
+        raise ctx.err(str(exc), "legs") from None

@@ -35,11 +35,13 @@ from ..legs._guards import MAX_ANGLE_DEG, MAX_MAGNITUDE, MAX_NAME, did_you_mean,
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..screws import Normalisation, check_order
-from ._checks import dimensions, find_pm, listing, split_path, text_fields, unknown_keys
+from ._checks import (dimensions, find_pm, listing, pm_string, split_path, text_fields,
+                      unknown_keys)
 from ._home import _solve_home
 from ._units import units_from_mapping
 from ._limits import limits_from_mapping
 from ._physical import dynamics_from_mapping
+from ._workload import workload_from_mapping
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 from ._variants import Definition
 from ._vertices import _SHAPE_KEYS, override_axes as _override, vertices as _vertices  # noqa: F401
@@ -50,7 +52,7 @@ __all__ = ["load_pm", "pm_names"]
 
 _PM_KEYS = {"string", "summary", "dimensions", "base", "platform", "legs", "centre", "euler",
             "independent", "pose", "home", "guess", "dof", "motion", "note", "source", "units",
-            "limits", "dynamics"}
+            "limits", "dynamics", "workload"}
 #: The keys of a leg entry of ``legs:`` written as a mapping.
 _PM_LEG_KEYS = ("leg", "axes", "passive")
 
@@ -218,8 +220,6 @@ def _pose_values(raw, ctx, fld, names) -> dict:
 
 
 def _build(name: str, d, cat, overrides: dict) -> PMModel:
-    from ..legs import parse_pm
-
     src = cat.source
     if not isinstance(d, dict):
         raise CatalogError("must be a mapping", name, None, src)
@@ -276,11 +276,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         rules.append(r)
         bases.append(tuple(spec.basis))
         specs.append(spec)
-    string = str(d.get("string", name))
-    try:
-        pms = parse_pm(string)
-    except ScrewkitError as exc:
-        raise ctx.err(str(exc), "string") from None
+    string, pms = pm_string(d, name, rules, ctx, passive)
     declared = sorted((r.string.text, i in passive) for i, r in enumerate(rules))
     if sorted((ls.text, k in pms.passive) for k, ls in enumerate(pms.legs)) != declared:
         legs_text = "+".join(r.string.text + ("/passive" if i in passive else "")
@@ -340,6 +336,8 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
                                dynamics=dynamics_from_mapping(d.get("dynamics"), name, src, dims,
                                                               legs, units),
                                limits=limits_from_mapping(d.get("limits"), ctx, legs, passive),
+                               workload=workload_from_mapping(d.get("workload"), name, src,
+                                                              units, dims),
                                default_pose=default, notes=tuple(notes), passive=tuple(passive),
                                definition=Definition(
                                    name, d, cat, dict(overrides), _build,

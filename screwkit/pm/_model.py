@@ -84,6 +84,10 @@ class PMModel:
         0-based indices of the passive legs: legs without an actuator, which add their
         constraint rows to ``J`` and no actuation row (the Tricept's central UP column).
         Empty when every leg is actuated.
+    workload : Workload or None
+        The default workload at ``o`` the definition declares (``workload:``, in the
+        model's units and world axes, :mod:`screwkit.pm._workload`), or None: then the
+        statics need one given.
     definition : Definition or None
         How the model was defined: the ``pms:`` entry as read with its catalog and overrides
         (:meth:`with_dimensions` evaluates it again with other dimensions), and the same entry
@@ -119,6 +123,7 @@ class PMModel:
     limits: Limits = NO_LIMITS
     dynamics: object = None
     passive: tuple = ()
+    workload: object = None
     definition: object = field(default=None, repr=False)
 
     def __repr__(self) -> str:
@@ -230,7 +235,9 @@ class PMModel:
         frame = (R @ R0, R @ p0 + p)
         legs = tuple(lg.moved(R, p) for lg in self.home_legs)
         norm = Normalisation(R @ self.normalisation.centre + p, self.normalisation.length)
-        return dataclasses.replace(self, home_legs=legs, frame=frame, normalisation=norm)
+        load = None if self.workload is None else self.workload.moved(R)
+        return dataclasses.replace(self, home_legs=legs, frame=frame, normalisation=norm,
+                                   workload=load)
 
 
 def _mapping(model):

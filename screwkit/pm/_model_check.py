@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import yaml
 
 from ..errors import CatalogError, ScrewkitError
+from ._pm_problems import pm_problems
 
 __all__ = ["Problem", "check_model_file"]
 
@@ -139,6 +140,14 @@ def _schema_problems(data, text: str) -> list:
     return out
 
 
+def _file_catalog(data, source):
+    """The catalog a file's PMs are read against: the packaged legs and the file's own."""
+    from ._catalog import _TOP_KEYS, Catalog, default_catalog
+    base = default_catalog()
+    own = Catalog.from_mapping({k: v for k, v in data.items() if k in _TOP_KEYS}, source)
+    return Catalog({**base.legs, **own.legs}, base.table1, own.pms, source)
+
+
 def check_model_file(path, load=None) -> list:
     """All the problems of the catalog or model file at ``path``.
 
@@ -216,7 +225,7 @@ def check_model_file(path, load=None) -> list:
     whole = not any(p.check == "yaml" for p in problems)    # the strict read succeeded
     if pms and whole:
         try:     # the file as a whole (top-level keys, leg names) loads: PMs by its path
-            Catalog.from_mapping({k: v for k, v in data.items() if k in _TOP_KEYS}, source)
+            cat = _file_catalog(data, source)
         except ScrewkitError:
             whole = False
     if not whole:                         # the PMs against the legs that do load
@@ -229,15 +238,20 @@ def check_model_file(path, load=None) -> list:
             if isinstance(d, dict) and isinstance(d.get("legs"), list) else []
         if any(isinstance(u, str) and u in broken for u in uses):
             continue                      # its leg types are reported above
-        try:
+        def build(name=name):
             if whole:
                 load(f"{source}#{name}")
             else:
                 pm_loader(str(name), catalog=cat)
+        try:
+            found = pm_problems(str(name), d, cat, build)
         except CatalogError as exc:
-            problems.append(_from_error(exc, text, "pm"))
+            found = [exc]
         except ScrewkitError as exc:
             problems.append(Problem(None, str(name), None, str(exc), "pm"))
+            continue
+        for exc in found:
+            problems.append(_from_error(exc, text, "pm"))
     # the loader's problems (with a did-you-mean) hide the schema's at the same line and field
     rank = {"yaml": 0, "leg": 1, "pm": 1, "schema": 2}
     def bare(fld):                       # "joints[2] (S3)" -> "joints[2]"

@@ -43,10 +43,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CatalogError, InputError
+from ..legs._guards import MAX_MAGNITUDE, shorten
 from ..screws import GEOMETRY_RTOL
 from ._bars import read_bars
 from ._inertia import (NO_BODY, Body, DynamicsParameters, LegDynamics, LegStiffness,
                        check_inertia, cylinder_body)
+from ._leg_stiffness import _BEAM_KEYS, _STIFF_KEYS, _per_leg, _stiffness  # noqa: F401
 
 __all__ = ["dynamics_from_mapping", "dynamics_for", "STANDARD_GRAVITY"]
 
@@ -55,8 +57,6 @@ STANDARD_GRAVITY = 9.80665
 
 _BLOCK_KEYS = {"units", "gravity", "platform", "legs", "stiffness"}
 _LEG_KEYS = {"cylinder", "piston", "links", "friction", "bars"}
-_STIFF_KEYS = {"actuator", "force", "couple", "beam"}
-_BEAM_KEYS = {"E", "G", "area", "I", "J"}
 
 
 class _Reader:
@@ -65,25 +65,47 @@ class _Reader:
     def __init__(self, name, source, dims, factors):
         self.name, self.source, self.dims = name, source, dict(dims or {})
         self.f = factors                      # mass, length, force factors (time: s)
+        self.problems = None                  # a list: collect the numbers' problems
 
     def err(self, msg, fld):
         return CatalogError(msg, self.name, f"dynamics.{fld}" if fld else "dynamics", self.source)
 
-    def num(self, v, fld, *, mass=0, length=0, force=0, time=0, positive=False) -> float:
+    def num(self, v, fld, *, mass=0, length=0, force=0, time=0, positive=False,
+            bound=MAX_MAGNITUDE) -> float:
+        """A number of the block (an expression of the dimensions, or a number), at most
+        ``bound`` in magnitude as written, in the model's units; with ``problems`` a list,
+        a bad number is recorded there and read as 1 (the other fields are checked on)."""
+        try:
+            return self._num(v, fld, mass, length, force, positive, bound)
+        except CatalogError as exc:
+            if self.problems is None:
+                raise
+            self.problems.append(exc)
+            return 1.0
+
+    def _num(self, v, fld, mass, length, force, positive, bound) -> float:
         from ._expressions import parse_expression
         if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-            raise self.err(f"must be a number or an expression, got {v!r}", fld)
+            raise self.err(f"must be a number or an expression, got {shorten(v)}", fld)
         if isinstance(v, str):
             try:
                 v = parse_expression(v, tuple(self.dims))(**self.dims)
             except InputError as exc:
                 raise self.err(str(exc), fld) from None
-        x = float(v)
+        try:
+            x = float(v)
+        except OverflowError:
+            x = float("inf")
         if not np.isfinite(x) or (positive and x < 0):
             raise self.err(f"must be a finite{' non-negative' if positive else ''} number, "
-                           f"got {v!r}", fld)
+                           f"got {shorten(v, 40)}", fld)
+        if abs(x) > bound:
+            raise self.err(f"{x:g} is beyond the limit +-{bound:g}", fld)
         fm, fl, ff = self.f
-        return x * fm ** mass * fl ** length * ff ** force
+        y = x * fm ** mass * fl ** length * ff ** force
+        if x != 0 and not (0 < abs(y) <= bound * 1e6):
+            raise self.err(f"{x:g} is {y:g} in the model's units: out of range", fld)
+        return y
 
     def vec(self, v, fld, **dim) -> np.ndarray:
         if not (isinstance(v, (list, tuple)) and len(v) == 3):
@@ -276,39 +298,6 @@ def _leg(v, fld, r, leg, stiff) -> LegDynamics:
                        tuple(notes), bars)
 
 
-def _stiffness(v, fld, r, leg) -> LegStiffness:
-    if v is None:
-        return LegStiffness()
-    s = r.mapping(v, fld, _STIFF_KEYS)
-    rot = leg.actuated_joint.kind != "P"
-    out = {}
-    if s.get("actuator") is not None:
-        out["actuator"] = r.num(s["actuator"], f"{fld}.actuator", force=1,
-                                length=1 if rot else -1, positive=True)
-    if s.get("force") is not None:
-        out["force"] = r.num(s["force"], f"{fld}.force", force=1, length=-1, positive=True)
-    if s.get("couple") is not None:
-        out["couple"] = r.num(s["couple"], f"{fld}.couple", force=1, length=1, positive=True)
-    if s.get("beam") is not None:
-        b = r.mapping(s["beam"], f"{fld}.beam", _BEAM_KEYS, tuple(sorted(_BEAM_KEYS)))
-        dims = {"E": (1, -2), "G": (1, -2), "area": (0, 2), "I": (0, 4), "J": (0, 4)}
-        out["beam"] = {k: r.num(x, f"{fld}.beam.{k}", force=dims[k][0], length=dims[k][1],
-                                positive=True) for k, x in b.items()}
-    for k, x in out.items():
-        if k != "beam" and x == 0:
-            raise r.err("a stiffness must be positive (leave it out for a rigid row)", f"{fld}.{k}")
-    return LegStiffness(**out)
-
-
-def _per_leg(v, fld, r, n):
-    if isinstance(v, list):
-        if len(v) != n:
-            raise r.err(f"{len(v)} entries for {n} legs (one mapping for every leg, or a list "
-                        "with one per leg)", fld)
-        return [(x, f"{fld}[{i}]") for i, x in enumerate(v)]
-    return [(v, fld)] * n
-
-
 def dynamics_from_mapping(raw, name, source, dimensions, home_legs, units):
     """Read a ``dynamics:`` block (module docstring) into :class:`DynamicsParameters`.
 
@@ -358,7 +347,7 @@ def dynamics_from_mapping(raw, name, source, dimensions, home_legs, units):
     for lg in legs:
         notes.extend(lg.notes)
     return DynamicsParameters(_platform(raw.get("platform"), r), tuple(legs), g,
-                              units.mass if units.declared else "mass unit", tuple(notes))
+                              units.mass, tuple(notes))
 
 
 def dynamics_for(model, raw) -> DynamicsParameters:

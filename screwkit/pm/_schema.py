@@ -58,6 +58,8 @@ _PM_TYPES = {
     "units": ({"$ref": "#/$defs/units"}, "the model's units"),
     "limits": ({"$ref": "#/$defs/limits"}, "joint, stroke and leg-distance limits"),
     "dynamics": ({"$ref": "#/$defs/dynamics"}, "masses, inertias, friction, stiffness"),
+    "workload": ({"$ref": "#/$defs/workload"},
+                 "the default workload at o (with its units); none: statics need one given"),
 }
 _SHAPE_TYPES = {
     "shape": {"enum": ["triangle", "square", "rectangle", "circle", "points"]},
@@ -204,6 +206,22 @@ def model_schema() -> dict:
             "leg": _obj(_LEG_TYPES, _LEG_KEYS, required=("name", "string", "joints")),
             "limits": _obj(lim_types, _LIMIT_KEYS),
             "dynamics": dyn,
+            "workload": {"type": "object", "additionalProperties": False,
+                         "anyOf": [{"required": ["force"]}, {"required": ["torque"]}],
+                         "required": ["units"],
+                         "properties": {
+                             "force": {**_VEC3, "description": "at o, base axes"},
+                             "torque": {**_VEC3, "description": "at o, base axes"},
+                             "units": {"oneOf": [
+                                 {"const": "model"},
+                                 {"type": "object", "additionalProperties": False,
+                                  "required": ["force", "length"],
+                                  "properties": {"force": {"type": "string"},
+                                                 "length": {"type": "string"}}}],
+                                 "description": "{force: kN, length: cm} (torque in "
+                                                "force.length) or 'model'"},
+                             "source": {"type": "string", "maxLength": 500,
+                                        "description": "where the workload comes from"}}},
         },
     }
 

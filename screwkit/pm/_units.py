@@ -31,7 +31,9 @@ class Units:
     """A model's units: ``length`` and ``force`` (``torque`` is force.length).
 
     ``declared`` is False for a model that declares none: its numbers are in whatever
-    consistent units its dimensions were written in, and are labelled so.
+    consistent units its dimensions were written in, and are labelled with the dimensions
+    ``[L]`` (its length unit) and ``[F]`` (its force unit): torques ``[F.L]``, stiffnesses
+    ``[F/L]``, masses ``[F.s^2/L]``.
     """
 
     length: str = "cm"
@@ -40,21 +42,21 @@ class Units:
 
     @property
     def torque(self) -> str:
-        return f"{self.force}.{self.length}"
+        return f"{self.force}.{self.length}" if self.declared else "[F.L]"
 
     @property
     def mass(self) -> str:
         """The consistent mass unit, force.s^2/length (time in seconds): ``kN.s^2/cm`` is
         1e5 kg, so that mass x acceleration is a force in the model's unit."""
-        return f"{self.force}.s^2/{self.length}"
+        return f"{self.force}.s^2/{self.length}" if self.declared else "[F.s^2/L]"
 
     def of(self, quantity: str) -> str:
         """The unit of a quantity: ``length``, ``force``, ``torque``, ``angle`` (degrees at the
         command line), ``stiffness`` (force/length), ``angular stiffness`` (torque/rad)."""
         table = {"length": self.length, "force": self.force, "torque": self.torque,
-                 "angle": "deg", "stiffness": f"{self.force}/{self.length}",
-                 "angular stiffness": f"{self.torque}/rad", "mass": self.mass, "time": "s",
-                 "": ""}
+                 "angle": "deg", "stiffness": f"{self.force}/{self.length}" if self.declared
+                 else "[F/L]", "angular stiffness": f"{self.torque}/rad", "mass": self.mass,
+                 "time": "s", "": ""}
         try:
             return table[quantity]
         except KeyError:
@@ -93,12 +95,15 @@ class Units:
         except ImportError:
             raise InputError("unit conversions need the 'pint' package "
                              "(pip install 'screwkit[units]')") from None
+        if not isinstance(unit, str) or not unit.strip() or len(unit) > 100:
+            raise InputError(f"{str(unit)[:100]!r} is not a unit name (kg, m, N, s ...)")
         ureg = _registry(pint)
         try:
             return float(ureg.Quantity(1.0, unit).to(target).magnitude)
-        except (pint.errors.PintError, AttributeError, TypeError, ValueError) as exc:
-            raise InputError(f"cannot convert {unit!r} to a {dimension} "
-                             f"({type(exc).__name__}: {exc})") from None
+        except Exception as exc:          # pint's parser fails on a bad name in many ways
+            # (PintError, ValueError, an AssertionError on '{}'): every one is a bad unit
+            why = f"{type(exc).__name__}: {exc}" if str(exc) else "not a unit pint reads"
+            raise InputError(f"cannot convert {unit!r} to a {dimension} ({why})") from None
 
 
 _REG = []
@@ -110,8 +115,9 @@ def _registry(pint):
     return _REG[0]
 
 
-#: The units of a model that declares none (labelled as such).
-UNDECLARED = Units("length unit", "force unit", False)
+#: The units of a model that declares none: labelled with their dimensions, ``[L]`` and
+#: ``[F]`` (the model's own, undeclared, length and force units).
+UNDECLARED = Units("[L]", "[F]", False)
 
 
 def units_from_mapping(raw, where: str = "", source=None, default: Units | None = None) -> Units:

@@ -98,7 +98,8 @@ class PoseState:
     pose : dict str -> float
         The six pose parameters (angles in degrees, lengths in the model's unit).
     status : str
-        ``ok``, ``singular`` or ``unreachable`` (then nothing is drawn).
+        ``ok`` (regular), ``near-singular``, ``singular`` or ``unreachable`` (then nothing
+        is drawn): the engine's conditioning class, as every command says it.
     level : str
         ``ok``, ``ill-conditioned``, ``near-singular``, ``singular`` or ``unreachable``.
     condition_number : float

@@ -50,6 +50,10 @@ def pm_card(name_or_path: str) -> dict:
         "limits": raw.get("limits") or {},
         "limits_units": "joint values from home: deg for R/H joints, lengths for P joints; "
                         f"extensions and distances in {u.length}",
+        "workload": (None if pm.workload is None else
+                     {"force": pm.workload.force, "torque": pm.workload.torque,
+                      "applied_at": "o", "source": pm.workload.origin,
+                      "force_unit": u.force, "torque_unit": u.torque}),
         "source": pm.source, "note": pm.note,
     }
 
@@ -77,6 +81,14 @@ def show_pm(name_or_path: str, as_json: bool = False) -> int:
         print(f"  {p['name']:<6} default {fmt_num(p['default'])} {p['unit']}   home "
               f"{fmt_num(p['home'])} {p['unit']}")
     print(f"dependent pose parameters (solved): {', '.join(card['dependent']) or 'none'}")
+    w = card["workload"]
+    if w is None:
+        print("workload: none declared (statics need --force FX,FY,FZ and/or --torque "
+              "TX,TY,TZ)")
+    else:
+        from ._common import fmt_vec
+        print(f"workload: F = {fmt_vec(w['force'])} {w['force_unit']}, T = "
+              f"{fmt_vec(w['torque'])} {w['torque_unit']} at o ({w['source']})")
     lim = card["limits"]
     if lim:
         print(f"limits ({card['limits_units']}):")

@@ -7,7 +7,8 @@ import sys
 
 import numpy as np
 
-from ...legs._guards import MAX_LOAD, MAX_NAME, parse_number, shorten
+from ...legs._guards import (MAX_LOAD, MAX_NAME, MAX_STIFFNESS, MIN_STIFFNESS, parse_number,
+                             shorten)
 from ...errors import InputError
 from .._types import path
 from ...legs import point_label
@@ -48,10 +49,6 @@ def parse_triple(text: str, what: str, *, bound: float | None = MAX_LOAD):
     return [parse_number(p, f"{what} {'XYZ'[k]}", bound=bound) for k, p in enumerate(parts)]
 
 
-#: Largest stiffness of a row (--stiffness), in the model's units.
-MAX_STIFFNESS = 1e20
-
-
 def add_pm_arguments(p, pose=True):
     """Arguments shared by analyze, check, trajectory and draw."""
     p.add_argument("pm", nargs="?", help="catalog PM name (3RRPRR, 2SPS+2SPR, ...); "
@@ -67,12 +64,49 @@ def add_pm_arguments(p, pose=True):
 
 
 def add_load_arguments(p):
-    from ...engine import PAPER_FORCE, PAPER_TORQUE
+    p.add_argument("--force", metavar="FX,FY,FZ",
+                   help="force at o, in the model's force unit (default: the model's declared "
+                        "workload; --force alone means zero torque)")
+    p.add_argument("--torque", metavar="TX,TY,TZ",
+                   help="torque at o, in the model's force.length unit (default: the model's "
+                        "declared workload; --torque alone means zero force)")
 
-    p.add_argument("--force", metavar="FX,FY,FZ", default=",".join(str(x) for x in PAPER_FORCE),
-                   help="force at o (default: the paper's -20,-30,-60 kN)")
-    p.add_argument("--torque", metavar="TX,TY,TZ", default=",".join(str(x) for x in PAPER_TORQUE),
-                   help="torque at o (default: the paper's -30,-30,100 kN.cm)")
+
+#: How the workload options are named in messages of the command line.
+LOAD_OPTIONS = ("--force FX,FY,FZ", "--torque TX,TY,TZ")
+
+
+def parse_load(args):
+    """``(force, torque)`` of ``--force``/``--torque`` (one without the other: the other is
+    zero), or ``(None, None)`` when neither is given (the model's declared workload)."""
+    if args.force is None and args.torque is None:
+        return None, None
+    F = parse_triple(args.force, "--force") if args.force is not None else [0.0, 0.0, 0.0]
+    T = parse_triple(args.torque, "--torque") if args.torque is not None else [0.0, 0.0, 0.0]
+    return F, T
+
+
+def require_load(args, model):
+    """:func:`parse_load`, with the one-line error naming the options when neither is given
+    and the model declares no workload."""
+    from ...engine._workloads import no_workload_message
+    F, T = parse_load(args)
+    if F is None and getattr(model, "workload", None) is None:
+        raise InputError(no_workload_message(model, LOAD_OPTIONS))
+    return F, T
+
+
+def workload_note(command, model, force, torque, res, what="workload") -> str:
+    """``screwkit CMD: workload F = (..) kN, T = (..) kN.cm at o (command line)``."""
+    u = model.units
+    return (f"screwkit {command}: {what} F = {fmt_vec(force)} {u.force}, T = "
+            f"{fmt_vec(torque)} {u.torque} at o ({load_source(res)})")
+
+
+def load_source(res) -> str:
+    """Where the workload of a result comes from, as the command line says it."""
+    src = getattr(res, "workload_source", "") or ""
+    return "command line" if src == "given" else src
 
 
 def resolve_model(args):
@@ -126,17 +160,33 @@ def run(args) -> int:
         stiffness = "model"
     else:
         stiffness = parse_assignments(given, "--stiffness", bound=MAX_STIFFNESS) or None
-    pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
-    torque = parse_triple(args.torque, "--torque")
+        for name, k in (stiffness or {}).items():
+            if not k >= MIN_STIFFNESS:
+                raise InputError(f"--stiffness {name}: {k:g} is not a positive stiffness from "
+                                 f"{MIN_STIFFNESS:g} to {MAX_STIFFNESS:g}")
+    pose = parse_assignments(args.pose, "--pose")
+    force, torque = parse_load(args)
     model = resolve_model(args)
     res = analyze_pm(model, pose, degrees=True, force=force, torque=torque, stiffness=stiffness)
-    for w in res.warnings:                           # one line each, on stderr
-        print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     units = None if args.units == "model" else args.units
+    missing = None
+    if not res.has_workload:                         # kinematics and J print; statics cannot
+        from ...engine._workloads import no_workload_message
+        missing = no_workload_message(model, LOAD_OPTIONS)
+    else:                                            # (an error is the one line on stderr)
+        for w in res.warnings:                       # one line each, on stderr
+            print(f"screwkit analyze: warning: {w}", file=sys.stderr)
     if args.json:
-        print(dump_json(res.to_dict(units)))
-        return 0
-    print_text(res, units)
+        d = res.to_dict(units)
+        d["workload"]["source"] = load_source(res) or None
+        if missing:
+            d["error"] = {"type": "InputError", "message": missing}
+        print(dump_json(d))
+    else:
+        print_text(res, units)
+    if missing:
+        print(f"screwkit analyze: error: {missing}", file=sys.stderr)
+        return 2
     return 0
 
 
@@ -162,6 +212,7 @@ def _twist_space(mob, kl: float, length: str):
 def print_text(res, units=None) -> None:
     """The text report of one pose, in the model's units or (``units="SI"``) in SI: every
     length, force and torque printed times the factor of :func:`output_scales`."""
+    from ...engine._quality import describe_class
     from ...engine._report import output_scales, row_quantity, row_units, unit_row
 
     model, sol, mob, jac, st = res.model, res.solution, res.mobility, res.jacobian, res.statics
@@ -202,8 +253,11 @@ def print_text(res, units=None) -> None:
     print(f"unified Jacobian J = [J_a; J_c] (rows [f; m] about O per unit effort), normalised "
           f"condition number "
           f"{jac.condition_number:.6g}" + (f"  SINGULAR ({jac.singularity_kind})" if jac.singular else ""))
-    print(f"  conditioning: {q['level']}; efforts up to {q['force_amplification']:.3g} times the "
-          f"load; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
+    amp = q["force_amplification"]
+    print(f"  conditioning: {describe_class(q['class'], q['condition_number'])}; trust level "
+          f"{q['level']}" + (f", efforts up to {amp:.3g} times the load" if amp is not None
+                             else "")
+          + f"; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
           + (f"  BEYOND A SINGULAR SURFACE FROM {q['det_reference'].upper()}"
              if q["beyond_singular_surface"] else ""))
     _print_transmission(res, kl, u.length)
@@ -211,8 +265,13 @@ def print_text(res, units=None) -> None:
         q = row_quantity(r)
         print(f"  {' '.join(f'{x:10.5g}' for x in unit_row(row, q, k))}   leg {r.leg + 1} "
               f"{r.kind} {row_units(q, u.length)}")
+    if not res.has_workload:
+        print("statics: not computed: no workload (the model declares none; give --force "
+              "and/or --torque)")
+        return
     F, T = res.force * kf, res.torque * kt
-    print(f"statics for F = {fmt_vec(F)} {u.force} and T = {fmt_vec(T)} {u.torque} at o:")
+    print(f"statics for F = {fmt_vec(F)} {u.force} and T = {fmt_vec(T)} {u.torque} at o "
+          f"(workload: {load_source(res)}):")
     if st is None:
         print("  not solved: singular pose")
         return

@@ -61,6 +61,7 @@ def run(args) -> int:
     from ...engine import analyze_pm
 
     rtol = _rtol(args)
+    note = ""
     if args.all:
         if args.pm or args.model or args.set or args.pose:
             raise InputError("--all checks the catalog's PMs at drawn poses: give no PM, --model, "
@@ -83,8 +84,10 @@ def run(args) -> int:
         pose = parse_assignments(args.pose, "--pose")
         n = _poses(args, None)
         checker = PMChecker.for_model(model)
+        from ...interop._check_catalog import check_load
+        F, T, note = check_load(model)
         if n is None:
-            analyses = (analyze_pm(model, pose, degrees=True),)
+            analyses = (analyze_pm(model, pose, degrees=True, force=F, torque=T),)
         else:
             centre = None
             if pose:
@@ -94,11 +97,11 @@ def run(args) -> int:
     if args.json:
         print(dump_json([r.as_dict() for r in reports]))
     else:
-        print_table(reports)
+        print_table(reports, note)
     return 0 if all(r.passed for r in reports) else 1
 
 
-def print_table(reports) -> None:
+def print_table(reports, note: str = "") -> None:
     """Columns PM, pose, check, deviation, tolerance, pass; then a summary line."""
     lines = []
     for r in reports:
@@ -121,4 +124,6 @@ def print_table(reports) -> None:
                + ("all passed" if not bad else f"{len(bad)} pose(s) FAILED"))
     if worst is not None:
         summary += f"; largest relative deviation {worst[0]:.2e} ({worst[1]}, {worst[2]})"
+    if note:
+        summary += f"; statics under {note}"
     print(summary)

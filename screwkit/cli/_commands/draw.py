@@ -9,7 +9,8 @@ import numpy as np
 from ...legs._guards import MAX_ANGLE_DEG, parse_number, shorten
 from .._types import integer, label, output
 from ...errors import InputError
-from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_triple,
+from .analyze import (add_load_arguments, add_pm_arguments, load_source, parse_assignments,
+                      require_load,
                       resolve_model)
 
 HELP = """Draw a PM at a pose (the paper's Figs. 3b and 4b): base and platform polygons, the legs
@@ -53,7 +54,8 @@ def _title(res, force_unit, length_unit, singular) -> str:
     F = ", ".join(f"{x:g}" for x in res.force)
     T = ", ".join(f"{x:g}" for x in res.torque)
     t = (f"{res.model.name} at {pose}\n"
-         f"F = [{F}] {force_unit}, T = [{T}] {force_unit}·{length_unit} at o; "
+         f"F = [{F}] {force_unit}, T = [{T}] {force_unit}·{length_unit} at o "
+         f"({load_source(res).split(' (')[0]}); "
          f"condition number {res.jacobian.condition_number:.3g}")
     if singular:
         t += f"\n{res.jacobian.singularity_kind.upper()} SINGULARITY: no statics (values n/a)"
@@ -77,9 +79,9 @@ def run(args) -> int:
                      for x, w in zip(parts, ("ELEV", "AZIM")))
     if args.dpi < 20 or args.dpi > 1200:
         raise InputError(f"--dpi {args.dpi} must be between 20 and 1200")
-    pose, force = parse_assignments(args.pose, "--pose"), parse_triple(args.force, "--force")
-    torque = parse_triple(args.torque, "--torque")
+    pose = parse_assignments(args.pose, "--pose")
     model = resolve_model(args)
+    force, torque = require_load(args, model)
     res = analyze_pm(model, pose, degrees=True, force=force, torque=torque,
                      raise_on_singular=False)
     sol = res.solution

@@ -7,15 +7,17 @@ from .._types import output, path
 from ._common import dump_json
 from .analyze import parse_assignments
 
-HELP = """Export a PM for other tools. --urdf writes the spanning tree of the closed-loop
-model (every leg a branch from the base, leg 1 carrying the platform, simple visual
-geometry, the home pose, lengths in the model's unit) and, beside it, OUT.closures.json:
-the loop closures, which a few lines of Pinocchio turn into RigidConstraintModel objects
-(docs/pinocchio.md). --mjcf writes the same tree for MuJoCo in SI units (m, kg, s): an S as
-a ball joint, a U as two hinges, the loops closed by weld equality constraints, the masses
-and inertias of the model's dynamics: block (or --mass FILE; --massless for none), one
-motor per actuator, qpos0 at home and keyframe 0 at --pose (default: the model's default
-pose), solved by screwkit (docs/pinocchio.md)."""
+HELP = """Export a PM for other tools, in the units each format defines (SI: m, kg, s; the model's
+declared units are converted, so a model without units cannot be exported). --urdf writes the
+spanning tree of the closed-loop model (every leg a branch from the base, leg 1 carrying the
+platform, simple visual geometry, the home pose) with the link inertias of the model's
+'dynamics:' block or --mass FILE (none without either: the links are massless, and the
+output says so), and, beside it, OUT.closures.json: the loop closures, which a few lines of
+Pinocchio turn into RigidConstraintModel objects (docs/pinocchio.md). --mjcf writes the same
+tree for MuJoCo: an S as a ball joint, a U as two hinges, the loops closed by weld equality
+constraints, the masses and inertias of the model's dynamics: block (or --mass FILE;
+--massless for none), one motor per actuator, qpos0 at home and keyframe 0 at --pose
+(default: the model's default pose), solved by screwkit (docs/pinocchio.md)."""
 
 
 def register(sub):
@@ -32,8 +34,8 @@ def register(sub):
                    help="MJCF: the pose of keyframe 0, degrees for angles (repeatable; default: "
                         "the model's default pose)")
     p.add_argument("--mass", type=path, metavar="FILE",
-                   help="MJCF: a YAML file with a 'dynamics:' mapping (masses, inertias; "
-                        "default: the model's own block)")
+                   help="a YAML file with a 'dynamics:' mapping: the links' masses and "
+                        "inertias (default: the model's own block)")
     p.add_argument("--massless", action="store_true",
                    help="MJCF: no masses (every body at MuJoCo's bound mass, 1e-6 kg)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
@@ -42,33 +44,44 @@ def register(sub):
 
 def run(args) -> int:
     from ...interop import closures, write_mjcf, write_urdf
+    from ...interop._si import si_bodies
     from .analyze import resolve_model
 
     if not (args.urdf or args.mjcf):
         raise InputError("name what to write: --urdf OUT.urdf and/or --mjcf OUT.xml")
-    if not args.mjcf and (args.pose or args.mass or args.massless):
-        raise InputError("--pose, --mass and --massless are options of --mjcf")
+    if not args.mjcf and (args.pose or args.massless):
+        raise InputError("--pose and --massless are options of --mjcf")
     if args.mass and args.massless:
         raise InputError("give either --mass FILE or --massless, not both")
     if args.urdf and args.mjcf:
         _distinct_outputs(args.urdf, args.mjcf)
     pose = parse_assignments(args.pose, "--pose")
     pm = resolve_model(args)
+    params = None
+    if args.mass:
+        from ...pm import dynamics_for
+        params = dynamics_for(pm, args.mass)
     out, lines = {"pm": pm.name}, []
     if args.urdf:
-        urdf, side = write_urdf(pm, args.urdf)
+        urdf, side = write_urdf(pm, args.urdf, params)
         loops = closures(pm)
+        bodies, note = si_bodies(pm, params)
         n = sum(len(lg.joints) for lg in pm.home_legs)
         out.update({"urdf": urdf, "closures": side, "joints": n,
                     "constraints": len(loops["constraints"]),
-                    "actuated_joints": loops["actuated_joints"], "length_unit": pm.units.length})
+                    "actuated_joints": loops["actuated_joints"], "length_unit": "m",
+                    "mass_unit": "kg", "massive_links": [b.name for b in bodies],
+                    "inertias": note})
         n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
         lines.append(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths "
-                     f"in {pm.units.length}) and {side} ({len(loops['constraints'])} loop "
+                     f"in m, masses in kg) and {side} ({len(loops['constraints'])} loop "
                      f"closures, {loops['contact_type']}"
                      + (f"; {n3} of them parallelogram loops, CONTACT_3D" if n3 else "") + ")")
+        lines.append(f"  inertias: {note}" + (f" ({len(bodies)} massive links)" if bodies
+                                              else ""))
     if args.mjcf:
-        info = write_mjcf(pm, args.mjcf, pose=pose or None, degrees=True, params=args.mass,
+        info = write_mjcf(pm, args.mjcf, pose=pose or None, degrees=True,
+                          params=params if params is not None else None,
                           massless=args.massless)
         out["mjcf"] = info
         shown = ", ".join(f"{k}={info['pose'][k]:.6g}" for k in pm.independent)

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
+from ...engine._modes import MAX_SEEDS
 from ...errors import InputError
+from .._types import integer
 from ._common import dump_json, fmt_num
 from .analyze import add_pm_arguments, parse_assignments, resolve_model
 
@@ -14,7 +17,10 @@ from home (the model's lengths for linear actuators, degrees for rotary ones), r
 extension |a_i - A_i| where that is its linear actuator's value plus a constant. Newton on
 the loop closures from home (or from the default pose where home is singular, or --guess),
 moving the actuators in small steps (continuation). --all searches --seeds starts in one
-batch and lists every distinct real solution found (assembly modes) with the sign of det J."""
+batch and lists every distinct real solution found (assembly modes), those above the base
+first, each marked: above or below the base (a mirror mode), the sign of det J, and whether
+it has the working mode's sign pattern (above the base, det J of home's sign). Exit status
+2, with the closure residual on stderr, when no solution is found."""
 
 EPILOG = """examples:
   screwkit fk 3RRPRR --actuators q1=-6.2,q2=-3.1,q3=1.5
@@ -33,7 +39,8 @@ def register(sub):
                    help="start from this pose (independent parameters, degrees)")
     p.add_argument("--all", action="store_true",
                    help="search many seeds and list every distinct real solution")
-    p.add_argument("--seeds", type=int, default=1000, help="seeds of --all (default 1000)")
+    p.add_argument("--seeds", type=integer(1, MAX_SEEDS), default=None,
+                   help=f"seeds of --all (1 to {MAX_SEEDS}; default 1000)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.set_defaults(func=run)
 
@@ -49,10 +56,12 @@ def run(args) -> int:
     from ...api import assembly_modes, forward
     model = resolve_model(args)
     act = actuators_of([args.actuators])
+    if args.seeds is not None and not args.all:
+        raise InputError("--seeds is the number of starts of --all: add --all")
     if args.all:
         if args.guess:
             raise InputError("--all searches from seeds: it takes no --guess")
-        res = assembly_modes(model, act, seeds=args.seeds, degrees=True)
+        res = assembly_modes(model, act, seeds=args.seeds or 1000, degrees=True)
         out = res.to_dict()
         sols = res.solutions
     else:
@@ -63,20 +72,34 @@ def run(args) -> int:
         sols = forward(model, act, guess, degrees=True)
         out = {"pm": model.name, "count": len(sols),
                "solutions": [sols.to_dict(i) for i in range(len(sols))]}
+    solved = bool(np.all(sols.success))
     if args.json:
         print(dump_json(out))
-        return 0 if bool(np.all(sols.success)) else 1
+    else:
+        _print(model, sols, res if args.all else None)
+    if not solved:
+        bad = [i for i in range(len(sols)) if not sols.success[i]]
+        print(f"screwkit fk: error: no solution at these actuator values: closure residual "
+              f"{float(np.min(sols.residual[bad])):.3g} (length-normalised) after Newton and "
+              "continuation from the reference; try --guess NAME=VALUE or --all",
+              file=sys.stderr)
+        return 2
+    return 0
+
+
+def _print(model, sols, res) -> None:
     u = model.units
     head = (f"{len(sols)} distinct real solutions from {res.seeds} seeds ({res.converged} "
-            "converged; a lower bound)" if args.all else "forward kinematics")
+            "converged; a lower bound), above the base first" if res is not None
+            else "forward kinematics")
     print(f"{model.name}: {head}; lengths {u.length}, angles deg")
     for i in range(len(sols)):
         d = sols.to_dict(i)
         pose = "  ".join(f"{k}={fmt_num(v, 9)}" for k, v in d["pose"].items())
-        mode = "" if d["same_assembly_mode_as_reference"] else \
-            f"  (det J sign unlike {d['reference']}'s: another assembly mode)"
         print(f"  {i + 1}. {pose}")
-        print(f"     {'solved' if d['success'] else 'NOT SOLVED'}: residual "
-              f"{d['residual']:.2e}, condition {d['condition_number']:.4g} ({d['level']}), "
-              f"det J sign {d['det_sign']:+d}{mode}")
-    return 0 if bool(np.all(sols.success)) else 1
+        if not d["success"]:
+            print(f"     not solved: residual {d['residual']:.2e} (the last iterate, not a pose of "
+                  "the PM)")
+            continue
+        print(f"     solved: residual {d['residual']:.2e}, condition "
+              f"{d['condition_number']:.4g} ({d['conditioning']}); {d['mode']}")

@@ -67,6 +67,8 @@ def run(args) -> int:
     import screwkit
 
     lu = args.length_unit
+    if args.leg is not None and not args.leg.strip():
+        raise InputError("--leg: an empty leg string (give one such as SPR or RR_PRR)")
     if args.leg and (args.force or args.couple):
         raise InputError("give either --leg or constraint lines (--force/--couple), not both")
     if args.model and not args.leg:

@@ -8,7 +8,9 @@ import sys
 from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dump_json, fmt_num
-from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple
+from .._types import integer, output, scheduler
+from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_load,
+                      require_load)
 
 HELP = """Analyse a PM at every cell of a grid of 1 to 3 independent pose parameters
 (--grid NAME=START:STOP:COUNT, angles in degrees; the other independent parameters from --fix
@@ -33,24 +35,31 @@ EPILOG = """examples:
 
 def add_map_arguments(p):
     """The cells, workload and cluster arguments shared by map and size."""
+    from ...legs._guards import MAX_SEED
+    from ...maps import MAX_CELLS
     add_pm_arguments(p, pose=False)
     p.add_argument("--grid", metavar="NAME=START:STOP:COUNT", action="append", default=[],
                    help="a grid parameter (degrees for angles; repeatable, 1 to 3; with "
                         "--samples: NAME=LOW:HIGH, the sampling box)")
     p.add_argument("--fix", metavar="NAME=VALUE", action="append", default=[],
                    help="fix another independent parameter (default: the model's default pose)")
-    p.add_argument("--samples", type=int, metavar="N",
-                   help="N random poses uniform in the --grid box instead of a grid")
-    p.add_argument("--seed", type=int, default=0, help="seed of --samples (default 0)")
+    p.add_argument("--samples", type=integer(1, MAX_CELLS), metavar="N",
+                   help="N random poses uniform in the --grid box instead of a grid "
+                        f"(1 to {MAX_CELLS})")
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0,
+                   help=f"seed of --samples (0 to {MAX_SEED}; default 0)")
     add_load_arguments(p)
-    p.add_argument("--workers", type=int, metavar="N",
+    p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="run the cells on a local Dask cluster of N worker processes "
                         "(127.0.0.1; needs screwkit[dask])")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="run the cells on a running Dask scheduler")
-    p.add_argument("--threads", type=int, metavar="N",
+    p.add_argument("--threads", type=integer(1, 64), metavar="N",
                    help="threads of each block's analysis (as analyze's workers; default: 2 "
                         "for large blocks)")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the outputs (files, plot, summary): the model's (default) or "
+                        "SI (m, N, N.m; needs pint)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     add_quiet_argument(p)
 
@@ -75,15 +84,17 @@ def grid_of(args) -> dict:
     return out
 
 
-def map_keywords(args, progress=None) -> dict:
+def map_keywords(args, model, progress=None, load=True) -> dict:
     """Keywords of :func:`screwkit.map` / :func:`screwkit.size` from the arguments."""
     if args.workers is not None and args.scheduler:
         raise InputError("give either --workers N or --scheduler ADDRESS")
-    if args.threads is not None and not 1 <= args.threads <= 64:
-        raise InputError(f"--threads: 1 to 64 threads per block, got {args.threads}")
+    if args.seed and args.samples is None and args.command in ("map", "size"):
+        raise InputError("--seed seeds the random poses of --samples: give --samples N")
+    force, torque = (require_load(args, model) if load == "required" else parse_load(args)) \
+        if load else (None, None)
     return dict(fix=parse_assignments(args.fix, "--fix"), samples=args.samples,
-                seed=args.seed, degrees=True, force=parse_triple(args.force, "--force"),
-                torque=parse_triple(args.torque, "--torque"), workers=args.threads,
+                seed=args.seed, degrees=True, force=force,
+                torque=torque, workers=args.threads,
                 cluster=args.workers, scheduler=args.scheduler,
                 progress=progress)
 
@@ -93,8 +104,9 @@ def register(sub):
                        "forces, singular loci", description=HELP, epilog=EPILOG,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     add_map_arguments(p)
-    p.add_argument("--out", metavar="FILE", help="write the map: .nc (NetCDF), .zarr, .csv")
-    p.add_argument("--plot", metavar="PNG", help="draw heatmaps of --quantity")
+    p.add_argument("--out", metavar="FILE", type=output,
+                   help="write the map: .nc (NetCDF), .zarr, .csv")
+    p.add_argument("--plot", metavar="PNG", type=output, help="draw heatmaps of --quantity")
     p.add_argument("--quantity", action="append", default=[],
                    help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
                         "forces, constraints, conditioning or transmission (iti, oti, lti, "
@@ -110,10 +122,13 @@ def summary(ds, lti_threshold: float = 0.7) -> dict:
     """The JSON summary of a map (counts, loci, extremes)."""
     import numpy as np
 
-    from ...maps import LEVEL_CODES, extremes, locus_list, workspace
+    from ...maps import CONDITIONING_CODES, LEVEL_CODES, extremes, locus_list, workspace
     lev = ds["level"].values.reshape(-1)
+    cls = ds["conditioning"].values.reshape(-1)
     counts = {"cells": int(lev.size), "reachable": int(ds["reachable"].sum()),
               "ok": int(ds["ok"].sum()),
+              "conditioning": {name: int(np.sum(cls == k))
+                               for k, name in enumerate(CONDITIONING_CODES)},
               "levels": {name: int(np.sum(lev == k)) for k, name in enumerate(LEVEL_CODES)},
               "singular_actuation": int(np.sum(ds["singular_kind"].values == 1)),
               "singular_constraint": int(np.sum(ds["singular_kind"].values == 2)),
@@ -131,7 +146,7 @@ def summary(ds, lti_threshold: float = 0.7) -> dict:
                       "torque": ds.attrs["units_torque"], "angle": ds.attrs["units_angle"]},
             "grid": grid, "fixed": {k: float(ds[k].values) for k in ds.coords if ds[k].ndim == 0},
             "workload": {"force": ds.attrs["force"], "torque": ds.attrs["torque"],
-                         "applied_at": "o"},
+                         "applied_at": "o", "source": ds.attrs.get("workload_source", "")},
             "counts": counts, "locus": ds.attrs.get("locus"),
             "singular_locus": locus_list(ds),
             "other_sign_changes": locus_list(ds, singular_only=False),
@@ -155,7 +170,7 @@ def check_outputs(args) -> None:
 
 def run(args) -> int:
     from ...api import map as map_pm
-    from ...maps import plot_map, write
+    from ...maps import map_in_units, plot_map, write
 
     if args.plot:
         from ...viz import require_matplotlib
@@ -165,14 +180,27 @@ def run(args) -> int:
         raise InputError(f"--lti-threshold must be in (0, 1], got {args.lti_threshold:g}")
     from .analyze import resolve_model
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    if units is not None:
+        from ...engine._report import output_scales
+        output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "map", "cell") as progress:
-        ds = map_pm(model, grid, **map_keywords(args, progress))
+        ds = map_pm(model, grid, **map_keywords(args, model, progress))
+    if ds.attrs.get("workload_source") == "given":
+        ds.attrs["workload_source"] = "command line"
+    forces = "F_a1" in ds or any("row" in v.attrs for v in ds.data_vars.values())
+    quantities = args.quantity or (["forces", "conditioning"] if forces else ["conditioning"])
+    if args.plot and not forces and any(q in ("forces", "constraints") or q.startswith(
+            ("F_", "T_c", "T_a", "T_r")) for q in quantities):
+        raise InputError(f"--quantity {', '.join(quantities)}: {model.name} declares no "
+                         "workload: give --force FX,FY,FZ and/or --torque TX,TY,TZ for its forces")
+    ds = map_in_units(ds, units)
     if args.out:
         write(ds, args.out)
         print(f"wrote {args.out}", file=sys.stderr)
     if args.plot:
-        plot_map(ds, args.plot, args.quantity or ["forces", "conditioning"],
+        plot_map(ds, args.plot, quantities,
                  at=parse_assignments(args.at, "--at"))
         print(f"wrote {args.plot}", file=sys.stderr)
     s = summary(ds, args.lti_threshold)
@@ -192,10 +220,20 @@ def print_summary(s) -> None:
     print(f"map of {s['pm']}: {grid}" + (f"; fixed {fixed}" if fixed else ""))
     print(f"  units: lengths {u['length']}, forces {u['force']}, torques {u['torque']}, "
           f"angles {u['angle']}")
-    lv = c["levels"]
-    print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; levels ok "
-          f"{lv['ok']}, ill-conditioned {lv['ill-conditioned']}, near-singular "
-          f"{lv['near-singular']}, singular {lv['singular']}, unreachable {lv['unreachable']}")
+    lv, cl = c["levels"], c["conditioning"]
+    w = s["workload"]
+    from ._common import fmt_vec
+    if str(w["source"]).startswith("none"):
+        print(f"  workload {w['source']}".replace("force=/torque=, at the command line ", ""))
+    else:
+        print(f"  workload F = {fmt_vec(w['force'])} {u['force']}, T = "
+              f"{fmt_vec(w['torque'])} {u['torque']} at o ({w['source'] or 'given'})")
+    print(f"  cells {c['cells']}: reachable {c['reachable']}, ok {c['ok']}; conditioning "
+          f"regular {cl['regular']}, near-singular {cl['near-singular']}, singular "
+          f"{cl['singular']}, unreachable {cl['unreachable']}")
+    print(f"  trust levels of the efforts: ok {lv['ok']}, ill-conditioned "
+          f"{lv['ill-conditioned']}, near-singular {lv['near-singular']}, singular "
+          f"{lv['singular']}, unreachable {lv['unreachable']}")
     print(f"  det J of the other sign than home's: {c['other_assembly_mode']} cells"
           + (f"; outside the limits: {c['outside_limits']} cells" if "outside_limits" in c
              else ""))
@@ -211,6 +249,14 @@ def print_summary(s) -> None:
     if len(loc) > 5:
         print(f"    ... {len(loc) - 5} more (--json lists them)")
     ex = s["extremes"]
+    if not ex["rows"]:
+        print("  no forces: no workload")
+    else:
+        _print_extremes(ex, c)
+    print_workspace(s["workspace"])
+
+
+def _print_extremes(ex, c) -> None:
     print(f"  largest |value| over the {ex['usable_cells']} usable cells (ok"
           + (", within the limits" if "outside_limits" in c else "") + "):")
     for r in ex["rows"]:
@@ -218,8 +264,7 @@ def print_summary(s) -> None:
             continue
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
               + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
-              + f"  ({r['level']})")
-    print_workspace(s["workspace"])
+              + f"  ({r['conditioning']}, trust {r['level']})")
 
 
 def print_workspace(w) -> None:

@@ -3,6 +3,8 @@ model files, their schema, and a model written back as a self-contained file."""
 
 from __future__ import annotations
 
+import sys
+
 from .._types import output, path
 from ._common import dump_json, write_output
 
@@ -68,7 +70,11 @@ def run_check(args) -> int:
             print(f"  {p}")
     else:
         print(f"{args.file}: valid")
-    return 2 if problems else 0
+    if problems:                        # the one-line error of every exit status 2
+        print(f"screwkit model check: error: {args.file}: {len(problems)} "
+              f"problem{'s' if len(problems) != 1 else ''} (listed above)", file=sys.stderr)
+        return 2
+    return 0
 
 
 def run_schema(args) -> int:

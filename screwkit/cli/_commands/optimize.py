@@ -10,6 +10,7 @@ import numpy as np
 
 from ...errors import InputError
 from .._progress import progress_bar
+from .._types import path
 from ._common import dump_json, fmt_num
 from .map import add_map_arguments, grid_of, map_keywords
 
@@ -49,8 +50,9 @@ def register(sub):
                         "gtw-volume, condition, stroke (repeatable: a Pareto front)")
     p.add_argument("--constraint", action="append", default=[], metavar="EXPR",
                    help="a bound on an objective, e.g. stroke<=40 or min-lti>=0.6 (repeatable)")
-    p.add_argument("--workloads", metavar="CSV",
-                   help="workloads (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, --torque")
+    p.add_argument("--workloads", metavar="CSV", type=path,
+                   help="workloads (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, --torque, "
+                        "else the model's declared workload")
     p.add_argument("--max-level", choices=("ok", "ill-conditioned", "near-singular"),
                    default="near-singular",
                    help="the worst trust level of a cell of the task (default: every regular "
@@ -87,7 +89,6 @@ def _vary(items) -> dict:
 def run(args) -> int:
     from ...api import optimize
     from ...maps import read_workloads
-    from ...engine import PAPER_FORCE, PAPER_TORQUE
     from .analyze import resolve_model
 
     if args.plot:
@@ -97,15 +98,15 @@ def run(args) -> int:
         raise InputError("--threads: optimize evaluates one candidate at a time per process; "
                          "use --workers N for parallel candidates")
     vary = _vary(args.vary)
-    explicit = (args.force != ",".join(str(x) for x in PAPER_FORCE)
-                or args.torque != ",".join(str(x) for x in PAPER_TORQUE))
+    explicit = args.force is not None or args.torque is not None
     if args.workloads and explicit:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
     model = resolve_model(args)
     grid = grid_of(args)
     with progress_bar(args, "optimize", "generation") as progress:
-        kw = map_keywords(args, progress)
+        kw = map_keywords(args, model, progress,
+                          load="required" if not args.workloads else False)
         F, T = kw.pop("force"), kw.pop("torque")
         kw.pop("workers")
         if args.workloads:

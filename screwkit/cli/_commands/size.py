@@ -7,16 +7,17 @@ import sys
 
 from ...errors import InputError
 from .._progress import progress_bar
-from ._common import dump_json, fmt_num
+from ._common import dump_json, fmt_num, fmt_vec
+from .._types import path
 from .map import add_map_arguments, grid_of, map_keywords
 
 HELP = """Size a PM's actuators and legs: over every cell of a grid (or random samples; the
 arguments of 'screwkit map') and every workload of --workloads FILE.csv (columns Fx,Fy,Fz,
 Tx,Ty,Tz in the model's force and torque units at o, optionally name; default: --force and
---torque), the largest |value| of each actuator's force or torque, of each constraint force
-or couple, and of each linear leg's T_r, with the signed value, the pose and the workload
-where it occurs and the cell's trust level; and the range of each extension r_i and actuated
-joint value q_ai (the strokes). Only cells that are ok, within the model's limits and of
+--torque, else the model's declared workload), the largest |value| of each actuator's force
+or torque, of each constraint force or couple, and of each linear leg's T_r, with the signed
+value, the pose and the workload where it occurs, the cell's conditioning class and trust
+level; and the range of each extension r_i and actuated joint value q_ai (the strokes). Only cells that are ok, within the model's limits and of
 --max-level or better count.
 --json prints the table under the key 'extremes'."""
 
@@ -35,7 +36,7 @@ def register(sub):
                    default="near-singular",
                    help="count only cells of this trust level or better (default: every "
                         "regular cell; near-singular cells need efforts > 5x the load)")
-    p.add_argument("--workloads", metavar="CSV",
+    p.add_argument("--workloads", metavar="CSV", type=path,
                    help="workloads to size for (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, "
                         "--torque")
     p.set_defaults(func=run)
@@ -46,19 +47,30 @@ def run(args) -> int:
     from ...maps import read_workloads
     from .analyze import resolve_model
 
-    from ...engine import PAPER_FORCE, PAPER_TORQUE
-    if args.workloads and (args.force != ",".join(str(x) for x in PAPER_FORCE)
-                           or args.torque != ",".join(str(x) for x in PAPER_TORQUE)):
+    if args.workloads and (args.force is not None or args.torque is not None):
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    if units is not None:
+        from ...engine._report import output_scales
+        output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "size", "cell") as progress:
-        kw = map_keywords(args, progress)
+        kw = map_keywords(args, model, progress,
+                          load="required" if not args.workloads else False)
         F, T = kw.pop("force"), kw.pop("torque")
-        loads = read_workloads(args.workloads) if args.workloads else \
-            [("--force/--torque", F, T)]
+        if args.workloads:
+            loads = [(f"{n} ({args.workloads})", f, t)
+                     for n, f, t in read_workloads(args.workloads)]
+        elif F is None:
+            w = model.workload
+            loads = [(w.origin, w.force, w.torque)]
+        else:
+            loads = [("command line", F, T)]
         res = size(model, grid, workloads=loads, max_level=args.max_level, **kw)
+    from ...maps import sizing_in_units
+    res = sizing_in_units(res, units)
     if args.json:
         print(dump_json(res.to_dict()))
         return 0
@@ -67,10 +79,16 @@ def run(args) -> int:
           f"the limits, level {res.max_level} or better) and {len(res.workloads)} workload(s); "
           f"lengths {u['length']}, forces {u['force']}, torques {u['torque']}, angles "
           f"{u['angle']}")
+    for w in res.workloads[:5]:
+        print(f"  workload {w['name']}: F = {fmt_vec(w['force'])} {u['force']}, T = "
+              f"{fmt_vec(w['torque'])} {u['torque']} at o")
+    if len(res.workloads) > 5:
+        print(f"  ... {len(res.workloads) - 5} more workloads (--json lists them)")
     if not res.usable_cells:
         print("  no usable cell: nothing to size", file=sys.stderr)
         return 0
-    print(f"  {'row':<6} {'max |value|':>13} {'unit':<6} {'signed':>12}  workload / pose / level")
+    print(f"  {'row':<6} {'max |value|':>13} {'unit':<6} {'signed':>12}  workload / pose / "
+          "conditioning (trust level)")
     undetermined = False
     for r in res.rows:
         if r["max_abs"] is None:
@@ -79,7 +97,8 @@ def run(args) -> int:
         star = "*" if r.get("determined") is False else " "
         undetermined |= star == "*"
         print(f"  {r['name']:<6} {fmt_num(r['max_abs']):>12}{star} {r['unit']:<6} "
-              f"{fmt_num(r['value']):>12}  {r['workload']} / {pose} / {r['level']}")
+              f"{fmt_num(r['value']):>12}  {r['workload']} / {pose} / {r['conditioning']} "
+              f"(trust {r['level']})")
     if undetermined:
         print("  * not fixed by statics alone: the PM is statically indeterminate and this is "
               "the least-norm value (screwkit.size(..., stiffness=...) weights it)")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .._progress import add_quiet_argument, progress_bar
-from .._types import integer, path
+from .._types import integer, path, scheduler
 from ._common import (catalog_with_model_legs, dask_mapper, default_jobs, dump_json,
                       process_mapper, write_output)
 
@@ -77,7 +77,7 @@ def register(sub):
                         "Linux with 2 or more cores, else 1)")
     p.add_argument("--workers", type=integer(1, 64), default=None, metavar="N",
                    help="verify the candidates on a local Dask cluster of N worker processes")
-    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT", type=scheduler,
                    help="verify the candidates on a running Dask scheduler")
     p.add_argument("--write", type=path, default=None, metavar="DIR",
                    help="write each listed PM as DIR/<name>.yaml")
@@ -97,6 +97,8 @@ def run(args) -> int:
     from ...design import VARIANTS, synthesize_motion
     from ...errors import InputError
 
+    if args.write is not None and Path(args.write).exists() and not Path(args.write).is_dir():
+        raise InputError(f"--write {args.write}: not a directory (give one for the models)")
     mapper = dask_mapper(args)
     if mapper is not None and args.jobs is not None:
         raise InputError("give either --jobs N (local processes) or a Dask cluster")

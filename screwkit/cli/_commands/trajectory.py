@@ -5,10 +5,11 @@ from __future__ import annotations
 import sys
 
 from ...errors import InputError
-from .._types import integer, label, output
+from .._types import integer, label, output, scheduler
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dask_mapper, dump_json, emit_table
-from .analyze import add_load_arguments, add_pm_arguments, parse_triple, resolve_model
+from .analyze import (add_load_arguments, add_pm_arguments, load_source, require_load,
+                      resolve_model, workload_note)
 
 HELP = """Solve a PM along a path of its independent pose parameters: at every sample the full
 pose (unified inverse displacement, warm-started), the leg extensions r_i, the active forces F_ai,
@@ -18,8 +19,10 @@ A_i), and the normalised condition number of the unified Jacobian. The path is a
 header row with t and the independent parameters, angles in degrees) or one expression in t
 per independent parameter (--expr 'alpha=10*sin(2*pi*t)' --expr ... --samples N). Output: CSV
 (default) or JSON on stdout or in --out FILE; --plot FILE draws the panels of the paper's
-Fig. 5. A sample that is singular or unreachable is flagged in the 'status' column
-(ok|singular|unreachable) with NaN values; the run continues. Angles in degrees, lengths and
+Fig. 5. Each sample's 'status' is ok (regular) or its conditioning class (near-singular,
+singular, unreachable; the same classes as analyze); singular and unreachable samples have
+NaN values; the run continues. The workload is --force/--torque (--force alone: zero
+torque) or the model's declared one. Angles in degrees, lengths and
 forces in the model's units or in SI (--units SI); the CSV header names each column's unit
 (F_a1 [kN])."""
 
@@ -53,7 +56,7 @@ def register(sub):
                    help="form the rows and statics of the path's chunks on a local Dask cluster "
                         "of N worker processes (127.0.0.1; needs screwkit[dask]); the closures "
                         "are solved here; the table equals the serial one")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="the same on a running Dask scheduler")
     add_quiet_argument(p)
     p.add_argument("--no-progress", action="store_true", help=argparse.SUPPRESS)   # old --quiet
@@ -76,6 +79,13 @@ def run(args) -> int:
 
     model = resolve_model(args)
     fmt = _format(args)
+    if not getattr(args, "dynamics", False):
+        given = [o for o, v in (("--mass", args.mass), ("--gravity", args.gravity),
+                                ("--smoothing", args.smoothing)) if v is not None]
+        if given:
+            raise InputError(f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for "
+                             "the dynamic columns: add --dynamics")
+    force, torque = require_load(args, model)
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
@@ -95,16 +105,20 @@ def run(args) -> int:
     if getattr(args, "dynamics", False):
         from ._dynamics_args import run_dynamics
         with progress_bar(args, "dynamics", "step") as progress:
-            return run_dynamics(args, model, fmt, progress)
+            return run_dynamics(args, model, fmt, progress, force, torque)
     path = path_from_args(args, model.independent,
                           model.units.length if model.units.declared else None)
     with progress_bar(args, "trajectory", "step") as progress:
-        res = run_trajectory(model, path, parse_triple(args.force, "--force"),
-                             parse_triple(args.torque, "--torque"), progress=progress,
-                             mapper=mapper)
-    text = (dump_json(res.to_dict(table_units)) + "\n" if fmt == "json"
-            else res.to_csv(units=table_units))
+        res = run_trajectory(model, path, force, torque, progress=progress, mapper=mapper)
+    if fmt == "json":
+        d = res.to_dict(table_units)
+        d["workload"]["source"] = load_source(res)
+        text = dump_json(d) + "\n"
+    else:
+        text = res.to_csv(units=table_units)
     emit_table(args.out, text)
+    if sys.stderr.isatty() and not getattr(args, "quiet", False):   # (JSON: workload.source)
+        print(workload_note("trajectory", model, res.force, res.torque, res), file=sys.stderr)
     if args.plot:
         units = {}
         if table_units is not None:
@@ -116,6 +130,9 @@ def run(args) -> int:
         res.plot(args.plot, title=args.title, units=units or None)
         print(f"wrote {args.plot}", file=sys.stderr)
     c = res.counts()
+    if c["near-singular"]:
+        print(f"screwkit trajectory: {c['near-singular']} near-singular of {len(res)} samples "
+              "(status column; efforts there are large and sensitive)", file=sys.stderr)
     if c["singular"] or c["unreachable"]:
         print(f"screwkit trajectory: {c['singular']} singular and {c['unreachable']} unreachable "
               f"of {len(res)} samples (status column; their statics are NaN)", file=sys.stderr)

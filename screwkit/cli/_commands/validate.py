@@ -8,7 +8,7 @@ import io
 import sys
 
 from ...legs._guards import MAX_DRAWS, MAX_ENTRIES, MAX_SEED
-from .._types import integer, output, path
+from .._types import integer, output, path, scheduler
 from .._progress import add_quiet_argument, progress_bar
 from ._common import (catalog_with_model_legs, dask_mapper, default_jobs, dump_json,
                       process_mapper, write_output)
@@ -52,7 +52,7 @@ def register(sub):
     p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="validate the strings on a local Dask cluster of N worker processes "
                         "(127.0.0.1; needs screwkit[dask]); the report equals the serial one")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="validate the strings on a running Dask scheduler")
     add_quiet_argument(p)
     p.set_defaults(func=run)

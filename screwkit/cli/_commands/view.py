@@ -10,7 +10,7 @@ from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
 from .._types import integer, label, output
 from ._common import dump_json
-from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_triple, \
+from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_load, \
     resolve_model
 
 HELP = """Write the interactive 3D view of a PM as one self-contained HTML page (plotly.js
@@ -88,9 +88,9 @@ def run(args) -> int:
     if args.png:
         from ...scene._browser import _require
         _require()                             # playwright and Chromium, before the work
-    force, torque = parse_triple(args.force, "--force"), parse_triple(args.torque, "--torque")
     pose = parse_assignments(args.pose, "--pose")
     model = resolve_model(args)
+    force, torque = parse_load(args)            # none given, none declared: no efforts shown
     with progress_bar(args, "view", "pose") as progress:
         if has_path:
             path = path_from_args(args, model.independent,
