@@ -59,8 +59,6 @@ AMPLITUDE_LENGTH = 0.08
 MAX_JUMP = 4.0
 #: Tolerance of the finite-motion invariants, relative (rotations) or to the length ``L``.
 FINITE_RTOL = 1e-7
-#: Newton iterations per sample of the march along the path (:func:`_march`).
-MARCH_ITERATIONS = 12
 
 
 @dataclass(frozen=True)
@@ -183,20 +181,18 @@ def _march(model, path) -> int:
     was most of the cost of a rejected candidate.  Measured on the default 3T, 1T2R and
     3T1R searches (266, 366 and 411 candidates verified), every candidate the march
     stopped was rejected by the batch with the continuation too: the continuation rescued
-    none (``docs/synthesis.md``).  Newton is given ``MARCH_ITERATIONS`` iterations (it
-    converges in a few from a neighbour where the closures are regular; an immobile
-    candidate would spend the engine's default 30 on a residual that does not vanish)."""
-    # the engine's Gauss-Newton without its continuation (analyze always continues)
+    none (``docs/synthesis.md``)."""
+    # the engine's closures without its continuation (analyze always continues)
     from ..engine._chains import chains_of
-    from ..engine._closure import ACCEPTED, gauss_newton
+    from ..engine._solve import solve_closures
 
     ch = chains_of(model)
     n = len(next(iter(path.values())))
 
     def closes(ks, X):
         fixed = {p: np.asarray(path[p][ks], float) for p in ch.fixed}
-        r = gauss_newton(ch, fixed, X, max_iter=MARCH_ITERATIONS)
-        return bool(np.all(np.asarray(r.residual) <= ACCEPTED)), r.X
+        c = solve_closures(model, fixed, X, continuation=False)
+        return bool(np.all(np.asarray(c.how) == 0)), c.X
 
     # every sample from home at once first (one batched solve): where all close, the
     # march is not needed (the batch analysis does the same, and checks the continuity)
@@ -207,14 +203,6 @@ def _march(model, path) -> int:
         ok, X = closes(slice(k, k + 1), X)
         if not ok:
             return k
-    return n
-    X = ch.home_vector(1)
-    for k in range(1, n):
-        c = solve_closures(model, {p: np.asarray(v[k:k + 1], float) for p, v in path.items()},
-                           X, continuation=False)
-        if not bool(np.all(np.asarray(c.residual) <= ACCEPTED)):
-            return k
-        X = c.X
     return n
 
 
