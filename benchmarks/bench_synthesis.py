@@ -6,7 +6,9 @@ workers, the generated leg types, the candidates tried, screened out at home, se
 engine, verified and listed, and which of the textbook families were listed (and which
 not).  A reference measured in the same run: one engine verification of a catalog PM
 (load the 3-UPU, walk its verification path, mobility at 7 poses), so a loaded machine
-shows as a slower reference too (``= refs``: the pattern's CPU time in references).
+shows as a slower reference too (``= refs``: the pattern's CPU time in references), and
+``load`` is the machine's one-minute load average when the pattern ends (2 cores: above 2,
+other work shares them).
 
 With ``--workers N`` each motion runs on a Dask LocalCluster of N processes instead (for
 wider searches: ``--wide``), and ``--serial`` runs in this process only.
@@ -17,6 +19,7 @@ Run: python benchmarks/bench_synthesis.py [--workers N | --serial] [--wide] [MOT
 
 from __future__ import annotations
 
+import os
 import resource
 import sys
 import time
@@ -80,8 +83,8 @@ def main(motions, workers=None, serial=False, wide=False) -> None:
         print(f"Dask LocalCluster started in {time.perf_counter() - t:.2f} s")
     print(f"engine verifications on {how}{', wide enumeration' if wide else ''}")
     print(f"{'motion':<6} {'wall s':>7} {'cpu s':>7} {'target':>6}  {'gen':>4} {'tried':>6} "
-          f"{'screen':>6} {'engine':>6} {'verif':>5} {'listed':>6} {'= refs':>7}  textbook found"
-          " / missing")
+          f"{'screen':>6} {'engine':>6} {'verif':>5} {'listed':>6} {'= refs':>7} {'load':>5}  "
+          "textbook found / missing")
     for m in motions:
         w, c = time.perf_counter(), cpu()
         res = design.synthesize_motion(m, mapper=mapper, wide=wide)
@@ -91,7 +94,8 @@ def main(motions, workers=None, serial=False, wide=False) -> None:
         missing = [n for n in TEXTBOOK.get(m, ()) if n not in names]
         print(f"{m:<6} {wall:>7.1f} {used:>7.1f} {TARGET_S:>6.0f}  {res.generated:>4} "
               f"{res.tried:>6} {res.screened_out:>6} {res.engine_runs:>6} {res.verified:>5} "
-              f"{len(res.listed):>6} {used / ref:>7.0f}  {', '.join(found) or '-'} / "
+              f"{len(res.listed):>6} {used / ref:>7.0f} {os.getloadavg()[0]:>5.1f}  "
+              f"{', '.join(found) or '-'} / "
               f"{', '.join(missing) or '-'}")
         print(f"       first listed: {', '.join(dict.fromkeys(res.names()[:12]))}")
     if stack is not None:

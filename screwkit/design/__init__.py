@@ -20,14 +20,15 @@ candidate as a model and checks it with the engine (``docs/synthesis.md``):
 from ._verify import (CHECK_POSES, FINITE_RTOL, PATH_SAMPLES, PoseCheck, Verdict,
                       actuation_condition, verification_path, verify_model)
 from ._tasks import TaskResult, VerifyTask, serial_map, verify_candidate
-from ._search import (MAX_LEGS, MAX_MIX, MAX_VERIFIED, VARIANTS, SynthesizedPM, TypeSynthesis,
-                      synthesize_motion)
+from ._search import (MAX_LEGS, MAX_MIX, MAX_PAIR, MAX_VERIFIED, VARIANTS, SynthesizedPM,
+                      TypeSynthesis, synthesize_motion)
 from ._evaluate import OBJECTIVES, Objective, Task, evaluate
 from ._problem import Problem, parse_constraint, problem
 from ._result import OptimizationResult, pareto
 from ._optimize import Evaluator, optimize
 
-__all__ = ["CHECK_POSES", "FINITE_RTOL", "MAX_LEGS", "MAX_MIX", "MAX_VERIFIED", "PATH_SAMPLES", "PoseCheck",
+__all__ = ["CHECK_POSES", "FINITE_RTOL", "MAX_LEGS", "MAX_MIX", "MAX_PAIR", "MAX_VERIFIED",
+           "PATH_SAMPLES", "PoseCheck",
            "SynthesizedPM", "TaskResult", "VARIANTS", "TypeSynthesis", "Verdict", "VerifyTask",
            "actuation_condition", "serial_map", "synthesize_motion", "verification_path",
            "verify_candidate", "verify_model",

@@ -23,6 +23,10 @@
    (constraining legs and unconstrained actuated legs without redundancy, as the
    4-SPS+SPR or the 3-SPU+PRRR).  This keeps one motion pattern to seconds: an
    over-constrained candidate that cannot move costs the engine's continuation from home.
+   Three-leg *pair* compositions (:func:`screwkit.synthesis.pair_compositions`: two legs
+   of one type on a base diameter whose constraint systems are redundant together, and a
+   third type completing the complementary system, the Exechon's 2-UPR+SPR) come next,
+   on the pair geometry, with a budget of their own (``MAX_PAIR``).
    PMs of ``n`` actuated legs and one *passive* constraining leg
    (:func:`screwkit.synthesis.passive_compositions`: the 4-SPS + passive PRRR) come
    last, with a budget of their own; their ``J`` leaves out the passive leg's actuation
@@ -41,14 +45,15 @@ import numpy as np
 from ..errors import GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..pm import load_pm, mobility_of_legs
-from ..synthesis import (CENTRAL_GEOMETRIES, GEOMETRIES, build_pool, catalog_compositions,
-                         central_compositions, compositions_for, geometries_for, motion_pattern,
+from ..synthesis import (CENTRAL_GEOMETRIES, GEOMETRIES, PAIR_GEOMETRIES, build_pool,
+                         catalog_compositions, central_compositions, compositions_for,
+                         geometries_for, motion_pattern, pair_compositions,
                          passive_compositions, pm_definition, synthesis_catalog)
 from ..synthesis._leg_types import VARIANTS
 from ._results import SynthesizedPM, TypeSynthesis
 from ._tasks import monotonic_progress, run_round
 
-__all__ = ["MAX_LEGS", "MAX_MIX", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis",
+__all__ = ["MAX_LEGS", "MAX_MIX", "MAX_PAIR", "MAX_VERIFIED", "SynthesizedPM", "TypeSynthesis",
            "synthesize_motion"]
 
 #: Largest number of legs (the standard geometries have 3, 4 or 5 vertices).
@@ -58,20 +63,28 @@ MAX_LEGS = max(GEOMETRIES)
 MAX_VERIFIED = 400
 #: Leg types whose symmetric PMs verified that are mixed two by two (the best ranked).
 MAX_MIX = 4
+#: Budget of engine verifications of the pair compositions (two legs of one type on a
+#: diameter, the Exechon's; :func:`screwkit.synthesis.pair_compositions`).
+MAX_PAIR = 40
 
 
-def _probe(motion, n, g, catalog, passive=False, central=False):
+def _probe(motion, n, g, catalog, passive=False, central=False, pair=False):
     """A model of ``n`` unconstrained legs on geometry ``g``: its placements at home."""
-    probe = pm_definition(_unconstrained(n, passive, central), motion, g)
+    from ..pm import default_catalog
+    probe = pm_definition(_unconstrained(n, passive, central, pair), motion, g)
+    # the probe's SPS legs only place the vertices: the packaged SPS, whatever the catalog
+    sps = {"SPS": default_catalog().legs["SPS"]}
     try:
-        return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}))
+        return load_pm("probe", None, synthesis_catalog(catalog, {"probe": probe}, sps))
     except ScrewkitError:
         return None
 
 
-def _unconstrained(n, passive=False, central=False):
+def _unconstrained(n, passive=False, central=False, pair=False):
     from ..synthesis import Candidate, LegKind
     sps = LegKind("SPS", "SPS", "S_PS", 0, 0, 0, 7, 2)
+    if pair:
+        return Candidate((sps,) * n, f"{n}SPS", f"{n}SPS", True, pair=True)
     if central or passive:
         text = f"{n - 1}SPS+SPS/passive"
         return Candidate((sps,) * n, text, text, False, (n - 1,) if central else (0,), central)
@@ -202,6 +215,16 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     spent += run_round(m, comps, screened, list(range(start, len(comps))), budget - spent, cat,
                        mapper, progress, outcome, start, total)
     pruned = max(0, n_mixes - len(mixes) - sum(1 for c in comps[:start] if not c.symmetric))
+    # round 2b: two legs of one type on a diameter and a third type (the Exechon's)
+    if asymmetric and n in PAIR_GEOMETRIES:
+        start = len(comps)
+        among = frozenset(c.legs[0].name for c in good) | {k.name for k in kinds if k.preferred}
+        pairs = pair_compositions(m, kinds, _pair_ranks(m, kinds, cat), among)
+        comps += sorted(pairs, key=lambda c: (not c.preferred, c.joints, c.name))
+        total += len(comps) - start
+        screened.update({start + i: g for i, g in _screen(m, comps[start:], cat).items()})
+        spent += run_round(m, comps, screened, list(range(start, len(comps))),
+                           min(MAX_PAIR, budget), cat, mapper, progress, outcome, start, total)
     # round 3: the passive-leg ones (a budget of their own): a central column, or the
     # catalog's constraining leg types at vertex 1
     if passive:
@@ -232,7 +255,7 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
         names = [k.name for k in cand.legs]
         listed.append(SynthesizedPM(
             r, cand.literature, cand.string, m.name, tuple(names), cand.symmetric,
-            geometries_for(nl, bool(cand.passive), cand.central)[g][0], cand.joints,
+            geometries_for(nl, bool(cand.passive), cand.central, cand.pair)[g][0], cand.joints,
             tuple(k.marked for i, k in enumerate(cand.legs) if i not in cand.passive),
             _act_pos(cand), verdict.condition_home, verdict, d,
             tuple(cand.legs[i].name for i in cand.passive), cand.name,
@@ -267,6 +290,23 @@ def _act_pos(cand) -> float:
     return float(np.mean([k.actuated_position for k in cand.actuated]))
 
 
+def _pair_ranks(m, kinds, catalog) -> dict:
+    """``{name: rank}``: the rank of the constraint systems of two legs of each constraining
+    type at vertices 1 and 2 of the pair geometry, built by their rules at its home."""
+    probe = _probe(m, 3, 0, catalog, pair=True)
+    out: dict = {}
+    if probe is None:
+        return out
+    cache: dict = {}
+    for k in kinds:
+        if not k.constraints:
+            continue
+        legs = _home_legs([k.name, k.name], ("pair", 0), probe, catalog.legs, cache)
+        if all(lg is not None for lg in legs):
+            out[k.name] = 6 - mobility_of_legs(legs).dof
+    return out
+
+
 def _screen(m, comps, catalog) -> dict:
     """``{index: ((g, definition), ...)}`` of the candidates whose legs, built by their
     rules at the nominal home of a geometry ``g``, span the complementary system there
@@ -276,9 +316,9 @@ def _screen(m, comps, catalog) -> dict:
     cache: dict = {}
     out = {}
     for i, cand in enumerate(comps):
-        key = (len(cand.legs), bool(cand.passive), cand.central)
+        key = (len(cand.legs), bool(cand.passive), cand.central, cand.pair)
         if key not in probes:
-            probes[key] = [_probe(m, key[0], g, catalog, key[1], key[2])
+            probes[key] = [_probe(m, key[0], g, catalog, *key[1:])
                            for g in range(len(geometries_for(*key)))]
         names = [k.name for k in cand.legs]
         ok = []

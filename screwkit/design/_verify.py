@@ -8,9 +8,12 @@ batch from the home assembly, with the engine's continuation from home where New
 fails; not ``path=True``, whose polynomial predictor is fitted once per model on a grid
 of poses, a cost that one short path does not repay).  The samples are one continuous
 motion when no joint value jumps between neighbours (at most ``MAX_JUMP`` times the
-median step).  It is accepted when
+median step).  Before that batch the samples are marched by Newton alone, each started at
+the previous one's assembly (:func:`_march`): a candidate Newton cannot carry along the
+path is rejected where it stops, without the continuation, which is most of the cost of a
+rejection.  It is accepted when
 
-* every sample of the path is assembled (``status`` ``ok``);
+* every sample of the path is assembled (``status`` ``ok``), by the march and by the batch;
 * at home and at ``CHECK_POSES`` poses spread along the path the instantaneous mobility
   (:func:`screwkit.pm.mobility`: ``6 - rank`` of the union of the legs' constraint
   wrenches at the solved pose) has the motion's DOF, its number of independent pure
@@ -108,6 +111,11 @@ class Verdict:
     motion : str
         The finite motion type computed from home (:func:`screwkit.engine.finite_motion`),
         with its parasitic motions and invariants.
+    check : str
+        The check that failed (empty on success): ``"workspace"``, ``"continuity"``,
+        ``"actuation"`` (``J`` at home), ``"mobility"`` or ``"finite"``.  All but
+        ``"actuation"`` are properties of the platform's motion alone, which legs without
+        constraint do not change.
     """
 
     success: bool
@@ -119,6 +127,7 @@ class Verdict:
     singular_on_path: int = 0
     notes: tuple = ()
     motion: str = ""
+    check: str = ""
 
 
 def verification_path(model, samples: int = PATH_SAMPLES) -> dict:
@@ -159,24 +168,61 @@ def _finite(motion, R, o, L) -> tuple:
     return "", 0.0, True
 
 
+def _march(model, path) -> int:
+    """The path samples closed one after the other, each by Newton started at the previous
+    one's assembly (home for the first), without the engine's continuation; ``n`` when all
+    (or when Newton from home closes every sample).
+
+    Neighbouring samples are a twelfth of the amplitudes apart: where the closure
+    equations are regular along the path Newton converges there in a few iterations;
+    where it does not, the candidate cannot follow the path (it is immobile beyond first
+    order, or meets a bifurcation).  This costs a few milliseconds a sample, while the
+    engine's continuation from home (4, 16 and 64 smaller steps for each failing sample)
+    was most of the cost of a rejected candidate.  Measured on the default 3T, 1T2R and
+    3T1R searches (266, 366 and 411 candidates verified), every candidate the march
+    stopped was rejected by the batch with the continuation too: the continuation rescued
+    none (``docs/synthesis.md``)."""
+    # the engine's closures without its continuation (analyze always continues)
+    from ..engine._chains import chains_of
+    from ..engine._solve import solve_closures
+
+    ch = chains_of(model)
+    n = len(next(iter(path.values())))
+
+    def closes(ks, X):
+        fixed = {p: np.asarray(path[p][ks], float) for p in ch.fixed}
+        c = solve_closures(model, fixed, X, continuation=False)
+        return bool(np.all(np.asarray(c.how) == 0)), c.X
+
+    # every sample from home at once first (one batched solve): where all close, the
+    # march is not needed (the batch analysis does the same, and checks the continuity)
+    if closes(slice(1, n), ch.home_vector(n - 1))[0]:
+        return n
+    X = ch.home_vector(1)
+    for k in range(1, n):
+        ok, X = closes(slice(k, k + 1), X)
+        if not ok:
+            return k
+    return n
+
+
 def _walk(model, path):
     """The analysis of the path's samples as one batch, each pose started from the home
     assembly (with the engine's continuation from home where Newton fails), and the
     largest jump of the joint values between neighbouring samples relative to the median
-    one (a jump to another assembly branch shows as a large ratio).  ``(None, 0)`` when
-    the first step from home already fails (then the others are not tried: the engine's
-    continuation from home is the costly part of a failure)."""
-    first = {p: v[1:2] for p, v in path.items()}
-    if not bool(analyze(model, first, guess=dict(model.home_pose),
-                        raise_on_singular=False).solution.success[0]):
-        return None, 0.0                 # the first step fails: no need to try the others
+    one (a jump to another assembly branch shows as a large ratio); first the samples are
+    marched by Newton alone (:func:`_march`): ``(k, None, 0)`` when it stops at sample
+    ``k``, else ``(n, analysis, jump)``."""
+    k = _march(model, path)
+    if k < len(next(iter(path.values()))):
+        return k, None, 0.0
     res = analyze(model, path, guess=dict(model.home_pose), raise_on_singular=False)
     q = np.concatenate([np.asarray(v, float).reshape(len(res), -1)
                         for v in res.solution.joint_values], axis=1)
     dq = np.max(np.abs(np.diff(q, axis=0)), axis=1)
     med = float(np.median(dq)) if len(dq) else 0.0
     jump = float(np.max(dq) / med) if med > 0 else 0.0
-    return res, jump
+    return k, res, jump
 
 
 def actuation_condition(jacobian, passive=()) -> tuple:
@@ -216,18 +262,20 @@ def verify_model(model, motion, passive=()) -> Verdict:
                          f"{len(model.legs)}, got {passive!r:.60}")
     path = verification_path(model)
     n = len(next(iter(path.values())))
-    res, jump = _walk(model, path)
+    marched, res, jump = _walk(model, path)
     if res is None:
-        return Verdict(False, f"the path leaves the workspace at sample 1 of {n}", reached=1)
+        return Verdict(False, f"the path leaves the workspace at sample {marched} of {n} "
+                       "(Newton from the previous sample's assembly does not close it)",
+                       reached=marched, check="workspace")
     okay = np.asarray(res.solution.success, bool)
     reached = int(np.argmin(okay)) if not okay.all() else n
     if reached < n:
         return Verdict(False, f"the path leaves the workspace at sample {reached} of {n}",
-                       reached=reached)
+                       reached=reached, check="workspace")
     if jump > MAX_JUMP:
         return Verdict(False, f"the joint values jump between neighbouring path samples "
                        f"({jump:.3g} times the median step): not one continuous motion",
-                       reached=reached)
+                       reached=reached, check="continuity")
     if passive:
         cond, sing = actuation_condition(res.jacobian, passive)
     else:
@@ -236,7 +284,7 @@ def verify_model(model, motion, passive=()) -> Verdict:
     if sing[0] or not cond[0] < COND_THRESHOLD:
         return Verdict(False, f"J is singular at home (condition number {cond[0]:.3g}): the "
                        "actuators do not control the motion", reached=reached,
-                       condition_home=float(cond[0]))
+                       condition_home=float(cond[0]), check="actuation")
     idx = [0] + [int(round(i)) for i in np.linspace(n / CHECK_POSES, n - 1, CHECK_POSES)]
     checks = []
     for i in idx:
@@ -249,14 +297,14 @@ def verify_model(model, motion, passive=()) -> Verdict:
     bad = [c for c in checks if c.dof != motion.dof]
     if bad:
         return Verdict(False, f"{bad[0].dof} DOF instead of {motion.dof} at a pose of the path",
-                       tuple(checks), float(cond[0]), reached=reached)
+                       tuple(checks), float(cond[0]), reached=reached, check="mobility")
     want = (motion.translations, motion.rotations)
     wrong = [c for c in checks if (c.translations, c.rotations) != want]
     if wrong:
         return Verdict(False, f"the twist space is {wrong[0].motion_type} ({wrong[0].translations}"
                        f" translations, {wrong[0].rotations} independent rotations), not "
                        f"{motion.name}, at a pose of the path", tuple(checks), float(cond[0]),
-                       reached=reached)
+                       reached=reached, check="mobility")
     L = float(model.normalisation.length)
     R = np.asarray(res.solution.rotation, float)
     o = np.asarray(res.solution.position, float)
@@ -264,12 +312,12 @@ def verify_model(model, motion, passive=()) -> Verdict:
     finite = f"{what}: largest deviation {err:.2g}" if what else ""
     if not ok:
         return Verdict(False, f"the finite motion breaks the {motion.name} invariant ({finite})",
-                       tuple(checks), float(cond[0]), finite, reached)
+                       tuple(checks), float(cond[0]), finite, reached, check="finite")
     fm = finite_motion(model)
     if (fm.translations, fm.rotations) != (motion.translations, motion.rotations):
         return Verdict(False, f"the finite motion computed from home is {fm.label}, not "
                        f"{motion.name} ({fm.text})", tuple(checks), float(cond[0]), finite,
-                       reached)
+                       reached, check="finite")
     if passive:
         notes.append(f"J without the actuation row of passive leg "
                      f"{', '.join(str(i + 1) for i in passive)}")

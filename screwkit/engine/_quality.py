@@ -126,7 +126,13 @@ class Quality:
                        "the efforts here are not defined")
         elif lev in ("near-singular", "singular", "ill-conditioned"):
             amp = self.amplification[i]
-            out.append(f"{lev} pose: normalised condition number {self.condition_number[i]:.3g}"
+            cls = None if self.conditioning is None else str(self.conditioning[i])
+            # the trust level also weighs the efforts; say so where the class (condition
+            # number alone) reads otherwise, so the two lines do not seem to disagree
+            why = ("" if cls is None or cls == lev else
+                   f" (trust level, from the efforts; conditioning class {cls})")
+            out.append(f"{lev} pose{why}: normalised condition number "
+                       f"{self.condition_number[i]:.3g}"
                        + ("" if np.isnan(amp) else f", efforts up to {amp:.3g} times the load"))
         if lev != "unreachable" and self.side is not None and self.side[i] <= 0:
             out.append("the platform centre o lies in the base plane (home: above it): "

@@ -26,10 +26,10 @@ from ._motions import MOTIONS, MotionPattern, motion_pattern
 from ._leg_types import GeneratedLeg, SYNTHESIS_PLACEMENT, generated_legs, pattern_twists
 from ._pool import (EXTRA_LEGS_YAML, LegKind, LegPool, build_pool, extra_legs, leg_pool,
                     synthesis_catalog)
-from ._candidates import (CENTRAL_GEOMETRIES, GEOMETRIES, PASSIVE_GEOMETRIES, Candidate,
-                          catalog_compositions, central_compositions, compositions_for,
-                          geometries_for, literature_name, model_yaml, passive_compositions,
-                          pm_definition)
+from ._candidates import (CENTRAL_GEOMETRIES, GEOMETRIES, PAIR_GEOMETRIES, PASSIVE_GEOMETRIES,
+                          Candidate, catalog_compositions, central_compositions,
+                          compositions_for, geometries_for, literature_name, model_yaml,
+                          pair_compositions, passive_compositions, pm_definition)
 
 __all__ = [
     # synthesis
@@ -51,7 +51,7 @@ __all__ = [
     "PASSIVE_GEOMETRIES", "LegKind", "compositions_for", "extra_legs", "geometries_for",
     "leg_pool", "model_yaml", "passive_compositions", "pm_definition", "synthesis_catalog",
     "literature_name", "LegPool", "build_pool", "catalog_compositions", "central_compositions",
-    "CENTRAL_GEOMETRIES",
+    "CENTRAL_GEOMETRIES", "PAIR_GEOMETRIES", "pair_compositions",
     # legs generated for a motion pattern
     "GeneratedLeg", "SYNTHESIS_PLACEMENT", "generated_legs", "pattern_twists",
 ]

@@ -32,84 +32,13 @@ import yaml
 
 from ._motions import MotionPattern
 
-__all__ = ["CENTRAL_GEOMETRIES", "GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate",
+from ._geometries import (CENTRAL_GEOMETRIES, GEOMETRIES, PAIR_GEOMETRIES, PASSIVE_GEOMETRIES,
+                          geometries_for)
+
+__all__ = ["CENTRAL_GEOMETRIES", "GEOMETRIES", "PAIR_GEOMETRIES", "PASSIVE_GEOMETRIES", "Candidate",
            "catalog_compositions", "central_compositions", "compositions_for", "geometries_for",
-           "literature_name", "model_yaml", "passive_compositions", "pm_definition"]
-
-#: Standard geometries by number of legs: (label, base, platform, dimensions, home Zo,
-#: extra fields).  Tried in order until one verifies.  The platform pentagon is irregular
-#: (vertex 1 kept on the Y axis): similar pentagons in line make six-DOF legs an
-#: actuation singularity at home.
-GEOMETRIES = {
-    3: (("triangle R=60 r=30", {"shape": "triangle", "circumradius": "R"},
-         {"shape": "triangle", "circumradius": "r"}, {"R": 60, "r": 30}, "R", {}),
-        ("triangle R=60 r=30, platform turned 60 deg",
-         {"shape": "triangle", "circumradius": "R"},
-         {"shape": "triangle", "circumradius": "r", "angles": [30, 150, 270]},
-         {"R": 60, "r": 30}, "R", {"centre": [0, 0, "R/2"]}),
-        ("triangle R=80 r=20, low platform", {"shape": "triangle", "circumradius": "R"},
-         {"shape": "triangle", "circumradius": "r"}, {"R": 80, "r": 20}, "R/2", {})),
-    4: (("square L=100, rectangle 60 x 40", {"shape": "square", "side": "L"},
-         {"shape": "rectangle", "sides": ["l1", "l2"]}, {"L": 100, "l1": 60, "l2": 40},
-         "0.8*L", {}),),
-    5: (("pentagon R=60, irregular platform pentagon r=30",
-         {"shape": "circle", "radius": "R", "angles": [90, 162, 234, 306, 18]},
-         {"shape": "circle", "radius": "r", "angles": [90, 170, 240, 300, 10]},
-         {"R": 60, "r": 30}, "R", {}),),
-}
-
-#: Geometries tried first for PMs with a passive leg (then :data:`GEOMETRIES`).  Four legs:
-#: a square platform similar to the square base keeps every leg radial at home (a
-#: platform-tangent R perpendicular to its leg, as the SPR needs; with all four legs
-#: actuated, similar squares are an actuation singularity at home, the catalog's 4-UPU
-#: note).  Five legs: an irregular platform pentagon turned by 30 to 40 deg from the base
-#: one, so that four six-DOF legs control the rotation about the base normal (on the
-#: standard pentagon, with nearly radial legs, the 4-SPS + passive PRRR has cond(J) 1.6e3
-#: at home, here 30).
-PASSIVE_GEOMETRIES = {
-    4: (("square L=100, square l=50", {"shape": "square", "side": "L"},
-         {"shape": "square", "side": "l"}, {"L": 100, "l": 50}, "0.8*L", {}),),
-    5: (("pentagon R=60, turned irregular platform pentagon r=30",
-         {"shape": "circle", "radius": "R", "angles": [90, 162, 234, 306, 18]},
-         {"shape": "circle", "radius": "r", "angles": [130, 192, 274, 336, 58]},
-         {"R": 60, "r": 30}, "R", {}),),
-}
-
-
-def _ring(radius: str, angles) -> list:
-    """Vertices at ``angles`` (degrees) on a circle of the dimension ``radius``, as
-    expressions, then the centre: a PM with a central column."""
-    pts = [[f"{radius}*cos({a}*pi/180)", f"{radius}*sin({a}*pi/180)", 0] for a in angles]
-    return pts + [[0, 0, 0]]
-
-
-#: Geometries of PMs with a central passive column (the Tricept's), by the number of
-#: actuated legs: the standard ones with the centres of base and platform added as the
-#: last vertex.
-CENTRAL_GEOMETRIES = {
-    3: (("triangle R=60 r=30 and a central column", {"points": _ring("R", (-30, 90, 210))},
-         {"points": _ring("r", (-30, 90, 210))}, {"R": 60, "r": 30}, "R", {}),
-        ("triangle R=60 r=30 turned 60 deg and a central column",
-         {"points": _ring("R", (-30, 90, 210))}, {"points": _ring("r", (30, 150, 270))},
-         {"R": 60, "r": 30}, "R", {})),
-    4: (("square L=100, rectangle 60 x 40 and a central column",
-         {"points": [["L/2", "-L/2", 0], ["L/2", "L/2", 0], ["-L/2", "L/2", 0],
-                     ["-L/2", "-L/2", 0], [0, 0, 0]]},
-         {"points": [["l1/2", "-l2/2", 0], ["l1/2", "l2/2", 0], ["-l1/2", "l2/2", 0],
-                     ["-l1/2", "-l2/2", 0], [0, 0, 0]]},
-         {"L": 100, "l1": 60, "l2": 40}, "0.8*L", {}),),
-}
-
-
-def geometries_for(n_legs: int, passive: bool = False, central: bool = False) -> tuple:
-    """The standard geometries of ``n_legs`` legs, in the order they are tried (the
-    :data:`PASSIVE_GEOMETRIES` first for a PM with a passive leg; with a central column,
-    :data:`CENTRAL_GEOMETRIES` of ``n_legs - 1`` actuated legs)."""
-    if central:
-        return tuple(CENTRAL_GEOMETRIES.get(n_legs - 1, ()))
-    return (tuple(PASSIVE_GEOMETRIES.get(n_legs, ())) if passive else ()) + tuple(
-        GEOMETRIES.get(n_legs, ()))
-
+           "literature_name", "model_yaml", "pair_compositions", "passive_compositions",
+           "pm_definition"]
 
 @dataclass(frozen=True)
 class Candidate:
@@ -130,6 +59,9 @@ class Candidate:
     central : bool
         The last leg is a central column from the base centre to the platform centre
         (:func:`central_compositions`).
+    pair : bool
+        Two legs of one type on a diameter, placed on the :data:`PAIR_GEOMETRIES`
+        (:func:`pair_compositions`: the Exechon's 2-UPR+SPR).
     """
 
     legs: tuple
@@ -138,6 +70,7 @@ class Candidate:
     symmetric: bool
     passive: tuple = ()
     central: bool = False
+    pair: bool = False
 
     @property
     def joints(self) -> int:
@@ -288,6 +221,36 @@ def passive_compositions(motion: MotionPattern, pool, n_legs: int | None = None)
     return out
 
 
+def pair_compositions(motion: MotionPattern, pool, pair_ranks: dict, among=None) -> list:
+    """Three-leg compositions ``A, A, B`` for the :data:`PAIR_GEOMETRIES` (the two ``A`` legs
+    on a diameter, in one plane through the base normal), where the two ``A`` legs share
+    part of their constraint systems and ``B`` completes the complementary system exactly.
+
+    ``pair_ranks`` maps a leg type's name to the rank of the constraint systems of two of
+    its legs on that diameter at home (the caller builds them).  ``A`` is kept when its pair
+    is redundant (rank below ``2 * A.constraints``: on the standard triangle the two legs
+    would exert independent systems and over-constrain the PM) and leaves room (rank below
+    ``6 - dof``); ``B`` is any other constraining type (of ``among``, leg type names, when
+    given) whose constraint dimension is the rest, ``6 - dof - rank``.  The Exechon's
+    2-UPR+SPR for 1T2R: two UPR legs, each a force normal to their plane and a couple along
+    the base normal, of rank 2 together, and an SPR's force.
+    """
+    if motion.dof != 3:
+        return []
+    need = motion.constraints
+    out = []
+    for a in pool:
+        r = pair_ranks.get(a.name)
+        if not a.constraints or r is None or not r < min(2 * a.constraints, need):
+            continue
+        for b in pool:
+            if b is a or b.constraints != need - r or (among is not None and b.name not in among):
+                continue
+            name, string = _name([(a, 2), (b, 1)])
+            out.append(Candidate((a, a, b), f"{name}@pair", string, False, pair=True))
+    return out
+
+
 def central_compositions(motion: MotionPattern, columns, pool, n_legs: int | None = None
                          ) -> list:
     """``n_legs`` unconstrained actuated legs (default: the DOF; SPS, UPS, SPU of ``pool``)
@@ -313,7 +276,7 @@ def pm_definition(cand: Candidate, motion: MotionPattern, geometry: int = 0) -> 
     catalog's units).  A passive leg is written ``{leg: NAME, passive: true}``, and
     ``NAME/passive`` in the PM string."""
     n = len(cand.legs)
-    geos = geometries_for(n, bool(cand.passive), cand.central)
+    geos = geometries_for(n, bool(cand.passive), cand.central, cand.pair)
     if not geos or not 0 <= geometry < len(geos):
         from ..errors import InputError
         raise InputError(f"no standard geometry {geometry} for {n} legs "
