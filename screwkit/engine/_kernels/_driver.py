@@ -22,7 +22,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
 from numba import prange
 
-from ._jit import entry, inner, parallel
+from ._jit import borrowed, entry, inner, parallel
 
 from ._closures import predict, solve_pose
 from ._kin import forward
@@ -124,14 +124,18 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
 
 @inner
 def run_poses(M, Z, I, O, flags, start, stop):
-    """Poses ``start`` to ``stop`` with one workspace."""
+    """Poses ``start`` to ``stop`` with one workspace (borrowed views: no reference counts
+    in the loop; returns a number so that the owners visibly outlive it)."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
-    W = make_work(n, m, nx)
-    RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
-    SW = make_statics_work(M[ROWS].shape[0])
+    Wo = make_work(n, m, nx)
+    RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
+    SWo = make_statics_work(M[ROWS].shape[0])
+    W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
     for p in range(start, stop):
         run_pose(M, Z, I, O, flags, p, W, RW, SW)
+    # the owners are used here, so they live (and keep the buffers) until the loop is done
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
 
 
 @entry

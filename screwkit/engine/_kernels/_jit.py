@@ -1,15 +1,50 @@
-"""The decorators of the kernels (private).
+"""The decorators of the kernels, and borrowed views (private).
 
 ``inner`` for functions called only from other kernels (no CPython or C wrapper is built:
 a large part of the compile time of functions taking tuples of arrays), ``entry`` for the
 ones Python calls, ``parallel`` for the ``prange`` drivers.  Division follows numpy's error
 model (no Python exception branch on every division); multiply-adds may be contracted.
+
+:func:`borrowed` gives views without a reference count.  numba counts references to an
+array's buffer atomically, and every kernel call taking the model tuple (21 arrays) or a
+workspace tuple takes and drops one per array: about half of a pose's time, and, since the
+views of a packed tuple share one count, a cache line bounced between the threads.  The
+kernels never keep or return these views, and their owners (the arrays Python passed, a
+range's workspace) outlive every use, so the count is not needed.
 """
 
-from numba import njit
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 _OPTIONS = dict(cache=True, error_model="numpy", fastmath={"contract"})
 
 inner = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
 entry = njit(**_OPTIONS)
 parallel = njit(parallel=True, **_OPTIONS)
+
+
+def _unowned(context, builder, ty, value):
+    ary = context.make_array(ty)(context, builder, value=value)
+    ary.meminfo = cgutils.get_null_value(ary.meminfo.type)
+    ary.parent = cgutils.get_null_value(ary.parent.type)
+    return ary._getvalue()
+
+
+@intrinsic
+def borrowed(typingctx, x):
+    """``x`` (an array or a tuple of arrays) as views of the same data without a reference
+    count: valid only while ``x``'s owner lives, never to be kept or returned to Python."""
+    if isinstance(x, types.Array):
+        def codegen(context, builder, sig, args):
+            return _unowned(context, builder, x, args[0])
+        return x(x), codegen
+    if isinstance(x, types.BaseTuple) and all(isinstance(t, types.Array) for t in x):
+        def codegen(context, builder, sig, args):
+            out = args[0]
+            for k, t in enumerate(x):
+                v = builder.extract_value(args[0], k)
+                out = builder.insert_value(out, _unowned(context, builder, t, v), k)
+            return out
+        return x(x), codegen
+    return None

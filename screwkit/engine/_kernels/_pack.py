@@ -4,28 +4,30 @@ A kernel called from Python pays for every argument it unboxes; a model tuple of
 and the inputs and outputs of a pose would cost tens of microseconds a call.  Each tuple is
 therefore handed over as one float64 array, one int64 array and a descriptor ``d (k, 5)``:
 ``d[j] = (int, offset, n0, n1, n2)`` (booleans travel as integers), and unpacked here into
-views of the same types as always (C-contiguous arrays of fixed dimensions).
+views of the same types as always (C-contiguous arrays of fixed dimensions), borrowed
+(:func:`._jit.borrowed`: the arrays Python passed own the data for the whole call).
 """
 
-from ._jit import inner
+from ._jit import borrowed, inner
 
 
 @inner
 def f1(F, d, k):
     o = d[k, 1]
-    return F[o:o + d[k, 2]]
+    return borrowed(F[o:o + d[k, 2]])
 
 
 @inner
 def f2(F, d, k):
     o = d[k, 1]
-    return F[o:o + d[k, 2] * d[k, 3]].reshape((d[k, 2], d[k, 3]))
+    return borrowed(F[o:o + d[k, 2] * d[k, 3]].reshape((d[k, 2], d[k, 3])))
 
 
 @inner
 def f3(F, d, k):
     o = d[k, 1]
-    return F[o:o + d[k, 2] * d[k, 3] * d[k, 4]].reshape((d[k, 2], d[k, 3], d[k, 4]))
+    return borrowed(F[o:o + d[k, 2] * d[k, 3] * d[k, 4]].reshape((d[k, 2], d[k, 3],
+                                                                   d[k, 4])))
 
 
 @inner
