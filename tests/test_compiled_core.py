@@ -197,6 +197,36 @@ def test_an_empty_cache_gets_a_one_line_note_on_stderr(tmp_path):
     assert "compiling" not in warm.stderr
 
 
+def test_a_kernel_compiled_afresh_gives_the_cached_kernels_bits(tmp_path):
+    """The conditioning of a 3RRPRR map's Jacobians (the map of tests/test_maps_dask.py) by
+    this process's kernels, and by the conditioning kernel compiled alone in a fresh
+    interpreter with an empty cache: the same bits.  (With multiply-adds contracted into
+    FMAs, which pairs LLVM fused depended on how the kernel was built: 130 of these 2,501
+    cells' constraint condition numbers differed in the last bits, and so did a Dask
+    worker's map from the serial one.)"""
+    grid = np.radians(np.linspace(-20.0, 20.0, 61)), np.radians(np.linspace(-20.0, 20.0, 41))
+    a, b = (g.ravel() for g in np.meshgrid(*grid, indexing="ij"))
+    res = screwkit.analyze("3RRPRR", {"alpha": a, "beta": b, "Zo": np.full(a.size, 75.0)},
+                           raise_on_singular=False)
+    jac = res.jacobian
+    c = jac.conditioning
+    np.savez(tmp_path / "in.npz", J=jac.matrix, centre=c.centre, length=c.length)
+    code = ("import numpy as np\nfrom screwkit.engine._pipeline import conditioning_of\n"
+            f"d = np.load({str(tmp_path / 'in.npz')!r})\n"
+            f"c = conditioning_of(d['J'], {jac.n_actuated}, d['centre'], d['length'])\n"
+            f"np.savez({str(tmp_path / 'out.npz')!r}, sv=c.singular_values, "
+            "cond=c.condition_number, ccond=c.constraint_condition_number)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300, env=dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "nc")))
+    assert out.returncode == 0, out.stderr
+    assert "compiling" in out.stderr                   # it was compiled there, not loaded
+    fresh = np.load(tmp_path / "out.npz")
+    assert np.isfinite(c.constraint_condition_number).all()
+    np.testing.assert_array_equal(fresh["ccond"], c.constraint_condition_number)
+    np.testing.assert_array_equal(fresh["cond"], c.condition_number)
+    np.testing.assert_array_equal(fresh["sv"], c.singular_values)
+
+
 def test_dimensions_and_params_layout():
     """The flattened model keeps the pose parametrisation in PARAMS order."""
     from screwkit.engine._flat import flatten
