@@ -13,12 +13,13 @@ freshly compiled kernel then differed in the last bits from the cached one (a Da
 map from the serial map).  Strict IEEE arithmetic makes every result a function of the
 inputs alone, however and wherever the kernel was compiled.
 
-:func:`borrowed` gives views without a reference count.  numba counts references to an
+:func:`borrowed` gives views without a reference count. numba counts references to an
 array's buffer atomically, and every kernel call taking the model tuple (21 arrays) or a
-workspace tuple takes and drops one per array (16 % of the samples of a profile of the analysis kernel), and, since the
-views of a packed tuple share one count, a cache line bounced between the threads.  The
-kernels never keep or return these views, and their owners (the arrays Python passed, a
-range's workspace) outlive every use, so the count is not needed.
+workspace tuple takes and drops one per array (16 % of the samples of a profile of the
+analysis kernel), and, since the views of a packed tuple share one count, a cache line
+bounced between the threads. The kernels never keep or return these views, and their owners
+(the arrays Python passed, a range's workspace) outlive every use, so the count is not
+needed.
 """
 
 from numba import njit, types
