@@ -15,6 +15,8 @@ import screwkit
 from screwkit.cli import main
 from screwkit.interop import urdf_text, write_mjcf
 
+from delta import DELTA
+
 mujoco = pytest.importorskip("mujoco", reason="MJCF checks need mujoco (screwkit[mujoco])")
 
 STEWART = "tests/data/stewart_6sps.yaml"
@@ -69,29 +71,7 @@ def test_loops_close_in_mujoco(tmp_path, name, pose):
 
 def test_parallelogram_legs_close(tmp_path):
     yaml = tmp_path / "delta.yaml"
-    yaml.write_text("""
-legs:
-  - name: RRPaR/delta
-    string: _RRPaR
-    joints:
-      - {axis: base.tangent, at: A}
-      - {axis: base.tangent, at: {offset: A, along: base.OA, fraction: 0.5}}
-      - {axis: {perpendicular: [R1, {toward: [R2, a]}]}, at: R2, to: a}
-      - {axis: R1, at: a}
-pms:
-  3RRPaR:
-    string: 3RRPaR
-    units: {length: mm, force: N}
-    dimensions: {R: 100, r: 40}
-    base: {shape: circle, radius: R, count: 3}
-    platform: {shape: circle, radius: r, count: 3}
-    legs: [RRPaR/delta, RRPaR/delta, RRPaR/delta]
-    independent: [Xo, Yo, Zo]
-    pose: {Xo: 0, Yo: 0, Zo: -150}
-    euler: xyz
-    dof: 3
-    motion: 3T
-""")
+    yaml.write_text(DELTA)
     pm = screwkit.load_pm(str(yaml))
     out = tmp_path / "delta.xml"
     write_mjcf(pm, out, pose={"Xo": 20.0, "Yo": -10.0, "Zo": -170.0}, massless=True)
