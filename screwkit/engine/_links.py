@@ -95,6 +95,63 @@ class LinkFrames:
         return self.q.shape[-1]
 
 
+#: No given unknowns: the frames kernel takes the six pose parameters as they are.
+_GIVEN = (np.zeros(0, np.int64), np.zeros(0))
+
+
+def _joint_values(ch, X, bad):
+    """``(q (n, m, N), X (N, n m))``: the joint values of the unknowns ``X (nx, N)`` (NaN at
+    the ``bad`` poses), and as the frames kernel takes them (scaled back)."""
+    nu, n, m = len(ch.unknown), ch.n, ch.m
+    N = X.shape[-1]
+    q = X[nu:].reshape(n, m, N) * ch.q_scale[:, :, None]
+    if bad.any():
+        q = np.array(q)
+        q[:, :, bad] = np.nan
+    return q, q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
+
+
+def joint_lines(solution, joints, chunk: int = 32768) -> tuple:
+    """The current lines of chosen joints and the platform at the poses of a
+    :class:`PoseSolution`, in chunks of ``chunk`` poses (memory bounded by the chunk, not N).
+
+    Parameters
+    ----------
+    joints : sequence of (int, int)
+        ``(leg, slot)`` pairs (0-based).
+
+    Returns
+    -------
+    points : ndarray (N, k, 3)
+        A point of each joint's axis (current; NaN where unreachable).
+    twists : ndarray (N, k, 6)
+        Each joint's current unit twist ``[v; w]`` about O.
+    platform : ndarray (N, 27)
+        The kernels' platform (pose parameters, ``Rp``, ``o``, ``E``) at the solution's
+        pose parameters (as :attr:`PoseSolution.position` takes it).
+
+    Each pose is computed alone by the same kernel as :func:`link_frames`, so the values
+    equal its ``points`` and ``twists`` bit for bit.
+    """
+    from ._launch import frames
+    c = solution.closures
+    ch = c.chains
+    N = c.X.shape[-1]
+    P6 = solution._pose_matrix()
+    bad = ~(c.residual <= 1e-6)
+    k = len(joints)
+    points, twists, plat = np.empty((N, k, 3)), np.empty((N, k, 6)), np.empty((N, 27))
+    for s in range(0, N, chunk):
+        sl = slice(s, min(s + chunk, N))
+        _, Xq = _joint_values(ch, c.X[:, sl], bad[sl])
+        fr = frames(ch.flat, _GIVEN, P6[sl], Xq, twists=True)
+        for col, (i, j) in enumerate(joints):
+            points[sl, col] = fr["axes_points"][:, i, j, 3:]
+            twists[sl, col] = fr["twists"][:, i, j]
+        plat[sl] = fr["platform"]
+    return points, twists, plat
+
+
 def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
     """The :class:`LinkFrames` of the poses ``sl`` of a :class:`PoseSolution`.
 
@@ -111,18 +168,13 @@ def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
     for k, u in enumerate(ch.unknown):
         params[u] = X[k] * ch.x_scale[k]
     bad = ~(c.residual[sl] <= 1e-6)
-    q = X[nu:].reshape(n, m, N) * ch.q_scale[:, :, None]
+    q, Xq = _joint_values(ch, X, bad)
     if bad.any():
-        q = np.array(q)
-        q[:, :, bad] = np.nan
         for u in ch.unknown:
             params[u] = np.where(bad, np.nan, params[u])
     from ._launch import frames
-    X = np.array(X.T, float)
-    X[:, nu:] = q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
     P6 = np.stack([np.asarray(params[k], float) for k in PARAMS], axis=1)
-    given = (np.zeros(0, np.int64), np.zeros(0))
-    fr = frames(ch.flat, given, P6, X[:, nu:], slots=slots, twists=True)
+    fr = frames(ch.flat, _GIVEN, P6, Xq, slots=slots, twists=True)
     fa = fr["axes_points"]                                 # (N, n, m, 6)
     points = np.ascontiguousarray(fa[..., 3:].transpose(2, 3, 1, 0))
     twists = np.ascontiguousarray(fr["twists"].transpose(2, 3, 1, 0))

@@ -148,36 +148,46 @@ def leg_screws(solution, active):
     of a :class:`~screwkit.engine.PoseSolution`: the actuated joint's unit twist of each
     active leg (``active``: 0-based legs), the joint through which its transmission wrench
     enters the actuated link, and each leg's last non-prismatic joint (its platform side),
-    from the engine's link frames (:func:`~screwkit.engine.link_frames`), or, for legs with
-    a parallelogram (which the link frames do not cover), from the legs placed pose by pose."""
-    from ._links import link_frames
+    from the kernels' frames of those joints (:func:`~screwkit.engine._links.joint_lines`,
+    the values of :func:`~screwkit.engine.link_frames`; the platform they give is kept by
+    the solution), or, for legs with a parallelogram (which the link frames do not cover),
+    from the legs placed pose by pose."""
+    from ._links import joint_lines
     ch = solution.closures.chains
     if ch.bars is not None and ch.bars.any():
         return _placed_leg_screws(solution, active)
-    lf = link_frames(solution, slots=False)
-    N = lf.N
-    rot = np.asarray(lf.rotation, float)                  # (n, m)
+    rot = np.asarray(ch.rotation, float)                  # (n, m)
     n = rot.shape[0]
+
+    def non_prismatic(i, slots):
+        return next((j for j in slots if rot[i, j] != 0), None)
+
+    # the joints read: each leg's platform-side joint, each active leg's actuated joint and
+    # the joint after it; their frames formed chunk by chunk (the platform too, kept)
+    last = [non_prismatic(i, range(ch.sizes[i] - 1, -1, -1)) for i in range(n)]
+    act = [(i, int(ch.actuated[i])) for i in active]
+    nxt = [non_prismatic(i, range(j + 1, ch.sizes[i])) for i, j in act]
+    joints = sorted({(i, j) for i, j in enumerate(last) if j is not None} | set(act)
+                    | {(i, j) for (i, _), j in zip(act, nxt) if j is not None})
+    col = {ij: k for k, ij in enumerate(joints)}
+    points, twists, platform = joint_lines(solution, joints)
+    solution._keep_platform(platform)
+    N = len(platform)
     a = np.asarray(solution._platform[2], float)         # (N, n, 3)
 
     def line(i, slot):
         if slot is None:
             return a[:, i], np.zeros((N, 3))
-        return lf.points[slot, :, i].T, lf.twists[slot, 3:, i].T
-
-    def non_prismatic(i, slots):
-        return next((j for j in slots if rot[i, j] != 0), None)
+        return points[:, col[i, slot]], twists[:, col[i, slot], 3:]
 
     out_q, out_d = np.empty((N, n, 3)), np.empty((N, n, 3))
     for i in range(n):
-        out_q[:, i], out_d[:, i] = line(i, non_prismatic(i, range(lf.sizes[i] - 1, -1, -1)))
+        out_q[:, i], out_d[:, i] = line(i, last[i])
     V_in = np.empty((N, len(active), 6))
     in_q, in_d = np.empty((N, len(active), 3)), np.empty((N, len(active), 3))
-    for k, i in enumerate(active):
-        j = int(lf.actuated[i])
-        V_in[:, k] = lf.twists[j, :, i].T
-        nxt = non_prismatic(i, range(j + 1, lf.sizes[i]))
-        in_q[:, k], in_d[:, k] = line(i, nxt) if nxt is not None else (out_q[:, i], out_d[:, i])
+    for k, ((i, j), nx) in enumerate(zip(act, nxt)):
+        V_in[:, k] = twists[:, col[i, j]]
+        in_q[:, k], in_d[:, k] = line(i, nx) if nx is not None else (out_q[:, i], out_d[:, i])
     return V_in, (in_q, in_d), (out_q, out_d)
 
 

@@ -118,6 +118,7 @@ def _level_codes(names):
 def arrays_of(model, res) -> dict:
     """The map's per-cell arrays of an analysis of N cells (see :func:`evaluate`)."""
     sol, jac = res.solution, res.jacobian
+    ix = res.indices            # first: its frames give the platform the rest reads
     st = res.statics if res.has_workload else None          # no workload: no forces
     reach = sol.reachable_mask
     c = jac.conditioning
@@ -151,7 +152,6 @@ def arrays_of(model, res) -> dict:
         "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
     out = {k: v for k, v in out.items() if v is not None}
-    ix = res.indices                        # transmission and constraint indices
     for name in INDEX_NAMES:
         out[name] = np.asarray(getattr(ix, name), float)
     if model.dynamics is not None and model.dynamics.has_stiffness:
