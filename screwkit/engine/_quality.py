@@ -34,7 +34,7 @@ from ..errors import ScrewkitError
 
 __all__ = ["CONDITIONING", "classify", "LEVELS", "det_reference", "base_side", "trust", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
-           "quality", "home_det_sign"]
+           "quality", "home_det_sign", "det_signs"]
 
 #: The conditioning classes of a reachable pose, from best to worst (:func:`classify`).
 CONDITIONING = ("regular", "near-singular", "singular")
@@ -260,19 +260,28 @@ def quality(analysis, analyze) -> Quality:
                      None if not loaded or st.amp is None or st.F_r.ndim != 2 else
                      np.nan_to_num(st.amp, nan=0.0), no_load=not analysis.has_workload)
     unreach = ~reach
+    det = det_signs(analysis, reach)
+    home, ref = det_reference(analysis.model, analyze)
+    beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
+    cls = classify(cond, jac.singular_mask, reach)
+    side = base_side(analysis.model, analysis.solution._platform[1])
+    side[unreach] = 1
+    return Quality(cond, amp, lev, det, home, beyond, ref, cls, side)
+
+
+def det_signs(analysis, reach) -> np.ndarray:
+    """The sign of ``det J`` of every pose of an analysis (N poses; 0 where unreachable or
+    ``J`` is not square): the kernel's, from the statics, else by the kernel's LU."""
+    jac = analysis.jacobian
+    N = len(jac)
     det = analysis.diagnostics.get("det_sign")
     if jac.matrix.shape[1:] != (6, 6):
         det = np.zeros(N, int)
     elif det is None:
         det = _det_signs(jac)
     det = np.nan_to_num(np.asarray(det, float)).astype(int)
-    home, ref = det_reference(analysis.model, analyze)
-    det[unreach] = 0
-    beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
-    cls = classify(cond, jac.singular_mask, reach)
-    side = base_side(analysis.model, analysis.solution._platform[1])
-    side[unreach] = 1
-    return Quality(cond, amp, lev, det, home, beyond, ref, cls, side)
+    det[~np.asarray(reach, bool).reshape(N)] = 0
+    return det
 
 
 def _det_signs(jac) -> np.ndarray:

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import LENGTH_PARAMS, analyze
-from ..engine._quality import NEAR_SINGULAR_COND
+from ..engine._quality import NEAR_SINGULAR_COND, det_signs
 
 __all__ = ["REFINE", "GROWTH", "LOCUS_KINDS", "MAX_CROSSINGS", "find_crossings", "refine",
            "locus_variables", "locus_list"]
@@ -99,24 +99,26 @@ def refine(model, ds, threads=None):
         shown[p] = ds[p].values[lo[:, dims.index(p)]] if p in dims else \
             np.full(K, float(ds[p].values))
     base = {p: _api(p, v, degrees) for p, v in shown.items()}
-    t0 = np.array([_api(dims[a], ds[dims[a]].values[lo[k, a]], degrees)
-                   for k, a in enumerate(along)]).reshape(K)
-    t1 = np.array([_api(dims[a], ds[dims[a]].values[hi[k, a]], degrees)
-                   for k, a in enumerate(along)]).reshape(K)
+    # each crossing's bracket along its parameter, in the API's units (angles in radians)
+    axes = [_api(d, ds[d].values, degrees) for d in dims]
+    t0, t1 = np.empty(K), np.empty(K)
+    for k, ax in enumerate(axes):
+        on = along == k
+        t0[on], t1[on] = ax[lo[on, k]], ax[hi[on, k]]
     h = t1 - t0
     sign_lo = ds["det_sign"].values[tuple(lo.T)].astype(int) if K else np.zeros(0, int)
     gone = np.zeros(K, bool)
+    moving = {p: along == dims.index(p) if p in dims else np.zeros(K, bool) for p in indep}
 
     def poses_at(t):
-        return {p: np.where(np.array([dims[a] == p for a in along], bool), t, base[p])
-                for p in indep}
+        return {p: np.where(moving[p], t, base[p]) for p in indep}
 
     a, b = t0.copy(), t1.copy()
     for _ in range(_HALVINGS if K else 0):
         mid = 0.5 * (a + b)
         res = analyze(model, poses_at(mid), raise_on_singular=False, workers=threads)
         reach = res.solution.reachable_mask
-        s = np.asarray(res.quality.det_sign, int)        # the kernels' LU (0: unreachable)
+        s = det_signs(res, reach)                        # the kernels' (0: unreachable)
         gone |= ~reach
         same = (s == sign_lo) & reach & ~gone
         move = reach & ~gone
@@ -144,8 +146,7 @@ def refine(model, ds, threads=None):
                constraint_condition_number=np.where(gone, np.nan, ccond), truncated=truncated)
     for p in indep:
         v = np.degrees(t) if (degrees and p not in LENGTH_PARAMS) else t
-        out[p] = np.where(np.array([dims[x] == p for x in along], bool), v, shown[p]) if K \
-            else np.zeros(0)
+        out[p] = np.where(moving[p], v, shown[p]) if K else np.zeros(0)
     return out
 
 
