@@ -111,9 +111,10 @@ def _joint_values(ch, X, bad):
     return q, q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
 
 
-def joint_lines(solution, joints, chunk: int = 32768) -> tuple:
+def joint_lines(solution, joints, chunk: int = 8192) -> tuple:
     """The current lines of chosen joints and the platform at the poses of a
-    :class:`PoseSolution`, in chunks of ``chunk`` poses (memory bounded by the chunk, not N).
+    :class:`PoseSolution`, in chunks of ``chunk`` poses (the frames of every joint are formed
+    and dropped per chunk: their memory is bounded by the chunk, not N).
 
     Parameters
     ----------
@@ -140,14 +141,14 @@ def joint_lines(solution, joints, chunk: int = 32768) -> tuple:
     P6 = solution._pose_matrix()
     bad = ~(c.residual <= 1e-6)
     k = len(joints)
+    legs, slots = (np.array([ij[x] for ij in joints], np.int64) for x in (0, 1))
     points, twists, plat = np.empty((N, k, 3)), np.empty((N, k, 6)), np.empty((N, 27))
     for s in range(0, N, chunk):
         sl = slice(s, min(s + chunk, N))
         _, Xq = _joint_values(ch, c.X[:, sl], bad[sl])
         fr = frames(ch.flat, _GIVEN, P6[sl], Xq, twists=True)
-        for col, (i, j) in enumerate(joints):
-            points[sl, col] = fr["axes_points"][:, i, j, 3:]
-            twists[sl, col] = fr["twists"][:, i, j]
+        points[sl] = fr["axes_points"][:, legs, slots, 3:]
+        twists[sl] = fr["twists"][:, legs, slots]
         plat[sl] = fr["platform"]
     return points, twists, plat
 

@@ -241,7 +241,9 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
             part, reductions[slices.index(sl)] = part
         for k, v in part.items():
             if k not in out:
-                out[k] = np.empty((N,) + v.shape[1:], v.dtype)
+                # per-row and per-leg arrays column by column (Fortran order): each column
+                # is then one Dataset variable without a copy
+                out[k] = np.empty((N,) + v.shape[1:], v.dtype, order="F")
             out[k][sl] = v
         if progress:
             done[0] += sl.stop - sl.start

@@ -119,7 +119,7 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         v = a[f"dep.{p}"]
         unit = u.length if p in LENGTH_PARAMS else _angle_unit(grid)
         if p not in LENGTH_PARAMS and to_deg:
-            v = np.degrees(v)
+            v = np.degrees(v, out=v)            # (the map's own array: no copy)
         dv[p] = var(v, unit, f"dependent pose parameter {p}")
     rows = zip(meta.labels, meta.quantities, meta.kinds, meta.legs) if "values" in a else ()
     for k, (lab, q, kind, leg) in enumerate(rows):       # (no workload: no force variables)
@@ -140,7 +140,7 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         rot = not meta.linear[i]
         v = a["actuators"][:, k]
         if rot and to_deg:
-            v = np.degrees(v)
+            v = np.degrees(v, out=v)
         dv[f"q_a{i + 1}"] = var(v, _angle_unit(grid) if rot else u.length,
                                 f"actuated joint value of leg {i + 1} (from home)", leg=i + 1)
     if "within_limits" in a:
