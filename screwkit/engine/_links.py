@@ -141,14 +141,16 @@ def joint_lines(solution, joints, chunk: int = 8192) -> tuple:
     P6 = solution._pose_matrix()
     bad = ~(c.residual <= 1e-6)
     k = len(joints)
-    legs, slots = (np.array([ij[x] for ij in joints], np.int64) for x in (0, 1))
+    flat_index = np.array([i * ch.m + j for i, j in joints], np.int64)   # (leg, slot) flat
     points, twists, plat = np.empty((N, k, 3)), np.empty((N, k, 6)), np.empty((N, 27))
     for s in range(0, N, chunk):
         sl = slice(s, min(s + chunk, N))
         _, Xq = _joint_values(ch, c.X[:, sl], bad[sl])
         fr = frames(ch.flat, _GIVEN, P6[sl], Xq, twists=True)
-        points[sl] = fr["axes_points"][:, legs, slots, 3:]
-        twists[sl] = fr["twists"][:, legs, slots]
+        n_sl = sl.stop - sl.start
+        np.take(fr["axes_points"].reshape(n_sl, -1, 6)[..., 3:], flat_index, axis=1,
+                out=points[sl])
+        np.take(fr["twists"].reshape(n_sl, -1, 6), flat_index, axis=1, out=twists[sl])
         plat[sl] = fr["platform"]
     return points, twists, plat
 

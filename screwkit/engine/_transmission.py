@@ -173,21 +173,24 @@ def leg_screws(solution, active):
     points, twists, platform = joint_lines(solution, joints)
     solution._keep_platform(platform)
     N = len(platform)
-    a = np.asarray(solution._platform[2], float)         # (N, n, 3)
 
-    def line(i, slot):
-        if slot is None:
-            return a[:, i], np.zeros((N, 3))
-        return points[:, col[i, slot]], twists[:, col[i, slot], 3:]
+    def lines(slots, legs):
+        """Point and direction ``(N, len(slots), 3)`` of each leg's joint ``slot``; a leg
+        without one: its platform point ``a_i`` and no direction."""
+        k = np.array([col.get((i, j), 0) for i, j in zip(legs, slots)], np.int64)
+        q, d = ((np.take(x, k, axis=1) if joints else np.empty((N, len(k), 3)))
+                for x in (points, twists[..., 3:]))
+        for c, (i, j) in enumerate(zip(legs, slots)):
+            if j is None:
+                q[:, c], d[:, c] = solution._platform[2][:, i], 0.0
+        return q, d
 
-    out_q, out_d = np.empty((N, n, 3)), np.empty((N, n, 3))
-    for i in range(n):
-        out_q[:, i], out_d[:, i] = line(i, last[i])
-    V_in = np.empty((N, len(active), 6))
-    in_q, in_d = np.empty((N, len(active), 3)), np.empty((N, len(active), 3))
-    for k, ((i, j), nx) in enumerate(zip(act, nxt)):
-        V_in[:, k] = twists[:, col[i, j]]
-        in_q[:, k], in_d[:, k] = line(i, nx) if nx is not None else (out_q[:, i], out_d[:, i])
+    out_q, out_d = lines(last, range(n))
+    V_in = np.take(twists, np.array([col[ij] for ij in act], np.int64), axis=1)
+    in_q, in_d = lines(nxt, [i for i, _ in act])
+    for c, ((i, _), j) in enumerate(zip(act, nxt)):
+        if j is None:                          # no joint after the actuator: the platform's
+            in_q[:, c], in_d[:, c] = out_q[:, i], out_d[:, i]
     return V_in, (in_q, in_d), (out_q, out_d)
 
 
