@@ -224,15 +224,49 @@ def _to_netcdf(ds, p):
     _plain(ds).to_netcdf(str(p), engine=engine or "scipy")
 
 
+#: Rows of the long-format CSV formatted at a time (its memory is that of one chunk).
+CSV_ROWS = 32768
+
+
 def to_csv(ds, out=None):
-    """The map in long format: one row per cell (``NAME [UNIT]`` headers; flags by name)."""
-    cols = {}
-    shape = tuple(ds.sizes[d] for d in ds.dims if d in _dims(ds))
+    """The map in long format: one row per cell (``NAME [UNIT]`` headers; flags by name;
+    floats as ``%.15g``, NaN empty, booleans ``True``/``False``: pandas' ``to_csv``
+    layout).  Written to ``out`` (a path) :data:`CSV_ROWS` rows at a time, or returned as
+    text without ``out``."""
+    heads, columns = _csv_columns(ds)
+    n = len(columns[0][1]) if columns else 0
+    fmt = ",".join(f for f, _, _ in columns) + "\n"
+    parts = [",".join(_csv_field(h) for h in heads) + "\n"]
+    f = None if out is None else open(out, "w", encoding="utf-8", newline="")
+    try:
+        for s in range(0, n, CSV_ROWS):
+            rows = min(CSV_ROWS, n - s)
+            cells = np.empty((rows, len(columns)), object)
+            for j, (_, col, names) in enumerate(columns):
+                part = col[s:s + rows]
+                cells[:, j] = part if names is None else names[part.astype(int)]
+            parts.append(_no_nan(fmt * rows % tuple(cells.ravel().tolist())))
+            if f is not None:
+                f.write("".join(parts))
+                parts = []
+        if f is None:
+            return "".join(parts)
+        f.write("".join(parts))
+    finally:
+        if f is not None:
+            f.close()
+    return None
+
+
+def _csv_columns(ds) -> tuple:
+    """``(headers, [(format, values (N,))])`` of the long-format CSV, in column order."""
     dims = _dims(ds)
-    grids = np.meshgrid(*[ds[d].values for d in dims], indexing="ij") if dims != ("sample",) \
-        else [ds["sample"].values]
+    grids = np.meshgrid(*[ds[d].values for d in dims], indexing="ij", copy=False) \
+        if dims != ("sample",) else [ds["sample"].values]
+    shape = tuple(ds.sizes[d] for d in dims)
+    cols = {}
     for d, g in zip(dims, grids):
-        cols[_head(ds, d)] = g.reshape(-1)
+        cols[_head(ds, d)] = np.broadcast_to(g, shape).reshape(-1)
     if dims == ("sample",):
         for k in ds.coords:
             if k != "sample" and ds[k].dims == ("sample",):
@@ -243,17 +277,33 @@ def to_csv(ds, out=None):
     for k, v in ds.data_vars.items():
         if v.dims != dims:
             continue                            # the loci (along crossing) are not cells
-        a = v.values.reshape(-1)
-        if "flag_meanings" in v.attrs:
-            names = np.array(str(v.attrs["flag_meanings"]).split())
-            a = names[a.astype(int)]
-        cols[_head(ds, k)] = a
-    import pandas as pd
-    df = pd.DataFrame(cols)
-    if out is None:
-        return df.to_csv(index=False, float_format="%.15g")
-    df.to_csv(out, index=False, float_format="%.15g")
-    return None
+        names = None
+        if "flag_meanings" in v.attrs:                  # flags by name (chunk by chunk)
+            names = np.array([_csv_field(x) for x in str(v.attrs["flag_meanings"]).split()])
+        cols[_head(ds, k)] = (v.values.reshape(-1), names)
+    return list(cols), [(_csv_format(a) if names is None else "%s", a, names)
+                        for a, names in (c if isinstance(c, tuple) else (c, None)
+                                         for c in cols.values())]
+
+
+def _csv_format(a) -> str:
+    kind = np.asarray(a).dtype.kind
+    return "%.15g" if kind == "f" else "%d" if kind in "iu" else "%s"
+
+
+def _csv_field(text: str) -> str:
+    """A text field as the csv module writes it (quoted only where it must be)."""
+    if any(c in text for c in ',"\r\n'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
+def _no_nan(text: str) -> str:
+    """NaN fields (``%.15g`` gives ``nan``) left empty, as pandas writes them; only a float
+    field can read ``nan`` (the text fields are flag names and headers)."""
+    text = text.replace(",nan,", ",,").replace(",nan,", ",,").replace(",nan\n", ",\n")
+    text = text.replace("\nnan,", "\n,")
+    return text[3:] if text.startswith("nan,") else text
 
 
 def _dims(ds):
