@@ -111,6 +111,39 @@ def _joint_values(ch, X, bad):
     return q, q.reshape(n * m, N).T / ch.q_scale.reshape(1, -1)
 
 
+def _pose_matrix(solution) -> np.ndarray:
+    """The six pose parameters ``(N, 6)`` of a solution in :data:`PARAMS` order (NaN as its
+    ``params``)."""
+    return np.stack([solution._params[p] for p in PARAMS], axis=1)
+
+
+def platform_arrays(solution, fp=None, chunk: int = 32768) -> tuple:
+    """``(R (N, 3, 3), o (N, 3), a (N, n, 3))`` of :attr:`PoseSolution.rotation`,
+    ``position`` and ``platform_points``, read-only, from the kernels' platform ``fp (N,
+    27)`` at the solution's pose parameters, or (None) from the frames kernel in chunks of
+    ``chunk`` poses (every leg's frames are formed and dropped per chunk)."""
+    if fp is None:
+        from ._launch import platform_of
+        flat, P6 = solution.closures.chains.flat, _pose_matrix(solution)
+        parts = [platform_of(flat, P6[s:s + chunk]) for s in range(0, max(len(P6), 1), chunk)]
+        fp = parts[0] if len(parts) == 1 else np.concatenate(parts)
+    R = np.ascontiguousarray(fp[:, 6:15].reshape(-1, 3, 3))
+    o = np.ascontiguousarray(fp[:, 15:18])
+    a = np.ascontiguousarray(np.einsum("nij,kj->nki", R, solution.model.platform_points)
+                             + o[:, None, :])
+    for x in (R, o, a):
+        x.setflags(write=False)
+    return R, o, a
+
+
+def keep_platform(solution, fp) -> None:
+    """Keep in a solution the platform its frames ``fp (N, 27)`` gave (the frames kernel on
+    the same pose parameters as :func:`platform_arrays`: the same bits), so that it is not
+    computed again."""
+    if "_platform" not in solution.__dict__:            # (PoseSolution._platform's cache)
+        solution.__dict__["_platform"] = platform_arrays(solution, fp)
+
+
 def joint_lines(solution, joints, chunk: int = 8192) -> tuple:
     """The current lines of chosen joints and the platform at the poses of a
     :class:`PoseSolution`, in chunks of ``chunk`` poses (the frames of every joint are formed
@@ -138,7 +171,7 @@ def joint_lines(solution, joints, chunk: int = 8192) -> tuple:
     c = solution.closures
     ch = c.chains
     N = c.X.shape[-1]
-    P6 = solution._pose_matrix()
+    P6 = _pose_matrix(solution)
     bad = ~(c.residual <= 1e-6)
     k = len(joints)
     flat_index = np.array([i * ch.m + j for i, j in joints], np.int64)   # (leg, slot) flat

@@ -38,8 +38,6 @@ __all__ = ["PoseSolution", "Closures", "solve", "STATUSES", "STRUCTURE_TOL"]
 
 #: Largest structure-check residual regarded as satisfied (dimensionless).
 STRUCTURE_TOL = 1e-7
-#: Poses per launch of the platform's frames (their legs' frames are dropped per chunk).
-_PLATFORM_CHUNK = 32768
 #: Per-pose status of a solution (``invalid input``: a pose of a batch given a non-finite or
 #: out-of-range value, flagged and not solved; it counts as unreachable).
 STATUSES = ("ok", "not converged", "unreachable", "invalid input")
@@ -108,35 +106,8 @@ class PoseSolution:
         """World <- platform rotations ``(N, 3, 3)``, centres ``(N, 3)`` and the platform
         points ``a_i`` ``(N, n, 3)`` (the kernels' frames at the solved unknowns; NaN where
         unreachable)."""
-        from ._launch import platform_of
-        flat = self.closures.chains.flat
-        P6 = self._pose_matrix()
-        if len(P6) <= _PLATFORM_CHUNK:
-            return self._platform_arrays(platform_of(flat, P6))
-        fp = np.empty((len(P6), 27))        # in chunks: the kernel's frames of every leg
-        for s in range(0, len(P6), _PLATFORM_CHUNK):    # are formed and dropped per chunk
-            fp[s:s + _PLATFORM_CHUNK] = platform_of(flat, P6[s:s + _PLATFORM_CHUNK])
-        return self._platform_arrays(fp)
-
-    def _pose_matrix(self) -> np.ndarray:
-        """The six pose parameters ``(N, 6)`` in :data:`PARAMS` order (NaN as ``params``)."""
-        return np.stack([self._params[p] for p in PARAMS], axis=1)
-
-    def _keep_platform(self, fp) -> None:
-        """Keep the platform from the kernel's frames ``fp (N, 27)`` computed elsewhere at
-        :meth:`_pose_matrix` (the same kernel on the same parameters: the same bits), so
-        that it is not computed again."""
-        if "_platform" not in self.__dict__:
-            self.__dict__["_platform"] = self._platform_arrays(fp)
-
-    def _platform_arrays(self, fp) -> tuple:
-        R = np.ascontiguousarray(fp[:, 6:15].reshape(-1, 3, 3))
-        o = np.ascontiguousarray(fp[:, 15:18])
-        a = np.ascontiguousarray(np.einsum("nij,kj->nki", R, self.model.platform_points)
-                                 + o[:, None, :])
-        for x in (R, o, a):
-            x.setflags(write=False)
-        return R, o, a
+        from ._links import platform_arrays              # (kept from the indices' frames
+        return platform_arrays(self)                      # where they came first)
 
     @property
     def rotation(self) -> np.ndarray:

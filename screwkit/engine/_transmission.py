@@ -152,7 +152,7 @@ def leg_screws(solution, active):
     the values of :func:`~screwkit.engine.link_frames`; the platform they give is kept by
     the solution), or, for legs with a parallelogram (which the link frames do not cover),
     from the legs placed pose by pose."""
-    from ._links import joint_lines
+    from ._links import joint_lines, keep_platform
     ch = solution.closures.chains
     if ch.bars is not None and ch.bars.any():
         return _placed_leg_screws(solution, active)
@@ -171,7 +171,7 @@ def leg_screws(solution, active):
                     | {(i, j) for (i, _), j in zip(act, nxt) if j is not None})
     col = {ij: k for k, ij in enumerate(joints)}
     points, twists, platform = joint_lines(solution, joints)
-    solution._keep_platform(platform)
+    keep_platform(solution, platform)
     N = len(platform)
 
     def lines(slots, legs):
