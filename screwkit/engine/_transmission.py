@@ -162,36 +162,26 @@ def leg_screws(solution, active):
     def non_prismatic(i, slots):
         return next((j for j in slots if rot[i, j] != 0), None)
 
-    # the joints read: each leg's platform-side joint, each active leg's actuated joint and
-    # the joint after it; their frames formed chunk by chunk (the platform too, kept)
+    # the joints read, in the order of the outputs (views, no copies): each leg's
+    # platform-side joint, the joint after each active leg's actuator, the actuated joint
+    # (slot 0 stands in where there is none, then replaced); frames formed chunk by chunk
     last = [non_prismatic(i, range(ch.sizes[i] - 1, -1, -1)) for i in range(n)]
     act = [(i, int(ch.actuated[i])) for i in active]
     nxt = [non_prismatic(i, range(j + 1, ch.sizes[i])) for i, j in act]
-    joints = sorted({(i, j) for i, j in enumerate(last) if j is not None} | set(act)
-                    | {(i, j) for (i, _), j in zip(act, nxt) if j is not None})
-    col = {ij: k for k, ij in enumerate(joints)}
+    na = len(act)
+    joints = ([(i, j or 0) for i, j in enumerate(last)] +
+              [(i, j or 0) for (i, _), j in zip(act, nxt)] + act)
     points, twists, platform = joint_lines(solution, joints)
-    keep_platform(solution, platform)
-    N = len(platform)
-
-    def lines(slots, legs):
-        """Point and direction ``(N, len(slots), 3)`` of each leg's joint ``slot``; a leg
-        without one: its platform point ``a_i`` and no direction."""
-        k = np.array([col.get((i, j), 0) for i, j in zip(legs, slots)], np.int64)
-        q, d = ((np.take(x, k, axis=1) if joints else np.empty((N, len(k), 3)))
-                for x in (points, twists[..., 3:]))
-        for c, (i, j) in enumerate(zip(legs, slots)):
-            if j is None:
-                q[:, c], d[:, c] = solution._platform[2][:, i], 0.0
-        return q, d
-
-    out_q, out_d = lines(last, range(n))
-    V_in = np.take(twists, np.array([col[ij] for ij in act], np.int64), axis=1)
-    in_q, in_d = lines(nxt, [i for i, _ in act])
+    keep_platform(solution, platform)          # (the platform of the same frames, kept)
+    out_q, out_d = points[:, :n], twists[:, :n, 3:]
+    in_q, in_d = points[:, n:n + na], twists[:, n:n + na, 3:]
+    for i, j in enumerate(last):
+        if j is None:                          # no turning joint: the platform point a_i
+            out_q[:, i], out_d[:, i] = solution._platform[2][:, i], 0.0
     for c, ((i, _), j) in enumerate(zip(act, nxt)):
         if j is None:                          # no joint after the actuator: the platform's
             in_q[:, c], in_d[:, c] = out_q[:, i], out_d[:, i]
-    return V_in, (in_q, in_d), (out_q, out_d)
+    return twists[:, n + na:], (in_q, in_d), (out_q, out_d)
 
 
 def _placed_leg_screws(solution, active):
