@@ -77,7 +77,7 @@ def _vary(items) -> dict:
         raise InputError("give at least one --vary NAME=LOW:HIGH (a dimension and its bounds)")
     out = {}
     for item in items:
-        name, rng = parse_range(item, "--vary")
+        name, rng = parse_range(item, "--vary", pose=False)
         if len(rng) != 2:
             raise InputError(f"--vary {item!r}: give NAME=LOW:HIGH")
         if name in out:
