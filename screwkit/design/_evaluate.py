@@ -120,7 +120,22 @@ def evaluate(base, dims: dict, task: Task) -> dict:
         model = base.with_dimensions(dims) if dims else base
     except ScrewkitError as exc:
         return _failed(f"the model cannot be built: {str(exc).splitlines()[0]}")
+    if model is not base:
+        _same_legs(base, model)
     return objectives_of(model, task)
+
+
+def _same_legs(base, model) -> None:
+    """Give ``model`` (``base`` with other dimensions) the engine's arrays of ``base``'s legs:
+    the joints, layout and row templates decided at ``base``'s home are kept, only the
+    geometry is rebuilt (:func:`screwkit.engine.reflatten`); no leg is analysed again.  The
+    reported designs are evaluated again on models of their own
+    (:meth:`~screwkit.design.OptimizationResult.build`)."""
+    from ..engine import reflatten
+    try:
+        reflatten(base, model)
+    except ValueError:             # other legs (not expected of with_dimensions): its own
+        pass
 
 
 def objectives_of(model, task: Task) -> dict:
