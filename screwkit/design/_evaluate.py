@@ -158,7 +158,6 @@ def objectives_of(model, task: Task) -> dict:
                            np.asarray(sol._extensions, float), sol.base_points,
                            sol._platform[2])["within"]
     base_ok &= within
-    o = jac.origin
     codes = {name: k for k, name in enumerate(LEVEL_CODES)}
     passive = set(getattr(model, "passive", ()) or ())
     info = jac.info
@@ -172,9 +171,16 @@ def objectives_of(model, task: Task) -> dict:
     max_act = max_con = -np.inf
     usable_all = np.ones(N, bool)
     usable_any = np.zeros(N, bool)
-    for (_, F, T), q in zip(task.loads, values):
-        W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)), o)
-        _, lev = trust(jac, q, W, o, reach)
+    for k, ((_, F, T), q) in enumerate(zip(task.loads, values)):
+        if k == 0 and st.amp is not None and q.ndim == 2:
+            # the analysis' own workload: the force amplification the kernel gave with the
+            # values, as the analysis' quality (and so screwkit size) reads it
+            _, lev = trust(jac, q, None, None, reach, np.nan_to_num(st.amp, nan=0.0))
+        else:
+            o = jac.origin
+            W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)),
+                                      o)
+            _, lev = trust(jac, q, W, o, reach)
         code = np.array([codes[x] for x in lev.tolist()]) if N else np.zeros(0, int)
         use = base_ok & (code <= task.max_level)
         usable_all &= use
