@@ -371,10 +371,12 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                          lambda sl: row_points(model, sol.closures.take(sl), chunk),
                          lambda: sol._platform[1], cond,
                          float(threshold), bool(single), sol.legs_at)
-    if single and raise_on_singular:
+    # one pose: singular as jac.singular says, read once (a batch is never refused)
+    singular = single and not cond.condition_number[0] <= jac.threshold
+    if singular and raise_on_singular:
         jac.check()
     st: Any = None
-    if not (single and jac.singular):
+    if not singular:
         st = StaticsResult(jac, comp.values,
                            lambda: workload_about_origin(np.broadcast_to(F, (N, 3)),
                                                          np.broadcast_to(T, (N, 3)),

@@ -105,6 +105,8 @@ def pose_arrays(model, pose, degrees: bool = False):
         vals[k] = np.asarray(model.default_pose[k], float)
     if missing:
         notes.append(f"{', '.join(missing)} taken from the default pose")
+    if N == 1 and len(plain) == len(vals):
+        return vals, N, single, notes, invalid          # (each already a new (1,) array)
     return ({k: v if k in plain and N == 1 else np.broadcast_to(v, (N,)).astype(float)
              for k, v in vals.items()}, N, single, notes, invalid)
 

@@ -14,7 +14,7 @@ from functools import partial
 
 import numpy as np
 
-from ._chains import chains_of
+from ._chains import PARAMS, chains_of
 from ._launch import run_poses
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
@@ -25,6 +25,8 @@ __all__ = ["CHUNK", "Computed", "compute", "row_points"]
 
 #: Poses per launch (progress is reported after each).
 CHUNK = 32768
+#: The column of each pose parameter in ``P6``.
+_COLUMN = {p: k for k, p in enumerate(PARAMS)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,7 +99,14 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
     they are, without the chunks' copies."""
     flat = ch.flat
-    o = run_poses(flat, predictor_of(ch), ch.full_params(fixed, N),
+    if N == 1:                          # one pose: the row of P6 without a numpy call a value
+        row = [0.0] * 6
+        for p, v in fixed.items():
+            row[_COLUMN[p]] = v[0]
+        P6 = np.array([row])
+    else:
+        P6 = ch.full_params(fixed, N)
+    o = run_poses(flat, predictor_of(ch), P6,
                   X0=None if X0 is None else X0.T, side=side, F=F, T=T,
                   compliance=compliance, rows=rows, statics=F is not None, twists=twists,
                   workers=workers)

@@ -365,7 +365,8 @@ def _structure_notes(model, sol):
 
 def check_reachable(sol: PoseSolution):
     """Raise :class:`UnreachablePoseError` for the first unreachable pose."""
-    if sol.reachable_mask.all():
+    r = sol.closures.residual
+    if (r[0] <= ACCEPTED) if len(r) == 1 else sol.reachable_mask.all():
         return
     from .. import errors as err
     i = int(np.flatnonzero(~sol.reachable_mask)[0])
