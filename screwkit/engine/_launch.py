@@ -33,20 +33,20 @@ _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "
               "f", "f", "f", "f", "f")
 
 
-def threads(N: int, workers=None) -> int:
+def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
     """Threads for ``N`` poses: ``workers``, or by default up to 2 (the cores) when there
-    are enough poses."""
+    are enough poses (``per_thread`` a thread)."""
     if workers is None:
         workers = _CORES
-    return max(1, min(int(workers), N // MIN_PER_THREAD or 1))
+    return max(1, min(int(workers), N // per_thread or 1))
 
 
 def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
 
 
-def _launch(serial, par, args, N, workers):
-    nw = threads(N, workers)
+def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD):
+    nw = threads(N, workers, per_thread)
     if nw <= 1:
         serial(*args, 0, N)
         return
@@ -97,12 +97,13 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
 
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
-              workers=None) -> dict:
+              workers=None, per_thread: int = MIN_PER_THREAD) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
-    outputs by name (:data:`OUTPUTS`)."""
+    outputs by name (:data:`OUTPUTS`).  ``per_thread``: the fewest poses worth a thread
+    (fewer for poses that cost more, such as closures solved from home)."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -129,7 +130,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
-            N, workers)
+            N, workers, per_thread)
     out = {}
     for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, plan.out):
         v = (Oi if is_int else Of)[o0:o1]
