@@ -131,13 +131,15 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
             N, workers, per_thread)
-    out = {}
-    for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, plan.out):
-        v = (Oi if is_int else Of)[o0:o1]
-        if sh is not None:
-            v = v.reshape(sh)
-        out[name] = v.astype(bool) if is_bool else v
-    return out
+    return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
+                              for is_int, is_bool, o0, o1, sh in plan.out]))
+
+
+def _view(buf, o0, o1, sh, is_bool):
+    v = buf[o0:o1]
+    if sh is not None:
+        v = v.reshape(sh)
+    return v.astype(bool) if is_bool else v
 
 
 def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:

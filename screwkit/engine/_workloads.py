@@ -108,13 +108,16 @@ class MissingStatics:
         return "MissingStatics(no workload)"
 
 
+_F64 = np.dtype(np.float64)
+
+
 def load_vector(x, name):
     """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
     ``MAX_LOAD`` (1e12 in the model's units) in magnitude, so that the statics cannot
     overflow to NaN or infinity."""
     # the common case decided without a check per element: three finite float64 numbers
     # within the bound (NaN fails the comparisons and goes to the checks that name it)
-    if type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (3,):
+    if type(x) is np.ndarray and x.dtype is _F64 and x.shape == (3,):
         a, b, c = x.tolist()
         if abs(a) <= MAX_LOAD and abs(b) <= MAX_LOAD and abs(c) <= MAX_LOAD:
             return x.copy()
