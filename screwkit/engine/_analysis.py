@@ -381,7 +381,8 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                            lambda: workload_about_origin(np.broadcast_to(F, (N, 3)),
                                                          np.broadcast_to(T, (N, 3)),
                                                          sol._platform[1]),
-                           sol.base_points, lambda: sol._platform[2], np.ones(N, bool),
+                           sol.base_points, lambda: sol._platform[2],
+                           np.array([True]) if N == 1 else np.ones(N, bool),
                            comp.equilibrium, comp.amplification)
         if not single:                  # (one pose here is reachable and regular)
             bad = unreach | jac.singular_mask

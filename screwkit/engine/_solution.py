@@ -331,7 +331,8 @@ def make_solution(model, closures: Closures, single, notes, side=None,
         int(i): (f"invalid input, not solved: {'; '.join(why)}",)
         for i, why in (invalid or {}).items()}
     fixed = closures.fixed
-    for i in (np.flatnonzero(closures.singular_beta) if closures.singular_beta.any() else ()):
+    sb = closures.singular_beta
+    for i in ((0,) if sb[0] else ()) if len(sb) == 1 else np.flatnonzero(sb):
         if int(i) in pose_notes:                 # invalid input: not solved, no more to say
             continue
         pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
