@@ -146,7 +146,9 @@ def objectives_of(model, task: Task) -> dict:
     from ..maps._loads import unit_responses
 
     name0, F0, T0 = task.loads[0]
-    res = analyze(model, task.poses, force=F0, torque=T0, raise_on_singular=False)
+    # the transmission indices read the actuated joints' twists: from the same kernel run
+    res = analyze(model, task.poses, force=F0, torque=T0, raise_on_singular=False,
+                  twists=bool(task.needs & {"min-lti", "gtw-volume"}))
     sol, jac, st = res.solution, res.jacobian, res.statics
     N = len(res)
     reach = np.asarray(sol.reachable_mask, bool)
