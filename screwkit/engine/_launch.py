@@ -89,8 +89,8 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     plan.flags = np.array([int(solve), int(rows), int(rows and statics), int(continuation),
                            int(twists)], np.int64)
     if len(flat.packed) > 64:              # (maps launch many sizes: keep the cache small)
-        for k in [k for k in flat.packed if k[0] == "plan"]:
-            del flat.packed[k]
+        for k in [k for k in list(flat.packed) if k[0] == "plan"]:
+            flat.packed.pop(k, None)
     flat.packed[key] = plan
     return plan
 
