@@ -3,6 +3,8 @@ starts (private)."""
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from .. import errors as _err
@@ -68,12 +70,19 @@ def pose_arrays(model, pose, degrees: bool = False):
     vals, single, n = {}, True, None
     invalid: dict = {}
     plain = set()
+    lims = _plain_limits(model, degrees)
     for k, v in pose.items():
-        x = _plain_number(model, k, v, degrees)
-        if x is not None:                     # one pose of plain numbers: checked already
-            vals[k] = x
-            plain.add(k)
-            continue
+        # the common case, one pose of plain numbers, decided without numpy's conversions:
+        # a float (or an int numpy converts exactly) of an independent parameter, well
+        # within its limit (NaN fails the comparison); the rest, errors included, below
+        t = type(v)
+        if t is float or t is np.float64 or (t is int and -_EXACT < v < _EXACT):
+            lim = lims.get(k)
+            if lim is not None and abs(v) < lim:
+                a = np.array([float(v)])
+                vals[k] = np.radians(a) if degrees and k not in LENGTH_PARAMS else a
+                plain.add(k)
+                continue
         if k not in PARAMS:
             raise err.InputError(f"{model.name}: unknown pose parameter {shorten(k)}"
                                  f"{did_you_mean(k, model.independent)} (one of "
@@ -111,33 +120,30 @@ def pose_arrays(model, pose, degrees: bool = False):
              for k, v in vals.items()}, N, single, notes, invalid)
 
 
-#: The Python and numpy scalar types read by :func:`_plain_number` (``bool`` is not among
-#: them: a ``type(v) is`` test does not match a subclass).
-_PLAIN = (float, int, np.float64)
+#: Integers numpy converts to float64 exactly.
+_EXACT = 1 << 53
 _ANGLE_LIMIT_RAD = float(np.radians(MAX_ANGLE_DEG))
+_LIMITS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def _plain_number(model, k, v, degrees):
-    """The common case of one pose given as plain numbers, decided without numpy's
-    conversions: the value ``(1,)`` of ``k`` (in radians), or None where
-    :func:`pose_arrays`'s general checks must decide (an array, an unknown or dependent
-    parameter, a value near or beyond a limit, a non-finite one: the general path raises
-    the errors)."""
-    t = type(v)
-    if t is not float and t is not np.float64 and (t is not int or abs(v) >= 1 << 53):
-        return None
-    if k not in model.independent:
-        return None
-    x = float(v)
-    if k in LENGTH_PARAMS:
+def _plain_limits(model, degrees) -> dict:
+    """Per independent parameter of ``model``, the magnitude below which a plain number
+    needs no other check (well within the limits of :func:`_pose_bound`: half the length
+    limit, 97 % of the angle limit), in the units given (cached per model)."""
+    try:
+        both = _LIMITS.get(model)
+    except TypeError:                    # (a model that cannot be referenced weakly)
+        both = None
+    if both is None:
         size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
-        if not abs(x) < 0.5 * MAX_LENGTH_FACTOR * size:
-            return None
-        return np.array([x])
-    if not abs(x) < 0.97 * (MAX_ANGLE_DEG if degrees else _ANGLE_LIMIT_RAD):
-        return None
-    a = np.array([x])
-    return np.radians(a) if degrees else a
+        both = tuple({k: 0.5 * MAX_LENGTH_FACTOR * size if k in LENGTH_PARAMS else 0.97 * a
+                      for k in model.independent}
+                     for a in (_ANGLE_LIMIT_RAD, MAX_ANGLE_DEG))
+        try:
+            _LIMITS[model] = both
+        except TypeError:
+            pass
+    return both[1 if degrees else 0]
 
 
 def _is_batch(v) -> bool:
