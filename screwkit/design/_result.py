@@ -105,16 +105,20 @@ class OptimizationResult:
             k, r = kr
             if model is not None:
                 # the best design evaluated again on a model of its own (its own row
-                # templates, as screwkit size builds it), not on the search's shared arrays
+                # templates, as screwkit size builds it), not on the search's shared arrays;
+                # its feasibility is this evaluation's, constraints included
                 r = objectives_of(model, prob.task)
-            return {"dimensions": prob.dims(k), "objectives": _clean(r["objectives"])}
+                r = dict(r, violation=ev._violation(r))
+            out = {"dimensions": prob.dims(k), "objectives": _clean(r["objectives"])}
+            if model is not None:
+                out["feasible"] = bool(r["violation"] == 0.0)
+            return out
         b = None
         model = None
         if best is not None:
             model = prob.base.with_dimensions(prob.dims(best[0]))
             b = entry(best, model)
             b["objective"] = b["objectives"][prob.objectives[0]]
-            b["feasible"] = True
         units = {o: prob.units[o] for o in OBJECTIVES}
         units["length"] = prob.base.units.length
         evaluated = [(prob.dims(k), _clean(ev.cache[k]["objectives"]), ev.cache[k]["feasible"])

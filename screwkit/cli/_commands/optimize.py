@@ -156,6 +156,9 @@ def print_text(res) -> None:
         return
     dims = ", ".join(f"{k} = {fmt_num(v)} {u['length']}" for k, v in res.best["dimensions"].items())
     print(f"  best: {dims}")
+    if not res.best.get("feasible", True):
+        print("  warning: evaluated again on a model of its own (as screwkit size builds it), "
+              "this design leaves some cells of the task unusable or breaks a constraint")
     for o, v in res.best["objectives"].items():
         if v is None:
             continue
