@@ -11,10 +11,9 @@ stderr.  Parallel kernels run on numba's ``workqueue`` threading layer (safe acr
 waits for the running one, which uses every thread it was given.
 
 A kernel found in the cache is loaded without numba's refresh of its typing and lowering
-registries (:func:`_load_cached_without_refresh`): that refresh imports most of numba's
-implementations, and scipy.linalg with them (about half a second of a cold command), and
-only a compilation needs them; a kernel that is not in the cache refreshes and compiles as
-usual.
+registries, and without parsing the bitcode kept for linking until code is compiled
+against it (:mod:`screwkit.engine._kernel_loading`): only a compilation needs them; a kernel
+that is not in the cache refreshes and compiles as usual.
 """
 
 from __future__ import annotations
@@ -118,41 +117,13 @@ def _check_stamp(numba):
         pass
 
 
-def _load_cached_without_refresh(numba, modules) -> None:
-    """Load the cached kernels of ``modules`` without refreshing numba's registries.
+def _quick_loading(numba, modules) -> None:
+    """The kernels' dispatchers load their cached code quickly (``engine/_kernel_loading``)."""
+    from numba.core.dispatcher import Dispatcher
 
-    numba's ``Cache.load_overload`` refreshes the target context before every lookup: it
-    imports and installs every typing and lowering registry (``numpy.linalg`` support
-    imports scipy.linalg), which only the compilation of new code reads.  Loading cached
-    machine code needs the runtime's symbols only (``rtsys.initialize``); the parallel
-    kernels' threading layer is started by their own reload hooks.  A lookup that misses
-    refreshes as numba does, then numba compiles as usual (its compiler refreshes too).
-    The kernels' dispatchers get a cache of this subclass; other numba users in the process
-    are untouched.  Without the numba internals this relies on, nothing changes.
-    """
-    try:
-        from numba.core.caching import FunctionCache
-        from numba.core.dispatcher import Dispatcher
-        from numba.core.runtime import rtsys
-    except ImportError:                                 # another numba: its own loading
-        return
-    if not all(hasattr(FunctionCache, a) for a in ("_load_overload",
-                                                  "_guard_against_spurious_io_errors")):
-        return
-
-    class _NoRefreshCache(FunctionCache):
-        def load_overload(self, sig, target_context):
-            rtsys.initialize(target_context)
-            with self._guard_against_spurious_io_errors():
-                data = self._load_overload(sig, target_context)
-            if data is None:
-                target_context.refresh()
-            return data
-
-    for mod in modules:
-        for value in vars(mod).values():
-            if isinstance(value, Dispatcher) and type(value._cache) is FunctionCache:
-                value._cache.__class__ = _NoRefreshCache
+    from .._kernel_loading import install
+    install([v for mod in modules for v in vars(mod).values() if isinstance(v, Dispatcher)],
+            os.path.join(_kernel_cache_path(numba), "symbols"))
 
 
 def _compiled_before(fn) -> bool:
@@ -173,7 +144,7 @@ def kernels() -> SimpleNamespace:
             numba = _configure()
             _check_stamp(numba)
             from . import _driver, _extra, _fk, _indices, _probe
-            _load_cached_without_refresh(numba, (_driver, _extra, _fk, _indices, _probe))
+            _quick_loading(numba, (_driver, _extra, _fk, _indices, _probe))
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, about a minute; cached "
                       f"in {cache_dir()})", file=sys.stderr, flush=True)
