@@ -12,7 +12,7 @@ waits for the running one, which uses every thread it was given.
 
 A kernel found in the cache is loaded without numba's refresh of its typing and lowering
 registries, and without parsing the bitcode kept for linking until code is compiled
-against it (:mod:`screwkit.engine._kernel_loading`): only a compilation needs them; a kernel
+against it (:mod:`screwkit.engine._kernels._loading`): only a compilation needs them; a kernel
 that is not in the cache refreshes and compiles as usual.
 """
 
@@ -30,6 +30,8 @@ LAUNCH_LOCK = threading.RLock()
 _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
 _HERE = os.path.dirname(os.path.abspath(__file__))
+#: This folder's files that hold no kernel (left out of the kernels' source stamp).
+_LOADER = ("__init__.py", "_loading.py")
 
 
 def _writable(path: str) -> bool:
@@ -74,12 +76,12 @@ def _configure():
 
 def _source_stamp() -> str:
     """A digest of every kernel source file (numba invalidates a cached function when its
-    own file changes, not when a function it calls, in another file, does); this loader
-    (``__init__.py``) holds no kernel and is left out."""
+    own file changes, not when a function it calls, in another file, does); the loader
+    (``__init__.py``, ``_loading.py``) holds no kernel and is left out."""
     import hashlib
     h = hashlib.sha1()
     for name in sorted(os.listdir(_HERE)):
-        if name.endswith(".py") and name != "__init__.py":
+        if name.endswith(".py") and name not in _LOADER:
             with open(os.path.join(_HERE, name), "rb") as f:
                 h.update(name.encode() + f.read())
     return h.hexdigest()
@@ -118,10 +120,10 @@ def _check_stamp(numba):
 
 
 def _quick_loading(numba, modules) -> None:
-    """The kernels' dispatchers load their cached code quickly (``engine/_kernel_loading``)."""
+    """The kernels' dispatchers load their cached code quickly (:mod:`._loading`)."""
     from numba.core.dispatcher import Dispatcher
 
-    from .._kernel_loading import install
+    from ._loading import install
     install([v for mod in modules for v in vars(mod).values() if isinstance(v, Dispatcher)],
             os.path.join(_kernel_cache_path(numba), "symbols"))
 
