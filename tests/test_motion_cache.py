@@ -1,7 +1,7 @@
 """The finite motion kept on disk (``screwkit.engine._motion_cache``): a kept verdict is the
 one computed now, bit for bit; any change to the model or to the classification constants
 gives another file; a bad file is recomputed; the declared-motion check still runs on a
-kept verdict; ``SCREWKIT_MOTION_CACHE=0`` keeps nothing.
+kept verdict; ``SCREWKIT_DISK_CACHE=0`` keeps nothing.
 
 The independent reference is :func:`screwkit.engine._motion._compute` run on the model in
 this process (the classification itself is tested against hand derivations in
@@ -23,7 +23,7 @@ from screwkit.pm import load_pm
 def disk(tmp_path, monkeypatch):
     """An empty folder of kept verdicts; the in-process caches emptied around the test."""
     monkeypatch.setattr(_motion_cache, "_folder", lambda: str(tmp_path / "motion"))
-    monkeypatch.setenv("SCREWKIT_MOTION_CACHE", "1")
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "1")
     _motion._BY_CONTENT.clear()
     yield tmp_path / "motion"
     _motion._BY_CONTENT.clear()
@@ -96,6 +96,56 @@ def test_the_declared_motion_is_checked_on_a_kept_verdict(disk, tmp_path):
 
 
 def test_switched_off_nothing_is_kept(disk, monkeypatch):
-    monkeypatch.setenv("SCREWKIT_MOTION_CACHE", "0")
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "0")
     _fresh(load_pm("3RRPRR"))
     assert not disk.exists() or not list(disk.glob("*.json"))
+
+
+# --- the default catalog kept parsed on disk (screwkit.pm._catalog_cache) -----------------
+
+@pytest.fixture
+def catalog_disk(tmp_path, monkeypatch):
+    from screwkit.pm import _catalog_cache
+    monkeypatch.setattr(_catalog_cache, "cache_folder", lambda name: str(tmp_path / name))
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "1")
+    return tmp_path / "catalog"
+
+
+def test_a_kept_catalog_is_the_one_read_now(catalog_disk, tmp_path):
+    import pickle
+    from screwkit.pm import _catalog_cache, catalog_path, load_catalog
+    path = tmp_path / "legs.yaml"
+    path.write_bytes(catalog_path().read_bytes())
+    read = load_catalog(path)                               # the reference: read now
+    first = _catalog_cache.kept_catalog(path, load_catalog)  # read and kept
+    assert len(list(catalog_disk.glob("*.pickle"))) == 1
+    kept = _catalog_cache.kept_catalog(path, lambda p: pytest.fail("read again"))
+    for cat in (first, kept):
+        assert type(cat) is type(read) and pickle.dumps(cat) == pickle.dumps(read)
+    # an edit to the file is read anew (and kept under another name)
+    path.write_text(path.read_text() + "\n# an edit\n")
+    calls = []
+    _catalog_cache.kept_catalog(path, lambda p: calls.append(p) or load_catalog(p))
+    assert calls == [path] and len(list(catalog_disk.glob("*.pickle"))) == 2
+    # a bad kept file is read anew; an invalid catalog is refused, never kept
+    for f in catalog_disk.glob("*.pickle"):
+        f.write_bytes(b"not a pickle")
+    again = _catalog_cache.kept_catalog(path, load_catalog)
+    assert pickle.dumps(again) == pickle.dumps(load_catalog(path))
+    path.write_text("legs: 3\n")
+    with pytest.raises(CatalogError):
+        _catalog_cache.kept_catalog(path, load_catalog)
+    assert len(list(catalog_disk.glob("*.pickle"))) == 2
+
+
+def test_the_default_catalog_command_output_is_unchanged_when_kept(catalog_disk, capsys):
+    from screwkit.cli import main
+    from screwkit.pm import default_catalog
+    outs = []
+    for _ in range(2):                                      # read, then kept
+        default_catalog.cache_clear()
+        assert main(["leg", "RRPRR"]) == 0
+        outs.append(capsys.readouterr().out)
+    default_catalog.cache_clear()
+    assert outs[0] == outs[1] and "catalog expects" in outs[0]
+    assert len(list(catalog_disk.glob("*.pickle"))) == 1

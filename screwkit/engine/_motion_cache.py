@@ -17,7 +17,7 @@ file named by a digest of all of them:
 A model that cannot be walked (an object of a type not listed in :func:`_feed`) is never
 kept.  Files are JSON (no code runs when one is read), written atomically, in
 ``<kernels' cache>/motion/``; a file that cannot be read or does not decode to the same
-digest is ignored and recomputed.  ``SCREWKIT_MOTION_CACHE=0`` turns the disk off.
+digest is ignored and recomputed.  ``SCREWKIT_DISK_CACHE=0`` turns the disk off.
 """
 
 from __future__ import annotations
@@ -43,7 +43,8 @@ class _Unhashable(Exception):
 
 
 def _enabled() -> bool:
-    return os.environ.get("SCREWKIT_MOTION_CACHE", "1").strip() not in ("0", "", "no", "off")
+    from ..pm._catalog_cache import disk_cache_enabled
+    return disk_cache_enabled()
 
 
 def _feed(h, x) -> None:
