@@ -395,4 +395,4 @@ def load_catalog(path) -> Catalog:
 def default_catalog() -> Catalog:
     """The catalog at :func:`catalog_path` (cached, and kept parsed on disk: `_catalog_cache`)."""
     from ._catalog_cache import kept_catalog
-    return kept_catalog(catalog_path(), load_catalog)
+    return kept_catalog(catalog_path(), load_catalog, Catalog)

@@ -82,9 +82,9 @@ def _read(path):
     return raw if len(raw) <= MAX_MODEL_BYTES else None
 
 
-def kept_catalog(path, load):
-    """The catalog of the file ``path``: kept on disk, else ``load(path)`` (then kept)."""
-    from ._catalog import Catalog
+def kept_catalog(path, load, kind):
+    """The catalog of the file ``path``: kept on disk (an instance of ``kind``), else
+    ``load(path)`` (then kept)."""
     if not disk_cache_enabled():
         return load(path)
     try:
@@ -99,7 +99,7 @@ def kept_catalog(path, load):
     try:
         with open(kept, "rb") as f:
             cat = pickle.load(f)
-        if type(cat) is Catalog:
+        if type(cat) is kind:
             return cat
     except Exception:   # noqa: BLE001 - a missing, partial or foreign file: read anew
         pass

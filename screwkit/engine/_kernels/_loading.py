@@ -52,6 +52,8 @@ def _symbols(folder, bitcode, ll):
         pass
     module = ll.parse_bitcode(bitcode)
     names = _names_of(module)
+    if any("\n" in n for n in names):                  # not one name a line: not kept
+        return names, module
     try:
         os.makedirs(folder, exist_ok=True)
         kept = os.listdir(folder)
