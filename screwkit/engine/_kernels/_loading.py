@@ -27,7 +27,23 @@ from __future__ import annotations
 import hashlib
 import os
 
-__all__ = ["install"]
+__all__ = ["install", "supported"]
+
+#: The numba releases whose cache internals this module was written against and tested
+#: with (major, minor); with any other, numba loads its cache itself (slower, as correct).
+TESTED = ((0, 68),)
+
+
+def supported(version: str | None = None) -> bool:
+    """Whether the quick loading applies to numba ``version`` (default: the installed one)."""
+    if version is None:
+        import numba
+        version = numba.__version__
+    try:
+        major, minor = (int(x) for x in version.split(".")[:2])
+    except ValueError:
+        return False
+    return (major, minor) in TESTED
 
 _MAX_SYMBOL_FILES = 1024
 
@@ -70,7 +86,10 @@ def _symbols(folder, bitcode, ll):
 
 
 def install(dispatchers, symbol_folder: str) -> None:
-    """Give ``dispatchers`` (numba's, with ``cache=True``) the quick cache loading."""
+    """Give ``dispatchers`` (numba's, with ``cache=True``) the quick cache loading (only
+    for the numba releases it was tested with: :data:`TESTED`)."""
+    if not supported():
+        return
     try:
         from llvmlite import binding as ll
         from numba.core.caching import FunctionCache
