@@ -275,14 +275,14 @@ def analyze(pm: PMLike, pose: PoseLike | None = None, **kwargs: Any) -> PMAnalys
     >>> res.mobility.dof
     4
     """
-    fn = _ANALYZE_PM
-    if fn is None:                      # the engine imported on the first analysis, once
-        from .engine import analyze_pm as fn
-        globals()["_ANALYZE_PM"] = fn
-    return fn(pm, pose, **kwargs)
+    global _ANALYZE_PM
+    if _ANALYZE_PM is None:             # the engine imported on the first analysis, once
+        from .engine import analyze_pm
+        _ANALYZE_PM = analyze_pm
+    return _ANALYZE_PM(pm, pose, **kwargs)
 
 
-_ANALYZE_PM = None
+_ANALYZE_PM: Any = None
 
 
 # ---------------------------------------------------------------------------
