@@ -35,12 +35,11 @@ CONTINUATION = (4, 16, 64)
 
 
 @inner
-def predict(C, fix, home, span, degree, p6fix, Xhome, out):
+def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
     """The home predictor's start for the given parameters (``C (features, nx)``; no rows:
-    start at home)."""
+    start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
     nf = fix.shape[0]
     nx = out.shape[0]
-    z = np.empty(nf)
     far = C.shape[0] == 0
     for k in range(nf):
         z[k] = (p6fix[fix[k]] - home[k]) / span[k]
