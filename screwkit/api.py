@@ -275,9 +275,14 @@ def analyze(pm: PMLike, pose: PoseLike | None = None, **kwargs: Any) -> PMAnalys
     >>> res.mobility.dof
     4
     """
-    from .engine import analyze_pm
+    fn = _ANALYZE_PM
+    if fn is None:                      # the engine imported on the first analysis, once
+        from .engine import analyze_pm as fn
+        globals()["_ANALYZE_PM"] = fn
+    return fn(pm, pose, **kwargs)
 
-    return analyze_pm(pm, pose, **kwargs)
+
+_ANALYZE_PM = None
 
 
 # ---------------------------------------------------------------------------
