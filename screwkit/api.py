@@ -275,9 +275,14 @@ def analyze(pm: PMLike, pose: PoseLike | None = None, **kwargs: Any) -> PMAnalys
     >>> res.mobility.dof
     4
     """
-    from .engine import analyze_pm
+    global _ANALYZE_PM
+    if _ANALYZE_PM is None:             # the engine imported on the first analysis, once
+        from .engine import analyze_pm
+        _ANALYZE_PM = analyze_pm
+    return _ANALYZE_PM(pm, pose, **kwargs)
 
-    return analyze_pm(pm, pose, **kwargs)
+
+_ANALYZE_PM: Any = None
 
 
 # ---------------------------------------------------------------------------

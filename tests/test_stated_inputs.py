@@ -46,6 +46,11 @@ def one_line_error(code, err, *words):
     (["map", "3RRPRR", "--grid", "alpha=-1e308:1e308:3", *PAPER], ["--grid alpha START",
                                                                     "limit"]),
     (["map", "3RRPRR", "--grid", "alpha=-5000:5:3", *PAPER], ["beyond the limit", "deg"]),
+    # an angle far beyond any limit is refused with the angle's limit, not the magnitude's
+    (["map", "3RRPRR", "--grid", "alpha=-1e13:5:3", *PAPER], ["--grid alpha START",
+                                                             "+-3600 deg"]),
+    (["view", "3RRPRR", "--grid", "beta=1e20:5:3", "--html", "v.html"],
+     ["--grid beta START", "+-3600 deg"]),
     (["map", "3RRPRR", "--grid", "alpha=-5:5:3", "--seed", "-1", *PAPER], ["--seed"]),
     (["map", "3RRPRR", "--grid", "alpha=-5:5:3", "--scheduler", "tcp://nonsense", *PAPER],
      ["--scheduler", "tcp://HOST:PORT"]),

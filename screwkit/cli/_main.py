@@ -20,7 +20,10 @@ COMMANDS = ["leg", "catalog", "analyze", "check", "model", "trajectory", "draw",
             "optimize", "fk", "stiffness", "freedom", "export", "view", "synthesize"]
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every sub-command, or of ``command`` alone (what ``main`` parses when
+    the command line starts with that command's name: the other commands' modules, and what
+    they import to describe their arguments, are then not imported)."""
     from .. import __version__
 
     from ._types import OneLineParser
@@ -32,7 +35,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "degrees at the command line.")
     p.add_argument("--version", action="version", version=f"screwkit {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMANDS:
+    for name in (COMMANDS if command is None else [command]):
         importlib.import_module(f"._commands.{name}", __package__).register(sub)
     return p
 
@@ -46,7 +49,8 @@ def _one_line(exc, limit: int = 2000) -> str:
 def main(argv=None) -> int:
     from ._types import UsageError
 
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
     try:
         args = parser.parse_args(argv)
     except UsageError as exc:                  # one line, exit status 2

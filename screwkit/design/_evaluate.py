@@ -120,7 +120,22 @@ def evaluate(base, dims: dict, task: Task) -> dict:
         model = base.with_dimensions(dims) if dims else base
     except ScrewkitError as exc:
         return _failed(f"the model cannot be built: {str(exc).splitlines()[0]}")
+    if model is not base:
+        _same_legs(base, model)
     return objectives_of(model, task)
+
+
+def _same_legs(base, model) -> None:
+    """Give ``model`` (``base`` with other dimensions) the engine's arrays of ``base``'s legs:
+    the joints, layout and row templates decided at ``base``'s home are kept, only the
+    geometry is rebuilt (:func:`screwkit.engine.reflatten`); no leg is analysed again.  The
+    reported designs are evaluated again on models of their own
+    (:meth:`~screwkit.design.OptimizationResult.build`)."""
+    from ..engine import reflatten
+    try:
+        reflatten(base, model)
+    except ValueError:             # other legs (not expected of with_dimensions): its own
+        pass
 
 
 def objectives_of(model, task: Task) -> dict:
@@ -131,7 +146,9 @@ def objectives_of(model, task: Task) -> dict:
     from ..maps._loads import unit_responses
 
     name0, F0, T0 = task.loads[0]
-    res = analyze(model, task.poses, force=F0, torque=T0, raise_on_singular=False)
+    # the transmission indices read the actuated joints' twists: from the same kernel run
+    res = analyze(model, task.poses, force=F0, torque=T0, raise_on_singular=False,
+                  twists=bool(task.needs & {"min-lti", "gtw-volume"}))
     sol, jac, st = res.solution, res.jacobian, res.statics
     N = len(res)
     reach = np.asarray(sol.reachable_mask, bool)
@@ -143,7 +160,6 @@ def objectives_of(model, task: Task) -> dict:
                            np.asarray(sol._extensions, float), sol.base_points,
                            sol._platform[2])["within"]
     base_ok &= within
-    o = jac.origin
     codes = {name: k for k, name in enumerate(LEVEL_CODES)}
     passive = set(getattr(model, "passive", ()) or ())
     info = jac.info
@@ -157,9 +173,16 @@ def objectives_of(model, task: Task) -> dict:
     max_act = max_con = -np.inf
     usable_all = np.ones(N, bool)
     usable_any = np.zeros(N, bool)
-    for (_, F, T), q in zip(task.loads, values):
-        W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)), o)
-        _, lev = trust(jac, q, W, o, reach)
+    for k, ((_, F, T), q) in enumerate(zip(task.loads, values)):
+        if k == 0 and st.amp is not None and q.ndim == 2:
+            # the analysis' own workload: the force amplification the kernel gave with the
+            # values, as the analysis' quality (and so screwkit size) reads it
+            _, lev = trust(jac, q, None, None, reach, np.nan_to_num(st.amp, nan=0.0))
+        else:
+            o = jac.origin
+            W = workload_about_origin(np.broadcast_to(F, (N, 3)), np.broadcast_to(T, (N, 3)),
+                                      o)
+            _, lev = trust(jac, q, W, o, reach)
         code = np.array([codes[x] for x in lev.tolist()]) if N else np.zeros(0, int)
         use = base_ok & (code <= task.max_level)
         usable_all &= use

@@ -99,16 +99,26 @@ class OptimizationResult:
 
     @classmethod
     def build(cls, prob, ev, best, front, method, seed, history) -> "OptimizationResult":
-        def entry(kr):
+        from ._evaluate import objectives_of
+
+        def entry(kr, model=None):
             k, r = kr
-            return {"dimensions": prob.dims(k), "objectives": _clean(r["objectives"])}
+            if model is not None:
+                # the best design evaluated again on a model of its own (its own row
+                # templates, as screwkit size builds it), not on the search's shared arrays;
+                # its feasibility is this evaluation's, constraints included
+                r = objectives_of(model, prob.task)
+                r = dict(r, violation=ev._violation(r))
+            out = {"dimensions": prob.dims(k), "objectives": _clean(r["objectives"])}
+            if model is not None:
+                out["feasible"] = bool(r["violation"] == 0.0)
+            return out
         b = None
         model = None
         if best is not None:
-            b = entry(best)
+            model = prob.base.with_dimensions(prob.dims(best[0]))
+            b = entry(best, model)
             b["objective"] = b["objectives"][prob.objectives[0]]
-            b["feasible"] = True
-            model = prob.base.with_dimensions(b["dimensions"])
         units = {o: prob.units[o] for o in OBJECTIVES}
         units["length"] = prob.base.units.length
         evaluated = [(prob.dims(k), _clean(ev.cache[k]["objectives"]), ev.cache[k]["feasible"])

@@ -354,11 +354,13 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                    compliance=compliance, mapper=mapper if path else None, twists=bool(twists))
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
                         invalid)
-    if single:
-        check_reachable(sol)
     cond = comp.conditioning
-    unreach = ~sol.reachable_mask
-    if np.any(unreach):
+    unreach = None
+    if single:
+        check_reachable(sol)            # (one pose: raised where unreachable, nothing to flag)
+    else:
+        unreach = ~sol.reachable_mask
+    if unreach is not None and unreach.any():
         # J there is the last unconverged iterate's: no conditioning of the pose (NaN, flagged)
         nan = lambda x: np.where(unreach, np.nan, x)            # noqa: E731
         cond = dataclasses.replace(
@@ -369,19 +371,23 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                          lambda sl: row_points(model, sol.closures.take(sl), chunk),
                          lambda: sol._platform[1], cond,
                          float(threshold), bool(single), sol.legs_at)
-    if single and raise_on_singular:
+    # one pose: singular as jac.singular says, read once (a batch is never refused)
+    singular = single and not cond.condition_number[0] <= jac.threshold
+    if singular and raise_on_singular:
         jac.check()
     st: Any = None
-    if not (single and jac.singular):
+    if not singular:
         st = StaticsResult(jac, comp.values,
                            lambda: workload_about_origin(np.broadcast_to(F, (N, 3)),
                                                          np.broadcast_to(T, (N, 3)),
                                                          sol._platform[1]),
-                           sol.base_points, lambda: sol._platform[2], np.ones(N, bool),
+                           sol.base_points, lambda: sol._platform[2],
+                           np.array([True]) if N == 1 else np.ones(N, bool),
                            comp.equilibrium, comp.amplification)
-        bad = ~sol.reachable_mask | jac.singular_mask
-        if bad.any():
-            st = _mask(st, bad)
+        if not single:                  # (one pose here is reachable and regular)
+            bad = unreach | jac.singular_mask
+            if bad.any():
+                st = _mask(st, bad)
         if load is None:
             st = MissingStatics(no_workload_message(model))
     diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok,

@@ -3,6 +3,8 @@ subset of a batch's poses (private; used by :mod:`screwkit.engine._analysis`).""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["check_options", "stiffness_of_poses"]
@@ -10,6 +12,10 @@ __all__ = ["check_options", "stiffness_of_poses"]
 
 def check_options(threshold, chunk, workers, degrees, path, progress, anchor_every):
     """Check the keyword options of :func:`analyze` (InputError naming the one that is bad)."""
+    if type(threshold) is float and 1.0 < threshold < math.inf and type(chunk) is int and \
+            1 <= chunk <= 1 << 24 and workers is None and anchor_every is None and \
+            type(degrees) is bool and type(path) is bool and progress is None:
+        return                                      # the defaults (the common case)
     from ..errors import InputError
 
     def whole(x, name, low, high=1 << 24):

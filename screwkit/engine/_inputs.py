@@ -3,8 +3,13 @@ starts (private)."""
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
+from .. import errors as _err
+from ..legs._guards import (MAX_ANGLE_DEG, MAX_BATCH, MAX_LENGTH_FACTOR, did_you_mean,
+                            real_array, shorten)
 from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 
 __all__ = ["pose_arrays", "pose_index", "prepare"]
@@ -38,8 +43,7 @@ def pose_index(i, n: int):
 
 
 def _errors():
-    from .. import errors
-    return errors
+    return _err
 
 
 def pose_arrays(model, pose, degrees: bool = False):
@@ -55,8 +59,7 @@ def pose_arrays(model, pose, degrees: bool = False):
     replaced by the default pose's (solved, then marked unsolved by the caller).  An array
     longer than ``MAX_BATCH`` is refused before it is converted.
     """
-    from ..legs._guards import MAX_BATCH, did_you_mean, real_array, shorten
-    err = _errors()
+    err = _err
     if pose is None:
         pose = {}
     if hasattr(pose, "columns") and hasattr(pose, "to_numpy"):      # a pandas DataFrame
@@ -66,7 +69,20 @@ def pose_arrays(model, pose, degrees: bool = False):
                              f"name -> value of {', '.join(model.independent)}")
     vals, single, n = {}, True, None
     invalid: dict = {}
+    plain = set()
+    lims = _plain_limits(model, degrees)
     for k, v in pose.items():
+        # the common case, one pose of plain numbers, decided without numpy's conversions:
+        # a float (or an int numpy converts exactly) of an independent parameter, well
+        # within its limit (NaN fails the comparison); the rest, errors included, below
+        t = type(v)
+        if t is float or t is np.float64 or (t is int and -_EXACT < v < _EXACT):
+            lim = lims.get(k)
+            if lim is not None and abs(v) < lim:
+                a = np.array([float(v)])
+                vals[k] = np.radians(a) if degrees and k not in LENGTH_PARAMS else a
+                plain.add(k)
+                continue
         if k not in PARAMS:
             raise err.InputError(f"{model.name}: unknown pose parameter {shorten(k)}"
                                  f"{did_you_mean(k, model.independent)} (one of "
@@ -98,8 +114,36 @@ def pose_arrays(model, pose, degrees: bool = False):
         vals[k] = np.asarray(model.default_pose[k], float)
     if missing:
         notes.append(f"{', '.join(missing)} taken from the default pose")
-    return ({k: np.broadcast_to(v, (N,)).astype(float) for k, v in vals.items()}, N, single,
-            notes, invalid)
+    if N == 1 and len(plain) == len(vals):
+        return vals, N, single, notes, invalid          # (each already a new (1,) array)
+    return ({k: v if k in plain and N == 1 else np.broadcast_to(v, (N,)).astype(float)
+             for k, v in vals.items()}, N, single, notes, invalid)
+
+
+#: Integers numpy converts to float64 exactly.
+_EXACT = 1 << 53
+_ANGLE_LIMIT_RAD = float(np.radians(MAX_ANGLE_DEG))
+_LIMITS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _plain_limits(model, degrees) -> dict:
+    """Per independent parameter of ``model``, the magnitude below which a plain number
+    needs no other check (well within the limits of :func:`_pose_bound`: half the length
+    limit, 97 % of the angle limit), in the units given (cached per model)."""
+    try:
+        both = _LIMITS.get(model)
+    except TypeError:                    # (a model that cannot be referenced weakly)
+        both = None
+    if both is None:
+        size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
+        both = tuple({k: 0.5 * MAX_LENGTH_FACTOR * size if k in LENGTH_PARAMS else 0.97 * a
+                      for k in model.independent}
+                     for a in (_ANGLE_LIMIT_RAD, MAX_ANGLE_DEG))
+        try:
+            _LIMITS[model] = both
+        except TypeError:
+            pass
+    return both[1 if degrees else 0]
 
 
 def _is_batch(v) -> bool:
@@ -114,7 +158,6 @@ def _default(model, k, degrees):
 def _flag(model, k, a, degrees, invalid) -> np.ndarray:
     """The poses of a batch whose value of ``k`` is not finite or beyond the limits, each
     with its reason added to ``invalid`` (index -> text)."""
-    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
     with np.errstate(invalid="ignore"):
         if k in LENGTH_PARAMS:
             size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
@@ -136,7 +179,6 @@ def _flag(model, k, a, degrees, invalid) -> np.ndarray:
 
 def _pose_bound(model, k, a, degrees):
     """Refuse a pose value beyond the limits: angles +-3600 deg, lengths 1e12 model sizes."""
-    from ..legs._guards import MAX_ANGLE_DEG, MAX_LENGTH_FACTOR
     err = _errors()
     m = float(np.max(np.abs(a))) if a.size else 0.0
     if k in LENGTH_PARAMS:
@@ -161,7 +203,8 @@ def _start_of(model, guess, N):
     if guess is None:
         return None, None
     ch = chains_of(model)
-    if hasattr(guess, "solution") and hasattr(guess, "statics"):   # a PMAnalysis: its poses
+    if not hasattr(guess, "closures") and hasattr(guess, "solution") and \
+            hasattr(guess, "statics"):                              # a PMAnalysis: its poses
         guess = guess.solution
     if hasattr(guess, "closures") and hasattr(guess, "_params"):   # a PoseSolution
         if guess.model is not model and [len(lg.joints) for lg in guess.model.home_legs] != \
@@ -198,6 +241,10 @@ def prepare(model, pose, guess, degrees):
     X0, bside = _start_of(model, guess, N)
     side = None
     if bside is not None and "beta" in fixed:
-        d = np.asarray(bside) - fixed["beta"]
-        side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
+        if N == 1:                       # (one pose: the same numbers without numpy's calls)
+            d = float(bside[0]) - float(fixed["beta"][0])
+            side = np.array([(1.0 if d > 0 else -1.0) if abs(d) > 1e-4 else 0.0])
+        else:
+            d = np.asarray(bside) - fixed["beta"]
+            side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
     return fixed, N, one, notes, X0, side, invalid

@@ -352,9 +352,9 @@ class JacobianResult:
 
     def check(self) -> "JacobianResult":
         """Return self, or raise :class:`SingularityError` at a singular pose (the first)."""
-        from ..errors import SingularityError
-        if not np.any(self.singular_mask):
+        if not self.singular_mask.any():
             return self
+        from ..errors import SingularityError
         if not self.single:
             i = int(np.flatnonzero(self.singular_mask)[0])
             self[i].check()

@@ -33,20 +33,20 @@ _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "
               "f", "f", "f", "f", "f")
 
 
-def threads(N: int, workers=None) -> int:
+def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
     """Threads for ``N`` poses: ``workers``, or by default up to 2 (the cores) when there
-    are enough poses."""
+    are enough poses (``per_thread`` a thread)."""
     if workers is None:
         workers = _CORES
-    return max(1, min(int(workers), N // MIN_PER_THREAD or 1))
+    return max(1, min(int(workers), N // per_thread or 1))
 
 
 def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
 
 
-def _launch(serial, par, args, N, workers):
-    nw = threads(N, workers)
+def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD):
+    nw = threads(N, workers, per_thread)
     if nw <= 1:
         serial(*args, 0, N)
         return
@@ -55,36 +55,91 @@ def _launch(serial, par, args, N, workers):
         par(*args, nw)
 
 
+class _Plan:
+    """What a launch of the analysis kernel on ``N`` poses of one model lays out, made once
+    per model and kind of launch (:func:`_plan`): the packed layouts of the inputs and of
+    the outputs, where each array starts in its buffer, the flags, and the inputs that do
+    not change between calls (the torque rows, in the integer buffer)."""
+
+    __slots__ = ("in_d", "in_nf", "in_f", "in_i", "out", "out_d", "out_nf", "out_ni",
+                 "flags")
+
+
+def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists) -> _Plan:
+    key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists)
+    plan = flat.packed.get(key)
+    if plan is not None:
+        return plan
+    nx, mr, n = flat.nu + flat.n * flat.m, flat.mr, flat.n
+    rn = N if rows else 0
+    sn = N if (rows and statics) else 0
+    plan = _Plan()
+    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,)]
+    inp = Packed(ins, ("f",) * 6 + ("i",))
+    plan.in_d, plan.in_nf = inp.d, inp.f.size
+    plan.in_f = [(o, o + size, sh) for (o, size), sh in zip(inp.offsets[:6], ins)]
+    plan.in_i = inp.i
+    plan.in_i[inp.offsets[6][0]:] = flat.torque          # constant: the kernel only reads it
+    out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
+                  (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
+                  (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6)], _OUT_KINDS)
+    plan.out_d, plan.out_nf, plan.out_ni = out.d, out.f.size, out.i.size
+    plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
+                     for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
+    plan.flags = np.array([int(solve), int(rows), int(rows and statics), int(continuation),
+                           int(twists)], np.int64)
+    if len(flat.packed) > 64:              # (maps launch many sizes: keep the cache small)
+        for k in [k for k in list(flat.packed) if k[0] == "plan"]:
+            flat.packed.pop(k, None)
+    flat.packed[key] = plan
+    return plan
+
+
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
-              workers=None) -> dict:
+              workers=None, per_thread: int = MIN_PER_THREAD) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
-    outputs by name (:data:`OUTPUTS`)."""
+    outputs by name (:data:`OUTPUTS`).  ``per_thread``: the fewest poses worth a thread
+    (fewer for poses that cost more, such as closures solved from home)."""
     k = kernels()
     N = len(P6)
-    nx, mr, n = flat.nu + flat.n * flat.m, flat.mr, flat.n
-    rn = N if rows else 0
-    sn = N if (rows and statics) else 0
-    out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
-                  (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr), (sn,),
-                  (sn,), (sn,), (N if twists else 0, flat.n_act, 6)], _OUT_KINDS)
-    views = out.views(raw=True)
+    comp = None if compliance is None else np.atleast_2d(compliance)
+    plan = _plan(flat, N, 0 if X0 is None else N, 0 if side is None else len(side),
+                 0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
+                 bool(statics), bool(continuation), bool(twists))
+    # the inputs, packed (the layout is the plan's; the values are copied)
+    If = np.empty(plan.in_nf)
+    (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \
+        (c0, c1, csh) = plan.in_f
+    If[p0:p1].reshape(psh)[...] = P6
+    if X0 is not None:
+        If[x0:x1].reshape(xsh)[...] = X0
+    if side is not None:
+        If[s0:s1] = side
+    If[f0:f1] = 0.0 if F is None else F
+    If[t0:t1] = 0.0 if T is None else T
+    if comp is not None:
+        If[c0:c1].reshape(csh)[...] = comp
+    Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
     if X is not None:
-        views[0][...] = X
-    comp = np.zeros((0, mr)) if compliance is None else np.atleast_2d(compliance)
-    inputs = Packed.of((P6, np.zeros((0, nx)) if X0 is None else X0,
-                        np.zeros(0) if side is None else side,
-                        np.zeros(3) if F is None else F, np.zeros(3) if T is None else T, comp,
-                        flat.torque))
-    flags = np.array([int(solve and X is None), int(rows), int(rows and statics),
-                      int(continuation), int(twists)], np.int64)
+        _, _, o0, o1, sh = plan.out[0]
+        Of[o0:o1].reshape(sh)[...] = X
     Mp, Zp = flat.pack(Z)
-    _launch(k.run_range, k.run_parallel, Mp.args + Zp.args + inputs.args + out.args + (flags,),
-            N, workers)
-    return dict(zip(OUTPUTS, out.views()))
+    _launch(k.run_range, k.run_parallel,
+            Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
+            N, workers, per_thread)
+    return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
+                              for is_int, is_bool, o0, o1, sh in plan.out]))
+
+
+def _view(buf, o0, o1, sh, is_bool):
+    v = buf[o0:o1]
+    if sh is not None:
+        v = v.reshape(sh)
+    return v.astype(bool) if is_bool else v
 
 
 def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:

@@ -6,7 +6,8 @@ batch and hands the rotations, positions and pose parameters to
 result with what the model declares (``motion``, ``independent``): a mismatch is a
 :class:`~screwkit.errors.CatalogError` that names both.  Results are cached per model
 object and per model *content* (the home legs, the parametrisation), so a model loaded
-again costs nothing.
+again costs nothing; across processes, in a file keyed by a digest of the whole model and of
+the code that computes it (:mod:`screwkit.engine._motion_cache`).
 """
 
 from __future__ import annotations
@@ -83,7 +84,14 @@ def finite_motion(model) -> FiniteMotion:
     key = _content_key(model)
     hit = _BY_CONTENT.get(key)
     if hit is None:
-        hit = _compute(model)
+        from . import _motion_cache
+        from ..pm import _finite
+        constants = (AMPLITUDE_DEG, AMPLITUDE_LENGTH, STEP, _finite.FINITE_RTOL,
+                     _finite.RANK_FD_RTOL)
+        digest, hit = _motion_cache.load(model, constants)
+        if hit is None:
+            hit = _compute(model)
+            _motion_cache.store(digest, hit)
         _BY_CONTENT[key] = hit
         while len(_BY_CONTENT) > _MAX_CONTENT:
             _BY_CONTENT.popitem(last=False)

@@ -14,7 +14,7 @@ from functools import partial
 
 import numpy as np
 
-from ._chains import chains_of
+from ._chains import PARAMS, chains_of
 from ._launch import run_poses
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
@@ -25,6 +25,8 @@ __all__ = ["CHUNK", "Computed", "compute", "row_points"]
 
 #: Poses per launch (progress is reported after each).
 CHUNK = 32768
+#: The column of each pose parameter in ``P6``.
+_COLUMN = {p: k for k, p in enumerate(PARAMS)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +94,38 @@ def _chunk_task(model, rows, F, T, compliance, item):
     return chunk_after_path(model, fx, X, path_res, rows, F, T, compliance)
 
 
+def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, workers,
+                progress, twists) -> Computed:
+    """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
+    they are, without the chunks' copies."""
+    flat = ch.flat
+    if N == 1:                          # one pose: the row of P6 without a numpy call a value
+        row = [0.0] * 6
+        for p, v in fixed.items():
+            row[_COLUMN[p]] = v[0]
+        P6 = np.array([row])
+    else:
+        P6 = ch.full_params(fixed, N)
+    o = run_poses(flat, predictor_of(ch), P6,
+                  X0=None if X0 is None else X0.T, side=side, F=F, T=T,
+                  compliance=compliance, rows=rows, statics=F is not None, twists=twists,
+                  workers=workers)
+    if progress:
+        progress(N, N)
+    closures = Closures(ch, o["X"].T, fixed, o["residual"], o["iterations"], o["how"],
+                        o["singular_beta"])
+    if not rows:
+        return Computed(closures, (), flat.n_act, diagnostics={})
+    out = {key: o[key] for key in _KEYS if o[key].shape[0]}
+    cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
+                        out["condition_number"], out["constraint_rank"],
+                        out["constraint_condition_number"])
+    return Computed(closures, labels_of(templates), flat.n_act, out["J"], out["scale"], cond,
+                    out["rows_ok"], out["structure_ok"], out.get("values"),
+                    out.get("equilibrium"), {}, out.get("amplification"),
+                    out.get("det_sign"), out.get("twists"))
+
+
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
             rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None,
             compliance=None, mapper=None, twists=False) -> Computed:
@@ -106,6 +140,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     N = len(next(iter(fixed.values())))
     fixed = {k: np.asarray(v, float) for k, v in fixed.items()}
     templates = templates_of(model) if rows else None
+    if not path and N <= chunk:
+        return _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
+                           workers, progress, twists)
     diag = {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))

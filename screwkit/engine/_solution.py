@@ -126,8 +126,9 @@ class PoseSolution:
 
     @property
     def base_points(self) -> np.ndarray:
-        """``A_i`` (world), ``(n, 3)`` (the same at every pose)."""
-        return np.asarray(self.model.world_base_points, float)
+        """``A_i`` (world), ``(n, 3)`` (the same at every pose; read-only, kept with the
+        model's arrays)."""
+        return base_points_of(self.closures.chains.flat)
 
     @cached_property
     def _extensions(self):
@@ -254,6 +255,17 @@ class PoseSolution:
                 f"{'ok' if self.success else 'NOT converged'})")
 
 
+def base_points_of(flat) -> np.ndarray:
+    """The world base points ``A_i (n, 3)`` of a flattened model, read-only (one copy per
+    model, not one per solution)."""
+    A = flat.packed.get("A")
+    if A is None:
+        from ._kernels._layout import A as _A
+        A = flat.packed["A"] = np.array(flat.M[_A], float)
+        A.setflags(write=False)
+    return A
+
+
 def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = False,
           single=None, raise_unreachable=None, **kwargs) -> PoseSolution:
     """Unified inverse displacement at N poses (see the module docstring).
@@ -311,7 +323,8 @@ def make_solution(model, closures: Closures, single, notes, side=None,
         int(i): (f"invalid input, not solved: {'; '.join(why)}",)
         for i, why in (invalid or {}).items()}
     fixed = closures.fixed
-    for i in np.flatnonzero(closures.singular_beta):
+    sb = closures.singular_beta
+    for i in ((0,) if sb[0] else ()) if len(sb) == 1 else np.flatnonzero(sb):
         if int(i) in pose_notes:                 # invalid input: not solved, no more to say
             continue
         pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
@@ -345,9 +358,10 @@ def _structure_notes(model, sol):
 
 def check_reachable(sol: PoseSolution):
     """Raise :class:`UnreachablePoseError` for the first unreachable pose."""
-    from .. import errors as err
-    if sol.reachable_mask.all():
+    r = sol.closures.residual
+    if (r[0] <= ACCEPTED) if len(r) == 1 else sol.reachable_mask.all():
         return
+    from .. import errors as err
     i = int(np.flatnonzero(~sol.reachable_mask)[0])
     f = float(sol.closures.residual[i])
     given = ", ".join(f"{k}={_fmt(k, sol.closures.fixed[k][i])}" for k in sol.model.independent)

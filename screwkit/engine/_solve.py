@@ -9,10 +9,13 @@ representation singularity (``beta`` given where ``sin(beta) = 0``, proper order
 taken as its limit from both sides, or from the warm start's side, then the pose solved with
 it given).
 
-The home predictor is a polynomial model of the solution around home (cubic in up to four
-independent parameters, quadratic beyond), fitted once per model to exact solutions on a
-small grid (+-0.15 rad, +-0.15 ``L``; no level at home itself, so that no fitting pose sits at
-a representation singularity of home); far outside the grid the start is home itself.
+The home predictor is a polynomial model of the solution around home, cubic in the
+independent parameters, fitted once per model to exact solutions on a small grid (+-0.15
+rad, +-0.15 ``L``; no level at home itself, so that no fitting pose sits at a representation
+singularity of home): four levels per parameter up to four parameters; beyond (a full grid
+would be 4^5 or 4^6 poses), three levels and, on each parameter's axis, two more (a cubic
+needs four).  A quadratic leaves most random poses of a 4SPS+SPR or a 6-SPS three Newton
+steps from their solution, the cubic two.  Far outside the grid the start is home itself.
 """
 
 from __future__ import annotations
@@ -108,13 +111,21 @@ def predictor_of(ch: Chains) -> tuple:
     home = np.array([ch.home[p] for p in ch.fixed])
     span = np.array([_FIT_SPAN * ch.length if p in LENGTH_PARAMS else _FIT_SPAN
                      for p in ch.fixed])
-    degree = 3 if nf <= 4 else 2
-    levels = (np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0]) if degree == 3
-              else np.array([-1.0, 0.1, 1.0]))
-    G = np.array(list(itertools.product(levels, repeat=nf))).reshape(-1, nf)
+    degree = 3
+    if nf <= 4:
+        levels = np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0])
+        G = np.array(list(itertools.product(levels, repeat=nf))).reshape(-1, nf)
+    else:
+        G = np.array(list(itertools.product((-1.0, 0.1, 1.0), repeat=nf)))
+        axes = np.full((2 * nf, nf), 0.1)
+        for k in range(nf):
+            axes[2 * k, k], axes[2 * k + 1, k] = -1.0 / 3.0, 1.0 / 3.0
+        G = np.concatenate([G, axes])
     fixed = {p: home[k] + span[k] * G[:, k] for k, p in enumerate(ch.fixed)}
+    # (each pose solved from home: worth a thread from 32 poses; the bits do not depend on
+    # the threads)
     out = run_poses(flat, flat.Z, ch.full_params(fixed, len(G)),
-                    X0=ch.home_vector(len(G)).T, rows=False)
+                    X0=ch.home_vector(len(G)).T, rows=False, per_thread=32)
     good = out["residual"] <= CONVERGED
     nfeat = _features_count(nf, degree)
     C = np.zeros((0, ch.n_unknowns))

@@ -12,6 +12,7 @@ import dataclasses
 
 import numpy as np
 
+from ..legs._guards import MAX_LOAD, real_vector
 from ._pipeline import statics_values, torque_rows, workload_about_origin
 from ._statics import StaticsResult
 
@@ -107,11 +108,22 @@ class MissingStatics:
         return "MissingStatics(no workload)"
 
 
+_F64 = np.dtype(np.float64)
+
+
 def load_vector(x, name):
     """A workload vector: 3 real numbers (no booleans or strings), finite, each at most
     ``MAX_LOAD`` (1e12 in the model's units) in magnitude, so that the statics cannot
     overflow to NaN or infinity."""
-    from ..legs._guards import MAX_LOAD, real_vector
+    # the common case decided without a check per element: three finite float64 numbers
+    # within the bound (NaN fails the comparisons and goes to the checks that name it)
+    if type(x) is np.ndarray and x.dtype is _F64 and x.shape == (3,):
+        a, b, c = x.tolist()
+        if abs(a) <= MAX_LOAD and abs(b) <= MAX_LOAD and abs(c) <= MAX_LOAD:
+            return x.copy()
+    elif type(x) in (list, tuple) and len(x) == 3 and all(type(v) is float for v in x):
+        if all(abs(v) <= MAX_LOAD for v in x):
+            return np.array(x, float)
     return real_vector(np.asarray(x) if isinstance(x, np.ndarray) else x, name, 3,
                        bound=MAX_LOAD)
 

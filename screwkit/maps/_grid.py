@@ -103,10 +103,14 @@ class Grid:
                          else v[0]) for k, v in p.items()}
 
 
-def parse_range(text: str, what: str = "--grid"):
+def parse_range(text: str, what: str = "--grid", *, pose: bool = True):
     """``"NAME=START:STOP:COUNT"`` -> ``(NAME, (start, stop, count))``; ``"NAME=LOW:HIGH"``
-    -> ``(NAME, (low, high))`` (a sampling box)."""
-    from ..legs._guards import MAX_MAGNITUDE, MAX_NAME, parse_int, parse_number, shorten
+    -> ``(NAME, (low, high))`` (a sampling box).  With ``pose`` (a pose parameter given at
+    the command line, angles in degrees) an angle beyond +-3600 deg is refused here with
+    that limit; otherwise (a model dimension) numbers are bounded by the general
+    magnitude limit."""
+    from ..legs._guards import (MAX_ANGLE_DEG, MAX_MAGNITUDE, MAX_NAME, parse_int,
+                                parse_number, shorten)
     name, sep, rng = str(text).partition("=")
     name = name.strip()
     if not sep or not name:
@@ -117,8 +121,13 @@ def parse_range(text: str, what: str = "--grid"):
     if len(parts) not in (2, 3):
         raise InputError(f"{what} {name}: {shorten(rng)} must be START:STOP:COUNT (or LOW:HIGH "
                          "for --samples)")
-    nums = [parse_number(p, f"{what} {name} {w}", bound=MAX_MAGNITUDE)
+    angle = pose and name in PARAMS and name not in LENGTH_PARAMS
+    nums = [parse_number(p, f"{what} {name} {w}", bound=None if angle else MAX_MAGNITUDE)
             for p, w in zip(parts[:2], ("START", "STOP"))]
+    for x, w in zip(nums, ("START", "STOP")):
+        if angle and not abs(x) <= MAX_ANGLE_DEG:
+            raise InputError(f"{what} {name} {w}: {x:g} deg is beyond the limit "
+                             f"+-{MAX_ANGLE_DEG:g} deg")
     if len(parts) == 3:
         nums.append(parse_int(parts[2], f"{what} {name} COUNT", 1, MAX_CELLS))
     return name, tuple(nums)

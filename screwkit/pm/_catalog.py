@@ -393,5 +393,6 @@ def load_catalog(path) -> Catalog:
 
 @lru_cache(maxsize=1)
 def default_catalog() -> Catalog:
-    """The catalog at :func:`catalog_path` (cached)."""
-    return load_catalog(catalog_path())
+    """The catalog at :func:`catalog_path` (cached, and kept parsed on disk: `_catalog_cache`)."""
+    from ._catalog_cache import kept_catalog
+    return kept_catalog(catalog_path(), load_catalog, Catalog)

@@ -219,6 +219,40 @@ def _pose_values(raw, ctx, fld, names) -> dict:
     return out
 
 
+def leg_entry(entry, i: int, ctx, cat):
+    """One entry of a PM's ``legs:`` (a leg name, an inline leg type, or ``{leg: ...,
+    axes: ..., passive: ...}``): ``(spec, axes, passive)``.
+
+    Raises
+    ------
+    CatalogError
+        Naming ``legs[i]`` (or its key) and what is wrong.
+    """
+    fld = f"legs[{i}]"
+    axes, flag = None, False
+    if isinstance(entry, dict):
+        extra = [k for k in entry if k not in _PM_LEG_KEYS]
+        if "leg" not in entry or extra:
+            hint = did_you_mean(extra[0], _PM_LEG_KEYS) if extra else ""
+            raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}, "
+                          "passive: true}"
+                          + (f"; unknown key {shorten(extra[0], 40)}{hint}" if extra else ""),
+                          fld)
+        flag = entry.get("passive", False)
+        if not isinstance(flag, bool):
+            raise ctx.err(f"must be true or false, got {shorten(flag)}", f"{fld}.passive")
+        axes, entry = entry.get("axes"), entry["leg"]
+        if isinstance(entry, dict):                 # a leg type written inline
+            entry = inline_leg(entry, ctx, f"{fld}.leg")
+    if not isinstance(entry, (str, LegSpec)):
+        raise ctx.err("must be a leg name or a leg type's mapping", fld)
+    spec = entry if isinstance(entry, LegSpec) else cat.find_leg(entry)
+    if spec is None:
+        raise ctx.err(f"unknown leg {shorten(entry)}{did_you_mean(entry, list(cat.legs))} "
+                      "(not in the catalog's legs)", fld)
+    return spec, axes, flag
+
+
 def _build(name: str, d, cat, overrides: dict) -> PMModel:
     src = cat.source
     if not isinstance(d, dict):
@@ -245,30 +279,10 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
         raise ctx.err(f"{len(raw_legs)} legs for {n} base and {len(plat)} platform vertices", "legs")
     names, rules, bases, passive, specs = [], [], [], [], []
     for i, entry in enumerate(raw_legs):
+        spec, axes, flag = leg_entry(entry, i, ctx, cat)
+        if flag:
+            passive.append(i)
         fld = f"legs[{i}]"
-        axes = None
-        if isinstance(entry, dict):
-            extra = [k for k in entry if k not in _PM_LEG_KEYS]
-            if "leg" not in entry or extra:
-                hint = did_you_mean(extra[0], _PM_LEG_KEYS) if extra else ""
-                raise ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: DIRECTION}, "
-                              "passive: true}"
-                              + (f"; unknown key {shorten(extra[0], 40)}{hint}" if extra else ""),
-                              fld)
-            flag = entry.get("passive", False)
-            if not isinstance(flag, bool):
-                raise ctx.err(f"must be true or false, got {shorten(flag)}", f"{fld}.passive")
-            if flag:
-                passive.append(i)
-            axes, entry = entry.get("axes"), entry["leg"]
-            if isinstance(entry, dict):                 # a leg type written inline
-                entry = inline_leg(entry, ctx, f"{fld}.leg")
-        if not isinstance(entry, (str, LegSpec)):
-            raise ctx.err("must be a leg name or a leg type's mapping", fld)
-        spec = entry if isinstance(entry, LegSpec) else cat.find_leg(entry)
-        if spec is None:
-            raise ctx.err(f"unknown leg {shorten(entry)}{did_you_mean(entry, list(cat.legs))} "
-                          "(not in the catalog's legs)", fld)
         r = spec.rules
         if axes:
             r = _override(r, axes, base, plat, ctx, f"{fld}.axes")

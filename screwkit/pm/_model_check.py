@@ -18,8 +18,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-import yaml
-
 from ..errors import CatalogError, ScrewkitError
 from ._pm_problems import pm_problems
 
@@ -67,6 +65,8 @@ def _from_error(exc: CatalogError, text: str, check: str) -> Problem:
 
 
 def _duplicates(text: str) -> list:
+    import yaml                             # imported on use (a cold command may not read YAML)
+
     out = []
     try:
         root = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
@@ -187,6 +187,8 @@ def check_model_file(path, load=None) -> list:
         if not any(w in msg for w in ("duplicate key", "read as a boolean")):
             return problems                 # not readable further (syntax, size, aliases)
         try:                                # go on with a lenient read to find the rest
+            import yaml
+
             from ._yaml import _check_expansion
             loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
             _check_expansion(yaml.compose(text, Loader=loader))   # no alias bomb

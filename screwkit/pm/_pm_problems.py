@@ -138,8 +138,7 @@ def _units(d, name, src, attempt):
 
 def _legs(d, ctx, cat, verts, attempt, override):
     """Each leg entry on its own; ``(rules, passive)`` when every entry is sound, else None."""
-    from ..legs._guards import did_you_mean, shorten
-    from ._loader import _PM_LEG_KEYS
+    from ._loader import leg_entry
     raw = d.get("legs")
     if raw is None:
         return None
@@ -149,36 +148,13 @@ def _legs(d, ctx, cat, verts, attempt, override):
     rules, passive, good = [], [], True
     for i, entry in enumerate(raw):
         fld = f"legs[{i}]"
-        axes = None
-        if isinstance(entry, dict):
-            extra = [k for k in entry if k not in _PM_LEG_KEYS]
-            if "leg" not in entry or extra:
-                hint = did_you_mean(extra[0], _PM_LEG_KEYS) if extra else ""
-                attempt(_raise, ctx.err("a leg entry is a name or {leg: NAME, axes: {JOINT: "
-                                        "DIRECTION}, passive: true}"
-                                        + (f"; unknown key {shorten(extra[0], 40)}{hint}"
-                                           if extra else ""), fld))
-                good = False
-                continue
-            flag = entry.get("passive", False)
-            if not isinstance(flag, bool):
-                attempt(_raise, ctx.err(f"must be true or false, got {shorten(flag)}",
-                                        f"{fld}.passive"))
-                good = False
-            elif flag:
-                passive.append(i)
-            axes, entry = entry.get("axes"), entry["leg"]
-        if not isinstance(entry, str):
-            attempt(_raise, ctx.err("must be a leg name", fld))
+        ok, got = attempt(leg_entry, entry, i, ctx, cat)
+        if not ok:
             good = False
             continue
-        spec = cat.find_leg(entry)
-        if spec is None:
-            attempt(_raise, ctx.err(f"unknown leg {shorten(entry)}"
-                                    f"{did_you_mean(entry, list(cat.legs))} (not in the "
-                                    "catalog's legs)", fld))
-            good = False
-            continue
+        spec, axes, flag = got
+        if flag:
+            passive.append(i)
         r = spec.rules
         if axes and len(verts) == 2:
             ok, r = attempt(override, spec.rules, axes, verts["base"], verts["platform"], ctx,

@@ -77,7 +77,7 @@ def _vary(items) -> dict:
         raise InputError("give at least one --vary NAME=LOW:HIGH (a dimension and its bounds)")
     out = {}
     for item in items:
-        name, rng = parse_range(item, "--vary")
+        name, rng = parse_range(item, "--vary", pose=False)
         if len(rng) != 2:
             raise InputError(f"--vary {item!r}: give NAME=LOW:HIGH")
         if name in out:
@@ -156,6 +156,9 @@ def print_text(res) -> None:
         return
     dims = ", ".join(f"{k} = {fmt_num(v)} {u['length']}" for k, v in res.best["dimensions"].items())
     print(f"  best: {dims}")
+    if not res.best.get("feasible", True):
+        print("  warning: evaluated again on a model of its own (as screwkit size builds it), "
+              "this design leaves some cells of the task unusable or breaks a constraint")
     for o, v in res.best["objectives"].items():
         if v is None:
             continue

@@ -9,6 +9,11 @@ find the same cache.  The first run after an install compiles them once, with a 
 stderr.  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
 ``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
 waits for the running one, which uses every thread it was given.
+
+A kernel found in the cache is loaded without numba's refresh of its typing and lowering
+registries, and without parsing the bitcode kept for linking until code is compiled
+against it (:mod:`screwkit.engine._kernels._loading`): only a compilation needs them; a kernel
+that is not in the cache refreshes and compiles as usual.
 """
 
 from __future__ import annotations
@@ -25,6 +30,8 @@ LAUNCH_LOCK = threading.RLock()
 _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
 _HERE = os.path.dirname(os.path.abspath(__file__))
+#: This folder's files that hold no kernel (left out of the kernels' source stamp).
+_LOADER = ("__init__.py", "_loading.py")
 
 
 def _writable(path: str) -> bool:
@@ -69,11 +76,12 @@ def _configure():
 
 def _source_stamp() -> str:
     """A digest of every kernel source file (numba invalidates a cached function when its
-    own file changes, not when a function it calls, in another file, does)."""
+    own file changes, not when a function it calls, in another file, does); the loader
+    (``__init__.py``, ``_loading.py``) holds no kernel and is left out."""
     import hashlib
     h = hashlib.sha1()
     for name in sorted(os.listdir(_HERE)):
-        if name.endswith(".py"):
+        if name.endswith(".py") and name not in _LOADER:
             with open(os.path.join(_HERE, name), "rb") as f:
                 h.update(name.encode() + f.read())
     return h.hexdigest()
@@ -111,6 +119,15 @@ def _check_stamp(numba):
         pass
 
 
+def _quick_loading(numba, modules) -> None:
+    """The kernels' dispatchers load their cached code quickly (:mod:`._loading`)."""
+    from numba.core.dispatcher import Dispatcher
+
+    from ._loading import install
+    install([v for mod in modules for v in vars(mod).values() if isinstance(v, Dispatcher)],
+            os.path.join(_kernel_cache_path(numba), "symbols"))
+
+
 def _compiled_before(fn) -> bool:
     """Whether ``fn``'s cache index exists (False: the first call compiles)."""
     try:
@@ -129,6 +146,7 @@ def kernels() -> SimpleNamespace:
             numba = _configure()
             _check_stamp(numba)
             from . import _driver, _extra, _fk, _indices, _probe
+            _quick_loading(numba, (_driver, _extra, _fk, _indices, _probe))
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, about a minute; cached "
                       f"in {cache_dir()})", file=sys.stderr, flush=True)

@@ -1,10 +1,10 @@
 """The inverse displacement of one pose, compiled: starts, continuation, polish, the
 representation singularity (private).
 
-Starts.  Without a warm start a pose begins at the home predictor: a polynomial in the
-independent parameters (cubic up to four of them, quadratic beyond) fitted once per model
-to exact solutions around home (its coefficients ``C``, fitted by
-:mod:`screwkit.engine._solve`); far outside the fit (more than four half-widths), at home.
+Starts.  Without a warm start a pose begins at the home predictor: a cubic polynomial in the
+independent parameters fitted once per model to exact solutions around home (its
+coefficients ``C``, fitted by :mod:`screwkit.engine._solve`); far outside the fit (more than
+four half-widths), at home.
 
 Continuation.  A pose whose Newton iteration does not converge is solved again from home by
 moving its independent parameters in 4, 16, then 64 steps, each started from the last; a
@@ -35,12 +35,11 @@ CONTINUATION = (4, 16, 64)
 
 
 @inner
-def predict(C, fix, home, span, degree, p6fix, Xhome, out):
+def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
     """The home predictor's start for the given parameters (``C (features, nx)``; no rows:
-    start at home)."""
+    start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
     nf = fix.shape[0]
     nx = out.shape[0]
-    z = np.empty(nf)
     far = C.shape[0] == 0
     for k in range(nf):
         z[k] = (p6fix[fix[k]] - home[k]) / span[k]

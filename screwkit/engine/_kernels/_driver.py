@@ -28,7 +28,8 @@ from ._closures import predict, solve_pose
 from ._kin import forward
 from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
 from ._pack import inputs, model, outputs, params
-from ._newton import W_FA, W_FL, W_FE, W_FP, W_P6, W_S, W_XB, home_vector, make_work
+from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, home_vector,
+                      make_work)
 from ._rows import RW_TW, leg_rows, make_rows_work
 from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
                        equilibrium, make_statics_work, normalise_rows, spread, statics_apply,
@@ -66,7 +67,7 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
         else:
             Xh = W[W_XB]                  # (scratch: the home vector, read only here)
             home_vector(unk, xs, p6home, Xh)
-            predict(Z[7], fix, Z[8], Z[9], Z[10][0], p6fix, Xh, X)
+            predict(Z[7], fix, Z[8], Z[9], Z[10][0], p6fix, Xh, X, W[W_P6S][3])
         side = sides[p] if sides.shape[0] else 0.0
         res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
                                             fix, fix2, flags[F_CONTINUATION] == 1, W)

@@ -32,7 +32,7 @@ HALVINGS = 6
 
 # the workspace tuple
 (W_FA, W_FL, W_FE, W_FP, W_S, W_P6, W_T, W_PT, W_G, W_B, W_XS, W_AR, W_STEP, W_XN, W_FROZ,
- W_XC, W_XB, W_P6S, W_XR, W_IDX) = range(20)
+ W_XC, W_XB, W_P6S, W_XR, W_IDX, W_RHS) = range(21)
 
 
 @inner
@@ -43,7 +43,7 @@ def make_work(n, m, nx):
             np.zeros((6, 6)), np.zeros((m, m)), np.zeros((n, m, 7)), np.zeros((n, m, 7)),
             np.zeros((6, 7)), np.zeros(nx), np.zeros(nx), np.zeros((n, m), np.int64),
             np.zeros(nx), np.zeros(nx), np.zeros((4, 6)), np.zeros((6, nx)),
-            np.zeros(m, np.int64))
+            np.zeros(m, np.int64), np.zeros((6, 1)))
 
 
 @inner
@@ -113,12 +113,12 @@ def newton_step(M, W, b, nu, frozen):
             tra += Ar[u, u]
             Ar[u, nu] = -Ar[u, nu]
         # (the lower triangle is complete; solve in a copy of the right-hand side column)
-        rhs = W[W_XR][1]
+        rhs = W[W_RHS]
         for u in range(nu):
-            rhs[u] = Ar[u, nu]
-        cholesky_solve(Ar, nu, rhs.reshape((rhs.shape[0], 1)), 1, tra * (SHIFT_REDUCED / nu))
+            rhs[u, 0] = Ar[u, nu]
+        cholesky_solve(Ar, nu, rhs, 1, tra * (SHIFT_REDUCED / nu))
         for u in range(nu):
-            step[u] = rhs[u]
+            step[u] = rhs[u, 0]
     for i in range(n):
         off = nu + i * m
         for j in range(m):

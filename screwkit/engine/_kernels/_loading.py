@@ -1,0 +1,162 @@
+"""Loading the cached kernels quickly (private; numba is imported by the caller).
+
+A cold command loads one cached kernel per entry point it calls.  numba's own loading does
+two things that the execution of cached machine code does not need, and that cost most of
+a cold command's time after the imports:
+
+* before every lookup, ``Cache.load_overload`` refreshes the target context: it imports and
+  installs every typing and lowering registry (``numpy.linalg`` support imports
+  scipy.linalg), which only the compilation of new code reads;
+* each cached library holds, beside its object code, the LLVM bitcode of its functions for
+  linking them into code compiled later; loading parses that bitcode (most of a load) to
+  list the symbols the object defines.
+
+The kernels' dispatchers get a cache (:func:`install`) that loads a cached kernel after
+initialising numba's runtime only (``rtsys.initialize``: the symbols the object code links
+to; the parallel kernels start their threading layer by their own reload hooks), into a
+library that parses its bitcode on first use for linking (never, unless new code is
+compiled against it), and reads the names of the symbols from a list kept beside the
+kernels (``symbols/<sha1 of the bitcode>``, written once from the parsed bitcode: a function
+of those bytes alone).  A lookup that misses refreshes the registries as numba does, and
+numba compiles as usual (its compiler refreshes too).  Other numba users in the process are
+untouched; with a numba whose internals differ, nothing changes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+
+__all__ = ["install", "supported"]
+
+#: The numba releases whose cache internals this module was written against and tested
+#: with (major, minor); with any other, numba loads its cache itself (slower, as correct).
+TESTED = ((0, 68),)
+
+
+def supported(version: str | None = None) -> bool:
+    """Whether the quick loading applies to numba ``version`` (default: the installed one)."""
+    if version is None:
+        import numba
+        version = numba.__version__
+    try:
+        major, minor = (int(x) for x in version.split(".")[:2])
+    except ValueError:
+        return False
+    return (major, minor) in TESTED
+
+_MAX_SYMBOL_FILES = 1024
+
+
+def _names_of(module) -> set:
+    """The symbols ``module`` defines (numba's ``_load_defined_symbols``)."""
+    return {gv.name for group in (module.functions, module.global_variables)
+            for gv in group if not gv.is_declaration}
+
+
+def _symbols(folder, bitcode, ll):
+    """``(names, module or None)``: the symbols the bitcode defines, from the kept list, or
+    parsed (the module then returned, and the list kept)."""
+    digest = hashlib.sha1(bitcode).hexdigest()
+    path = os.path.join(folder, digest)
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        if text.endswith("\n#end\n"):
+            return set(text[:-len("#end\n")].splitlines()), None
+    except OSError:
+        pass
+    module = ll.parse_bitcode(bitcode)
+    names = _names_of(module)
+    if any("\n" in n for n in names):                  # not one name a line: not kept
+        return names, module
+    try:
+        os.makedirs(folder, exist_ok=True)
+        kept = os.listdir(folder)
+        if len(kept) >= _MAX_SYMBOL_FILES:
+            for name in kept:
+                os.remove(os.path.join(folder, name))
+        tmp = f"{path}.{os.getpid()}.tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write("".join(n + "\n" for n in sorted(names)) + "#end\n")
+        os.replace(tmp, path)
+    except OSError:
+        pass
+    return names, module
+
+
+def install(dispatchers, symbol_folder: str) -> None:
+    """Give ``dispatchers`` (numba's, with ``cache=True``) the quick cache loading (only
+    for the numba releases it was tested with: :data:`TESTED`)."""
+    if not supported():
+        return
+    try:
+        from llvmlite import binding as ll
+        from numba.core.caching import FunctionCache
+        from numba.core.codegen import JITCodeLibrary
+        from numba.core.runtime import rtsys
+    except ImportError:
+        return
+    if not (all(hasattr(FunctionCache, a) for a in ("_load_overload",
+                                                    "_guard_against_spurious_io_errors"))
+            and all(hasattr(JITCodeLibrary, a) for a in ("_unserialize", "_set_compiled_object",
+                                                         "_finalize_final_module"))):
+        return
+
+    class _LazyLinkLibrary(JITCodeLibrary):
+        """A cached library whose bitcode for linking is parsed on first use."""
+
+        _bitcode = None
+        _shared = None
+
+        @property
+        def _shared_module(self):
+            if self._shared is None and self._bitcode is not None:
+                self._shared = ll.parse_bitcode(self._bitcode)
+                self._bitcode = None
+            return self._shared
+
+        @_shared_module.setter
+        def _shared_module(self, value):
+            self._shared = value
+
+        @classmethod
+        def _unserialize(cls, codegen, state):
+            name, kind, data = state
+            engine = getattr(codegen, "_engine", None)
+            if kind != "object" or not hasattr(engine, "_defined_symbols"):
+                return JITCodeLibrary._unserialize.__func__(cls, codegen, state)
+            object_code, bitcode = data
+            names, module = _symbols(symbol_folder, bitcode, ll)
+            self = cls(codegen, name)
+            self.enable_object_caching()
+            self._set_compiled_object(object_code)
+            if module is None:
+                self._bitcode = bitcode
+            else:
+                self._shared = module
+            self._finalize_final_module()
+            engine._defined_symbols |= names
+            return self
+
+    class _QuickCache(FunctionCache):
+        def load_overload(self, sig, target_context):
+            rtsys.initialize(target_context)
+            codegen = target_context.codegen()
+            had = codegen.__dict__.get("_library_class")
+            codegen._library_class = _LazyLinkLibrary   # under numba's compiler lock
+            try:
+                with self._guard_against_spurious_io_errors():
+                    data = self._load_overload(sig, target_context)
+            finally:
+                if had is None:
+                    del codegen._library_class
+                else:
+                    codegen._library_class = had
+            if data is None:
+                target_context.refresh()
+            return data
+
+    for d in dispatchers:
+        if type(getattr(d, "_cache", None)) is FunctionCache:
+            d._cache.__class__ = _QuickCache

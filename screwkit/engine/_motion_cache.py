@@ -1,0 +1,220 @@
+"""The finite motion of a model, kept on disk beside the compiled kernels (private).
+
+Classifying a model's finite motion solves its sampled poses and takes rotation vectors
+with scipy, whose import alone is a large part of a cold command.  The result is a function
+of the model's content and of the code and libraries that compute it, so it is kept in a
+file named by a digest of all of them:
+
+* the model: every field of the :class:`~screwkit.pm.PMModel`, walked to the last number
+  (exact bytes of arrays, ``repr`` of floats) but ``definition`` (the recipe it was built
+  from, which the engine never reads): any change to a leg, a dimension, a pose, a limit
+  or a unit gives another digest;
+* the code: the source of every module of the layers the computation runs through
+  (``errors``, ``screws``, ``legs``, ``pm``, ``engine`` with its kernels), the sampling
+  and classification constants as they are at the call, and the versions of Python,
+  numpy, numba and scipy.
+
+A model that cannot be walked (an object of a type not listed in :func:`_feed`) is never
+kept.  Files are JSON (no code runs when one is read), written atomically, in
+``<kernels' cache>/motion/``; a file that cannot be read or does not decode to the same
+digest is ignored and recomputed.  ``SCREWKIT_DISK_CACHE=0`` turns the disk off.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+import sys
+
+import numpy as np
+
+__all__ = ["load", "store", "model_digest"]
+
+_FORMAT = "screwkit-finite-motion-1"
+_LAYERS = ("screws", "legs", "pm", "engine", os.path.join("engine", "_kernels"))
+_MAX_FILES = 512
+_CODE: list = []
+
+
+class _Unhashable(Exception):
+    pass
+
+
+def _enabled() -> bool:
+    from ..pm._catalog_cache import disk_cache_enabled
+    return disk_cache_enabled()
+
+
+def _feed(h, x) -> None:
+    """Feed ``x`` to the digest ``h``: the type's name, then its content."""
+    if x is None or isinstance(x, (bool, int, str)):
+        h.update(f"{type(x).__name__}:{x!r};".encode())
+    elif isinstance(x, float):
+        h.update(f"float:{x!r};".encode())
+    elif isinstance(x, np.generic):
+        _feed(h, np.asarray(x))
+    elif isinstance(x, np.ndarray):
+        if x.dtype.hasobject:
+            raise _Unhashable(x.dtype)
+        a = np.ascontiguousarray(x)
+        h.update(f"ndarray:{a.dtype.str}:{a.shape};".encode())
+        h.update(a.tobytes())
+    elif isinstance(x, (tuple, list)):
+        h.update(f"{type(x).__name__}:{len(x)}[".encode())
+        for v in x:
+            _feed(h, v)
+        h.update(b"]")
+    elif isinstance(x, dict):
+        h.update(f"dict:{len(x)}{{".encode())
+        for k, v in x.items():              # in order: the order of a model's dicts is data
+            _feed(h, k)
+            _feed(h, v)
+        h.update(b"}")
+    elif isinstance(x, (set, frozenset)):
+        h.update(f"{type(x).__name__}:{len(x)}{{".encode())
+        for d in sorted(_digest_of(v) for v in x):
+            h.update(d.encode())
+        h.update(b"}")
+    elif dataclasses.is_dataclass(x) and not isinstance(x, type):
+        t = type(x)
+        h.update(f"{t.__module__}.{t.__qualname__}(".encode())
+        for f in dataclasses.fields(x):
+            if f.name == "definition" and t.__name__ == "PMModel":
+                continue
+            h.update(f.name.encode() + b"=")
+            _feed(h, getattr(x, f.name))
+        h.update(b")")
+    elif hasattr(x, "value") and hasattr(type(x), "__members__"):        # an Enum
+        h.update(f"{type(x).__qualname__}.{x.name};".encode())
+    else:
+        raise _Unhashable(type(x))
+
+
+def _digest_of(x) -> str:
+    h = hashlib.sha256()
+    _feed(h, x)
+    return h.hexdigest()
+
+
+def _code_stamp() -> str:
+    """A digest of the sources and library versions the computation runs through."""
+    if not _CODE:
+        import scipy
+
+        from ._kernels import _configure
+        numba = _configure()            # numba as the kernels import it (their cache set)
+        h = hashlib.sha256(_FORMAT.encode())
+        h.update(f"{sys.version};{np.__version__};{numba.__version__};"
+                 f"{scipy.__version__}".encode())
+        root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        files = [os.path.join(root, "errors.py")]
+        for layer in _LAYERS:
+            folder = os.path.join(root, layer)
+            files += [os.path.join(folder, n) for n in sorted(os.listdir(folder))
+                      if n.endswith(".py")]
+        for path in files:
+            with open(path, "rb") as f:
+                h.update(os.path.relpath(path, root).encode() + b"\0" + f.read())
+        _CODE.append(h.hexdigest())
+    return _CODE[0]
+
+
+def model_digest(model, constants) -> str | None:
+    """The file name of ``model``'s finite motion under ``constants`` (the sampling and
+    classification constants), or None when the model cannot be walked."""
+    h = hashlib.sha256(_code_stamp().encode())
+    try:
+        _feed(h, tuple(constants))
+        _feed(h, model)
+    except (_Unhashable, RecursionError):
+        return None
+    return h.hexdigest()
+
+
+def _folder() -> str:
+    from ._kernels import cache_dir
+    return os.path.join(cache_dir(), "motion")
+
+
+def _encode(fm) -> dict:
+    out = {}
+    for f in dataclasses.fields(fm):
+        v = getattr(fm, f.name)
+        if isinstance(v, np.ndarray):
+            v = {"array": [float(x) for x in v.ravel()], "shape": list(v.shape),
+                 "dtype": v.dtype.str}
+        elif isinstance(v, tuple):
+            v = {"tuple": list(v)}
+        out[f.name] = v
+    return out
+
+
+def _decode(cls, data: dict):
+    kw = {}
+    for f in dataclasses.fields(cls):
+        v = data[f.name]
+        if isinstance(v, dict) and "array" in v:
+            v = np.array(v["array"], dtype=np.dtype(v["dtype"])).reshape(v["shape"])
+        elif isinstance(v, dict) and "tuple" in v:
+            v = tuple(v["tuple"])
+        kw[f.name] = v
+    return cls(**kw)
+
+
+def _same(a, b) -> bool:
+    """Field by field, types included (arrays: dtype, shape and every bit)."""
+    for f in dataclasses.fields(b):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if type(x) is not type(y):
+            return False
+        if isinstance(y, np.ndarray):
+            if x.dtype != y.dtype or x.shape != y.shape or x.tobytes() != y.tobytes():
+                return False
+        elif isinstance(y, tuple):
+            if any(type(u) is not type(v) for u, v in zip(x, y)) or x != y:
+                return False
+        elif x != y and not (isinstance(y, float) and x != x and y != y):
+            return False
+    return True
+
+
+def load(model, constants):
+    """``(digest, FiniteMotion or None)``: the kept finite motion of ``model``, if any."""
+    if not _enabled():
+        return None, None
+    digest = model_digest(model, constants)
+    if digest is None:
+        return None, None
+    try:
+        with open(os.path.join(_folder(), digest + ".json"), encoding="utf-8") as f:
+            data = json.load(f)
+        if data.get("digest") != digest:
+            return digest, None
+        from ..pm import FiniteMotion
+        return digest, _decode(FiniteMotion, data["motion"])
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return digest, None
+
+
+def store(digest, fm) -> None:
+    """Keep ``fm`` under ``digest`` (nothing when the folder is not writable)."""
+    if digest is None or not _enabled():
+        return
+    try:
+        if not _same(_decode(type(fm), json.loads(json.dumps(_encode(fm)))), fm):
+            return                      # a value JSON would not give back exactly
+        folder = _folder()
+        os.makedirs(folder, exist_ok=True)
+        names = [n for n in os.listdir(folder) if n.endswith(".json")]
+        if len(names) >= _MAX_FILES:                      # the oldest half goes
+            paths = sorted((os.path.join(folder, n) for n in names), key=os.path.getmtime)
+            for p in paths[: len(paths) // 2]:
+                os.remove(p)
+        tmp = os.path.join(folder, f".{digest}.{os.getpid()}.tmp")
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump({"digest": digest, "motion": _encode(fm)}, f)
+        os.replace(tmp, os.path.join(folder, digest + ".json"))
+    except (OSError, TypeError, ValueError):
+        pass

@@ -1,0 +1,242 @@
+"""What a cold command is spared, and that it changes nothing.
+
+* The finite motion kept on disk (``screwkit.engine._motion_cache``): a kept verdict is the
+  one computed now, bit for bit; any change to the model or to the classification constants
+  gives another file; a bad file is recomputed; the declared-motion check still runs on a
+  kept verdict; ``SCREWKIT_DISK_CACHE=0`` keeps nothing.  The independent reference is
+  :func:`screwkit.engine._motion._compute` run on the model in this process (the
+  classification itself is tested against hand derivations in tests/test_finite_motion.py).
+* The default catalog kept parsed (``screwkit.pm._catalog_cache``): the same bytes as one
+  read now; edits and bad files read anew; invalid catalogs never kept.
+* The quick loading of cached kernels (``screwkit.engine._kernels._loading``): new code
+  compiled against a kernel loaded that way links and computes; a fresh ``analyze`` with its
+  caches warm imports neither YAML, nor scipy, nor numba's implementation registries."""
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.engine import _motion, _motion_cache
+from screwkit.errors import CatalogError
+from screwkit.pm import load_pm
+
+
+@pytest.fixture
+def disk(tmp_path, monkeypatch):
+    """An empty folder of kept verdicts; the in-process caches emptied around the test."""
+    monkeypatch.setattr(_motion_cache, "_folder", lambda: str(tmp_path / "motion"))
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "1")
+    _motion._BY_CONTENT.clear()
+    yield tmp_path / "motion"
+    _motion._BY_CONTENT.clear()
+
+
+def _fresh(model):
+    """The model's finite motion, the in-process caches bypassed (a copy of the model)."""
+    _motion._BY_CONTENT.clear()
+    return _motion.finite_motion(dataclasses.replace(model))
+
+
+def _identical(a, b):
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        assert type(x) is type(y), f.name
+        if isinstance(y, np.ndarray):
+            assert x.dtype == y.dtype and x.tobytes() == y.tobytes(), f.name
+        else:
+            assert x == y, f.name
+
+
+def test_a_kept_verdict_is_the_computed_one_bit_for_bit(disk):
+    for name in ("3RRPRR", "3UPU/spherical", "4UPU"):     # no array, a centre, an axis
+        model = load_pm(name)
+        first = _fresh(model)                       # computed and kept
+        assert len(list(disk.glob("*.json"))) >= 1
+        computed = _motion._compute(model)
+        _identical(first, computed)
+        kept = _fresh(model)                        # read back from the file
+        _identical(kept, computed)
+
+
+def test_another_model_or_constant_is_another_file(disk, monkeypatch):
+    model = load_pm("3RRPRR")
+    constants = (_motion.AMPLITUDE_DEG, _motion.AMPLITUDE_LENGTH, _motion.STEP, 1e-7, 1e-5)
+    d0 = _motion_cache.model_digest(model, constants)
+    assert d0 == _motion_cache.model_digest(dataclasses.replace(model), constants)
+    longer = load_pm("3RRPRR", {"L": 130.0})
+    assert _motion_cache.model_digest(longer, constants) != d0
+    moved = dataclasses.replace(model, home_pose={**model.home_pose,
+                                                  "Zo": model.home_pose["Zo"] + 1e-9})
+    assert _motion_cache.model_digest(moved, constants) != d0
+    assert _motion_cache.model_digest(model, constants[:-1] + (2e-5,)) != d0
+    _fresh(model)
+    monkeypatch.setattr(_motion, "STEP", 2e-3)       # a constant changed at the call
+    _fresh(model)
+    assert len(list(disk.glob("*.json"))) == 2
+
+
+def test_a_bad_file_is_recomputed(disk):
+    model = load_pm("3RRPRR")
+    good = _fresh(model)
+    (path,) = disk.glob("*.json")
+    for text in ("{not json", json.dumps({"digest": "another", "motion": {}}),
+                 json.dumps({"digest": path.stem, "motion": {"label": "3T"}})):
+        path.write_text(text)
+        _identical(_fresh(model), good)
+    _identical(_fresh(model), good)                 # and kept again
+
+
+def test_the_declared_motion_is_checked_on_a_kept_verdict(disk, tmp_path):
+    from test_finite_motion import DECLARED
+    path = tmp_path / "wrong.yaml"
+    path.write_text(DECLARED.replace("MOTION", "3T"))
+    for _ in range(2):                              # computed, then kept
+        _motion._BY_CONTENT.clear()
+        with pytest.raises(CatalogError, match="declares motion 3T.*computed from home is 1T2R"):
+            screwkit.load_pm(str(path))
+    assert len(list(disk.glob("*.json"))) == 1
+
+
+def test_switched_off_nothing_is_kept(disk, monkeypatch):
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "0")
+    _fresh(load_pm("3RRPRR"))
+    assert not disk.exists() or not list(disk.glob("*.json"))
+
+
+# --- the default catalog kept parsed on disk (screwkit.pm._catalog_cache) -----------------
+
+@pytest.fixture
+def catalog_disk(tmp_path, monkeypatch):
+    from screwkit.pm import _catalog_cache
+    monkeypatch.setattr(_catalog_cache, "cache_folder", lambda name: str(tmp_path / name))
+    monkeypatch.setenv("SCREWKIT_DISK_CACHE", "1")
+    return tmp_path / "catalog"
+
+
+def test_a_kept_catalog_is_the_one_read_now(catalog_disk, tmp_path):
+    import pickle
+    from screwkit.pm import Catalog, _catalog_cache, catalog_path, load_catalog
+    path = tmp_path / "legs.yaml"
+    path.write_bytes(catalog_path().read_bytes())
+    read = load_catalog(path)                               # the reference: read now
+    first = _catalog_cache.kept_catalog(path, load_catalog, Catalog)  # read and kept
+    assert len(list(catalog_disk.glob("*.pickle"))) == 1
+    kept = _catalog_cache.kept_catalog(path, lambda p: pytest.fail("read again"), Catalog)
+    for cat in (first, kept):
+        assert type(cat) is type(read) and pickle.dumps(cat) == pickle.dumps(read)
+    # an edit to the file is read anew (and kept under another name)
+    path.write_text(path.read_text() + "\n# an edit\n")
+    calls = []
+    _catalog_cache.kept_catalog(path, lambda p: calls.append(p) or load_catalog(p), Catalog)
+    assert calls == [path] and len(list(catalog_disk.glob("*.pickle"))) == 2
+    # a bad kept file is read anew; an invalid catalog is refused, never kept
+    for f in catalog_disk.glob("*.pickle"):
+        f.write_bytes(b"not a pickle")
+    again = _catalog_cache.kept_catalog(path, load_catalog, Catalog)
+    assert pickle.dumps(again) == pickle.dumps(load_catalog(path))
+    path.write_text("legs: 3\n")
+    with pytest.raises(CatalogError):
+        _catalog_cache.kept_catalog(path, load_catalog, Catalog)
+    assert len(list(catalog_disk.glob("*.pickle"))) == 2
+
+
+def test_the_default_catalog_command_output_is_unchanged_when_kept(catalog_disk, capsys):
+    from screwkit.cli import main
+    from screwkit.pm import default_catalog
+    outs = []
+    for _ in range(2):                                      # read, then kept
+        default_catalog.cache_clear()
+        assert main(["leg", "RRPRR"]) == 0
+        outs.append(capsys.readouterr().out)
+    default_catalog.cache_clear()
+    assert outs[0] == outs[1] and "catalog expects" in outs[0]
+    assert len(list(catalog_disk.glob("*.pickle"))) == 1
+
+
+# --- the quick loading of cached kernels (screwkit.engine._kernels._loading) --------------
+
+def _quick():
+    from screwkit.engine._kernels import _loading
+    if not _loading.supported():
+        pytest.skip("this numba release loads its cache itself (not one the quick loading "
+                    "was tested with)")
+
+
+def test_the_quick_loading_is_limited_to_tested_numba_releases():
+    from screwkit.engine._kernels._loading import supported
+    assert supported("0.68.1") and not supported("0.99.0") and not supported("x.y")
+
+
+def test_new_code_compiled_against_a_quickly_loaded_kernel_links_and_computes():
+    _quick()
+    import numba
+    from screwkit.engine._kernels import _small, kernels
+    kernels()
+    assert type(_small.matmul3._cache).__name__ == "_QuickCache"
+
+    @numba.njit
+    def product(A, B):
+        C = np.empty((3, 3))
+        _small.matmul3(A, B, C)
+        return C
+
+    rng = np.random.default_rng(3)
+    A, B = rng.normal(size=(3, 3)), rng.normal(size=(3, 3))
+    want = np.array([[sum(A[i, k] * B[k, j] for k in range(3)) for j in range(3)]
+                     for i in range(3)])
+    assert np.allclose(product(A, B), want, rtol=1e-14, atol=1e-15)
+
+
+def test_the_kept_symbol_lists_are_the_bitcodes_own():
+    _quick()
+    from llvmlite import binding as ll
+    from screwkit.engine._kernels import _driver, _loading
+    screwkit.analyze(load_pm("3RRPRR"), {"alpha": 0.05, "beta": -0.02, "Zo": 80.0})
+    lib = next(iter(_driver.run_range.overloads.values())).library
+    bitcode = getattr(lib, "_bitcode", None)
+    if bitcode is None:
+        pytest.skip("run_range was compiled in this process, not loaded from the cache")
+    names = _loading._names_of(ll.parse_bitcode(bitcode))
+    assert names <= lib.codegen._engine._defined_symbols
+    import hashlib
+    import os
+    folder = os.path.join(_loading_folder(), hashlib.sha1(bitcode).hexdigest())
+    with open(folder, encoding="utf-8") as f:
+        assert set(f.read().splitlines()[:-1]) == names
+
+
+def _loading_folder():
+    import os
+    from screwkit.engine import _kernels
+    return os.path.join(_kernels._kernel_cache_path(_kernels._configure()), "symbols")
+
+
+def _imports_of(argv, watched):
+    """Run ``screwkit argv`` twice as fresh processes (the first warms the caches): the
+    outputs, and which of ``watched`` the second imported."""
+    import subprocess
+    import sys
+    code = (f"import sys, runpy; sys.argv = ['screwkit'] + {list(argv)!r}\n"
+            "try:\n    runpy.run_module('screwkit', run_name='__main__')\n"
+            "except SystemExit:\n    pass\n"
+            f"print(sorted(m for m in {tuple(watched)!r} if m in sys.modules), file=sys.stderr)")
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           timeout=600) for _ in range(2)]
+    assert all(r.returncode == 0 for r in runs), runs[-1].stderr
+    assert runs[0].stdout == runs[1].stdout
+    return runs[1].stdout, runs[1].stderr.strip().splitlines()[-1]
+
+
+def test_a_warm_cold_analyze_imports_no_scipy_nor_numba_registries():
+    _quick()
+    out, imported = _imports_of(["analyze", "3RRPRR"], ("scipy.linalg", "scipy.spatial",
+                                                         "numba.np.arraymath"))
+    assert "1T2R" in out and imported == "[]"
+
+
+def test_a_warm_cold_leg_imports_no_yaml_nor_the_engine():
+    out, imported = _imports_of(["leg", "RRPRR"], ("yaml", "numba", "screwkit.engine"))
+    assert "catalog expects" in out and imported == "[]"
