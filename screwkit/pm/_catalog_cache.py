@@ -44,6 +44,12 @@ def cache_folder(name: str) -> str:
     pyc = os.path.join(_ROOT, "__pycache__")
     if os.access(pyc if os.path.isdir(pyc) else _ROOT, os.W_OK):
         return os.path.join(pyc, name)
+    return user_cache(name)
+
+
+def user_cache(name: str) -> str:
+    """The user's cache directory's ``screwkit/<name>`` (``%LOCALAPPDATA%`` on Windows,
+    ``~/Library/Caches`` on macOS, ``$XDG_CACHE_HOME`` or ``~/.cache`` elsewhere)."""
     if sys.platform == "win32":
         base = os.environ.get("LOCALAPPDATA") or os.path.expanduser("~/AppData/Local")
     elif sys.platform == "darwin":

@@ -42,13 +42,8 @@ def _writable(path: str) -> bool:
 
 
 def _user_cache() -> str:
-    if sys.platform == "win32":
-        base = os.environ.get("LOCALAPPDATA") or os.path.expanduser("~/AppData/Local")
-    elif sys.platform == "darwin":
-        base = os.path.expanduser("~/Library/Caches")
-    else:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache")
-    return os.path.join(base, "screwkit", "numba")
+    from ...pm._catalog_cache import user_cache
+    return user_cache("numba")
 
 
 def cache_dir() -> str:
