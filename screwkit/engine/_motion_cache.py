@@ -205,16 +205,9 @@ def store(digest, fm) -> None:
     try:
         if not _same(_decode(type(fm), json.loads(json.dumps(_encode(fm)))), fm):
             return                      # a value JSON would not give back exactly
-        folder = _folder()
-        os.makedirs(folder, exist_ok=True)
-        names = [n for n in os.listdir(folder) if n.endswith(".json")]
-        if len(names) >= _MAX_FILES:                      # the oldest half goes
-            paths = sorted((os.path.join(folder, n) for n in names), key=os.path.getmtime)
-            for p in paths[: len(paths) // 2]:
-                os.remove(p)
-        tmp = os.path.join(folder, f".{digest}.{os.getpid()}.tmp")
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump({"digest": digest, "motion": _encode(fm)}, f)
-        os.replace(tmp, os.path.join(folder, digest + ".json"))
+        from ..pm._catalog_cache import keep_file
+        keep_file(_folder(), digest + ".json",
+                  json.dumps({"digest": digest, "motion": _encode(fm)}).encode("utf-8"),
+                  _MAX_FILES)
     except (OSError, TypeError, ValueError):
         pass

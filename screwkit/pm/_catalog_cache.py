@@ -47,6 +47,23 @@ def cache_folder(name: str) -> str:
     return user_cache(name)
 
 
+def keep_file(folder: str, name: str, data: bytes, max_files: int) -> None:
+    """Write ``data`` as ``folder/name`` atomically (a temporary file renamed), the folder
+    bounded to ``max_files`` entries (the older half removed when it is full).  OSError
+    goes to the caller, whose cache then simply keeps nothing."""
+    os.makedirs(folder, exist_ok=True)
+    names = [n for n in os.listdir(folder) if not n.endswith(".tmp")]
+    if len(names) >= max_files:
+        paths = sorted((os.path.join(folder, n) for n in names), key=os.path.getmtime)
+        for p in paths[: len(paths) // 2]:
+            os.remove(p)
+    path = os.path.join(folder, name)
+    tmp = os.path.join(folder, f".{name}.{os.getpid()}.tmp")
+    with open(tmp, "wb") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
 def user_cache(name: str) -> str:
     """The user's cache directory's ``screwkit/<name>`` (``%LOCALAPPDATA%`` on Windows,
     ``~/Library/Caches`` on macOS, ``$XDG_CACHE_HOME`` or ``~/.cache`` elsewhere)."""
@@ -112,15 +129,8 @@ def kept_catalog(path, load, kind):
     cat = load(path)
     try:
         if _read(path) == raw:                          # the file did not change meanwhile
-            os.makedirs(folder, exist_ok=True)
-            names = os.listdir(folder)
-            if len(names) >= _MAX_FILES:
-                for n in names:
-                    os.remove(os.path.join(folder, n))
-            tmp = f"{kept}.{os.getpid()}.tmp"
-            with open(tmp, "wb") as f:
-                pickle.dump(cat, f, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(tmp, kept)
+            keep_file(folder, digest + ".pickle",
+                      pickle.dumps(cat, protocol=pickle.HIGHEST_PROTOCOL), _MAX_FILES)
     except (OSError, pickle.PicklingError, TypeError, AttributeError):
         pass
     return cat

@@ -71,15 +71,9 @@ def _symbols(folder, bitcode, ll):
     if any("\n" in n for n in names):                  # not one name a line: not kept
         return names, module
     try:
-        os.makedirs(folder, exist_ok=True)
-        kept = os.listdir(folder)
-        if len(kept) >= _MAX_SYMBOL_FILES:
-            for name in kept:
-                os.remove(os.path.join(folder, name))
-        tmp = f"{path}.{os.getpid()}.tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write("".join(n + "\n" for n in sorted(names)) + "#end\n")
-        os.replace(tmp, path)
+        from ...pm._catalog_cache import keep_file
+        keep_file(folder, digest, ("".join(n + "\n" for n in sorted(names)) + "#end\n")
+                  .encode("utf-8"), _MAX_SYMBOL_FILES)
     except OSError:
         pass
     return names, module
