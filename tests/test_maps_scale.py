@@ -3,7 +3,7 @@
 Independent references: pandas' ``DataFrame.to_csv`` of the map's columns (the long-format
 CSV, written here chunk by chunk, must be that text byte for byte); the link frames of
 :func:`screwkit.engine.link_frames` (every joint's screws, all poses at once) for the
-joints the transmission indices read, which are formed in chunks of poses.
+joints the transmission indices read, which the analysis kernel forms in chunks of poses.
 """
 
 from __future__ import annotations
@@ -53,8 +53,8 @@ def test_csv_in_chunks_is_pandas_text(monkeypatch, tmp_path):
     assert open(path, encoding="utf-8", newline="").read() == want
 
 
-def test_joint_lines_in_chunks_equal_the_link_frames():
-    from screwkit.engine._links import joint_lines
+def test_index_lines_in_chunks_equal_the_link_frames():
+    from screwkit.engine._links import index_lines
     pm = screwkit.load_pm("3RSR")
     rng = np.random.default_rng(5)
     n = 300
@@ -62,11 +62,14 @@ def test_joint_lines_in_chunks_equal_the_link_frames():
     sol = screwkit.solve(pm, pose, degrees=True)
     assert 0 < sol.reachable_mask.sum() < n                 # NaN frames where unreachable
     lf = screwkit.engine.link_frames(sol)
-    joints = [(0, 4), (1, 0), (2, 2), (0, 1)]
-    points, twists, platform = joint_lines(sol, joints, chunk=64)
-    for k, (i, j) in enumerate(joints):
-        np.testing.assert_array_equal(points[:, k], lf.points[j, :, i].T)
-        np.testing.assert_array_equal(twists[:, k], lf.twists[j, :, i].T)
+    lines, platform = index_lines(sol, chunk=64)
+    # each leg's platform-side joint (slot 4: R-S-R as R, three R, R), the joint after its
+    # actuator (slot 1), its actuated joint (slot 0)
+    for i in range(3):
+        for j, q, d in ((4, 0, 3), (1, 6, 9)):
+            np.testing.assert_array_equal(lines[:, i, q:q + 3], lf.points[j, :, i].T)
+            np.testing.assert_array_equal(lines[:, i, d:d + 3], lf.twists[j, 3:, i].T)
+        np.testing.assert_array_equal(lines[:, i, 12:18], lf.twists[0, :, i].T)
     R, o, _ = sol._platform
     np.testing.assert_array_equal(platform[:, 6:15].reshape(-1, 3, 3), R)
     np.testing.assert_array_equal(platform[:, 15:18], o)

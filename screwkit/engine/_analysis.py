@@ -113,7 +113,7 @@ class PMAnalysis:
         i = pose_index(i, len(self))
         st = self.statics[i] if self.statics is not None else None     # (MissingStatics too)
         diag = dict(self.diagnostics)
-        for key in ("rows_ok", "structure_ok", "det_sign", "twists"):
+        for key in ("rows_ok", "structure_ok", "det_sign", "twists", "lines", "platform"):
             if diag.get(key) is not None:
                 diag[key] = diag[key][i:i + 1] if isinstance(i, int) else diag[key][i]
         return PMAnalysis(self.model, self.solution[i], self.jacobian[i], st, self.force,
@@ -294,7 +294,8 @@ class PMAnalysis:
 def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
             guess=None, raise_on_singular: bool = True, threshold: float = COND_THRESHOLD,
             path: bool = False, anchor_every=None, chunk: int = CHUNK, workers=None,
-            progress=None, stiffness=None, mapper=None, twists: bool = False) -> PMAnalysis:
+            progress=None, stiffness=None, mapper=None, twists: bool = False,
+            lines: bool = False) -> PMAnalysis:
     """Analyse a PM model at one or N poses.
 
     Parameters
@@ -341,6 +342,10 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     twists : bool
         Also keep, from the same kernel run, each actuated leg's actuated-joint unit twist
         (:attr:`PMAnalysis.actuated_twists`; formed on first read otherwise).
+    lines : bool
+        Also keep, from the same kernel run, the joints the transmission indices read and
+        the platform of every pose (``18 n + 27`` numbers a pose): :attr:`PMAnalysis.indices`
+        then needs no second pass over the poses (maps ask for it).
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     load = resolve_workload(model, force, torque)
@@ -351,7 +356,8 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
-                   compliance=compliance, mapper=mapper if path else None, twists=bool(twists))
+                   compliance=compliance, mapper=mapper if path else None, twists=bool(twists),
+                   lines=bool(lines) and not (path and mapper is not None))
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
                         invalid)
     cond = comp.conditioning
@@ -391,5 +397,6 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
         if load is None:
             st = MissingStatics(no_workload_message(model))
     diag = dict(comp.diagnostics or {}, rows_ok=comp.rows_ok, structure_ok=comp.structure_ok,
-                det_sign=comp.det_sign, twists=comp.twists)
+                det_sign=comp.det_sign, twists=comp.twists, lines=comp.lines,
+                platform=comp.platform)
     return PMAnalysis(model, sol, jac, st, F, T, diag, stiffness, source)

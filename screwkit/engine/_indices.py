@@ -141,7 +141,8 @@ def transmission(analysis) -> TransmissionIndices:
     cond = jac.conditioning
     J = np.asarray(jac.matrix, float)
     reach = np.asarray(sol.reachable_mask, bool).reshape(N)
-    V_in, in_line, out_line = leg_screws(sol, legs)
+    diag = analysis.diagnostics
+    V_in, in_line, out_line = leg_screws(sol, legs, diag.get("lines"), diag.get("platform"))
     couple = np.array([r.member == "couple" for r in info])
     Jf = np.where(np.isfinite(J), J, 0.0)
     iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(

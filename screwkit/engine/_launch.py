@@ -14,6 +14,7 @@ import numpy as np
 
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, set_threads
+from ._kernels._layout import LINE_WIDTH
 
 __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
            "leg_wrenches"]
@@ -25,12 +26,12 @@ MIN_PER_THREAD = 256
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
            "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
            "constraint_rank", "constraint_condition_number", "values", "equilibrium",
-           "amplification", "det_sign", "twists")
+           "amplification", "det_sign", "twists", "lines", "platform")
 
 
 _CORES = min(2, os.cpu_count() or 1)
 _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
-              "f", "f", "f", "f", "f")
+              "f", "f", "f", "f", "f", "f", "f")
 
 
 def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
@@ -65,8 +66,9 @@ class _Plan:
                  "flags")
 
 
-def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists) -> _Plan:
-    key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists)
+def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
+          lines=False) -> _Plan:
+    key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines)
     plan = flat.packed.get(key)
     if plan is not None:
         return plan
@@ -82,12 +84,13 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     plan.in_i[inp.offsets[6][0]:] = flat.torque          # constant: the kernel only reads it
     out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
                   (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
-                  (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6)], _OUT_KINDS)
+                  (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6),
+                  (N if lines else 0, n, LINE_WIDTH), (N if lines else 0, 27)], _OUT_KINDS)
     plan.out_d, plan.out_nf, plan.out_ni = out.d, out.f.size, out.i.size
     plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
                      for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
     plan.flags = np.array([int(solve), int(rows), int(rows and statics), int(continuation),
-                           int(twists)], np.int64)
+                           int(twists), int(lines)], np.int64)
     if len(flat.packed) > 64:              # (maps launch many sizes: keep the cache small)
         for k in [k for k in list(flat.packed) if k[0] == "plan"]:
             flat.packed.pop(k, None)
@@ -97,19 +100,21 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
 
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
-              workers=None, per_thread: int = MIN_PER_THREAD) -> dict:
+              lines=False, workers=None, per_thread: int = MIN_PER_THREAD) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
-    outputs by name (:data:`OUTPUTS`).  ``per_thread``: the fewest poses worth a thread
+    outputs by name (:data:`OUTPUTS`); with ``lines`` also ``lines (N, n, LINE_WIDTH)``, the
+    joints the transmission indices read (``_kernels/_indices.pose_lines``), and the platform
+    ``platform (N, 27)`` of each pose (empty without).  ``per_thread``: the fewest poses worth a thread
     (fewer for poses that cost more, such as closures solved from home)."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
     plan = _plan(flat, N, 0 if X0 is None else N, 0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
-                 bool(statics), bool(continuation), bool(twists))
+                 bool(statics), bool(continuation), bool(twists), bool(lines))
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \

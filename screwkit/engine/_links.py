@@ -144,48 +144,43 @@ def keep_platform(solution, fp) -> None:
         solution.__dict__["_platform"] = platform_arrays(solution, fp)
 
 
-def joint_lines(solution, joints, chunk: int = 8192) -> tuple:
-    """The current lines of chosen joints and the platform at the poses of a
-    :class:`PoseSolution`, in chunks of ``chunk`` poses (the frames of every joint are formed
-    and dropped per chunk: their memory is bounded by the chunk, not N).
-
-    Parameters
-    ----------
-    joints : sequence of (int, int)
-        ``(leg, slot)`` pairs (0-based).
-
-    Returns
-    -------
-    points : ndarray (N, k, 3)
-        A point of each joint's axis (current; NaN where unreachable).
-    twists : ndarray (N, k, 6)
-        Each joint's current unit twist ``[v; w]`` about O.
-    platform : ndarray (N, 27)
-        The kernels' platform (pose parameters, ``Rp``, ``o``, ``E``) at the solution's
-        pose parameters (as :attr:`PoseSolution.position` takes it).
-
-    Each pose is computed alone by the same kernel as :func:`link_frames`, so the values
-    equal its ``points`` and ``twists`` bit for bit.
-    """
-    from ._launch import frames
+def index_lines(solution, chunk: int = 32768) -> tuple:
+    """``(lines (N, n, 18), platform (N, 27))``: the joints the transmission indices read
+    (from NaN joint values where unreachable)
+    (``_kernels/_indices.pose_lines``: per leg its platform-side joint's point and axis, the
+    point and axis of the joint after its actuator, its actuated joint's unit twist) and
+    the platform, by the analysis kernel on the solution's unknowns, ``chunk`` poses a
+    launch (the platform as :func:`reached_platform` gives it).  The same kernel function
+    gives them in the analysis run itself when it is
+    asked to (``analyze(..., lines=True)``): the same bits."""
+    from ._launch import run_poses
     c = solution.closures
-    ch = c.chains
+    flat = c.chains.flat
     N = c.X.shape[-1]
-    P6 = _pose_matrix(solution)
-    bad = ~(c.residual <= 1e-6)
-    k = len(joints)
-    flat_index = np.array([i * ch.m + j for i, j in joints], np.int64)   # (leg, slot) flat
-    points, twists, plat = np.empty((N, k, 3)), np.empty((N, k, 6)), np.empty((N, 27))
+    nu = len(c.chains.unknown)
+    bad = ~np.asarray(solution.reachable_mask, bool)
+    lines, plat = np.empty((N, flat.n, 18)), np.empty((N, 27))
     for s in range(0, N, chunk):
         sl = slice(s, min(s + chunk, N))
-        _, Xq = _joint_values(ch, c.X[:, sl], bad[sl])
-        fr = frames(ch.flat, _GIVEN, P6[sl], Xq, twists=True)
-        n_sl = sl.stop - sl.start
-        np.take(fr["axes_points"].reshape(n_sl, -1, 6)[..., 3:], flat_index, axis=1,
-                out=points[sl])
-        np.take(fr["twists"].reshape(n_sl, -1, 6), flat_index, axis=1, out=twists[sl])
-        plat[sl] = fr["platform"]
-    return points, twists, plat
+        X = np.array(c.X[:, sl].T)
+        X[bad[sl], nu:] = np.nan              # no assembly: no joint values (as link_frames)
+        o = run_poses(flat, flat.Z, c.params(sl), X=X, rows=False, statics=False,
+                      lines=True)
+        lines[sl], plat[sl] = o["lines"], o["platform"]
+    return lines, reached_platform(solution, plat)
+
+
+def reached_platform(solution, fp) -> np.ndarray:
+    """The kernels' platform ``fp (N, 27)`` of a solution's poses, with the unreachable ones
+    formed at the solution's pose parameters (NaN where it has none), as
+    :func:`platform_arrays` forms them."""
+    bad = ~np.asarray(solution.reachable_mask, bool)
+    if not bad.any():
+        return fp
+    from ._launch import platform_of
+    fp = np.array(fp)
+    fp[bad] = platform_of(solution.closures.chains.flat, _pose_matrix(solution)[bad])
+    return fp
 
 
 def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:

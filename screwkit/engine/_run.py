@@ -50,6 +50,8 @@ class Computed:
     amplification: np.ndarray = None
     det_sign: np.ndarray = None
     twists: np.ndarray = None
+    lines: np.ndarray = None
+    platform: np.ndarray = None
 
 
 def _chunks(N, size):
@@ -72,7 +74,7 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
 
 _KEYS = ("J", "scale", "rows_ok", "structure_ok", "centre", "length", "singular_values", "rank",
          "condition_number", "constraint_rank", "constraint_condition_number", "values",
-         "equilibrium", "amplification", "det_sign", "twists")
+         "equilibrium", "amplification", "det_sign", "twists", "lines", "platform")
 
 
 def chunk_after_path(model, fx, X, path_res, rows=True, F=None, T=None, compliance=None,
@@ -95,7 +97,7 @@ def _chunk_task(model, rows, F, T, compliance, item):
 
 
 def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, workers,
-                progress, twists) -> Computed:
+                progress, twists, lines=False) -> Computed:
     """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
     they are, without the chunks' copies."""
     flat = ch.flat
@@ -109,7 +111,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     o = run_poses(flat, predictor_of(ch), P6,
                   X0=None if X0 is None else X0.T, side=side, F=F, T=T,
                   compliance=compliance, rows=rows, statics=F is not None, twists=twists,
-                  workers=workers)
+                  lines=lines, workers=workers)
     if progress:
         progress(N, N)
     closures = Closures(ch, o["X"].T, fixed, o["residual"], o["iterations"], o["how"],
@@ -123,18 +125,21 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     return Computed(closures, labels_of(templates), flat.n_act, out["J"], out["scale"], cond,
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), {}, out.get("amplification"),
-                    out.get("det_sign"), out.get("twists"))
+                    out.get("det_sign"), out.get("twists"), out.get("lines"),
+                    out.get("platform"))
 
 
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
             rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None,
-            compliance=None, mapper=None, twists=False) -> Computed:
+            compliance=None, mapper=None, twists=False, lines=False) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
     ``progress(done, total)``: ``total = N``, or ``2 N`` for a path with rows (its closures
     are solved first, then the rows and statics).  ``mapper(fn, items)`` (a path only):
     computes ``[fn(x) for x in items]`` elsewhere, e.g. on a Dask cluster; the path's
-    closures are solved here, the rows and statics of its chunks by the mapper."""
+    closures are solved here, the rows and statics of its chunks by the mapper.  ``lines``
+    (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
+    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`)."""
     ch = chains_of(model)
     flat = ch.flat
     N = len(next(iter(fixed.values())))
@@ -142,7 +147,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     templates = templates_of(model) if rows else None
     if not path and N <= chunk:
         return _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
-                           workers, progress, twists)
+                           workers, progress, twists, lines)
     diag = {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))
@@ -191,7 +196,8 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             o = run_poses(flat, Z, P6, X0=None if X0 is None else X0[:, sl].T,
                           X=X[sl] if path else None,
                           side=None if side is None else side[sl], F=F, T=T, compliance=comp,
-                          rows=rows, statics=statics, twists=twists, workers=workers)
+                          rows=rows, statics=statics, twists=twists, lines=lines,
+                          workers=workers)
             if path:
                 res[sl] = np.where(np.isfinite(path_res[sl]), o["residual"], np.inf)
             elif n == N:
@@ -215,4 +221,5 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     return Computed(closures, labels_of(templates), flat.n_act, out["J"], out["scale"], cond,
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), diag, out.get("amplification"),
-                    out.get("det_sign"), out.get("twists"))
+                    out.get("det_sign"), out.get("twists"), out.get("lines"),
+                    out.get("platform"))

@@ -143,45 +143,39 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
     return iti, oti, in_arm, out_arm, cti, c_arm, red
 
 
-def leg_screws(solution, active):
+def leg_screws(solution, active, lines=None, platform=None):
     """``(V_in (N, n_a, 6), in_line, out_line)`` of :func:`transmission_indices` at the poses
     of a :class:`~screwkit.engine.PoseSolution`: the actuated joint's unit twist of each
     active leg (``active``: 0-based legs), the joint through which its transmission wrench
     enters the actuated link, and each leg's last non-prismatic joint (its platform side),
-    from the kernels' frames of those joints (:func:`~screwkit.engine._links.joint_lines`,
-    the values of :func:`~screwkit.engine.link_frames`; the platform they give is kept by
-    the solution), or, for legs with a parallelogram (which the link frames do not cover),
-    from the legs placed pose by pose."""
-    from ._links import joint_lines, keep_platform
+    from the analysis kernel's lines of those joints ``lines (N, n, 18)`` and platform
+    ``platform (N, 27)`` (kept by the analysis run, else formed by
+    :func:`~screwkit.engine._links.index_lines`; the platform is kept by the solution), or,
+    for legs with a parallelogram (which the kernel's frames do not cover), from the legs
+    placed pose by pose."""
+    from ._links import index_lines, keep_platform, reached_platform
     ch = solution.closures.chains
     if ch.bars is not None and ch.bars.any():
         return _placed_leg_screws(solution, active)
+    if lines is None:
+        lines, platform = index_lines(solution)
+    keep_platform(solution, reached_platform(solution, platform))
     rot = np.asarray(ch.rotation, float)                  # (n, m)
     n = rot.shape[0]
 
-    def non_prismatic(i, slots):
-        return next((j for j in slots if rot[i, j] != 0), None)
+    def turns(i, slots):
+        return any(rot[i, j] != 0 for j in slots)
 
-    # the joints read, in the order of the outputs (views, no copies): each leg's
-    # platform-side joint, the joint after each active leg's actuator, the actuated joint
-    # (slot 0 stands in where there is none, then replaced); frames formed chunk by chunk
-    last = [non_prismatic(i, range(ch.sizes[i] - 1, -1, -1)) for i in range(n)]
-    act = [(i, int(ch.actuated[i])) for i in active]
-    nxt = [non_prismatic(i, range(j + 1, ch.sizes[i])) for i, j in act]
-    na = len(act)
-    joints = ([(i, j or 0) for i, j in enumerate(last)] +
-              [(i, j or 0) for (i, _), j in zip(act, nxt)] + act)
-    points, twists, platform = joint_lines(solution, joints)
-    keep_platform(solution, platform)          # (the platform of the same frames, kept)
-    out_q, out_d = points[:, :n], twists[:, :n, 3:]
-    in_q, in_d = points[:, n:n + na], twists[:, n:n + na, 3:]
-    for i, j in enumerate(last):
-        if j is None:                          # no turning joint: the platform point a_i
+    act = list(active)
+    out_q, out_d = lines[:, :, 0:3].copy(), lines[:, :, 3:6].copy()
+    in_q, in_d, V_in = lines[:, act, 6:9], lines[:, act, 9:12], lines[:, act, 12:18]
+    for i in range(n):
+        if not turns(i, range(ch.sizes[i])):   # no turning joint: the platform point a_i
             out_q[:, i], out_d[:, i] = solution._platform[2][:, i], 0.0
-    for c, ((i, _), j) in enumerate(zip(act, nxt)):
-        if j is None:                          # no joint after the actuator: the platform's
-            in_q[:, c], in_d[:, c] = out_q[:, i], out_d[:, i]
-    return twists[:, n + na:], (in_q, in_d), (out_q, out_d)
+    for c, i in enumerate(act):
+        if not turns(i, range(int(ch.actuated[i]) + 1, ch.sizes[i])):
+            in_q[:, c], in_d[:, c] = out_q[:, i], out_d[:, i]   # none after the actuator
+    return V_in, (in_q, in_d), (out_q, out_d)
 
 
 def _placed_leg_screws(solution, active):

@@ -90,7 +90,7 @@ def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) ->
         ``(N,)`` per cell, or ``(N, m)`` / ``(N, n)`` per row / leg (see :func:`compute`).
     """
     res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
-                  workers=threads, stiffness=stiffness)
+                  workers=threads, stiffness=stiffness, lines=True)
     return arrays_of(model, res)
 
 
@@ -101,7 +101,7 @@ def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
     workload are the per-cell array ``usable_any``."""
     from ._loads import reduce_block
     res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
-                  workers=threads, stiffness=stiffness)
+                  workers=threads, stiffness=stiffness, lines=True)
     out = arrays_of(model, res)
     red, usable_any = reduce_block(res, out, loads, _linear(model), max_level_code, offset,
                                    _level_codes)

@@ -22,7 +22,7 @@ from ..engine import LENGTH_PARAMS
 from ..errors import InputError
 from ._compute import CONDITIONING_CODES, KIND_CODES, LEVEL_CODES
 
-__all__ = ["xarray", "build_dataset", "write", "to_csv", "FORMATS"]
+__all__ = ["xarray", "variable", "build_dataset", "write", "to_csv", "FORMATS"]
 
 FORMATS = (".nc", ".zarr", ".csv")
 #: The index variables of a map (``docs/design.md``: definitions and conventions).
@@ -44,6 +44,13 @@ def xarray():
     return xr
 
 
+def variable(dims, data, attrs):
+    """An ``xarray.Variable`` of a numpy array as it is: xarray's probing of other array
+    types (its first use imports ``dask.array``, about a second of a map) is skipped, which
+    changes nothing for a plain numpy array."""
+    return xarray().Variable(dims, np.asarray(data), attrs, fastpath=True)
+
+
 def _angle_unit(grid):
     return "deg" if grid.degrees else "rad"
 
@@ -63,21 +70,21 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
 
     def var(a, unit, long_name, **attrs):
         a = np.asarray(a)
-        return xr.Variable(dims, a.reshape(shape + a.shape[1:]),
-                           dict(units=unit, long_name=long_name, **attrs))
+        return variable(dims, a.reshape(shape + a.shape[1:]),
+                        dict(units=unit, long_name=long_name, **attrs))
 
     coords = {}
     if grid.samples:
-        coords["sample"] = xr.Variable(("sample",), np.arange(grid.size), {"units": "1"})
+        coords["sample"] = variable(("sample",), np.arange(grid.size), {"units": "1"})
         for k, v in grid.coords.items():
-            coords[k] = xr.Variable(("sample",), v, {"units": _param_unit(k, grid, u),
+            coords[k] = variable(("sample",), v, {"units": _param_unit(k, grid, u),
                                                      "long_name": f"pose parameter {k}"})
     else:
         for k in dims:
-            coords[k] = xr.Variable((k,), grid.coords[k], {"units": _param_unit(k, grid, u),
+            coords[k] = variable((k,), grid.coords[k], {"units": _param_unit(k, grid, u),
                                                            "long_name": f"pose parameter {k}"})
     for k, v in grid.fixed.items():
-        coords[k] = xr.Variable((), v, {"units": _param_unit(k, grid, u),
+        coords[k] = variable((), v, {"units": _param_unit(k, grid, u),
                                         "long_name": f"pose parameter {k} (fixed)"})
     a = arrays
     dv = {

@@ -152,26 +152,26 @@ def refine(model, ds, threads=None):
 
 def locus_variables(ds, loc) -> dict:
     """The refined crossings as Dataset variables along ``crossing``."""
-    import xarray as xr
+    from ._dataset import variable
     dims = ds["det_sign"].dims
     indep = str(ds.attrs["independent"]).split(",")
     lu, au = ds.attrs["units_length"], ds.attrs["units_angle"]
-    out = {f"locus_{p}": xr.Variable(("crossing",), loc[p], {
+    out = {f"locus_{p}": variable(("crossing",), loc[p], {
         "units": lu if p in LENGTH_PARAMS else au, "long_name": f"{p} at a det J sign change"})
         for p in indep}
-    out["locus_kind"] = xr.Variable(("crossing",), loc["kind"], {
+    out["locus_kind"] = variable(("crossing",), loc["kind"], {
         "units": "1", "long_name": "kind of the det J sign change",
         "flag_values": np.arange(len(LOCUS_KINDS), dtype=np.int8),
         "flag_meanings": " ".join(LOCUS_KINDS)})
-    out["locus_along"] = xr.Variable(("crossing",), loc["along"], {
+    out["locus_along"] = variable(("crossing",), loc["along"], {
         "units": "1", "long_name": "grid parameter bisected",
         "flag_values": np.arange(len(dims), dtype=np.int8), "flag_meanings": " ".join(dims)})
-    out["locus_condition_number"] = xr.Variable(("crossing",), loc["condition_number"], {
+    out["locus_condition_number"] = variable(("crossing",), loc["condition_number"], {
         "units": "1", "long_name": "normalised condition number of J at the crossing"})
-    out["locus_constraint_condition_number"] = xr.Variable(
+    out["locus_constraint_condition_number"] = variable(
         ("crossing",), loc["constraint_condition_number"],
         {"units": "1", "long_name": "normalised condition number of J_c at the crossing"})
-    out["locus_width"] = xr.Variable(("crossing",), loc["width"], {
+    out["locus_width"] = variable(("crossing",), loc["width"], {
         "units": "1", "long_name": "final bisection bracket, in cell sizes"})
     return out
 

@@ -17,7 +17,8 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
   or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``;
 * ``O`` the outputs (``OUT_*``), filled pose by pose;
-* ``flags``: solve, rows, statics, continuation, actuated twists (1/0 each).
+* ``flags``: solve, rows, statics, continuation, actuated twists, the lines of the
+  transmission indices' joints and the platform (1/0 each).
 """
 
 from numba import prange
@@ -25,10 +26,11 @@ from numba import prange
 from ._jit import borrowed, entry, inner, parallel
 
 from ._closures import predict, solve_pose
+from ._indices import pose_lines
 from ._kin import forward
 from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
 from ._pack import inputs, model, outputs, params
-from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, home_vector,
+from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
                       make_work)
 from ._rows import RW_TW, leg_rows, make_rows_work
 from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
@@ -37,8 +39,8 @@ from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditi
 
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
- OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS) = range(21)
-F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS = range(5)
+ OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
+F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
 
 
 @inner
@@ -78,6 +80,10 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
         b = 0
         res = forward(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, 0, W[W_S], W[W_P6])
     O[OUT_RES][p] = res
+    if flags[F_LINES]:
+        bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
+                        W[W_XN], O[OUT_LINES][p])
+        O[OUT_PLATFORM][p, :] = FP[bl]
     if not flags[F_ROWS]:
         return
     n = M[D].shape[0]

@@ -19,8 +19,77 @@ import numpy as np
 from numba import prange
 
 from ._jit import entry, inner, parallel
-from ._layout import LEVERAGE_RTOL, RANK_RTOL, TRANSLATION_RTOL
+from ._kin import forward, joint_twist
+from ._layout import (L_ACT, L_SIZE, LEG, LEVERAGE_RTOL, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q,
+                      LN_V, QS, RANK_RTOL, ROT, TRANSLATION_RTOL)
 from ._small import jacobi_rows, lu_apply, lu_factor
+
+
+@inner
+def _turning(M, i, first, stop, step):
+    """The first slot from ``first`` towards ``stop`` (exclusive, by ``step``) of leg ``i``
+    that turns (a rotation per unit value), -1 if none."""
+    rot = M[ROT]
+    for j in range(first, stop, step):
+        if rot[i, j] != 0:
+            return j
+    return -1
+
+
+@inner
+def _line(M, i, j, fa, out, q0, d0):
+    """The point ``out[q0:q0+3]`` and the axis (the unit twist's angular part)
+    ``out[d0:d0+3]`` of joint ``j`` of leg ``i`` (its twist formed in ``out[LN_V:]``)."""
+    tw = out[LN_V:LN_V + 6]
+    joint_twist(M, i, j, fa, tw)
+    for a in range(3):
+        out[q0 + a] = fa[j, 3 + a]
+        out[d0 + a] = tw[3 + a]
+
+
+@inner
+def pose_lines(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6, Xr, lines):
+    """The joints the transmission indices read, at the unknowns ``X``, into ``lines (n,
+    LINE_WIDTH)`` (``LN_*`` columns; :func:`screwkit.engine._transmission.leg_screws`): per
+    leg its last turning joint (the platform side; slot 0 where none), the first turning
+    joint after its actuator (slot 0 where none) and its actuated joint's twist.
+
+    The frames are those of buffer ``b`` (the pose's frames, from the solve), formed again
+    in the other buffer where they would not be bit for bit those of the joint values as
+    the solution gives them (``q = X QS``, handed back as ``q / QS``: a rounding for prismatic
+    joints; or a platform from other pose parameters).  Returns the buffer read (its
+    platform ``FP[...]`` is the pose's)."""
+    nu = unk.shape[0]
+    leg, qs = M[LEG], M[QS]
+    n, m = qs.shape[0], qs.shape[1]
+    exact = True
+    for k in range(6):
+        p6[k] = p6fix[k]
+    for k in range(nu):
+        p6[unk[k]] = X[k] * xs[k]
+        Xr[k] = X[k]
+    fp = FP[b]
+    for k in range(6):
+        exact = exact and p6[k] == fp[k]
+    for i in range(n):
+        for j in range(m):
+            k = nu + i * m + j
+            v = (X[k] * qs[i, j]) / qs[i, j]
+            Xr[k] = v
+            exact = exact and v == X[k]
+    if not exact:
+        b = 1 - b
+        forward(M, unk, xs, p6fix, Xr, FA, FL, FE, FP, b, S, p6)
+    for i in range(n):
+        fa, out = FA[b, i], lines[i]
+        size, act = leg[i, L_SIZE], leg[i, L_ACT]
+        act = act if act >= 0 else 0
+        last = _turning(M, i, size - 1, -1, -1)
+        _line(M, i, last if last >= 0 else 0, fa, out, LN_OUT_Q, LN_OUT_D)
+        nxt = _turning(M, i, act + 1, size, 1)
+        _line(M, i, nxt if nxt >= 0 else 0, fa, out, LN_IN_Q, LN_IN_D)
+        joint_twist(M, i, act, fa, out[LN_V:LN_V + 6])
+    return b
 
 
 @inner

@@ -92,3 +92,9 @@ TRANSLATION_RTOL = 1e-12
 #: ``1 - LEVERAGE_RTOL`` is redundant (the other rows keep the rank without it; their
 #: smallest singular value stays above about ``1e-4`` of the largest).
 LEVERAGE_RTOL = 1e-8
+
+#: The columns of a leg's entry in the lines of the transmission indices' joints
+#: (``_indices.pose_lines``): the point and axis of its platform-side joint, the point and
+#: axis of the joint after its actuator, its actuated joint's unit twist.
+LN_OUT_Q, LN_OUT_D, LN_IN_Q, LN_IN_D, LN_V = 0, 3, 6, 9, 12
+LINE_WIDTH = 18

@@ -59,4 +59,5 @@ def outputs(F, I, d):
     return (f2(F, d, 0), f1(F, d, 1), f1(I, d, 2), f1(I, d, 3), f1(I, d, 4), f3(F, d, 5),
             f2(F, d, 6), f1(I, d, 7), f2(I, d, 8), f2(F, d, 9), f1(F, d, 10), f2(F, d, 11),
             f1(I, d, 12), f1(F, d, 13), f1(I, d, 14), f1(F, d, 15), f2(F, d, 16),
-            f1(F, d, 17), f1(F, d, 18), f1(F, d, 19), f3(F, d, 20))
+            f1(F, d, 17), f1(F, d, 18), f1(F, d, 19), f3(F, d, 20), f3(F, d, 21),
+            f2(F, d, 22))
