@@ -190,28 +190,40 @@ def null_space(rows, r, g, vec):
 
 
 @inner
+def reference_remainder(g, vec, basis, q, d):
+    """``(p0, p1, p2, rem)``: a reference direction ``d (3,)`` in a null space of dimension
+    ``g`` (``vec`` as :func:`null_space` gives it) after the basis members ``basis[:q]``.
+    For ``g = 1`` ``rem`` is the signed cosine ``vec . d`` (``p`` unused); else ``p`` is
+    ``d`` projected on the null space and orthogonalised against the members (Gram-Schmidt),
+    ``rem`` its size.  The one rule of the rows (:func:`canonical_basis`) and of the home
+    choice of the references (``_probe.home_groups``)."""
+    if g == 1:
+        return 0.0, 0.0, 0.0, vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
+    p0, p1, p2 = d[0], d[1], d[2]
+    if g == 2:
+        c = vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
+        p0, p1, p2 = p0 - vec[0] * c, p1 - vec[1] * c, p2 - vec[2] * c
+    for e in range(q):
+        c = basis[e, 0] * p0 + basis[e, 1] * p1 + basis[e, 2] * p2
+        p0, p1, p2 = p0 - basis[e, 0] * c, p1 - basis[e, 1] * c, p2 - basis[e, 2] * c
+    return p0, p1, p2, math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+
+
+@inner
 def canonical_basis(g, vec, refs, dv, basis):
     """A basis ``basis[:g]`` of a null space from its reference directions ``dv[refs[q]]``:
     one member along its reference (``g = 1``), else the Gram-Schmidt orthonormalisation of
-    the references projected on it; returns the smallest remainder."""
+    the references projected on it (:func:`reference_remainder`); returns the smallest
+    remainder."""
     worst = math.inf
     for q in range(g):
-        r = dv[refs[q]]
+        p0, p1, p2, rem = reference_remainder(g, vec, basis, q, dv[refs[q]])
         if g == 1:
-            c = vec[0] * r[0] + vec[1] * r[1] + vec[2] * r[2]
-            sg = -1.0 if c < 0 else 1.0
+            sg = -1.0 if rem < 0 else 1.0
             for k in range(3):
                 basis[q, k] = vec[k] * sg
-            rem = abs(c)
+            rem = abs(rem)
         else:
-            p0, p1, p2 = r[0], r[1], r[2]
-            if g == 2:
-                c = vec[0] * r[0] + vec[1] * r[1] + vec[2] * r[2]
-                p0, p1, p2 = p0 - vec[0] * c, p1 - vec[1] * c, p2 - vec[2] * c
-            for e in range(q):
-                c = basis[e, 0] * p0 + basis[e, 1] * p1 + basis[e, 2] * p2
-                p0, p1, p2 = p0 - basis[e, 0] * c, p1 - basis[e, 1] * c, p2 - basis[e, 2] * c
-            rem = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
             s = max(rem, 1e-300)
             basis[q, 0], basis[q, 1], basis[q, 2] = p0 / s, p1 / s, p2 / s
         worst = min(worst, rem)

@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from ._geometry import eval_directions, eval_points, group_rows, leg_setup, null_space
+from ._geometry import (eval_directions, eval_points, group_rows, leg_setup, null_space,
+                        reference_remainder)
 from ._jit import entry, inner
 from ._kin import chain
 from ._layout import D, DIRS, GREF, PTS, REF_MIN, TPL, T_K
@@ -62,18 +63,8 @@ def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
             nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             if not (math.isfinite(nd) and nd > 0.5):
                 continue
-            if dim == 1:
-                rem = abs(vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2])
-                p0 = p1 = p2 = 0.0
-            else:
-                p0, p1, p2 = d[0], d[1], d[2]
-                if dim == 2:
-                    s = vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
-                    p0, p1, p2 = p0 - vec[0] * s, p1 - vec[1] * s, p2 - vec[2] * s
-                for e in range(k):
-                    s = basis[e, 0] * p0 + basis[e, 1] * p1 + basis[e, 2] * p2
-                    p0, p1, p2 = p0 - basis[e, 0] * s, p1 - basis[e, 1] * s, p2 - basis[e, 2] * s
-                rem = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+            p0, p1, p2, rem = reference_remainder(dim, vec, basis, k, d)
+            rem = abs(rem)
             if rem >= REF_MIN:
                 chosen[g, k] = c
                 if dim > 1:
