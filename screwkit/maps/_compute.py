@@ -1,6 +1,6 @@
 """Every cell of a map is a pose of the batched engine: blocks of cells, serial or on Dask.
 
-The cells are cut into blocks of :data:`BLOCK` poses (a multiple of the engine's chunk);
+The cells are cut into blocks of :data:`BLOCK` poses (one engine launch each);
 each block is one call of :func:`screwkit.engine.analyze` (threads inside it, as analyze's
 ``workers``), and :func:`evaluate` keeps only the compact per-cell arrays of the map.  With
 a Dask cluster the same function runs on the workers, one block per task, so a distributed
@@ -21,7 +21,7 @@ __all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NA
            "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
-#: Cells per block (two engine launches of 32768 poses).
+#: Cells per block (one engine launch).
 BLOCK = 16 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
@@ -89,9 +89,17 @@ def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) ->
     dict str -> ndarray
         ``(N,)`` per cell, or ``(N, m)`` / ``(N, n)`` per row / leg (see :func:`compute`).
     """
-    res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
-                  workers=threads, stiffness=stiffness, lines=True)
-    return arrays_of(model, res)
+    return arrays_of(model, _analysis(model, poses, force, torque, stiffness, threads))
+
+
+def _analysis(model, poses, force, torque, stiffness, threads):
+    """The engine's analysis of a block: one launch (its outputs as they are, not copied
+    together from chunks), keeping the joints and platform the indices read (no second
+    pass over the cells)."""
+    N = len(next(iter(poses.values())))
+    return analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
+                   workers=threads, stiffness=stiffness, lines=True,
+                   chunk=min(max(N, 1), 1 << 20))
 
 
 def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
@@ -100,8 +108,7 @@ def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
     of ``loads`` (:func:`screwkit.maps._loads.reduce_block`); the cells counted for any
     workload are the per-cell array ``usable_any``."""
     from ._loads import reduce_block
-    res = analyze(model, poses, force=force, torque=torque, raise_on_singular=False,
-                  workers=threads, stiffness=stiffness, lines=True)
+    res = _analysis(model, poses, force, torque, stiffness, threads)
     out = arrays_of(model, res)
     red, usable_any = reduce_block(res, out, loads, _linear(model), max_level_code, offset,
                                    _level_codes)
