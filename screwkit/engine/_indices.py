@@ -144,11 +144,14 @@ def transmission(analysis) -> TransmissionIndices:
     diag = analysis.diagnostics
     V_in, in_line, out_line = leg_screws(sol, legs, diag.get("lines"), diag.get("platform"))
     couple = np.array([r.member == "couple" for r in info])
-    Jf = np.where(np.isfinite(J), J, 0.0)
+    finite = np.isfinite(J)
+    all_finite = bool(finite.all())              # (the usual case: J itself, no copy)
+    Jf = J if all_finite else np.where(finite, J, 0.0)
     iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(
         Jf, couple, act, con, V_in, in_line, out_line, jac.leg_of_row, cond.centre,
         cond.length, np.where(reach, cond.constraint_rank, len(con)))
-    iti = np.where(~np.all(np.isfinite(J[:, act]), axis=-1), 0.0, iti)
+    if not all_finite:
+        iti = np.where(~np.all(finite[:, act], axis=-1), 0.0, iti)
     sing = np.asarray(jac.singular_mask, bool) & reach
     oti[sing] = 0.0
     cti[sing] = np.where(redundant[sing], np.nan, 0.0)

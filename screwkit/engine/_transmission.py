@@ -168,7 +168,8 @@ def leg_screws(solution, active, lines=None, platform=None):
 
     act = list(active)
     out_q, out_d = lines[:, :, 0:3].copy(), lines[:, :, 3:6].copy()
-    in_q, in_d, V_in = lines[:, act, 6:9], lines[:, act, 9:12], lines[:, act, 12:18]
+    in_q, in_d, V_in = (np.take(lines[:, :, a:b], act, axis=1)      # (C-contiguous)
+                        for a, b in ((6, 9), (9, 12), (12, 18)))
     for i in range(n):
         if not turns(i, range(ch.sizes[i])):   # no turning joint: the platform point a_i
             out_q[:, i], out_d[:, i] = solution._platform[2][:, i], 0.0
