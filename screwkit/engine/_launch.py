@@ -13,13 +13,16 @@ import os
 import numpy as np
 
 from ._arrays import Packed
-from ._kernels import LAUNCH_LOCK, kernels, set_threads
+from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
 
 __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
            "leg_wrenches"]
 
 #: Fewest poses per thread worth a parallel launch.
 MIN_PER_THREAD = 256
+
+#: How long the first compile of a parallel kernel takes (the note on stderr).
+PARALLEL_COMPILE = "about a minute"
 
 #: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
@@ -50,6 +53,9 @@ def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD):
     if nw <= 1:
         serial(*args, 0, N)
         return
+    # (a one-pose command never calls the parallel kernels: their first compile comes with
+    # the first batch that needs threads, and says so)
+    note_first_compile(par, "the engine's parallel kernel for batches", PARALLEL_COMPILE)
     with LAUNCH_LOCK:
         set_threads(nw)
         par(*args, nw)

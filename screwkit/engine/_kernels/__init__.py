@@ -23,12 +23,13 @@ import sys
 import threading
 from types import SimpleNamespace
 
-__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads"]
+__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads", "note_first_compile"]
 
 #: Held while a parallel kernel runs (numba's workqueue layer takes one launch at a time).
 LAUNCH_LOCK = threading.RLock()
 _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
+_NOTED: set = set()
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
 _LOADER = ("__init__.py", "_loading.py")
@@ -129,6 +130,17 @@ def _compiled_before(fn) -> bool:
         return os.path.exists(fn._cache._cache_file._index_path)
     except AttributeError:
         return True
+
+
+def note_first_compile(fn, what: str, how_long: str) -> None:
+    """One line on stderr when the call of the kernel ``fn`` about to be made compiles it
+    (neither loaded in this process nor in the cache): ``what`` it is, ``how_long``."""
+    if fn.overloads or fn in _NOTED:
+        return
+    _NOTED.add(fn)
+    if not _compiled_before(fn):
+        print(f"screwkit: compiling {what} (once, {how_long}; cached in {cache_dir()})",
+              file=sys.stderr, flush=True)
 
 
 def kernels() -> SimpleNamespace:
