@@ -242,9 +242,10 @@ def test_a_warm_cold_leg_imports_no_yaml_nor_the_engine():
     assert "catalog expects" in out and imported == "[]"
 
 
-def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
+def test_a_warm_cold_analyze_imports_neither_numbas_array_implementations_nor_scipy():
     _quick()
-    out, imported = _imports_of(["analyze", "3RRPRR", "--json"], ("numba.np.arrayobj",))
+    out, imported = _imports_of(["analyze", "3RRPRR", "--json"],
+                                ("numba.np.arrayobj", "scipy"))
     assert json.loads(out)["pm"] == "3RRPRR" and imported == "[]"
 
 
