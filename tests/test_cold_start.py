@@ -219,9 +219,8 @@ def _imports_of(argv, watched):
     outputs, and which of ``watched`` the second imported."""
     import subprocess
     import sys
-    code = (f"import sys, runpy; sys.argv = ['screwkit'] + {list(argv)!r}\n"
-            "try:\n    runpy.run_module('screwkit', run_name='__main__')\n"
-            "except SystemExit:\n    pass\n"
+    # (the command's main, not ``python -m screwkit``, which ends the process at once)
+    code = (f"import sys\nfrom screwkit.cli import main\nmain({list(argv)!r})\n"
             f"print(sorted(m for m in {tuple(watched)!r} if m in sys.modules), file=sys.stderr)")
     runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            timeout=600) for _ in range(2)]
@@ -242,10 +241,9 @@ def test_a_warm_cold_leg_imports_no_yaml_nor_the_engine():
     assert "catalog expects" in out and imported == "[]"
 
 
-def test_a_warm_cold_analyze_imports_neither_numbas_array_implementations_nor_scipy():
+def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
     _quick()
-    out, imported = _imports_of(["analyze", "3RRPRR", "--json"],
-                                ("numba.np.arrayobj", "scipy"))
+    out, imported = _imports_of(["analyze", "3RRPRR", "--json"], ("numba.np.arrayobj",))
     assert json.loads(out)["pm"] == "3RRPRR" and imported == "[]"
 
 
@@ -349,3 +347,35 @@ def test_the_kernels_hold_no_version_per_literal():
         sigs = list(fn.signatures) + [key[0] for key in fn._cache._cache_file._load_index()]
         assert sigs, fn
         assert not any(isinstance(t, types.Literal) for s in sigs for t in s), fn
+
+
+# --- the console command ends at once when nothing is pending (screwkit.cli.run) ---------
+
+def test_the_console_command_prints_all_and_exits_with_the_status(capsys):
+    import subprocess
+    import sys
+    from screwkit.cli import main
+    assert main(["analyze", "3RRPRR"]) == 0
+    want = capsys.readouterr().out
+    ok = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR"],
+                        capture_output=True, text=True, timeout=900)
+    assert ok.returncode == 0 and ok.stdout == want
+    bad = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "NOPE"],
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.startswith("screwkit analyze: error:") and "Traceback" not in bad.stderr
+
+
+def test_an_exit_with_work_pending_is_orderly():
+    import threading
+    from screwkit.cli._main import _nothing_pending
+    assert _nothing_pending()
+    release = threading.Event()
+    worker = threading.Thread(target=release.wait)          # a non-daemon thread, alive
+    worker.start()
+    try:
+        assert not _nothing_pending()
+    finally:
+        release.set()
+        worker.join()
+    assert _nothing_pending()

@@ -11,8 +11,8 @@ file named by a digest of all of them:
   or a unit gives another digest;
 * the code: the source of every module of the layers the computation runs through
   (``errors``, ``screws``, ``legs``, ``pm``, ``engine`` with its kernels), the sampling
-  and classification constants as they are at the call, the versions of Python, numpy and
-  numba, and scipy's version file (read, not imported).
+  and classification constants as they are at the call, and the versions of Python,
+  numpy, numba and scipy.
 
 A model that cannot be walked (an object of a type not listed in :func:`_feed`) is never
 kept.  Files are JSON (no code runs when one is read), written atomically, in
@@ -101,23 +101,15 @@ def _digest_of(x) -> str:
 def _code_stamp() -> str:
     """A digest of the sources and library versions the computation runs through."""
     if not _CODE:
-        import importlib.util
+        import scipy
 
         from ._kernels import _configure
         numba = _configure()            # numba as the kernels import it (their cache set)
         h = hashlib.sha256(_FORMAT.encode())
-        h.update(f"{sys.version};{np.__version__};{numba.__version__}".encode())
+        h.update(f"{sys.version};{np.__version__};{numba.__version__};"
+                 f"{scipy.__version__}".encode())
         root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         files = [os.path.join(root, "errors.py")]
-        # scipy's version file, found, not imported (its import is a cold command's time)
-        spec = importlib.util.find_spec("scipy")
-        version = (os.path.join(os.path.dirname(spec.origin), "version.py")
-                   if spec is not None and spec.origin else "")
-        if os.path.isfile(version):
-            files.append(version)
-        else:
-            import scipy
-            h.update(scipy.__version__.encode())
         for layer in _LAYERS:
             folder = os.path.join(root, layer)
             files += [os.path.join(folder, n) for n in sorted(os.listdir(folder))
