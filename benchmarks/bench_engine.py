@@ -23,9 +23,11 @@ the same process right before (the machines are noisy: read the ratios):
 * ``memory``: peak resident memory of 1,000,000 random 3RRPRR poses (``--big``); target
   <= 1 GB;
 * ``cold commands``: ``screwkit analyze 3RRPRR`` and ``screwkit leg RRPRR`` as fresh
-  processes with the kernels' cache warm; targets 0.6 s and 0.35 s (``--cold``);
+  processes with the kernels' cache warm, beside ``python -c "import numpy"`` and
+  ``python -c "import numpy, numba"``, interleaved run by run (medians of 5 or more);
+  targets 0.6 s and 0.35 s (``--cold``);
 * ``first run``: ``screwkit analyze 3RRPRR`` with an empty kernel cache (the compilation
-  included); target <= 60 s (``--first``).
+  included; wall and CPU time); target <= 60 s (``--first``).
 
 Run: ``python benchmarks/bench_engine.py [--n 100000] [--repeat 3] [--big 1000000] [--map]
 [--cold] [--first]``.

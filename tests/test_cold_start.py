@@ -369,7 +369,7 @@ def test_the_console_command_prints_all_and_exits_with_the_status(capsys):
 def test_an_exit_with_work_pending_is_orderly():
     import threading
     from screwkit.cli._main import _nothing_pending
-    assert _nothing_pending()
+    before = _nothing_pending()             # (False where the test run keeps its own)
     release = threading.Event()
     worker = threading.Thread(target=release.wait)          # a non-daemon thread, alive
     worker.start()
@@ -378,4 +378,4 @@ def test_an_exit_with_work_pending_is_orderly():
     finally:
         release.set()
         worker.join()
-    assert _nothing_pending()
+    assert _nothing_pending() == before
