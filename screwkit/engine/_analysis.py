@@ -343,9 +343,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
         Also keep, from the same kernel run, each actuated leg's actuated-joint unit twist
         (:attr:`PMAnalysis.actuated_twists`; formed on first read otherwise).
     lines : bool
-        Also keep, from the same kernel run, the joints the transmission indices read and
-        the platform of every pose (``18 n + 27`` numbers a pose): :attr:`PMAnalysis.indices`
-        then needs no second pass over the poses (maps ask for it).
+        Keep the joints :attr:`PMAnalysis.indices` reads and the platform from this run.
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     load = resolve_workload(model, force, torque)
@@ -357,7 +355,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
                    compliance=compliance, mapper=mapper if path else None, twists=bool(twists),
-                   lines=bool(lines) and not (path and mapper is not None))
+                   lines=bool(lines))
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
                         invalid)
     cond = comp.conditioning

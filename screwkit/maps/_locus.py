@@ -62,11 +62,10 @@ def find_crossings(ds):
     reach = ds["reachable"].values
     along, lo = [], []
     for k in range(s.ndim):
-        a = np.take(s, range(s.shape[k] - 1), axis=k)
-        b = np.take(s, range(1, s.shape[k]), axis=k)
-        ra = np.take(reach, range(s.shape[k] - 1), axis=k)
-        rb = np.take(reach, range(1, s.shape[k]), axis=k)
-        idx = np.argwhere((a * b == -1) & ra & rb)
+        # each cell and its next neighbour along k (views: no copies of the map's arrays)
+        first = tuple(slice(None, -1) if d == k else slice(None) for d in range(s.ndim))
+        second = tuple(slice(1, None) if d == k else slice(None) for d in range(s.ndim))
+        idx = np.argwhere((s[first] * s[second] == -1) & reach[first] & reach[second])
         along.append(np.full(len(idx), k))
         lo.append(idx)
     along = np.concatenate(along) if along else np.zeros(0, int)
