@@ -262,6 +262,7 @@ def actuation_row(M, i, RW, row):
         row[5] = X[0] * d1 - X[1] * d0
         # every passive joint leaves X's velocity normal to the line (a structural choice)
         res = 0.0
+        inv_l = 1.0 / L
         for j in range(size):
             if j == act:
                 continue
@@ -269,8 +270,8 @@ def actuation_row(M, i, RW, row):
             v0 = t[0] - (X[1] * t[5] - X[2] * t[4])
             v1 = t[1] - (X[2] * t[3] - X[0] * t[5])
             v2 = t[2] - (X[0] * t[4] - X[1] * t[3])
-            f = 1.0 if is_prismatic(kind[i, j]) else L
-            res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) / f)
+            f = 1.0 if is_prismatic(kind[i, j]) else inv_l
+            res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) * f)
         ok = res < ZERO
     else:
         ok = least_norm_member(M, i, RW, row)
