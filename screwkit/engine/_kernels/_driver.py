@@ -32,7 +32,7 @@ from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
                       make_work)
-from ._rows import RW_TW, leg_rows, make_rows_work
+from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
 from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
                        equilibrium, make_statics_work, normalise_rows, spread, statics_apply,
                        statics_prepare, workload_about_origin)
@@ -94,7 +94,9 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
     tw_out = O[OUT_TWISTS]
     leg = M[LEG]
     for i in range(n):
-        lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
+        lok, st, done = template_rows(M, i, RW, FA[b, i], fp, J, scale)
+        if not done:                  # the general rules (the call kept out of the legs')
+            lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
         ok = ok and lok
         O[OUT_STRUCT][p, i] = st
         a = leg[i, L_AROW]

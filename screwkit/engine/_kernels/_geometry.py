@@ -147,7 +147,7 @@ def null_space(rows, r, g, vec):
     ``vec``; returns False where the rows do not leave a null space of exactly that
     dimension (within ``ZERO``)."""
     big, kbig = 0.0, 0
-    for q in range(r):
+    for q in range(r if g >= 2 else 0):   # the longest row (not needed for g = 1)
         nq = math.sqrt(rows[q, 0] ** 2 + rows[q, 1] ** 2 + rows[q, 2] ** 2)
         if nq > big:
             big, kbig = nq, q
@@ -168,18 +168,24 @@ def null_space(rows, r, g, vec):
         for c in range(3):
             vec[c] = math.nan
         return False
-    best, brel = -1.0, 0.0
+    # the largest cross product (rows are dimensionless), compared by its square: the
+    # square roots only for the pair chosen
+    best2, ba, bb = -1.0, 0, 1
     for a in range(r - 1):
-        na = math.sqrt(rows[a, 0] ** 2 + rows[a, 1] ** 2 + rows[a, 2] ** 2)
         for b in range(a + 1, r):
             x0 = rows[a, 1] * rows[b, 2] - rows[a, 2] * rows[b, 1]
             x1 = rows[a, 2] * rows[b, 0] - rows[a, 0] * rows[b, 2]
             x2 = rows[a, 0] * rows[b, 1] - rows[a, 1] * rows[b, 0]
-            size = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
-            if size > best:           # the largest cross product (rows are dimensionless)
-                nb = math.sqrt(rows[b, 0] ** 2 + rows[b, 1] ** 2 + rows[b, 2] ** 2)
-                best, brel = size, size / max(na * nb, 1e-300)
+            size2 = x0 * x0 + x1 * x1 + x2 * x2
+            if size2 > best2:
+                best2, ba, bb = size2, a, b
                 vec[0], vec[1], vec[2] = x0, x1, x2
+    best, brel = -1.0, 0.0            # (no pair compared: non-finite rows)
+    if best2 >= 0.0:
+        best = math.sqrt(best2)
+        na = math.sqrt(rows[ba, 0] ** 2 + rows[ba, 1] ** 2 + rows[ba, 2] ** 2)
+        nb = math.sqrt(rows[bb, 0] ** 2 + rows[bb, 1] ** 2 + rows[bb, 2] ** 2)
+        brel = best / max(na * nb, 1e-300)
     nv = max(best, 1e-300)
     for c in range(3):
         vec[c] /= nv

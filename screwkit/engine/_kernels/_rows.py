@@ -239,51 +239,69 @@ def least_norm_member(M, i, RW, member):
 
 
 @inner
-def actuation_row(M, i, RW, row):
-    """The actuation row of leg ``i`` into ``row (6,)`` (``[f; m]`` about O, reciprocal
-    product 1 with the actuated joint's unit twist).  Returns ``(scale, ok)``: ``row =
-    scale * unit member``."""
+def line_member(M, i, RW, row):
+    """The unit force on the line through the leg's two named actuation points into ``row
+    (6,)`` (physical); returns False where a passive joint moves the first point along the
+    line (the structure chosen at home does not hold)."""
     tpl, kind = M[TPL][i], M[KIND]
     ctx, tw, pv = RW[RW_CTX], RW[RW_TW], RW[RW_PV]
     size, act = M[LEG][i, L_SIZE], M[LEG][i, L_ACT]
-    L = ctx[3, 0]
-    if tpl[T_AKIND] == A_NONE:
-        for q in range(6):
-            row[q] = 0.0
-        return 0.0, False
-    if tpl[T_AKIND] == A_LINE:
-        X, Y = pv[tpl[T_AP1]], pv[tpl[T_AP2]]
-        d0, d1, d2 = Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]
-        nd = max(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300)
-        d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
-        row[0], row[1], row[2] = d0, d1, d2
-        row[3] = X[1] * d2 - X[2] * d1
-        row[4] = X[2] * d0 - X[0] * d2
-        row[5] = X[0] * d1 - X[1] * d0
-        # every passive joint leaves X's velocity normal to the line (a structural choice)
-        res = 0.0
-        for j in range(size):
-            if j == act:
-                continue
-            t = tw[j]
-            v0 = t[0] - (X[1] * t[5] - X[2] * t[4])
-            v1 = t[1] - (X[2] * t[3] - X[0] * t[5])
-            v2 = t[2] - (X[0] * t[4] - X[1] * t[3])
-            f = 1.0 if is_prismatic(kind[i, j]) else L
-            res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) / f)
-        ok = res < ZERO
-    else:
-        ok = least_norm_member(M, i, RW, row)
-    t = tw[act]
+    X, Y = pv[tpl[T_AP1]], pv[tpl[T_AP2]]
+    d0, d1, d2 = Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]
+    nd = max(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300)
+    d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
+    row[0], row[1], row[2] = d0, d1, d2
+    row[3] = X[1] * d2 - X[2] * d1
+    row[4] = X[2] * d0 - X[0] * d2
+    row[5] = X[0] * d1 - X[1] * d0
+    # every passive joint leaves X's velocity normal to the line (a structural choice)
+    res = 0.0
+    inv_l = 1.0 / ctx[3, 0]
+    for j in range(size):
+        if j == act:
+            continue
+        t = tw[j]
+        v0 = t[0] - (X[1] * t[5] - X[2] * t[4])
+        v1 = t[1] - (X[2] * t[3] - X[0] * t[5])
+        v2 = t[2] - (X[0] * t[4] - X[1] * t[3])
+        f = 1.0 if is_prismatic(kind[i, j]) else inv_l
+        res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) * f)
+    return res < ZERO
+
+
+@inner
+def scale_actuation(row, t, size_a):
+    """Scale the unit member ``row (6,)`` in place so that its reciprocal product with the
+    actuated joint's unit twist ``t`` is 1; returns ``(scale, dependent)`` (``dependent``:
+    the product vanishes relative to ``size_a``, 1 for a prismatic joint, ``L`` else)."""
     prod = 0.0
     for q in range(6):
         prod += row[q] * t[q]
-    size_a = 1.0 if is_prismatic(kind[i, act]) else L
     dependent = abs(prod) <= 1e-9 * max(size_a, 1e-300)
     scale = 0.0 if dependent else 1.0 / abs(prod)
     sg = -1.0 if prod < 0 else 1.0
     for q in range(6):
         row[q] *= sg * scale
+    return scale, dependent
+
+
+@inner
+def actuation_row(M, i, RW, row):
+    """The actuation row of leg ``i`` into ``row (6,)`` (``[f; m]`` about O, reciprocal
+    product 1 with the actuated joint's unit twist).  Returns ``(scale, ok)``: ``row =
+    scale * unit member``."""
+    tpl, kind = M[TPL][i], M[KIND]
+    act = M[LEG][i, L_ACT]
+    if tpl[T_AKIND] == A_NONE:
+        for q in range(6):
+            row[q] = 0.0
+        return 0.0, False
+    if tpl[T_AKIND] == A_LINE:
+        ok = line_member(M, i, RW, row)
+    else:
+        ok = least_norm_member(M, i, RW, row)
+    size_a = 1.0 if is_prismatic(kind[i, act]) else RW[RW_CTX][3, 0]
+    scale, dependent = scale_actuation(row, RW[RW_TW][act], size_a)
     return scale, ok and not dependent
 
 
@@ -320,3 +338,44 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
         ok = ok and aok
     return ok, structure
 
+
+@inner
+def template_rows(M, i, RW, fa, fp, J, scale):
+    """:func:`leg_rows` for a leg whose rows follow its template (groups, a line or no
+    actuation): the common case, kept free of the calls of the general rules (a call site
+    of a large kernel costs every call of its caller, taken or not).  Returns ``(ok,
+    structure_ok, done)``; not ``done`` (nothing written) where the leg needs
+    :func:`leg_rows`: the generic rule, a least-norm actuation, or a group whose structure
+    does not hold at this pose."""
+    tpl = M[TPL][i]
+    akind = tpl[T_AKIND]
+    if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
+        return False, False, False
+    ctx, tw = RW[RW_CTX], RW[RW_TW]
+    leg_setup(M, i, fa, fp, ctx, tw)
+    eval_points(M, i, fa, ctx, RW[RW_PV])
+    eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
+    cons = RW[RW_CONS]
+    k = tpl[T_K]
+    if k and not group_members(M, i, RW, fa, cons):
+        return False, False, False
+    r0 = tpl[T_CROW]
+    for r in range(k):
+        scale[r0 + r] = 1.0
+        for q in range(6):
+            J[r0 + r, q] = cons[r, q]
+    arow = M[LEG][i, L_AROW]
+    if arow < 0:
+        return True, True, True
+    row = J[arow]
+    if akind == A_NONE:
+        for q in range(6):
+            row[q] = 0.0
+        scale[arow] = 0.0
+        return False, True, True
+    ok = line_member(M, i, RW, row)
+    act = M[LEG][i, L_ACT]
+    size_a = 1.0 if is_prismatic(M[KIND][i, act]) else ctx[3, 0]
+    s, dependent = scale_actuation(row, tw[act], size_a)
+    scale[arow] = s
+    return ok and not dependent, True, True

@@ -277,8 +277,9 @@ def symmetric_eigenvalues(A, n, d, e):
             if scale == 0.0:
                 e[i] = A[i, lm]
             else:
+                sinv = 1.0 / scale
                 for k in range(lm + 1):
-                    A[i, k] /= scale
+                    A[i, k] *= sinv
                     h += A[i, k] * A[i, k]
                 f = A[i, lm]
                 g = -math.sqrt(h) if f >= 0.0 else math.sqrt(h)
@@ -286,13 +287,14 @@ def symmetric_eigenvalues(A, n, d, e):
                 h -= f * g
                 A[i, lm] = f - g
                 f = 0.0
+                hinv = 1.0 / h
                 for j in range(lm + 1):
                     g = 0.0
                     for k in range(j + 1):
                         g += A[j, k] * A[i, k]
                     for k in range(j + 1, lm + 1):
                         g += A[k, j] * A[i, k]
-                    e[j] = g / h
+                    e[j] = g * hinv
                     f += e[j] * A[i, j]
                 hh = f / (h + h)
                 for j in range(lm + 1):
@@ -336,8 +338,9 @@ def symmetric_eigenvalues(A, n, d, e):
                     e[m] = 0.0
                     early = True
                     break
-                s = f / r
-                c = g / r
+                inv = 1.0 / r             # (one division, not two: latency-bound)
+                s = f * inv
+                c = g * inv
                 g = d[i + 1] - p
                 r = (d[i] - g) * s + 2.0 * c * b
                 p = s * r

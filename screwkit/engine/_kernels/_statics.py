@@ -138,10 +138,6 @@ def statics_prepare(mr, sv, comp, SW):
     compliances); returns ``(mode, det_sign)`` (the sign of ``det J`` for a square ``J``)."""
     Jn, d, Jw, g, LU, piv = SW[SW_JN], SW[SW_D], SW[SW_JW], SW[SW_G], SW[SW_LU], SW[SW_PIV]
     k = min(mr, 6)
-    for r in range(mr):
-        g[r] = d[r] / math.sqrt(comp[r]) if mr > 6 else 1.0
-        for q in range(6):
-            Jw[r, q] = Jn[r, q] * g[r]
     well = k == 6 and sv[5] * REFINE > sv[0]
     sign = 0.0
     if mr == 6:
@@ -149,8 +145,12 @@ def statics_prepare(mr, sv, comp, SW):
             for q in range(6):
                 LU[q, r] = Jn[r, q]
         sign = lu_factor(LU, 6, piv)
-        if well:
+        if well:                        # the weighted rows are not needed: LU of Jn^T
             return MODE_SQUARE, sign
+    for r in range(mr):
+        g[r] = d[r] / math.sqrt(comp[r]) if mr > 6 else 1.0
+        for q in range(6):
+            Jw[r, q] = Jn[r, q] * g[r]
     if well:
         for a in range(6):
             for b in range(6):
@@ -228,19 +228,21 @@ def statics_apply(mode, mr, W, c, L, SW, values):
 def equilibrium(J, mr, values, W, c, L, d):
     """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and the row wrenches ``|F_r J_r|``,
     all length-normalised about the centroid (unit-free, frame-free)."""
-    tot = np.zeros(6)
-    for q in range(6):
-        tot[q] = W[q]
+    # the sum in scalars (no array allocated per pose)
+    f0, f1, f2, m0, m1, m2 = W[0], W[1], W[2], W[3], W[4], W[5]
     rows = 0.0
     for r in range(mr):
         v = values[r]
-        for q in range(6):
-            tot[q] += v * J[r, q]
+        f0 += v * J[r, 0]
+        f1 += v * J[r, 1]
+        f2 += v * J[r, 2]
+        m0 += v * J[r, 3]
+        m1 += v * J[r, 4]
+        m2 += v * J[r, 5]
         rows = max(rows, abs(v) * d[r])
-    f0, f1, f2 = tot[0], tot[1], tot[2]
-    t3 = (tot[3] - (c[1] * f2 - c[2] * f1)) / L
-    t4 = (tot[4] - (c[2] * f0 - c[0] * f2)) / L
-    t5 = (tot[5] - (c[0] * f1 - c[1] * f0)) / L
+    t3 = (m0 - (c[1] * f2 - c[2] * f1)) / L
+    t4 = (m1 - (c[2] * f0 - c[0] * f2)) / L
+    t5 = (m2 - (c[0] * f1 - c[1] * f0)) / L
     num = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + t3 * t3 + t4 * t4 + t5 * t5)
     f0, f1, f2 = W[0], W[1], W[2]
     t3 = (W[3] - (c[1] * f2 - c[2] * f1)) / L
