@@ -87,3 +87,23 @@ def test_indices_keep_the_platform_they_computed():
         np.testing.assert_array_equal(x, y)
     for k, v in a.indices.data.items():
         np.testing.assert_array_equal(v, b.indices.data[k])
+
+
+def test_indices_from_the_analysis_run_equal_the_second_pass():
+    # a map's analysis keeps the indices' joints and platform from its own run (prismatic
+    # joints: the solution's q / QS rounds to other bits on some poses, formed again
+    # there); the indices and the platform equal those of the pass over the solved poses
+    pm = screwkit.load_pm("3RRPRR")
+    rng = np.random.default_rng(7)
+    n = 400
+    pose = {"alpha": rng.uniform(-40, 40, n), "beta": rng.uniform(-40, 40, n),
+            "Zo": rng.uniform(20, 140, n)}
+    pose["Zo"][:20] = 5000.0                                # beyond reach: flagged
+    a = screwkit.analyze(pm, pose, degrees=True, lines=True)
+    b = screwkit.analyze(pm, pose, degrees=True)
+    assert 0 < a.solution.reachable_mask.sum() < n
+    assert a.diagnostics["lines"].shape == (n, 3, 18)
+    for k, v in a.indices.data.items():
+        np.testing.assert_array_equal(v, b.indices.data[k])
+    for x, y in zip(a.solution._platform, b.solution._platform):
+        np.testing.assert_array_equal(x, y)
