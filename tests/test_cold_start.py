@@ -219,9 +219,8 @@ def _imports_of(argv, watched):
     outputs, and which of ``watched`` the second imported."""
     import subprocess
     import sys
-    code = (f"import sys, runpy; sys.argv = ['screwkit'] + {list(argv)!r}\n"
-            "try:\n    runpy.run_module('screwkit', run_name='__main__')\n"
-            "except SystemExit:\n    pass\n"
+    # (the command's main, not ``python -m screwkit``, which ends the process at once)
+    code = (f"import sys\nfrom screwkit.cli import main\nmain({list(argv)!r})\n"
             f"print(sorted(m for m in {tuple(watched)!r} if m in sys.modules), file=sys.stderr)")
     runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            timeout=600) for _ in range(2)]
@@ -240,3 +239,143 @@ def test_a_warm_cold_analyze_imports_no_scipy_nor_numba_registries():
 def test_a_warm_cold_leg_imports_no_yaml_nor_the_engine():
     out, imported = _imports_of(["leg", "RRPRR"], ("yaml", "numba", "screwkit.engine"))
     assert "catalog expects" in out and imported == "[]"
+
+
+def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
+    _quick()
+    out, imported = _imports_of(["analyze", "3RRPRR", "--json"], ("numba.np.arrayobj",))
+    assert json.loads(out)["pm"] == "3RRPRR" and imported == "[]"
+
+
+# --- a one-pose command compiles (and loads) only what it runs ---------------------------
+
+def test_a_one_pose_analysis_never_runs_the_parallel_kernel():
+    """The home predictor's fit (64 poses) runs in the calling thread: a first ``analyze``
+    does not compile the parallel kernel, a cold one does not load it."""
+    import subprocess
+    import sys
+    code = ("import screwkit\n"
+            "from screwkit.engine._kernels import _driver\n"
+            "res = screwkit.analyze(screwkit.load_pm('3RRPRR'), "
+            "{'alpha': 0.05, 'beta': -0.02, 'Zo': 80.0})\n"
+            "print(bool(res.ok), len(_driver.run_range.overloads), "
+            "len(_driver.run_parallel.overloads))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=900)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["True", "1", "0"]
+
+
+def test_the_predictor_fit_in_one_thread_is_the_threaded_one_bit_for_bit():
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._launch import run_poses
+    from screwkit.engine._solve import predictor_of
+    ch = chains_of(load_pm("3RRPRR"))
+    Z = predictor_of(ch)
+    rng = np.random.default_rng(5)
+    fixed = {p: ch.home[p] + rng.uniform(-0.15, 0.15, 64) * (ch.length if p == "Zo" else 1)
+             for p in ch.fixed}
+    args = (ch.flat, Z, ch.full_params(fixed, 64))
+    kw = dict(X0=ch.home_vector(64).T, rows=False)
+    one = run_poses(*args, workers=1, **kw)
+    two = run_poses(*args, workers=2, per_thread=32, **kw)
+    assert one["X"].tobytes() == two["X"].tobytes()
+    assert one["residual"].tobytes() == two["residual"].tobytes()
+
+
+def test_the_first_compile_of_a_kernel_is_noted_once(tmp_path, capsys):
+    from types import SimpleNamespace
+    from screwkit.engine import _kernels
+
+    class Kernel:                   # what the note reads of a numba dispatcher
+        def __init__(self, index):
+            self.overloads = {}
+            self._cache = SimpleNamespace(_cache_file=SimpleNamespace(_index_path=str(index)))
+
+    kernel = Kernel
+
+    fresh = kernel(tmp_path / "missing.nbi")
+    for _ in range(2):
+        _kernels.note_first_compile(fresh, "a kernel", "a while")
+    err = capsys.readouterr().err
+    assert err.count("screwkit: compiling a kernel (once, a while; cached in") == 1
+    (tmp_path / "kept.nbi").write_text("")
+    _kernels.note_first_compile(kernel(tmp_path / "kept.nbi"), "a kernel", "a while")
+    loaded = kernel(tmp_path / "missing2.nbi")
+    loaded.overloads[("sig",)] = object()
+    _kernels.note_first_compile(loaded, "a kernel", "a while")
+    assert capsys.readouterr().err == ""
+
+
+# --- one compiled version per argument type (screwkit.engine._kernels._jit._Inner) -------
+
+def test_an_inner_kernel_is_compiled_once_per_type_not_per_literal():
+    import numba
+    from numba import types
+    from screwkit.engine._kernels._jit import _Inner
+
+    def scaled(x, k):
+        return x * (k + 1)
+
+    def pick(t, k):                 # a heterogeneous tuple: needs its index as a literal
+        return t[k]
+
+    inner_scaled = numba.njit(no_cpython_wrapper=True)(scaled)
+    inner_scaled.__class__ = _Inner
+    inner_pick = numba.njit(no_cpython_wrapper=True)(pick)
+    inner_pick.__class__ = _Inner
+
+    @numba.njit
+    def caller(x, k):
+        t = (x, np.int64(3))
+        return (inner_scaled(x, 0) + inner_scaled(x, 1) + inner_scaled(x, k)
+                + inner_pick(t, 0) + inner_pick(t, 1))
+
+    x = 1.5
+    assert caller(x, 2) == x * 1 + x * 2 + x * 3 + x + 3
+    assert [tuple(s) for s in inner_scaled.signatures] == [(types.float64, types.int64)]
+    assert all(isinstance(s[1], types.IntegerLiteral) for s in inner_pick.signatures)
+
+
+def test_the_kernels_hold_no_version_per_literal():
+    """The kernels' cache (what the compiles of this and earlier processes kept) holds one
+    version of each unpacking and kinematics function per argument type."""
+    from numba import types
+    from screwkit.engine._kernels import _kin, _pack
+    screwkit.analyze(load_pm("3RRPRR"), {"alpha": 0.05, "beta": -0.02, "Zo": 80.0})
+    for fn in (_pack.f1, _pack.f2, _pack.f3, _kin.chain, _kin.forward):
+        sigs = list(fn.signatures) + [key[0] for key in fn._cache._cache_file._load_index()]
+        assert sigs, fn
+        assert not any(isinstance(t, types.Literal) for s in sigs for t in s), fn
+
+
+# --- the console command ends at once when nothing is pending (screwkit.cli.run) ---------
+
+def test_the_console_command_prints_all_and_exits_with_the_status(capsys):
+    import subprocess
+    import sys
+    from screwkit.cli import main
+    assert main(["analyze", "3RRPRR"]) == 0
+    want = capsys.readouterr().out
+    ok = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR"],
+                        capture_output=True, text=True, timeout=900)
+    assert ok.returncode == 0 and ok.stdout == want
+    bad = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "NOPE"],
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.startswith("screwkit analyze: error:") and "Traceback" not in bad.stderr
+
+
+def test_an_exit_with_work_pending_is_orderly():
+    import threading
+    from screwkit.cli._main import _nothing_pending
+    before = _nothing_pending()             # (False where the test run keeps its own)
+    release = threading.Event()
+    worker = threading.Thread(target=release.wait)          # a non-daemon thread, alive
+    worker.start()
+    try:
+        assert not _nothing_pending()
+    finally:
+        release.set()
+        worker.join()
+    assert _nothing_pending() == before

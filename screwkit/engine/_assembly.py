@@ -56,10 +56,24 @@ def check_default_pose(model, check_motion: bool = True):
                            model.source) from None
     out = dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}"
                                                                for t in sol.notes))
+    _share_engine(model, out)
     if fm is not None:
         from ..pm import register_finite_motion
         register_finite_motion(out, fm)
     return out
+
+
+def _share_engine(model, out) -> None:
+    """``out``, ``model`` with other notes, takes ``model``'s row templates, flattened
+    arrays, chains and home predictor (made from the geometry alone) instead of deciding
+    and fitting them again on its first computation."""
+    from ._chains import _CACHE
+    from ._flat import _FLAT
+    from ._templates import _TEMPLATES
+    for table in (_TEMPLATES, _FLAT, _CACHE):
+        hit = table.get(model)
+        if hit is not None:
+            table.setdefault(out, hit)
 
 
 def load_assembled_pm(name_or_path, overrides: dict | None = None, catalog=None):

@@ -13,13 +13,16 @@ import os
 import numpy as np
 
 from ._arrays import Packed
-from ._kernels import LAUNCH_LOCK, kernels, set_threads
+from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
 
 __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
            "leg_wrenches"]
 
 #: Fewest poses per thread worth a parallel launch.
 MIN_PER_THREAD = 256
+
+#: How long the first compile of a parallel kernel takes (the note on stderr).
+PARALLEL_COMPILE = "about half a minute"
 
 #: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
@@ -45,11 +48,15 @@ def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
 
 
-def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD):
+def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False):
     nw = threads(N, workers, per_thread)
     if nw <= 1:
         serial(*args, 0, N)
         return
+    if note:
+        # (a one-pose command never runs the parallel analysis kernel: its first compile
+        # comes with the first batch that needs threads, and says so)
+        note_first_compile(par, "the engine's parallel kernel for batches", PARALLEL_COMPILE)
     with LAUNCH_LOCK:
         set_threads(nw)
         par(*args, nw)
@@ -130,7 +137,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
-            N, workers, per_thread)
+            N, workers, per_thread, note=True)
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
                               for is_int, is_bool, o0, o1, sh in plan.out]))
 

@@ -122,10 +122,10 @@ def predictor_of(ch: Chains) -> tuple:
             axes[2 * k, k], axes[2 * k + 1, k] = -1.0 / 3.0, 1.0 / 3.0
         G = np.concatenate([G, axes])
     fixed = {p: home[k] + span[k] * G[:, k] for k, p in enumerate(ch.fixed)}
-    # (each pose solved from home: worth a thread from 32 poses; the bits do not depend on
-    # the threads)
+    # (in this thread: a few milliseconds, and a one-pose command then neither loads nor,
+    # on its first run, compiles the parallel kernel; the bits do not depend on the threads)
     out = run_poses(flat, flat.Z, ch.full_params(fixed, len(G)),
-                    X0=ch.home_vector(len(G)).T, rows=False, per_thread=32)
+                    X0=ch.home_vector(len(G)).T, rows=False, workers=1)
     good = out["residual"] <= CONVERGED
     nfeat = _features_count(nf, degree)
     C = np.zeros((0, ch.n_unknowns))

@@ -6,7 +6,9 @@ next to their sources when the package directory is writable, otherwise in a use
 directory (``$XDG_CACHE_HOME/screwkit/numba``, ``~/.cache/screwkit/numba``;
 ``NUMBA_CACHE_DIR`` wins when it is set), set before numba is imported so that Dask workers
 find the same cache.  The first run after an install compiles them once, with a note on
-stderr.  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
+stderr (numba compiles an entry point on its first call: a one-pose command compiles the
+serial ones; the first batch on several threads compiles the parallel kernel, with a note
+of its own).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
 ``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
 waits for the running one, which uses every thread it was given.
 
@@ -23,12 +25,13 @@ import sys
 import threading
 from types import SimpleNamespace
 
-__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads"]
+__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads", "note_first_compile"]
 
 #: Held while a parallel kernel runs (numba's workqueue layer takes one launch at a time).
 LAUNCH_LOCK = threading.RLock()
 _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
+_NOTED: set = set()
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
 _LOADER = ("__init__.py", "_loading.py")
@@ -131,6 +134,17 @@ def _compiled_before(fn) -> bool:
         return True
 
 
+def note_first_compile(fn, what: str, how_long: str) -> None:
+    """One line on stderr when the call of the kernel ``fn`` about to be made compiles it
+    (neither loaded in this process nor in the cache): ``what`` it is, ``how_long``."""
+    if fn.overloads or fn in _NOTED:
+        return
+    _NOTED.add(fn)
+    if not _compiled_before(fn):
+        print(f"screwkit: compiling {what} (once, {how_long}; cached in {cache_dir()})",
+              file=sys.stderr, flush=True)
+
+
 def kernels() -> SimpleNamespace:
     """The kernel functions (numba and the kernel modules imported on the first call)."""
     global _K
@@ -143,8 +157,8 @@ def kernels() -> SimpleNamespace:
             from . import _driver, _extra, _fk, _indices, _probe
             _quick_loading(numba, (_driver, _extra, _fk, _indices, _probe))
             if not _compiled_before(_driver.run_range):
-                print(f"screwkit: compiling the engine's kernels (once, a few minutes; cached "
-                      f"in {cache_dir()})", file=sys.stderr, flush=True)
+                print(f"screwkit: compiling the engine's kernels (once, about a minute; "
+                      f"cached in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
             for mod in (_driver, _extra, _fk, _indices, _probe):
                 for name in dir(mod):

@@ -24,12 +24,40 @@ needed.
 """
 
 from numba import njit, types
-from numba.core import cgutils
+from numba.core import cgutils, errors
+from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
 
 _OPTIONS = dict(cache=True, error_model="numpy")
 
-inner = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
+
+class _Inner(CPUDispatcher):
+    """A dispatcher compiled once per argument type, not once per constant: a call with a
+    literal (``f(M, 0)``, ``g(x, True)``) uses the version for the argument's type (int64,
+    bool), compiled for any other call too.  numba otherwise compiles a version for every
+    literal value at a call site (a model tuple's 21 unpacking calls, ``forward`` at leg 0
+    and at leg ``b``...), each with everything it calls: a first compile's time, for code
+    the same up to the constant (which LLVM still folds where it inlines).  A function that
+    needs its literal (typing fails without it) gets it, as before."""
+
+    def get_call_template(self, args, kws):
+        plain = tuple(types.unliteral(a) for a in args)
+        if plain != tuple(args):
+            try:
+                return super().get_call_template(plain, kws)
+            except errors.TypingError:
+                pass
+        return super().get_call_template(args, kws)
+
+
+def _inner(fn):
+    d = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)(fn)
+    if type(d) is CPUDispatcher:
+        d.__class__ = _Inner
+    return d
+
+
+inner = _inner
 entry = njit(**_OPTIONS)
 parallel = njit(parallel=True, **_OPTIONS)
 #: A function with a single caller that takes many tuples of arrays (the pose driver): its body

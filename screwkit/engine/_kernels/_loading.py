@@ -9,7 +9,13 @@ a cold command's time after the imports:
   scipy.linalg), which only the compilation of new code reads;
 * each cached library holds, beside its object code, the LLVM bitcode of its functions for
   linking them into code compiled later; loading parses that bitcode (most of a load) to
-  list the symbols the object defines.
+  list the symbols the object defines;
+* it rebuilds the environment (the module globals) of every function in the object,
+  importing that function's module: numba's own array implementations (``np.empty``,
+  ``np.zeros`` inlined into the kernels) make it import ``numba.np.arrayobj`` and with it
+  most of numba's lowering (about 0.1 s), for globals that compiled nopython code never
+  reads (only object mode and the Python wrapper of an entry point, whose module is the
+  kernel's own, look globals up).
 
 The kernels' dispatchers get a cache (:func:`install`) that loads a cached kernel after
 initialising numba's runtime only (``rtsys.initialize``: the symbols the object code links
@@ -17,7 +23,9 @@ to; the parallel kernels start their threading layer by their own reload hooks),
 library that parses its bitcode on first use for linking (never, unless new code is
 compiled against it), and reads the names of the symbols from a list kept beside the
 kernels (``symbols/<sha1 of the bitcode>``, written once from the parsed bitcode: a function
-of those bytes alone).  A lookup that misses refreshes the registries as numba does, and
+of those bytes alone), and with the environment of a function of a numba module not yet
+imported built on that module's name alone (not kept in numba's table of environments, so
+that code compiled later gets the real one).  A lookup that misses refreshes the registries as numba does, and
 numba compiles as usual (its compiler refreshes too).  Other numba users in the process are
 untouched; with a numba whose internals differ, nothing changes.
 """
@@ -26,6 +34,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import sys
 
 __all__ = ["install", "supported"]
 
@@ -86,10 +95,14 @@ def install(dispatchers, symbol_folder: str) -> None:
         return
     try:
         from llvmlite import binding as ll
+        from numba.core import environment
         from numba.core.caching import FunctionCache
         from numba.core.codegen import JITCodeLibrary
         from numba.core.runtime import rtsys
     except ImportError:
+        return
+    if not all(hasattr(environment, a) for a in ("_rebuild_env", "lookup_environment",
+                                                  "Environment")):
         return
     if not (all(hasattr(FunctionCache, a) for a in ("_load_overload",
                                                     "_guard_against_spurious_io_errors"))
@@ -133,16 +146,30 @@ def install(dispatchers, symbol_folder: str) -> None:
             engine._defined_symbols |= names
             return self
 
+    rebuild_env = environment._rebuild_env
+
+    def _env_unimported(modname, consts, env_name):
+        """numba's ``_rebuild_env``, without importing a numba module for its globals."""
+        env = environment.lookup_environment(env_name)
+        if env is None and modname not in sys.modules and modname.startswith("numba."):
+            env = environment.Environment({"__name__": modname})
+            env.consts[:] = consts
+            env.env_name = env_name
+            return env
+        return rebuild_env(modname, consts, env_name)
+
     class _QuickCache(FunctionCache):
         def load_overload(self, sig, target_context):
             rtsys.initialize(target_context)
             codegen = target_context.codegen()
             had = codegen.__dict__.get("_library_class")
             codegen._library_class = _LazyLinkLibrary   # under numba's compiler lock
+            environment._rebuild_env = _env_unimported  # (pickle looks it up by name)
             try:
                 with self._guard_against_spurious_io_errors():
                     data = self._load_overload(sig, target_context)
             finally:
+                environment._rebuild_env = rebuild_env
                 if had is None:
                     del codegen._library_class
                 else:
