@@ -78,10 +78,20 @@ def newton_continued(M, unk, xs, p6fix, X, p6home, fix, continuation, W):
     polish.  Returns ``(residual, iterations, how, fresh)``: how 0 Newton from the start, 1
     continuation, 2 not solved; ``fresh``: the frames of buffer 0/1 belong to the final
     ``X`` (else -1: recompute them)."""
+    res, its, _, cur = gauss_newton(M, unk, xs, p6fix, X,
+                                    tolerance(M[ORDER], unk, xs, p6fix, X), 30, W)
+    if res <= CONVERGED:
+        return res, its, 0, cur
+    return rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur)
+
+
+@inner
+def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
+    """After a Newton run from ``X`` that left the residual ``res`` above convergence: the
+    continuation from home, then the polish (:func:`newton_continued`'s second half, apart
+    so that a pose solved by its first Newton run, the common case, calls no more)."""
     order = M[ORDER]
     nx = X.shape[0]
-    res, its, _, cur = gauss_newton(M, unk, xs, p6fix, X, tolerance(order, unk, xs, p6fix, X),
-                                    30, W)
     how = 0
     XC, p6s = W[W_XC], W[W_P6S][0]
     if not res <= CONVERGED and continuation:
@@ -228,8 +238,14 @@ def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continu
                                          fix2, W)
         cur = -1
     else:
-        res, its, how, cur = newton_continued(M, unk, xs, p6fix, X, p6home, fix,
-                                              continuation, W)
+        # newton_continued written out: a pose solved by its first Newton run (the common
+        # case) passes the model and the workspace down one call fewer
+        res, its, _, cur = gauss_newton(M, unk, xs, p6fix, X,
+                                        tolerance(order, unk, xs, p6fix, X), 30, W)
+        how = 0
+        if not res <= CONVERGED:
+            res, its, how, cur = rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W,
+                                        res, its, cur)
     FA, FL, FE, FP = W[W_FA], W[W_FL], W[W_FE], W[W_FP]
     if cur < 0:
         cur = 0

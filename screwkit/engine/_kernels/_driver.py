@@ -23,7 +23,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
 from numba import prange
 
-from ._jit import borrowed, entry, inner, parallel
+from ._jit import borrowed, entry, inlined, inner, parallel
 
 from ._closures import predict, solve_pose
 from ._indices import pose_lines
@@ -53,7 +53,7 @@ def _compliance(I, p, mr, torque, L, comp):
             comp[r] = c[p if c.shape[0] > 1 else 0, r]
 
 
-@inner
+@inlined
 def run_pose(M, Z, I, O, flags, p, W, RW, SW):
     """Pose ``p``: solve (or the frames of the given unknowns), rows, conditioning and
     statics, as ``flags`` says."""

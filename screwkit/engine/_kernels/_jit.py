@@ -2,8 +2,9 @@
 
 ``inner`` for functions called only from other kernels (no CPython or C wrapper is built:
 a large part of the compile time of functions taking tuples of arrays), ``entry`` for the
-ones Python calls, ``parallel`` for the ``prange`` drivers.  Division follows numpy's error
-model (no Python exception branch on every division).
+ones Python calls, ``parallel`` for the ``prange`` drivers, ``inlined`` for a function
+inlined into its one caller.  Division follows numpy's error model (no Python exception
+branch on every division).
 
 No fast-math flag, not even ``contract``: with it LLVM may fuse a multiply and an add into
 one FMA (one rounding instead of two), and which pairs it fuses depends on the IR it is
@@ -59,6 +60,11 @@ def _inner(fn):
 inner = _inner
 entry = njit(**_OPTIONS)
 parallel = njit(parallel=True, **_OPTIONS)
+#: A function with a single caller that takes many tuples of arrays (the pose driver): its body
+#: typed into the caller (numba's IR inlining).  A call passes every array of its tuples as
+#: separate scalars (pointer, shape, strides...): the driver's hundred-odd arrays cost about
+#: 1 us a pose, as much as a forward-kinematics pass.
+inlined = njit(inline="always", no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
 
 
 def _unowned(context, builder, ty, value):

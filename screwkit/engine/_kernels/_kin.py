@@ -231,34 +231,6 @@ def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
 
 
 @inner
-def normalised_twists(M, FA, b, frozen, T):
-    """Joint twists in the Newton unknowns' units, length-normalised, ``T (n, m, 6)``:
-    ``[((p - c) x d) rot / L + trn d; rot d]``; zero for padded and ``frozen`` slots."""
-    plat = M[PLAT]
-    L = plat[P_L]
-    c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
-    rot, trn, leg = M[ROT], M[TRN], M[LEG]
-    n, m = T.shape[0], T.shape[1]
-    for i in range(n):
-        for j in range(m):
-            if j >= leg[i, L_SIZE] or frozen[i, j]:
-                for k in range(6):
-                    T[i, j, k] = 0.0
-                continue
-            f = FA[b, i, j]
-            d0, d1, d2 = f[0], f[1], f[2]
-            p0, p1, p2 = f[3] - c0, f[4] - c1, f[5] - c2
-            rl = rot[i, j] / L
-            tr = trn[i, j]
-            T[i, j, 0] = (p1 * d2 - p2 * d1) * rl + tr * d0
-            T[i, j, 1] = (p2 * d0 - p0 * d2) * rl + tr * d1
-            T[i, j, 2] = (p0 * d1 - p1 * d0) * rl + tr * d2
-            T[i, j, 3] = rot[i, j] * d0
-            T[i, j, 4] = rot[i, j] * d1
-            T[i, j, 5] = rot[i, j] * d2
-
-
-@inner
 def platform_columns(M, fp, unk, Pt):
     """Length-normalised platform twists per unit of each unknown parameter, ``Pt (6, nu)``
     (a length parameter per unit of ``L``)."""

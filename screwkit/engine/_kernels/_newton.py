@@ -19,8 +19,8 @@ import math
 import numpy as np
 from ._jit import inner
 
-from ._kin import forward, normalised_twists, platform_columns
-from ._layout import LEG, L_SIZE, STOP
+from ._kin import forward, platform_columns
+from ._layout import LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
 from ._small import cholesky_solve
 
 #: Relative Tikhonov shift of a leg's Gram matrix (exact legs) and of a leg with more joints
@@ -51,56 +51,69 @@ def newton_step(M, W, b, nu, frozen):
     """The Gauss-Newton step at the frames of buffer ``b`` into ``W[W_STEP]`` (the platform
     columns ``W[W_PT][:, :nu]`` set by the caller)."""
     FA, FE, T, Pt = W[W_FA], W[W_FE], W[W_T], W[W_PT]
-    G, B, Xs, Ar, step, idx = W[W_G], W[W_B], W[W_XS], W[W_AR], W[W_STEP], W[W_IDX]
-    leg = M[LEG]
+    G, B, Xs, Ar, step = W[W_G], W[W_B], W[W_XS], W[W_AR], W[W_STEP]
+    leg, rot, trn, plat = M[LEG], M[ROT], M[TRN], M[PLAT]
+    L = plat[P_L]
+    c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
     n, m = T.shape[0], T.shape[1]
-    normalised_twists(M, FA, b, frozen, T)
     e = FE[b]
     for a in range(nu):
         for c in range(nu + 1):
             Ar[a, c] = 0.0
     for i in range(n):
         size = leg[i, L_SIZE]
+        Ti, Bi, Xi, fai = T[i], B[i], Xs[i], FA[b, i]
+        e0, e1, e2, e3, e4, e5 = e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4], e[i, 5]
         nl = 0
         for j in range(size):
             if not frozen[i, j]:
-                idx[nl] = j
                 nl += 1
         tr = float(m - nl)                   # padded and frozen slots: identity rows
-        for a in range(nl):
-            ja = idx[a]
+        # each free joint's twist, its row of the Gram matrix and of T^T [e, P], in one pass
+        a = 0
+        for j in range(size):
+            if frozen[i, j]:
+                continue
+            f = fai[j]
+            d0, d1, d2 = f[0], f[1], f[2]
+            p0, p1, p2 = f[3] - c0, f[4] - c1, f[5] - c2
+            r = rot[i, j]
+            rl = r / L
+            tj = trn[i, j]
+            t0 = (p1 * d2 - p2 * d1) * rl + tj * d0
+            t1 = (p2 * d0 - p0 * d2) * rl + tj * d1
+            t2 = (p0 * d1 - p1 * d0) * rl + tj * d2
+            t3, t4, t5 = r * d0, r * d1, r * d2
+            Ta = Ti[a]
+            Ta[0], Ta[1], Ta[2], Ta[3], Ta[4], Ta[5] = t0, t1, t2, t3, t4, t5
             for c in range(a + 1):
-                jc = idx[c]
-                s = 0.0
-                for k in range(6):
-                    s += T[i, ja, k] * T[i, jc, k]
-                G[a, c] = s
+                Tc = Ti[c]
+                G[a, c] = (0.0 + t0 * Tc[0] + t1 * Tc[1] + t2 * Tc[2] + t3 * Tc[3]
+                           + t4 * Tc[4] + t5 * Tc[5])
             tr += G[a, a]
-            s = 0.0
-            for k in range(6):
-                s += T[i, ja, k] * e[i, k]
-            B[i, a, 0] = s
-            Xs[i, a, 0] = s
+            s = 0.0 + t0 * e0 + t1 * e1 + t2 * e2 + t3 * e3 + t4 * e4 + t5 * e5
+            Bi[a, 0] = s
+            Xi[a, 0] = s
             for u in range(nu):
-                s = 0.0
-                for k in range(6):
-                    s += T[i, ja, k] * Pt[k, u]
-                B[i, a, 1 + u] = s
-                Xs[i, a, 1 + u] = s
+                s = (0.0 + t0 * Pt[0, u] + t1 * Pt[1, u] + t2 * Pt[2, u] + t3 * Pt[3, u]
+                     + t4 * Pt[4, u] + t5 * Pt[5, u])
+                Bi[a, 1 + u] = s
+                Xi[a, 1 + u] = s
+            a += 1
         shift = tr / size * (SHIFT_IDLE if size > 6 else SHIFT)
-        cholesky_solve(G, nl, Xs[i], 1 + nu, shift)
+        cholesky_solve(G, nl, Xi, 1 + nu, shift)
         # the reduced system's terms of this leg
         for u in range(nu):
             for v in range(nu):
                 s = 0.0
                 for a in range(nl):
-                    s += B[i, a, 1 + u] * Xs[i, a, 1 + v]
+                    s += Bi[a, 1 + u] * Xi[a, 1 + v]
                 Ar[u, v] -= s
             s = 0.0
             for k in range(6):
                 s += Pt[k, u] * e[i, k]
             for a in range(nl):
-                s -= Xs[i, a, 1 + u] * B[i, a, 0]
+                s -= Xi[a, 1 + u] * Bi[a, 0]
             Ar[u, nu] += s
     if nu:
         tra = 0.0

@@ -1,0 +1,137 @@
+"""The cost of the closure solve's parts, per pose, on one thread: the floor of the kernels.
+
+Times the engine's own compiled functions (no copy of their maths) called in a loop by a
+small numba function compiled here, on 20,000 random poses of a catalog PM (the 3RRPRR:
+alpha, beta in +-10 deg, Zo in 60-100 cm, as ``bench_engine.py``; the others around their
+default poses):
+
+* ``forward pass``: the platform, every leg's product of exponentials and closure error at
+  the solved unknowns (``_kin.forward``);
+* ``Newton step``: the platform's columns and one Gauss-Newton step (``_newton``: the
+  joints' normalised twists, each leg's Gram matrix, its Cholesky solve with the platform's
+  columns, the Schur complement, the reduced system);
+* ``Gauss-Newton from the predictor``: the home predictor's start and the iteration to
+  ``STOP`` (the mean number of steps beside it);
+* ``solve, warm start at the solution``: the driver's closure solve (``_driver.run_poses``,
+  solve only) from the exact solution, the case of a path's samples (no step);
+* ``solve from the predictor``: the same from the home predictor, a random pose's closures;
+* ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics).
+
+Times are the CPU time of this thread (``time.thread_time``, best of 7), so that other
+processes on a shared machine inflate them less than wall-clock times; the ratios between
+the lines are the figures to read.  Run: ``python benchmarks/bench_closure.py [PM ...]``.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+
+def _bench_kernel():
+    from numba import njit
+
+    from screwkit.engine._kernels._closures import predict
+    from screwkit.engine._kernels._driver import run_poses
+    from screwkit.engine._kernels._kin import forward, platform_columns
+    from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
+                                                  W_P6S, W_PT, W_S, W_XB, gauss_newton,
+                                                  home_vector, make_work, newton_step)
+    from screwkit.engine._kernels._pack import model, params
+
+    @njit
+    def parts(Mf, Mi, Md, Zf, Zi, Zd, P6, Xs, what):
+        M, Z = model(Mf, Mi, Md), params(Zf, Zi, Zd)
+        W = make_work(M[0].shape[0], M[0].shape[1], Xs.shape[1])
+        unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
+        X = np.zeros(Xs.shape[1])
+        steps = 0
+        for p in range(P6.shape[0]):
+            if what == 2:
+                home_vector(unk, xs, p6home, W[W_XB])
+                predict(Z[7], fix, Z[8], Z[9], Z[10][0], P6[p], W[W_XB], X, W[W_P6S][3])
+                steps += gauss_newton(M, unk, xs, P6[p], X, 1e-12, 30, W)[1]
+                continue
+            X[:] = Xs[p]
+            forward(M, unk, xs, P6[p], X, W[W_FA], W[W_FL], W[W_FE], W[W_FP], 0, W[W_S],
+                    W[W_P6])
+            if what == 1:
+                platform_columns(M, W[W_FP][0], unk, W[W_PT])
+                newton_step(M, W, 0, unk.shape[0], W[W_FROZ])
+        return steps
+
+    @njit
+    def driver(Mf, Mi, Md, Zf, Zi, Zd, I, O, flags):
+        run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, 0, I[0].shape[0])
+
+    return parts, driver
+
+
+def _best(fn, repeat=7):
+    times = []
+    for _ in range(repeat):
+        t0 = time.thread_time()
+        out = fn()
+        times.append(time.thread_time() - t0)
+    return min(times), out
+
+
+def measure(name: str, n: int = 20_000) -> None:
+    import screwkit
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._solve import predictor_of, solve_closures
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    from bench_engine import F_LOAD, T_LOAD, _random_pose
+
+    rng = np.random.default_rng(0)
+    pm = screwkit.load_pm(name)
+    if name == "3RRPRR":
+        pose = {"alpha": np.radians(rng.uniform(-10, 10, n)),
+                "beta": np.radians(rng.uniform(-10, 10, n)), "Zo": rng.uniform(60, 100, n)}
+    else:
+        pose = _random_pose(pm, n, rng)
+    ch = chains_of(pm)
+    Mp, Zp = ch.flat.pack(predictor_of(ch))
+    args = Mp.args + Zp.args
+    P6 = np.ascontiguousarray(ch.full_params(pose, n))
+    Xs = np.ascontiguousarray(solve_closures(pm, pose).X.T)
+    parts, driver = _bench_kernel()
+    us = 1e6 / n
+    rows = []
+    t_fwd, _ = _best(lambda: parts(*args, P6, Xs, 0))
+    rows.append(("forward pass", t_fwd * us, ""))
+    t_step, _ = _best(lambda: parts(*args, P6, Xs, 1))
+    rows.append(("Newton step", (t_step - t_fwd) * us, ""))
+    t_gn, steps = _best(lambda: parts(*args, P6, Xs, 2))
+    rows.append(("Gauss-Newton from the predictor", t_gn * us,
+                 f"{steps / n:.2f} steps a pose"))
+    nx, mr, na = Xs.shape[1], ch.flat.mr, ch.flat.n_act
+    for label, X0 in (("solve, warm start at the solution", Xs), ("solve from the predictor",
+                                                                  np.zeros((0, nx)))):
+        z = (np.zeros(0), np.zeros(0, np.int64))
+        I = (P6, X0, z[0], np.zeros(3), np.zeros(3), np.zeros((0, mr)), np.zeros(mr, np.int64))
+        O = (np.zeros((n, nx)), np.zeros(n), np.zeros(n, np.int64), np.zeros(n, np.int64),
+             np.zeros(n, np.int64), np.zeros((0, mr, 6)), np.zeros((0, mr)), z[1],
+             np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],
+             np.zeros((0, min(mr, 6))), z[1], z[0], z[1], z[0], np.zeros((0, mr)), z[0], z[0],
+             z[0], np.zeros((0, na, 6)))
+        flags = np.array([1, 0, 0, 1, 0], np.int64)
+        t, _ = _best(lambda: driver(*args, I, O, flags))
+        rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
+    fixed = {p: pose[p] for p in ch.fixed}
+    screwkit.analyze(pm, {p: v[:10] for p, v in fixed.items()}, force=F_LOAD, torque=T_LOAD,
+                     workers=1)
+    t, _ = _best(lambda: screwkit.analyze(pm, fixed, force=F_LOAD, torque=T_LOAD, workers=1),
+                 3)
+    rows.append(("analysis (screwkit.analyze)", t * us, ""))
+    print(f"{name}, {n} random poses, CPU time per pose on one thread:")
+    for label, v, note in rows:
+        print(f"  {label:36s} {v:7.2f} us  {note}")
+
+
+if __name__ == "__main__":
+    for pm_name in sys.argv[1:] or ["3RRPRR", "6SPS"]:
+        measure(pm_name)
