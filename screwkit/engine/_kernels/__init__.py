@@ -157,7 +157,7 @@ def kernels() -> SimpleNamespace:
             from . import _driver, _extra, _fk, _indices, _probe
             _quick_loading(numba, (_driver, _extra, _fk, _indices, _probe))
             if not _compiled_before(_driver.run_range):
-                print(f"screwkit: compiling the engine's kernels (once, about a minute; "
+                print(f"screwkit: compiling the engine's kernels (once, a minute or two; "
                       f"cached in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
             for mod in (_driver, _extra, _fk, _indices, _probe):
