@@ -306,15 +306,31 @@ def actuation_row(M, i, RW, row):
 
 
 @inner
+def leg_frames(M, i, RW, fa, fp):
+    """Leg ``i``'s context, twists, template points and directions at the frames ``fa``,
+    ``fp`` (into ``RW``): what both ways of building its rows start from."""
+    ctx = RW[RW_CTX]
+    leg_setup(M, i, fa, fp, ctx, RW[RW_TW])
+    eval_points(M, i, fa, ctx, RW[RW_PV])
+    eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
+
+
+@inner
+def put_constraints(cons, k, r0, J, scale):
+    """The ``k`` constraint rows ``cons`` into ``J`` from row ``r0`` (scale 1)."""
+    for r in range(k):
+        scale[r0 + r] = 1.0
+        for q in range(6):
+            J[r0 + r, q] = cons[r, q]
+
+
+@inner
 def leg_rows(M, i, RW, fa, fp, J, scale):
     """Leg ``i``'s rows into ``J (rows, 6)`` and ``scale``: its actuation row at its index
     (active legs) and its constraint rows from ``TPL[i, T_CROW]``.  Returns ``(ok,
     structure_ok)``."""
     tpl = M[TPL][i]
-    ctx, tw = RW[RW_CTX], RW[RW_TW]
-    leg_setup(M, i, fa, fp, ctx, tw)
-    eval_points(M, i, fa, ctx, RW[RW_PV])
-    eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
+    leg_frames(M, i, RW, fa, fp)
     cons = RW[RW_CONS]
     k = tpl[T_K]
     ok = True
@@ -326,11 +342,7 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
         structure = ok
         if not ok:            # the structure of home does not hold here: the generic rule
             ok = generic_members(M, i, RW, cons)
-    r0 = tpl[T_CROW]
-    for r in range(k):
-        scale[r0 + r] = 1.0
-        for q in range(6):
-            J[r0 + r, q] = cons[r, q]
+    put_constraints(cons, k, tpl[T_CROW], J, scale)
     arow = M[LEG][i, L_AROW]
     if arow >= 0:
         s, aok = actuation_row(M, i, RW, J[arow])
@@ -351,19 +363,12 @@ def template_rows(M, i, RW, fa, fp, J, scale):
     akind = tpl[T_AKIND]
     if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
         return False, False, False
-    ctx, tw = RW[RW_CTX], RW[RW_TW]
-    leg_setup(M, i, fa, fp, ctx, tw)
-    eval_points(M, i, fa, ctx, RW[RW_PV])
-    eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
+    leg_frames(M, i, RW, fa, fp)
     cons = RW[RW_CONS]
     k = tpl[T_K]
     if k and not group_members(M, i, RW, fa, cons):
         return False, False, False
-    r0 = tpl[T_CROW]
-    for r in range(k):
-        scale[r0 + r] = 1.0
-        for q in range(6):
-            J[r0 + r, q] = cons[r, q]
+    put_constraints(cons, k, tpl[T_CROW], J, scale)
     arow = M[LEG][i, L_AROW]
     if arow < 0:
         return True, True, True
@@ -375,7 +380,7 @@ def template_rows(M, i, RW, fa, fp, J, scale):
         return False, True, True
     ok = line_member(M, i, RW, row)
     act = M[LEG][i, L_ACT]
-    size_a = 1.0 if is_prismatic(M[KIND][i, act]) else ctx[3, 0]
-    s, dependent = scale_actuation(row, tw[act], size_a)
+    size_a = 1.0 if is_prismatic(M[KIND][i, act]) else RW[RW_CTX][3, 0]
+    s, dependent = scale_actuation(row, RW[RW_TW][act], size_a)
     scale[arow] = s
     return ok and not dependent, True, True
