@@ -81,6 +81,7 @@ def _best(fn, repeat=7):
 def measure(name: str, n: int = 20_000) -> None:
     import screwkit
     from screwkit.engine._chains import chains_of
+    from screwkit.engine._kernels._layout import LINE_WIDTH
     from screwkit.engine._solve import predictor_of, solve_closures
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
@@ -117,8 +118,9 @@ def measure(name: str, n: int = 20_000) -> None:
              np.zeros(n, np.int64), np.zeros((0, mr, 6)), np.zeros((0, mr)), z[1],
              np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],
              np.zeros((0, min(mr, 6))), z[1], z[0], z[1], z[0], np.zeros((0, mr)), z[0], z[0],
-             z[0], np.zeros((0, na, 6)))
-        flags = np.array([1, 0, 0, 1, 0], np.int64)
+             z[0], np.zeros((0, na, 6)), np.zeros((0, ch.flat.n, LINE_WIDTH)),
+             np.zeros((0, 27)))
+        flags = np.array([1, 0, 0, 1, 0, 0], np.int64)
         t, _ = _best(lambda: driver(*args, I, O, flags))
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
     fixed = {p: pose[p] for p in ch.fixed}
