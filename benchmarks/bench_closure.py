@@ -15,6 +15,8 @@ default poses):
 * ``solve, warm start at the solution``: the driver's closure solve (``_driver.run_poses``,
   solve only) from the exact solution, the case of a path's samples (no step);
 * ``solve from the predictor``: the same from the home predictor, a random pose's closures;
+* ``rows, conditioning, statics``: the launch of the analysis kernel from warm starts at the
+  solution, less the same launch without rows;
 * ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics).
 
 Times are the CPU time of this thread (``time.thread_time``, best of 7), so that other
@@ -123,6 +125,12 @@ def measure(name: str, n: int = 20_000) -> None:
         flags = np.array([1, 0, 0, 1, 0, 0], np.int64)
         t, _ = _best(lambda: driver(*args, I, O, flags))
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
+    from screwkit.engine._launch import run_poses as launch
+    Z = predictor_of(ch)
+    t_solve, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, rows=False, workers=1))
+    t_all, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, F=F_LOAD, T=T_LOAD, workers=1))
+    rows.append(("rows, conditioning, statics", (t_all - t_solve) * us,
+                 "(the launch from a warm start, less its solve)"))
     fixed = {p: pose[p] for p in ch.fixed}
     screwkit.analyze(pm, {p: v[:10] for p, v in fixed.items()}, force=F_LOAD, torque=T_LOAD,
                      workers=1)
