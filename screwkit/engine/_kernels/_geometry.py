@@ -8,7 +8,7 @@ the physical unit twists ``[v; w]`` about the base origin.
 
 import math
 
-from ._jit import inlined, inner
+from ._jit import inner
 
 from ._kin import joint_twist, platform_points
 from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGENT, DIR_JOINT,
@@ -17,7 +17,7 @@ from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGEN
                       PT_JOINT, PT_MEET, PT_a, P_P0, P_R0, ZERO)
 
 
-@inlined
+@inner
 def leg_setup(M, i, fa, fp, ctx, tw):
     """The context and twists of leg ``i`` at the frames ``fa (m, 6)``, platform ``fp``."""
     Am = M[A]
@@ -41,7 +41,7 @@ def leg_setup(M, i, fa, fp, ctx, tw):
     ctx[3, 2] = 0.0
 
 
-@inlined
+@inner
 def eval_points(M, i, fa, ctx, out):
     """The leg's named points (``PTS``) into ``out (p, 3)``."""
     pts = M[PTS][i]
@@ -68,7 +68,7 @@ def eval_points(M, i, fa, ctx, out):
                 out[r, c] = 0.5 * (f1[3 + c] + s * f1[c] + f2[3 + c] + u * f2[c])
 
 
-@inlined
+@inner
 def eval_directions(M, i, fa, fp, ctx, out):
     """The leg's reference directions (``DIRS``), unit, into ``out (d, 3)``."""
     dirs, plat = M[DIRS][i], M[PLAT]
@@ -115,7 +115,7 @@ def is_prismatic(kind):
     return kind == K_P or kind == K_PA
 
 
-@inlined
+@inner
 def group_rows(M, i, couple, X, fa, tw, ctx, rows):
     """The dimensionless rows whose null space is a group's members: for couples the
     rotation axes (rule 3); for forces through ``X`` the velocities ``v_j - X x w_j`` of
@@ -140,7 +140,7 @@ def group_rows(M, i, couple, X, fa, tw, ctx, rows):
     return cnt
 
 
-@inlined
+@inner
 def null_space(rows, r, g, vec):
     """The null space of dimension ``g`` of ``rows[:r]`` (dimensionless 3-vectors): for
     ``g = 1`` its unit vector, for ``g = 2`` the unit normal of the null plane, into
@@ -215,7 +215,7 @@ def reference_remainder(g, vec, basis, q, d):
     return p0, p1, p2, math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
 
 
-@inlined
+@inner
 def canonical_basis(g, vec, refs, dv, basis):
     """A basis ``basis[:g]`` of a null space from its reference directions ``dv[refs[q]]``:
     one member along its reference (``g = 1``), else the Gram-Schmidt orthonormalisation of

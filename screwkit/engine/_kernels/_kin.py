@@ -11,7 +11,7 @@ Euler angles (row-major).
 
 import math
 
-from ._jit import inlined, inner
+from ._jit import inner
 
 from ._layout import (AP, BAR, BLEN, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
@@ -73,7 +73,7 @@ def platform(M, p6, fp, S):
         fp[15 + r] = x0 * p6[0] + x1 * p6[1] + x2 * p6[2] + plat[P_P0 + r]
 
 
-@inlined
+@inner
 def chain(M, i, X, off, fa, R, t, E, T2, slots, Rs, ts):
     """Leg ``i``'s product of exponentials at the joint values ``X[off + j] * QS[i, j]``:
     current axes and points into ``fa (m, 6)``, the end displacement into ``R``, ``t``; with
@@ -157,7 +157,7 @@ def chain(M, i, X, off, fa, R, t, E, T2, slots, Rs, ts):
     t[0], t[1], t[2] = t0, t1, t2
 
 
-@inlined
+@inner
 def closure_error(M, fp, R, t, e, S):
     """A leg's length-normalised closure error ``[d / L; w]`` into ``e (6,)``: the twist
     carrying its end pose ``(R Rh, R ph + t)`` onto the platform's (``fp``, whose

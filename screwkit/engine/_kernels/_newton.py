@@ -49,12 +49,16 @@ def make_work(n, m, nx):
 @inlined
 def newton_step(M, W, b, nu, frozen):
     """The Gauss-Newton step at the frames of buffer ``b`` into ``W[W_STEP]`` (the platform
-    columns ``W[W_PT][:, :nu]`` set by the caller).  Inlined into its callers (the closures'
-    and the forward kinematics' iterations): a call passing the model and the workspace
-    tuples whole cost about 0.4 us a step, a quarter of the step."""
-    FA, FE, T, Pt = W[W_FA], W[W_FE], W[W_T], W[W_PT]
-    G, B, Xs, Ar, step = W[W_G], W[W_B], W[W_XS], W[W_AR], W[W_STEP]
-    leg, rot, trn, plat = M[LEG], M[ROT], M[TRN], M[PLAT]
+    columns ``W[W_PT][:, :nu]`` set by the caller): :func:`step_of` given the arrays it
+    reads (a call passing the model and workspace tuples whole cost about 0.4 us a step, a
+    quarter of the step; this wrapper, inlined, passes 14 arrays)."""
+    step_of(M[LEG], M[ROT], M[TRN], M[PLAT], W[W_FA], W[W_FE], W[W_T], W[W_PT], W[W_G],
+            W[W_B], W[W_XS], W[W_AR], W[W_STEP], W[W_RHS], b, nu, frozen)
+
+
+@inner
+def step_of(leg, rot, trn, plat, FA, FE, T, Pt, G, B, Xs, Ar, step, rhs, b, nu, frozen):
+    """:func:`newton_step`'s work (the model's and the workspace's arrays it reads)."""
     L = plat[P_L]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
     n, m = T.shape[0], T.shape[1]
@@ -128,7 +132,6 @@ def newton_step(M, W, b, nu, frozen):
             tra += Ar[u, u]
             Ar[u, nu] = -Ar[u, nu]
         # (the lower triangle is complete; solve in a copy of the right-hand side column)
-        rhs = W[W_RHS]
         for u in range(nu):
             rhs[u, 0] = Ar[u, nu]
         cholesky_solve(Ar, nu, rhs, 1, tra * (SHIFT_REDUCED / nu))

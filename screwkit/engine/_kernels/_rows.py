@@ -16,7 +16,7 @@ The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.
 import math
 
 import numpy as np
-from ._jit import inlined, inner
+from ._jit import inner
 
 from ._geometry import (canonical_basis, eval_directions, eval_points, group_rows,
                         is_prismatic, leg_setup, null_space)
@@ -159,7 +159,7 @@ def generic_members(M, i, RW, cons):
     return ok
 
 
-@inlined
+@inner
 def group_members(M, i, RW, fa, cons):
     """The leg's constraint members group by group into ``cons[:k]``; returns False where
     a group's structure or basis does not hold."""
@@ -238,7 +238,7 @@ def least_norm_member(M, i, RW, member):
     return nf > 1e-9 * math.sqrt(nw)
 
 
-@inlined
+@inner
 def line_member(M, i, RW, row):
     """The unit force on the line through the leg's two named actuation points into ``row
     (6,)`` (physical); returns False where a passive joint moves the first point along the
@@ -305,7 +305,7 @@ def actuation_row(M, i, RW, row):
     return scale, ok and not dependent
 
 
-@inlined
+@inner
 def leg_frames(M, i, RW, fa, fp):
     """Leg ``i``'s context, twists, template points and directions at the frames ``fa``,
     ``fp`` (into ``RW``): what both ways of building its rows start from."""

@@ -16,7 +16,7 @@ The statics workspace ``SW`` of a thread: see :func:`make_statics_work`.
 import math
 
 import numpy as np
-from ._jit import inlined, inner
+from ._jit import inner
 
 from ._kin import platform_points
 from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
@@ -38,7 +38,7 @@ def make_statics_work(mr):
             np.zeros(r), np.zeros(6))
 
 
-@inlined
+@inner
 def spread(M, FA, b, fp, ap, centre):
     """Centroid (into ``centre (3,)``) and RMS spread of every leg's points (``A``, ``a``,
     the joint points) and ``o``: the normalisation of the rank decisions; returns ``L``."""
@@ -91,7 +91,7 @@ def normalise_rows(J, mr, c, L, Jn, d):
             Jn[r, q] /= s
 
 
-@inlined
+@inner
 def conditioning(Jn, mr, n_act, SW, sv):
     """Singular values of ``Jn[:mr]`` into ``sv[:min(mr, 6)]`` (NaN beyond; all NaN for a
     non-finite ``Jn``); returns ``(rank, condition, constraint rank, constraint
@@ -132,7 +132,7 @@ def conditioning(Jn, mr, n_act, SW, sv):
     return rank, cond, c_rank, c_cond
 
 
-@inlined
+@inner
 def statics_prepare(mr, sv, comp, SW):
     """Factor the statics of the pose in ``SW`` (``Jn``, ``d`` set; ``comp (mr,)`` the
     compliances); returns ``(mode, det_sign)`` (the sign of ``det J`` for a square ``J``)."""
@@ -177,7 +177,7 @@ def normalise_wrench(W, c, L, out):
     out[5] = (W[5] - (c[0] * f1 - c[1] * f0)) / L
 
 
-@inlined
+@inner
 def statics_apply(mode, mr, W, c, L, SW, values):
     """``F_r`` into ``values[:mr]`` for the workload ``W (6,)`` about O (after
     :func:`statics_prepare`)."""
