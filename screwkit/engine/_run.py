@@ -116,24 +116,35 @@ class PathRows:
 
     def solve(self, fixed, X0, idx, workers):
         """Solve the samples ``idx`` from ``X0 (n_unknowns, K)`` (as ``solve_closures``) and
-        keep their rows."""
+        keep their rows, in launches of up to :data:`CHUNK` samples (the rows' outputs of a
+        launch are its memory)."""
         from ._solve import Closure
-        o = self._launch(self.ch.full_params(fixed, len(idx)), idx, workers,
-                         X0=np.asarray(X0, float).T)
+        K = len(idx)
+        P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
+        keys = ("X", "residual", "iterations", "how", "singular_beta")
+        got = {}
+        for sl in _chunks(K, CHUNK):
+            o = self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
+            if sl.stop - sl.start == K:
+                got = {k: o[k] for k in keys}
+                break
+            for k in keys:
+                got.setdefault(k, np.empty((K,) + o[k].shape[1:], o[k].dtype))[sl] = o[k]
         # kept where Newton converged from the start given (the frames are then those of
         # the final unknowns); the others are formed again from their unknowns
-        self.fresh[idx] = (o["residual"] <= CONVERGED) & (o["how"] == 0)
-        return Closure(self.ch, o["X"].T, None, o["residual"], o["iterations"], o["how"],
-                       o["singular_beta"])
+        self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
+        return Closure(self.ch, got["X"].T, None, got["residual"], got["iterations"],
+                       got["how"], got["singular_beta"])
 
     def stale(self, idx):
         self.fresh[idx] = False
 
     def finish(self, fixed, X, workers) -> dict:
         """The outputs of every sample (``X (N, n_unknowns)`` the path's unknowns): the
-        stale samples' formed now, in one launch."""
-        idx = np.flatnonzero(~self.fresh)
-        if idx.size:
+        stale samples' formed now, in launches of up to :data:`CHUNK`."""
+        stale = np.flatnonzero(~self.fresh)
+        for sl in _chunks(stale.size, CHUNK):
+            idx = stale[sl]
             self._launch(self.ch.full_params({k: v[idx] for k, v in fixed.items()}, idx.size),
                          idx, workers, X=X[idx])
         return self.out
