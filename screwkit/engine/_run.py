@@ -255,7 +255,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         out[key][sl] = value
 
     if fused:
-        # the rows came with the levels' solves; the stale samples' now, in one launch
+        # the rows came with the levels' solves; the stale samples' now
         o = levels.finish(fixed, X, workers)
         res = np.where(np.isfinite(path_res), o["residual"], np.inf)
         for key in _KEYS:
