@@ -110,7 +110,8 @@ def _start_child(path):
     env["PYTHONPATH"] = os.pathsep.join([root] + ([env["PYTHONPATH"]]
                                                   if env.get("PYTHONPATH") else []))
     return subprocess.Popen(
-        [sys.executable, "-c", f"from {_PACKAGE}._warm import _child; _child()", path],
+        [sys.executable, "-c", f"from {_PACKAGE} import _configure; _configure(); "
+         f"from {_PACKAGE}._warm import _child; _child()", path],
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
         env=env, cwd=root, text=True)
 
@@ -152,9 +153,8 @@ def compile_first(path: str = SIGNATURES) -> bool:
 
 
 def _child() -> None:
-    """The child's work: the closure kernel (then ``closure`` on stdout), the others."""
-    from . import _configure
-    _configure()
+    """The child's work (numba configured as this package does): the closure kernel (then
+    ``closure`` on stdout), the others."""
     lines = signatures(sys.argv[1])
     _compile(lines, "closure")
     print(_READY, flush=True)
