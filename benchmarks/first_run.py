@@ -74,7 +74,7 @@ def _write(command) -> None:
         main(command)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    lines = []
+    rows = []
     for module, name, args, under in done:
         if not module.startswith(PACKAGE):
             continue                      # numba's own (compiled with their callers)
@@ -86,7 +86,17 @@ def _write(command) -> None:
             group = "main"
         else:
             group = "other"
-        lines.append(f"{group}\t{module[len(PACKAGE):]}\t{name}\t{args!r}\n")
+        rows.append([group, module[len(PACKAGE):], name, args, under[0]])
+    # a kernel with other argument types in each process would have two processes add
+    # entries to its cache index at once (each naming its entry the same file): the child's
+    # entry points that compile it are compiled here
+    child = {(r[1], r[2]) for r in rows if r[0] in ("closure", "other")}
+    parent = {(r[1], r[2]) for r in rows if r[0] in ("main", "pose")}
+    roots = {r[4] for r in rows if (r[1], r[2]) in child & parent and r[0] == "other"}
+    for r in rows:
+        if r[0] == "other" and r[4] in roots:
+            r[0] = "main"
+    lines = [f"{g}\t{m}\t{n}\t{a!r}\n" for g, m, n, a, _ in rows]
     lines = ordered(lines)
     path = os.path.join(ROOT, "screwkit", "engine", "_kernels", "first_compile.txt")
     with open(path, "w", encoding="utf-8") as f:

@@ -32,6 +32,12 @@ def test_the_list_names_kernels_whose_argument_types_numba_rebuilds():
         fn = getattr(importlib.import_module(f"screwkit.engine._kernels.{module}"), function)
         assert isinstance(fn, Dispatcher), (module, function)
         assert isinstance(args, tuple) and args
+    # no kernel compiled with other argument types by each process: both would add an
+    # entry to its cache index at once, naming it the same file
+    side = {}
+    for group, module, function, _ in sigs:
+        side.setdefault((module, function), set()).add(group in ("closure", "other"))
+    assert all(len(s) == 1 for s in side.values()), [k for k, s in side.items() if len(s) > 1]
     where = {(m, f): g for g, m, f, _ in sigs}
     assert where[("_closures", "solve_pose")] == "closure"
     assert where[("_driver", "run_range")] == "pose"
