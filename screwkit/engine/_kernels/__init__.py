@@ -8,7 +8,9 @@ directory (``$XDG_CACHE_HOME/screwkit/numba``, ``~/.cache/screwkit/numba``;
 find the same cache.  The first run after an install compiles them once, with a note on
 stderr (numba compiles an entry point on its first call: a one-pose command compiles the
 serial ones; the first batch on several threads compiles the parallel kernel, with a note
-of its own).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
+of its own).  The first analysis of a process with no pose kernel in the cache compiles the
+one-pose analysis kernels at once, on two processes where there are two cores
+(:func:`compile_analysis`, :mod:`._warm`).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
 ``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
 waits for the running one, which uses every thread it was given.
 

@@ -42,6 +42,8 @@ SIGNATURES = os.path.join(_HERE, "first_compile.txt")
 _PACKAGE = "screwkit.engine._kernels"
 #: Set in the child's environment (a child never starts a child of its own).
 _CHILD_ENV = "SCREWKIT_COMPILE_CHILD"
+#: Seconds this process waits for the child after its own part (then kills it).
+_CHILD_TIMEOUT = 900
 #: The child's line on stdout once the closure kernel is in the cache.
 _READY = "closure"
 
@@ -109,6 +111,7 @@ def _start_child(path):
     env[_CHILD_ENV] = "1"
     env["PYTHONPATH"] = os.pathsep.join([root] + ([env["PYTHONPATH"]]
                                                   if env.get("PYTHONPATH") else []))
+    # (run from the package's root: ``-c`` puts the working directory first on the path)
     return subprocess.Popen(
         [sys.executable, "-c", f"from {_PACKAGE} import _configure; _configure(); "
          f"from {_PACKAGE}._warm import _child; _child()", path],
@@ -142,8 +145,9 @@ def compile_first(path: str = SIGNATURES) -> bool:
         _compile(lines, "main")
         _wait_ready(child)
         _compile(lines, "pose")
-        child.stdout.read()
-        child.wait()
+        child.wait(timeout=_CHILD_TIMEOUT)
+    except subprocess.TimeoutExpired:       # (its kernels compile on demand)
+        pass
     finally:
         if child.poll() is None:            # (interrupted: the child does not outlive us)
             child.kill()
