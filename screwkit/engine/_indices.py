@@ -7,12 +7,11 @@
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._transmission import leg_screws, transmission_indices
+from ._transmission import _all_finite, leg_screws, transmission_indices
 
 __all__ = ["TransmissionIndices", "transmission"]
 
@@ -81,12 +80,20 @@ class TransmissionIndices:
         return len(self.data["condition_number"])
 
     def _min(self, name):
-        a = self.data[name]
-        if not a.shape[1]:
-            return np.full(a.shape[0], np.nan)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)       # all-NaN rows stay NaN
-            return np.nanmin(a, axis=1)
+        """The least non-NaN value of each pose (NaN where all are NaN: ``np.nanmin``'s
+        values, column by column with ``fmin``, once per array)."""
+        cache = self.__dict__.setdefault("_mins", {})
+        if name not in cache:
+            a = self.data[name]
+            if not a.shape[1]:
+                m = np.full(a.shape[0], np.nan)
+            else:
+                m = a[:, 0].copy()
+                for k in range(1, a.shape[1]):
+                    np.fmin(m, a[:, k], out=m)
+            m.setflags(write=False)
+            cache[name] = m
+        return cache[name]
 
     @property
     def iti(self):
@@ -144,8 +151,8 @@ def transmission(analysis) -> TransmissionIndices:
     diag = analysis.diagnostics
     V_in, in_line, out_line = leg_screws(sol, legs, diag.get("lines"), diag.get("platform"))
     couple = np.array([r.member == "couple" for r in info])
-    finite = np.isfinite(J)
-    all_finite = bool(finite.all())              # (the usual case: J itself, no copy)
+    all_finite = _all_finite(J)                  # (the usual case: J itself, no copy)
+    finite = None if all_finite else np.isfinite(J)
     Jf = J if all_finite else np.where(finite, J, 0.0)
     iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(
         Jf, couple, act, con, V_in, in_line, out_line, jac.leg_of_row, cond.centre,
@@ -156,8 +163,10 @@ def transmission(analysis) -> TransmissionIndices:
     oti[sing] = 0.0
     cti[sing] = np.where(redundant[sing], np.nan, 0.0)
     out_arm[sing], c_arm[sing] = np.nan, np.nan
-    for x in (iti, oti, in_arm, out_arm, cti, c_arm):
-        x[~reach] = np.nan
+    if not reach.all():
+        unreached = ~reach
+        for x in (iti, oti, in_arm, out_arm, cti, c_arm):
+            x[unreached] = np.nan
     s = np.asarray(cond.singular_values, float)
     smin = np.where(reach, s[:, -1] if s.shape[1] >= 6 else 0.0, np.nan)
     amp = _amplification(analysis, reach)

@@ -56,7 +56,7 @@ def check_path(fixed: dict, path: bool, length: float = 1.0) -> tuple:
 
 
 def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=None,
-               workers=None) -> Closure:
+               workers=None, levels=None) -> Closure:
     """Solve N samples of a continuous path, each warm-started from its neighbours.
 
     About :data:`PATH_ANCHORS` anchor samples are solved in order, each from the
@@ -71,6 +71,12 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     solved again from its left neighbour alone (the right one when the left is unreachable), by
     Newton only (the level solve ran the continuation from home), all such samples at once;
     a sample with no solved neighbour keeps its level's result.
+
+    ``levels`` (optional) solves the levels instead of :func:`solve_closures`: an object
+    with ``solve(fixed, X0, indices, workers) -> Closure`` (the samples ``indices`` of the
+    path) and ``stale(indices)``, told of the samples solved again after their level (the
+    retries taken): the engine's driver forms each level's rows in the launch that solves
+    it (:class:`screwkit.engine._run.PathRows`).
     """
     ch = chains_of(model)
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
@@ -79,7 +85,9 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     anchors = list(range(0, N, K))
     if anchors[-1] != N - 1:
         anchors.append(N - 1)
-    X = np.zeros((ch.n_unknowns, N))
+    # the unknowns sample by sample (rows): the levels gather and scatter whole samples
+    XT = np.zeros((N, ch.n_unknowns))
+    X = XT.T                                    # (n_unknowns, N): a view, as the API reads
     res = np.full(N, np.inf)
     its = np.zeros(N, int)
     how = np.full(N, 2)
@@ -147,7 +155,7 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         mid = (left + right) // 2
         good = res <= ACCEPTED
         good_l, good_r = good[left], good[right]
-        Xl, Xr = X[:, left], X[:, right]
+        Xl, Xr = XT[left].T, XT[right].T
         w = ((mid - left) / (right - left))[None]
         Xs = np.where(good_l & good_r, (1 - w) * Xl + w * Xr, np.where(good_l, Xl, Xr))
         # the cubic through the two solved neighbours on each side, where all four are good
@@ -157,15 +165,16 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         if four.any():
             ts = np.stack([p0, left, right, p3]).astype(float)[:, four]
             t = mid[four].astype(float)
-            Xs[:, four] = sum(_lagrange(ts, j, t) * X[:, ts[j].astype(int)] for j in range(4))
+            Xs[:, four] = sum(_lagrange(ts, j, t) * XT[ts[j].astype(int)].T for j in range(4))
         fx = {p: v[mid] for p, v in fixed.items()}
-        c = _solve_level(model, fx, Xs, workers)
+        c = _solve_level(model, fx, Xs, workers) if levels is None else \
+            levels.solve(fx, Xs, mid, workers)
         Xm, rm, hm = c.X, c.residual, c.how
         # a branch jump: the solution moved more than its neighbours differ
         span = np.max(np.abs(Xr - Xl), axis=0)
         moved = np.max(np.abs(Xm - Xs), axis=0)
         jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
-        X[:, mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
+        XT[mid], res[mid], its[mid], how[mid], sing[mid] = Xm.T, rm, c.iterations, hm, \
             c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the
@@ -176,18 +185,20 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         ks, src = ks[has], src[has]
         if ks.size:
             ii = mid[ks]
-            c1 = solve_closures(model, {p: v[ii] for p, v in fixed.items()}, X[:, src],
+            c1 = solve_closures(model, {p: v[ii] for p, v in fixed.items()}, XT[src].T,
                                 continuation=False)
             retried += ks.size
             take = (c1.residual <= res[ii]) | jump[ks]
             t = ii[take]
-            X[:, t], res[t], its[t], how[t], sing[t] = c1.X[:, take], c1.residual[take], \
+            XT[t], res[t], its[t], how[t], sing[t] = c1.X.T[take], c1.residual[take], \
                 c1.iterations[take], c1.how[take], c1.singular_beta[take]
+            if levels is not None:
+                levels.stale(t)
         solved[mid] = True
         if progress:
             progress(int(solved.sum()), N)
     diag = {"anchors": len(anchors), "batched": N, "retried": retried}
-    return Closure(ch, X, None, res, its, how, sing, diag)
+    return Closure(ch, np.ascontiguousarray(X), None, res, its, how, sing, diag)
 
 
 def balanced_chunk(N: int, chunk: int, workers: int) -> int:

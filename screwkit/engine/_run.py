@@ -16,6 +16,7 @@ import numpy as np
 
 from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
+from ._kernels._layout import CONVERGED
 from ._launch import run_poses
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
@@ -76,6 +77,78 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
 _KEYS = ("J", "scale", "rows_ok", "structure_ok", "centre", "length", "singular_values", "rank",
          "condition_number", "constraint_rank", "constraint_condition_number", "values",
          "equilibrium", "amplification", "det_sign", "twists", "lines", "platform")
+
+
+def _per_pose(compliance, N, idx):
+    """The compliances of the poses ``idx`` of N (one row for all poses: as it is)."""
+    if compliance is None or np.ndim(compliance) < 2 or np.shape(compliance)[0] != N:
+        return compliance
+    return np.asarray(compliance)[idx]
+
+
+class PathRows:
+    """The rows, conditioning and statics of a path's samples, formed in the launches that
+    solve the path's levels (:func:`~screwkit.engine._path.solve_path`): the frames of each
+    sample's final unknowns are then at hand, one forward pass a sample fewer than a launch
+    from the solved unknowns, and the same bits (the kernels form a pose's rows from the
+    frames of its final unknowns either way).  The samples solved elsewhere (the anchors)
+    or again after their level (the retries taken), and those Newton did not close from
+    their level's start, are *stale*: :meth:`finish` forms theirs from their final
+    unknowns."""
+
+    def __init__(self, ch, N, F, T, compliance, twists, lines):
+        self.ch, self.N, self.F, self.T = ch, N, F, T
+        self.compliance, self.twists, self.lines = compliance, twists, lines
+        self.fresh = np.zeros(N, bool)
+        self.out = {}
+
+    def _launch(self, P6, idx, workers, **kw):
+        o = run_poses(self.ch.flat, predictor_of(self.ch), P6, F=self.F, T=self.T,
+                      compliance=_per_pose(self.compliance, self.N, idx),
+                      statics=self.F is not None, twists=self.twists, lines=self.lines,
+                      workers=workers, **kw)
+        for key in _KEYS + ("residual",):
+            v = o[key]
+            if v.shape[0]:
+                if key not in self.out:
+                    self.out[key] = np.empty((self.N,) + v.shape[1:], v.dtype)
+                self.out[key][idx] = v
+        return o
+
+    def solve(self, fixed, X0, idx, workers):
+        """Solve the samples ``idx`` from ``X0 (n_unknowns, K)`` (as ``solve_closures``) and
+        keep their rows, in launches of up to :data:`CHUNK` samples (the rows' outputs of a
+        launch are its memory)."""
+        from ._solve import Closure
+        K = len(idx)
+        P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
+        keys = ("X", "residual", "iterations", "how", "singular_beta")
+        got = {}
+        for sl in _chunks(K, CHUNK):
+            o = self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
+            if sl.stop - sl.start == K:
+                got = {k: o[k] for k in keys}
+                break
+            for k in keys:
+                got.setdefault(k, np.empty((K,) + o[k].shape[1:], o[k].dtype))[sl] = o[k]
+        # kept where Newton converged from the start given (the frames are then those of
+        # the final unknowns); the others are formed again from their unknowns
+        self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
+        return Closure(self.ch, got["X"].T, None, got["residual"], got["iterations"],
+                       got["how"], got["singular_beta"])
+
+    def stale(self, idx):
+        self.fresh[idx] = False
+
+    def finish(self, fixed, X, workers) -> dict:
+        """The outputs of every sample (``X (N, n_unknowns)`` the path's unknowns): the
+        stale samples' formed now, in launches of up to :data:`CHUNK`."""
+        stale = np.flatnonzero(~self.fresh)
+        for sl in _chunks(stale.size, CHUNK):
+            idx = stale[sl]
+            self._launch(self.ch.full_params({k: v[idx] for k, v in fixed.items()}, idx.size),
+                         idx, workers, X=X[idx])
+        return self.out
 
 
 def chunk_after_path(model, fx, X, path_res, rows=True, F=None, T=None, compliance=None,
@@ -160,9 +233,15 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         its, how, sing = np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool)
     out = {}
     statics = F is not None
+    fused = path and rows and mapper is None
     if path:
+        levels = PathRows(ch, N, F, T, compliance, twists, lines) if fused else None
+        # with the rows formed in the levels' launches, a sample kept is two steps done
+        # (its closures and its rows)
+        done = (lambda d: d + int(levels.fresh.sum())) if fused else (lambda d: d)
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, workers=workers,
-                       progress=(lambda d, n: progress(d, steps)) if progress else None)
+                       progress=(lambda d, n: progress(done(d), steps)) if progress else None,
+                       levels=levels)
         X[:] = c.X.T
         its[:], how[:], sing[:] = c.iterations, c.how, c.singular_beta
         diag = dict(c.diagnostics)
@@ -177,7 +256,16 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
             out[key] = np.empty((N,) + value.shape[1:], value.dtype)
         out[key][sl] = value
 
-    if mapper is not None and path:
+    if fused:
+        # the rows came with the levels' solves; the stale samples' now
+        o = levels.finish(fixed, X, workers)
+        res = np.where(np.isfinite(path_res), o["residual"], np.inf)
+        for key in _KEYS:
+            if key in o:
+                out[key] = o[key]
+        if progress:
+            progress(steps, steps)
+    elif mapper is not None and path:
         # the chunks of a solved path are independent: the same kernels on the same inputs
         # wherever they run, so the result equals the serial one bit for bit
         items = [({k: v[sl] for k, v in fixed.items()}, X[sl].T, path_res[sl]) for sl in slices]

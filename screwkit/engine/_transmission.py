@@ -138,9 +138,19 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
             _c(np.reshape(out_line[1], (N, n, 3))), _c(row_leg, np.int64), _c(centre),
             _c(length), crank, iti, oti, in_arm, out_arm, cti, c_arm, red)
     _launch(k.indices_range, k.indices_parallel, args, N, workers)
-    bad_row = ~np.all(np.isfinite(J[:, act]), axis=-1)
-    iti[bad_row] = 0.0
+    if not _all_finite(J):                  # (a sum is finite only if every term is)
+        bad_row = ~np.all(np.isfinite(J[:, act]), axis=-1)
+        iti[bad_row] = 0.0
     return iti, oti, in_arm, out_arm, cti, c_arm, red
+
+
+def _all_finite(a) -> bool:
+    """Whether every entry of ``a`` is finite: its sum is finite only then (or where it
+    overflows: then the entries are checked one by one)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if np.isfinite(np.sum(a)):
+            return True
+    return bool(np.isfinite(a).all())
 
 
 def leg_screws(solution, active, lines=None, platform=None):
@@ -168,7 +178,10 @@ def leg_screws(solution, active, lines=None, platform=None):
 
     act = list(active)
     out_q, out_d = lines[:, :, 0:3].copy(), lines[:, :, 3:6].copy()
-    in_q, in_d, V_in = (np.take(lines[:, :, a:b], act, axis=1)      # (C-contiguous)
+    # every leg active in order (the usual case): a plain slice copy, far cheaper than a
+    # gather (both C-contiguous, the same values)
+    legs = slice(None) if act == list(range(n)) else act
+    in_q, in_d, V_in = (np.ascontiguousarray(lines[:, legs, a:b])
                         for a, b in ((6, 9), (9, 12), (12, 18)))
     for i in range(n):
         if not turns(i, range(ch.sizes[i])):   # no turning joint: the platform point a_i
