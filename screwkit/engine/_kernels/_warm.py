@@ -1,6 +1,6 @@
 """The first compile on two processes (private; numba is imported by the caller).
 
-A first run (no cached kernels) compiles the kernels of a one-pose analysis: about 80 s of
+A first run (no cached kernels) compiles the kernels of a one-pose analysis: 60 to 80 s of
 CPU, nearly all of it in one process and one thread (numba's typing and lowering, then LLVM
 optimising and generating the code of each function with everything it calls linked in).
 On a machine with a second core, that compile is split between this process and a child
@@ -11,9 +11,10 @@ process that compiles into the same disk cache:
   pose kernel (the row templates' probes at home, the transmission indices, the frames...);
 * meanwhile this process compiles the rest of the pose kernel's callees (rows,
   conditioning, statics...), waits for the child's closure, loads it from the cache (numba
-  links a cached callee's bitcode into its callers exactly as a callee compiled in the same
-  process: the same machine code), compiles the pose kernel itself (``run_range``), and
-  waits for the child to finish (its kernels load from the cache on first use).
+  links a cached callee's bitcode into its callers as it links a callee compiled in the
+  same process: the machine code differs only by numba's function names and the link
+  order; the results are the same bits), compiles the pose kernel itself (``run_range``),
+  and waits for the child to finish (its kernels load from the cache on first use).
 
 The kernels and their argument types come from :data:`SIGNATURES` (``first_compile.txt``
 beside this file, one ``group, module, function, argument types`` a line, written by
@@ -22,7 +23,8 @@ kernels).  Nothing depends on the split for correctness: a line that no longer m
 kernel compiles a version nobody calls, a child that fails or is slow only leaves its
 kernels to be compiled on demand, as on one process.  numba writes each cache file
 atomically (a temporary file renamed), and two processes that compile the same callee write
-the same entry.  The child is silent, gets no input, and never outlives the call
+the same entry (all of a kernel's argument types are compiled by one process: two processes
+adding entries to one index at once would name them the same file).  The child is silent, gets no input, and never outlives the call
 (:func:`compile_first`).  ``SCREWKIT_COMPILE_PROCESSES=1`` (or a single core) compiles on
 one process as before.
 """
