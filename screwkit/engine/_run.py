@@ -15,6 +15,7 @@ from functools import partial
 import numpy as np
 
 from ._chains import PARAMS, chains_of
+from ._kernels import compile_analysis
 from ._kernels._layout import CONVERGED
 from ._launch import run_poses
 from ._pipeline import Conditioning
@@ -213,6 +214,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     closures are solved here, the rows and statics of its chunks by the mapper.  ``lines``
     (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
     and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`)."""
+    compile_analysis()                  # (a first run: the kernels compiled on two processes)
     ch = chains_of(model)
     flat = ch.flat
     N = len(next(iter(fixed.values())))

@@ -98,7 +98,7 @@ class RowTemplate:
     def __init__(self, leg, analysis, base_rotation, O, platform_rotation, o, references=(),
                  passive=False):
         from ._arrays import probe_model
-        from ._kernels import kernels
+        from ._kernels import compile_analysis, kernels
         self.name = leg.name
         self.names = tuple(j.name for j in leg.joints)
         self.kinds = tuple(j.kind for j in leg.joints)
@@ -119,6 +119,7 @@ class RowTemplate:
         probe, cand_ok, cand_idx, points = probe_model(leg, base_rotation, O, platform_rotation,
                                                        o, prefs, cand)
         pick = dict(zip(cand_idx.tolist(), cand_ok))
+        compile_analysis()              # (a first run: the kernels compiled on two processes)
         K = kernels()
         groups = []
         if order:

@@ -8,7 +8,9 @@ directory (``$XDG_CACHE_HOME/screwkit/numba``, ``~/.cache/screwkit/numba``;
 find the same cache.  The first run after an install compiles them once, with a note on
 stderr (numba compiles an entry point on its first call: a one-pose command compiles the
 serial ones; the first batch on several threads compiles the parallel kernel, with a note
-of its own).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
+of its own).  The first analysis of a process with no pose kernel in the cache compiles the
+one-pose analysis kernels at once, on two processes where there are two cores
+(:func:`compile_analysis`, :mod:`._warm`).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
 ``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
 waits for the running one, which uses every thread it was given.
 
@@ -25,16 +27,18 @@ import sys
 import threading
 from types import SimpleNamespace
 
-__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads", "note_first_compile"]
+__all__ = ["kernels", "cache_dir", "LAUNCH_LOCK", "set_threads", "note_first_compile",
+           "compile_analysis"]
 
 #: Held while a parallel kernel runs (numba's workqueue layer takes one launch at a time).
 LAUNCH_LOCK = threading.RLock()
 _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
 _NOTED: set = set()
+_ANALYSIS_READY = False
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_loading.py")
+_LOADER = ("__init__.py", "_loading.py", "_warm.py")
 
 
 def _writable(path: str) -> bool:
@@ -75,7 +79,7 @@ def _configure():
 def _source_stamp() -> str:
     """A digest of every kernel source file (numba invalidates a cached function when its
     own file changes, not when a function it calls, in another file, does); the loader
-    (``__init__.py``, ``_loading.py``) holds no kernel and is left out."""
+    (``__init__.py``, ``_loading.py``, ``_warm.py``) holds no kernel and is left out."""
     import hashlib
     h = hashlib.sha1()
     for name in sorted(os.listdir(_HERE)):
@@ -166,6 +170,22 @@ def kernels() -> SimpleNamespace:
                         setattr(ns, name, getattr(mod, name))
             _K = ns
     return _K
+
+
+def compile_analysis() -> None:
+    """Before the first analysis of a process: where the cache holds no analysis kernel
+    yet (a first run), compile the kernels of a one-pose analysis now, on two processes
+    where there are two cores (:mod:`._warm`); else nothing (numba compiles on demand)."""
+    global _ANALYSIS_READY
+    if _ANALYSIS_READY:
+        return
+    k = kernels()
+    with _LOAD_LOCK:
+        if not _ANALYSIS_READY and not k.run_range.overloads \
+                and not _compiled_before(k.run_range):
+            from ._warm import compile_first
+            compile_first()
+        _ANALYSIS_READY = True
 
 
 def set_threads(n: int) -> int:
