@@ -225,10 +225,10 @@ def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W
     return r, its, how
 
 
-@inlined
+@inner
 def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continuation, W):
-    """One pose's closures from the start ``X`` (in place; inlined into the pose driver, its
-    one caller).  Returns ``(residual,
+    """One pose's closures from the start ``X`` (in place; a kernel of its own, which the
+    first compile builds in its second process: ``_warm``).  Returns ``(residual,
     iterations, how, singular_beta, buffer)``: the frames of the final ``X`` are in that
     buffer of the workspace."""
     order = M[ORDER]
