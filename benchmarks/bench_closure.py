@@ -15,6 +15,8 @@ default poses):
 * ``solve, warm start at the solution``: the driver's closure solve (``_driver.run_poses``,
   solve only) from the exact solution, the case of a path's samples (no step);
 * ``solve from the predictor``: the same from the home predictor, a random pose's closures;
+* ``rows, conditioning, statics``: the launch of the analysis kernel from warm starts at the
+  solution, less the same launch without rows;
 * ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics).
 
 Times are the CPU time of this thread (``time.thread_time``, best of 7), so that other
@@ -81,6 +83,7 @@ def _best(fn, repeat=7):
 def measure(name: str, n: int = 20_000) -> None:
     import screwkit
     from screwkit.engine._chains import chains_of
+    from screwkit.engine._kernels._layout import LINE_WIDTH
     from screwkit.engine._solve import predictor_of, solve_closures
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
@@ -117,10 +120,17 @@ def measure(name: str, n: int = 20_000) -> None:
              np.zeros(n, np.int64), np.zeros((0, mr, 6)), np.zeros((0, mr)), z[1],
              np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],
              np.zeros((0, min(mr, 6))), z[1], z[0], z[1], z[0], np.zeros((0, mr)), z[0], z[0],
-             z[0], np.zeros((0, na, 6)))
-        flags = np.array([1, 0, 0, 1, 0], np.int64)
+             z[0], np.zeros((0, na, 6)), np.zeros((0, ch.flat.n, LINE_WIDTH)),
+             np.zeros((0, 27)))
+        flags = np.array([1, 0, 0, 1, 0, 0], np.int64)
         t, _ = _best(lambda: driver(*args, I, O, flags))
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
+    from screwkit.engine._launch import run_poses as launch
+    Z = predictor_of(ch)
+    t_solve, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, rows=False, workers=1))
+    t_all, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, F=F_LOAD, T=T_LOAD, workers=1))
+    rows.append(("rows, conditioning, statics", (t_all - t_solve) * us,
+                 "(the launch from a warm start, less its solve)"))
     fixed = {p: pose[p] for p in ch.fixed}
     screwkit.analyze(pm, {p: v[:10] for p, v in fixed.items()}, force=F_LOAD, torque=T_LOAD,
                      workers=1)

@@ -21,12 +21,12 @@ is solved with it given (the unknowns ``unk2``).
 import math
 
 import numpy as np
-from ._jit import inner
+from ._jit import inlined, inner
 
 from ._kin import forward
 from ._layout import ACCEPTED, CONVERGED, ORDER
 from ._newton import (W_FA, W_FE, W_FL, W_FP, W_P6, W_P6S, W_S, W_XB, W_XC, W_XR,
-                      gauss_newton, home_vector, tolerance)
+                      gauss_newton, home_vector, newton_iterate, tolerance)
 
 SING_STEP = 1e-4
 SING_TOL = 1e-7
@@ -227,7 +227,8 @@ def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W
 
 @inner
 def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continuation, W):
-    """One pose's closures from the start ``X`` (in place).  Returns ``(residual,
+    """One pose's closures from the start ``X`` (in place; a kernel of its own, which the
+    first compile builds in its second process: ``_warm``).  Returns ``(residual,
     iterations, how, singular_beta, buffer)``: the frames of the final ``X`` are in that
     buffer of the workspace."""
     order = M[ORDER]
@@ -238,10 +239,10 @@ def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continu
                                          fix2, W)
         cur = -1
     else:
-        # newton_continued written out: a pose solved by its first Newton run (the common
-        # case) passes the model and the workspace down one call fewer
-        res, its, _, cur = gauss_newton(M, unk, xs, p6fix, X,
-                                        tolerance(order, unk, xs, p6fix, X), 30, W)
+        # newton_continued written out and the Newton run inlined: a pose solved by its
+        # first Newton run (the common case) passes the model and the workspace down no call
+        res, its, _, cur = newton_iterate(M, unk, xs, p6fix, X,
+                                          tolerance(order, unk, xs, p6fix, X), 30, W)
         how = 0
         if not res <= CONVERGED:
             res, its, how, cur = rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W,
