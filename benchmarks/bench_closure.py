@@ -80,22 +80,31 @@ def _best(fn, repeat=7):
     return min(times), out
 
 
+def random_poses(name: str, n: int):
+    """``(pm, pose)``: ``n`` random poses of the catalog PM ``name`` (the 3RRPRR: alpha, beta in
+    +-10 deg, Zo in 60-100 cm, as ``bench_engine.py``; the others around their default
+    poses), seed 0."""
+    import screwkit
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    from bench_engine import _random_pose
+
+    rng = np.random.default_rng(0)
+    pm = screwkit.load_pm(name)
+    if name == "3RRPRR":
+        return pm, {"alpha": np.radians(rng.uniform(-10, 10, n)),
+                    "beta": np.radians(rng.uniform(-10, 10, n)), "Zo": rng.uniform(60, 100, n)}
+    return pm, _random_pose(pm, n, rng)
+
+
 def measure(name: str, n: int = 20_000) -> None:
     import screwkit
     from screwkit.engine._chains import chains_of
     from screwkit.engine._kernels._layout import LINE_WIDTH
     from screwkit.engine._solve import predictor_of, solve_closures
 
-    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
-    from bench_engine import F_LOAD, T_LOAD, _random_pose
-
-    rng = np.random.default_rng(0)
-    pm = screwkit.load_pm(name)
-    if name == "3RRPRR":
-        pose = {"alpha": np.radians(rng.uniform(-10, 10, n)),
-                "beta": np.radians(rng.uniform(-10, 10, n)), "Zo": rng.uniform(60, 100, n)}
-    else:
-        pose = _random_pose(pm, n, rng)
+    pm, pose = random_poses(name, n)
+    from bench_engine import F_LOAD, T_LOAD
     ch = chains_of(pm)
     Mp, Zp = ch.flat.pack(predictor_of(ch))
     args = Mp.args + Zp.args

@@ -166,21 +166,14 @@ def _best(fn, repeat=7):
 
 
 def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
-    import screwkit
     from screwkit.engine._chains import chains_of
     from screwkit.engine._kernels._layout import BLEN, D, LEG, L_SIZE, P, QS, ROT, TRA
     from screwkit.engine._solve import predictor_of, solve_closures
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
-    from bench_engine import _random_pose
+    from bench_closure import random_poses
 
-    rng = np.random.default_rng(0)
-    pm = screwkit.load_pm(name)
-    if name == "3RRPRR":
-        pose = {"alpha": np.radians(rng.uniform(-10, 10, n)),
-                "beta": np.radians(rng.uniform(-10, 10, n)), "Zo": rng.uniform(60, 100, n)}
-    else:
-        pose = _random_pose(pm, n, rng)
+    pm, pose = random_poses(name, n)
     ch = chains_of(pm)
     M = ch.flat.M
     if (M[BLEN] > 0).any():
