@@ -168,3 +168,25 @@ def test_one_core_or_one_process_compiles_on_demand(tmp_path, monkeypatch):
     monkeypatch.setenv(_warm._CHILD_ENV, "1")              # a child never starts a child
     monkeypatch.setenv("SCREWKIT_COMPILE_PROCESSES", "2")
     assert _warm.compile_first(str(path)) is False and calls == []
+
+
+@pytest.mark.parametrize("script, timeout, low, high", [
+    ("import time; time.sleep(120)", 1.0, 0.9, 6.0),              # silent: until the timeout
+    ("import time; print('closure', flush=True); time.sleep(120)", 60.0, 0.0, 20.0),  # ready
+    ("import sys; sys.exit(3)", 60.0, 0.0, 20.0),                 # ended without a word
+])
+def test_the_wait_for_the_childs_closure_is_bounded(script, timeout, low, high):
+    import time
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                             stdin=subprocess.DEVNULL)
+    try:
+        t0 = time.monotonic()
+        _warm._wait_ready(child, timeout)
+        waited = time.monotonic() - t0
+    finally:
+        child.kill()
+        child.wait()
+        child.stdout.close()
+    # a silent child is waited for until the timeout, no longer; one that says it is ready
+    # or ends is not waited for beyond that (far below the 60 s timeout)
+    assert low <= waited < high

@@ -44,7 +44,7 @@ SIGNATURES = os.path.join(_HERE, "first_compile.txt")
 _PACKAGE = "screwkit.engine._kernels"
 #: Set in the child's environment (a child never starts a child of its own).
 _CHILD_ENV = "SCREWKIT_COMPILE_CHILD"
-#: Seconds this process waits for the child after its own part (then kills it).
+#: Seconds this process waits for the child's closure, then for its end (then kills it).
 _CHILD_TIMEOUT = 900
 #: The child's line on stdout once the closure kernel is in the cache.
 _READY = "closure"
@@ -118,13 +118,24 @@ def _start_child(path):
         [sys.executable, "-c", f"from {_PACKAGE} import _configure; _configure(); "
          f"from {_PACKAGE}._warm import _child; _child()", path],
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-        env=env, cwd=root, text=True)
+        env=env, cwd=root)
 
 
-def _wait_ready(child) -> None:
-    """Until the child says the closure kernel is cached (or ends)."""
-    for line in child.stdout:
-        if line.strip() == _READY:
+def _wait_ready(child, timeout: float) -> None:
+    """Until the child says the closure kernel is cached, ends, or ``timeout`` seconds
+    pass (then this process compiles the closure on demand)."""
+    import select
+    import time
+    fd, seen = child.stdout.fileno(), b""
+    deadline = time.monotonic() + timeout
+    while (left := deadline - time.monotonic()) > 0:
+        if not select.select([fd], [], [], left)[0]:
+            return
+        chunk = os.read(fd, 256)
+        if not chunk:                       # (the child ended)
+            return
+        seen += chunk
+        if _READY.encode() in seen.split():
             return
 
 
@@ -145,7 +156,7 @@ def compile_first(path: str = SIGNATURES) -> bool:
         return False
     try:
         _compile(lines, "main")
-        _wait_ready(child)
+        _wait_ready(child, _CHILD_TIMEOUT)
         _compile(lines, "pose")
         child.wait(timeout=_CHILD_TIMEOUT)
     except subprocess.TimeoutExpired:       # (its kernels compile on demand)
