@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 
 import numpy as np
 from numba import njit
@@ -156,22 +155,13 @@ def _kernels():
     return engine, blocks
 
 
-def _best(fn, repeat=7):
-    times = []
-    for _ in range(repeat):
-        t0 = time.thread_time()
-        out = fn()
-        times.append(time.thread_time() - t0)
-    return min(times), out
-
-
 def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
     from screwkit.engine._chains import chains_of
     from screwkit.engine._kernels._layout import BLEN, D, LEG, L_SIZE, P, QS, ROT, TRA
     from screwkit.engine._solve import predictor_of, solve_closures
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
-    from bench_closure import random_poses
+    from bench_closure import _best, random_poses
 
     pm, pose = random_poses(name, n)
     ch = chains_of(pm)
