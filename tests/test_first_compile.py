@@ -190,3 +190,18 @@ def test_the_wait_for_the_childs_closure_is_bounded(script, timeout, low, high):
     # a silent child is waited for until the timeout, no longer; one that says it is ready
     # or ends is not waited for beyond that (far below the 60 s timeout)
     assert low <= waited < high
+
+
+@pytest.mark.parametrize("value", ["two", "0", "-3", "1.5", ""])
+def test_a_bad_process_count_is_a_one_line_error(monkeypatch, value):
+    from screwkit.errors import InputError
+    monkeypatch.setenv("SCREWKIT_COMPILE_PROCESSES", value)
+    with pytest.raises(InputError, match="SCREWKIT_COMPILE_PROCESSES must be a whole number"):
+        _warm._processes()
+
+
+def test_a_good_process_count_is_taken(monkeypatch):
+    monkeypatch.setenv("SCREWKIT_COMPILE_PROCESSES", "1")
+    assert _warm._processes() == 1
+    monkeypatch.setenv("SCREWKIT_COMPILE_PROCESSES", "2")
+    assert _warm._processes() == 2

@@ -95,12 +95,19 @@ def _compile(lines, group, report=None):
 
 
 def _processes() -> int:
+    """The processes a first compile may use: ``SCREWKIT_COMPILE_PROCESSES`` (1 or 2; more
+    are not used), else the cores this process may run on."""
     n = os.environ.get("SCREWKIT_COMPILE_PROCESSES")
     if n is not None:
         try:
-            return max(1, int(n))
+            value = int(n)
         except ValueError:
-            return 1
+            value = 0
+        if value < 1:
+            from ...errors import InputError
+            raise InputError(f"SCREWKIT_COMPILE_PROCESSES must be a whole number >= 1 "
+                             f"(1: compile on one process), got {n!r}")
+        return value
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:
