@@ -7,6 +7,9 @@ default poses):
 
 * ``forward pass``: the platform, every leg's product of exponentials and closure error at
   the solved unknowns (``_kin.forward``);
+* ``forward pass, blocks of B``: the same pass on blocks of ``B`` poses, the pose axis
+  innermost (``_kin.forward_block``, the function the one-pose pass runs on a block of one),
+  the copy of each block's unknowns into the block layout included;
 * ``Newton step``: the platform's columns and one Gauss-Newton step (``_newton``: the
   joints' normalised twists, each leg's Gram matrix, its Cholesky solve with the platform's
   columns, the Schur complement, the reduced system);
@@ -37,7 +40,7 @@ def _bench_kernel():
 
     from screwkit.engine._kernels._closures import predict
     from screwkit.engine._kernels._driver import run_poses
-    from screwkit.engine._kernels._kin import forward, platform_columns
+    from screwkit.engine._kernels._kin import forward, forward_block, platform_columns
     from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
                                                   W_P6S, W_PT, W_S, W_XB, gauss_newton,
                                                   home_vector, make_work, newton_step)
@@ -65,10 +68,33 @@ def _bench_kernel():
         return steps
 
     @njit
+    def blocks(Mf, Mi, Md, Zf, Zi, Zd, P6, Xs, B):
+        M, Z = model(Mf, Mi, Md), params(Zf, Zi, Zd)
+        n, m, nx, N = M[0].shape[0], M[0].shape[1], Xs.shape[1], Xs.shape[0]
+        unk, xs = Z[0], Z[1]
+        FA, FL = np.zeros((2, n, m, 6, B)), np.zeros((2, n, 12, B))
+        FE, FP = np.zeros((2, n, 6, B)), np.zeros((2, 27, B))
+        Xb, P6b, res, CS = np.zeros((nx, B)), np.zeros((6, B)), np.zeros(B), np.zeros((2, B))
+        S, p6 = np.zeros((6, 3, 3)), np.zeros(6)
+        worst = 0.0
+        for p0 in range(0, N, B):
+            nb = min(B, N - p0)
+            for k in range(nx):
+                for l in range(nb):
+                    Xb[k, l] = Xs[p0 + l, k]
+            for k in range(6):
+                for l in range(nb):
+                    P6b[k, l] = P6[p0 + l, k]
+            forward_block(M, unk, xs, P6b, Xb, FA, FL, FE, FP, 0, S, p6, nb, res, CS)
+            for l in range(nb):
+                worst = max(worst, res[l])
+        return worst
+
+    @njit
     def driver(Mf, Mi, Md, Zf, Zi, Zd, I, O, flags):
         run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, 0, I[0].shape[0])
 
-    return parts, driver
+    return parts, blocks, driver
 
 
 def _best(fn, repeat=7):
@@ -110,11 +136,14 @@ def measure(name: str, n: int = 20_000) -> None:
     args = Mp.args + Zp.args
     P6 = np.ascontiguousarray(ch.full_params(pose, n))
     Xs = np.ascontiguousarray(solve_closures(pm, pose).X.T)
-    parts, driver = _bench_kernel()
+    parts, blocks, driver = _bench_kernel()
     us = 1e6 / n
     rows = []
     t_fwd, _ = _best(lambda: parts(*args, P6, Xs, 0))
     rows.append(("forward pass", t_fwd * us, ""))
+    for B in (8, 16, 32, 64):
+        t, _ = _best(lambda: blocks(*args, P6, Xs, B))
+        rows.append((f"forward pass, blocks of {B}", t * us, f"{t_fwd / t:.2f}x"))
     t_step, _ = _best(lambda: parts(*args, P6, Xs, 1))
     rows.append(("Newton step", (t_step - t_fwd) * us, ""))
     t_gn, steps = _best(lambda: parts(*args, P6, Xs, 2))

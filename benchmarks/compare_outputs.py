@@ -20,7 +20,7 @@ import sys
 
 import numpy as np
 
-KEYS = ("X", "residual", "J", "singular_values", "condition_number",
+KEYS = ("X", "residual", "iterations", "J", "singular_values", "condition_number",
         "constraint_condition_number", "values", "equilibrium", "rank", "constraint_rank",
         "how")
 

@@ -15,7 +15,7 @@ import numpy as np
 from numba import prange
 
 from ._closures import predict
-from ._jit import entry, parallel
+from ._jit import entry, one_lane, parallel
 from ._kin import chain, closure_error, joint_twist, platform, platform_home_rotation
 from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
@@ -117,9 +117,10 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
     p6 = np.zeros(6)
     R = np.zeros((3, 3))
     t = np.zeros(3)
+    RT = np.zeros((12, 1))          # the end displacement of a block of one lane
     e = np.zeros(6)
-    Rsl = np.zeros((m, 3, 3))
-    tsl = np.zeros((m, 3))
+    Rsl = np.zeros((m, 12, 1))      # the displacement after each slot (R row-major, t)
+    CS = np.zeros((2, 1))
     slots = Rso.shape[0] > 0 or bars.shape[0] > 0
     blen, hinge, leg = M[BLEN], M[HINGE], M[LEG]
     for p in range(start, stop):
@@ -127,14 +128,19 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
             p6[k] = P6[p, k]
         for k in range(nu):
             p6[unk[k]] = X[p, k] * xs[k]
-        fp = FPo[p]
-        platform(M, p6, fp, S)
-        platform_home_rotation(M, fp, S)
+        fpl = one_lane(FPo[p])          # blocks of one lane
+        platform(M, p6, fpl, 0, S)
+        platform_home_rotation(M, fpl, 0, S)
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
-            chain(M, i, X[p], nu + i * m, FAo[p, i], R, t, S[0], S[2], slots, Rsl, tsl)
-            closure_error(M, fp, R, t, e, S)
+            chain(M, i, one_lane(X[p]), nu + i * m, one_lane(FAo[p, i]), RT, 1, slots, Rsl,
+                  S[0], CS)
+            for a in range(3):
+                for b in range(3):
+                    R[a, b] = RT[3 * a + b, 0]
+                t[a] = RT[9 + a, 0]
+            closure_error(M, fpl, RT, one_lane(e), 0, S)
             for q in range(6):
                 if not abs(e[q]) <= r:
                     r = abs(e[q])
@@ -144,16 +150,17 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
             if Rso.shape[0]:
                 for j in range(m):
                     for a in range(3):
-                        tso[p, i, j, a] = tsl[j, a] if j < size else t[a]
+                        tso[p, i, j, a] = Rsl[j, 9 + a, 0] if j < size else t[a]
                         for b in range(3):
-                            Rso[p, i, j, a, b] = Rsl[j, a, b] if j < size else R[a, b]
+                            Rso[p, i, j, a, b] = Rsl[j, 3 * a + b, 0] if j < size else R[a, b]
             if bars.shape[0]:
                 for j in range(size):
                     if blen[i, j] > 0.0:
                         h = hinge[i, j]
                         hn = np.zeros(3)
                         for a in range(3):
-                            hn[a] = Rsl[j, a, 0] * h[0] + Rsl[j, a, 1] * h[1] + Rsl[j, a, 2] * h[2]
+                            hn[a] = (Rsl[j, 3 * a, 0] * h[0] + Rsl[j, 3 * a + 1, 0] * h[1]
+                                     + Rsl[j, 3 * a + 2, 0] * h[2])
                         d = FAo[p, i, j]
                         bars[p, i, j, 0] = blen[i, j] * (d[1] * hn[2] - d[2] * hn[1])
                         bars[p, i, j, 1] = blen[i, j] * (d[2] * hn[0] - d[0] * hn[2])
@@ -197,7 +204,7 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
     p6 = np.zeros(6)
     fp = np.zeros(27)
     fa = np.zeros((m, 6))
-    R, t = np.zeros((3, 3)), np.zeros(3)
+    RT, CS = np.zeros((12, 1)), np.zeros((2, 1))
     RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     ctx, tw, pv = RW[RW_CTX], RW[RW_TW], RW[RW_PV]
     for p in range(start, stop):
@@ -205,12 +212,13 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
             p6[k] = P6[p, k]
         for k in range(nu):
             p6[unk[k]] = X[p, k] * xs[k]
-        platform(M, p6, fp, S)
+        platform(M, p6, one_lane(fp), 0, S)
         for r in range(rows.shape[0]):
             i, code = rows[r, 0], rows[r, 2]
             if code == -2:
                 continue
-            chain(M, i, X[p], nu + i * m, fa, R, t, S[0], S[1], False, S, S[0])
+            fal = one_lane(fa)         # a block of one lane
+            chain(M, i, one_lane(X[p]), nu + i * m, fal, RT, 1, False, fal, S[0], CS)
             leg_setup(M, i, fa, fp, ctx, tw)
             if code >= 0:
                 eval_points(M, i, fa, ctx, pv)

@@ -91,3 +91,29 @@ def borrowed(typingctx, x):
             return out
         return x(x), codegen
     return None
+
+
+@intrinsic
+def one_lane(typingctx, x):
+    """``x`` (an array) as a block of one lane: the same data with a trailing axis of length
+    one (``(..., 1)``), borrowed like :func:`borrowed` (no reference count).  The block
+    kernels take their per-lane quantities with the lane axis last; a caller of one pose
+    passes its own arrays through this view, so that one pose and a block run the same code.
+    As with :func:`borrowed`, ``x``'s owner must outlive the view: numba frees a local array
+    after its last use, so an array allocated in a kernel and used only through this view
+    may be freed before the view is read (allocate it with its lane axis instead)."""
+    if not isinstance(x, types.Array):
+        return None
+    out = types.Array(x.dtype, x.ndim + 1, "C" if x.layout == "C" else "A")
+
+    def codegen(context, builder, sig, args):
+        src = context.make_array(x)(context, builder, value=args[0])
+        dst = context.make_array(out)(context, builder)
+        shape = cgutils.unpack_tuple(builder, src.shape, x.ndim)
+        strides = cgutils.unpack_tuple(builder, src.strides, x.ndim)
+        one = context.get_constant(types.intp, 1)
+        context.populate_array(dst, data=src.data, shape=shape + [one],
+                               strides=strides + [src.itemsize], itemsize=src.itemsize,
+                               meminfo=cgutils.get_null_value(dst.meminfo.type))
+        return dst._getvalue()
+    return out(x), codegen

@@ -1,5 +1,5 @@
-"""Forward kinematics of one pose, compiled: the platform, every leg's product of
-exponentials, the loop-closure errors, the joint twists (private).
+"""Forward kinematics, compiled: the platform, every leg's product of exponentials, the
+loop-closure errors, the joint twists (private).
 
 A pose's frames live in four arrays with a leading buffer index ``b`` (the Newton iteration
 keeps the current frames and a trial's): ``FA (2, n, m, 6)`` every joint's current axis and
@@ -7,11 +7,17 @@ point, ``FL (2, n, 12)`` each leg's end displacement (R row-major, t), ``FE (2, 
 leg's length-normalised closure error ``[d / L; w]`` and ``FP (2, 27)`` the platform: the six
 pose parameters, ``Rp`` (row-major), ``o`` and the world angular Jacobian ``E`` of the
 Euler angles (row-major).
+
+The forward pass is written once, on a block of lanes (poses) with the lane axis last and
+innermost (``FA (2, n, m, 6, B)``, ``X (nx, B)``...): :func:`forward_block`, whose product
+of exponentials (:func:`chain`) runs each joint's arithmetic across the lanes, where LLVM
+vectorises it.  One pose is a block of one lane: :func:`forward` passes the one-pose arrays
+through :func:`~._jit.one_lane` (the same memory with a trailing axis of length one).
 """
 
 import math
 
-from ._jit import inner
+from ._jit import inner, one_lane
 
 from ._layout import (AP, BAR, BLEN, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
@@ -34,15 +40,15 @@ def axis_rotation(ax, angle, R):
 
 
 @inner
-def platform(M, p6, fp, S):
-    """The platform at the pose parameters ``p6`` (Xo Yo Zo alpha beta gamma) into ``fp``
-    (module docstring); Euler angles as scipy's ``Rotation.from_euler`` defines them.
-    ``S (6, 3, 3)`` scratch."""
+def platform(M, p6, FPb, l, S):
+    """The platform at the pose parameters ``p6`` (Xo Yo Zo alpha beta gamma) into lane
+    ``l`` of ``FPb (27, B)`` (module docstring); Euler angles as scipy's
+    ``Rotation.from_euler`` defines them.  ``S (6, 3, 3)`` scratch."""
     order, plat = M[ORDER], M[PLAT]
     a0, a1, a2 = order[0], order[1], order[2]
     R1, R2, R12, Rb = S[0], S[1], S[2], S[3]
     for k in range(6):
-        fp[k] = p6[k]
+        FPb[k, l] = p6[k]
     if order[3] == 1:              # intrinsic: R = R1(alpha) R2(beta) R3(gamma)
         axis_rotation(a0, p6[3], R1)
         axis_rotation(a1, p6[4], R2)
@@ -68,166 +74,213 @@ def platform(M, p6, fp, S):
     for r in range(3):
         x0, x1, x2 = plat[P_R0 + 3 * r], plat[P_R0 + 3 * r + 1], plat[P_R0 + 3 * r + 2]
         for q in range(3):
-            fp[6 + 3 * r + q] = x0 * Rb[0, q] + x1 * Rb[1, q] + x2 * Rb[2, q]
-            fp[18 + 3 * r + q] = x0 * Eb[0, q] + x1 * Eb[1, q] + x2 * Eb[2, q]
-        fp[15 + r] = x0 * p6[0] + x1 * p6[1] + x2 * p6[2] + plat[P_P0 + r]
+            FPb[6 + 3 * r + q, l] = x0 * Rb[0, q] + x1 * Rb[1, q] + x2 * Rb[2, q]
+            FPb[18 + 3 * r + q, l] = x0 * Eb[0, q] + x1 * Eb[1, q] + x2 * Eb[2, q]
+        FPb[15 + r, l] = x0 * p6[0] + x1 * p6[1] + x2 * p6[2] + plat[P_P0 + r]
 
 
 @inner
-def chain(M, i, X, off, fa, R, t, E, T2, slots, Rs, ts):
-    """Leg ``i``'s product of exponentials at the joint values ``X[off + j] * QS[i, j]``:
-    current axes and points into ``fa (m, 6)``, the end displacement into ``R``, ``t``; with
-    ``slots``, the displacement after each slot into ``Rs (m, 3, 3)``, ``ts (m, 3)`` (how the
-    link after joint ``j`` moved from home).  ``G_j = G_{j-1} exp(xi_j q_j)``: the current
-    axis of slot ``j`` is ``G_{j-1}`` applied to its home axis, whose point stays; a Pa moves
-    its far link along a circle, ``Rot(h, s / |b|) b - b``, its current axis
-    ``Rot(h, s / |b|) D``.  (``E``, ``T2`` are unused scratch, kept for the signature.)"""
+def chain(M, i, X, off, fa, RT, nb, slots, Rs, E, CS):
+    """Leg ``i``'s product of exponentials on a block of ``nb`` lanes (poses), the lane axis
+    last and innermost: the joint values ``X[off + j, l] * QS[i, j]`` (``X (nx, B)``); every
+    joint's current axis and point into ``fa (m, 6, B)``, the end displacement into ``RT (12,
+    B)`` (``R`` row-major, then ``t``: a leg's row of the frames ``FL``); with ``slots``, the
+    displacement after each slot into ``Rs (m, 12, B)`` (how the link after joint ``j`` moved
+    from home).  ``G_j = G_{j-1} exp(xi_j q_j)``: the current axis of slot ``j`` is
+    ``G_{j-1}`` applied to its home axis, whose point stays; a Pa moves its far link along a
+    circle, ``Rot(h, s / |b|) b - b``, its current axis ``Rot(h, s / |b|) D``.  ``E (3, 3)``,
+    ``CS (2, >= nb)`` scratch.  Each lane's arithmetic is the one pose's, in the same order
+    (no reduction across lanes): a lane of a block equals a block of one bit for bit (a
+    caller of one pose passes views of one lane: :func:`~._jit.one_lane`)."""
     Dm, Pm, rot, tra, qs = M[D], M[P], M[ROT], M[TRA], M[QS]
     blen = M[BLEN]
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
-    t0 = t1 = t2 = 0.0
+    r00, r01, r02, r10, r11, r12 = RT[0], RT[1], RT[2], RT[3], RT[4], RT[5]
+    r20, r21, r22, t0, t1, t2 = RT[6], RT[7], RT[8], RT[9], RT[10], RT[11]
+    sn, cs = CS[0], CS[1]
+    for k in range(nb):
+        r00[k], r01[k], r02[k], t0[k] = 1.0, 0.0, 0.0, 0.0
+        r10[k], r11[k], r12[k], t1[k] = 0.0, 1.0, 0.0, 0.0
+        r20[k], r21[k], r22[k], t2[k] = 0.0, 0.0, 1.0, 0.0
     for j in range(M[LEG][i, L_SIZE]):
-        q = X[off + j] * qs[i, j]
+        x, g, ro, tr = X[off + j], qs[i, j], rot[i, j], tra[i, j]
         D0, D1, D2 = Dm[i, j, 0], Dm[i, j, 1], Dm[i, j, 2]
         P0, P1, P2 = Pm[i, j, 0], Pm[i, j, 1], Pm[i, j, 2]
-        d0 = r00 * D0 + r01 * D1 + r02 * D2
-        d1 = r10 * D0 + r11 * D1 + r12 * D2
-        d2 = r20 * D0 + r21 * D1 + r22 * D2
-        p0 = r00 * P0 + r01 * P1 + r02 * P2 + t0
-        p1 = r10 * P0 + r11 * P1 + r12 * P2 + t1
-        p2 = r20 * P0 + r21 * P1 + r22 * P2 + t2
-        fa[j, 0], fa[j, 1], fa[j, 2] = d0, d1, d2
-        fa[j, 3], fa[j, 4], fa[j, 5] = p0, p1, p2
-        if rot[i, j] != 0.0:
-            # Rodrigues about the home axis, composed on the right
-            a = rot[i, j] * q
-            c, s = math.cos(a), math.sin(a)
-            v = 1.0 - c
-            e00, e11, e22 = D0 * D0 * v + c, D1 * D1 * v + c, D2 * D2 * v + c
-            sym, skew = D0 * D1 * v, D2 * s
-            e01, e10 = sym - skew, sym + skew
-            sym, skew = D1 * D2 * v, D0 * s
-            e12, e21 = sym - skew, sym + skew
-            sym, skew = D2 * D0 * v, D1 * s
-            e20, e02 = sym - skew, sym + skew
-            n00 = r00 * e00 + r01 * e10 + r02 * e20
-            n01 = r00 * e01 + r01 * e11 + r02 * e21
-            n02 = r00 * e02 + r01 * e12 + r02 * e22
-            n10 = r10 * e00 + r11 * e10 + r12 * e20
-            n11 = r10 * e01 + r11 * e11 + r12 * e21
-            n12 = r10 * e02 + r11 * e12 + r12 * e22
-            n20 = r20 * e00 + r21 * e10 + r22 * e20
-            n21 = r20 * e01 + r21 * e11 + r22 * e21
-            n22 = r20 * e02 + r21 * e12 + r22 * e22
-            r00, r01, r02, r10, r11, r12, r20, r21, r22 = n00, n01, n02, n10, n11, n12, \
-                n20, n21, n22
-            sh = tra[i, j] * q
-            t0 = p0 - (r00 * P0 + r01 * P1 + r02 * P2) + sh * d0
-            t1 = p1 - (r10 * P0 + r11 * P1 + r12 * P2) + sh * d1
-            t2 = p2 - (r20 * P0 + r21 * P1 + r22 * P2) + sh * d2
+        f0, f1, f2, f3, f4, f5 = fa[j, 0], fa[j, 1], fa[j, 2], fa[j, 3], fa[j, 4], fa[j, 5]
+        # the joint's current axis and point (before its own motion)
+        for k in range(nb):
+            a00, a01, a02 = r00[k], r01[k], r02[k]
+            a10, a11, a12 = r10[k], r11[k], r12[k]
+            a20, a21, a22 = r20[k], r21[k], r22[k]
+            f0[k] = a00 * D0 + a01 * D1 + a02 * D2
+            f1[k] = a10 * D0 + a11 * D1 + a12 * D2
+            f2[k] = a20 * D0 + a21 * D1 + a22 * D2
+            f3[k] = a00 * P0 + a01 * P1 + a02 * P2 + t0[k]
+            f4[k] = a10 * P0 + a11 * P1 + a12 * P2 + t1[k]
+            f5[k] = a20 * P0 + a21 * P1 + a22 * P2 + t2[k]
+        if ro != 0.0:
+            # Rodrigues about the home axis, composed on the right (libm per lane, apart:
+            # the loop after it vectorises)
+            for k in range(nb):
+                a = ro * (x[k] * g)
+                cs[k], sn[k] = math.cos(a), math.sin(a)
+            for k in range(nb):
+                q = x[k] * g
+                c, s = cs[k], sn[k]
+                v = 1.0 - c
+                e00, e11, e22 = D0 * D0 * v + c, D1 * D1 * v + c, D2 * D2 * v + c
+                sym, skew = D0 * D1 * v, D2 * s
+                e01, e10 = sym - skew, sym + skew
+                sym, skew = D1 * D2 * v, D0 * s
+                e12, e21 = sym - skew, sym + skew
+                sym, skew = D2 * D0 * v, D1 * s
+                e20, e02 = sym - skew, sym + skew
+                a00, a01, a02 = r00[k], r01[k], r02[k]
+                a10, a11, a12 = r10[k], r11[k], r12[k]
+                a20, a21, a22 = r20[k], r21[k], r22[k]
+                n00 = a00 * e00 + a01 * e10 + a02 * e20
+                n01 = a00 * e01 + a01 * e11 + a02 * e21
+                n02 = a00 * e02 + a01 * e12 + a02 * e22
+                n10 = a10 * e00 + a11 * e10 + a12 * e20
+                n11 = a10 * e01 + a11 * e11 + a12 * e21
+                n12 = a10 * e02 + a11 * e12 + a12 * e22
+                n20 = a20 * e00 + a21 * e10 + a22 * e20
+                n21 = a20 * e01 + a21 * e11 + a22 * e21
+                n22 = a20 * e02 + a21 * e12 + a22 * e22
+                r00[k], r01[k], r02[k] = n00, n01, n02
+                r10[k], r11[k], r12[k] = n10, n11, n12
+                r20[k], r21[k], r22[k] = n20, n21, n22
+                sh = tr * q
+                t0[k] = f3[k] - (n00 * P0 + n01 * P1 + n02 * P2) + sh * f0[k]
+                t1[k] = f4[k] - (n10 * P0 + n11 * P1 + n12 * P2) + sh * f1[k]
+                t2[k] = f5[k] - (n20 * P0 + n21 * P1 + n22 * P2) + sh * f2[k]
         elif blen[i, j] > 0.0:
             h = M[HINGE][i, j]
             b = M[BAR][i, j]
-            rodrigues(h[0], h[1], h[2], q / blen[i, j], E)
-            m0 = E[0, 0] * b[0] + E[0, 1] * b[1] + E[0, 2] * b[2] - b[0]
-            m1 = E[1, 0] * b[0] + E[1, 1] * b[1] + E[1, 2] * b[2] - b[1]
-            m2 = E[2, 0] * b[0] + E[2, 1] * b[1] + E[2, 2] * b[2] - b[2]
-            h0 = E[0, 0] * D0 + E[0, 1] * D1 + E[0, 2] * D2
-            h1 = E[1, 0] * D0 + E[1, 1] * D1 + E[1, 2] * D2
-            h2 = E[2, 0] * D0 + E[2, 1] * D1 + E[2, 2] * D2
-            t0 += r00 * m0 + r01 * m1 + r02 * m2
-            t1 += r10 * m0 + r11 * m1 + r12 * m2
-            t2 += r20 * m0 + r21 * m1 + r22 * m2
-            fa[j, 0] = r00 * h0 + r01 * h1 + r02 * h2
-            fa[j, 1] = r10 * h0 + r11 * h1 + r12 * h2
-            fa[j, 2] = r20 * h0 + r21 * h1 + r22 * h2
+            bl = blen[i, j]
+            for k in range(nb):          # (rare: one lane at a time)
+                rodrigues(h[0], h[1], h[2], (x[k] * g) / bl, E)
+                m0 = E[0, 0] * b[0] + E[0, 1] * b[1] + E[0, 2] * b[2] - b[0]
+                m1 = E[1, 0] * b[0] + E[1, 1] * b[1] + E[1, 2] * b[2] - b[1]
+                m2 = E[2, 0] * b[0] + E[2, 1] * b[1] + E[2, 2] * b[2] - b[2]
+                h0 = E[0, 0] * D0 + E[0, 1] * D1 + E[0, 2] * D2
+                h1 = E[1, 0] * D0 + E[1, 1] * D1 + E[1, 2] * D2
+                h2 = E[2, 0] * D0 + E[2, 1] * D1 + E[2, 2] * D2
+                a00, a01, a02 = r00[k], r01[k], r02[k]
+                a10, a11, a12 = r10[k], r11[k], r12[k]
+                a20, a21, a22 = r20[k], r21[k], r22[k]
+                t0[k] += a00 * m0 + a01 * m1 + a02 * m2
+                t1[k] += a10 * m0 + a11 * m1 + a12 * m2
+                t2[k] += a20 * m0 + a21 * m1 + a22 * m2
+                f0[k] = a00 * h0 + a01 * h1 + a02 * h2
+                f1[k] = a10 * h0 + a11 * h1 + a12 * h2
+                f2[k] = a20 * h0 + a21 * h1 + a22 * h2
         else:
-            sh = tra[i, j] * q
-            t0 += sh * d0
-            t1 += sh * d1
-            t2 += sh * d2
+            for k in range(nb):
+                sh = tr * (x[k] * g)
+                t0[k] += sh * f0[k]
+                t1[k] += sh * f1[k]
+                t2[k] += sh * f2[k]
         if slots:
-            ts[j, 0], ts[j, 1], ts[j, 2] = t0, t1, t2
-            Rs[j, 0, 0], Rs[j, 0, 1], Rs[j, 0, 2] = r00, r01, r02
-            Rs[j, 1, 0], Rs[j, 1, 1], Rs[j, 1, 2] = r10, r11, r12
-            Rs[j, 2, 0], Rs[j, 2, 1], Rs[j, 2, 2] = r20, r21, r22
-    R[0, 0], R[0, 1], R[0, 2] = r00, r01, r02
-    R[1, 0], R[1, 1], R[1, 2] = r10, r11, r12
-    R[2, 0], R[2, 1], R[2, 2] = r20, r21, r22
-    t[0], t[1], t[2] = t0, t1, t2
+            rs = Rs[j]
+            for c in range(12):
+                rc, sc = RT[c], rs[c]
+                for k in range(nb):
+                    sc[k] = rc[k]
 
 
 @inner
-def closure_error(M, fp, R, t, e, S):
-    """A leg's length-normalised closure error ``[d / L; w]`` into ``e (6,)``: the twist
-    carrying its end pose ``(R Rh, R ph + t)`` onto the platform's (``fp``, whose
-    ``Rp Rh^T`` the caller put in ``S[1]``: :func:`platform_home_rotation`)."""
+def closure_error(M, FPb, RT, Eb, l, S):
+    """Lane ``l``'s length-normalised closure error ``[d / L; w]`` of a leg into ``Eb (6,
+    B)``: the twist carrying its end pose ``(R Rh, R ph + t)`` (``RT (12, B)``, as
+    :func:`chain` leaves it) onto the platform's (``FPb (27, B)``, whose ``Rp Rh^T`` the
+    caller put in ``S[1]``: :func:`platform_home_rotation`).  ``S[0]``, ``S[2, 0]`` scratch."""
     plat = M[PLAT]
-    Rd, RpRh = S[0], S[1]
+    Rd, RpRh, w = S[0], S[1], S[2, 0]
     for r in range(3):
         a0, a1, a2 = RpRh[r, 0], RpRh[r, 1], RpRh[r, 2]
         for c in range(3):
-            Rd[r, c] = a0 * R[c, 0] + a1 * R[c, 1] + a2 * R[c, 2]
+            Rd[r, c] = a0 * RT[3 * c, l] + a1 * RT[3 * c + 1, l] + a2 * RT[3 * c + 2, l]
     L = plat[P_L]
     ph0, ph1, ph2 = plat[P_PH], plat[P_PH + 1], plat[P_PH + 2]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
-    u0 = c0 - (R[0, 0] * ph0 + R[0, 1] * ph1 + R[0, 2] * ph2 + t[0])
-    u1 = c1 - (R[1, 0] * ph0 + R[1, 1] * ph1 + R[1, 2] * ph2 + t[1])
-    u2 = c2 - (R[2, 0] * ph0 + R[2, 1] * ph1 + R[2, 2] * ph2 + t[2])
-    e[0] = (Rd[0, 0] * u0 + Rd[0, 1] * u1 + Rd[0, 2] * u2 + fp[15] - c0) / L
-    e[1] = (Rd[1, 0] * u0 + Rd[1, 1] * u1 + Rd[1, 2] * u2 + fp[16] - c1) / L
-    e[2] = (Rd[2, 0] * u0 + Rd[2, 1] * u1 + Rd[2, 2] * u2 + fp[17] - c2) / L
-    rotation_vector(Rd, e, 3)
+    u0 = c0 - (RT[0, l] * ph0 + RT[1, l] * ph1 + RT[2, l] * ph2 + RT[9, l])
+    u1 = c1 - (RT[3, l] * ph0 + RT[4, l] * ph1 + RT[5, l] * ph2 + RT[10, l])
+    u2 = c2 - (RT[6, l] * ph0 + RT[7, l] * ph1 + RT[8, l] * ph2 + RT[11, l])
+    Eb[0, l] = (Rd[0, 0] * u0 + Rd[0, 1] * u1 + Rd[0, 2] * u2 + FPb[15, l] - c0) / L
+    Eb[1, l] = (Rd[1, 0] * u0 + Rd[1, 1] * u1 + Rd[1, 2] * u2 + FPb[16, l] - c1) / L
+    Eb[2, l] = (Rd[2, 0] * u0 + Rd[2, 1] * u1 + Rd[2, 2] * u2 + FPb[17, l] - c2) / L
+    rotation_vector(Rd, w, 0)
+    Eb[3, l], Eb[4, l], Eb[5, l] = w[0], w[1], w[2]
 
 
 @inner
-def platform_home_rotation(M, fp, S):
-    """``S[1] = Rp Rh^T`` of the platform ``fp`` (once per pose, for :func:`closure_error`)."""
+def platform_home_rotation(M, FPb, l, S):
+    """``S[1] = Rp Rh^T`` of lane ``l`` of the platforms ``FPb (27, B)`` (once per pose, for
+    :func:`closure_error`)."""
     plat = M[PLAT]
     RpRh = S[1]
     for r in range(3):
         for c in range(3):
-            RpRh[r, c] = (fp[6 + 3 * r] * plat[P_RH + 3 * c] + fp[6 + 3 * r + 1] *
-                          plat[P_RH + 3 * c + 1] + fp[6 + 3 * r + 2] * plat[P_RH + 3 * c + 2])
+            RpRh[r, c] = (FPb[6 + 3 * r, l] * plat[P_RH + 3 * c] + FPb[6 + 3 * r + 1, l] *
+                          plat[P_RH + 3 * c + 1] + FPb[6 + 3 * r + 2, l] * plat[P_RH + 3 * c + 2])
+
+
+@inner
+def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, res, CS):
+    """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of
+    the unknowns ``X (nx, B)`` (given parameters ``P6 (6, B)``) into buffer ``b`` of ``FA (2,
+    n, m, 6, B)``, ``FL (2, n, 12, B)``, ``FE (2, n, 6, B)``, ``FP (2, 27, B)``; each lane's
+    residual (largest closure error component, NaN-propagating) into ``res (B,)``.  ``S (6,
+    3, 3)``, ``p6 (6,)``, ``CS (2, B)`` scratch."""
+    for l in range(nb):
+        for k in range(6):
+            p6[k] = P6[k, l]
+        for k in range(unk.shape[0]):
+            p6[unk[k]] = X[k, l] * xs[k]
+        platform(M, p6, FP[b], l, S)
+    legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, res, CS)
+
+
+@inner
+def legs_block(M, X, nu, FA, FL, FE, FP, b, S, nb, res, CS):
+    """Every leg's frames and closure error of ``nb`` lanes at the joint values ``X[nu:]``
+    against the platforms already in ``FP[b]``; each lane's residual into ``res``
+    (:func:`forward_block`'s arrays)."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    for i in range(n):
+        chain(M, i, X, nu + i * m, FA[b, i], FL[b, i], nb, False, FA[b, i], S[0], CS)
+    for l in range(nb):
+        platform_home_rotation(M, FP[b], l, S)
+        r = 0.0
+        for i in range(n):
+            Eb = FE[b, i]
+            closure_error(M, FP[b], FL[b, i], Eb, l, S)
+            for k in range(6):
+                a = abs(Eb[k, l])
+                if not a <= r:            # NaN propagates
+                    r = a
+        res[l] = r
 
 
 @inner
 def forward(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6):
-    """The frames of the unknowns ``X`` (given parameters ``p6fix``) into buffer ``b``;
-    returns the residual (largest closure error component, NaN-propagating).  ``S (6, 3,
-    3)``, ``p6 (6,)`` scratch."""
-    for k in range(6):
-        p6[k] = p6fix[k]
-    for k in range(unk.shape[0]):
-        p6[unk[k]] = X[k] * xs[k]
-    platform(M, p6, FP[b], S)
-    return legs_forward(M, X, unk.shape[0], FA, FL, FE, FP, b, S)
+    """One pose's forward pass (:func:`forward_block` on a block of one lane: the arrays of
+    :func:`forward_block` without the lane axis; ``S[5]`` holds the lane's scratch); returns
+    the residual."""
+    CS = S[5]
+    forward_block(M, unk, xs, one_lane(p6fix), one_lane(X), one_lane(FA), one_lane(FL),
+                  one_lane(FE), one_lane(FP), b, S, p6, 1, CS[2], CS)
+    return CS[2, 0]
 
 
 @inner
 def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
-    """Every leg's frames and closure error at the joint values ``X[nu:]`` against the
-    platform already in ``FP[b]``; returns the residual."""
-    fp = FP[b]
-    n, m = M[D].shape[0], M[D].shape[1]
-    platform_home_rotation(M, fp, S)
-    res = 0.0
-    for i in range(n):
-        Rl = S[3]
-        tl = S[4, 0]
-        chain(M, i, X, nu + i * m, FA[b, i], Rl, tl, S[0], S[2], False, S, S[0])
-        fl = FL[b, i]
-        for r in range(3):
-            fl[9 + r] = tl[r]
-            for c in range(3):
-                fl[3 * r + c] = Rl[r, c]
-        e = FE[b, i]
-        closure_error(M, fp, Rl, tl, e, S)
-        for k in range(6):
-            a = abs(e[k])
-            if not a <= res:            # NaN propagates
-                res = a
-    return res
+    """One pose's legs against the platform already in ``FP[b]`` (:func:`legs_block` on a
+    block of one lane); returns the residual."""
+    CS = S[5]
+    legs_block(M, one_lane(X), nu, one_lane(FA), one_lane(FL), one_lane(FE), one_lane(FP), b,
+               S, 1, CS[2], CS)
+    return CS[2, 0]
 
 
 @inner

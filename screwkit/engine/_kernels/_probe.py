@@ -20,7 +20,7 @@ import numpy as np
 
 from ._geometry import (eval_directions, eval_points, group_rows, leg_setup, null_space,
                         reference_remainder)
-from ._jit import entry, inner
+from ._jit import entry, inner, one_lane
 from ._kin import chain
 from ._layout import D, DIRS, GREF, PTS, REF_MIN, TPL, T_K
 from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_TW, RW_VEC, generic_members,
@@ -34,9 +34,10 @@ def _home(M, fp):
     m = M[D].shape[1]
     RW = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     fa = np.zeros((m, 6))
-    X = np.zeros(m)
-    R, t, E, T2 = np.zeros((3, 3)), np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3))
-    chain(M, 0, X, 0, fa, R, t, E, T2, False, np.zeros((1, 3, 3)), np.zeros((1, 3)))
+    X = np.zeros((m, 1))           # joint values 0 (owned here: see one_lane)
+    fal = one_lane(fa)             # a block of one lane
+    chain(M, 0, X, 0, fal, np.zeros((12, 1)), 1, False, fal, np.zeros((3, 3)),
+          np.zeros((2, 1)))
     leg_setup(M, 0, fa, fp, RW[RW_CTX], RW[RW_TW])
     eval_points(M, 0, fa, RW[RW_CTX], RW[RW_PV])
     eval_directions(M, 0, fa, fp, RW[RW_CTX], RW[RW_DV])
