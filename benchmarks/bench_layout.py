@@ -7,7 +7,9 @@ library).  This script times one part of the closure, the legs' product of expon
 (``_kin.chain``: every joint's current axis and point, each leg's end displacement), three
 ways on the same solved joint values of a catalog PM:
 
-* ``engine``: the engine's own ``_kin.chain`` for one pose at a time (no copy of it);
+* ``engine``: the engine's own ``_kin.chain`` for one pose at a time (a block of one lane;
+  no copy of it), then on blocks of ``B`` poses (the same function: it is written on a block
+  with the pose axis innermost);
 * ``poses inner, libm``: the same arithmetic on blocks of ``B`` poses, structure of arrays
   (one contiguous array per rotation entry), the loop over the block's poses innermost,
   where LLVM vectorises it (AVX2 / AVX-512 here); ``math.sin``, ``math.cos`` per pose;
@@ -61,6 +63,7 @@ def _sincos_many(a, s, c):
 
 
 def _kernels():
+    from screwkit.engine._kernels._jit import one_lane
     from screwkit.engine._kernels._kin import chain
     from screwkit.engine._kernels._pack import model
 
@@ -68,13 +71,31 @@ def _kernels():
     def engine(Mf, Mi, Md, Xs, nu):
         M = model(Mf, Mi, Md)
         n, m = M[0].shape[0], M[0].shape[1]
-        fa, R, t = np.zeros((m, 6)), np.zeros((3, 3)), np.zeros(3)
-        E, T2, Rs, ts = np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((m, 3, 3)), np.zeros((m, 3))
+        fa, RT, E, CS = np.zeros((m, 6, 1)), np.zeros((12, 1)), np.zeros((3, 3)), np.zeros((2, 1))
         acc = 0.0
         for p in range(Xs.shape[0]):
             for i in range(n):
-                chain(M, i, Xs[p], nu + i * m, fa, R, t, E, T2, False, Rs, ts)
-                acc += t[0] + R[2, 2] + fa[M[10][i, 0] - 1, 3]
+                chain(M, i, one_lane(Xs[p]), nu + i * m, fa, RT, 1, False, fa, E, CS)
+                acc += RT[9, 0] + RT[8, 0] + fa[M[10][i, 0] - 1, 3, 0]
+        return acc
+
+    @njit(error_model="numpy")
+    def engine_blocks(Mf, Mi, Md, XT, nu, B):
+        M = model(Mf, Mi, Md)
+        n, m, N = M[0].shape[0], M[0].shape[1], XT.shape[1]
+        fa, RT, E, CS = np.zeros((m, 6, B)), np.zeros((12, B)), np.zeros((3, 3)), np.zeros((2, B))
+        Xb = np.zeros((XT.shape[0], B))
+        acc = 0.0
+        for p0 in range(0, N, B):
+            nb = min(B, N - p0)
+            for k in range(XT.shape[0]):
+                for l in range(nb):
+                    Xb[k, l] = XT[k, p0 + l]
+            for i in range(n):
+                chain(M, i, Xb, nu + i * m, fa, RT, nb, False, fa, E, CS)
+                last = M[10][i, 0] - 1
+                for l in range(nb):
+                    acc += RT[9, l] + RT[8, l] + fa[last, 3, l]
         return acc
 
     @njit(error_model="numpy")
@@ -152,7 +173,7 @@ def _kernels():
                     acc += t0[k] + r22[k] + last[3, k]
         return acc
 
-    return engine, blocks
+    return engine, engine_blocks, blocks
 
 
 def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
@@ -175,7 +196,7 @@ def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
     arrays = [np.ascontiguousarray(M[k]) for k in (D, P, ROT, TRA, QS)]
     size = np.ascontiguousarray(M[LEG][:, L_SIZE])
     nu = ch.flat.nu
-    engine, blocks = _kernels()
+    engine, engine_blocks, blocks = _kernels()
     engine(*Mp.args, Xs[:4], nu)
     blocks(*arrays, size, XT[:, :4], nu, 64, False)
     blocks(*arrays, size, XT[:, :4], nu, 64, True)
@@ -185,6 +206,11 @@ def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
     print(f"{name}: the legs' product of exponentials ({joints} joints), {n} solved poses, "
           f"CPU time per pose on one thread")
     print(f"  engine (_kin.chain, one pose at a time)   {t_eng * us:6.3f} us")
+    engine_blocks(*Mp.args, XT[:, :4], nu, 32)
+    for B in (8, 16, 32, 64):
+        t, got = _best(lambda: engine_blocks(*Mp.args, XT, nu, B))
+        print(f"  engine (_kin.chain), blocks of {B:3d}       {t * us:6.3f} us  "
+              f"{t_eng / t:4.1f}x   checksum rel. diff {abs(got - ref) / abs(ref):.1e}")
     for B in (32, 64, 256):
         for poly, label in ((False, "libm"), (True, "polynomial sin/cos")):
             t, got = _best(lambda: blocks(*arrays, size, XT, nu, B, poly))

@@ -25,13 +25,15 @@ from numba import prange
 
 from ._jit import borrowed, entry, inlined, inner, parallel
 
-from ._closures import predict, solve_pose
+from ._block import K_ACC, K_F, K_ITS, K_P6, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
+    block_newton, lane_frames, make_block
+from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
 from ._kin import forward
-from ._layout import D, DIRS, LEG, L_ACT, L_AROW, PTS, ROWS
+from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
-                      make_work)
+                      make_work, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
 from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
                        equilibrium, make_statics_work, normalise_rows, spread, statics_apply,
@@ -54,22 +56,31 @@ def _compliance(I, p, mr, torque, L, comp):
 
 
 @inlined
+def start(Z, I, O, p, W):
+    """Pose ``p``'s start into ``O[OUT_X][p]``: its warm start, else the home predictor's."""
+    unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
+    P6, X0 = I[0], I[1]
+    X = O[OUT_X][p]
+    if X0.shape[0]:
+        for k in range(X.shape[0]):
+            X[k] = X0[p, k]
+    else:
+        Xh = W[W_XB]                  # (scratch: the home vector, read only here)
+        home_vector(unk, xs, p6home, Xh)
+        predict(Z[7], fix, Z[8], Z[9], Z[10][0], P6[p], Xh, X, W[W_P6S][3])
+
+
+@inlined
 def run_pose(M, Z, I, O, flags, p, W, RW, SW):
     """Pose ``p``: solve (or the frames of the given unknowns), rows, conditioning and
     statics, as ``flags`` says."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
-    P6, X0, sides = I[0], I[1], I[2]
+    P6, sides = I[0], I[2]
     p6fix = P6[p]
     X = O[OUT_X][p]
     FA, FP = W[W_FA], W[W_FP]
     if flags[F_SOLVE]:
-        if X0.shape[0]:
-            for k in range(X.shape[0]):
-                X[k] = X0[p, k]
-        else:
-            Xh = W[W_XB]                  # (scratch: the home vector, read only here)
-            home_vector(unk, xs, p6home, Xh)
-            predict(Z[7], fix, Z[8], Z[9], Z[10][0], p6fix, Xh, X, W[W_P6S][3])
+        start(Z, I, O, p, W)
         side = sides[p] if sides.shape[0] else 0.0
         res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
                                             fix, fix2, flags[F_CONTINUATION] == 1, W)
@@ -79,6 +90,17 @@ def run_pose(M, Z, I, O, flags, p, W, RW, SW):
     else:
         b = 0
         res = forward(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, 0, W[W_S], W[W_P6])
+    finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
+
+
+@inlined
+def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
+    """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
+    ``res``): the lines, rows, conditioning and statics, as ``flags`` says."""
+    unk, xs = Z[0], Z[1]
+    p6fix = I[0][p]
+    X = O[OUT_X][p]
+    FA, FP = W[W_FA], W[W_FP]
     O[OUT_RES][p] = res
     if flags[F_LINES]:
         bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
@@ -141,10 +163,82 @@ def run_poses(M, Z, I, O, flags, start, stop):
     RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     SWo = make_statics_work(M[ROWS].shape[0])
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
-    for p in range(start, stop):
-        run_pose(M, Z, I, O, flags, p, W, RW, SW)
+    if not flags[F_SOLVE]:
+        for p in range(start, stop):
+            run_pose(M, Z, I, O, flags, p, W, RW, SW)
+        return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
+    Ko = make_block(n, m, nx, BLOCK)
+    K = borrowed(Ko)
+    for p0 in range(start, stop, BLOCK):
+        nb = min(BLOCK, stop - p0)
+        solve_block(M, Z, I, O, p0, nb, W, K)
+        for l in range(nb):
+            p = p0 + l
+            res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
+            finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
+
+
+@inlined
+def solve_block(M, Z, I, O, p0, nb, W, K):
+    """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
+    starts, as :func:`run_pose`); a pose near the representation singularity is left to
+    :func:`finish_lane` (solved alone)."""
+    unk, xs = Z[0], Z[1]
+    order = M[ORDER]
+    P6 = I[0]
+    Xb, P6b, TOL, ST = K[K_X], K[K_P6], K[K_TOL], K[K_STATE]
+    for l in range(nb):
+        p = p0 + l
+        start(Z, I, O, p, W)
+        X = O[OUT_X][p]
+        p6fix = P6[p]
+        for k in range(6):
+            P6b[k, l] = p6fix[k]
+        for k in range(X.shape[0]):
+            Xb[k, l] = X[k]
+        TOL[l] = tolerance(order, unk, xs, p6fix, X)
+        ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
+    block_newton(M, unk, xs, K, nb, 30, W)
+
+
+@inlined
+def finish_lane(M, Z, I, O, flags, p, W, K, l):
+    """Pose ``p`` (lane ``l`` of the block ``K``) after the block's Newton run: its unknowns,
+    and where that run did not converge, the rescue (continuation, polish), or alone the
+    representation singularity, as :func:`._closures.solve_pose`; its frames into buffer
+    ``b`` of ``W``.  Returns ``(residual, b)``."""
+    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
+    p6fix = I[0][p]
+    X = O[OUT_X][p]
+    if K[K_STATE][l] == LANE_ALONE:
+        sides = I[2]
+        side = sides[p] if sides.shape[0] else 0.0
+        res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
+                                            fix, fix2, flags[F_CONTINUATION] == 1, W)
+    else:
+        Xb = K[K_X]
+        for k in range(X.shape[0]):
+            X[k] = Xb[k, l]
+        res, its = K[K_F][l], K[K_ITS][l]
+        how = 0
+        sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
+        # the frames into the buffer where one pose alone has them (the rescue returns it
+        # when it finds nothing better, its Newton runs having overwritten the buffers)
+        b = 0 if res <= CONVERGED else K[K_ACC][l] % 2
+        lane_frames(K, 0, l, W, b)
+        if not res <= CONVERGED:
+            res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
+                                      flags[F_CONTINUATION] == 1, W, res, its, b)
+            if b < 0:
+                b = 0
+                res = forward(M, unk, xs, p6fix, X, W[W_FA], W[W_FL], W[W_FE], W[W_FP], 0,
+                              W[W_S], W[W_P6])
+    O[OUT_ITS][p] = its
+    O[OUT_HOW][p] = how
+    O[OUT_SING][p] = sing
+    return res, b
 
 
 @entry

@@ -68,6 +68,9 @@ A_NONE, A_LINE, A_LEAST_NORM = 0, 1, 2
 G_COUPLE, G_FORCE = 0, 1
 R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
 
+#: Poses a thread solves together (the lanes of a block: :mod:`._block`).
+BLOCK = 32
+
 #: Length-normalised closure residual regarded as converged (success).
 CONVERGED = 1e-10
 #: Largest residual returned as a (poor) solution rather than unreachable.
