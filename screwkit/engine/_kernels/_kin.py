@@ -13,11 +13,14 @@ innermost (``FA (2, n, m, 6, B)``, ``X (nx, B)``...): :func:`forward_block`, who
 of exponentials (:func:`chain`) runs each joint's arithmetic across the lanes, where LLVM
 vectorises it.  One pose is a block of one lane: :func:`forward` passes the one-pose arrays
 through :func:`~._jit.one_lane` (the same memory with a trailing axis of length one).
+:func:`forward_block` and :func:`legs_block` are inlined into their callers, so that a
+caller's block of one reaches :func:`chain` as the constant 1 (LLVM then folds its lane
+loops: with a lane count known only at run time, a block of one cost twice the pass).
 """
 
 import math
 
-from ._jit import inner, one_lane
+from ._jit import inlined, inner, one_lane
 
 from ._layout import (AP, BAR, BLEN, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
@@ -225,7 +228,7 @@ def platform_home_rotation(M, FPb, l, S):
                           plat[P_RH + 3 * c + 1] + FPb[6 + 3 * r + 2, l] * plat[P_RH + 3 * c + 2])
 
 
-@inner
+@inlined
 def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, res, CS):
     """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of
     the unknowns ``X (nx, B)`` (given parameters ``P6 (6, B)``) into buffer ``b`` of ``FA (2,
@@ -241,7 +244,7 @@ def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, res, CS):
     legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, res, CS)
 
 
-@inner
+@inlined
 def legs_block(M, X, nu, FA, FL, FE, FP, b, S, nb, res, CS):
     """Every leg's frames and closure error of ``nb`` lanes at the joint values ``X[nu:]``
     against the platforms already in ``FP[b]``; each lane's residual into ``res``
