@@ -163,7 +163,8 @@ def run_poses(M, Z, I, O, flags, start, stop):
     RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     SWo = make_statics_work(M[ROWS].shape[0])
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
-    if not flags[F_SOLVE]:
+    if not flags[F_SOLVE] or stop - start == 1:
+        # given unknowns, or one pose (its lane loops folded: see _kin)
         for p in range(start, stop):
             run_pose(M, Z, I, O, flags, p, W, RW, SW)
         return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
