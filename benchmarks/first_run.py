@@ -27,8 +27,9 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PACKAGE = "screwkit.engine._kernels."
-#: The kernels whose compile the child does (and everything compiled under them).
-CLOSURE = "solve_pose"
+#: The kernels whose compile the child does (and everything compiled under them): the
+#: closures of one pose and of a block.
+CLOSURE = ("solve_pose", "solve_block")
 #: The pose kernel's own functions (compiled last, once the closure is in the cache).
 POSE = ("run_range", "run_poses")
 
@@ -78,7 +79,7 @@ def _write(command) -> None:
     for module, name, args, under in done:
         if not module.startswith(PACKAGE):
             continue                      # numba's own (compiled with their callers)
-        if CLOSURE in under:
+        if any(c in under for c in CLOSURE):
             group = "closure"
         elif name in POSE:
             group = "pose"

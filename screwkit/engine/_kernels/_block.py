@@ -82,6 +82,14 @@ def _accept(K, l):
 
 
 @inner
+def forward_lanes(M, unk, xs, K, X, b, res, nb):
+    """The block's forward pass (:func:`._kin.forward_block`, inlined here once) of the
+    unknowns ``X`` into buffer ``b``, each lane's residual into ``res``."""
+    forward_block(M, unk, xs, K[K_P6], X, K[K_FA], K[K_FL], K[K_FE], K[K_FP], b, K[K_S],
+                  K[K_P6S], nb, res, K[K_CS])
+
+
+@inner
 def _sq(FE, b, l):
     """Lane ``l``'s sum of squared closure errors in buffer ``b`` (the one-pose order)."""
     s = 0.0
@@ -91,7 +99,7 @@ def _sq(FE, b, l):
     return s
 
 
-@inlined
+@inner
 def block_newton(M, unk, xs, K, nb, max_iter, W):
     """Gauss-Newton on the lanes ``0..nb-1`` of the block ``K`` whose state is
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
@@ -100,15 +108,13 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     final unknowns in buffer 0 (one pose alone, :func:`._newton.newton_iterate`, has them in
     its buffer ``accepted % 2``).  ``W`` a
     one-pose workspace (the lanes' Newton steps)."""
-    X, Xn, P6, STEP = K[K_X], K[K_XN], K[K_P6], K[K_STEP]
-    FA, FL, FE, FP = K[K_FA], K[K_FL], K[K_FE], K[K_FP]
+    X, Xn, STEP, FE = K[K_X], K[K_XN], K[K_STEP], K[K_FE]
     F, FN, E2, TOL, ITS, ST, OK = K[K_F], K[K_FN], K[K_E2], K[K_TOL], K[K_ITS], K[K_STATE], \
         K[K_OK]
-    S, p6, CS = K[K_S], K[K_P6S], K[K_CS]
     nu = unk.shape[0]
     nx = X.shape[0]
     step = W[W_STEP]
-    forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, 0, S, p6, nb, F, CS)
+    forward_lanes(M, unk, xs, K, X, 0, F, nb)
     for l in range(nb):
         ITS[l] = 0
         K[K_ACC][l] = 0
@@ -144,7 +150,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                         STEP[k, l] *= 0.5
                 for k in range(nx):
                     Xn[k, l] = X[k, l] + STEP[k, l]
-            forward_block(M, unk, xs, P6, Xn, FA, FL, FE, FP, 1, S, p6, nb, FN, CS)
+            forward_lanes(M, unk, xs, K, Xn, 1, FN, nb)
             pending = False
             for l in range(nb):
                 if ST[l] != LANE_ACTIVE or OK[l]:

@@ -181,7 +181,7 @@ def run_poses(M, Z, I, O, flags, start, stop):
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
 
 
-@inlined
+@inner
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
     starts, as :func:`run_pose`); a pose near the representation singularity is left to

@@ -6,8 +6,8 @@ optimising and generating the code of each function with everything it calls lin
 On a machine with a second core, that compile is split between this process and a child
 process that compiles into the same disk cache:
 
-* the child compiles the pose's loop closure (``_closures.solve_pose``, with the forward
-  kinematics and Newton under it), then the entry points the analysis calls besides the
+* the child compiles the loop closures, of one pose (``_closures.solve_pose``) and of a
+  block of poses (``_driver.solve_block``), with the forward kinematics and Newton under them, then the entry points the analysis calls besides the
   pose kernel (the row templates' probes at home, the transmission indices, the frames...);
 * meanwhile this process compiles the rest of the pose kernel's callees (rows,
   conditioning, statics...), waits for the child's closure, loads it from the cache (numba
