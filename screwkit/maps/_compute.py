@@ -139,7 +139,7 @@ def arrays_of(model, res) -> dict:
     nan_unreach = lambda x: np.where(reach, x, np.nan)            # noqa: E731
     out = {
         "residual": np.asarray(sol.closures.residual, float),
-        "reachable": reach.copy(),
+        "reachable": reach,                 # (stored by a copy into the map's arrays)
         "converged": sol.closures.residual <= CONVERGED,
         "ok": np.asarray(res.ok, bool),
         "condition_number": nan_unreach(c.condition_number),
@@ -153,8 +153,7 @@ def arrays_of(model, res) -> dict:
         "equilibrium_residual": (np.full(len(reach), np.nan) if st is None else
                                  np.asarray(st.equilibrium_residual, float)),
         "values": None if st is None else np.asarray(st.F_r, float),
-        "T_r": None if st is None else np.where(np.array(_linear(model))[None, :], st.T_r,
-                                                np.nan),
+        "T_r": None if st is None else _linear_only(model, st.T_r),
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
@@ -178,6 +177,13 @@ def arrays_of(model, res) -> dict:
         if lim.min_leg_distance is not None:
             out["min_leg_distance"] = chk["min_leg_distance"]
     return out
+
+
+def _linear_only(model, T_r):
+    """``T_r (N, n)`` of the legs with a linear actuator, NaN for the others (as it is when
+    every leg is linear: the map's arrays copy it)."""
+    linear = np.array(_linear(model))
+    return T_r if linear.all() else np.where(linear[None, :], T_r, np.nan)
 
 
 def _class_codes(classes):
