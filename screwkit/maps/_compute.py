@@ -21,8 +21,13 @@ __all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NA
            "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
-#: Cells per block (one engine launch).
-BLOCK = 16 * 4096
+#: Cells per block (one engine launch).  Blocks of 16,384 3RRPRR cells rather than 65,536:
+#: the launch's outputs (about 1.4 kB a cell with the indices' lines) then stay under
+#: glibc's largest dynamic mmap threshold (32 MB), so each block reuses the memory the
+#: last one freed instead of mapping, faulting in and zeroing fresh pages; measured on
+#: 250,000 cells: 7% less CPU in all, a third less outside the kernels.  The cells'
+#: values do not depend on the blocks.
+BLOCK = 4 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
 #: ``conditioning`` codes of a map: the engine's one classification
