@@ -16,7 +16,9 @@ Prints, side by side in one run (the machines are noisy):
 each with cells per second and the peak resident memory of the process that ran it (the
 Dask workers' own peak is reported by the workers); ``map serial`` also with its time split
 into the engine's analysis of its blocks (``screwkit.analyze``: closures, rows,
-statics) and the rest (indices, quality, the Dataset, the loci).  Targets (issue 11):
+statics) and the rest (indices, quality, the Dataset, the loci), and into the kernel
+launches (all of them, wall) and the CPU time of the main thread outside them (the Python
+and numpy around the kernels, per cell).  Targets (issue 11):
 1,000,000 cells in <= 20 s serial on 2 cores, peak memory under 2 GB; (issue 23) <= 3 s
 serial.  ``--reference DIR`` runs every case also with another checkout of screwkit
 (``PYTHONPATH=DIR``, e.g. main's), alternating with this one, best of ``--repeat``; each
@@ -71,11 +73,28 @@ def _run(mode: str, n: int) -> None:
                 engine[0] += time.perf_counter() - t
 
         _compute.analyze = timed
-        t = time.perf_counter()
+        # every kernel launch (the analysis, the indices, the statics' extras): their wall
+        # time, and this thread's CPU time outside them (the Python and numpy around the
+        # kernels, which the load of other processes does not inflate)
+        from screwkit.engine import _launch
+        launches, inside_cpu = [0.0], [0.0]
+        launch = _launch._launch
+
+        def timed_launch(*args, **kw):
+            t, c = time.perf_counter(), time.thread_time()
+            try:
+                return launch(*args, **kw)
+            finally:
+                launches[0] += time.perf_counter() - t
+                inside_cpu[0] += time.thread_time() - c
+
+        _launch._launch = timed_launch
+        t, c = time.perf_counter(), time.thread_time()
         ds = screwkit.map(pm, grid, degrees=True)
-        dt = time.perf_counter() - t
+        dt, cpu = time.perf_counter() - t, time.thread_time() - c
         ds.to_netcdf("/tmp/bench_map_serial.nc", engine="scipy")
-        print(dt, _peak_mb(), ds["ok"].size, int(ds["ok"].sum()), engine[0])
+        print(dt, _peak_mb(), ds["ok"].size, int(ds["ok"].sum()), engine[0], launches[0],
+              cpu - inside_cpu[0])
         return
     import dask
     import distributed
@@ -124,7 +143,8 @@ def _case(case, n, tree):
     note = f"{out[3]} ok"
     if case == "serial":
         note += (f"; engine.analyze of the blocks {float(out[4]):.2f} s, the rest of the map "
-                 f"{dt - float(out[4]):.2f} s")
+                 f"{dt - float(out[4]):.2f} s; the kernel launches {float(out[5]):.2f} s, "
+                 f"outside them {float(out[6]) / cells * 1e6:.2f} us of CPU a cell")
     if case == "dask":
         note += (f"; cluster start {float(out[4]):.1f} s; worker peak {float(out[5]):.0f} MB;"
                  f" equal to serial bit for bit: {out[6]}")

@@ -155,26 +155,44 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         mid = (left + right) // 2
         good = res <= ACCEPTED
         good_l, good_r = good[left], good[right]
-        Xl, Xr = XT[left].T, XT[right].T
-        w = ((mid - left) / (right - left))[None]
-        Xs = np.where(good_l & good_r, (1 - w) * Xl + w * Xr, np.where(good_l, Xl, Xr))
-        # the cubic through the two solved neighbours on each side, where all four are good
+        # sample by sample (rows, the layout of XT): whole-row gathers, and elementwise
+        # arithmetic in place (the same operations on the same values, so the same bits)
+        Xl, Xr = XT[left], XT[right]
+        # the cubic through the two solved neighbours on each side, where all four are good;
+        # elsewhere the linear interpolation, or the one good neighbour
         k0, k3 = np.maximum(k - 1, 0), np.minimum(k + 2, len(idx) - 1)
         p0, p3 = idx[k0], idx[k3]
         four = (k0 < k) & (k3 > k + 1) & good_l & good_r & good[p0] & good[p3]
+        Xs = np.empty_like(Xl)
         if four.any():
-            ts = np.stack([p0, left, right, p3]).astype(float)[:, four]
+            nodes = (p0[four], left[four], right[four], p3[four])
+            ts = np.stack(nodes).astype(float)
             t = mid[four].astype(float)
-            Xs[:, four] = sum(_lagrange(ts, j, t) * XT[ts[j].astype(int)].T for j in range(4))
+            cubic = XT[nodes[0]]
+            cubic *= _lagrange(ts, 0, t)[:, None]
+            cubic += 0.0                    # (the sum starts from 0, as it did: -0 is +0)
+            for j in range(1, 4):
+                term = XT[nodes[j]]
+                term *= _lagrange(ts, j, t)[:, None]
+                cubic += term
+            Xs[four] = cubic
+        rest = ~four
+        if rest.any():
+            lm, rm_, both, gl = left[rest], right[rest], (good_l & good_r)[rest], good_l[rest]
+            w = ((mid[rest] - lm) / (rm_ - lm))[:, None]
+            a, b = Xl[rest], Xr[rest]
+            Xs[rest] = np.where(both[:, None], (1 - w) * a + w * b, np.where(gl[:, None], a, b))
         fx = {p: v[mid] for p, v in fixed.items()}
-        c = _solve_level(model, fx, Xs, workers) if levels is None else \
-            levels.solve(fx, Xs, mid, workers)
-        Xm, rm, hm = c.X, c.residual, c.how
+        c = _solve_level(model, fx, Xs.T, workers) if levels is None else \
+            levels.solve(fx, Xs.T, mid, workers)
+        Xm, rm, hm = c.X.T, c.residual, c.how               # (K, n_unknowns)
         # a branch jump: the solution moved more than its neighbours differ
-        span = np.max(np.abs(Xr - Xl), axis=0)
-        moved = np.max(np.abs(Xm - Xs), axis=0)
+        Xr -= Xl
+        span = np.max(np.abs(Xr, out=Xr), axis=1)
+        Xl = np.subtract(Xm, Xs, out=Xl)
+        moved = np.max(np.abs(Xl, out=Xl), axis=1)
         jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
-        XT[mid], res[mid], its[mid], how[mid], sing[mid] = Xm.T, rm, c.iterations, hm, \
+        XT[mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
             c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the
@@ -198,7 +216,8 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         if progress:
             progress(int(solved.sum()), N)
     diag = {"anchors": len(anchors), "batched": N, "retried": retried}
-    return Closure(ch, np.ascontiguousarray(X), None, res, its, how, sing, diag)
+    # X: a view of the samples' rows XT (the engine's driver keeps them as they are)
+    return Closure(ch, X, None, res, its, how, sing, diag)
 
 
 def balanced_chunk(N: int, chunk: int, workers: int) -> int:

@@ -17,10 +17,10 @@ import numpy as np
 from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
 from ._kernels._layout import CONVERGED
-from ._launch import run_poses
+from ._launch import run_poses, threads
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
-from ._path import solve_path
+from ._path import balanced_chunk, solve_path
 from ._solve import Closures, predictor_of
 
 __all__ = ["CHUNK", "Computed", "compute", "row_points"]
@@ -112,7 +112,10 @@ class PathRows:
             if v.shape[0]:
                 if key not in self.out:
                     self.out[key] = np.empty((self.N,) + v.shape[1:], v.dtype)
-                self.out[key][idx] = v
+                # a scatter of whole rows, as 2-D arrays: numpy copies a row at once
+                # (twice as fast as indexing the first axis of a 3-D array)
+                w = int(np.prod(v.shape[1:]))
+                self.out[key].reshape(self.N, w)[idx] = v.reshape(v.shape[0], w)
         return o
 
     def solve(self, fixed, X0, idx, workers):
@@ -124,7 +127,9 @@ class PathRows:
         P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
         keys = ("X", "residual", "iterations", "how", "singular_beta")
         got = {}
-        for sl in _chunks(K, CHUNK):
+        # launches of nearly equal size (a multiple of the threads): no idle thread on a
+        # short last launch
+        for sl in _chunks(K, balanced_chunk(K, CHUNK, threads(K, workers))):
             o = self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
             if sl.stop - sl.start == K:
                 got = {k: o[k] for k in keys}
@@ -242,7 +247,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, workers=workers,
                        progress=(lambda d, n: progress(done(d), steps)) if progress else None,
                        levels=levels)
-        X[:] = c.X.T
+        X = np.ascontiguousarray(c.X.T)            # (the path's rows as they are: no copy)
         its[:], how[:], sing[:] = c.iterations, c.how, c.singular_beta
         diag = dict(c.diagnostics)
         path_res = c.residual

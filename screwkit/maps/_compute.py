@@ -21,8 +21,13 @@ __all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NA
            "meta_of", "evaluate", "evaluate_loads",
            "arrays_of", "compute"]
 
-#: Cells per block (one engine launch).
-BLOCK = 16 * 4096
+#: Cells per block (one engine launch).  Blocks of 16,384 3RRPRR cells rather than 65,536:
+#: the launch's outputs (about 1.4 kB a cell with the indices' lines) then stay under
+#: glibc's largest dynamic mmap threshold (32 MB), so each block reuses the memory the
+#: last one freed instead of mapping, faulting in and zeroing fresh pages; measured on
+#: 250,000 cells: 7% less CPU in all, a third less outside the kernels.  The cells'
+#: values do not depend on the blocks.
+BLOCK = 4 * 4096
 #: ``level`` codes of a map (the engine's levels, then unreachable).
 LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachable")
 #: ``conditioning`` codes of a map: the engine's one classification
@@ -139,7 +144,7 @@ def arrays_of(model, res) -> dict:
     nan_unreach = lambda x: np.where(reach, x, np.nan)            # noqa: E731
     out = {
         "residual": np.asarray(sol.closures.residual, float),
-        "reachable": reach.copy(),
+        "reachable": reach,                 # (stored by a copy into the map's arrays)
         "converged": sol.closures.residual <= CONVERGED,
         "ok": np.asarray(res.ok, bool),
         "condition_number": nan_unreach(c.condition_number),
@@ -153,8 +158,7 @@ def arrays_of(model, res) -> dict:
         "equilibrium_residual": (np.full(len(reach), np.nan) if st is None else
                                  np.asarray(st.equilibrium_residual, float)),
         "values": None if st is None else np.asarray(st.F_r, float),
-        "T_r": None if st is None else np.where(np.array(_linear(model))[None, :], st.T_r,
-                                                np.nan),
+        "T_r": None if st is None else _linear_only(model, st.T_r),
         "extensions": np.asarray(sol._extensions, float),
         "actuators": np.asarray(sol.actuator_values, float),       # (N, actuated legs)
     }
@@ -178,6 +182,13 @@ def arrays_of(model, res) -> dict:
         if lim.min_leg_distance is not None:
             out["min_leg_distance"] = chk["min_leg_distance"]
     return out
+
+
+def _linear_only(model, T_r):
+    """``T_r (N, n)`` of the legs with a linear actuator, NaN for the others (as it is when
+    every leg is linear: the map's arrays copy it)."""
+    linear = np.array(_linear(model))
+    return T_r if linear.all() else np.where(linear[None, :], T_r, np.nan)
 
 
 def _class_codes(classes):

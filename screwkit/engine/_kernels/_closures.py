@@ -107,6 +107,7 @@ def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
                     p6s[p] = p6home[p] + (p6fix[p] - p6home[p]) * s / steps
                 r, it, _, c = gauss_newton(M, unk, xs, p6s, XC, 1e-12 if s == steps else 1e-8,
                                            30, W)
+                cur = -1           # the run overwrote both buffers: X's frames formed again
                 if s < steps and not r <= 1e-4:
                     alive = False
                     break
@@ -118,7 +119,6 @@ def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
                 res = r
                 its += it
                 how = 1
-                cur = -1           # solved at the continuation's last parameters: recompute
             if res <= CONVERGED:
                 break
     if res > CONVERGED and res <= ACCEPTED:
@@ -127,12 +127,12 @@ def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
             XB[k] = X[k]
         r, it, _, c = gauss_newton(M, unk, xs, p6fix, XB, tolerance(order, unk, xs, p6fix, XB),
                                    30, W)
+        cur = -1
         if r < res:
             for k in range(nx):
                 X[k] = XB[k]
             res = r
             its += it
-            cur = -1
     if not res <= ACCEPTED:
         how = 2
     return res, its, how, cur
