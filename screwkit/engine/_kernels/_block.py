@@ -105,9 +105,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
     tolerances ``K[K_TOL]``: each lane's residual, iterations and state into ``K[K_F]``,
     ``K[K_ITS]``, ``K[K_STATE]``, its accepted steps into ``K[K_ACC]``; the frames of its
-    final unknowns in buffer 0 (one pose alone, :func:`._newton.newton_iterate`, has them in
-    its buffer ``accepted % 2``).  ``W`` a
-    one-pose workspace (the lanes' Newton steps)."""
+    final unknowns in buffer 0.  ``W`` a one-pose workspace (the lanes' Newton steps)."""
     X, Xn, STEP, FE = K[K_X], K[K_XN], K[K_STEP], K[K_FE]
     F, FN, E2, TOL, ITS, ST, OK = K[K_F], K[K_FN], K[K_E2], K[K_TOL], K[K_ITS], K[K_STATE], \
         K[K_OK]

@@ -25,7 +25,7 @@ from numba import prange
 
 from ._jit import borrowed, entry, inlined, inner, parallel
 
-from ._block import K_ACC, K_F, K_ITS, K_P6, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
+from ._block import K_F, K_ITS, K_P6, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
     block_newton, lane_frames, make_block
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
@@ -225,9 +225,9 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
         res, its = K[K_F][l], K[K_ITS][l]
         how = 0
         sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
-        # the frames into the buffer where one pose alone has them (the rescue returns it
-        # when it finds nothing better, its Newton runs having overwritten the buffers)
-        b = 0 if res <= CONVERGED else K[K_ACC][l] % 2
+        # the lane's frames (at its unknowns) into buffer 0; after any Newton run of its
+        # rescue they are formed again at the unknowns the rescue returns (b < 0)
+        b = 0
         lane_frames(K, 0, l, W, b)
         if not res <= CONVERGED:
             res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
