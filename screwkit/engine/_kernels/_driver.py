@@ -71,26 +71,18 @@ def start(Z, I, O, p, W):
 
 
 @inlined
-def run_pose(M, Z, I, O, flags, p, W, RW, SW):
-    """Pose ``p``: solve (or the frames of the given unknowns), rows, conditioning and
-    statics, as ``flags`` says."""
+def solve_alone(M, Z, I, O, flags, p, W):
+    """Pose ``p``'s closures alone from the start in ``O[OUT_X][p]`` (:func:`solve_pose`).
+    Returns ``(residual, b)``: its frames in buffer ``b`` of ``W``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
-    P6, sides = I[0], I[2]
-    p6fix = P6[p]
-    X = O[OUT_X][p]
-    FA, FP = W[W_FA], W[W_FP]
-    if flags[F_SOLVE]:
-        start(Z, I, O, p, W)
-        side = sides[p] if sides.shape[0] else 0.0
-        res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
-                                            fix, fix2, flags[F_CONTINUATION] == 1, W)
-        O[OUT_ITS][p] = its
-        O[OUT_HOW][p] = how
-        O[OUT_SING][p] = sing
-    else:
-        b = 0
-        res = forward(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, 0, W[W_S], W[W_P6])
-    finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
+    sides = I[2]
+    side = sides[p] if sides.shape[0] else 0.0
+    res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][p], side,
+                                        p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
+    O[OUT_ITS][p] = its
+    O[OUT_HOW][p] = how
+    O[OUT_SING][p] = sing
+    return res, b
 
 
 @inlined
@@ -154,8 +146,8 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
 
 
 @inner
-def run_poses(M, Z, I, O, flags, start, stop):
-    """Poses ``start`` to ``stop`` with one workspace (borrowed views: no reference counts
+def run_poses(M, Z, I, O, flags, first, stop):
+    """Poses ``first`` to ``stop`` with one workspace (borrowed views: no reference counts
     in the loop; returns a number so that the owners visibly outlive it)."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
@@ -163,19 +155,28 @@ def run_poses(M, Z, I, O, flags, start, stop):
     RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     SWo = make_statics_work(M[ROWS].shape[0])
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
-    if not flags[F_SOLVE] or stop - start == 1:
-        # given unknowns, or one pose (its lane loops folded: see _kin)
-        for p in range(start, stop):
-            run_pose(M, Z, I, O, flags, p, W, RW, SW)
-        return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
-    Ko = make_block(n, m, nx, BLOCK)
+    # one pose (a range of one) solves alone (its lane loops folded: see _kin); every pose
+    # ends in the one finish_pose below (inlined once: its compile is not paid twice)
+    blocked = flags[F_SOLVE] and stop - first > 1
+    step = BLOCK if blocked else 1
+    Ko = make_block(n, m, nx, BLOCK if blocked else 0)
     K = borrowed(Ko)
-    for p0 in range(start, stop, BLOCK):
-        nb = min(BLOCK, stop - p0)
-        solve_block(M, Z, I, O, p0, nb, W, K)
+    for p0 in range(first, stop, step):
+        nb = min(step, stop - p0)
+        if blocked:
+            solve_block(M, Z, I, O, p0, nb, W, K)
         for l in range(nb):
             p = p0 + l
-            res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
+            res, b = 0.0, -1
+            if blocked:
+                res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
+            elif flags[F_SOLVE]:
+                start(Z, I, O, p, W)
+                res, b = solve_alone(M, Z, I, O, flags, p, W)
+            if b < 0:                 # given unknowns, or a rescue's Newton runs
+                b = 0
+                res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
+                              W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
             finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
@@ -184,7 +185,7 @@ def run_poses(M, Z, I, O, flags, start, stop):
 @inner
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
-    starts, as :func:`run_pose`); a pose near the representation singularity is left to
+    starts, as one pose alone); a pose near the representation singularity is left to
     :func:`finish_lane` (solved alone)."""
     unk, xs = Z[0], Z[1]
     order = M[ORDER]
@@ -214,28 +215,20 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
     p6fix = I[0][p]
     X = O[OUT_X][p]
     if K[K_STATE][l] == LANE_ALONE:
-        sides = I[2]
-        side = sides[p] if sides.shape[0] else 0.0
-        res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home,
-                                            fix, fix2, flags[F_CONTINUATION] == 1, W)
-    else:
-        Xb = K[K_X]
-        for k in range(X.shape[0]):
-            X[k] = Xb[k, l]
-        res, its = K[K_F][l], K[K_ITS][l]
-        how = 0
-        sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
-        # the lane's frames (at its unknowns) into buffer 0; after any Newton run of its
-        # rescue they are formed again at the unknowns the rescue returns (b < 0)
-        b = 0
-        lane_frames(K, 0, l, W, b)
-        if not res <= CONVERGED:
-            res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
-                                      flags[F_CONTINUATION] == 1, W, res, its, b)
-            if b < 0:
-                b = 0
-                res = forward(M, unk, xs, p6fix, X, W[W_FA], W[W_FL], W[W_FE], W[W_FP], 0,
-                              W[W_S], W[W_P6])
+        return solve_alone(M, Z, I, O, flags, p, W)
+    Xb = K[K_X]
+    for k in range(X.shape[0]):
+        X[k] = Xb[k, l]
+    res, its = K[K_F][l], K[K_ITS][l]
+    how = 0
+    sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
+    # the lane's frames (at its unknowns) into buffer 0; after any Newton run of its
+    # rescue b < 0: they are formed again at the unknowns the rescue returns
+    b = 0
+    lane_frames(K, 0, l, W, b)
+    if not res <= CONVERGED:
+        res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
+                                  flags[F_CONTINUATION] == 1, W, res, its, b)
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
     O[OUT_SING][p] = sing
