@@ -145,8 +145,7 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
     O[OUT_DET][p] = sign
 
 
-@inner
-def run_poses(M, Z, I, O, flags, first, stop):
+def _poses(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace (borrowed views: no reference counts
     in the loop; returns a number so that the owners visibly outlive it)."""
     n, m = M[D].shape[0], M[D].shape[1]
@@ -168,11 +167,15 @@ def run_poses(M, Z, I, O, flags, first, stop):
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
-            if blocked:
-                res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
-            elif flags[F_SOLVE]:
-                start(Z, I, O, p, W)
-                res, b = solve_alone(M, Z, I, O, flags, p, W)
+            if flags[F_SOLVE]:
+                # one call site of the closure alone: a pose alone, or a lane the block
+                # left to it (near the representation singularity)
+                if not blocked:
+                    start(Z, I, O, p, W)
+                if not blocked or K[K_STATE][l] == LANE_ALONE:
+                    res, b = solve_alone(M, Z, I, O, flags, p, W)
+                else:
+                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
             if b < 0:                 # given unknowns, or a rescue's Newton runs
                 b = 0
                 res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
@@ -182,11 +185,19 @@ def run_poses(M, Z, I, O, flags, first, stop):
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
 
 
+#: The poses' loop as a kernel of its own, called in ``prange`` by :func:`run_parallel`.
+run_poses = inner(_poses)
+#: The same loop inlined into :func:`run_range` (numba's IR inlining): the serial kernel,
+#: the one a first analysis compiles, is then optimised and generated once, rather than
+#: once as ``run_poses`` and again, with everything linked in, as ``run_range``.
+poses_inline = inlined(_poses)
+
+
 @inner
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
-    starts, as one pose alone); a pose near the representation singularity is left to
-    :func:`finish_lane` (solved alone)."""
+    starts, as one pose alone); a pose near the representation singularity is left to be
+    solved alone (``LANE_ALONE``)."""
     unk, xs = Z[0], Z[1]
     order = M[ORDER]
     P6 = I[0]
@@ -207,15 +218,13 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
 
 @inlined
 def finish_lane(M, Z, I, O, flags, p, W, K, l):
-    """Pose ``p`` (lane ``l`` of the block ``K``) after the block's Newton run: its unknowns,
-    and where that run did not converge, the rescue (continuation, polish), or alone the
-    representation singularity, as :func:`._closures.solve_pose`; its frames into buffer
-    ``b`` of ``W``.  Returns ``(residual, b)``."""
+    """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
+    Newton run: its unknowns, and where that run did not converge, the rescue
+    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
+    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b)``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
-    if K[K_STATE][l] == LANE_ALONE:
-        return solve_alone(M, Z, I, O, flags, p, W)
     Xb = K[K_X]
     for k in range(X.shape[0]):
         X[k] = Xb[k, l]
@@ -236,10 +245,10 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
 
 
 @entry
-def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, start, stop):
-    """Poses ``start`` to ``stop`` (the tuples packed: :mod:`._pack`)."""
-    run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), outputs(Of, Oi, Od),
-              flags, start, stop)
+def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop):
+    """Poses ``first`` to ``stop`` (the tuples packed: :mod:`._pack`)."""
+    poses_inline(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id),
+                 outputs(Of, Oi, Od), flags, first, stop)
 
 
 @parallel
