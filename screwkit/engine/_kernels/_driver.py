@@ -145,7 +145,8 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
     O[OUT_DET][p] = sign
 
 
-def _poses(M, Z, I, O, flags, first, stop):
+@inner
+def run_poses(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace (borrowed views: no reference counts
     in the loop; returns a number so that the owners visibly outlive it)."""
     n, m = M[D].shape[0], M[D].shape[1]
@@ -183,14 +184,6 @@ def _poses(M, Z, I, O, flags, first, stop):
             finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
-
-
-#: The poses' loop as a kernel of its own, called in ``prange`` by :func:`run_parallel`.
-run_poses = inner(_poses)
-#: The same loop inlined into :func:`run_range` (numba's IR inlining): the serial kernel,
-#: the one a first analysis compiles, is then optimised and generated once, rather than
-#: once as ``run_poses`` and again, with everything linked in, as ``run_range``.
-poses_inline = inlined(_poses)
 
 
 @inner
@@ -247,8 +240,8 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
 @entry
 def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop):
     """Poses ``first`` to ``stop`` (the tuples packed: :mod:`._pack`)."""
-    poses_inline(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id),
-                 outputs(Of, Oi, Od), flags, first, stop)
+    run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), outputs(Of, Oi, Od),
+              flags, first, stop)
 
 
 @parallel
