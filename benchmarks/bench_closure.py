@@ -7,7 +7,7 @@ default poses):
 
 * ``forward pass``: the platform, every leg's product of exponentials and closure error at
   the solved unknowns (``_kin.forward``);
-* ``forward pass, blocks of B``: the same pass on blocks of ``B`` poses, the pose axis
+* ``forward pass, blocks of BLOCK``: the same pass on blocks of ``BLOCK`` poses, the pose axis
   innermost (``_kin.forward_block``, the function the one-pose pass runs on a block of one),
   the copy of each block's unknowns into the block layout included;
 * ``Newton step``: the platform's columns and one Gauss-Newton step (``_newton``: the
@@ -41,6 +41,7 @@ def _bench_kernel():
     from screwkit.engine._kernels._closures import predict
     from screwkit.engine._kernels._driver import run_poses
     from screwkit.engine._kernels._kin import forward, forward_block, platform_columns
+    from screwkit.engine._kernels._layout import BLOCK
     from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
                                                   W_P6S, W_PT, W_S, W_XB, gauss_newton,
                                                   home_vector, make_work, newton_step)
@@ -68,7 +69,8 @@ def _bench_kernel():
         return steps
 
     @njit
-    def blocks(Mf, Mi, Md, Zf, Zi, Zd, P6, Xs, B):
+    def blocks(Mf, Mi, Md, Zf, Zi, Zd, P6, Xs):
+        B = BLOCK                  # the lane stride is a constant (_kin.chain)
         M, Z = model(Mf, Mi, Md), params(Zf, Zi, Zd)
         n, m, nx, N = M[0].shape[0], M[0].shape[1], Xs.shape[1], Xs.shape[0]
         unk, xs = Z[0], Z[1]
@@ -85,7 +87,7 @@ def _bench_kernel():
             for k in range(6):
                 for l in range(nb):
                     P6b[k, l] = P6[p0 + l, k]
-            forward_block(M, unk, xs, P6b, Xb, FA, FL, FE, FP, 0, S, p6, nb, res, CS)
+            forward_block(M, unk, xs, P6b, Xb, FA, FL, FE, FP, 0, S, p6, nb, BLOCK, res, CS)
             for l in range(nb):
                 worst = max(worst, res[l])
         return worst
@@ -141,9 +143,9 @@ def measure(name: str, n: int = 20_000) -> None:
     rows = []
     t_fwd, _ = _best(lambda: parts(*args, P6, Xs, 0))
     rows.append(("forward pass", t_fwd * us, ""))
-    for B in (8, 16, 32, 64):
-        t, _ = _best(lambda: blocks(*args, P6, Xs, B))
-        rows.append((f"forward pass, blocks of {B}", t * us, f"{t_fwd / t:.2f}x"))
+    from screwkit.engine._kernels._layout import BLOCK
+    t, _ = _best(lambda: blocks(*args, P6, Xs))
+    rows.append((f"forward pass, blocks of {BLOCK}", t * us, f"{t_fwd / t:.2f}x"))
     t_step, _ = _best(lambda: parts(*args, P6, Xs, 1))
     rows.append(("Newton step", (t_step - t_fwd) * us, ""))
     t_gn, steps = _best(lambda: parts(*args, P6, Xs, 2))

@@ -65,6 +65,7 @@ def _sincos_many(a, s, c):
 def _kernels():
     from screwkit.engine._kernels._jit import one_lane
     from screwkit.engine._kernels._kin import chain
+    from screwkit.engine._kernels._layout import BLOCK
     from screwkit.engine._kernels._pack import model
 
     @njit(error_model="numpy")
@@ -75,12 +76,13 @@ def _kernels():
         acc = 0.0
         for p in range(Xs.shape[0]):
             for i in range(n):
-                chain(M, i, one_lane(Xs[p]), nu + i * m, fa, RT, 1, False, fa, E, CS)
+                chain(M, i, one_lane(Xs[p]), nu + i * m, fa, RT, 1, 1, False, fa, E, CS)
                 acc += RT[9, 0] + RT[8, 0] + fa[M[10][i, 0] - 1, 3, 0]
         return acc
 
     @njit(error_model="numpy")
-    def engine_blocks(Mf, Mi, Md, XT, nu, B):
+    def engine_blocks(Mf, Mi, Md, XT, nu):
+        B = BLOCK                  # the lane stride is a constant (_kin.chain)
         M = model(Mf, Mi, Md)
         n, m, N = M[0].shape[0], M[0].shape[1], XT.shape[1]
         fa, RT, E, CS = np.zeros((m, 6, B)), np.zeros((12, B)), np.zeros((3, 3)), np.zeros((2, B))
@@ -92,7 +94,7 @@ def _kernels():
                 for l in range(nb):
                     Xb[k, l] = XT[k, p0 + l]
             for i in range(n):
-                chain(M, i, Xb, nu + i * m, fa, RT, nb, False, fa, E, CS)
+                chain(M, i, Xb, nu + i * m, fa, RT, nb, BLOCK, False, fa, E, CS)
                 last = M[10][i, 0] - 1
                 for l in range(nb):
                     acc += RT[9, l] + RT[8, l] + fa[last, 3, l]
@@ -206,11 +208,11 @@ def measure(name: str = "3RRPRR", n: int = 20_000) -> None:
     print(f"{name}: the legs' product of exponentials ({joints} joints), {n} solved poses, "
           f"CPU time per pose on one thread")
     print(f"  engine (_kin.chain, one pose at a time)   {t_eng * us:6.3f} us")
-    engine_blocks(*Mp.args, XT[:, :4], nu, 32)
-    for B in (8, 16, 32, 64):
-        t, got = _best(lambda: engine_blocks(*Mp.args, XT, nu, B))
-        print(f"  engine (_kin.chain), blocks of {B:3d}       {t * us:6.3f} us  "
-              f"{t_eng / t:4.1f}x   checksum rel. diff {abs(got - ref) / abs(ref):.1e}")
+    from screwkit.engine._kernels._layout import BLOCK
+    engine_blocks(*Mp.args, XT[:, :4], nu)
+    t, got = _best(lambda: engine_blocks(*Mp.args, XT, nu))
+    print(f"  engine (_kin.chain), blocks of {BLOCK:3d}       {t * us:6.3f} us  "
+          f"{t_eng / t:4.1f}x   checksum rel. diff {abs(got - ref) / abs(ref):.1e}")
     for B in (32, 64, 256):
         for poly, label in ((False, "libm"), (True, "polynomial sin/cos")):
             t, got = _best(lambda: blocks(*arrays, size, XT, nu, B, poly))

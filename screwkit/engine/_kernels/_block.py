@@ -22,6 +22,7 @@ import numpy as np
 
 from ._jit import inlined, inner
 from ._kin import forward_block, platform_columns
+from ._layout import BLOCK
 from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_STEP, newton_step
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
@@ -86,7 +87,7 @@ def forward_lanes(M, unk, xs, K, X, b, res, nb):
     """The block's forward pass (:func:`._kin.forward_block`, inlined here once) of the
     unknowns ``X`` into buffer ``b``, each lane's residual into ``res``."""
     forward_block(M, unk, xs, K[K_P6], X, K[K_FA], K[K_FL], K[K_FE], K[K_FP], b, K[K_S],
-                  K[K_P6S], nb, res, K[K_CS])
+                  K[K_P6S], nb, BLOCK, res, K[K_CS])
 
 
 @inner

@@ -134,7 +134,7 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
-            chain(M, i, one_lane(X[p]), nu + i * m, one_lane(FAo[p, i]), RT, 1, slots, Rsl,
+            chain(M, i, one_lane(X[p]), nu + i * m, one_lane(FAo[p, i]), RT, 1, 1, slots, Rsl,
                   S[0], CS)
             for a in range(3):
                 for b in range(3):
@@ -218,7 +218,7 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
             if code == -2:
                 continue
             fal = one_lane(fa)         # a block of one lane
-            chain(M, i, one_lane(X[p]), nu + i * m, fal, RT, 1, False, fal, S[0], CS)
+            chain(M, i, one_lane(X[p]), nu + i * m, fal, RT, 1, 1, False, fal, S[0], CS)
             leg_setup(M, i, fa, fp, ctx, tw)
             if code >= 0:
                 eval_points(M, i, fa, ctx, pv)

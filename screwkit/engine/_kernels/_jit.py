@@ -117,3 +117,29 @@ def one_lane(typingctx, x):
                                meminfo=cgutils.get_null_value(dst.meminfo.type))
         return dst._getvalue()
     return out(x), codegen
+
+
+@intrinsic
+def flat(typingctx, x):
+    """A C-contiguous array ``x`` as a one-dimensional view of all its elements, borrowed
+    like :func:`borrowed`.  A lane loop indexes it as ``f[c * ls + k]`` with a lane stride
+    ``ls`` known when LLVM optimises the loop: the entries a loop reads and writes are then
+    at constant distances from one base pointer, so that LLVM checks one range per array
+    instead of one per entry (with a row view per entry, a loop over a leg's rotation,
+    translation and axes needs more run-time alias checks than LLVM allows, and stays
+    scalar)."""
+    if not isinstance(x, types.Array) or x.layout != "C":
+        return None
+    out = types.Array(x.dtype, 1, "C")
+
+    def codegen(context, builder, sig, args):
+        src = context.make_array(x)(context, builder, value=args[0])
+        dst = context.make_array(out)(context, builder)
+        size = context.get_constant(types.intp, 1)
+        for n in cgutils.unpack_tuple(builder, src.shape, x.ndim):
+            size = builder.mul(size, n)
+        context.populate_array(dst, data=src.data, shape=[size], strides=[src.itemsize],
+                               itemsize=src.itemsize,
+                               meminfo=cgutils.get_null_value(dst.meminfo.type))
+        return dst._getvalue()
+    return out(x), codegen

@@ -20,9 +20,9 @@ loops: with a lane count known only at run time, a block of one cost twice the p
 
 import math
 
-from ._jit import inlined, inner, one_lane
+from ._jit import flat, inlined, inner, one_lane
 
-from ._layout import (AP, BAR, BLEN, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
+from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
 from ._small import matmul3, rodrigues, rotation_vector
 
@@ -82,53 +82,59 @@ def platform(M, p6, FPb, l, S):
         FPb[15 + r, l] = x0 * p6[0] + x1 * p6[1] + x2 * p6[2] + plat[P_P0 + r]
 
 
-@inner
-def chain(M, i, X, off, fa, RT, nb, slots, Rs, E, CS):
+@inlined
+def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
     """Leg ``i``'s product of exponentials on a block of ``nb`` lanes (poses), the lane axis
-    last and innermost: the joint values ``X[off + j, l] * QS[i, j]`` (``X (nx, B)``); every
-    joint's current axis and point into ``fa (m, 6, B)``, the end displacement into ``RT (12,
-    B)`` (``R`` row-major, then ``t``: a leg's row of the frames ``FL``); with ``slots``, the
-    displacement after each slot into ``Rs (m, 12, B)`` (how the link after joint ``j`` moved
-    from home).  ``G_j = G_{j-1} exp(xi_j q_j)``: the current axis of slot ``j`` is
-    ``G_{j-1}`` applied to its home axis, whose point stays; a Pa moves its far link along a
-    circle, ``Rot(h, s / |b|) b - b``, its current axis ``Rot(h, s / |b|) D``.  ``E (3, 3)``,
-    ``CS (2, >= nb)`` scratch.  Each lane's arithmetic is the one pose's, in the same order
-    (no reduction across lanes): a lane of a block equals a block of one bit for bit (a
-    caller of one pose passes views of one lane: :func:`~._jit.one_lane`)."""
+    last and innermost, of length ``ls`` in every array: the joint values ``X[off + j, l] *
+    QS[i, j]`` (``X (nx, ls)``); every joint's current axis and point into ``fa (m, 6,
+    ls)``, the end displacement into ``RT (12, ls)`` (``R`` row-major, then ``t``: a leg's
+    row of the frames ``FL``); with ``slots``, the displacement after each slot into ``Rs (m,
+    12, ls)`` (how the link after joint ``j`` moved from home).  ``G_j = G_{j-1} exp(xi_j
+    q_j)``: the current axis of slot ``j`` is ``G_{j-1}`` applied to its home axis, whose
+    point stays; a Pa moves its far link along a circle, ``Rot(h, s / |b|) b - b``, its
+    current axis ``Rot(h, s / |b|) D``.  ``E (3, 3)`` and ``CS`` (``2 ls`` elements or more)
+    scratch.  Each lane's
+    arithmetic is the one pose's, in the same order (no reduction across lanes): a lane of a
+    block equals a block of one bit for bit (a caller of one pose passes views of one lane,
+    :func:`~._jit.one_lane`, and ``ls = 1``).
+
+    ``ls`` is a constant at every call site (1, or :data:`._layout.BLOCK`), so that once
+    this function is inlined LLVM sees the lane loops' entries at constant distances in one
+    flat view per array (:func:`~._jit.flat`) and vectorises them."""
     Dm, Pm, rot, tra, qs = M[D], M[P], M[ROT], M[TRA], M[QS]
     blen = M[BLEN]
-    r00, r01, r02, r10, r11, r12 = RT[0], RT[1], RT[2], RT[3], RT[4], RT[5]
-    r20, r21, r22, t0, t1, t2 = RT[6], RT[7], RT[8], RT[9], RT[10], RT[11]
-    sn, cs = CS[0], CS[1]
+    rt, xf, cf = flat(RT), flat(X), flat(CS)
+    S0, C0 = 0, ls                       # CS's rows: sine, cosine
     for k in range(nb):
-        r00[k], r01[k], r02[k], t0[k] = 1.0, 0.0, 0.0, 0.0
-        r10[k], r11[k], r12[k], t1[k] = 0.0, 1.0, 0.0, 0.0
-        r20[k], r21[k], r22[k], t2[k] = 0.0, 0.0, 1.0, 0.0
+        rt[k], rt[ls + k], rt[2 * ls + k], rt[9 * ls + k] = 1.0, 0.0, 0.0, 0.0
+        rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k], rt[10 * ls + k] = 0.0, 1.0, 0.0, 0.0
+        rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k], rt[11 * ls + k] = 0.0, 0.0, 1.0, 0.0
     for j in range(M[LEG][i, L_SIZE]):
-        x, g, ro, tr = X[off + j], qs[i, j], rot[i, j], tra[i, j]
+        g, ro, tr = qs[i, j], rot[i, j], tra[i, j]
+        xj = (off + j) * ls
         D0, D1, D2 = Dm[i, j, 0], Dm[i, j, 1], Dm[i, j, 2]
         P0, P1, P2 = Pm[i, j, 0], Pm[i, j, 1], Pm[i, j, 2]
-        f0, f1, f2, f3, f4, f5 = fa[j, 0], fa[j, 1], fa[j, 2], fa[j, 3], fa[j, 4], fa[j, 5]
+        f = flat(fa[j])
         # the joint's current axis and point (before its own motion)
         for k in range(nb):
-            a00, a01, a02 = r00[k], r01[k], r02[k]
-            a10, a11, a12 = r10[k], r11[k], r12[k]
-            a20, a21, a22 = r20[k], r21[k], r22[k]
-            f0[k] = a00 * D0 + a01 * D1 + a02 * D2
-            f1[k] = a10 * D0 + a11 * D1 + a12 * D2
-            f2[k] = a20 * D0 + a21 * D1 + a22 * D2
-            f3[k] = a00 * P0 + a01 * P1 + a02 * P2 + t0[k]
-            f4[k] = a10 * P0 + a11 * P1 + a12 * P2 + t1[k]
-            f5[k] = a20 * P0 + a21 * P1 + a22 * P2 + t2[k]
+            a00, a01, a02 = rt[k], rt[ls + k], rt[2 * ls + k]
+            a10, a11, a12 = rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k]
+            a20, a21, a22 = rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k]
+            f[k] = a00 * D0 + a01 * D1 + a02 * D2
+            f[ls + k] = a10 * D0 + a11 * D1 + a12 * D2
+            f[2 * ls + k] = a20 * D0 + a21 * D1 + a22 * D2
+            f[3 * ls + k] = a00 * P0 + a01 * P1 + a02 * P2 + rt[9 * ls + k]
+            f[4 * ls + k] = a10 * P0 + a11 * P1 + a12 * P2 + rt[10 * ls + k]
+            f[5 * ls + k] = a20 * P0 + a21 * P1 + a22 * P2 + rt[11 * ls + k]
         if ro != 0.0:
             # Rodrigues about the home axis, composed on the right (libm per lane, apart:
             # the loop after it vectorises)
             for k in range(nb):
-                a = ro * (x[k] * g)
-                cs[k], sn[k] = math.cos(a), math.sin(a)
+                a = ro * (xf[xj + k] * g)
+                cf[C0 + k], cf[S0 + k] = math.cos(a), math.sin(a)
             for k in range(nb):
-                q = x[k] * g
-                c, s = cs[k], sn[k]
+                q = xf[xj + k] * g
+                c, s = cf[C0 + k], cf[S0 + k]
                 v = 1.0 - c
                 e00, e11, e22 = D0 * D0 * v + c, D1 * D1 * v + c, D2 * D2 * v + c
                 sym, skew = D0 * D1 * v, D2 * s
@@ -137,9 +143,9 @@ def chain(M, i, X, off, fa, RT, nb, slots, Rs, E, CS):
                 e12, e21 = sym - skew, sym + skew
                 sym, skew = D2 * D0 * v, D1 * s
                 e20, e02 = sym - skew, sym + skew
-                a00, a01, a02 = r00[k], r01[k], r02[k]
-                a10, a11, a12 = r10[k], r11[k], r12[k]
-                a20, a21, a22 = r20[k], r21[k], r22[k]
+                a00, a01, a02 = rt[k], rt[ls + k], rt[2 * ls + k]
+                a10, a11, a12 = rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k]
+                a20, a21, a22 = rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k]
                 n00 = a00 * e00 + a01 * e10 + a02 * e20
                 n01 = a00 * e01 + a01 * e11 + a02 * e21
                 n02 = a00 * e02 + a01 * e12 + a02 * e22
@@ -149,46 +155,46 @@ def chain(M, i, X, off, fa, RT, nb, slots, Rs, E, CS):
                 n20 = a20 * e00 + a21 * e10 + a22 * e20
                 n21 = a20 * e01 + a21 * e11 + a22 * e21
                 n22 = a20 * e02 + a21 * e12 + a22 * e22
-                r00[k], r01[k], r02[k] = n00, n01, n02
-                r10[k], r11[k], r12[k] = n10, n11, n12
-                r20[k], r21[k], r22[k] = n20, n21, n22
+                rt[k], rt[ls + k], rt[2 * ls + k] = n00, n01, n02
+                rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k] = n10, n11, n12
+                rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k] = n20, n21, n22
                 sh = tr * q
-                t0[k] = f3[k] - (n00 * P0 + n01 * P1 + n02 * P2) + sh * f0[k]
-                t1[k] = f4[k] - (n10 * P0 + n11 * P1 + n12 * P2) + sh * f1[k]
-                t2[k] = f5[k] - (n20 * P0 + n21 * P1 + n22 * P2) + sh * f2[k]
+                rt[9 * ls + k] = f[3 * ls + k] - (n00 * P0 + n01 * P1 + n02 * P2) + sh * f[k]
+                rt[10 * ls + k] = (f[4 * ls + k] - (n10 * P0 + n11 * P1 + n12 * P2)
+                                   + sh * f[ls + k])
+                rt[11 * ls + k] = (f[5 * ls + k] - (n20 * P0 + n21 * P1 + n22 * P2)
+                                   + sh * f[2 * ls + k])
         elif blen[i, j] > 0.0:
             h = M[HINGE][i, j]
             b = M[BAR][i, j]
             bl = blen[i, j]
             for k in range(nb):          # (rare: one lane at a time)
-                rodrigues(h[0], h[1], h[2], (x[k] * g) / bl, E)
+                rodrigues(h[0], h[1], h[2], (xf[xj + k] * g) / bl, E)
                 m0 = E[0, 0] * b[0] + E[0, 1] * b[1] + E[0, 2] * b[2] - b[0]
                 m1 = E[1, 0] * b[0] + E[1, 1] * b[1] + E[1, 2] * b[2] - b[1]
                 m2 = E[2, 0] * b[0] + E[2, 1] * b[1] + E[2, 2] * b[2] - b[2]
                 h0 = E[0, 0] * D0 + E[0, 1] * D1 + E[0, 2] * D2
                 h1 = E[1, 0] * D0 + E[1, 1] * D1 + E[1, 2] * D2
                 h2 = E[2, 0] * D0 + E[2, 1] * D1 + E[2, 2] * D2
-                a00, a01, a02 = r00[k], r01[k], r02[k]
-                a10, a11, a12 = r10[k], r11[k], r12[k]
-                a20, a21, a22 = r20[k], r21[k], r22[k]
-                t0[k] += a00 * m0 + a01 * m1 + a02 * m2
-                t1[k] += a10 * m0 + a11 * m1 + a12 * m2
-                t2[k] += a20 * m0 + a21 * m1 + a22 * m2
-                f0[k] = a00 * h0 + a01 * h1 + a02 * h2
-                f1[k] = a10 * h0 + a11 * h1 + a12 * h2
-                f2[k] = a20 * h0 + a21 * h1 + a22 * h2
+                a00, a01, a02 = rt[k], rt[ls + k], rt[2 * ls + k]
+                a10, a11, a12 = rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k]
+                a20, a21, a22 = rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k]
+                rt[9 * ls + k] += a00 * m0 + a01 * m1 + a02 * m2
+                rt[10 * ls + k] += a10 * m0 + a11 * m1 + a12 * m2
+                rt[11 * ls + k] += a20 * m0 + a21 * m1 + a22 * m2
+                f[k] = a00 * h0 + a01 * h1 + a02 * h2
+                f[ls + k] = a10 * h0 + a11 * h1 + a12 * h2
+                f[2 * ls + k] = a20 * h0 + a21 * h1 + a22 * h2
         else:
             for k in range(nb):
-                sh = tr * (x[k] * g)
-                t0[k] += sh * f0[k]
-                t1[k] += sh * f1[k]
-                t2[k] += sh * f2[k]
+                sh = tr * (xf[xj + k] * g)
+                rt[9 * ls + k] += sh * f[k]
+                rt[10 * ls + k] += sh * f[ls + k]
+                rt[11 * ls + k] += sh * f[2 * ls + k]
         if slots:
-            rs = Rs[j]
-            for c in range(12):
-                rc, sc = RT[c], rs[c]
-                for k in range(nb):
-                    sc[k] = rc[k]
+            rs = flat(Rs[j])
+            for k in range(12 * ls):
+                rs[k] = rt[k]
 
 
 @inner
@@ -229,7 +235,7 @@ def platform_home_rotation(M, FPb, l, S):
 
 
 @inlined
-def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, res, CS):
+def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, ls, res, CS):
     """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of
     the unknowns ``X (nx, B)`` (given parameters ``P6 (6, B)``) into buffer ``b`` of ``FA (2,
     n, m, 6, B)``, ``FL (2, n, 12, B)``, ``FE (2, n, 6, B)``, ``FP (2, 27, B)``; each lane's
@@ -241,17 +247,17 @@ def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, res, CS):
         for k in range(unk.shape[0]):
             p6[unk[k]] = X[k, l] * xs[k]
         platform(M, p6, FP[b], l, S)
-    legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, res, CS)
+    legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, ls, res, CS)
 
 
 @inlined
-def legs_block(M, X, nu, FA, FL, FE, FP, b, S, nb, res, CS):
+def legs_block(M, X, nu, FA, FL, FE, FP, b, S, nb, ls, res, CS):
     """Every leg's frames and closure error of ``nb`` lanes at the joint values ``X[nu:]``
     against the platforms already in ``FP[b]``; each lane's residual into ``res``
     (:func:`forward_block`'s arrays)."""
     n, m = M[D].shape[0], M[D].shape[1]
     for i in range(n):
-        chain(M, i, X, nu + i * m, FA[b, i], FL[b, i], nb, False, FA[b, i], S[0], CS)
+        chain(M, i, X, nu + i * m, FA[b, i], FL[b, i], nb, ls, False, FA[b, i], S[0], CS)
     for l in range(nb):
         platform_home_rotation(M, FP[b], l, S)
         r = 0.0
@@ -272,7 +278,7 @@ def forward(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6):
     the residual."""
     CS = S[5]
     forward_block(M, unk, xs, one_lane(p6fix), one_lane(X), one_lane(FA), one_lane(FL),
-                  one_lane(FE), one_lane(FP), b, S, p6, 1, CS[2], CS)
+                  one_lane(FE), one_lane(FP), b, S, p6, 1, 1, CS[2], CS)
     return CS[2, 0]
 
 
@@ -282,7 +288,7 @@ def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
     block of one lane); returns the residual."""
     CS = S[5]
     legs_block(M, one_lane(X), nu, one_lane(FA), one_lane(FL), one_lane(FE), one_lane(FP), b,
-               S, 1, CS[2], CS)
+               S, 1, 1, CS[2], CS)
     return CS[2, 0]
 
 

@@ -36,7 +36,7 @@ def _home(M, fp):
     fa = np.zeros((m, 6))
     X = np.zeros((m, 1))           # joint values 0 (owned here: see one_lane)
     fal = one_lane(fa)             # a block of one lane
-    chain(M, 0, X, 0, fal, np.zeros((12, 1)), 1, False, fal, np.zeros((3, 3)),
+    chain(M, 0, X, 0, fal, np.zeros((12, 1)), 1, 1, False, fal, np.zeros((3, 3)),
           np.zeros((2, 1)))
     leg_setup(M, 0, fa, fp, RW[RW_CTX], RW[RW_TW])
     eval_points(M, 0, fa, RW[RW_CTX], RW[RW_PV])
