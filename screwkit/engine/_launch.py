@@ -49,13 +49,9 @@ def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
 
 
-def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False,
-            batch=False):
-    """``serial(*args, 0, N)``, or ``par(*args, nw)`` on ``nw`` threads; with ``batch``
-    every batch worth a thread (``per_thread`` poses) runs ``par``, on one thread too (the
-    analysis: its parallel kernel is the one with the block closure)."""
+def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False):
     nw = threads(N, workers, per_thread)
-    if nw <= 1 and not (batch and N >= per_thread):
+    if nw <= 1:
         serial(*args, 0, N)
         return
     if note:
@@ -146,7 +142,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
-            N, workers, per_thread, note=True, batch=solve and X is None)
+            N, workers, per_thread, note=True)
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
                               for is_int, is_bool, o0, o1, sh in plan.out]))
 

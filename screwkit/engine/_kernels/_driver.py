@@ -4,11 +4,10 @@
 Every pose is computed alone, by the same compiled functions, so a batch equals a loop of
 one-pose calls bit for bit, whatever the chunks and threads.  The parallel kernels cut the
 poses into ``nchunks`` ranges run in ``prange`` (one workspace per range, allocated once).
-The analysis has two loops over the poses: :func:`run_range` (one pose, and batches too
-small for a thread) solves each pose alone and links no block kernel, so that a one-pose
-command never compiles them; :func:`run_parallel` (every larger batch, on one thread or
-several) solves the closures ``BLOCK`` poses at a time (:mod:`._block`), with the same
-bits.
+The analysis has two loops over the poses: :func:`run_range` (one pose, and every launch
+on one thread) solves each pose alone and links no block kernel, so that a one-pose
+command never compiles them; :func:`run_parallel` (batches on threads) solves the closures
+``BLOCK`` poses at a time (:mod:`._block`), with the same bits.
 
 Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
@@ -153,8 +152,8 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
 def run_poses(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` one at a time with one workspace (borrowed views: no
     reference counts in the loop; returns a number so that the owners visibly outlive it).
-    The serial kernel's loop (:func:`run_range`: one pose, small batches): it links no
-    block kernel, so that a one-pose command does not compile them."""
+    The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
+    links no block kernel, so that a one-pose command does not compile them."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
     Wo = make_work(n, m, nx)
@@ -277,8 +276,7 @@ def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop
 
 @parallel
 def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nchunks):
-    """:func:`run_blocks` over ``nchunks`` equal ranges of the poses, in ``prange`` (one
-    chunk: a serial batch through the block, see ``_launch``)."""
+    """:func:`run_blocks` over ``nchunks`` equal ranges of the poses, in ``prange``."""
     M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
         outputs(Of, Oi, Od)
     N = I[0].shape[0]
