@@ -15,12 +15,15 @@ default poses):
   columns, the Schur complement, the reduced system);
 * ``Gauss-Newton from the predictor``: the home predictor's start and the iteration to
   ``STOP`` (the mean number of steps beside it);
-* ``solve, warm start at the solution``: the driver's closure solve (``_driver.run_poses``,
-  solve only) from the exact solution, the case of a path's samples (no step);
+* ``solve, warm start at the solution``: the batch driver's closure solve
+  (``_driver.run_blocks``, the loop of the parallel kernel: blocks of ``BLOCK`` poses; solve
+  only) from the exact solution, the case of a path's samples (no step);
 * ``solve from the predictor``: the same from the home predictor, a random pose's closures;
 * ``rows, conditioning, statics``: the launch of the analysis kernel from warm starts at the
-  solution, less the same launch without rows;
-* ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics).
+  solution, less the same launch without rows (on one thread: the serial kernel, one pose
+  at a time);
+* ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics;
+  the serial kernel, one pose at a time).
 
 Times are the CPU time of this thread (``time.thread_time``, best of 7), so that other
 processes on a shared machine inflate them less than wall-clock times; the ratios between
@@ -39,7 +42,7 @@ def _bench_kernel():
     from numba import njit
 
     from screwkit.engine._kernels._closures import predict
-    from screwkit.engine._kernels._driver import run_poses
+    from screwkit.engine._kernels._driver import run_blocks
     from screwkit.engine._kernels._kin import forward, forward_block, platform_columns
     from screwkit.engine._kernels._layout import BLOCK
     from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
@@ -94,7 +97,7 @@ def _bench_kernel():
 
     @njit
     def driver(Mf, Mi, Md, Zf, Zi, Zd, I, O, flags):
-        run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, 0, I[0].shape[0])
+        run_blocks(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, 0, I[0].shape[0])
 
     return parts, blocks, driver
 

@@ -4,8 +4,11 @@ For a change that should keep the results (a faster kernel, another start of the
 closures), run it once with the code before and once after, then compare::
 
     PYTHONPATH=<before> python benchmarks/compare_outputs.py save before.npz
-    PYTHONPATH=<after>  python benchmarks/compare_outputs.py save after.npz
+    PYTHONPATH=<after>  python benchmarks/compare_outputs.py save after.npz [workers]
     python benchmarks/compare_outputs.py compare before.npz after.npz
+
+``workers`` (default 1: the serial kernel, one pose at a time) 2 runs the batches on two
+threads (the parallel kernel: the closures in blocks).
 
 Saved per PM: the closures ``X``, the normalised rows ``J``, the singular values, the
 condition numbers and the statics' values under the benchmark's load (random poses around
@@ -25,7 +28,7 @@ KEYS = ("X", "residual", "iterations", "J", "singular_values", "condition_number
         "how")
 
 
-def save(path: str, n: int = 2000) -> None:
+def save(path: str, n: int = 2000, workers: int = 1) -> None:
     import screwkit
     from screwkit.engine._chains import chains_of
     from screwkit.engine._launch import run_poses
@@ -41,7 +44,7 @@ def save(path: str, n: int = 2000) -> None:
         pose = _random_pose(pm, n, np.random.default_rng(0))
         ch = chains_of(pm)
         r = run_poses(ch.flat, predictor_of(ch), ch.full_params(pose, n), F=F_LOAD, T=T_LOAD,
-                      workers=1)
+                      workers=workers)
         for k in KEYS:
             if k in r:
                 out[f"{name}/{k}"] = np.asarray(r[k])
@@ -72,6 +75,6 @@ def compare(a: str, b: str) -> None:
 
 if __name__ == "__main__":
     if sys.argv[1] == "save":
-        save(sys.argv[2])
+        save(sys.argv[2], workers=int(sys.argv[3]) if len(sys.argv) > 3 else 1)
     else:
         compare(sys.argv[2], sys.argv[3])

@@ -27,16 +27,10 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PACKAGE = "screwkit.engine._kernels."
-#: The kernels whose compile the child does (and everything compiled under them): the
-#: closure of one pose and the rescue of a block's lane (the kinematics under the block's
-#: own kernels too: see :data:`BLOCK`).
-CLOSURE = ("solve_pose", "rescue", "solve_block")
+#: The kernels whose compile the child does (and everything compiled under them).
+CLOSURE = "solve_pose"
 #: The pose kernel's own functions (compiled last, once the closure is in the cache).
 POSE = ("run_range", "run_poses")
-#: The block closure's own kernels (the vectorised lane loops): compiled by this process
-#: after its rows, while the child compiles the closure of one pose (their kinematics
-#: under them load from the child's cache), so that neither waits long for the other.
-BLOCK = ("_block", "solve_block")
 
 
 #: This process's kernels that call no kinematics (compiled first, while the child
@@ -49,9 +43,7 @@ def ordered(lines):
     """``lines`` with the ``main`` group's kernels of :data:`FIRST` first (the compile
     order otherwise kept)."""
     def key(line):
-        group, module, name = line.split("\t", 3)[:3]
-        if (module in BLOCK or name in BLOCK) and "make_" not in line:
-            return 2
+        group, module = line.split("\t", 2)[:2]
         return 0 if group == "main" and (module in FIRST or "make_" in line) else 1
     mains = [ln for ln in lines if ln.startswith("main\t")]
     it = iter(sorted(mains, key=key))
@@ -86,9 +78,7 @@ def _write(command) -> None:
     for module, name, args, under in done:
         if not module.startswith(PACKAGE):
             continue                      # numba's own (compiled with their callers)
-        if module[len(PACKAGE):] in BLOCK or name in BLOCK:
-            group = "main"
-        elif any(c in under for c in CLOSURE):
+        if CLOSURE in under:
             group = "closure"
         elif name in POSE:
             group = "pose"

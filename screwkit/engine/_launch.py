@@ -23,7 +23,7 @@ __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_
 MIN_PER_THREAD = 256
 
 #: How long the first compile of a parallel kernel takes (the note on stderr).
-PARALLEL_COMPILE = "about half a minute"
+PARALLEL_COMPILE = "about a minute"
 
 #: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",

@@ -3,8 +3,11 @@
 
 Every pose is computed alone, by the same compiled functions, so a batch equals a loop of
 one-pose calls bit for bit, whatever the chunks and threads.  The parallel kernels cut the
-poses into ``nchunks`` ranges run in ``prange`` (one workspace per range, allocated once);
-one pose (N = 1) calls :func:`run_range` directly.
+poses into ``nchunks`` ranges run in ``prange`` (one workspace per range, allocated once).
+The analysis has two loops over the poses: :func:`run_range` (one pose, and every launch
+on one thread) solves each pose alone and links no block kernel, so that a one-pose
+command never compiles them; :func:`run_parallel` (batches on threads) solves the closures
+``BLOCK`` poses at a time (:mod:`._block`), with the same bits.
 
 Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
@@ -147,16 +150,43 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
 
 @inner
 def run_poses(M, Z, I, O, flags, first, stop):
-    """Poses ``first`` to ``stop`` with one workspace (borrowed views: no reference counts
-    in the loop; returns a number so that the owners visibly outlive it)."""
+    """Poses ``first`` to ``stop`` one at a time with one workspace (borrowed views: no
+    reference counts in the loop; returns a number so that the owners visibly outlive it).
+    The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
+    links no block kernel, so that a one-pose command does not compile them."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
     Wo = make_work(n, m, nx)
     RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
     SWo = make_statics_work(M[ROWS].shape[0])
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
-    # one pose (a range of one) solves alone (its lane loops folded: see _kin); every pose
-    # ends in the one finish_pose below (inlined once: its compile is not paid twice)
+    for p in range(first, stop):
+        res, b = 0.0, -1
+        if flags[F_SOLVE]:
+            start(Z, I, O, p, W)
+            res, b = solve_alone(M, Z, I, O, flags, p, W)
+        if b < 0:                     # given unknowns, or a rescue's Newton runs
+            b = 0
+            res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
+                          W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
+        finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
+    # the owners are used here, so they live (and keep the buffers) until the loop is done
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
+
+
+@inner
+def run_blocks(M, Z, I, O, flags, first, stop):
+    """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
+    time (:func:`solve_block`), as :func:`run_poses` otherwise (the same bits: every lane
+    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    nx = O[OUT_X].shape[1]
+    Wo = make_work(n, m, nx)
+    RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
+    SWo = make_statics_work(M[ROWS].shape[0])
+    W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
+    # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
+    # the one finish_pose below (inlined once: its compile is not paid twice)
     blocked = flags[F_SOLVE] and stop - first > 1
     step = BLOCK if blocked else 1
     Ko = make_block(n, m, nx, BLOCK if blocked else 0)
@@ -246,9 +276,9 @@ def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop
 
 @parallel
 def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nchunks):
-    """:func:`run_poses` over ``nchunks`` equal ranges of the poses, in ``prange``."""
+    """:func:`run_blocks` over ``nchunks`` equal ranges of the poses, in ``prange``."""
     M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
         outputs(Of, Oi, Od)
     N = I[0].shape[0]
     for c in prange(nchunks):
-        run_poses(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)
+        run_blocks(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)

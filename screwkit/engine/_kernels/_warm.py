@@ -6,19 +6,19 @@ optimising and generating the code of each function with everything it calls lin
 On a machine with a second core, that compile is split between this process and a child
 process that compiles into the same disk cache:
 
-* the child compiles the loop closure of one pose (``_closures.solve_pose``) and a block
-  lane's rescue (``_closures.rescue``), with the forward kinematics and Newton under them,
-  then the entry points the analysis calls besides the pose kernel (the row templates'
-  probes at home, the transmission indices, the frames...);
+* the child compiles the pose's loop closure (``_closures.solve_pose``, with the forward
+  kinematics and Newton under it), then the entry points the analysis calls besides the
+  pose kernel (the row templates' probes at home, the transmission indices, the frames...);
 * meanwhile this process compiles the rest of the pose kernel's callees (rows,
-  conditioning, statics...), then the block closure's own kernels (``_block.block_newton``,
-  ``forward_lanes``, ``_driver.solve_block``: the kinematics under them, which the child
-  compiles first, load from the cache), waits for the child's closure, loads it from the
-  cache (numba links a cached callee's bitcode into its callers as it links a callee
-  compiled in the same process: the machine code differs only by numba's function names
-  and the link order; the results are the same bits), compiles the pose kernel itself
-  (``run_range``), and waits for the child to finish
-  (its kernels load from the cache on first use).
+  conditioning, statics...), waits for the child's closure, loads it from the cache (numba
+  links a cached callee's bitcode into its callers as it links a callee compiled in the
+  same process: the machine code differs only by numba's function names and the link
+  order; the results are the same bits), compiles the pose kernel itself (``run_range``),
+  and waits for the child to finish (its kernels load from the cache on first use).
+
+The block closure's kernels (``_block``, ``_driver.solve_block``) are not among them: only
+the parallel kernel (``run_parallel``, every batch worth a thread) links them, and it
+compiles with the first such batch (``_launch``: a note on stderr).
 
 The kernels and their argument types come from :data:`SIGNATURES` (``first_compile.txt``
 beside this file, one ``group, module, function, argument types`` a line, written by
