@@ -148,17 +148,23 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
     O[OUT_DET][p] = sign
 
 
+@inlined
+def _workspaces(M, O):
+    """A thread's one-pose workspace, rows workspace and statics workspace (their owners:
+    the caller keeps them alive while it uses borrowed views of them)."""
+    n, m = M[D].shape[0], M[D].shape[1]
+    return (make_work(n, m, O[OUT_X].shape[1]),
+            make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1]),
+            make_statics_work(M[ROWS].shape[0]))
+
+
 @inner
 def run_poses(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` one at a time with one workspace (borrowed views: no
     reference counts in the loop; returns a number so that the owners visibly outlive it).
     The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
     links no block kernel, so that a one-pose command does not compile them."""
-    n, m = M[D].shape[0], M[D].shape[1]
-    nx = O[OUT_X].shape[1]
-    Wo = make_work(n, m, nx)
-    RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
-    SWo = make_statics_work(M[ROWS].shape[0])
+    Wo, RWo, SWo = _workspaces(M, O)
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
     for p in range(first, stop):
         res, b = 0.0, -1
@@ -181,9 +187,7 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
-    Wo = make_work(n, m, nx)
-    RWo = make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1])
-    SWo = make_statics_work(M[ROWS].shape[0])
+    Wo, RWo, SWo = _workspaces(M, O)
     W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
     # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
     # the one finish_pose below (inlined once: its compile is not paid twice)
