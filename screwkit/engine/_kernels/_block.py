@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from ._jit import inlined, inner
-from ._kin import forward_block, platform_columns
+from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
 from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_STEP, newton_step
 
@@ -91,16 +91,6 @@ def forward_lanes(M, unk, xs, K, X, b, res, nb):
 
 
 @inner
-def _sq(FE, b, l):
-    """Lane ``l``'s sum of squared closure errors in buffer ``b`` (the one-pose order)."""
-    s = 0.0
-    for i in range(FE.shape[1]):
-        for k in range(6):
-            s += FE[b, i, k, l] * FE[b, i, k, l]
-    return s
-
-
-@inner
 def block_newton(M, unk, xs, K, nb, max_iter, W):
     """Gauss-Newton on the lanes ``0..nb-1`` of the block ``K`` whose state is
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
@@ -138,7 +128,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
             newton_step(M, W, 0, nu, W[W_FROZ])
             for k in range(nx):
                 STEP[k, l] = step[k]
-            E2[l] = _sq(FE, 0, l)
+            E2[l] = closure_sq(FE, 0, l)
             OK[l] = 0
         for h in range(HALVINGS + 1):
             for l in range(nb):
@@ -154,7 +144,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
             for l in range(nb):
                 if ST[l] != LANE_ACTIVE or OK[l]:
                     continue
-                if _sq(FE, 1, l) < E2[l]:      # False for NaN and inf
+                if closure_sq(FE, 1, l) < E2[l]:      # False for NaN and inf
                     OK[l] = 1
                 else:
                     pending = True

@@ -19,8 +19,8 @@ import math
 import numpy as np
 from numba import prange
 
-from ._jit import entry, inner, parallel
-from ._kin import legs_forward
+from ._jit import entry, inner, one_lane, parallel
+from ._kin import closure_sq, legs_forward
 from ._layout import CONVERGED, D, LEG, L_ACT, L_ACTIVE, L_AROW, PLAT, P_C, P_L, QS
 from ._newton import W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_S, W_STEP, make_work, newton_step
 from ._small import matmul3, rodrigues
@@ -41,15 +41,6 @@ def _forward(M, R, o, X, W, b):
         for c in range(3):
             fp[6 + 3 * r + c] = R[r, c]
     return legs_forward(M, X, 6, W[W_FA], W[W_FL], W[W_FE], W[W_FP], b, W[W_S])
-
-
-@inner
-def _sq(e):
-    s = 0.0
-    for i in range(e.shape[0]):
-        for k in range(6):
-            s += e[i, k] * e[i, k]
-    return s
 
 
 @inner
@@ -80,7 +71,7 @@ def newton(M, R, o, X, tol, max_iter, W, R2, o2, X2, Rw):
         if not math.isfinite(res) or res <= tol:
             break
         newton_step(M, W, 0, 6, W[W_FROZ])
-        e2 = _sq(W[W_FE][0])
+        e2 = closure_sq(one_lane(W[W_FE]), 0, 0)
         done = False
         for h in range(HALVINGS):
             f = 0.5 ** h
@@ -95,7 +86,7 @@ def newton(M, R, o, X, tol, max_iter, W, R2, o2, X2, Rw):
             for k in range(6, nx):
                 X2[k] = X[k] + step[k] * f
             r2 = _forward(M, R2, o2, X2, W, 1)
-            if math.isfinite(r2) and _sq(W[W_FE][1]) < e2:
+            if math.isfinite(r2) and closure_sq(one_lane(W[W_FE]), 1, 0) < e2:
                 for r in range(3):
                     o[r] = o2[r]
                     for q in range(3):

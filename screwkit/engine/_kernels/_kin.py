@@ -234,6 +234,18 @@ def platform_home_rotation(M, FPb, l, S):
                           plat[P_RH + 3 * c + 1] + FPb[6 + 3 * r + 2, l] * plat[P_RH + 3 * c + 2])
 
 
+@inner
+def closure_sq(FE, b, l):
+    """Lane ``l``'s sum of squared closure errors in buffer ``b`` of ``FE (2, n, 6, B)``
+    (legs, then components, in order: a pose's figure for Newton's decrease test; one pose
+    passes its ``(2, n, 6)`` frames through :func:`~._jit.one_lane`)."""
+    s = 0.0
+    for i in range(FE.shape[1]):
+        for k in range(6):
+            s += FE[b, i, k, l] * FE[b, i, k, l]
+    return s
+
+
 @inlined
 def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, ls, res, CS):
     """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of

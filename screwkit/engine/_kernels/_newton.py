@@ -17,9 +17,9 @@ representation singularity.
 import math
 
 import numpy as np
-from ._jit import inlined, inner
+from ._jit import inlined, inner, one_lane
 
-from ._kin import forward, platform_columns
+from ._kin import closure_sq, forward, platform_columns
 from ._layout import LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
 from ._small import cholesky_solve
 
@@ -152,16 +152,6 @@ def step_of(leg, rot, trn, plat, FA, FE, T, Pt, G, B, Xs, Ar, step, rhs, b, nu, 
 
 
 @inner
-def _sq(FE, b):
-    s = 0.0
-    e = FE[b]
-    for i in range(e.shape[0]):
-        for k in range(6):
-            s += e[i, k] * e[i, k]
-    return s
-
-
-@inner
 def gauss_newton(M, unk, xs, p6fix, X, tol, max_iter, W):
     """Solve the closures of one pose from ``X`` (in place).  Returns ``(residual,
     iterations, stalled, buffer)``: the buffer holds the frames of the final ``X``."""
@@ -189,7 +179,7 @@ def newton_iterate(M, unk, xs, p6fix, X, tol, max_iter, W):
             break
         platform_columns(M, FP[cur], unk, W[W_PT])
         newton_step(M, W, cur, nu, frozen)
-        e2 = _sq(FE, cur)
+        e2 = closure_sq(one_lane(FE), cur, 0)
         new = 1 - cur
         ok = False
         fn = f
@@ -200,7 +190,7 @@ def newton_iterate(M, unk, xs, p6fix, X, tol, max_iter, W):
             for k in range(nx):
                 Xn[k] = X[k] + step[k]
             fn = forward(M, unk, xs, p6fix, Xn, FA, FL, FE, FP, new, S, p6)
-            e2n = _sq(FE, new)
+            e2n = closure_sq(one_lane(FE), new, 0)
             if e2n < e2:               # False for NaN and inf
                 ok = True
                 break
