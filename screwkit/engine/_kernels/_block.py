@@ -8,8 +8,8 @@ pose does (:func:`._newton.newton_iterate`: the same test, tolerance, maximum of
 and step halving, in the same order of operations: no reduction across lanes), so a lane of
 a block equals the pose alone bit for bit; a lane stops when it converges or stalls while the
 others go on (the block's passes still compute it: masked, not compacted).  The Newton step
-is still solved lane by lane (:func:`._newton.newton_step` on the lane's frames, copied into
-the one-pose workspace): a block step is the next stage.
+of the block's lanes is one (:func:`._newton.step_block`: the lane loops of
+:func:`._newton.step_lanes`, the function one pose's step runs on a block of one).
 
 The block workspace ``K`` (:func:`make_block`) holds the current (buffer 0) and trial
 (buffer 1) frames of every lane, the unknowns, the given parameters, and per lane the
@@ -20,13 +20,14 @@ import math
 
 import numpy as np
 
-from ._jit import inlined, inner
+from ._jit import inlined, inner, lanes
 from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
-from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_STEP, newton_step
+from ._layout import LEG, PLAT, ROT, TRN
+from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, step_block
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
- K_CS, K_OK, K_S, K_P6S, K_ACC) = range(19)
+ K_CS, K_OK, K_S, K_P6S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS) = range(27)
 #: Lane states: iterating, converged (residual at or below its tolerance), stalled (no
 #: decrease, or a non-finite residual), not solved in the block (solved alone).
 LANE_ACTIVE, LANE_DONE, LANE_STALLED, LANE_ALONE = 0, 1, 2, 3
@@ -40,7 +41,10 @@ def make_block(n, m, nx, B):
             np.zeros((2, n, 12, B)), np.zeros((2, n, 6, B)), np.zeros((2, 27, B)),
             np.zeros((nx, B)), np.zeros(B), np.zeros(B), np.zeros(B), np.zeros(B),
             np.zeros(B, np.int64), np.zeros(B, np.int64), np.zeros((2, B)),
-            np.zeros(B, np.int64), np.zeros((6, 3, 3)), np.zeros(6), np.zeros(B, np.int64))
+            np.zeros(B, np.int64), np.zeros((6, 3, 3)), np.zeros(6), np.zeros(B, np.int64),
+            # the Newton step's arrays (_newton.step_lanes)
+            np.zeros((6, 6, B)), np.zeros((m, 6, B)), np.zeros((m, m, B)), np.zeros((m, 7, B)),
+            np.zeros((n, m, 7, B)), np.zeros((6, 7, B)), np.zeros((6, 1, B)), np.zeros((4, B)))
 
 
 @inlined
@@ -62,24 +66,32 @@ def lane_frames(K, b, l, W, wb):
 
 
 @inlined
-def _accept(K, l):
-    """Lane ``l``'s trial (buffer 1) becomes its current state (buffer 0)."""
-    X, Xn = K[K_X], K[K_XN]
-    for k in range(X.shape[0]):
-        X[k, l] = Xn[k, l]
-    FA, FL, FE, FP = K[K_FA], K[K_FL], K[K_FE], K[K_FP]
-    for i in range(FA.shape[1]):
-        for j in range(FA.shape[2]):
-            for k in range(6):
-                FA[0, i, j, k, l] = FA[1, i, j, k, l]
-        for k in range(12):
-            FL[0, i, k, l] = FL[1, i, k, l]
-        for k in range(6):
-            FE[0, i, k, l] = FE[1, i, k, l]
-    for k in range(27):
-        FP[0, k, l] = FP[1, k, l]
-    K[K_F][l] = K[K_FN][l]
-    K[K_ACC][l] += 1
+def _take(A, half, acc, nb):
+    """In each lane ``k < nb`` with ``acc[k]``, the trial half of ``A`` (its second half: buffer
+    1, or ``Xn`` after ``X``) becomes the current one (the first half), row by row of
+    ``BLOCK`` lanes: a select per lane that LLVM vectorises."""
+    p, t = lanes(A), lanes(acc)
+    for r in range(half // BLOCK):
+        o = r * BLOCK
+        for k in range(nb):
+            p[o + k] = p[half + o + k] if t[k] else p[o + k]
+
+
+@inlined
+def _accept(K, nb):
+    """The trial (buffer 1) of the lanes whose ``K[K_OK]`` is set becomes their current state
+    (buffer 0)."""
+    acc = K[K_OK]
+    X = K[K_X]
+    p, q, t = lanes(X), lanes(K[K_XN]), lanes(acc)
+    for r in range(X.shape[0]):
+        o = r * BLOCK
+        for k in range(nb):
+            p[o + k] = q[o + k] if t[k] else p[o + k]
+    _take(K[K_FA], K[K_FA].size // 2, acc, nb)
+    _take(K[K_FL], K[K_FL].size // 2, acc, nb)
+    _take(K[K_FE], K[K_FE].size // 2, acc, nb)
+    _take(K[K_FP], K[K_FP].size // 2, acc, nb)
 
 
 @inner
@@ -102,7 +114,6 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
         K[K_OK]
     nu = unk.shape[0]
     nx = X.shape[0]
-    step = W[W_STEP]
     forward_lanes(M, unk, xs, K, X, 0, F, nb)
     for l in range(nb):
         ITS[l] = 0
@@ -120,14 +131,15 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 active = True
         if not active:
             break
+        # every lane's step at once (the stopped lanes' too: masked, not read)
+        Pt = K[K_PT]
+        for l in range(nb):
+            platform_columns(M, K[K_FP][0, :, l], unk, Pt[:, :, l])
+        step_block(M[LEG], M[ROT], M[TRN], M[PLAT], K[K_FA], FE, Pt, K[K_T], K[K_G], K[K_B],
+                   K[K_XS], K[K_AR], STEP, K[K_RHS], K[K_LS], 0, nu, W[W_FROZ], nb)
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
                 continue
-            lane_frames(K, 0, l, W, 0)
-            platform_columns(M, W[W_FP][0], unk, W[W_PT])
-            newton_step(M, W, 0, nu, W[W_FROZ])
-            for k in range(nx):
-                STEP[k, l] = step[k]
             E2[l] = closure_sq(FE, 0, l)
             OK[l] = 0
         for h in range(HALVINGS + 1):
@@ -152,9 +164,12 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 break
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
+                OK[l] = 0                   # (not accepted below)
                 continue
             ITS[l] += 1
             if OK[l]:
-                _accept(K, l)
+                K[K_F][l] = K[K_FN][l]
+                K[K_ACC][l] += 1
             else:
                 ST[l] = LANE_STALLED
+        _accept(K, nb)

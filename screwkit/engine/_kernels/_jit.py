@@ -143,3 +143,20 @@ def flat(typingctx, x):
                                meminfo=cgutils.get_null_value(dst.meminfo.type))
         return dst._getvalue()
     return out(x), codegen
+
+
+@intrinsic
+def lanes(typingctx, x):
+    """A pointer to the first element of the C-contiguous array ``x``: what :func:`flat`
+    gives, indexed without numba's wraparound of negative indices.  A lane loop indexes it
+    ``p[base + k]``: where ``base`` is a run-time offset (a leg's, a joint's) LLVM cannot
+    prove it non-negative, and the wraparound's select kept the address out of its reach
+    ("cannot identify array bounds": the loop stayed scalar).  No bounds, no reference
+    count: ``x``'s owner must outlive every use, and the offsets must stay inside ``x``."""
+    if not isinstance(x, types.Array) or x.layout != "C":
+        return None
+    out = types.CPointer(x.dtype)
+
+    def codegen(context, builder, sig, args):
+        return context.make_array(x)(context, builder, value=args[0]).data
+    return out(x), codegen

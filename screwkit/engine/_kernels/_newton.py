@@ -17,11 +17,11 @@ representation singularity.
 import math
 
 import numpy as np
-from ._jit import inlined, inner, one_lane
+from ._jit import inlined, inner, lanes, one_lane
 
 from ._kin import closure_sq, forward, platform_columns
-from ._layout import LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
-from ._small import cholesky_solve
+from ._layout import BLOCK, LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
+from ._small import cholesky_lanes
 
 #: Relative Tikhonov shift of a leg's Gram matrix (exact legs) and of a leg with more joints
 #: than twist-space dimensions (idle motions: least-norm steps).
@@ -32,7 +32,7 @@ HALVINGS = 6
 
 # the workspace tuple
 (W_FA, W_FL, W_FE, W_FP, W_S, W_P6, W_T, W_PT, W_G, W_B, W_XS, W_AR, W_STEP, W_XN, W_FROZ,
- W_XC, W_XB, W_P6S, W_XR, W_IDX, W_RHS) = range(21)
+ W_XC, W_XB, W_P6S, W_XR, W_IDX, W_RHS, W_LS) = range(22)
 
 
 @inner
@@ -43,111 +43,195 @@ def make_work(n, m, nx):
             np.zeros((6, 6)), np.zeros((m, m)), np.zeros((n, m, 7)), np.zeros((n, m, 7)),
             np.zeros((6, 7)), np.zeros(nx), np.zeros(nx), np.zeros((n, m), np.int64),
             np.zeros(nx), np.zeros(nx), np.zeros((4, 6)), np.zeros((6, nx)),
-            np.zeros(m, np.int64), np.zeros((6, 1)))
+            np.zeros(m, np.int64), np.zeros((6, 1)), np.zeros((4, 1)))
 
 
 @inlined
 def newton_step(M, W, b, nu, frozen):
-    """The Gauss-Newton step at the frames of buffer ``b`` into ``W[W_STEP]`` (the platform
-    columns ``W[W_PT][:, :nu]`` set by the caller): :func:`step_of` given the arrays it
-    reads (a call passing the model and workspace tuples whole cost about 0.4 us a step, a
-    quarter of the step; this wrapper, inlined, passes 14 arrays)."""
-    step_of(M[LEG], M[ROT], M[TRN], M[PLAT], W[W_FA], W[W_FE], W[W_T], W[W_PT], W[W_G],
-            W[W_B], W[W_XS], W[W_AR], W[W_STEP], W[W_RHS], b, nu, frozen)
+    """The Gauss-Newton step of one pose at the frames of buffer ``b`` into ``W[W_STEP]``
+    (the platform columns ``W[W_PT][:, :nu]`` set by the caller): :func:`step_lanes` on a
+    block of one lane (:func:`step_one`)."""
+    step_one(M[LEG], M[ROT], M[TRN], M[PLAT], W[W_FA], W[W_FE], W[W_PT], W[W_T], W[W_G],
+             W[W_B], W[W_XS], W[W_AR], W[W_STEP], W[W_RHS], W[W_LS], b, nu, frozen)
 
 
 @inner
-def step_of(leg, rot, trn, plat, FA, FE, T, Pt, G, B, Xs, Ar, step, rhs, b, nu, frozen):
-    """:func:`newton_step`'s work (the model's and the workspace's arrays it reads)."""
+def step_one(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen):
+    """:func:`step_lanes` on one pose's arrays (the lane axis added by
+    :func:`~._jit.one_lane`; a call passing the model and workspace tuples whole cost about
+    0.4 us a step: this one passes the arrays it reads)."""
+    step_lanes(leg, rot, trn, plat, one_lane(FA), one_lane(FE), one_lane(Pt), one_lane(T[0]),
+               one_lane(G), one_lane(B[0]), one_lane(Xs), one_lane(Ar), one_lane(step),
+               one_lane(rhs), LS, b, nu, frozen, 1, 1)
+
+
+@inner
+def step_block(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen,
+               nb):
+    """:func:`step_lanes` on the ``nb`` lanes of a block of :data:`._layout.BLOCK`."""
+    step_lanes(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen,
+               nb, BLOCK)
+
+
+@inlined
+def step_lanes(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen,
+               nb, ls):
+    """The Gauss-Newton step of ``nb`` lanes (poses) at their frames in buffer ``b`` of ``FA
+    (2, n, m, 6, ls)`` and ``FE (2, n, 6, ls)``, with their platform columns ``Pt (6, >= nu,
+    ls)``, into ``step (nx, ls)`` (module docstring: the Schur complement leg by leg).  The
+    lane axis is last; each lane computes exactly what one pose computes, in the same order,
+    so one pose (``ls = 1``, :func:`step_one`) and a lane of a block give the same bits.
+    ``ls`` is a constant where this function is inlined (1 or :data:`._layout.BLOCK`), so that
+    LLVM vectorises the lane loops over the flat views (:func:`~._jit.flat`).  Scratch: ``T
+    (m, 6, ls)`` the free joints' length-normalised twists, ``G (m, m, ls)`` the leg's Gram
+    matrix, ``B (m, 7, ls)`` and ``Xs (n, m, 7, ls)`` ``T^T [e, P]`` and its solve, ``Ar (6,
+    7, ls)`` the reduced system, ``rhs (6, 1, ls)``, ``LS (4, >= ls)``."""
     L = plat[P_L]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
-    n, m = T.shape[0], T.shape[1]
-    e = FE[b]
-    for a in range(nu):
-        for c in range(nu + 1):
-            Ar[a, c] = 0.0
+    n, m = Xs.shape[0], Xs.shape[1]
+    w = Xs.shape[2]
+    tf, gf, bf, af, pf, sf = lanes(T), lanes(G), lanes(B), lanes(Ar), lanes(Pt), lanes(step)
+    ef = lanes(FE[b])
+    npc = Pt.shape[1]
+    tr, sh, acc = lanes(LS[0]), lanes(LS[1]), lanes(LS[2])
+    for r in range(nu * (nu + 1)):
+        for k in range(nb):
+            af[((r // (nu + 1)) * 7 + r % (nu + 1)) * ls + k] = 0.0
     for i in range(n):
         size = leg[i, L_SIZE]
-        Ti, Bi, Xi, fai = T[i], B[i], Xs[i], FA[b, i]
-        e0, e1, e2, e3, e4, e5 = e[i, 0], e[i, 1], e[i, 2], e[i, 3], e[i, 4], e[i, 5]
+        xf, ff = lanes(Xs[i]), lanes(FA[b, i])
         nl = 0
         for j in range(size):
             if not frozen[i, j]:
                 nl += 1
-        tr = float(m - nl)                   # padded and frozen slots: identity rows
-        # each free joint's twist, its row of the Gram matrix and of T^T [e, P], in one pass
+        for k in range(nb):
+            tr[k] = float(m - nl)            # padded and frozen slots: identity rows
+        # each free joint's twist, its row of the Gram matrix and of T^T [e, P]
         a = 0
         for j in range(size):
             if frozen[i, j]:
                 continue
-            f = fai[j]
-            d0, d1, d2 = f[0], f[1], f[2]
-            p0, p1, p2 = f[3] - c0, f[4] - c1, f[5] - c2
             r = rot[i, j]
             rl = r / L
             tj = trn[i, j]
-            t0 = (p1 * d2 - p2 * d1) * rl + tj * d0
-            t1 = (p2 * d0 - p0 * d2) * rl + tj * d1
-            t2 = (p0 * d1 - p1 * d0) * rl + tj * d2
-            t3, t4, t5 = r * d0, r * d1, r * d2
-            Ta = Ti[a]
-            Ta[0], Ta[1], Ta[2], Ta[3], Ta[4], Ta[5] = t0, t1, t2, t3, t4, t5
+            fj, ta = j * 6 * ls, a * 6 * ls
+            for k in range(nb):
+                d0, d1, d2 = ff[fj + k], ff[fj + ls + k], ff[fj + 2 * ls + k]
+                p0, p1, p2 = ff[fj + 3 * ls + k] - c0, ff[fj + 4 * ls + k] - c1, \
+                    ff[fj + 5 * ls + k] - c2
+                tf[ta + k] = (p1 * d2 - p2 * d1) * rl + tj * d0
+                tf[ta + ls + k] = (p2 * d0 - p0 * d2) * rl + tj * d1
+                tf[ta + 2 * ls + k] = (p0 * d1 - p1 * d0) * rl + tj * d2
+                tf[ta + 3 * ls + k] = r * d0
+                tf[ta + 4 * ls + k] = r * d1
+                tf[ta + 5 * ls + k] = r * d2
             for c in range(a + 1):
-                Tc = Ti[c]
-                G[a, c] = (0.0 + t0 * Tc[0] + t1 * Tc[1] + t2 * Tc[2] + t3 * Tc[3]
-                           + t4 * Tc[4] + t5 * Tc[5])
-            tr += G[a, a]
-            s = 0.0 + t0 * e0 + t1 * e1 + t2 * e2 + t3 * e3 + t4 * e4 + t5 * e5
-            Bi[a, 0] = s
-            Xi[a, 0] = s
+                tc, gac = c * 6 * ls, (a * m + c) * ls
+                for k in range(nb):
+                    gf[gac + k] = (0.0 + tf[ta + k] * tf[tc + k]
+                                   + tf[ta + ls + k] * tf[tc + ls + k]
+                                   + tf[ta + 2 * ls + k] * tf[tc + 2 * ls + k]
+                                   + tf[ta + 3 * ls + k] * tf[tc + 3 * ls + k]
+                                   + tf[ta + 4 * ls + k] * tf[tc + 4 * ls + k]
+                                   + tf[ta + 5 * ls + k] * tf[tc + 5 * ls + k])
+            gaa = (a * m + a) * ls
+            for k in range(nb):
+                tr[k] += gf[gaa + k]
+            ei, ba = i * 6 * ls, a * w * ls
+            for k in range(nb):
+                s = (0.0 + tf[ta + k] * ef[ei + k] + tf[ta + ls + k] * ef[ei + ls + k]
+                     + tf[ta + 2 * ls + k] * ef[ei + 2 * ls + k]
+                     + tf[ta + 3 * ls + k] * ef[ei + 3 * ls + k]
+                     + tf[ta + 4 * ls + k] * ef[ei + 4 * ls + k]
+                     + tf[ta + 5 * ls + k] * ef[ei + 5 * ls + k])
+                bf[ba + k] = s
+                xf[ba + k] = s
             for u in range(nu):
-                s = (0.0 + t0 * Pt[0, u] + t1 * Pt[1, u] + t2 * Pt[2, u] + t3 * Pt[3, u]
-                     + t4 * Pt[4, u] + t5 * Pt[5, u])
-                Bi[a, 1 + u] = s
-                Xi[a, 1 + u] = s
+                bu = ba + (1 + u) * ls
+                for k in range(nb):
+                    s = (0.0 + tf[ta + k] * pf[u * ls + k]
+                         + tf[ta + ls + k] * pf[(npc + u) * ls + k]
+                         + tf[ta + 2 * ls + k] * pf[(2 * npc + u) * ls + k]
+                         + tf[ta + 3 * ls + k] * pf[(3 * npc + u) * ls + k]
+                         + tf[ta + 4 * ls + k] * pf[(4 * npc + u) * ls + k]
+                         + tf[ta + 5 * ls + k] * pf[(5 * npc + u) * ls + k])
+                    bf[bu + k] = s
+                    xf[bu + k] = s
             a += 1
-        shift = tr / size * (SHIFT_IDLE if size > 6 else SHIFT)
-        cholesky_solve(G, nl, Xi, 1 + nu, shift)
+        for k in range(nb):
+            sh[k] = tr[k] / size * (SHIFT_IDLE if size > 6 else SHIFT)
+        cholesky_lanes(G, nl, Xs[i], 1 + nu, LS[1], LS[2], nb, ls)
         # the reduced system's terms of this leg
         for u in range(nu):
             for v in range(nu):
-                s = 0.0
+                for k in range(nb):
+                    acc[k] = 0.0
                 for a in range(nl):
-                    s += Bi[a, 1 + u] * Xi[a, 1 + v]
-                Ar[u, v] -= s
-            s = 0.0
-            for k in range(6):
-                s += Pt[k, u] * e[i, k]
+                    bu, xv = (a * w + 1 + u) * ls, (a * w + 1 + v) * ls
+                    for k in range(nb):
+                        acc[k] += bf[bu + k] * xf[xv + k]
+                uv = (u * 7 + v) * ls
+                for k in range(nb):
+                    af[uv + k] -= acc[k]
+            for k in range(nb):
+                acc[k] = 0.0
+            for q in range(6):
+                for k in range(nb):
+                    acc[k] += pf[(q * npc + u) * ls + k] * ef[(i * 6 + q) * ls + k]
             for a in range(nl):
-                s -= Xi[a, 1 + u] * Bi[a, 0]
-            Ar[u, nu] += s
+                xu, b0 = (a * w + 1 + u) * ls, a * w * ls
+                for k in range(nb):
+                    acc[k] -= xf[xu + k] * bf[b0 + k]
+            un = (u * 7 + nu) * ls
+            for k in range(nb):
+                af[un + k] += acc[k]
     if nu:
-        tra = 0.0
+        rf = lanes(rhs)
+        for k in range(nb):
+            tr[k] = 0.0
         for u in range(nu):
             for v in range(u + 1):
-                s = 0.0
-                for k in range(6):
-                    s += Pt[k, u] * Pt[k, v]
-                Ar[u, v] += n * s
-            tra += Ar[u, u]
-            Ar[u, nu] = -Ar[u, nu]
+                for k in range(nb):
+                    acc[k] = 0.0
+                for q in range(6):
+                    for k in range(nb):
+                        acc[k] += pf[(q * npc + u) * ls + k] * pf[(q * npc + v) * ls + k]
+                uv = (u * 7 + v) * ls
+                for k in range(nb):
+                    af[uv + k] += n * acc[k]
+            uu, un = (u * 7 + u) * ls, (u * 7 + nu) * ls
+            for k in range(nb):
+                tr[k] += af[uu + k]
+                af[un + k] = -af[un + k]
         # (the lower triangle is complete; solve in a copy of the right-hand side column)
         for u in range(nu):
-            rhs[u, 0] = Ar[u, nu]
-        cholesky_solve(Ar, nu, rhs, 1, tra * (SHIFT_REDUCED / nu))
+            for k in range(nb):
+                rf[u * ls + k] = af[(u * 7 + nu) * ls + k]
+        for k in range(nb):
+            sh[k] = tr[k] * (SHIFT_REDUCED / nu)
+        cholesky_lanes(Ar, nu, rhs, 1, LS[1], LS[2], nb, ls)
         for u in range(nu):
-            step[u] = rhs[u, 0]
+            for k in range(nb):
+                sf[u * ls + k] = rf[u * ls + k]
     for i in range(n):
         off = nu + i * m
+        xf = lanes(Xs[i])
         for j in range(m):
-            step[off + j] = 0.0
+            for k in range(nb):
+                sf[(off + j) * ls + k] = 0.0
         nl = 0
         for j in range(leg[i, L_SIZE]):
             if not frozen[i, j]:
-                s = Xs[i, nl, 0]
+                x0 = nl * w * ls
+                oj = (off + j) * ls
+                for k in range(nb):
+                    acc[k] = xf[x0 + k]
                 for u in range(nu):
-                    s += Xs[i, nl, 1 + u] * step[u]
-                step[off + j] = s
+                    xu = x0 + (1 + u) * ls
+                    for k in range(nb):
+                        acc[k] += xf[xu + k] * sf[u * ls + k]
+                for k in range(nb):
+                    sf[oj + k] = acc[k]
                 nl += 1
 
 

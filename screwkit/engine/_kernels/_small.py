@@ -11,7 +11,7 @@ method).
 import math
 
 import numpy as np
-from ._jit import inner
+from ._jit import inlined, inner, lanes, one_lane
 
 #: Largest one-sided Jacobi sweeps (6x6 converges in 5 to 7).
 JACOBI_SWEEPS = 30
@@ -96,29 +96,63 @@ def cholesky_solve(G, n, B, nb, shift):
     """Solve ``(G + shift I) X = B`` in place (``B (>= n, >= nb)`` becomes ``X``) for the
     leading ``n x n`` block of a symmetric positive (semi-)definite ``G`` (lower triangle
     used and overwritten by the factor); pivots floored at 1e-300 (Tikhonov-regularised
-    systems: the least-norm solution)."""
+    systems: the least-norm solution).  :func:`cholesky_lanes` on one lane."""
+    S = np.empty((2, 1))                  # the shift and the lane's scratch
+    S[0, 0] = shift
+    cholesky_lanes(one_lane(G), n, one_lane(B), nb, S[0], S[1], 1, 1)
+
+
+@inlined
+def cholesky_lanes(G, n, X, nrhs, shift, acc, nb, ls):
+    """:func:`cholesky_solve` on each of ``nb`` lanes (the lane axis last, of length ``ls``,
+    a constant where this is inlined; each lane's operations those of one system, in the
+    same order: the Newton step of a block, ``_newton.step_lanes``): ``(G + shift I) X = X`` for the
+    leading ``n x n`` block of ``G (m, m, ls)`` (lower triangle overwritten by the factor,
+    inverse pivots on the diagonal), ``X (m, w, ls)``'s first ``nrhs`` columns; ``shift
+    (ls,)``, ``acc (ls,)`` scratch.  Pivots floored at 1e-300."""
+    m, w = G.shape[1], X.shape[1]          # row lengths (G: (6, 7, ls) for the reduced system)
+    g, x, shift, acc = lanes(G), lanes(X), lanes(shift), lanes(acc)
     for j in range(n):
-        s = G[j, j] + shift
-        for k in range(j):
-            s -= G[j, k] * G[j, k]
-        inv = 1.0 / math.sqrt(max(s, 1e-300))
-        G[j, j] = inv                                   # the inverse pivot, kept
+        jj = (j * m + j) * ls
+        for k in range(nb):
+            acc[k] = g[jj + k] + shift[k]
+        for q in range(j):
+            jq = (j * m + q) * ls
+            for k in range(nb):
+                acc[k] -= g[jq + k] * g[jq + k]
+        for k in range(nb):
+            g[jj + k] = 1.0 / math.sqrt(max(acc[k], 1e-300))     # the inverse pivot, kept
         for i in range(j + 1, n):
-            s = G[i, j]
-            for k in range(j):
-                s -= G[i, k] * G[j, k]
-            G[i, j] = s * inv
-    for c in range(nb):
+            ij = (i * m + j) * ls
+            for k in range(nb):
+                acc[k] = g[ij + k]
+            for q in range(j):
+                iq, jq = (i * m + q) * ls, (j * m + q) * ls
+                for k in range(nb):
+                    acc[k] -= g[iq + k] * g[jq + k]
+            for k in range(nb):
+                g[ij + k] = acc[k] * g[jj + k]
+    for c in range(nrhs):
         for i in range(n):
-            s = B[i, c]
-            for k in range(i):
-                s -= G[i, k] * B[k, c]
-            B[i, c] = s * G[i, i]
+            ic, ii = (i * w + c) * ls, (i * m + i) * ls
+            for k in range(nb):
+                acc[k] = x[ic + k]
+            for q in range(i):
+                iq, qc = (i * m + q) * ls, (q * w + c) * ls
+                for k in range(nb):
+                    acc[k] -= g[iq + k] * x[qc + k]
+            for k in range(nb):
+                x[ic + k] = acc[k] * g[ii + k]
         for i in range(n - 1, -1, -1):
-            s = B[i, c]
-            for k in range(i + 1, n):
-                s -= G[k, i] * B[k, c]
-            B[i, c] = s * G[i, i]
+            ic, ii = (i * w + c) * ls, (i * m + i) * ls
+            for k in range(nb):
+                acc[k] = x[ic + k]
+            for q in range(i + 1, n):
+                qi, qc = (q * m + i) * ls, (q * w + c) * ls
+                for k in range(nb):
+                    acc[k] -= g[qi + k] * x[qc + k]
+            for k in range(nb):
+                x[ic + k] = acc[k] * g[ii + k]
 
 
 @inner
