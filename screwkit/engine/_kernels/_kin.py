@@ -24,7 +24,7 @@ from ._jit import flat, inlined, inner, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
-from ._small import matmul3, rodrigues, rotation_vector
+from ._small import matmul3, rodrigues, rotation_vector, sin_cos, sin_cos_fix
 
 
 @inner
@@ -127,11 +127,13 @@ def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
             f[4 * ls + k] = a10 * P0 + a11 * P1 + a12 * P2 + rt[10 * ls + k]
             f[5 * ls + k] = a20 * P0 + a21 * P1 + a22 * P2 + rt[11 * ls + k]
         if ro != 0.0:
-            # Rodrigues about the home axis, composed on the right (libm per lane, apart:
-            # the loop after it vectorises)
+            # Rodrigues about the home axis, composed on the right; the sines and cosines
+            # in a loop of their own (vectorised), libm's beyond sin_cos's range after it
+            for k in range(nb):
+                cf[S0 + k], cf[C0 + k] = sin_cos(ro * (xf[xj + k] * g))
             for k in range(nb):
                 a = ro * (xf[xj + k] * g)
-                cf[C0 + k], cf[S0 + k] = math.cos(a), math.sin(a)
+                cf[S0 + k], cf[C0 + k] = sin_cos_fix(a, cf[S0 + k], cf[C0 + k])
             for k in range(nb):
                 q = xf[xj + k] * g
                 c, s = cf[C0 + k], cf[S0 + k]
