@@ -98,6 +98,9 @@ def _write(command) -> None:
             r[0] = "main"
     lines = [f"{g}\t{m}\t{n}\t{a!r}\n" for g, m, n, a, _ in rows]
     lines = ordered(lines)
+    if not lines:           # the analysis failed before compiling: keep the list there is
+        sys.exit("first_run.py --write: no kernel was compiled (did the analysis fail?); "
+                 "first_compile.txt left as it was")
     path = os.path.join(ROOT, "screwkit", "engine", "_kernels", "first_compile.txt")
     with open(path, "w", encoding="utf-8") as f:
         f.write("# The kernels `screwkit analyze 3RRPRR` compiles, in order: group, module, "

@@ -1,4 +1,4 @@
-"""The kernels' own sine and cosine (``_kernels._small.sin_cos``, vectorised across a block's
+"""The kernels' own sine and cosine (``_kernels._trig.sin_cos``, vectorised across a block's
 lanes in the products of exponentials) against independent references: the C library's, and
 numpy's in extended precision (``np.longdouble``) as the exact values; identities that hold
 exactly in floating point (odd/even symmetry, quadrants)."""
@@ -13,7 +13,7 @@ import pytest
 def sin_cos_of():
     from numba import njit
 
-    from screwkit.engine._kernels._small import SIN_COS_MAX, sin_cos, sin_cos_fix
+    from screwkit.engine._kernels._trig import SIN_COS_MAX, sin_cos, sin_cos_fix
 
     @njit(cache=False)
     def both(x):

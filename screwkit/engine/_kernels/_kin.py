@@ -24,7 +24,8 @@ from ._jit import flat, inlined, inner, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
-from ._small import matmul3, rodrigues, rotation_vector, sin_cos, sin_cos_fix
+from ._small import matmul3, rodrigues, rotation_vector
+from ._trig import sin_cos, sin_cos_fix
 
 
 @inner
