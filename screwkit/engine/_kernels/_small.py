@@ -20,6 +20,8 @@ JACOBI_TOL = 1e-15
 #: Below this condition number the singular values come from the Gram matrix's eigenvalues
 #: (``s_k`` to about ``eps cond^2 / 2`` relative: 5e-12 at 300), beyond by Jacobi.
 REFINE_GRAM = 300.0
+#: The square of the unit roundoff (the QL's convergence test on squared off-diagonals).
+EPS2 = 2.220446049250313e-16 ** 2
 
 
 @inner
@@ -173,12 +175,21 @@ def lu_apply(A, n, piv, b):
 def jacobi_rows(U, m, V, want_v):
     """One-sided Jacobi on the ``m`` rows of ``U (m, 6)``: rotates them (in place) until
     they are mutually orthogonal; their norms are then the singular values.  With
-    ``want_v`` the rotations are accumulated in ``V (m, m)`` (``U_final = V^T U``).
-    Returns the number of sweeps."""
+    ``want_v`` the rotations are accumulated in ``V (m, m)`` (``U_final = V^T U``).  A row
+    whose squared norm is at most ``eps^2`` times the sum of all squared norms (the squared
+    Frobenius norm, which rotations keep) is left alone: it is rounding noise, and rotating
+    it against the others would change them by some ``eps^2 |U|`` while it shrinks towards
+    the underflow (a rank-deficient ``U``, or more rows than columns, took all
+    :data:`JACOBI_SWEEPS` that way).  Returns the number of sweeps."""
     if want_v:
         for i in range(m):
             for j in range(m):
                 V[i, j] = 1.0 if i == j else 0.0
+    tiny = 0.0
+    for i in range(m):
+        for k in range(6):
+            tiny += U[i, k] * U[i, k]
+    tiny *= EPS2
     for sweep in range(JACOBI_SWEEPS):
         rotated = False
         for i in range(m - 1):
@@ -190,7 +201,7 @@ def jacobi_rows(U, m, V, want_v):
                     a += U[i, k] * U[i, k]
                     b += U[j, k] * U[j, k]
                     g += U[i, k] * U[j, k]
-                if g == 0.0 or abs(g) <= JACOBI_TOL * math.sqrt(a * b):
+                if g == 0.0 or a <= tiny or b <= tiny or abs(g) <= JACOBI_TOL * math.sqrt(a * b):
                     continue
                 rotated = True
                 zeta = (b - a) / (2.0 * g)
@@ -265,8 +276,9 @@ def singular_values(J, m, U, s, k, e):
 @inner
 def symmetric_eigenvalues(A, n, d, e):
     """The eigenvalues of the symmetric ``A[:n, :n]`` (overwritten) into ``d[:n]``, in no
-    order: Householder reduction to tridiagonal form, then the implicit QL iteration
-    (``e (>= n)`` scratch).  About ``eps |A|`` absolute accuracy."""
+    order: Householder reduction to tridiagonal form, then the root-free implicit QL
+    iteration (Pal-Walker-Kahan; a 2x2 block left is solved directly) (``e (>= n)``
+    scratch).  About ``eps |A|`` absolute accuracy."""
     for i in range(n - 1, 0, -1):
         lm = i - 1
         h = 0.0
@@ -307,48 +319,74 @@ def symmetric_eigenvalues(A, n, d, e):
             e[i] = A[i, lm]
     for i in range(n):
         d[i] = A[i, i]
+    # root-free implicit QL (Pal-Walker-Kahan, as LAPACK's dsterf): the iteration runs on the
+    # squares of the off-diagonal, so a rotation needs no square root; and with
+    # ``gamma' r = p (alpha - sigma) - b^2 gamma`` one division by ``r p`` gives ``1 / r``,
+    # ``gamma'`` and ``p' = gamma'^2 / c`` alike (one division a rotation, not a square root
+    # and two: the loop is latency-bound)
     for i in range(1, n):
-        e[i - 1] = e[i]
+        e[i - 1] = e[i] * e[i]
     e[n - 1] = 0.0
-    for lo in range(n):
-        for _ in range(60):
-            m = lo
-            while m < n - 1:
-                dd = abs(d[m]) + abs(d[m + 1])
-                if abs(e[m]) <= 2.220446049250313e-16 * dd:
-                    break
-                m += 1
-            if m == lo:
+    lo = 0
+    its = 0
+    while lo < n:
+        m = lo
+        while m < n - 1:                  # |e_m| <= eps (|d_m| + |d_m+1|), squared
+            t = abs(d[m]) + abs(d[m + 1])
+            if e[m] <= EPS2 * t * t:
                 break
-            g = (d[lo + 1] - d[lo]) / (2.0 * e[lo])
-            r = math.sqrt(g * g + 1.0)
-            g = d[m] - d[lo] + e[lo] / (g + (r if g >= 0.0 else -r))
-            s = 1.0
-            c = 1.0
-            p = 0.0
-            i = m - 1
-            early = False
-            while i >= lo:
-                f = s * e[i]
-                b = c * e[i]
-                r = math.sqrt(f * f + g * g)
-                e[i + 1] = r
-                if r == 0.0:
-                    d[i + 1] -= p
-                    e[m] = 0.0
-                    early = True
-                    break
-                inv = 1.0 / r             # (one division, not two: latency-bound)
-                s = f * inv
-                c = g * inv
-                g = d[i + 1] - p
-                r = (d[i] - g) * s + 2.0 * c * b
-                p = s * r
-                d[i + 1] = g + p
-                g = c * r - b
-                i -= 1
-            if early:
-                continue
-            d[lo] -= p
-            e[lo] = g
-            e[m] = 0.0
+            m += 1
+        if m == lo:                       # d[lo] converged
+            lo += 1
+            its = 0
+            continue
+        if m == lo + 1:                   # a 2x2 block left: its eigenvalues directly
+            a, c = d[lo], d[lo + 1]
+            b2 = e[lo]
+            sm = a + c
+            rt = math.sqrt((a - c) * (a - c) + 4.0 * b2)
+            r1 = 0.5 * (sm + rt) if sm >= 0.0 else 0.5 * (sm - rt)
+            d[lo] = r1
+            d[lo + 1] = (a * c - b2) / r1 if r1 != 0.0 else 0.0   # the smaller without cancellation
+            e[lo] = 0.0
+            lo += 2
+            its = 0
+            continue
+        if its == 60:
+            lo += 1
+            its = 0
+            continue
+        its += 1
+        # Wilkinson's shift: the eigenvalue of the leading 2x2 nearer d[lo] (one square root
+        # and one division, from the squared off-diagonal)
+        g = 0.5 * (d[lo + 1] - d[lo])
+        r = math.sqrt(g * g + e[lo])
+        sigma = d[lo] - e[lo] / (g + (r if g >= 0.0 else -r))
+        c = 1.0
+        s = 0.0
+        gamma = d[m] - sigma
+        p = gamma * gamma
+        for i in range(m - 1, lo - 1, -1):
+            bb = e[i]
+            r = p + bb
+            if i != m - 1:
+                e[i + 1] = s * r
+            alpha = d[i]
+            gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
+            rp = r * p
+            if rp != 0.0:
+                inv = 1.0 / rp
+                ir = p * inv                          # 1 / r
+                c = p * ir
+                s = bb * ir
+                ng = gt * ir
+                p = gt * gt * inv                     # gamma^2 / c
+            else:                                     # c = 0
+                s = 1.0
+                ng = -gamma
+                p = c * bb
+                c = 0.0
+            d[i + 1] = gamma + (alpha - ng)
+            gamma = ng
+        e[lo] = s * p
+        d[lo] = sigma + gamma
