@@ -275,48 +275,47 @@ def singular_values(J, m, U, s, k, e):
 
 @inner
 def symmetric_eigenvalues(A, n, d, e):
-    """The eigenvalues of the symmetric ``A[:n, :n]`` (overwritten) into ``d[:n]``, in no
+    """The eigenvalues of the symmetric ``A[:n, :n]`` (overwritten; entries of order one, as
+    in a Gram matrix of unit rows) into ``d[:n]``, in no
     order: Householder reduction to tridiagonal form, then the root-free implicit QL
     iteration (Pal-Walker-Kahan; a 2x2 block left is solved directly) (``e (>= n)``
     scratch).  About ``eps |A|`` absolute accuracy."""
+    # Householder from the last row up (no scaling of the rows: the entries are of order one,
+    # the Gram matrices of unit rows; a row whose part left of the diagonal is below 1e-125
+    # is taken as reduced, so that 1 / h cannot overflow)
     for i in range(n - 1, 0, -1):
         lm = i - 1
+        if lm == 0:
+            e[i] = A[i, 0]
+            continue
         h = 0.0
-        if lm > 0:
-            scale = 0.0
-            for k in range(lm + 1):
-                scale += abs(A[i, k])
-            if scale == 0.0:
-                e[i] = A[i, lm]
-            else:
-                sinv = 1.0 / scale
-                for k in range(lm + 1):
-                    A[i, k] *= sinv
-                    h += A[i, k] * A[i, k]
-                f = A[i, lm]
-                g = -math.sqrt(h) if f >= 0.0 else math.sqrt(h)
-                e[i] = scale * g
-                h -= f * g
-                A[i, lm] = f - g
-                f = 0.0
-                hinv = 1.0 / h
-                for j in range(lm + 1):
-                    g = 0.0
-                    for k in range(j + 1):
-                        g += A[j, k] * A[i, k]
-                    for k in range(j + 1, lm + 1):
-                        g += A[k, j] * A[i, k]
-                    e[j] = g * hinv
-                    f += e[j] * A[i, j]
-                hh = f / (h + h)
-                for j in range(lm + 1):
-                    f = A[i, j]
-                    g = e[j] - hh * f
-                    e[j] = g
-                    for k in range(j + 1):
-                        A[j, k] -= f * e[k] + g * A[i, k]
-        else:
+        for k in range(lm + 1):
+            h += A[i, k] * A[i, k]
+        if h <= 1e-250:
             e[i] = A[i, lm]
+            continue
+        f = A[i, lm]
+        g = -math.sqrt(h) if f >= 0.0 else math.sqrt(h)
+        e[i] = g
+        h -= f * g
+        A[i, lm] = f - g
+        f = 0.0
+        hinv = 1.0 / h
+        for j in range(lm + 1):
+            g = 0.0
+            for k in range(j + 1):
+                g += A[j, k] * A[i, k]
+            for k in range(j + 1, lm + 1):
+                g += A[k, j] * A[i, k]
+            e[j] = g * hinv
+            f += e[j] * A[i, j]
+        hh = 0.5 * f * hinv
+        for j in range(lm + 1):
+            f = A[i, j]
+            g = e[j] - hh * f
+            e[j] = g
+            for k in range(j + 1):
+                A[j, k] -= f * e[k] + g * A[i, k]
     for i in range(n):
         d[i] = A[i, i]
     # root-free implicit QL (Pal-Walker-Kahan, as LAPACK's dsterf): the iteration runs on the
