@@ -36,7 +36,7 @@ POSE = ("run_range", "run_poses")
 #: This process's kernels that call no kinematics (compiled first, while the child
 #: compiles the kinematics under the closure: the rows' calls of them then load from the
 #: cache rather than compile them a second time).
-FIRST = ("_pack", "_statics", "_small", "_driver")
+FIRST = ("_pack", "_statics", "_small", "_eigen", "_driver")
 
 
 def ordered(lines):

@@ -22,7 +22,8 @@ from ._jit import entry, inner, parallel
 from ._kin import forward, joint_twist
 from ._layout import (L_ACT, L_SIZE, LEG, LEVERAGE_RTOL, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q,
                       LN_V, QS, RANK_RTOL, ROT, TRANSLATION_RTOL)
-from ._small import jacobi_rows, lu_apply, lu_factor
+from ._eigen import jacobi_rows
+from ._small import lu_apply, lu_factor
 
 
 @inner

@@ -23,7 +23,8 @@ from ._geometry import (canonical_basis, eval_directions, eval_points, group_row
 from ._layout import (A_LINE, A_NONE, GRP, GREF, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE,
                       REF_FLAG, T_AKIND, T_AP1, T_AP2, T_CROW, T_GENERIC, T_K, T_NG, TPL,
                       ZERO)
-from ._small import cholesky_solve, jacobi_rows
+from ._eigen import jacobi_rows
+from ._small import cholesky_solve
 
 (RW_CTX, RW_TW, RW_PV, RW_DV, RW_NR, RW_BASIS, RW_CONS, RW_TN, RW_REF, RW_G, RW_RHS,
  RW_VEC, RW_NRM, RW_TOP, RW_REM) = range(15)

@@ -20,7 +20,8 @@ from ._jit import inner
 
 from ._kin import platform_points
 from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
-from ._small import jacobi_rows, lu_factor, lu_apply, singular_values
+from ._eigen import jacobi_rows, singular_values
+from ._small import lu_factor, lu_apply
 
 (SW_JN, SW_D, SW_U, SW_V, SW_SV, SW_SC, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN,
  SW_AP, SW_Z, SW_W, SW_COMP, SW_E) = range(17)
