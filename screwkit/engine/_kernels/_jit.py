@@ -87,6 +87,7 @@ def borrowing_inlined(fn):
     Each caller gets a copy of the code: for kernels on the per-pose path with few callers."""
     return _inner(fn, nrt=False, always_inline=True)
 
+
 entry = njit(**_OPTIONS)
 parallel = njit(parallel=True, **_OPTIONS)
 #: A function with a single caller that takes many tuples of arrays (the pose driver): its body

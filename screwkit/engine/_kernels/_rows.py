@@ -10,7 +10,10 @@ row is the force on the line through two named points, or the least-norm wrench 
 to the passive joints, scaled so that its reciprocal product with the actuated joint's unit
 twist is 1.
 
-The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.
+The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.  These kernels only
+borrow arrays (compiled without reference counts, :func:`._jit.borrowing`); those a pose
+calls for every leg are inlined into their callers (:func:`._jit.borrowing_inlined`), since
+a call passing the model and workspace tuples costs more than their arithmetic.
 """
 
 import math
