@@ -8,7 +8,7 @@ the physical unit twists ``[v; w]`` about the base origin.
 
 import math
 
-from ._jit import inner
+from ._jit import borrowing, borrowing_inlined
 
 from ._kin import joint_twist, platform_points
 from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGENT, DIR_JOINT,
@@ -17,7 +17,7 @@ from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGEN
                       PT_JOINT, PT_MEET, PT_a, P_P0, P_R0, ZERO)
 
 
-@inner
+@borrowing
 def leg_setup(M, i, fa, fp, ctx, tw):
     """The context and twists of leg ``i`` at the frames ``fa (m, 6)``, platform ``fp``."""
     Am = M[A]
@@ -41,7 +41,7 @@ def leg_setup(M, i, fa, fp, ctx, tw):
     ctx[3, 2] = 0.0
 
 
-@inner
+@borrowing
 def eval_points(M, i, fa, ctx, out):
     """The leg's named points (``PTS``) into ``out (p, 3)``."""
     pts = M[PTS][i]
@@ -68,7 +68,7 @@ def eval_points(M, i, fa, ctx, out):
                 out[r, c] = 0.5 * (f1[3 + c] + s * f1[c] + f2[3 + c] + u * f2[c])
 
 
-@inner
+@borrowing
 def eval_directions(M, i, fa, fp, ctx, out):
     """The leg's reference directions (``DIRS``), unit, into ``out (d, 3)``."""
     dirs, plat = M[DIRS][i], M[PLAT]
@@ -110,12 +110,12 @@ def eval_directions(M, i, fa, fp, ctx, out):
         out[r, 0], out[r, 1], out[r, 2] = sg * x0 / nx, sg * x1 / nx, sg * x2 / nx
 
 
-@inner
+@borrowing
 def is_prismatic(kind):
     return kind == K_P or kind == K_PA
 
 
-@inner
+@borrowing
 def group_rows(M, i, couple, X, fa, tw, ctx, rows):
     """The dimensionless rows whose null space is a group's members: for couples the
     rotation axes (rule 3); for forces through ``X`` the velocities ``v_j - X x w_j`` of
@@ -140,7 +140,7 @@ def group_rows(M, i, couple, X, fa, tw, ctx, rows):
     return cnt
 
 
-@inner
+@borrowing_inlined
 def null_space(rows, r, g, vec):
     """The null space of dimension ``g`` of ``rows[:r]`` (dimensionless 3-vectors): for
     ``g = 1`` its unit vector, for ``g = 2`` the unit normal of the null plane, into
@@ -195,7 +195,7 @@ def null_space(rows, r, g, vec):
     return brel > 1e-6 and res < ZERO
 
 
-@inner
+@borrowing
 def reference_remainder(g, vec, basis, q, d):
     """``(p0, p1, p2, rem)``: a reference direction ``d (3,)`` in a null space of dimension
     ``g`` (``vec`` as :func:`null_space` gives it) after the basis members ``basis[:q]``.
@@ -215,7 +215,7 @@ def reference_remainder(g, vec, basis, q, d):
     return p0, p1, p2, math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
 
 
-@inner
+@borrowing_inlined
 def canonical_basis(g, vec, refs, dv, basis):
     """A basis ``basis[:g]`` of a null space from its reference directions ``dv[refs[q]]``:
     one member along its reference (``g = 1``), else the Gram-Schmidt orthonormalisation of

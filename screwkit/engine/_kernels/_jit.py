@@ -1,10 +1,11 @@
 """The decorators of the kernels, and borrowed views (private).
 
 ``inner`` for functions called only from other kernels (no CPython or C wrapper is built:
-a large part of the compile time of functions taking tuples of arrays), ``entry`` for the
-ones Python calls, ``parallel`` for the ``prange`` drivers, ``inlined`` for a function
-inlined into its one caller.  Division follows numpy's error model (no Python exception
-branch on every division).
+a large part of the compile time of functions taking tuples of arrays), ``borrowing`` for
+such a function that only borrows arrays (no reference counting), ``borrowing_inlined`` for
+one LLVM always inlines into its callers, ``entry`` for the ones Python calls, ``parallel``
+for the ``prange`` drivers, ``inlined`` for a function inlined into its one caller.
+Division follows numpy's error model (no Python exception branch on every division).
 
 No fast-math flag, not even ``contract``: with it LLVM may fuse a multiply and an add into
 one FMA (one rounding instead of two), and which pairs it fuses depends on the IR it is
@@ -50,14 +51,43 @@ class _Inner(CPUDispatcher):
         return super().get_call_template(args, kws)
 
 
-def _inner(fn):
-    d = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)(fn)
+def _inner(fn, nrt=True, always_inline=False):
+    # both flags given explicitly: numba otherwise lets a callee compiled for the first time
+    # inside a caller inherit the caller's, and the code of a kernel would depend on which
+    # caller happened to compile it first
+    d = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=nrt,
+             forceinline=always_inline, **_OPTIONS)(fn)
     if type(d) is CPUDispatcher:
         d.__class__ = _Inner
     return d
 
 
 inner = _inner
+
+
+def borrowing(fn):
+    """:func:`inner` for a kernel that only borrows arrays: it allocates none, returns none
+    and calls no kernel that returns one (views of its arguments are fine), so that it needs
+    no reference counting and is compiled without (numba's ``_nrt=False``).  numba otherwise
+    takes and drops a reference to every array argument of every call, through a call of
+    ``NRT_incref`` / ``NRT_decref`` each (not inlined, made even for the null counts of
+    borrowed views): a kernel taking the model and rows workspace tuples (36 arrays) pays
+    about 70 such calls a call.  A kernel that allocates does not compile this way; one that
+    returned an array would hand out a reference it never took."""
+    return _inner(fn, nrt=False)
+
+
+def borrowing_inlined(fn):
+    """:func:`borrowing`, and always inlined by LLVM into its callers (numba's
+    ``forceinline``): for a kernel taking the model and workspace tuples on the hot path.  A
+    call passes every array of its tuples as separate scalars on the stack (pointer, shape,
+    strides...: about 340 words for the model and the rows workspace), which costs more than
+    the arithmetic of a small kernel; inlined, the views are registers or constant offsets
+    of the caller's.  The arithmetic is the same, operation for operation (no fast-math).
+    Each caller gets a copy of the code: for kernels on the per-pose path with few callers."""
+    return _inner(fn, nrt=False, always_inline=True)
+
+
 entry = njit(**_OPTIONS)
 parallel = njit(parallel=True, **_OPTIONS)
 #: A function with a single caller that takes many tuples of arrays (the pose driver): its body

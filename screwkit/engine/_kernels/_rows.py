@@ -10,13 +10,16 @@ row is the force on the line through two named points, or the least-norm wrench 
 to the passive joints, scaled so that its reciprocal product with the actuated joint's unit
 twist is 1.
 
-The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.
+The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.  These kernels only
+borrow arrays (compiled without reference counts, :func:`._jit.borrowing`); those a pose
+calls for every leg are inlined into their callers (:func:`._jit.borrowing_inlined`), since
+a call passing the model and workspace tuples costs more than their arithmetic.
 """
 
 import math
 
 import numpy as np
-from ._jit import inner
+from ._jit import borrowing, borrowing_inlined, inner
 
 from ._geometry import (canonical_basis, eval_directions, eval_points, group_rows,
                         is_prismatic, leg_setup, null_space)
@@ -40,7 +43,7 @@ def make_rows_work(m, npts, ndirs):
             np.zeros(max(m, 1), np.int64), np.zeros(6))
 
 
-@inner
+@borrowing
 def _normalise_wrench(f0, f1, f2, m0, m1, m2, c, L, out):
     out[0], out[1], out[2] = f0, f1, f2
     out[3] = (m0 - (c[1] * f2 - c[2] * f1)) / L
@@ -48,7 +51,7 @@ def _normalise_wrench(f0, f1, f2, m0, m1, m2, c, L, out):
     out[5] = (m2 - (c[0] * f1 - c[1] * f0)) / L
 
 
-@inner
+@borrowing
 def _normalise_twist(t, c, L, out):
     """``[(v - c x w) / L; w]``: a twist about the centroid ``c``, length-normalised."""
     out[0] = (t[0] - (c[1] * t[5] - c[2] * t[4])) / L
@@ -57,7 +60,7 @@ def _normalise_twist(t, c, L, out):
     out[3], out[4], out[5] = t[3], t[4], t[5]
 
 
-@inner
+@borrowing
 def generic_members(M, i, RW, cons):
     """The leg's constraint members by the generic rule into ``cons[:k]`` (physical, a unit
     force or couple each); returns False where they are not well defined."""
@@ -160,7 +163,7 @@ def generic_members(M, i, RW, cons):
     return ok
 
 
-@inner
+@borrowing_inlined
 def group_members(M, i, RW, fa, cons):
     """The leg's constraint members group by group into ``cons[:k]``; returns False where
     a group's structure or basis does not hold."""
@@ -191,7 +194,7 @@ def group_members(M, i, RW, fa, cons):
     return ok
 
 
-@inner
+@borrowing_inlined
 def least_norm_member(M, i, RW, member):
     """The actuated twist projected (length-normalised metric about the leg's centroid) on
     the wrenches reciprocal to the passive joints: the least-norm actuation wrench, a unit
@@ -239,7 +242,7 @@ def least_norm_member(M, i, RW, member):
     return nf > 1e-9 * math.sqrt(nw)
 
 
-@inner
+@borrowing
 def line_member(M, i, RW, row):
     """The unit force on the line through the leg's two named actuation points into ``row
     (6,)`` (physical); returns False where a passive joint moves the first point along the
@@ -270,7 +273,7 @@ def line_member(M, i, RW, row):
     return res < ZERO
 
 
-@inner
+@borrowing
 def scale_actuation(row, t, size_a):
     """Scale the unit member ``row (6,)`` in place so that its reciprocal product with the
     actuated joint's unit twist ``t`` is 1; returns ``(scale, dependent)`` (``dependent``:
@@ -286,7 +289,7 @@ def scale_actuation(row, t, size_a):
     return scale, dependent
 
 
-@inner
+@borrowing_inlined
 def actuation_row(M, i, RW, row):
     """The actuation row of leg ``i`` into ``row (6,)`` (``[f; m]`` about O, reciprocal
     product 1 with the actuated joint's unit twist).  Returns ``(scale, ok)``: ``row =
@@ -306,7 +309,7 @@ def actuation_row(M, i, RW, row):
     return scale, ok and not dependent
 
 
-@inner
+@borrowing_inlined
 def leg_frames(M, i, RW, fa, fp):
     """Leg ``i``'s context, twists, template points and directions at the frames ``fa``,
     ``fp`` (into ``RW``): what both ways of building its rows start from."""
@@ -316,7 +319,7 @@ def leg_frames(M, i, RW, fa, fp):
     eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
 
 
-@inner
+@borrowing_inlined
 def put_constraints(cons, k, r0, J, scale):
     """The ``k`` constraint rows ``cons`` into ``J`` from row ``r0`` (scale 1)."""
     for r in range(k):
@@ -325,7 +328,7 @@ def put_constraints(cons, k, r0, J, scale):
             J[r0 + r, q] = cons[r, q]
 
 
-@inner
+@borrowing
 def leg_rows(M, i, RW, fa, fp, J, scale):
     """Leg ``i``'s rows into ``J (rows, 6)`` and ``scale``: its actuation row at its index
     (active legs) and its constraint rows from ``TPL[i, T_CROW]``.  Returns ``(ok,
@@ -352,7 +355,7 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
     return ok, structure
 
 
-@inner
+@borrowing_inlined
 def template_rows(M, i, RW, fa, fp, J, scale):
     """:func:`leg_rows` for a leg whose rows follow its template (groups, a line or no
     actuation): the common case, kept free of the calls of the general rules (a call site
