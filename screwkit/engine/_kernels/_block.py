@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ._jit import inlined, inner, lanes
+from ._jit import borrowing, inlined, inner, lanes
 from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
 from ._layout import LEG, PLAT, ROT, TRN
@@ -94,7 +94,7 @@ def _accept(K, nb):
     _take(K[K_FP], K[K_FP].size // 2, acc, nb)
 
 
-@inner
+@borrowing
 def forward_lanes(M, unk, xs, K, X, b, res, nb):
     """The block's forward pass (:func:`._kin.forward_block`, inlined here once) of the
     unknowns ``X`` into buffer ``b``, each lane's residual into ``res``."""
@@ -102,7 +102,7 @@ def forward_lanes(M, unk, xs, K, X, b, res, nb):
                   K[K_P6S], nb, BLOCK, res, K[K_CS])
 
 
-@inner
+@borrowing
 def block_newton(M, unk, xs, K, nb, max_iter, W):
     """Gauss-Newton on the lanes ``0..nb-1`` of the block ``K`` whose state is
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the

@@ -21,7 +21,7 @@ is solved with it given (the unknowns ``unk2``).
 import math
 
 import numpy as np
-from ._jit import inlined, inner
+from ._jit import borrowing, inlined
 
 from ._kin import forward
 from ._layout import ACCEPTED, CONVERGED, ORDER
@@ -34,7 +34,7 @@ NEAR_TOL = 1e-5
 CONTINUATION = (4, 16, 64)
 
 
-@inner
+@borrowing
 def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
     """The home predictor's start for the given parameters (``C (features, nx)``; no rows:
     start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
@@ -72,7 +72,7 @@ def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
                     f += 1
 
 
-@inner
+@borrowing
 def newton_continued(M, unk, xs, p6fix, X, p6home, fix, continuation, W):
     """Newton from ``X`` (in place); where it fails, continuation from home; then the
     polish.  Returns ``(residual, iterations, how, fresh)``: how 0 Newton from the start, 1
@@ -85,7 +85,7 @@ def newton_continued(M, unk, xs, p6fix, X, p6home, fix, continuation, W):
     return rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur)
 
 
-@inner
+@borrowing
 def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
     """After a Newton run from ``X`` that left the residual ``res`` above convergence: the
     continuation from home, then the polish (:func:`newton_continued`'s second half, apart
@@ -138,7 +138,7 @@ def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
     return res, its, how, cur
 
 
-@inner
+@borrowing
 def near_singular(order, unk, p6fix, tol):
     """``beta`` given within ``tol`` (on its sine or cosine) of the representation
     singularity while alpha or gamma is dependent."""
@@ -155,7 +155,7 @@ def near_singular(order, unk, p6fix, tol):
     return s <= tol
 
 
-@inner
+@borrowing
 def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W):
     """A pose at a representation singularity: the dependent angle(s) of the pair as the
     limit, then the pose solved with them given (``X`` in place: the full unknowns).
@@ -225,7 +225,7 @@ def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W
     return r, its, how
 
 
-@inner
+@borrowing
 def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continuation, W):
     """One pose's closures from the start ``X`` (in place; a kernel of its own, which the
     first compile builds in its second process: ``_warm``).  Returns ``(residual,

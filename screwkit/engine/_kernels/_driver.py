@@ -26,7 +26,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
 from numba import prange
 
-from ._jit import borrowed, entry, inlined, inner, parallel
+from ._jit import borrowed, borrowing, entry, inlined, inner, parallel
 
 from ._block import K_F, K_ITS, K_P6, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
     block_newton, lane_frames, make_block
@@ -48,7 +48,7 @@ from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditi
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
 
 
-@inner
+@borrowing
 def _compliance(I, p, mr, torque, L, comp):
     c = I[5]
     for r in range(mr):
@@ -220,7 +220,7 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
 
 
-@inner
+@borrowing
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
     starts, as one pose alone); a pose near the representation singularity is left to be

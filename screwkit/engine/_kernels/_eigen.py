@@ -10,7 +10,7 @@ one-sided Jacobi also gives the statics' pseudo-inverse and the indices' columns
 import math
 
 import numpy as np
-from ._jit import inner
+from ._jit import borrowing
 
 #: Largest one-sided Jacobi sweeps (6x6 converges in 5 to 7).
 JACOBI_SWEEPS = 30
@@ -23,7 +23,7 @@ REFINE_GRAM = 300.0
 EPS2 = 2.220446049250313e-16 ** 2
 
 
-@inner
+@borrowing
 def jacobi_rows(U, m, V, want_v):
     """One-sided Jacobi on the ``m`` rows of ``U (m, 6)``: rotates them (in place) until
     they are mutually orthogonal; their norms are then the singular values.  With
@@ -74,7 +74,7 @@ def jacobi_rows(U, m, V, want_v):
     return JACOBI_SWEEPS
 
 
-@inner
+@borrowing
 def singular_values(J, m, U, s, k, e):
     """The ``k = min(m, 6)`` largest singular values of ``J[:m] (m, 6)``, descending, into
     ``s[:k]`` (NaN beyond; ``U (>= max(m, 6), >= 6)`` and ``e (6,)`` scratch).  From the eigenvalues of the
@@ -125,7 +125,7 @@ def singular_values(J, m, U, s, k, e):
         s[q] = np.nan
 
 
-@inner
+@borrowing
 def symmetric_eigenvalues(A, n, d, e):
     """The eigenvalues of the symmetric ``A[:n, :n]`` (overwritten; entries of order one, as
     in a Gram matrix of unit rows) into ``d[:n]``, in no

@@ -17,7 +17,7 @@ representation singularity.
 import math
 
 import numpy as np
-from ._jit import inlined, inner, lanes, one_lane
+from ._jit import borrowing, inlined, inner, lanes, one_lane
 
 from ._kin import closure_sq, forward, platform_columns
 from ._layout import BLOCK, LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
@@ -55,7 +55,7 @@ def newton_step(M, W, b, nu, frozen):
              W[W_B], W[W_XS], W[W_AR], W[W_STEP], W[W_RHS], W[W_LS], b, nu, frozen)
 
 
-@inner
+@borrowing
 def step_one(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen):
     """:func:`step_lanes` on one pose's arrays (the lane axis added by
     :func:`~._jit.one_lane`; a call passing the model and workspace tuples whole cost about
@@ -65,7 +65,7 @@ def step_one(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b,
                one_lane(rhs), LS, b, nu, frozen, 1, 1)
 
 
-@inner
+@borrowing
 def step_block(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, b, nu, frozen,
                nb):
     """:func:`step_lanes` on the ``nb`` lanes of a block of :data:`._layout.BLOCK`."""
@@ -235,7 +235,7 @@ def step_lanes(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, 
                 nl += 1
 
 
-@inner
+@borrowing
 def gauss_newton(M, unk, xs, p6fix, X, tol, max_iter, W):
     """Solve the closures of one pose from ``X`` (in place).  Returns ``(residual,
     iterations, stalled, buffer)``: the buffer holds the frames of the final ``X``."""
@@ -289,7 +289,7 @@ def newton_iterate(M, unk, xs, p6fix, X, tol, max_iter, W):
     return f, its, stalled and not f <= tol, cur
 
 
-@inner
+@borrowing
 def tolerance(order, unk, xs, p6fix, X0):
     """Stopping residual of a pose: tighter near a representation singularity, where the
     dependent angle of the pair (alpha, gamma) is determined only to residual /
@@ -308,7 +308,7 @@ def tolerance(order, unk, xs, p6fix, X0):
     return max(STOP * min(1.0, s / 1e-2), 1e-16)
 
 
-@inner
+@borrowing
 def home_vector(unk, xs, p6home, out):
     """The unknowns at home (joint values 0)."""
     out[:] = 0.0

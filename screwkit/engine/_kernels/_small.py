@@ -10,16 +10,16 @@ pivoting.  Eigenvalues and singular values are in :mod:`._eigen`.
 import math
 
 import numpy as np
-from ._jit import inlined, inner, lanes, one_lane
+from ._jit import borrowing, inlined, inner, lanes, one_lane
 
-@inner
+@borrowing
 def cross_to(a0, a1, a2, b0, b1, b2, out, k):
     out[k] = a1 * b2 - a2 * b1
     out[k + 1] = a2 * b0 - a0 * b2
     out[k + 2] = a0 * b1 - a1 * b0
 
 
-@inner
+@borrowing
 def matmul3(A, B, C):
     """``C = A @ B`` for 3x3 arrays (``C`` distinct from both)."""
     for i in range(3):
@@ -28,7 +28,7 @@ def matmul3(A, B, C):
             C[i, j] = a0 * B[0, j] + a1 * B[1, j] + a2 * B[2, j]
 
 
-@inner
+@borrowing
 def rodrigues(d0, d1, d2, angle, R):
     """``R = c I + s [d]x + (1 - c) d d^T``: the rotation by ``angle`` about the unit axis
     ``d``."""
@@ -48,7 +48,7 @@ def rodrigues(d0, d1, d2, angle, R):
     R[0, 2] = sym + skew
 
 
-@inner
+@borrowing
 def rotation_vector(R, out, k):
     """The rotation vector of ``R`` (angle in [0, pi]) into ``out[k:k + 3]``."""
     w0 = 0.5 * (R[2, 1] - R[1, 2])
@@ -145,7 +145,7 @@ def cholesky_lanes(G, n, X, nrhs, shift, acc, nb, ls):
                 x[ic + k] = acc[k] * g[ii + k]
 
 
-@inner
+@borrowing
 def lu_factor(A, n, piv):
     """LU factors of ``A[:n, :n]`` in place, with partial pivoting (rows swapped as
     ``piv`` says); returns the sign of ``det A`` (0 for an exactly singular ``A``)."""
@@ -174,7 +174,7 @@ def lu_factor(A, n, piv):
     return sign
 
 
-@inner
+@borrowing
 def lu_apply(A, n, piv, b):
     """Solve ``A x = b`` in place with the factors of :func:`lu_factor`."""
     for j in range(n):                  # the row interchanges, in order (whole rows)

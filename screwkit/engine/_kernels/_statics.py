@@ -16,7 +16,7 @@ The statics workspace ``SW`` of a thread: see :func:`make_statics_work`.
 import math
 
 import numpy as np
-from ._jit import inner
+from ._jit import borrowing, borrowing_inlined, inner
 
 from ._kin import platform_points
 from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
@@ -39,7 +39,7 @@ def make_statics_work(mr):
             np.zeros(r), np.zeros(6))
 
 
-@inner
+@borrowing_inlined
 def spread(M, FA, b, fp, ap, centre):
     """Centroid (into ``centre (3,)``) and RMS spread of every leg's points (``A``, ``a``,
     the joint points) and ``o``: the normalisation of the rank decisions; returns ``L``."""
@@ -73,7 +73,7 @@ def spread(M, FA, b, fp, ap, centre):
     return L if L > 0 else 1.0
 
 
-@inner
+@borrowing
 def normalise_rows(J, mr, c, L, Jn, d):
     """``Jn[:mr]``: the rows about ``c``, moments over ``L``, unit; ``d`` their norms."""
     for r in range(mr):
@@ -92,7 +92,7 @@ def normalise_rows(J, mr, c, L, Jn, d):
             Jn[r, q] /= s
 
 
-@inner
+@borrowing_inlined
 def conditioning(Jn, mr, n_act, SW, sv):
     """Singular values of ``Jn[:mr]`` into ``sv[:min(mr, 6)]`` (NaN beyond; all NaN for a
     non-finite ``Jn``); returns ``(rank, condition, constraint rank, constraint
@@ -133,7 +133,7 @@ def conditioning(Jn, mr, n_act, SW, sv):
     return rank, cond, c_rank, c_cond
 
 
-@inner
+@borrowing_inlined
 def statics_prepare(mr, sv, comp, SW):
     """Factor the statics of the pose in ``SW`` (``Jn``, ``d`` set; ``comp (mr,)`` the
     compliances); returns ``(mode, det_sign)`` (the sign of ``det J`` for a square ``J``)."""
@@ -169,7 +169,7 @@ def statics_prepare(mr, sv, comp, SW):
     return MODE_PINV, sign
 
 
-@inner
+@borrowing
 def normalise_wrench(W, c, L, out):
     f0, f1, f2 = W[0], W[1], W[2]
     out[0], out[1], out[2] = f0, f1, f2
@@ -178,7 +178,7 @@ def normalise_wrench(W, c, L, out):
     out[5] = (W[5] - (c[0] * f1 - c[1] * f0)) / L
 
 
-@inner
+@borrowing_inlined
 def statics_apply(mode, mr, W, c, L, SW, values):
     """``F_r`` into ``values[:mr]`` for the workload ``W (6,)`` about O (after
     :func:`statics_prepare`)."""
@@ -225,7 +225,7 @@ def statics_apply(mode, mr, W, c, L, SW, values):
         values[r] = y[r] * g[r] / d[r] if mr > 6 else y[r] / d[r]
 
 
-@inner
+@borrowing
 def equilibrium(J, mr, values, W, c, L, d):
     """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and the row wrenches ``|F_r J_r|``,
     all length-normalised about the centroid (unit-free, frame-free)."""
@@ -253,7 +253,7 @@ def equilibrium(J, mr, values, W, c, L, d):
     return num / (scale if scale > 0 else 1.0)
 
 
-@inner
+@borrowing
 def amplification(values, mr, torque, W, o, L):
     """The largest effort over the workload's size, consistent units: couples and rotary
     actuator torques over ``L``; the size ``sqrt(|F|^2 + |T / L|^2)`` with ``T`` the torque
@@ -271,7 +271,7 @@ def amplification(values, mr, torque, W, o, L):
     return eff / max(size, 1e-300)
 
 
-@inner
+@borrowing
 def workload_about_origin(F, T, o, W):
     """``W = [F; T + o x F]``."""
     W[0], W[1], W[2] = F[0], F[1], F[2]
