@@ -16,8 +16,7 @@ from numba import prange
 
 from ._closures import predict
 from ._jit import entry, one_lane, parallel
-from ._kin import chain, closure_error, joint_twist
-from ._platform import platform
+from ._kin import chain, closure_error, joint_twist, platform
 from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
 from ._newton import home_vector
@@ -132,7 +131,7 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
         for k in range(6):
             FPo[p, k] = p6[k]
         fpl = one_lane(FPo[p])          # blocks of one lane
-        platform(M, fpl, 1, 1)
+        platform(M, FPo[p])
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
@@ -216,7 +215,7 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
             p6[unk[k]] = X[p, k] * xs[k]
         for k in range(6):
             fp[k] = p6[k]
-        platform(M, one_lane(fp), 1, 1)
+        platform(M, fp)
         for r in range(rows.shape[0]):
             i, code = rows[r, 0], rows[r, 2]
             if code == -2:

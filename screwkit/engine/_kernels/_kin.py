@@ -24,9 +24,16 @@ from ._jit import flat, inlined, inner, lanes, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
-from ._platform import platform
+from ._platform import platform_block
 from ._small import rodrigues, rotation_vector
 from ._trig import sin_cos, sin_cos_fix
+
+
+@inner
+def platform(M, fp):
+    """One pose's platform into ``fp (27,)``, its pose parameters already in ``fp[:6]``
+    (:func:`~._platform.platform_block` on a block of one lane)."""
+    platform_block(M, one_lane(fp), 1, 1)
 
 
 @inlined
@@ -235,7 +242,7 @@ def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, nb, ls, res, CS):
         row, s = unk[u] * ls, xs[u]
         for k in range(nb):
             fp[row + k] = x[u * ls + k] * s
-    platform(M, FP[b], nb, ls)
+    platform_block(M, FP[b], nb, ls)
     legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, ls, res, CS)
 
 

@@ -63,13 +63,13 @@ def platform_row(plat, fp, k, ls, r, Rb, E0, E1, E2):
 
 
 @inlined
-def platform(M, FPb, nb, ls):
+def platform_block(M, FPb, nb, ls):
     """The platforms of ``nb`` lanes at the pose parameters (Xo Yo Zo alpha beta gamma)
     already in rows 0-5 of ``FPb (27, ls)`` into its other rows (module docstring); Euler
     angles as scipy's ``Rotation.from_euler`` defines them.  The sines and cosines are
     libm's, one lane at a time, parked in rows 18-23 (``E``'s, written last); the rest
     runs across the lanes (vectorised: the Euler order is the model's, a select per entry
-    of :func:`axis_entries`).  One pose passes ``one_lane(fp)`` and ``nb = ls = 1``."""
+    of :func:`axis_entries`).  One pose: :func:`._kin.platform`, a block of one."""
     order, plat = M[ORDER], M[PLAT]
     a0, a1, a2 = order[0], order[1], order[2]
     fp = lanes(FPb)
