@@ -38,9 +38,10 @@ from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
                       make_work, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
-from ._statics import (SW_AP, SW_COMP, SW_D, SW_JN, SW_W, amplification, conditioning,
-                       equilibrium, make_statics_work, normalise_rows, spread, statics_apply,
-                       statics_prepare, workload_about_origin)
+from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
+                       SW_JN, SW_W, amplification, conditioning_lanes, equilibrium,
+                       make_conditioning_work, make_statics_work, normalise_rows, spread,
+                       statics_apply, statics_prepare, workload_about_origin)
 
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
@@ -89,9 +90,11 @@ def solve_alone(M, Z, I, O, flags, p, W):
 
 
 @inlined
-def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
+def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
     """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
-    ``res``): the lines, rows, conditioning and statics, as ``flags`` says."""
+    ``res``): the lines and rows, as ``flags`` says; its normalised rows, their norms and its
+    platform's origin into lane ``l`` of the conditioning workspace ``CW`` (for
+    :func:`finish_block`)."""
     unk, xs = Z[0], Z[1]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -125,37 +128,75 @@ def finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res):
     centre = O[OUT_CENTRE][p]
     L = spread(M, FA, b, fp, SW[SW_AP], centre)
     O[OUT_LENGTH][p] = L
-    normalise_rows(J, mr, centre, L, SW[SW_JN], SW[SW_D])
+    Jn, d = SW[SW_JN], SW[SW_D]
+    normalise_rows(J, mr, centre, L, Jn, d)
+    cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
+    for r in range(mr):
+        for q in range(6):
+            cj[r, q, l] = Jn[r, q]
+        cd[r, l] = d[r]
+    for q in range(3):
+        co[q, l] = fp[15 + q]
+
+
+@inlined
+def finish_block(M, I, O, flags, p0, nb, SW, CW):
+    """The poses ``p0..p0+nb-1`` after :func:`finish_rows` (lanes ``0..nb-1`` of ``CW``): their
+    conditioning (the lanes at once, :func:`conditioning_lanes`), then each one's statics,
+    as ``flags`` says."""
+    if not flags[F_ROWS]:
+        return
+    leg = M[LEG]
+    n = M[D].shape[0]
+    mr = M[ROWS].shape[0]
     n_act = 0
     for i in range(n):
         if leg[i, L_AROW] >= 0:
             n_act += 1
-    rank, cond, crank, ccond = conditioning(SW[SW_JN], mr, n_act, SW, O[OUT_SV][p])
-    O[OUT_RANK][p], O[OUT_COND][p], O[OUT_CRANK][p], O[OUT_CCOND][p] = rank, cond, crank, ccond
+    conditioning_lanes(CW, mr, n_act, nb)
+    sv, RK, CD = CW[CW_SV], CW[CW_RANK], CW[CW_COND]
+    for l in range(nb):
+        p = p0 + l
+        out = O[OUT_SV][p]
+        for q in range(out.shape[0]):
+            out[q] = sv[q, l]
+        O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
+        O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
     if not flags[F_STATICS]:
         return
     torque = I[6]
     comp = SW[SW_COMP]
-    _compliance(I, p, mr, torque, L, comp)
-    mode, sign = statics_prepare(mr, O[OUT_SV][p], comp, SW)
-    Wp = SW[SW_W]
-    o = fp[15:18]
-    workload_about_origin(I[3], I[4], o, Wp)
-    values = O[OUT_VALUES][p]
-    statics_apply(mode, mr, Wp, centre, L, SW, values)
-    O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, SW[SW_D])
-    O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
-    O[OUT_DET][p] = sign
+    Jn, d, Wp = SW[SW_JN], SW[SW_D], SW[SW_W]
+    cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
+    for l in range(nb):
+        p = p0 + l
+        for r in range(mr):
+            for q in range(6):
+                Jn[r, q] = cj[r, q, l]
+            d[r] = cd[r, l]
+        J, centre, L = O[OUT_J][p], O[OUT_CENTRE][p], O[OUT_LENGTH][p]
+        _compliance(I, p, mr, torque, L, comp)
+        mode, sign = statics_prepare(mr, O[OUT_SV][p], comp, SW)
+        o = SW[SW_AP]                 # (spread's scratch: free once the rows are formed)
+        for q in range(3):
+            o[q] = co[q, l]
+        workload_about_origin(I[3], I[4], o, Wp)
+        values = O[OUT_VALUES][p]
+        statics_apply(mode, mr, Wp, centre, L, SW, values)
+        O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, d)
+        O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
+        O[OUT_DET][p] = sign
 
 
 @inlined
 def _workspaces(M, O):
-    """A thread's one-pose workspace, rows workspace and statics workspace (their owners:
-    the caller keeps them alive while it uses borrowed views of them)."""
+    """A thread's one-pose workspace, rows workspace, statics workspace and conditioning
+    workspace (their owners: the caller keeps them alive while it uses borrowed views of
+    them)."""
     n, m = M[D].shape[0], M[D].shape[1]
     return (make_work(n, m, O[OUT_X].shape[1]),
             make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1]),
-            make_statics_work(M[ROWS].shape[0]))
+            make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK))
 
 
 @inner
@@ -164,20 +205,24 @@ def run_poses(M, Z, I, O, flags, first, stop):
     reference counts in the loop; returns a number so that the owners visibly outlive it).
     The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
     links no block kernel, so that a one-pose command does not compile them."""
-    Wo, RWo, SWo = _workspaces(M, O)
-    W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
-    for p in range(first, stop):
-        res, b = 0.0, -1
-        if flags[F_SOLVE]:
-            start(Z, I, O, p, W)
-            res, b = solve_alone(M, Z, I, O, flags, p, W)
-        if b < 0:                     # given unknowns, or a rescue's Newton runs
-            b = 0
-            res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
-                          W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
-        finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
+    Wo, RWo, SWo, CWo = _workspaces(M, O)
+    W, RW, SW, CW = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo)
+    for p0 in range(first, stop, BLOCK):
+        nb = min(BLOCK, stop - p0)
+        for l in range(nb):
+            p = p0 + l
+            res, b = 0.0, -1
+            if flags[F_SOLVE]:
+                start(Z, I, O, p, W)
+                res, b = solve_alone(M, Z, I, O, flags, p, W)
+            if b < 0:                 # given unknowns, or a rescue's Newton runs
+                b = 0
+                res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
+                              W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
+            finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+        finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0]
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0]
 
 
 @inner
@@ -187,16 +232,16 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
-    Wo, RWo, SWo = _workspaces(M, O)
-    W, RW, SW = borrowed(Wo), borrowed(RWo), borrowed(SWo)
+    Wo, RWo, SWo, CWo = _workspaces(M, O)
+    W, RW, SW, CW = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo)
     # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
-    # the one finish_pose below (inlined once: its compile is not paid twice)
+    # the one finish_rows below (inlined once: its compile is not paid twice), and every
+    # block of poses in finish_block, solved in blocks or not
     blocked = flags[F_SOLVE] and stop - first > 1
-    step = BLOCK if blocked else 1
     Ko = make_block(n, m, nx, BLOCK if blocked else 0)
     K = borrowed(Ko)
-    for p0 in range(first, stop, step):
-        nb = min(step, stop - p0)
+    for p0 in range(first, stop, BLOCK):
+        nb = min(BLOCK, stop - p0)
         if blocked:
             solve_block(M, Z, I, O, p0, nb, W, K)
         for l in range(nb):
@@ -215,9 +260,11 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                 b = 0
                 res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
                               W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
-            finish_pose(M, Z, I, O, flags, p, W, RW, SW, b, res)
+            finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+        finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + Ko[0].shape[0]
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
+        Ko[0].shape[0]
 
 
 @borrowing

@@ -1,16 +1,24 @@
-"""Eigenvalues and singular values of one pose's small matrices, compiled (private).
+"""Eigenvalues and singular values of small matrices, compiled (private).
 
 The conditioning's singular values come from the eigenvalues of the smaller Gram matrix
 (Householder reduction to tridiagonal form, then the root-free QL iteration) where the
 condition is moderate, and from one-sided Jacobi (high relative accuracy, so the condition
 number keeps its digits up to the singular threshold without a second method) beyond;
 one-sided Jacobi also gives the statics' pseudo-inverse and the indices' columns.
+
+The Gram matrices and their eigenvalues are computed for the lanes of a block at once (the
+lane axis last, ``ls`` apart: :func:`~._jit.lanes`), one pose being a block of one.  The QL
+iteration is data-dependent (where it splits, how many steps): it runs in rounds, each lane
+doing in a round what its own iteration does next (its deflations, then one step), the
+rotations of a step across the lanes with each lane's own range selected; so every lane
+performs exactly the operations of the matrix alone, in the same order, and a block gives
+the bits of its poses one at a time.
 """
 
 import math
 
 import numpy as np
-from ._jit import borrowing
+from ._jit import borrowing, lanes
 
 #: Largest one-sided Jacobi sweeps (6x6 converges in 5 to 7).
 JACOBI_SWEEPS = 30
@@ -75,169 +83,258 @@ def jacobi_rows(U, m, V, want_v):
 
 
 @borrowing
-def singular_values(J, m, U, s, k, e):
-    """The ``k = min(m, 6)`` largest singular values of ``J[:m] (m, 6)``, descending, into
-    ``s[:k]`` (NaN beyond; ``U (>= max(m, 6), >= 6)`` and ``e (6,)`` scratch).  From the eigenvalues of the
-    smaller Gram matrix where the condition ``s_1 / s_k`` is below :data:`REFINE_GRAM` (they
-    give ``s_k`` to about ``eps cond^2 / 2`` relative), else by one-sided Jacobi (high
-    relative accuracy)."""
+def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
+    """The ``k = min(m, 6)`` largest singular values of the rows ``J[r0:r0+m] (m, 6, ls)`` of
+    each lane ``0..nb-1``, descending, into ``s[:k] (>= k, ls)`` (NaN beyond).  From the
+    eigenvalues of the smaller Gram matrix where the condition ``s_1 / s_k`` is below
+    :data:`REFINE_GRAM` (they give ``s_k`` to about ``eps cond^2 / 2`` relative), else (lane by
+    lane) by one-sided Jacobi (high relative accuracy).  Scratch: ``U (6, 6, ls)`` the Gram
+    matrices, ``e, S (6, ls)``, ``I (4, ls)`` (int), ``R (>= max(m, 6), 6)`` one lane's rows; NaN
+    singular values for a lane whose Gram matrix is not finite."""
     g = min(m, 6)
     if g == 0:
         for q in range(s.shape[0]):
-            s[q] = np.nan
+            for l in range(nb):
+                s[q, l] = np.nan
         return
+    u, j = lanes(U), lanes(J)
+    us = U.shape[1] * ls
+    js = J.shape[1] * ls
     for a in range(g):
         for b in range(a + 1):
-            t = 0.0
+            o = a * us + b * ls
+            for l in range(nb):
+                u[o + l] = 0.0
             if m < 6:                      # J J^T
                 for c in range(6):
-                    t += J[a, c] * J[b, c]
+                    pa, pb = (r0 + a) * js + c * ls, (r0 + b) * js + c * ls
+                    for l in range(nb):
+                        u[o + l] += j[pa + l] * j[pb + l]
             else:                          # J^T J
                 for r in range(m):
-                    t += J[r, a] * J[r, b]
-            U[a, b] = t
-    symmetric_eigenvalues(U, g, s, e)
-    for q in range(g):
-        s[q] = math.sqrt(max(s[q], 0.0))
-    for q in range(g):                     # descending (g <= 6: a selection sort)
-        for r in range(q + 1, g):
-            if s[r] > s[q]:
-                s[q], s[r] = s[r], s[q]
-    if not s[g - 1] * REFINE_GRAM > s[0]:
-        for i in range(m):
-            for c in range(6):
-                U[i, c] = J[i, c]
-        jacobi_rows(U, m, U, False)
-        for i in range(m):
-            t = 0.0
-            for c in range(6):
-                t += U[i, c] * U[i, c]
-            U[i, 0] = math.sqrt(t)
-        for q in range(k):             # the k largest norms, descending
-            best = -1.0
-            bi = 0
+                    pa, pb = (r0 + r) * js + a * ls, (r0 + r) * js + b * ls
+                    for l in range(nb):
+                        u[o + l] += j[pa + l] * j[pb + l]
+    # a lane with a non-finite Gram matrix: NaN singular values (its matrix zero for the
+    # iteration, which would otherwise run to its limit of steps on NaN)
+    bad = I[3]
+    for l in range(nb):
+        bad[l] = 0
+        for a in range(g):
+            for b in range(a + 1):
+                if not math.isfinite(U[a, b, l]):
+                    bad[l] = 1
+        if bad[l]:
+            for a in range(g):
+                for b in range(a + 1):
+                    U[a, b, l] = 0.0
+    symmetric_eigenvalues_lanes(U, g, s, e, S, I, nb, ls)
+    for l in range(nb):
+        if bad[l]:
+            for q in range(s.shape[0]):
+                s[q, l] = np.nan
+            continue
+        for q in range(g):
+            s[q, l] = math.sqrt(max(s[q, l], 0.0))
+        for q in range(g):                 # descending (g <= 6: a selection sort)
+            for r in range(q + 1, g):
+                if s[r, l] > s[q, l]:
+                    s[q, l], s[r, l] = s[r, l], s[q, l]
+        if not s[g - 1, l] * REFINE_GRAM > s[0, l]:
             for i in range(m):
-                if U[i, 0] > best:
-                    best, bi = U[i, 0], i
-            s[q] = best
-            U[bi, 0] = -2.0
-    for q in range(k, s.shape[0]):
-        s[q] = np.nan
+                for c in range(6):
+                    R[i, c] = J[r0 + i, c, l]
+            jacobi_rows(R, m, R, False)
+            for i in range(m):
+                t = 0.0
+                for c in range(6):
+                    t += R[i, c] * R[i, c]
+                R[i, 0] = math.sqrt(t)
+            for q in range(k):             # the k largest norms, descending
+                best = -1.0
+                bi = 0
+                for i in range(m):
+                    if R[i, 0] > best:
+                        best, bi = R[i, 0], i
+                s[q, l] = best
+                R[bi, 0] = -2.0
+        for q in range(k, s.shape[0]):
+            s[q, l] = np.nan
 
 
 @borrowing
-def symmetric_eigenvalues(A, n, d, e):
-    """The eigenvalues of the symmetric ``A[:n, :n]`` (overwritten; entries of order one, as
-    in a Gram matrix of unit rows) into ``d[:n]``, in no
-    order: Householder reduction to tridiagonal form, then the root-free implicit QL
-    iteration (Pal-Walker-Kahan; a 2x2 block left is solved directly) (``e (>= n)``
-    scratch).  About ``eps |A|`` absolute accuracy."""
+def symmetric_eigenvalues_lanes(A, n, d, e, S, I, nb, ls):
+    """The eigenvalues of the symmetric ``A[:n, :n] (>= n, >= n, ls)`` of each lane ``0..nb-1``
+    (its lower triangle read, overwritten; entries of order one, as in a Gram matrix of unit
+    rows) into ``d[:n] (>= n, ls)``, in no order: Householder reduction to tridiagonal form,
+    then the root-free implicit QL iteration (Pal-Walker-Kahan; a 2x2 block left is solved
+    directly), each lane exactly as alone (module docstring).  Scratch ``e, S (>= 6, ls)``,
+    ``I (>= 3, ls)`` (int).  About ``eps |A|`` absolute accuracy."""
+    a, dd, ee, sc, ii = lanes(A), lanes(d), lanes(e), lanes(S), lanes(I)
+    nn = A.shape[1] * ls
+    # the rows of S: Householder's h, f, hh, 1 / h and skip; QL's shift, gamma, p, c and s
+    H, F, G, HI, SK = 0, ls, 2 * ls, 3 * ls, 4 * ls
     # Householder from the last row up (no scaling of the rows: the entries are of order one,
     # the Gram matrices of unit rows; a row whose part left of the diagonal is below 1e-125
-    # is taken as reduced, so that 1 / h cannot overflow)
+    # is taken as reduced, so that 1 / h cannot overflow: that lane's update is not kept)
     for i in range(n - 1, 0, -1):
         lm = i - 1
+        ai = i * nn
         if lm == 0:
-            e[i] = A[i, 0]
+            for k in range(nb):
+                ee[i * ls + k] = a[ai + k]
             continue
-        h = 0.0
-        for k in range(lm + 1):
-            h += A[i, k] * A[i, k]
-        if h <= 1e-250:
-            e[i] = A[i, lm]
-            continue
-        f = A[i, lm]
-        g = -math.sqrt(h) if f >= 0.0 else math.sqrt(h)
-        e[i] = g
-        h -= f * g
-        A[i, lm] = f - g
-        f = 0.0
-        hinv = 1.0 / h
+        for k in range(nb):
+            sc[H + k] = 0.0
+        for q in range(lm + 1):
+            for k in range(nb):
+                x = a[ai + q * ls + k]
+                sc[H + k] += x * x
+        for k in range(nb):
+            h = sc[H + k]
+            skip = h <= 1e-250
+            f = a[ai + lm * ls + k]
+            g = -math.sqrt(h) if f >= 0.0 else math.sqrt(h)
+            ee[i * ls + k] = f if skip else g
+            h -= f * g
+            a[ai + lm * ls + k] = f if skip else f - g
+            sc[HI + k] = 1.0 / h
+            sc[SK + k] = 1.0 if skip else 0.0
+            sc[F + k] = 0.0
         for j in range(lm + 1):
-            g = 0.0
-            for k in range(j + 1):
-                g += A[j, k] * A[i, k]
-            for k in range(j + 1, lm + 1):
-                g += A[k, j] * A[i, k]
-            e[j] = g * hinv
-            f += e[j] * A[i, j]
-        hh = 0.5 * f * hinv
+            for k in range(nb):
+                sc[G + k] = 0.0
+            for q in range(j + 1):
+                for k in range(nb):
+                    sc[G + k] += a[j * nn + q * ls + k] * a[ai + q * ls + k]
+            for q in range(j + 1, lm + 1):
+                for k in range(nb):
+                    sc[G + k] += a[q * nn + j * ls + k] * a[ai + q * ls + k]
+            for k in range(nb):
+                ej = sc[G + k] * sc[HI + k]
+                ee[j * ls + k] = ej
+                sc[F + k] += ej * a[ai + j * ls + k]
+        for k in range(nb):
+            sc[G + k] = 0.5 * sc[F + k] * sc[HI + k]          # hh
         for j in range(lm + 1):
-            f = A[i, j]
-            g = e[j] - hh * f
-            e[j] = g
-            for k in range(j + 1):
-                A[j, k] -= f * e[k] + g * A[i, k]
+            for k in range(nb):
+                f = a[ai + j * ls + k]
+                g = ee[j * ls + k] - sc[G + k] * f
+                ee[j * ls + k] = g
+                sc[F + k] = f                                 # (row j's f and g, read below)
+                sc[H + k] = g
+            for q in range(j + 1):
+                for k in range(nb):
+                    old = a[j * nn + q * ls + k]
+                    new = old - (sc[F + k] * ee[q * ls + k] + sc[H + k] * a[ai + q * ls + k])
+                    a[j * nn + q * ls + k] = old if sc[SK + k] != 0.0 else new
     for i in range(n):
-        d[i] = A[i, i]
+        for k in range(nb):
+            dd[i * ls + k] = a[i * nn + i * ls + k]
     # root-free implicit QL (Pal-Walker-Kahan, as LAPACK's dsterf): the iteration runs on the
     # squares of the off-diagonal, so a rotation needs no square root; and with
     # ``gamma' r = p (alpha - sigma) - b^2 gamma`` one division by ``r p`` gives ``1 / r``,
     # ``gamma'`` and ``p' = gamma'^2 / c`` alike (one division a rotation, not a square root
-    # and two: the loop is latency-bound)
+    # and two)
     for i in range(1, n):
-        e[i - 1] = e[i] * e[i]
-    e[n - 1] = 0.0
-    lo = 0
-    its = 0
-    while lo < n:
-        m = lo
-        while m < n - 1:                  # |e_m| <= eps (|d_m| + |d_m+1|), squared
-            t = abs(d[m]) + abs(d[m + 1])
-            if e[m] <= EPS2 * t * t:
+        for k in range(nb):
+            x = ee[i * ls + k]
+            ee[(i - 1) * ls + k] = x * x
+    for k in range(nb):
+        ee[(n - 1) * ls + k] = 0.0
+    LO, ITS, MM = 0, ls, 2 * ls                         # the rows of I
+    SIG, GAM, P, C, SS = 0, ls, 2 * ls, 3 * ls, 4 * ls  # (S's rows again)
+    for k in range(nb):
+        ii[LO + k] = 0
+        ii[ITS + k] = 0
+    while True:
+        top = -1
+        bottom = n
+        for k in range(nb):
+            # this lane's round: its deflations and 2x2 blocks up to its next QL step
+            lo = ii[LO + k]
+            m = lo
+            while lo < n:
+                m = lo
+                while m < n - 1:                  # |e_m| <= eps (|d_m| + |d_m+1|), squared
+                    t = abs(dd[m * ls + k]) + abs(dd[(m + 1) * ls + k])
+                    if ee[m * ls + k] <= EPS2 * t * t:
+                        break
+                    m += 1
+                if m == lo:                       # d[lo] converged
+                    lo += 1
+                    ii[ITS + k] = 0
+                    continue
+                if m == lo + 1:                   # a 2x2 block left: its eigenvalues directly
+                    x, z = dd[lo * ls + k], dd[(lo + 1) * ls + k]
+                    b2 = ee[lo * ls + k]
+                    sm = x + z
+                    rt = math.sqrt((x - z) * (x - z) + 4.0 * b2)
+                    r1 = 0.5 * (sm + rt) if sm >= 0.0 else 0.5 * (sm - rt)
+                    dd[lo * ls + k] = r1
+                    # the smaller without cancellation
+                    dd[(lo + 1) * ls + k] = (x * z - b2) / r1 if r1 != 0.0 else 0.0
+                    ee[lo * ls + k] = 0.0
+                    lo += 2
+                    ii[ITS + k] = 0
+                    continue
+                if ii[ITS + k] == 60:
+                    lo += 1
+                    ii[ITS + k] = 0
+                    continue
                 break
-            m += 1
-        if m == lo:                       # d[lo] converged
-            lo += 1
-            its = 0
-            continue
-        if m == lo + 1:                   # a 2x2 block left: its eigenvalues directly
-            a, c = d[lo], d[lo + 1]
-            b2 = e[lo]
-            sm = a + c
-            rt = math.sqrt((a - c) * (a - c) + 4.0 * b2)
-            r1 = 0.5 * (sm + rt) if sm >= 0.0 else 0.5 * (sm - rt)
-            d[lo] = r1
-            d[lo + 1] = (a * c - b2) / r1 if r1 != 0.0 else 0.0   # the smaller without cancellation
-            e[lo] = 0.0
-            lo += 2
-            its = 0
-            continue
-        if its == 60:
-            lo += 1
-            its = 0
-            continue
-        its += 1
-        # Wilkinson's shift: the eigenvalue of the leading 2x2 nearer d[lo] (one square root
-        # and one division, from the squared off-diagonal)
-        g = 0.5 * (d[lo + 1] - d[lo])
-        r = math.sqrt(g * g + e[lo])
-        sigma = d[lo] - e[lo] / (g + (r if g >= 0.0 else -r))
-        c = 1.0
-        s = 0.0
-        gamma = d[m] - sigma
-        p = gamma * gamma
-        for i in range(m - 1, lo - 1, -1):
-            bb = e[i]
-            r = p + bb
-            if i != m - 1:
-                e[i + 1] = s * r
-            alpha = d[i]
-            gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
-            rp = r * p
-            if rp != 0.0:
+            ii[LO + k] = lo
+            if lo >= n:
+                ii[MM + k] = -1
+                continue
+            ii[ITS + k] += 1
+            ii[MM + k] = m
+            # Wilkinson's shift: the eigenvalue of the leading 2x2 nearer d[lo]
+            g = 0.5 * (dd[(lo + 1) * ls + k] - dd[lo * ls + k])
+            el = ee[lo * ls + k]
+            r = math.sqrt(g * g + el)
+            sigma = dd[lo * ls + k] - el / (g + (r if g >= 0.0 else -r))
+            sc[SIG + k] = sigma
+            gamma = dd[m * ls + k] - sigma
+            sc[GAM + k] = gamma
+            sc[P + k] = gamma * gamma
+            sc[C + k] = 1.0
+            sc[SS + k] = 0.0
+            top = max(top, m - 1)
+            bottom = min(bottom, lo)
+        if top < 0:
+            break
+        # the step's rotations, row i across the lanes: each lane's from its m - 1 down to
+        # its lo (selected), the rest of the lanes left as they are
+        for i in range(top, bottom - 1, -1):
+            for k in range(nb):
+                m = ii[MM + k]
+                on = ii[LO + k] <= i and i <= m - 1
+                p, s, c = sc[P + k], sc[SS + k], sc[C + k]
+                gamma, sigma = sc[GAM + k], sc[SIG + k]
+                bb = ee[i * ls + k]
+                r = p + bb
+                up = ee[(i + 1) * ls + k]
+                ee[(i + 1) * ls + k] = s * r if on and i != m - 1 else up
+                alpha = dd[i * ls + k]
+                gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
+                rp = r * p
                 inv = 1.0 / rp
-                ir = p * inv                          # 1 / r
-                c = p * ir
-                s = bb * ir
-                ng = gt * ir
-                p = gt * gt * inv                     # gamma^2 / c
-            else:                                     # c = 0
-                s = 1.0
-                ng = -gamma
-                p = c * bb
-                c = 0.0
-            d[i + 1] = gamma + (alpha - ng)
-            gamma = ng
-        e[lo] = s * p
-        d[lo] = sigma + gamma
+                ir = p * inv                              # 1 / r
+                nz = rp != 0.0                            # else c = 0
+                c1 = p * ir if nz else 0.0
+                s1 = bb * ir if nz else 1.0
+                ng = gt * ir if nz else -gamma
+                p1 = gt * gt * inv if nz else c * bb      # gamma^2 / c
+                dn = dd[(i + 1) * ls + k]
+                dd[(i + 1) * ls + k] = gamma + (alpha - ng) if on else dn
+                sc[C + k] = c1 if on else c
+                sc[SS + k] = s1 if on else s
+                sc[P + k] = p1 if on else p
+                sc[GAM + k] = ng if on else gamma
+        for k in range(nb):
+            if ii[MM + k] < 0:
+                continue
+            lo = ii[LO + k]
+            ee[lo * ls + k] = sc[SS + k] * sc[P + k]
+            dd[lo * ls + k] = sc[SIG + k] + sc[GAM + k]

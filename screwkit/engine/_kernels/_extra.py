@@ -18,13 +18,13 @@ from ._closures import predict
 from ._jit import entry, one_lane, parallel
 from ._kin import chain, closure_error, joint_twist, platform, platform_home_rotation
 from ._geometry import eval_points, leg_setup
-from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
+from ._layout import BLEN, BLOCK, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
 from ._newton import home_vector
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
 from ._small import lu_factor
 
-from ._statics import (SW_COMP, SW_D, SW_JN, amplification, conditioning, equilibrium,
-                       make_statics_work,
+from ._statics import (CW_COND, CW_JN, CW_RANK, CW_SV, SW_COMP, SW_D, SW_JN, amplification,
+                       conditioning_lanes, equilibrium, make_conditioning_work, make_statics_work,
                        normalise_rows, statics_apply, statics_prepare)
 
 
@@ -277,12 +277,22 @@ def det_sign_batch(J, out):
 def conditioning_batch(J, centre, length, n_act, sv, rank, cond, crank, ccond):
     """The conditioning of given rows ``J (N, m, 6)`` (the first ``n_act`` the actuation
     rows): singular values ``sv (N, min(m, 6))``, rank, condition number, and those of the
-    constraint rows."""
-    mr = J.shape[1]
+    constraint rows (:func:`._statics.conditioning_lanes`, ``BLOCK`` poses at a time)."""
+    N, mr = J.shape[0], J.shape[1]
     SW = make_statics_work(mr)
-    s = np.zeros(6)
-    for p in range(J.shape[0]):
-        normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
-        rank[p], cond[p], crank[p], ccond[p] = conditioning(SW[SW_JN], mr, n_act, SW, s)
-        for q in range(sv.shape[1]):
-            sv[p, q] = s[q]
+    CW = make_conditioning_work(mr, BLOCK)
+    cj, cs, RK, CD = CW[CW_JN], CW[CW_SV], CW[CW_RANK], CW[CW_COND]
+    for p0 in range(0, N, BLOCK):
+        nb = min(BLOCK, N - p0)
+        for l in range(nb):
+            p = p0 + l
+            normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
+            for r in range(mr):
+                for q in range(6):
+                    cj[r, q, l] = SW[SW_JN][r, q]
+        conditioning_lanes(CW, mr, n_act, nb)
+        for l in range(nb):
+            p = p0 + l
+            rank[p], cond[p], crank[p], ccond[p] = RK[0, l], CD[0, l], RK[1, l], CD[1, l]
+            for q in range(sv.shape[1]):
+                sv[p, q] = cs[q, l]

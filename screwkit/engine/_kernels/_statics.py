@@ -20,13 +20,14 @@ from ._jit import borrowing, borrowing_inlined, inner
 
 from ._kin import platform_points
 from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
-from ._eigen import jacobi_rows, singular_values
+from ._eigen import jacobi_rows, singular_values_lanes
 from ._small import lu_factor, lu_apply
 
 (SW_JN, SW_D, SW_U, SW_V, SW_SV, SW_SC, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN,
  SW_AP, SW_Z, SW_W, SW_COMP, SW_E) = range(17)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
+(CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R) = range(12)
 
 
 @inner
@@ -92,45 +93,67 @@ def normalise_rows(J, mr, c, L, Jn, d):
             Jn[r, q] /= s
 
 
-@borrowing_inlined
-def conditioning(Jn, mr, n_act, SW, sv):
-    """Singular values of ``Jn[:mr]`` into ``sv[:min(mr, 6)]`` (NaN beyond; all NaN for a
-    non-finite ``Jn``); returns ``(rank, condition, constraint rank, constraint
-    condition)``."""
-    U, sc = SW[SW_U], SW[SW_SC]
+@inner
+def make_conditioning_work(mr, B):
+    """A thread's conditioning workspace for blocks of ``B`` lanes of ``mr`` rows: the lanes'
+    normalised rows ``Jn (mr, 6, B)``, their norms ``d (mr, B)``, the platforms' origins
+    ``o (3, B)``, the singular values of all rows and of the constraint rows ``(6, B)`` each,
+    ranks ``(2, B)`` (int) and conditions ``(2, B)``, and the scratch of
+    :func:`._eigen.singular_values_lanes`."""
+    return (np.zeros((max(mr, 1), 6, B)), np.zeros((max(mr, 1), B)), np.zeros((3, B)),
+            np.zeros((6, B)), np.zeros((6, B)), np.zeros((2, B), np.int64), np.zeros((2, B)),
+            np.zeros((6, 6, B)), np.zeros((6, B)), np.zeros((6, B)), np.zeros((4, B), np.int64),
+            np.zeros((max(mr, 6), 6)))
+
+
+@borrowing
+def conditioning_lanes(CW, mr, n_act, nb):
+    """The conditioning of the lanes ``0..nb-1`` of ``CW`` (:func:`make_conditioning_work`; its
+    ``Jn`` set): the singular values of ``Jn[:mr]`` into ``CW[CW_SV][:min(mr, 6)]`` (NaN
+    beyond; all NaN for a lane with a non-finite ``Jn``), the rank and condition number into
+    ``CW[CW_RANK][0]``, ``CW[CW_COND][0]``, those of the constraint rows (after the ``n_act``
+    actuation rows) into ``CW[CW_RANK][1]``, ``CW[CW_COND][1]``."""
+    Jn, sv, sc, RK, CD = CW[CW_JN], CW[CW_SV], CW[CW_SC], CW[CW_RANK], CW[CW_COND]
+    U, E, S, I, R = CW[CW_U], CW[CW_E], CW[CW_S], CW[CW_I], CW[CW_R]
+    ls = Jn.shape[2]
     k = min(mr, 6)
-    finite = True
-    for r in range(mr):
-        for q in range(6):
-            if not math.isfinite(Jn[r, q]):
-                finite = False
-    if not finite:
-        for q in range(sv.shape[0]):
-            sv[q] = math.nan
-        return 0, math.nan, 0, math.nan
-    singular_values(Jn, mr, U, sv, k, SW[SW_E])
-    top = max(sv[0], 1e-300) if k else 1.0
-    rank = 0
-    for q in range(k):
-        if sv[q] > RANK_RTOL * top:
-            rank += 1
-    cond = math.inf
-    if k >= 6 and sv[5] > 0:
-        cond = sv[0] / sv[5]
+    for l in range(nb):
+        finite = True
+        for r in range(mr):
+            for q in range(6):
+                if not math.isfinite(Jn[r, q, l]):
+                    finite = False
+        RK[0, l] = 0 if finite else -1
+    singular_values_lanes(Jn, 0, mr, U, sv, k, E, S, I, R, nb, ls)
     mc = mr - n_act
     kk = max(0, 6 - n_act)
-    c_rank = 0
-    c_cond = 1.0 if kk == 0 else math.inf
+    kc = min(mc, 6)
     if mc > 0:
-        kc = min(mc, 6)
-        singular_values(Jn[n_act:], mc, U, sc, kc, SW[SW_E])
-        ctop = max(sc[0], 1e-300)
-        for q in range(kc):
-            if sc[q] > RANK_RTOL * ctop:
-                c_rank += 1
-        if kk > 0 and kc >= kk and sc[kk - 1] > 0:
-            c_cond = sc[0] / sc[kk - 1]
-    return rank, cond, c_rank, c_cond
+        singular_values_lanes(Jn, n_act, mc, U, sc, kc, E, S, I, R, nb, ls)
+    for l in range(nb):
+        if RK[0, l] < 0:
+            for q in range(6):
+                sv[q, l] = math.nan
+            RK[0, l], CD[0, l], RK[1, l], CD[1, l] = 0, math.nan, 0, math.nan
+            continue
+        top = max(sv[0, l], 1e-300) if k else 1.0
+        rank = 0
+        for q in range(k):
+            if sv[q, l] > RANK_RTOL * top:
+                rank += 1
+        cond = math.inf
+        if k >= 6 and sv[5, l] > 0:
+            cond = sv[0, l] / sv[5, l]
+        c_rank = 0
+        c_cond = 1.0 if kk == 0 else math.inf
+        if mc > 0:
+            ctop = max(sc[0, l], 1e-300)
+            for q in range(kc):
+                if sc[q, l] > RANK_RTOL * ctop:
+                    c_rank += 1
+            if kk > 0 and kc >= kk and sc[kk - 1, l] > 0:
+                c_cond = sc[0, l] / sc[kk - 1, l]
+        RK[0, l], CD[0, l], RK[1, l], CD[1, l] = rank, cond, c_rank, c_cond
 
 
 @borrowing_inlined
