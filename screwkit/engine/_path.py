@@ -148,52 +148,27 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     retried = 0
     solved = np.zeros(N, bool)
     solved[anchors] = True
+    K_ = _kernels()
     while not solved.all():
         idx = np.flatnonzero(solved)
         k = np.flatnonzero(idx[1:] - idx[:-1] > 1)
-        left, right = idx[k], idx[k + 1]
-        mid = (left + right) // 2
         good = res <= ACCEPTED
-        good_l, good_r = good[left], good[right]
-        # sample by sample (rows, the layout of XT): whole-row gathers, and elementwise
-        # arithmetic in place (the same operations on the same values, so the same bits)
-        Xl, Xr = XT[left], XT[right]
-        # the cubic through the two solved neighbours on each side, where all four are good;
-        # elsewhere the linear interpolation, or the one good neighbour
-        k0, k3 = np.maximum(k - 1, 0), np.minimum(k + 2, len(idx) - 1)
-        p0, p3 = idx[k0], idx[k3]
-        four = (k0 < k) & (k3 > k + 1) & good_l & good_r & good[p0] & good[p3]
-        Xs = np.empty_like(Xl)
-        if four.any():
-            nodes = (p0[four], left[four], right[four], p3[four])
-            ts = np.stack(nodes).astype(float)
-            t = mid[four].astype(float)
-            cubic = XT[nodes[0]]
-            cubic *= _lagrange(ts, 0, t)[:, None]
-            cubic += 0.0                    # (the sum starts from 0, as it did: -0 is +0)
-            for j in range(1, 4):
-                term = XT[nodes[j]]
-                term *= _lagrange(ts, j, t)[:, None]
-                cubic += term
-            Xs[four] = cubic
-        rest = ~four
-        if rest.any():
-            lm, rm_, both, gl = left[rest], right[rest], (good_l & good_r)[rest], good_l[rest]
-            w = ((mid[rest] - lm) / (rm_ - lm))[:, None]
-            a, b = Xl[rest], Xr[rest]
-            Xs[rest] = np.where(both[:, None], (1 - w) * a + w * b, np.where(gl[:, None], a, b))
+        # each gap's middle sample and its start: the cubic through the two solved
+        # neighbours on each side, where all four are good; elsewhere the linear
+        # interpolation, or the one good neighbour (compiled: one pass over the samples)
+        mid, four = np.empty(len(k), np.int64), np.empty(len(k), bool)
+        Xs = np.empty((len(k), ch.n_unknowns))
+        K_.level_starts(XT, idx, k, good, mid, four, Xs)
+        left, right = idx[k], idx[k + 1]
         fx = {p: v[mid] for p, v in fixed.items()}
         c = _solve_level(model, fx, Xs.T, workers) if levels is None else \
             levels.solve(fx, Xs.T, mid, workers)
-        Xm, rm, hm = c.X.T, c.residual, c.how               # (K, n_unknowns)
-        # a branch jump: the solution moved more than its neighbours differ
-        Xr -= Xl
-        span = np.max(np.abs(Xr, out=Xr), axis=1)
-        Xl = np.subtract(Xm, Xs, out=Xl)
-        moved = np.max(np.abs(Xl, out=Xl), axis=1)
-        jump = (moved > 0.5 * span + 1e-9) & good_l & good_r & (hm == 0)
-        XT[mid], res[mid], its[mid], how[mid], sing[mid] = Xm, rm, c.iterations, hm, \
-            c.singular_beta
+        rm, hm = c.residual, c.how
+        # a branch jump: the solution moved more than its neighbours differ; the solutions
+        # into XT
+        jump = np.empty(len(k), bool)
+        K_.level_check(XT, idx, k, mid, good, Xs, np.ascontiguousarray(c.X.T), hm, jump)
+        res[mid], its[mid], how[mid], sing[mid] = rm, c.iterations, hm, c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the
         # continuation from home for these samples)
@@ -237,10 +212,6 @@ def _solve_level(model, fx, X0, workers):
     return solve_closures(model, fx, X0, workers=workers)
 
 
-def _lagrange(ts, j, t):
-    """Weight of node ``j`` of the cubic through the nodes ``ts (4, K)`` at ``t (K,)``."""
-    w = np.ones_like(t)
-    for i in range(4):
-        if i != j:
-            w = w * (t - ts[i]) / (ts[j] - ts[i])
-    return w
+def _kernels():
+    from ._kernels import kernels
+    return kernels()

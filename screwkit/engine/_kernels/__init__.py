@@ -158,13 +158,13 @@ def kernels() -> SimpleNamespace:
         if _K is None:
             numba = _configure()
             _check_stamp(numba)
-            from . import _driver, _extra, _fk, _indices, _probe
-            _quick_loading(numba, (_driver, _extra, _fk, _indices, _probe))
+            from . import _driver, _extra, _fk, _indices, _levels, _probe
+            _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _probe))
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, a minute or two; "
                       f"cached in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
-            for mod in (_driver, _extra, _fk, _indices, _probe):
+            for mod in (_driver, _extra, _fk, _indices, _levels, _probe):
                 for name in dir(mod):
                     if not name.startswith("_"):
                         setattr(ns, name, getattr(mod, name))

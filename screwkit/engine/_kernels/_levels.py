@@ -1,0 +1,90 @@
+"""The levels of a path, compiled (private): each level's starts, interpolated from the
+solved samples around it, and the check of its solutions against them.
+
+:func:`screwkit.engine._path.solve_path` solves a path's samples level by level, halving the
+spacing: the sample in the middle of each gap between two solved ones starts from the cubic
+through the two solved samples on each side (where all four converged), else from the linear
+interpolation of its two neighbours, or the one that converged.  After the level's solve, a
+sample whose solution moved from its start by more than half its neighbours' difference has
+jumped to another branch.  These are per-sample sums and maxima over the unknowns: one pass
+over a level's samples here, where numpy made some twenty passes over whole arrays.  The
+operations are those the numpy code made, element by element and in the same order (the
+cubic's sum from ``0.0``, the Lagrange weights as products left to right): the same bits.
+"""
+
+import math
+
+from ._jit import entry, inner
+
+
+@entry
+def level_starts(XT, idx, k, good, mid, four, Xs):
+    """The starts ``Xs (G, nx)`` of the samples ``mid (G,)`` in the middle of the gaps
+    ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the solved samples in
+    order, ``XT (N, nx)`` the unknowns sample by sample, ``good (N,)`` those converged);
+    ``four (G,)`` whether the cubic through four solved samples gave it."""
+    nx = XT.shape[1]
+    last = idx.shape[0] - 1
+    for g in range(k.shape[0]):
+        kg = k[g]
+        left, right = idx[kg], idx[kg + 1]
+        m = (left + right) // 2
+        mid[g] = m
+        k0, k3 = max(kg - 1, 0), min(kg + 2, last)
+        p0, p3 = idx[k0], idx[k3]
+        gl, gr = good[left], good[right]
+        f = k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]
+        four[g] = f
+        if f:
+            t = float(m)
+            w0 = _lagrange(float(p0), float(left), float(right), float(p3), 0, t)
+            w1 = _lagrange(float(p0), float(left), float(right), float(p3), 1, t)
+            w2 = _lagrange(float(p0), float(left), float(right), float(p3), 2, t)
+            w3 = _lagrange(float(p0), float(left), float(right), float(p3), 3, t)
+            for x in range(nx):
+                c = XT[p0, x] * w0
+                c += 0.0                    # (the sum starts from 0: -0 is +0)
+                c += XT[left, x] * w1
+                c += XT[right, x] * w2
+                c += XT[p3, x] * w3
+                Xs[g, x] = c
+        else:
+            w = (m - left) / (right - left)
+            for x in range(nx):
+                a, b = XT[left, x], XT[right, x]
+                if gl and gr:
+                    Xs[g, x] = (1 - w) * a + w * b
+                else:
+                    Xs[g, x] = a if gl else b
+
+
+@inner
+def _lagrange(t0, t1, t2, t3, j, t):
+    """The weight of node ``j`` of the cubic through the nodes ``t0..t3`` at ``t``."""
+    ts = (t0, t1, t2, t3)
+    w = 1.0
+    for i in range(4):
+        if i != j:
+            w = w * (t - ts[i]) / (ts[j] - ts[i])
+    return w
+
+
+@entry
+def level_check(XT, idx, k, mid, good, Xs, Xm, how, jump):
+    """After a level's solve: ``jump (G,)`` where the solution ``Xm[g]`` of sample ``mid[g]``
+    moved from its start ``Xs[g]`` by more than half the difference of its two neighbours
+    (both converged, and solved by Newton from the start: ``how == 0``); the solutions into
+    ``XT``.  (A NaN in either difference counts as no jump, as numpy's maximum gave.)"""
+    nx = XT.shape[1]
+    for g in range(k.shape[0]):
+        left, right = idx[k[g]], idx[k[g] + 1]
+        span = 0.0
+        moved = 0.0
+        for x in range(nx):
+            d = abs(XT[right, x] - XT[left, x])
+            span = span if math.isnan(span) else (d if d > span or math.isnan(d) else span)
+            e = abs(Xm[g, x] - Xs[g, x])
+            moved = moved if math.isnan(moved) else (e if e > moved or math.isnan(e) else moved)
+        jump[g] = moved > 0.5 * span + 1e-9 and good[left] and good[right] and how[g] == 0
+        for x in range(nx):
+            XT[mid[g], x] = Xm[g, x]
