@@ -9,13 +9,22 @@ representation singularity (``beta`` given where ``sin(beta) = 0``, proper order
 taken as its limit from both sides, or from the warm start's side, then the pose solved with
 it given).
 
-The home predictor is a polynomial model of the solution around home, cubic in the
-independent parameters, fitted once per model to exact solutions on a small grid (+-0.15
-rad, +-0.15 ``L``; no level at home itself, so that no fitting pose sits at a representation
-singularity of home): four levels per parameter up to four parameters; beyond (a full grid
-would be 4^5 or 4^6 poses), three levels and, on each parameter's axis, two more (a cubic
-needs four).  A quadratic leaves most random poses of a 4SPS+SPR or a 6-SPS three Newton
-steps from their solution, the cubic two.  Far outside the grid the start is home itself.
+The home predictor is a polynomial model of the solution around home, fitted once per model
+by least squares to exact solutions on a grid around home (+-0.15 rad, +-0.15 ``L``; no
+level at home itself, so that no fitting pose sits at a representation singularity of
+home).  Up to five independent parameters it is quartic: up to three, on the full grid of
+five levels per parameter (-1, -1/2, 1/10, 1/2, 1 half-widths: 125 poses); with four or
+five, on the grid of three levels (-1, 1/10, 1) and, for each pair of parameters, the
+five-by-five grid of their plane (the others at 1/10: 161 and 373 poses), enough for a
+quartic, whose monomials of a power above two involve at most two parameters.  With six
+(5^6 poses, 210 monomials for each unknown of a pose) it stays cubic: three levels and, on
+each parameter's axis, two more (a cubic needs four).  A quadratic leaves most random poses
+of a 4SPS+SPR or a 6-SPS three Newton steps from their solution, the cubic two within the
+fit; beyond it, a cubic leaves the poses of the benchmarks' wider ranges (a 3RRPRR's alpha
+and beta in +-10 deg, Zo in 60-100 cm: up to twice the half-width) three steps away about
+one time in seven, and since a block of poses iterates until its last lane is done, nearly
+every block a third time; the quartic, two steps away but for about one in 500.  Far
+outside the grid (more than four half-widths) the start is home itself.
 """
 
 from __future__ import annotations
@@ -92,11 +101,49 @@ def is_representation_singular(order: str, beta, tol: float = _SING_TOL):
 _PREDICTORS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def _features_count(nf, degree):
-    n = 1 + nf + nf * (nf + 1) // 2
-    if degree == 3:
-        n += nf * (nf + 1) * (nf + 2) // 6
-    return n
+def _monomials(nf, degree):
+    """The predictor's monomials in the kernel's order (:func:`._kernels._closures.predict`):
+    1, then by degree the products ``z_a z_b ...`` with ``a <= b <= ...``."""
+    return [c for d in range(degree + 1)
+            for c in itertools.combinations_with_replacement(range(nf), d)]
+
+
+def _least_squares(A, Y):
+    """``C`` minimising ``|A C - Y|``: the normal equations, formed in numpy's own loops
+    (``einsum``) and solved.  LAPACK's ``lstsq`` hands matrices of these sizes (161 x 70 for
+    four parameters) to OpenBLAS's threads, which on a busy machine took 30-250 ms instead
+    of under one; the monomials' Gram matrix is well enough conditioned (``A``'s condition
+    number at most about 200 on these grids) for a start, which needs a few digits.  Where
+    failed fitting poses leave it near singular, ``lstsq`` (the least-norm fit)."""
+    G = np.einsum("pk,pl->kl", A, A)
+    try:
+        d = np.diag(np.linalg.cholesky(G))
+    except np.linalg.LinAlgError:
+        d = np.zeros(1)
+    if not d.min() > 1e-5 * d.max():
+        return np.linalg.lstsq(A, Y, rcond=None)[0]
+    return np.linalg.solve(G, np.einsum("pk,px->kx", A, Y))
+
+
+def _fit_grid(nf):
+    """``(G, degree)``: the predictor's fitting poses in half-widths ``G (poses, nf)`` and
+    its degree (see the module docstring)."""
+    if nf <= 3:
+        levels = (-1.0, -0.5, 0.1, 0.5, 1.0)
+        return np.array(list(itertools.product(levels, repeat=nf))).reshape(-1, nf), 4
+    if nf <= 5:
+        G = [np.array(list(itertools.product((-1.0, 0.1, 1.0), repeat=nf)))]
+        face = np.array(list(itertools.product((-1.0, -0.5, 0.1, 0.5, 1.0), repeat=2)))
+        for a, b in itertools.combinations(range(nf), 2):
+            F = np.full((len(face), nf), 0.1)
+            F[:, [a, b]] = face
+            G.append(F)
+        return np.unique(np.concatenate(G), axis=0), 4
+    G = np.array(list(itertools.product((-1.0, 0.1, 1.0), repeat=nf)))
+    axes = np.full((2 * nf, nf), 0.1)
+    for k in range(nf):
+        axes[2 * k, k], axes[2 * k + 1, k] = -1.0 / 3.0, 1.0 / 3.0
+    return np.concatenate([G, axes]), 3
 
 
 def predictor_of(ch: Chains) -> tuple:
@@ -111,33 +158,19 @@ def predictor_of(ch: Chains) -> tuple:
     home = np.array([ch.home[p] for p in ch.fixed])
     span = np.array([_FIT_SPAN * ch.length if p in LENGTH_PARAMS else _FIT_SPAN
                      for p in ch.fixed])
-    degree = 3
-    if nf <= 4:
-        levels = np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0])
-        G = np.array(list(itertools.product(levels, repeat=nf))).reshape(-1, nf)
-    else:
-        G = np.array(list(itertools.product((-1.0, 0.1, 1.0), repeat=nf)))
-        axes = np.full((2 * nf, nf), 0.1)
-        for k in range(nf):
-            axes[2 * k, k], axes[2 * k + 1, k] = -1.0 / 3.0, 1.0 / 3.0
-        G = np.concatenate([G, axes])
+    G, degree = _fit_grid(nf)
     fixed = {p: home[k] + span[k] * G[:, k] for k, p in enumerate(ch.fixed)}
     # (in this thread: a few milliseconds, and a one-pose command then neither loads nor,
     # on its first run, compiles the parallel kernel; the bits do not depend on the threads)
     out = run_poses(flat, flat.Z, ch.full_params(fixed, len(G)),
                     X0=ch.home_vector(len(G)).T, rows=False, workers=1)
     good = out["residual"] <= CONVERGED
-    nfeat = _features_count(nf, degree)
+    mono = _monomials(nf, degree)
     C = np.zeros((0, ch.n_unknowns))
-    if good.sum() >= 2 * nfeat:
-        # the monomials, in the kernel's order: 1, z_a, z_a z_b (a <= b), z_a z_b z_c
+    if good.sum() >= 2 * len(mono):
         Zs = G[good]
-        cols = [np.ones(len(Zs))] + [Zs[:, k] for k in range(nf)]
-        cols += [Zs[:, a] * Zs[:, b] for a in range(nf) for b in range(a, nf)]
-        if degree == 3:
-            cols += [Zs[:, a] * Zs[:, b] * Zs[:, c] for a in range(nf) for b in range(a, nf)
-                     for c in range(b, nf)]
-        C = np.linalg.lstsq(np.stack(cols, axis=1), out["X"][good], rcond=None)[0]
+        A = np.stack([np.prod(Zs[:, list(c)], axis=1) for c in mono], axis=1)
+        C = _least_squares(A, out["X"][good])
     Z = flat.with_predictor(C, home, span, degree)
     _PREDICTORS[ch] = Z
     return Z

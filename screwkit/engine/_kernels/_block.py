@@ -7,7 +7,11 @@ arithmetic across the lanes, where LLVM vectorises it.  Each lane iterates exact
 pose does (:func:`._newton.newton_iterate`: the same test, tolerance, maximum of iterations
 and step halving, in the same order of operations: no reduction across lanes), so a lane of
 a block equals the pose alone bit for bit; a lane stops when it converges or stalls while the
-others go on (the block's passes still compute it: masked, not compacted).  The Newton step
+others go on (the block's passes still compute it: masked, not compacted).  Since a block
+iteration costs its whole width, the block stops once at most one lane in
+:data:`ALONE_SHARE` is still iterating: those lanes finish their Newton runs alone
+(:func:`._newton.newton_from`, from their unknowns, frames and residual: the same
+iterations, so the same bits), instead of the block iterating again for them.  The Newton step
 of the block's lanes is one (:func:`._newton.step_block`: the lane loops of
 :func:`._newton.step_lanes`, the function one pose's step runs on a block of one).
 
@@ -31,6 +35,11 @@ from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, step_block
 #: Lane states: iterating, converged (residual at or below its tolerance), stalled (no
 #: decrease, or a non-finite residual), not solved in the block (solved alone).
 LANE_ACTIVE, LANE_DONE, LANE_STALLED, LANE_ALONE = 0, 1, 2, 3
+#: The block stops iterating when at most ``nb / ALONE_SHARE`` of its lanes are active (the
+#: rest of their runs alone): a one-pose Newton iteration costs about as much as 4-8 lanes'
+#: share of a block iteration (``benchmarks/bench_closure.py``: a step and a pass 2.7 us
+#: alone, 0.7 us a lane in a block, for the 3RRPRR).
+ALONE_SHARE = 4
 
 
 @inner
@@ -108,7 +117,10 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
     tolerances ``K[K_TOL]``: each lane's residual, iterations and state into ``K[K_F]``,
     ``K[K_ITS]``, ``K[K_STATE]``, its accepted steps into ``K[K_ACC]``; the frames of its
-    final unknowns in buffer 0.  ``W`` a one-pose workspace (the lanes' Newton steps)."""
+    final unknowns in buffer 0.  Lanes left ``LANE_ACTIVE`` (at most ``nb / ALONE_SHARE``,
+    or all after ``max_iter`` iterations) are to finish alone from there, ``max_iter`` less
+    their iterations to go (:func:`._newton.newton_from`).  ``W`` a one-pose workspace (the
+    lanes' Newton steps)."""
     X, Xn, STEP, FE = K[K_X], K[K_XN], K[K_STEP], K[K_FE]
     F, FN, E2, TOL, ITS, ST, OK = K[K_F], K[K_FN], K[K_E2], K[K_TOL], K[K_ITS], K[K_STATE], \
         K[K_OK]
@@ -119,7 +131,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
         ITS[l] = 0
         K[K_ACC][l] = 0
     for _ in range(max_iter):
-        active = False
+        active = 0
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
                 continue
@@ -128,8 +140,8 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
             elif F[l] <= TOL[l]:
                 ST[l] = LANE_DONE
             else:
-                active = True
-        if not active:
+                active += 1
+        if active * ALONE_SHARE <= nb:       # none, or a few: they finish alone
             break
         # every lane's step at once (the stopped lanes' too: masked, not read)
         Pt = K[K_PT]

@@ -1,10 +1,10 @@
 """The inverse displacement of one pose, compiled: starts, continuation, polish, the
 representation singularity (private).
 
-Starts.  Without a warm start a pose begins at the home predictor: a cubic polynomial in the
-independent parameters fitted once per model to exact solutions around home (its
-coefficients ``C``, fitted by :mod:`screwkit.engine._solve`); far outside the fit (more than
-four half-widths), at home.
+Starts.  Without a warm start a pose begins at the home predictor: a quartic polynomial in
+the independent parameters (cubic for six of them) fitted once per model to exact solutions
+around home (its coefficients ``C``, fitted by :mod:`screwkit.engine._solve`); far outside
+the fit (more than four half-widths), at home.
 
 Continuation.  A pose whose Newton iteration does not converge is solved again from home by
 moving its independent parameters in 4, 16, then 64 steps, each started from the last; a
@@ -36,8 +36,9 @@ CONTINUATION = (4, 16, 64)
 
 @borrowing
 def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
-    """The home predictor's start for the given parameters (``C (features, nx)``; no rows:
-    start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
+    """The home predictor's start for the given parameters (``C (features, nx)``, the
+    monomials of degree up to ``degree`` (3 or 4) in :func:`screwkit.engine._solve._monomials`'s
+    order; no rows: start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
     nf = fix.shape[0]
     nx = out.shape[0]
     far = C.shape[0] == 0
@@ -62,7 +63,7 @@ def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
             for x in range(nx):
                 out[x] += w * C[f, x]
             f += 1
-    if degree == 3:
+    if degree >= 3:
         for a in range(nf):
             for b in range(a, nf):
                 for c in range(b, nf):
@@ -70,6 +71,15 @@ def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
                     for x in range(nx):
                         out[x] += w * C[f, x]
                     f += 1
+    if degree >= 4:
+        for a in range(nf):
+            for b in range(a, nf):
+                for c in range(b, nf):
+                    for d in range(c, nf):
+                        w = z[a] * z[b] * z[c] * z[d]
+                        for x in range(nx):
+                            out[x] += w * C[f, x]
+                        f += 1
 
 
 @borrowing

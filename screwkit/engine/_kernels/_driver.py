@@ -36,7 +36,7 @@ from ._kin import forward
 from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
-                      make_work, tolerance)
+                      make_work, newton_from, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
 from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
                        SW_JN, SW_W, amplification, conditioning_lanes, equilibrium,
@@ -293,9 +293,10 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
 @inlined
 def finish_lane(M, Z, I, O, flags, p, W, K, l):
     """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
-    Newton run: its unknowns, and where that run did not converge, the rescue
-    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
-    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b)``."""
+    Newton run: its unknowns; a lane the block left active, the rest of its Newton run
+    alone; where the run did not converge, the rescue (continuation, polish), as
+    :func:`._closures.solve_pose`; its frames into buffer ``b`` of ``W`` (``b < 0``: to be
+    formed again at its unknowns).  Returns ``(residual, b)``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -309,6 +310,11 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
     # rescue b < 0: they are formed again at the unknowns the rescue returns
     b = 0
     lane_frames(K, 0, l, W, b)
+    if K[K_STATE][l] == LANE_ACTIVE:
+        # one of the few lanes the block left iterating: the rest of its run alone, from
+        # its unknowns, frames and residual (the iterations it has left of the pose's 30)
+        res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
+        its += more
     if not res <= CONVERGED:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)

@@ -246,13 +246,29 @@ def gauss_newton(M, unk, xs, p6fix, X, tol, max_iter, W):
 def newton_iterate(M, unk, xs, p6fix, X, tol, max_iter, W):
     """:func:`gauss_newton`'s body, inlined where a pose's first Newton run is called (the
     common case: a call passing the model and workspace tuples costs about half a
-    microsecond)."""
+    microsecond): the forward pass at ``X`` into buffer 0, then :func:`newton_loop`."""
+    f = forward(M, unk, xs, p6fix, X, W[W_FA], W[W_FL], W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
+    return newton_loop(M, unk, xs, p6fix, X, tol, max_iter, W, f)
+
+
+@borrowing
+def newton_from(M, unk, xs, p6fix, X, tol, max_iter, W, f):
+    """:func:`gauss_newton` from ``X`` whose frames are already in buffer 0 of ``W`` and
+    whose residual is ``f``: the rest of a block's lane's Newton run, finished alone
+    (:func:`._block.block_newton`; the same iterations as the pose's own run)."""
+    return newton_loop(M, unk, xs, p6fix, X, tol, max_iter, W, f)
+
+
+@inlined
+def newton_loop(M, unk, xs, p6fix, X, tol, max_iter, W, f):
+    """The Newton iterations of one pose from ``X`` (in place), its frames in buffer 0 and
+    its residual ``f``: the test (finite, at or below ``tol``), the step, its halving until
+    the closure error decreases.  Returns ``(residual, iterations, stalled, buffer)``."""
     FA, FL, FE, FP, S, p6 = W[W_FA], W[W_FL], W[W_FE], W[W_FP], W[W_S], W[W_P6]
     step, Xn, frozen = W[W_STEP], W[W_XN], W[W_FROZ]
     nu = unk.shape[0]
     nx = nu + FA.shape[1] * FA.shape[2]
     cur = 0
-    f = forward(M, unk, xs, p6fix, X, FA, FL, FE, FP, cur, S, p6)
     its = 0
     stalled = False
     for _ in range(max_iter):
