@@ -42,11 +42,12 @@ def _bench_kernel():
     from numba import njit
 
     from screwkit.engine._kernels._closures import predict
+    from screwkit.engine._kernels._jit import one_lane
     from screwkit.engine._kernels._driver import run_blocks
     from screwkit.engine._kernels._kin import forward, forward_block, platform_columns
     from screwkit.engine._kernels._layout import BLOCK
     from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
-                                                  W_P6S, W_PT, W_S, W_XB, gauss_newton,
+                                                  W_PT, W_PZ, W_S, W_XB, gauss_newton,
                                                   home_vector, make_work, newton_step)
     from screwkit.engine._kernels._pack import model, params
 
@@ -60,7 +61,8 @@ def _bench_kernel():
         for p in range(P6.shape[0]):
             if what == 2:
                 home_vector(unk, xs, p6home, W[W_XB])
-                predict(Z[7], fix, Z[8], Z[9], Z[10][0], P6[p], W[W_XB], X, W[W_P6S][3])
+                predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(P6[p]), W[W_XB], one_lane(X),
+                        W[W_PZ], 1, 1)
                 steps += gauss_newton(M, unk, xs, P6[p], X, 1e-12, 30, W)[1]
                 continue
             X[:] = Xs[p]

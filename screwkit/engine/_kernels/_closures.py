@@ -21,7 +21,7 @@ is solved with it given (the unknowns ``unk2``).
 import math
 
 import numpy as np
-from ._jit import borrowing, inlined
+from ._jit import borrowing, inlined, lanes
 
 from ._kin import forward
 from ._layout import ACCEPTED, CONVERGED, ORDER
@@ -35,51 +35,77 @@ CONTINUATION = (4, 16, 64)
 
 
 @borrowing
-def predict(C, fix, home, span, degree, p6fix, Xhome, out, z):
-    """The home predictor's start for the given parameters (``C (features, nx)``, the
-    monomials of degree up to ``degree`` (3 or 4) in :func:`screwkit.engine._solve._monomials`'s
-    order; no rows: start at home; ``z (>= len(fix))`` scratch: no allocation per pose)."""
+def predict(C, fix, home, span, degree, P6, Xhome, out, z, nb, ls):
+    """The home predictor's starts ``out (nx, ls)`` of the lanes ``0..nb-1`` at their given
+    parameters ``P6 (6, ls)`` (``C (features, nx)``, the monomials of degree up to ``degree``
+    (3 or 4) in :func:`screwkit.engine._solve._monomials`'s order; no rows: start at home, as
+    does a lane more than four half-widths out; ``z (8, ls)`` scratch).  The lanes at once, each as
+    alone (the monomials' terms added in the same order); one pose is a block of one."""
     nf = fix.shape[0]
     nx = out.shape[0]
-    far = C.shape[0] == 0
+    po, pz, pp = lanes(out), lanes(z), lanes(P6)
+    WR, FR = 6 * ls, 7 * ls                 # z's rows: the monomial, the lane far out
+    for l in range(nb):
+        pz[FR + l] = 1.0 if C.shape[0] == 0 else 0.0
     for k in range(nf):
-        z[k] = (p6fix[fix[k]] - home[k]) / span[k]
-        if not abs(z[k]) <= 4.0:
-            far = True
-    if far:
+        row, h, s = fix[k] * ls, home[k], span[k]
+        for l in range(nb):
+            t = (pp[row + l] - h) / s
+            pz[k * ls + l] = t
+            pz[FR + l] = pz[FR + l] if abs(t) <= 4.0 else 1.0
+    if C.shape[0] == 0:
         for x in range(nx):
-            out[x] = Xhome[x]
+            for l in range(nb):
+                po[x * ls + l] = Xhome[x]
         return
     for x in range(nx):
-        out[x] = C[0, x]
+        c = C[0, x]
+        for l in range(nb):
+            po[x * ls + l] = c
     f = 1
     for a in range(nf):
         for x in range(nx):
-            out[x] += z[a] * C[f, x]
+            c = C[f, x]
+            for l in range(nb):
+                po[x * ls + l] += pz[a * ls + l] * c
         f += 1
     for a in range(nf):
         for b in range(a, nf):
-            w = z[a] * z[b]
+            for l in range(nb):
+                pz[WR + l] = pz[a * ls + l] * pz[b * ls + l]
             for x in range(nx):
-                out[x] += w * C[f, x]
+                c = C[f, x]
+                for l in range(nb):
+                    po[x * ls + l] += pz[WR + l] * c
             f += 1
     if degree >= 3:
         for a in range(nf):
             for b in range(a, nf):
-                for c in range(b, nf):
-                    w = z[a] * z[b] * z[c]
+                for e in range(b, nf):
+                    for l in range(nb):
+                        pz[WR + l] = pz[a * ls + l] * pz[b * ls + l] * pz[e * ls + l]
                     for x in range(nx):
-                        out[x] += w * C[f, x]
+                        c = C[f, x]
+                        for l in range(nb):
+                            po[x * ls + l] += pz[WR + l] * c
                     f += 1
     if degree >= 4:
         for a in range(nf):
             for b in range(a, nf):
-                for c in range(b, nf):
-                    for d in range(c, nf):
-                        w = z[a] * z[b] * z[c] * z[d]
+                for e in range(b, nf):
+                    for g in range(e, nf):
+                        for l in range(nb):
+                            pz[WR + l] = pz[a * ls + l] * pz[b * ls + l] * pz[e * ls + l] * \
+                                pz[g * ls + l]
                         for x in range(nx):
-                            out[x] += w * C[f, x]
+                            c = C[f, x]
+                            for l in range(nb):
+                                po[x * ls + l] += pz[WR + l] * c
                         f += 1
+    for x in range(nx):
+        h = Xhome[x]
+        for l in range(nb):
+            po[x * ls + l] = h if pz[FR + l] != 0.0 else po[x * ls + l]
 
 
 @borrowing

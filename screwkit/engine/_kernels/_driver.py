@@ -26,16 +26,16 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
 from numba import prange
 
-from ._jit import borrowed, borrowing, entry, inlined, inner, parallel
+from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
 
-from ._block import K_F, K_ITS, K_P6, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
+from ._block import K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
     block_newton, lane_frames, make_block
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
 from ._kin import forward
 from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
-from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_P6S, W_S, W_XB, W_XN, home_vector,
+from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
 from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
@@ -71,7 +71,8 @@ def start(Z, I, O, p, W):
     else:
         Xh = W[W_XB]                  # (scratch: the home vector, read only here)
         home_vector(unk, xs, p6home, Xh)
-        predict(Z[7], fix, Z[8], Z[9], Z[10][0], P6[p], Xh, X, W[W_P6S][3])
+        predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(P6[p]), Xh, one_lane(X), W[W_PZ],
+                1, 1)
 
 
 @inlined
@@ -276,15 +277,24 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
     order = M[ORDER]
     P6 = I[0]
     Xb, P6b, TOL, ST = K[K_X], K[K_P6], K[K_TOL], K[K_STATE]
+    X0 = I[1]
+    for l in range(nb):
+        for k in range(6):
+            P6b[k, l] = P6[p0 + l, k]
+    if X0.shape[0]:                   # the warm starts
+        for l in range(nb):
+            for k in range(Xb.shape[0]):
+                Xb[k, l] = X0[p0 + l, k]
+    else:                             # the home predictor's, the lanes at once
+        Xh = W[W_XB]
+        home_vector(unk, xs, Z[6], Xh)
+        predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, Xb, K[K_PZ], nb, BLOCK)
     for l in range(nb):
         p = p0 + l
-        start(Z, I, O, p, W)
         X = O[OUT_X][p]
-        p6fix = P6[p]
-        for k in range(6):
-            P6b[k, l] = p6fix[k]
         for k in range(X.shape[0]):
-            Xb[k, l] = X[k]
+            X[k] = Xb[k, l]
+        p6fix = P6[p]
         TOL[l] = tolerance(order, unk, xs, p6fix, X)
         ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
     block_newton(M, unk, xs, K, nb, 30, W)

@@ -32,7 +32,7 @@ HALVINGS = 6
 
 # the workspace tuple
 (W_FA, W_FL, W_FE, W_FP, W_S, W_P6, W_T, W_PT, W_G, W_B, W_XS, W_AR, W_STEP, W_XN, W_FROZ,
- W_XC, W_XB, W_P6S, W_XR, W_IDX, W_RHS, W_LS) = range(22)
+ W_XC, W_XB, W_P6S, W_XR, W_IDX, W_RHS, W_LS, W_PZ) = range(23)
 
 
 @inner
@@ -43,7 +43,7 @@ def make_work(n, m, nx):
             np.zeros((6, 6)), np.zeros((m, m)), np.zeros((n, m, 7)), np.zeros((n, m, 7)),
             np.zeros((6, 7)), np.zeros(nx), np.zeros(nx), np.zeros((n, m), np.int64),
             np.zeros(nx), np.zeros(nx), np.zeros((4, 6)), np.zeros((6, nx)),
-            np.zeros(m, np.int64), np.zeros((6, 1)), np.zeros((4, 1)))
+            np.zeros(m, np.int64), np.zeros((6, 1)), np.zeros((4, 1)), np.zeros((8, 1)))
 
 
 @inlined
