@@ -1,0 +1,163 @@
+"""Kernels that run on a block's lanes at once, against independent references, and a block
+against its lanes one at a time (the engine's promise: a batch equals a loop of one-pose
+calls bit for bit):
+
+* the eigenvalues of small symmetric matrices (``_eigen.symmetric_eigenvalues_lanes``: the
+  QL iteration in rounds, each lane doing its own deflations and steps) against LAPACK's
+  (``numpy.linalg.eigvalsh``), on well-conditioned, graded and rank-deficient Gram matrices,
+  with a non-finite lane among finite ones (``singular_values_lanes``);
+* the home predictor's polynomial (``_closures.predict``) against the same polynomial
+  evaluated here with numpy from its monomials, and a lane far outside the fit starting at
+  home.
+"""
+
+import itertools
+
+import numpy as np
+import pytest
+
+B = 32
+
+
+@pytest.fixture(scope="module")
+def eig():
+    from numba import njit
+
+    from screwkit.engine._kernels._eigen import symmetric_eigenvalues_lanes
+
+    @njit(cache=False)
+    def run(G, n, nb):
+        """The eigenvalues of ``G (N, n, n)``, ``nb`` matrices a block (lanes ``ls = B``)."""
+        N = G.shape[0]
+        A = np.zeros((6, 6, B))
+        d, e, S = np.zeros((6, B)), np.zeros((6, B)), np.zeros((6, B))
+        Ii = np.zeros((5, B), np.int64)
+        out = np.zeros((N, n))
+        for p0 in range(0, N, nb):
+            m = min(nb, N - p0)
+            for a in range(n):
+                for b in range(a + 1):
+                    for k in range(m):
+                        A[a, b, k] = G[p0 + k, a, b]
+            symmetric_eigenvalues_lanes(A, n, d, e, S, Ii, m, B)
+            for k in range(m):
+                for a in range(n):
+                    out[p0 + k, a] = d[a, k]
+        return out
+
+    return run
+
+
+@pytest.fixture(scope="module")
+def svd():
+    from numba import njit
+
+    from screwkit.engine._kernels._eigen import singular_values_lanes
+
+    @njit(cache=False)
+    def run(J):
+        """The singular values of the rows ``J (nb, m, 6)`` as one block (``nb <= B``)."""
+        nb, m = J.shape[0], J.shape[1]
+        JL = np.zeros((m, 6, B))
+        for k in range(nb):
+            for r in range(m):
+                for c in range(6):
+                    JL[r, c, k] = J[k, r, c]
+        s = np.zeros((6, B))
+        singular_values_lanes(JL, 0, m, np.zeros((6, 6, B)), s, min(m, 6), np.zeros((6, B)),
+                              np.zeros((6, B)), np.zeros((5, B), np.int64),
+                              np.zeros((max(m, 6), 6)), nb, B)
+        return s[:, :nb].T.copy()
+
+    return run
+
+
+def _grams(rng, N, n, kind):
+    """Gram matrices ``J J^T`` of unit rows (as the conditioning forms them)."""
+    J = rng.normal(size=(N, n, 6))
+    if kind == "graded":
+        J *= np.logspace(0, -3, 6)
+    if kind == "deficient":
+        J[:, -1] = J[:, 0] * (1 + 1e-13 * rng.normal(size=(N, 1)))
+        J[::3, min(2, n - 1)] = 0.0
+    J /= np.maximum(np.linalg.norm(J, axis=2, keepdims=True), 1e-300)
+    return np.einsum("pik,pjk->pij", J, J)
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6])
+@pytest.mark.parametrize("kind", ["random", "graded", "deficient"])
+def test_eigenvalues_on_lanes_match_lapack_and_the_lanes_alone(eig, n, kind):
+    G = _grams(np.random.default_rng(10 * n + len(kind)), 3000, n, kind)
+    block = eig(G, n, B)
+    alone = eig(G, n, 1)
+    assert np.array_equal(block, alone)           # every lane as the matrix alone, bit for bit
+    ref = np.linalg.eigvalsh(G)
+    got = np.sort(block, axis=1)
+    scale = np.abs(ref).max(axis=1, keepdims=True)
+    assert np.max(np.abs(got - ref) / scale) < 20 * np.finfo(float).eps * n
+
+
+def test_singular_values_on_lanes_with_a_non_finite_lane(svd):
+    rng = np.random.default_rng(7)
+    J = rng.normal(size=(B, 6, 6))
+    J /= np.linalg.norm(J, axis=2, keepdims=True)
+    J = 0.7 * np.eye(6) + 0.3 * J                  # moderate condition: the Gram matrices' route
+    J /= np.linalg.norm(J, axis=2, keepdims=True)
+    bad = J.copy()
+    bad[5, 2, 3] = np.nan
+    s_good, s_bad = svd(J), svd(bad)
+    assert np.all(np.isnan(s_bad[5]))
+    keep = np.arange(B) != 5
+    assert np.array_equal(s_good[keep], s_bad[keep])   # the other lanes do not notice it
+    ref = np.linalg.svd(J, compute_uv=False)
+    assert np.max(np.abs(s_good - ref) / ref[:, :1]) < 1e-13
+
+
+@pytest.fixture(scope="module")
+def predictor():
+    from numba import njit
+
+    from screwkit.engine._kernels._closures import predict
+
+    @njit(cache=False)
+    def run(C, fix, home, span, degree, P6, Xhome, nb):
+        """The starts of the poses ``P6 (N, 6)``, ``nb`` a block."""
+        N, nx = P6.shape[0], C.shape[1]
+        P, X, z = np.zeros((6, B)), np.zeros((nx, B)), np.zeros((8, B))
+        out = np.zeros((N, nx))
+        for p0 in range(0, N, nb):
+            m = min(nb, N - p0)
+            for k in range(m):
+                for q in range(6):
+                    P[q, k] = P6[p0 + k, q]
+            predict(C, fix, home, span, degree, P, Xhome, X, z, m, B)
+            for k in range(m):
+                for x in range(nx):
+                    out[p0 + k, x] = X[x, k]
+        return out
+
+    return run
+
+
+@pytest.mark.parametrize("nf,degree", [(3, 3), (3, 4), (5, 4), (6, 3)])
+def test_predictor_on_lanes_is_its_polynomial(predictor, nf, degree):
+    rng = np.random.default_rng(nf * 10 + degree)
+    mono = [c for d in range(degree + 1)
+            for c in itertools.combinations_with_replacement(range(nf), d)]
+    nx = 7
+    C = rng.normal(size=(len(mono), nx))
+    fix = np.sort(rng.choice(6, nf, replace=False)).astype(np.int64)
+    home, span = rng.normal(size=nf), rng.uniform(0.5, 2.0, nf)
+    Xhome = rng.normal(size=nx)
+    N = 200
+    P6 = rng.normal(size=(N, 6))
+    P6[:, fix] = home + span * rng.uniform(-1.5, 1.5, (N, nf))
+    P6[17, fix[0]] = home[0] + 5.0 * span[0]       # more than four half-widths out: home
+    got = predictor(C, fix, home, span, degree, P6, Xhome, B)
+    assert np.array_equal(got, predictor(C, fix, home, span, degree, P6, Xhome, 1))
+    z = (P6[:, fix] - home) / span
+    feats = np.stack([np.prod(z[:, list(c)], axis=1) if c else np.ones(N) for c in mono], 1)
+    ref = feats @ C
+    ref[17] = Xhome
+    assert np.array_equal(got[17], Xhome)
+    assert np.max(np.abs(got - ref)) < 1e-12 * np.max(np.abs(ref))
