@@ -23,8 +23,8 @@ from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
 from ._eigen import jacobi_rows, singular_values_lanes
 from ._small import lu_factor, lu_apply
 
-(SW_JN, SW_D, SW_U, SW_V, SW_SV, SW_SC, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN,
- SW_AP, SW_Z, SW_W, SW_COMP, SW_E) = range(17)
+(SW_JN, SW_D, SW_U, SW_V, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN, SW_AP, SW_Z, SW_W,
+ SW_COMP) = range(14)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
 (CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R) = range(12)
@@ -34,10 +34,9 @@ MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
 def make_statics_work(mr):
     """A thread's statics workspace for ``mr`` rows."""
     r = max(mr, 6)
-    return (np.zeros((r, 6)), np.zeros(r), np.zeros((r, 6)), np.zeros((r, r)), np.zeros(6),
-            np.zeros(6), np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(r),
-            np.zeros((r, 6)), np.zeros(r), np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6),
-            np.zeros(r), np.zeros(6))
+    return (np.zeros((r, 6)), np.zeros(r), np.zeros((r, 6)), np.zeros((r, r)),
+            np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(r), np.zeros((r, 6)), np.zeros(r),
+            np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6), np.zeros(r))
 
 
 @borrowing_inlined
