@@ -24,7 +24,7 @@ not typed again in every kernel the pass is inlined into (the first run's compil
 
 import math
 
-from ._jit import borrowing, flat, inlined, lanes, one_lane
+from ._jit import borrowing, borrowing_inlined, flat, inlined, lanes, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
@@ -150,7 +150,7 @@ def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
                 rs[k] = rt[k]
 
 
-@inlined
+@borrowing_inlined
 def relative_rotation(plat, fp, rt, k, ls):
     """Lane ``k``'s ``Rd = (Rp Rh^T) R^T`` (row-major): the rotation carrying a leg's end
     (``rt``, :func:`chain`'s ``RT`` flat) onto the platform (``fp``, ``FPb`` flat)."""

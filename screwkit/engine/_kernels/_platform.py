@@ -11,11 +11,11 @@ stride is a constant, so that LLVM folds the one-pose loops and vectorises the b
 
 import math
 
-from ._jit import borrowing, inlined, lanes
+from ._jit import borrowing, borrowing_inlined, inlined, lanes
 from ._layout import BLOCK, P_P0, P_R0
 
 
-@inlined
+@borrowing_inlined
 def axis_entries(ax, c, s):
     """The rotation by the angle of cosine ``c`` and sine ``s`` about the base axis ``ax``
     (0, 1, 2), row-major (a select per entry in a lane loop: ``ax`` is the model's)."""
@@ -26,7 +26,7 @@ def axis_entries(ax, c, s):
     return c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0
 
 
-@inlined
+@borrowing_inlined
 def mul3(A, B):
     """``A @ B`` of two row-major 3x3 tuples (each entry's three products summed in order)."""
     return (A[0] * B[0] + A[1] * B[3] + A[2] * B[6], A[0] * B[1] + A[1] * B[4] + A[2] * B[7],
@@ -36,7 +36,7 @@ def mul3(A, B):
             A[6] * B[2] + A[7] * B[5] + A[8] * B[8])
 
 
-@inlined
+@borrowing_inlined
 def column(A, a):
     """Column ``a`` of the row-major 3x3 tuple ``A``."""
     if a == 0:
@@ -46,13 +46,13 @@ def column(A, a):
     return A[2], A[5], A[8]
 
 
-@inlined
+@borrowing_inlined
 def unit(a):
     """The base vector ``e_a``."""
     return 1.0 if a == 0 else 0.0, 1.0 if a == 1 else 0.0, 1.0 if a == 2 else 0.0
 
 
-@inlined
+@borrowing_inlined
 def platform_row(plat, fp, k, ls, r, Rb, E0, E1, E2):
     """Row ``r`` of lane ``k``'s ``Rp = R0 Rb``, ``o`` and ``E = R0 [E0 E1 E2]`` into ``fp``
     (:func:`platform_lanes`'s flat ``FPb``)."""
