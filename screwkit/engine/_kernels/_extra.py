@@ -16,11 +16,10 @@ from numba import prange
 
 from ._closures import predict
 from ._jit import entry, one_lane, parallel
-from ._kin import chain, closure_one, joint_twist
+from ._kin import chain, closure_one, joint_twist, platform
 from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, D, DIRS, HINGE, LEG, L_SIZE, ORDER, PLAT, PTS, ROWS
 from ._newton import home_vector
-from ._platform import platform_one
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
 from ._small import lu_factor
 
@@ -132,7 +131,7 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
         for k in range(6):
             FPo[p, k] = p6[k]
         fpl = one_lane(FPo[p])          # blocks of one lane
-        platform_one(M[ORDER], M[PLAT], fpl)
+        platform(M[ORDER], M[PLAT], fpl)
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
@@ -216,7 +215,7 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
             p6[unk[k]] = X[p, k] * xs[k]
         for k in range(6):
             fp[k] = p6[k]
-        platform_one(M[ORDER], M[PLAT], one_lane(fp))
+        platform(M[ORDER], M[PLAT], one_lane(fp))
         for r in range(rows.shape[0]):
             i, code = rows[r, 0], rows[r, 2]
             if code == -2:

@@ -17,9 +17,10 @@ through :func:`~._jit.one_lane` (the same memory with a trailing axis of length 
 caller's block of one reaches :func:`chain` as the constant 1 (LLVM then folds its lane
 loops: with a lane count known only at run time, a block of one cost twice the pass).
 The platform (:mod:`._platform`) and the closure errors (:func:`closure_lanes`) are lane
-loops too, each compiled once per lane stride (``_one``: one pose; ``_block``: a block) as
-a function of its own, which the inlined pass calls: the stride a constant in each, and
-not typed again in every kernel the pass is inlined into (the first run's compile time).
+loops too, each compiled once per lane stride as a function of its own (:func:`platform`
+and :func:`closure_one`: one pose; ``_platform.platform_block`` and :func:`closure_block`: a
+block), which the inlined pass calls: the stride a constant in each, and not typed again
+in every kernel the pass is inlined into (the first run's compile time).
 """
 
 import math
@@ -28,9 +29,18 @@ from ._jit import borrowing, borrowing_inlined, flat, inlined, lanes, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
-from ._platform import platform_block, platform_one
+from ._platform import platform_block, platform_lanes
 from ._small import rodrigues, rotation_vector
 from ._trig import sin_cos, sin_cos_fix
+
+
+@borrowing
+def platform(order, plat, FPb):
+    """One pose's platform into ``FPb (27, 1)`` (its ``fp (27,)`` through
+    :func:`~._jit.one_lane`), its pose parameters already in rows 0-5
+    (:func:`~._platform.platform_lanes` on a block of one lane; ``order``, ``plat``: the
+    model's ``ORDER`` and ``PLAT``).  A block's: :func:`~._platform.platform_block`."""
+    platform_lanes(order, plat, FPb, 1, 1)
 
 
 @inlined
@@ -253,7 +263,7 @@ def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, nb, ls, res, CS):
         for k in range(nb):
             fp[row + k] = x[u * ls + k] * s
     if ls == 1:                    # (ls is a constant here: LLVM keeps one of the calls)
-        platform_one(M[ORDER], M[PLAT], FP[b])
+        platform(M[ORDER], M[PLAT], FP[b])
     else:
         platform_block(M[ORDER], M[PLAT], FP[b], nb)
     legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, ls, res, CS)

@@ -1,7 +1,7 @@
 """The platform of a block of lanes (poses), compiled (private): the pose parameters' rotation
 (Euler angles), the platform's frame and the angular Jacobian of the angles, into a lane of
 ``FP`` (``_kin``'s module docstring), written once as lane loops (:func:`platform_lanes`,
-the lane axis last) and compiled twice, once per lane stride: :func:`platform_one` (one
+the lane axis last) and compiled twice, once per lane stride: :func:`._kin.platform` (one
 pose, a block of one lane, :func:`~._jit.one_lane`) and :func:`platform_block` (a block of
 :data:`._layout.BLOCK`).  Each is a function of its own, compiled once and called by every
 forward pass (not typed again inside each caller: numba's IR inlining of the lane loops
@@ -68,14 +68,6 @@ def platform_row(plat, fp, k, ls, r, Rb, E0, E1, E2):
 
 
 @borrowing
-def platform_one(order, plat, FPb):
-    """One pose's platform into ``FPb (27, 1)`` (its ``fp (27,)`` through
-    :func:`~._jit.one_lane`), its pose parameters already in rows 0-5 (:func:`platform_lanes`
-    on a block of one lane; ``order``, ``plat``: the model's ``ORDER`` and ``PLAT``)."""
-    platform_lanes(order, plat, FPb, 1, 1)
-
-
-@borrowing
 def platform_block(order, plat, FPb, nb):
     """The platforms of the ``nb`` lanes of a block ``FPb (27, BLOCK)`` (:func:`platform_lanes`)."""
     platform_lanes(order, plat, FPb, nb, BLOCK)
@@ -88,8 +80,8 @@ def platform_lanes(order, plat, FPb, nb, ls):
     angles as scipy's ``Rotation.from_euler`` defines them.  The sines and cosines are
     libm's, one lane at a time, parked in rows 18-23 (``E``'s, written last); the rest
     runs across the lanes (vectorised: the Euler order is the model's, a select per entry
-    of :func:`axis_entries`).  Inlined into :func:`platform_one` and :func:`platform_block`
-    only, where ``ls`` is a constant."""
+    of :func:`axis_entries`).  Inlined into :func:`._kin.platform` and
+    :func:`platform_block` only, where ``ls`` is a constant."""
     a0, a1, a2 = order[0], order[1], order[2]
     fp = lanes(FPb)
     for k in range(nb):
