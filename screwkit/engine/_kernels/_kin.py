@@ -161,9 +161,11 @@ def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
 
 
 @borrowing_inlined
-def relative_rotation(plat, fp, rt, k, ls):
+def relative_rotation(plat, FPb, RT, k, ls):
     """Lane ``k``'s ``Rd = (Rp Rh^T) R^T`` (row-major): the rotation carrying a leg's end
-    (``rt``, :func:`chain`'s ``RT`` flat) onto the platform (``fp``, ``FPb`` flat)."""
+    (``RT``, as :func:`chain` leaves it) onto the platform (``FPb``).  (The arrays, not their
+    pointers: argument types with a text ``first_compile.txt`` can hold.)"""
+    fp, rt = lanes(FPb), lanes(RT)
     h = (fp[6 * ls + k], fp[7 * ls + k], fp[8 * ls + k], fp[9 * ls + k], fp[10 * ls + k],
          fp[11 * ls + k], fp[12 * ls + k], fp[13 * ls + k], fp[14 * ls + k])
     H = (h[0] * plat[P_RH] + h[1] * plat[P_RH + 1] + h[2] * plat[P_RH + 2],
@@ -212,7 +214,7 @@ def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
     ph0, ph1, ph2 = plat[P_PH], plat[P_PH + 1], plat[P_PH + 2]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
     for k in range(nb):
-        d = relative_rotation(plat, fp, rt, k, ls)
+        d = relative_rotation(plat, FPb, RT, k, ls)
         u0 = c0 - (rt[k] * ph0 + rt[ls + k] * ph1 + rt[2 * ls + k] * ph2 + rt[9 * ls + k])
         u1 = c1 - (rt[3 * ls + k] * ph0 + rt[4 * ls + k] * ph1 + rt[5 * ls + k] * ph2
                    + rt[10 * ls + k])
@@ -228,7 +230,7 @@ def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
     for k in range(nb):
         c = cs[k]
         if c < -0.9:               # (rare) the lane's Rd again, for the near-pi branch
-            d = relative_rotation(plat, fp, rt, k, ls)
+            d = relative_rotation(plat, FPb, RT, k, ls)
             for r in range(3):
                 Rd[r, 0], Rd[r, 1], Rd[r, 2] = d[3 * r], d[3 * r + 1], d[3 * r + 2]
         e[3 * ls + k], e[4 * ls + k], e[5 * ls + k] = rotation_vector(

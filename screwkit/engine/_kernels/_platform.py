@@ -53,9 +53,11 @@ def unit(a):
 
 
 @borrowing_inlined
-def platform_row(plat, fp, k, ls, r, Rb, E0, E1, E2):
-    """Row ``r`` of lane ``k``'s ``Rp = R0 Rb``, ``o`` and ``E = R0 [E0 E1 E2]`` into ``fp``
-    (:func:`platform_lanes`'s flat ``FPb``)."""
+def platform_row(plat, FPb, k, ls, r, Rb, E0, E1, E2):
+    """Row ``r`` of lane ``k``'s ``Rp = R0 Rb``, ``o`` and ``E = R0 [E0 E1 E2]`` into ``FPb``
+    (:func:`platform_lanes`'s; the array, not its pointer, so that the argument types have
+    a text ``first_compile.txt`` can hold)."""
+    fp = lanes(FPb)
     x0, x1, x2 = plat[P_R0 + 3 * r], plat[P_R0 + 3 * r + 1], plat[P_R0 + 3 * r + 2]
     fp[(6 + 3 * r) * ls + k] = x0 * Rb[0] + x1 * Rb[3] + x2 * Rb[6]
     fp[(7 + 3 * r) * ls + k] = x0 * Rb[1] + x1 * Rb[4] + x2 * Rb[7]
@@ -95,15 +97,15 @@ def platform_lanes(order, plat, FPb, nb, ls):
             R12 = mul3(R1, axis_entries(a1, fp[20 * ls + k], fp[21 * ls + k]))
             Rb = mul3(R12, axis_entries(a2, fp[22 * ls + k], fp[23 * ls + k]))
             E0, E1, E2 = unit(a0), column(R1, a1), column(R12, a2)
-            platform_row(plat, fp, k, ls, 0, Rb, E0, E1, E2)
-            platform_row(plat, fp, k, ls, 1, Rb, E0, E1, E2)
-            platform_row(plat, fp, k, ls, 2, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 0, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 1, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 2, Rb, E0, E1, E2)
     else:                          # extrinsic: R = R3(gamma) R2(beta) R1(alpha)
         for k in range(nb):
             R1 = axis_entries(a2, fp[22 * ls + k], fp[23 * ls + k])
             R12 = mul3(R1, axis_entries(a1, fp[20 * ls + k], fp[21 * ls + k]))
             Rb = mul3(R12, axis_entries(a0, fp[18 * ls + k], fp[19 * ls + k]))
             E0, E1, E2 = column(R12, a0), column(R1, a1), unit(a2)
-            platform_row(plat, fp, k, ls, 0, Rb, E0, E1, E2)
-            platform_row(plat, fp, k, ls, 1, Rb, E0, E1, E2)
-            platform_row(plat, fp, k, ls, 2, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 0, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 1, Rb, E0, E1, E2)
+            platform_row(plat, FPb, k, ls, 2, Rb, E0, E1, E2)
