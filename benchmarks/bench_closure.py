@@ -82,7 +82,7 @@ def _bench_kernel():
         FA, FL = np.zeros((2, n, m, 6, B)), np.zeros((2, n, 12, B))
         FE, FP = np.zeros((2, n, 6, B)), np.zeros((2, 27, B))
         Xb, P6b, res, CS = np.zeros((nx, B)), np.zeros((6, B)), np.zeros(B), np.zeros((2, B))
-        S, p6 = np.zeros((6, 3, 3)), np.zeros(6)
+        S = np.zeros((6, 3, 3))
         worst = 0.0
         for p0 in range(0, N, B):
             nb = min(B, N - p0)
@@ -92,7 +92,7 @@ def _bench_kernel():
             for k in range(6):
                 for l in range(nb):
                     P6b[k, l] = P6[p0 + l, k]
-            forward_block(M, unk, xs, P6b, Xb, FA, FL, FE, FP, 0, S, p6, nb, BLOCK, res, CS)
+            forward_block(M, unk, xs, P6b, Xb, FA, FL, FE, FP, 0, S, nb, BLOCK, res, CS)
             for l in range(nb):
                 worst = max(worst, res[l])
         return worst

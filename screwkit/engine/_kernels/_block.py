@@ -109,8 +109,8 @@ def _accept(K, nb):
 def forward_lanes(M, unk, xs, K, X, b, res, nb):
     """The block's forward pass (:func:`._kin.forward_block`, inlined here once) of the
     unknowns ``X`` into buffer ``b``, each lane's residual into ``res``."""
-    forward_block(M, unk, xs, K[K_P6], X, K[K_FA], K[K_FL], K[K_FE], K[K_FP], b, K[K_S],
-                  K[K_P6S], nb, BLOCK, res, K[K_CS])
+    forward_block(M, unk, xs, K[K_P6], X, K[K_FA], K[K_FL], K[K_FE], K[K_FP], b, K[K_S], nb,
+                  BLOCK, res, K[K_CS])
 
 
 @borrowing

@@ -16,9 +16,9 @@ from numba import prange
 
 from ._closures import predict
 from ._jit import entry, one_lane, parallel
-from ._kin import chain, closure_error, joint_twist, platform, platform_home_rotation
+from ._kin import chain, closure_one, joint_twist, platform
 from ._geometry import eval_points, leg_setup
-from ._layout import BLEN, BLOCK, D, DIRS, HINGE, LEG, L_SIZE, PTS, ROWS
+from ._layout import BLEN, BLOCK, D, DIRS, HINGE, LEG, L_SIZE, ORDER, PLAT, PTS, ROWS
 from ._newton import home_vector
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
 from ._small import lu_factor
@@ -128,9 +128,10 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
             p6[k] = P6[p, k]
         for k in range(nu):
             p6[unk[k]] = X[p, k] * xs[k]
+        for k in range(6):
+            FPo[p, k] = p6[k]
         fpl = one_lane(FPo[p])          # blocks of one lane
-        platform(M, p6, fpl, 0, S)
-        platform_home_rotation(M, fpl, 0, S)
+        platform(M[ORDER], M[PLAT], fpl)
         r = 0.0
         for i in range(n):
             size = leg[i, L_SIZE]
@@ -140,7 +141,7 @@ def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, st
                 for b in range(3):
                     R[a, b] = RT[3 * a + b, 0]
                 t[a] = RT[9 + a, 0]
-            closure_error(M, fpl, RT, one_lane(e), 0, S)
+            closure_one(M[PLAT], fpl, RT, one_lane(e), CS, S[0])
             for q in range(6):
                 if not abs(e[q]) <= r:
                     r = abs(e[q])
@@ -212,7 +213,9 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
             p6[k] = P6[p, k]
         for k in range(nu):
             p6[unk[k]] = X[p, k] * xs[k]
-        platform(M, p6, one_lane(fp), 0, S)
+        for k in range(6):
+            fp[k] = p6[k]
+        platform(M[ORDER], M[PLAT], one_lane(fp))
         for r in range(rows.shape[0]):
             i, code = rows[r, 0], rows[r, 2]
             if code == -2:

@@ -16,71 +16,31 @@ through :func:`~._jit.one_lane` (the same memory with a trailing axis of length 
 :func:`forward_block` and :func:`legs_block` are inlined into their callers, so that a
 caller's block of one reaches :func:`chain` as the constant 1 (LLVM then folds its lane
 loops: with a lane count known only at run time, a block of one cost twice the pass).
+The platform (:mod:`._platform`) and the closure errors (:func:`closure_lanes`) are lane
+loops too, each compiled once per lane stride as a function of its own (:func:`platform`
+and :func:`closure_one`: one pose; ``_platform.platform_block`` and :func:`closure_block`: a
+block), which the inlined pass calls: the stride a constant in each, and not typed again
+in every kernel the pass is inlined into (the first run's compile time).
 """
 
 import math
 
-from ._jit import borrowing, flat, inlined, one_lane
+from ._jit import borrowing, borrowing_inlined, flat, inlined, lanes, one_lane
 
-from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L, P_P0,
+from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L,
                       P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
-from ._small import matmul3, rodrigues, rotation_vector
+from ._platform import platform_block, platform_lanes
+from ._small import rodrigues, rotation_vector
 from ._trig import sin_cos, sin_cos_fix
 
 
 @borrowing
-def axis_rotation(ax, angle, R):
-    """``R``: the rotation by ``angle`` about the base axis ``ax`` (0, 1, 2)."""
-    c, s = math.cos(angle), math.sin(angle)
-    j, k = (ax + 1) % 3, (ax + 2) % 3
-    for r in range(3):
-        for q in range(3):
-            R[r, q] = 0.0
-    R[ax, ax] = 1.0
-    R[j, j] = c
-    R[k, k] = c
-    R[k, j] = s
-    R[j, k] = -s
-
-
-@borrowing
-def platform(M, p6, FPb, l, S):
-    """The platform at the pose parameters ``p6`` (Xo Yo Zo alpha beta gamma) into lane
-    ``l`` of ``FPb (27, B)`` (module docstring); Euler angles as scipy's
-    ``Rotation.from_euler`` defines them.  ``S (6, 3, 3)`` scratch."""
-    order, plat = M[ORDER], M[PLAT]
-    a0, a1, a2 = order[0], order[1], order[2]
-    R1, R2, R12, Rb = S[0], S[1], S[2], S[3]
-    for k in range(6):
-        FPb[k, l] = p6[k]
-    if order[3] == 1:              # intrinsic: R = R1(alpha) R2(beta) R3(gamma)
-        axis_rotation(a0, p6[3], R1)
-        axis_rotation(a1, p6[4], R2)
-        matmul3(R1, R2, R12)
-        axis_rotation(a2, p6[5], R2)
-        matmul3(R12, R2, Rb)
-        Eb = S[4]
-        for r in range(3):
-            Eb[r, 0] = 1.0 if r == a0 else 0.0
-            Eb[r, 1] = R1[r, a1]
-            Eb[r, 2] = R12[r, a2]
-    else:                          # extrinsic: R = R3(gamma) R2(beta) R1(alpha)
-        axis_rotation(a2, p6[5], R1)
-        axis_rotation(a1, p6[4], R2)
-        matmul3(R1, R2, R12)
-        axis_rotation(a0, p6[3], R2)
-        matmul3(R12, R2, Rb)
-        Eb = S[4]
-        for r in range(3):
-            Eb[r, 0] = R12[r, a0]
-            Eb[r, 1] = R1[r, a1]
-            Eb[r, 2] = 1.0 if r == a2 else 0.0
-    for r in range(3):
-        x0, x1, x2 = plat[P_R0 + 3 * r], plat[P_R0 + 3 * r + 1], plat[P_R0 + 3 * r + 2]
-        for q in range(3):
-            FPb[6 + 3 * r + q, l] = x0 * Rb[0, q] + x1 * Rb[1, q] + x2 * Rb[2, q]
-            FPb[18 + 3 * r + q, l] = x0 * Eb[0, q] + x1 * Eb[1, q] + x2 * Eb[2, q]
-        FPb[15 + r, l] = x0 * p6[0] + x1 * p6[1] + x2 * p6[2] + plat[P_P0 + r]
+def platform(order, plat, FPb):
+    """One pose's platform into ``FPb (27, 1)`` (its ``fp (27,)`` through
+    :func:`~._jit.one_lane`), its pose parameters already in rows 0-5
+    (:func:`~._platform.platform_lanes` on a block of one lane; ``order``, ``plat``: the
+    model's ``ORDER`` and ``PLAT``).  A block's: :func:`~._platform.platform_block`."""
+    platform_lanes(order, plat, FPb, 1, 1)
 
 
 @inlined
@@ -200,41 +160,81 @@ def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
                 rs[k] = rt[k]
 
 
+@borrowing_inlined
+def relative_rotation(plat, FPb, RT, k, ls):
+    """Lane ``k``'s ``Rd = (Rp Rh^T) R^T`` (row-major): the rotation carrying a leg's end
+    (``RT``, as :func:`chain` leaves it) onto the platform (``FPb``).  (The arrays, not their
+    pointers: argument types with a text ``first_compile.txt`` can hold.)"""
+    fp, rt = lanes(FPb), lanes(RT)
+    h = (fp[6 * ls + k], fp[7 * ls + k], fp[8 * ls + k], fp[9 * ls + k], fp[10 * ls + k],
+         fp[11 * ls + k], fp[12 * ls + k], fp[13 * ls + k], fp[14 * ls + k])
+    H = (h[0] * plat[P_RH] + h[1] * plat[P_RH + 1] + h[2] * plat[P_RH + 2],
+         h[0] * plat[P_RH + 3] + h[1] * plat[P_RH + 4] + h[2] * plat[P_RH + 5],
+         h[0] * plat[P_RH + 6] + h[1] * plat[P_RH + 7] + h[2] * plat[P_RH + 8],
+         h[3] * plat[P_RH] + h[4] * plat[P_RH + 1] + h[5] * plat[P_RH + 2],
+         h[3] * plat[P_RH + 3] + h[4] * plat[P_RH + 4] + h[5] * plat[P_RH + 5],
+         h[3] * plat[P_RH + 6] + h[4] * plat[P_RH + 7] + h[5] * plat[P_RH + 8],
+         h[6] * plat[P_RH] + h[7] * plat[P_RH + 1] + h[8] * plat[P_RH + 2],
+         h[6] * plat[P_RH + 3] + h[7] * plat[P_RH + 4] + h[8] * plat[P_RH + 5],
+         h[6] * plat[P_RH + 6] + h[7] * plat[P_RH + 7] + h[8] * plat[P_RH + 8])
+    R = (rt[k], rt[ls + k], rt[2 * ls + k], rt[3 * ls + k], rt[4 * ls + k], rt[5 * ls + k],
+         rt[6 * ls + k], rt[7 * ls + k], rt[8 * ls + k])
+    return (H[0] * R[0] + H[1] * R[1] + H[2] * R[2], H[0] * R[3] + H[1] * R[4] + H[2] * R[5],
+            H[0] * R[6] + H[1] * R[7] + H[2] * R[8], H[3] * R[0] + H[4] * R[1] + H[5] * R[2],
+            H[3] * R[3] + H[4] * R[4] + H[5] * R[5], H[3] * R[6] + H[4] * R[7] + H[5] * R[8],
+            H[6] * R[0] + H[7] * R[1] + H[8] * R[2], H[6] * R[3] + H[7] * R[4] + H[8] * R[5],
+            H[6] * R[6] + H[7] * R[7] + H[8] * R[8])
+
+
 @borrowing
-def closure_error(M, FPb, RT, Eb, l, S):
-    """Lane ``l``'s length-normalised closure error ``[d / L; w]`` of a leg into ``Eb (6,
-    B)``: the twist carrying its end pose ``(R Rh, R ph + t)`` (``RT (12, B)``, as
-    :func:`chain` leaves it) onto the platform's (``FPb (27, B)``, whose ``Rp Rh^T`` the
-    caller put in ``S[1]``: :func:`platform_home_rotation`).  ``S[0]``, ``S[2, 0]`` scratch."""
-    plat = M[PLAT]
-    Rd, RpRh, w = S[0], S[1], S[2, 0]
-    for r in range(3):
-        a0, a1, a2 = RpRh[r, 0], RpRh[r, 1], RpRh[r, 2]
-        for c in range(3):
-            Rd[r, c] = a0 * RT[3 * c, l] + a1 * RT[3 * c + 1, l] + a2 * RT[3 * c + 2, l]
+def closure_one(plat, FPb, RT, Eb, CS, Rd):
+    """One pose's closure error of a leg (:func:`closure_lanes` on a block of one lane: the
+    arrays with a lane axis of length one, :func:`~._jit.one_lane`)."""
+    closure_lanes(plat, FPb, RT, Eb, 1, 1, CS, Rd)
+
+
+@borrowing
+def closure_block(plat, FPb, RT, Eb, nb, CS, Rd):
+    """The closure errors of a leg on the ``nb`` lanes of a block of :data:`._layout.BLOCK`
+    (:func:`closure_lanes`)."""
+    closure_lanes(plat, FPb, RT, Eb, nb, BLOCK, CS, Rd)
+
+
+@inlined
+def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
+    """The length-normalised closure errors ``[d / L; w]`` of a leg on ``nb`` lanes into
+    ``Eb (6, ls)``: the twist carrying its end pose ``(R Rh, R ph + t)`` (``RT (12, ls)``, as
+    :func:`chain` leaves it) onto the platform's (``FPb (27, ls)``).  ``d`` and ``w``'s
+    antisymmetric part across the lanes (vectorised), then the angle (atan2, a call; the
+    near-pi branch, :func:`~._small.rotation_vector`) one lane at a time.  ``plat`` the
+    model's ``PLAT``; ``CS`` (``2 ls`` elements or more), ``Rd (3, 3)`` scratch.  Inlined
+    into :func:`closure_one` and :func:`closure_block` only, where ``ls`` is a constant."""
+    fp, rt, e, cs = lanes(FPb), lanes(RT), lanes(Eb), lanes(CS)
     L = plat[P_L]
     ph0, ph1, ph2 = plat[P_PH], plat[P_PH + 1], plat[P_PH + 2]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
-    u0 = c0 - (RT[0, l] * ph0 + RT[1, l] * ph1 + RT[2, l] * ph2 + RT[9, l])
-    u1 = c1 - (RT[3, l] * ph0 + RT[4, l] * ph1 + RT[5, l] * ph2 + RT[10, l])
-    u2 = c2 - (RT[6, l] * ph0 + RT[7, l] * ph1 + RT[8, l] * ph2 + RT[11, l])
-    Eb[0, l] = (Rd[0, 0] * u0 + Rd[0, 1] * u1 + Rd[0, 2] * u2 + FPb[15, l] - c0) / L
-    Eb[1, l] = (Rd[1, 0] * u0 + Rd[1, 1] * u1 + Rd[1, 2] * u2 + FPb[16, l] - c1) / L
-    Eb[2, l] = (Rd[2, 0] * u0 + Rd[2, 1] * u1 + Rd[2, 2] * u2 + FPb[17, l] - c2) / L
-    rotation_vector(Rd, w, 0)
-    Eb[3, l], Eb[4, l], Eb[5, l] = w[0], w[1], w[2]
-
-
-@borrowing
-def platform_home_rotation(M, FPb, l, S):
-    """``S[1] = Rp Rh^T`` of lane ``l`` of the platforms ``FPb (27, B)`` (once per pose, for
-    :func:`closure_error`)."""
-    plat = M[PLAT]
-    RpRh = S[1]
-    for r in range(3):
-        for c in range(3):
-            RpRh[r, c] = (FPb[6 + 3 * r, l] * plat[P_RH + 3 * c] + FPb[6 + 3 * r + 1, l] *
-                          plat[P_RH + 3 * c + 1] + FPb[6 + 3 * r + 2, l] * plat[P_RH + 3 * c + 2])
+    for k in range(nb):
+        d = relative_rotation(plat, FPb, RT, k, ls)
+        u0 = c0 - (rt[k] * ph0 + rt[ls + k] * ph1 + rt[2 * ls + k] * ph2 + rt[9 * ls + k])
+        u1 = c1 - (rt[3 * ls + k] * ph0 + rt[4 * ls + k] * ph1 + rt[5 * ls + k] * ph2
+                   + rt[10 * ls + k])
+        u2 = c2 - (rt[6 * ls + k] * ph0 + rt[7 * ls + k] * ph1 + rt[8 * ls + k] * ph2
+                   + rt[11 * ls + k])
+        e[k] = (d[0] * u0 + d[1] * u1 + d[2] * u2 + fp[15 * ls + k] - c0) / L
+        e[ls + k] = (d[3] * u0 + d[4] * u1 + d[5] * u2 + fp[16 * ls + k] - c1) / L
+        e[2 * ls + k] = (d[6] * u0 + d[7] * u1 + d[8] * u2 + fp[17 * ls + k] - c2) / L
+        w0, w1, w2 = 0.5 * (d[7] - d[5]), 0.5 * (d[2] - d[6]), 0.5 * (d[3] - d[1])
+        e[3 * ls + k], e[4 * ls + k], e[5 * ls + k] = w0, w1, w2
+        cs[k] = 0.5 * (d[0] + d[4] + d[8] - 1.0)
+        cs[ls + k] = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    for k in range(nb):
+        c = cs[k]
+        if c < -0.9:               # (rare) the lane's Rd again, for the near-pi branch
+            d = relative_rotation(plat, FPb, RT, k, ls)
+            for r in range(3):
+                Rd[r, 0], Rd[r, 1], Rd[r, 2] = d[3 * r], d[3 * r + 1], d[3 * r + 2]
+        e[3 * ls + k], e[4 * ls + k], e[5 * ls + k] = rotation_vector(
+            Rd, e[3 * ls + k], e[4 * ls + k], e[5 * ls + k], c, cs[ls + k])
 
 
 @borrowing
@@ -250,18 +250,24 @@ def closure_sq(FE, b, l):
 
 
 @inlined
-def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, p6, nb, ls, res, CS):
+def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, nb, ls, res, CS):
     """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of
     the unknowns ``X (nx, B)`` (given parameters ``P6 (6, B)``) into buffer ``b`` of ``FA (2,
     n, m, 6, B)``, ``FL (2, n, 12, B)``, ``FE (2, n, 6, B)``, ``FP (2, 27, B)``; each lane's
     residual (largest closure error component, NaN-propagating) into ``res (B,)``.  ``S (6,
-    3, 3)``, ``p6 (6,)``, ``CS (2, B)`` scratch."""
-    for l in range(nb):
-        for k in range(6):
-            p6[k] = P6[k, l]
-        for k in range(unk.shape[0]):
-            p6[unk[k]] = X[k, l] * xs[k]
-        platform(M, p6, FP[b], l, S)
+    3, 3)``, ``CS (2, B)`` scratch."""
+    fp, p6, x = lanes(FP[b]), lanes(P6), lanes(X)
+    for q in range(6):
+        for k in range(nb):
+            fp[q * ls + k] = p6[q * ls + k]
+    for u in range(unk.shape[0]):
+        row, s = unk[u] * ls, xs[u]
+        for k in range(nb):
+            fp[row + k] = x[u * ls + k] * s
+    if ls == 1:                    # (ls is a constant here: LLVM keeps one of the calls)
+        platform(M[ORDER], M[PLAT], FP[b])
+    else:
+        platform_block(M[ORDER], M[PLAT], FP[b], nb)
     legs_block(M, X, unk.shape[0], FA, FL, FE, FP, b, S, nb, ls, res, CS)
 
 
@@ -271,19 +277,31 @@ def legs_block(M, X, nu, FA, FL, FE, FP, b, S, nb, ls, res, CS):
     against the platforms already in ``FP[b]``; each lane's residual into ``res``
     (:func:`forward_block`'s arrays)."""
     n, m = M[D].shape[0], M[D].shape[1]
+    plat = M[PLAT]
     for i in range(n):
         chain(M, i, X, nu + i * m, FA[b, i], FL[b, i], nb, ls, False, FA[b, i], S[0], CS)
-    for l in range(nb):
-        platform_home_rotation(M, FP[b], l, S)
-        r = 0.0
-        for i in range(n):
-            Eb = FE[b, i]
-            closure_error(M, FP[b], FL[b, i], Eb, l, S)
-            for k in range(6):
-                a = abs(Eb[k, l])
-                if not a <= r:            # NaN propagates
-                    r = a
-        res[l] = r
+    r = lanes(res)
+    for k in range(nb):
+        r[k] = 0.0
+    for i in range(n):
+        if ls == 1:                # (a constant, as in forward_block)
+            closure_one(plat, FP[b], FL[b, i], FE[b, i], CS, S[0])
+        else:
+            closure_block(plat, FP[b], FL[b, i], FE[b, i], nb, CS, S[0])
+        e = lanes(FE[b, i])
+        for k in range(nb):            # the largest component so far (NaN propagates)
+            a, x = abs(e[k]), r[k]
+            x = a if not a <= x else x
+            a = abs(e[ls + k])
+            x = a if not a <= x else x
+            a = abs(e[2 * ls + k])
+            x = a if not a <= x else x
+            a = abs(e[3 * ls + k])
+            x = a if not a <= x else x
+            a = abs(e[4 * ls + k])
+            x = a if not a <= x else x
+            a = abs(e[5 * ls + k])
+            r[k] = a if not a <= x else x
 
 
 @borrowing
@@ -293,7 +311,7 @@ def forward(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6):
     the residual."""
     CS = S[5]
     forward_block(M, unk, xs, one_lane(p6fix), one_lane(X), one_lane(FA), one_lane(FL),
-                  one_lane(FE), one_lane(FP), b, S, p6, 1, 1, CS[2], CS)
+                  one_lane(FE), one_lane(FP), b, S, 1, 1, CS[2], CS)
     return CS[2, 0]
 
 

@@ -49,13 +49,11 @@ def rodrigues(d0, d1, d2, angle, R):
 
 
 @borrowing
-def rotation_vector(R, out, k):
-    """The rotation vector of ``R`` (angle in [0, pi]) into ``out[k:k + 3]``."""
-    w0 = 0.5 * (R[2, 1] - R[1, 2])
-    w1 = 0.5 * (R[0, 2] - R[2, 0])
-    w2 = 0.5 * (R[1, 0] - R[0, 1])
-    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
-    s = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+def rotation_vector(R, w0, w1, w2, c, s):
+    """The rotation vector of ``R`` (angle in [0, pi]) from its antisymmetric part ``w =
+    (R - R^T) / 2`` (axial), ``c = (tr R - 1) / 2`` and ``s = |w|`` (a lane loop of the
+    closure errors computes these across the lanes, then calls this one lane at a time);
+    ``R`` is read only near pi (``c < -0.9``)."""
     if c < -0.9:
         # near pi the antisymmetric part vanishes: the axis from the symmetric part
         kk = 0
@@ -75,10 +73,9 @@ def rotation_vector(R, out, k):
         nx = max(math.sqrt(x0 * x0 + x1 * x1 + x2 * x2), 1e-300)
         sign = -1.0 if x0 * w0 + x1 * w1 + x2 * w2 < 0 else 1.0
         f = sign * math.atan2(s, c) / nx
-        out[k], out[k + 1], out[k + 2] = x0 * f, x1 * f, x2 * f
-        return
+        return x0 * f, x1 * f, x2 * f
     f = 1.0 if s <= 1e-12 else math.atan2(s, c) / s
-    out[k], out[k + 1], out[k + 2] = w0 * f, w1 * f, w2 * f
+    return w0 * f, w1 * f, w2 * f
 
 
 @inner
