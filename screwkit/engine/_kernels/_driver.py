@@ -91,6 +91,17 @@ def solve_alone(M, Z, I, O, flags, p, W):
 
 
 @inlined
+def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
+    """:func:`finish_rows` of pose ``p`` after its closures (``b < 0``: its frames formed
+    here at its unknowns, given or returned by a rescue's Newton runs)."""
+    if b < 0:
+        b = 0
+        res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL], W[W_FE],
+                      W[W_FP], 0, W[W_S], W[W_P6])
+    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+
+
+@inlined
 def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
     """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
     ``res``): the lines and rows, as ``flags`` says; its normalised rows, their norms and its
@@ -216,11 +227,7 @@ def run_poses(M, Z, I, O, flags, first, stop):
             if flags[F_SOLVE]:
                 start(Z, I, O, p, W)
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
-            if b < 0:                 # given unknowns, or a rescue's Newton runs
-                b = 0
-                res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
-                              W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
-            finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0]
@@ -257,11 +264,7 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
                     res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
-            if b < 0:                 # given unknowns, or a rescue's Newton runs
-                b = 0
-                res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL],
-                              W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
-            finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
