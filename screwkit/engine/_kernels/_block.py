@@ -31,7 +31,7 @@ from ._layout import LEG, PLAT, ROT, TRN
 from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, step_block
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
- K_CS, K_OK, K_S, K_P6S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(28)
+ K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(27)
 #: Lane states: iterating, converged (residual at or below its tolerance), stalled (no
 #: decrease, or a non-finite residual), not solved in the block (solved alone).
 LANE_ACTIVE, LANE_DONE, LANE_STALLED, LANE_ALONE = 0, 1, 2, 3
@@ -50,7 +50,7 @@ def make_block(n, m, nx, B):
             np.zeros((2, n, 12, B)), np.zeros((2, n, 6, B)), np.zeros((2, 27, B)),
             np.zeros((nx, B)), np.zeros(B), np.zeros(B), np.zeros(B), np.zeros(B),
             np.zeros(B, np.int64), np.zeros(B, np.int64), np.zeros((2, B)),
-            np.zeros(B, np.int64), np.zeros((6, 3, 3)), np.zeros(6), np.zeros(B, np.int64),
+            np.zeros(B, np.int64), np.zeros((6, 3, 3)), np.zeros(B, np.int64),
             # the Newton step's arrays (_newton.step_lanes)
             np.zeros((6, 6, B)), np.zeros((m, 6, B)), np.zeros((m, m, B)), np.zeros((m, 7, B)),
             np.zeros((n, m, 7, B)), np.zeros((6, 7, B)), np.zeros((6, 1, B)), np.zeros((4, B)),
