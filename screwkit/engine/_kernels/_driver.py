@@ -29,7 +29,7 @@ from numba import prange
 from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
 
 from ._block import K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
-    block_newton, lane_frames, make_block
+    block_newton, forward_lanes, lane_frames, make_block
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
 from ._kin import forward
@@ -236,7 +236,8 @@ def run_poses(M, Z, I, O, flags, first, stop):
 @inner
 def run_blocks(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
-    time (:func:`solve_block`), as :func:`run_poses` otherwise (the same bits: every lane
+    time (:func:`solve_block`), or the frames of their given unknowns formed ``BLOCK`` at a
+    time (:func:`frames_block`), as :func:`run_poses` otherwise (the same bits: every lane
     is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
@@ -246,16 +247,24 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     # the one finish_rows below (inlined once: its compile is not paid twice), and every
     # block of poses in finish_block, solved in blocks or not
     blocked = flags[F_SOLVE] and stop - first > 1
-    Ko = make_block(n, m, nx, BLOCK if blocked else 0)
+    # given unknowns (a path's samples, a map's cells): their frames by the block's forward
+    # pass too, the lanes at once (the bits of one pose's pass: see _kin)
+    given = not flags[F_SOLVE] and stop - first > 1
+    Ko = make_block(n, m, nx, BLOCK if blocked or given else 0)
     K = borrowed(Ko)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         if blocked:
             solve_block(M, Z, I, O, p0, nb, W, K)
+        elif given:
+            frames_block(M, Z, I, O, p0, nb, K)
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
-            if flags[F_SOLVE]:
+            if given:
+                lane_frames(K, 0, l, W, 0)
+                res, b = K[K_F][l], 0
+            elif flags[F_SOLVE]:
                 # one call site of the closure alone: a pose alone, or a lane the block
                 # left to it (near the representation singularity)
                 if not blocked:
@@ -269,6 +278,20 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
         Ko[0].shape[0]
+
+
+@borrowing
+def frames_block(M, Z, I, O, p0, nb, K):
+    """The frames of the given unknowns ``O[OUT_X][p0:p0+nb]`` as the lanes of the block ``K``
+    (buffer 0), each lane's residual into ``K[K_F]``."""
+    Xb, P6b = K[K_X], K[K_P6]
+    P6, X = I[0], O[OUT_X]
+    for l in range(nb):
+        for k in range(6):
+            P6b[k, l] = P6[p0 + l, k]
+        for k in range(Xb.shape[0]):
+            Xb[k, l] = X[p0 + l, k]
+    forward_lanes(M, Z[0], Z[1], K, Xb, 0, K[K_F], nb)
 
 
 @borrowing
