@@ -28,10 +28,10 @@ from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
 
-from ._block import K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE, \
-    block_newton, forward_lanes, lane_frames, make_block
+from ._block import (K_F, K_FN, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, K_XN, LANE_ACTIVE,
+                     LANE_ALONE, block_newton, forward_lanes, lane_frames, make_block)
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
-from ._indices import pose_lines
+from ._indices import lines_at, pose_lines, rounded_unknowns
 from ._kin import forward
 from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
@@ -91,20 +91,21 @@ def solve_alone(M, Z, I, O, flags, p, W):
 
 
 @inlined
-def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
+def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
     """:func:`finish_rows` of pose ``p`` after its closures (``b < 0``: its frames formed
     here at its unknowns, given or returned by a rescue's Newton runs)."""
     if b < 0:
         b = 0
         res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL], W[W_FE],
                       W[W_FP], 0, W[W_S], W[W_P6])
-    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here)
 
 
 @inlined
-def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
+def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
     """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
-    ``res``): the lines and rows, as ``flags`` says; its normalised rows, their norms and its
+    ``res``): the lines (``lines_here``: else its block's, :func:`block_lines`) and rows, as
+    ``flags`` says; its normalised rows, their norms and its
     platform's origin into lane ``l`` of the conditioning workspace ``CW`` (for
     :func:`finish_block`)."""
     unk, xs = Z[0], Z[1]
@@ -112,7 +113,7 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
     X = O[OUT_X][p]
     FA, FP = W[W_FA], W[W_FP]
     O[OUT_RES][p] = res
-    if flags[F_LINES]:
+    if flags[F_LINES] and lines_here:
         bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
                         W[W_XN], O[OUT_LINES][p])
         O[OUT_PLATFORM][p, :] = FP[bl]
@@ -227,7 +228,7 @@ def run_poses(M, Z, I, O, flags, first, stop):
             if flags[F_SOLVE]:
                 start(Z, I, O, p, W)
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
-            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0]
@@ -250,7 +251,8 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     # given unknowns (a path's samples, a map's cells): their frames by the block's forward
     # pass too, the lanes at once (the bits of one pose's pass: see _kin)
     given = not flags[F_SOLVE] and stop - first > 1
-    Ko = make_block(n, m, nx, BLOCK if blocked or given else 0)
+    inblock = blocked or given
+    Ko = make_block(n, m, nx, BLOCK if inblock else 0)
     K = borrowed(Ko)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
@@ -273,7 +275,9 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
                     res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
-            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock)
+        if flags[F_LINES] and inblock:
+            block_lines(M, Z, I, O, p0, nb, W, K)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
@@ -292,6 +296,35 @@ def frames_block(M, Z, I, O, p0, nb, K):
         for k in range(Xb.shape[0]):
             Xb[k, l] = X[p0 + l, k]
     forward_lanes(M, Z[0], Z[1], K, Xb, 0, K[K_F], nb)
+
+
+@borrowing
+def block_lines(M, Z, I, O, p0, nb, W, K):
+    """The lines and platforms of the poses ``p0..p0+nb-1`` (:func:`._indices.pose_lines`),
+    from the frames of their final unknowns as the solution hands them back
+    (:func:`._indices.rounded_unknowns`), formed for the block's lanes at once (its trial
+    unknowns and buffer 1, free once the closures are solved): each lane's frames are
+    those of the pose alone, so where the rounding changes nothing they are the solve's,
+    bit for bit."""
+    unk, xs = Z[0], Z[1]
+    nu = unk.shape[0]
+    Xr, P6b = K[K_XN], K[K_P6]
+    Xp = W[W_XN]
+    P6 = I[0]
+    for l in range(nb):
+        p = p0 + l
+        rounded_unknowns(M, nu, O[OUT_X][p], Xp)
+        for k in range(Xr.shape[0]):
+            Xr[k, l] = Xp[k]
+        for k in range(6):
+            P6b[k, l] = P6[p, k]
+    forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
+    for l in range(nb):
+        lane_frames(K, 1, l, W, 1)
+        lines_at(M, W[W_FA], 1, O[OUT_LINES][p0 + l])
+        fp, out = W[W_FP][1], O[OUT_PLATFORM][p0 + l]
+        for k in range(fp.shape[0]):
+            out[k] = fp[k]
 
 
 @borrowing

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import prange
 
-from ._jit import entry, inner, parallel
+from ._jit import borrowing_inlined, entry, inner, parallel
 from ._kin import forward, joint_twist
 from ._layout import (L_ACT, L_SIZE, LEG, LEVERAGE_RTOL, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q,
                       LN_V, QS, RANK_RTOL, ROT, TRANSLATION_RTOL)
@@ -26,7 +26,7 @@ from ._eigen import jacobi_rows
 from ._small import lu_apply, lu_factor
 
 
-@inner
+@borrowing_inlined
 def _turning(M, i, first, stop, step):
     """The first slot from ``first`` towards ``stop`` (exclusive, by ``step``) of leg ``i``
     that turns (a rotation per unit value), -1 if none."""
@@ -37,7 +37,7 @@ def _turning(M, i, first, stop, step):
     return -1
 
 
-@inner
+@borrowing_inlined
 def _line(M, i, j, fa, out, q0, d0):
     """The point ``out[q0:q0+3]`` and the axis (the unit twist's angular part)
     ``out[d0:d0+3]`` of joint ``j`` of leg ``i`` (its twist formed in ``out[LN_V:]``)."""
@@ -61,27 +61,43 @@ def pose_lines(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6, Xr, lines):
     joints; or a platform from other pose parameters).  Returns the buffer read (its
     platform ``FP[...]`` is the pose's)."""
     nu = unk.shape[0]
-    leg, qs = M[LEG], M[QS]
-    n, m = qs.shape[0], qs.shape[1]
+    rounded_unknowns(M, nu, X, Xr)
     exact = True
     for k in range(6):
         p6[k] = p6fix[k]
     for k in range(nu):
         p6[unk[k]] = X[k] * xs[k]
-        Xr[k] = X[k]
     fp = FP[b]
     for k in range(6):
         exact = exact and p6[k] == fp[k]
-    for i in range(n):
-        for j in range(m):
-            k = nu + i * m + j
-            v = (X[k] * qs[i, j]) / qs[i, j]
-            Xr[k] = v
-            exact = exact and v == X[k]
+    for k in range(X.shape[0]):
+        exact = exact and Xr[k] == X[k]
     if not exact:
         b = 1 - b
         forward(M, unk, xs, p6fix, Xr, FA, FL, FE, FP, b, S, p6)
+    lines_at(M, FA, b, lines)
+    return b
+
+
+@borrowing_inlined
+def rounded_unknowns(M, nu, X, Xr):
+    """``Xr``: the unknowns ``X`` with each joint value as the solution hands it back
+    (``(X QS) / QS``, :func:`pose_lines`)."""
+    qs = M[QS]
+    n, m = qs.shape[0], qs.shape[1]
+    for k in range(nu):
+        Xr[k] = X[k]
     for i in range(n):
+        for j in range(m):
+            k = nu + i * m + j
+            Xr[k] = (X[k] * qs[i, j]) / qs[i, j]
+
+
+@borrowing_inlined
+def lines_at(M, FA, b, lines):
+    """The lines of :func:`pose_lines` from the frames in buffer ``b`` of ``FA``."""
+    leg = M[LEG]
+    for i in range(lines.shape[0]):
         fa, out = FA[b, i], lines[i]
         size, act = leg[i, L_SIZE], leg[i, L_ACT]
         act = act if act >= 0 else 0
@@ -90,7 +106,6 @@ def pose_lines(M, unk, xs, p6fix, X, FA, FL, FE, FP, b, S, p6, Xr, lines):
         nxt = _turning(M, i, act + 1, size, 1)
         _line(M, i, nxt if nxt >= 0 else 0, fa, out, LN_IN_Q, LN_IN_D)
         joint_twist(M, i, act, fa, out[LN_V:LN_V + 6])
-    return b
 
 
 @inner
