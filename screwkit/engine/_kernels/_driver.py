@@ -250,8 +250,9 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     K = borrowed(Ko)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
+        kb = 0
         if blocked:
-            solve_block(M, Z, I, O, p0, nb, W, K)
+            kb = solve_block(M, Z, I, O, p0, nb, W, K)
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
@@ -263,7 +264,7 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                 if not blocked or K[K_STATE][l] == LANE_ALONE:
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
-                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
+                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
@@ -275,7 +276,8 @@ def run_blocks(M, Z, I, O, flags, first, stop):
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
     starts, as one pose alone); a pose near the representation singularity is left to be
-    solved alone (``LANE_ALONE``)."""
+    solved alone (``LANE_ALONE``).  Returns the buffer of ``K`` holding the lanes' frames
+    (:func:`._block.block_newton`)."""
     unk, xs = Z[0], Z[1]
     order = M[ORDER]
     P6 = I[0]
@@ -300,16 +302,16 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         p6fix = P6[p]
         TOL[l] = tolerance(order, unk, xs, p6fix, X)
         ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
-    block_newton(M, unk, xs, K, nb, 30, W)
+    return block_newton(M, unk, xs, K, nb, 30, W)
 
 
 @inlined
-def finish_lane(M, Z, I, O, flags, p, W, K, l):
+def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
-    Newton run: its unknowns; a lane the block left active, the rest of its Newton run
-    alone; where the run did not converge, the rescue (continuation, polish), as
-    :func:`._closures.solve_pose`; its frames into buffer ``b`` of ``W`` (``b < 0``: to be
-    formed again at its unknowns).  Returns ``(residual, b)``."""
+    Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
+    active, the rest of its Newton run alone; where the run did not converge, the rescue
+    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
+    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b)``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -319,11 +321,13 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
     res, its = K[K_F][l], K[K_ITS][l]
     how = 0
     sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
-    # the lane's frames (at its unknowns) into buffer 0; after any Newton run of its
-    # rescue b < 0: they are formed again at the unknowns the rescue returns
+    # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
+    # rest of a Newton run: nothing after the solve reads them); after any Newton run of
+    # its rescue b < 0: they are formed again at the unknowns the rescue returns
     b = 0
-    lane_frames(K, 0, l, W, b)
-    if K[K_STATE][l] == LANE_ACTIVE:
+    more_steps = K[K_STATE][l] == LANE_ACTIVE
+    lane_frames(K, kb, l, W, b, more_steps)
+    if more_steps:
         # one of the few lanes the block left iterating: the rest of its run alone, from
         # its unknowns, frames and residual (the iterations it has left of the pose's 30)
         res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
