@@ -115,7 +115,9 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l):
     if flags[F_LINES]:
         bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
                         W[W_XN], O[OUT_LINES][p])
-        O[OUT_PLATFORM][p, :] = FP[bl]
+        po, fl = O[OUT_PLATFORM][p], FP[bl]
+        for k in range(po.shape[0]):  # (a loop: an array assignment needs reference counts)
+            po[k] = fl[k]
     if not flags[F_ROWS]:
         return
     n = M[D].shape[0]
@@ -237,17 +239,33 @@ def run_poses(M, Z, I, O, flags, first, stop):
 def run_blocks(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
     time (:func:`solve_block`), as :func:`run_poses` otherwise (the same bits: every lane
-    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
+    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the workspaces
+    allocated here, the poses run by :func:`block_poses`."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
     Wo, RWo, SWo, CWo = _workspaces(M, O)
-    W, RW, SW, CW = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo)
+    blocked = flags[F_SOLVE] and stop - first > 1
+    Ko = make_block(n, m, nx, BLOCK if blocked else 0)
+    block_poses(M, Z, I, O, flags, first, stop, borrowed(Wo), borrowed(RWo), borrowed(SWo),
+                borrowed(CWo), borrowed(Ko))
+    # the owners are used here, so they live (and keep the buffers) until the loop is done
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
+        Ko[0].shape[0]
+
+
+@borrowing
+def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
+    """:func:`run_blocks`'s loop over its poses, with its workspaces (borrowed views): a
+    function without reference counts (:func:`~._jit.borrowing`).  In a function with them
+    (one that allocates, as :func:`run_blocks`), numba takes and drops a reference to every
+    array of every tuple an inlined function receives (the model, the parameters, the
+    inputs, the outputs, the workspaces: a hundred-odd calls of ``NRT_incref`` and
+    ``NRT_decref`` for each of :func:`finish_lane` and :func:`pose_rows`, a pose), even for
+    borrowed views, whose counts are null."""
+    blocked = flags[F_SOLVE] and stop - first > 1
     # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
     # the one finish_rows below (inlined once: its compile is not paid twice), and every
     # block of poses in finish_block, solved in blocks or not
-    blocked = flags[F_SOLVE] and stop - first > 1
-    Ko = make_block(n, m, nx, BLOCK if blocked else 0)
-    K = borrowed(Ko)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         kb = 0
@@ -267,9 +285,6 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                     res, b = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-    # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
-        Ko[0].shape[0]
 
 
 @borrowing
