@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from ._jit import borrowing, inlined, inner, lanes
-from ._kin import closure_sq, forward_block, platform_columns_block
+from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
 from ._layout import LEG, PLAT, ROT, TRN
 from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, step_block
@@ -169,7 +169,8 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
         new = 1 - cur
         # every lane's step at once (the stopped lanes' too: masked, not read)
         Pt = K[K_PT]
-        platform_columns_block(M[PLAT], K[K_FP][cur], unk, Pt, nb)
+        for l in range(nb):
+            platform_columns(M, K[K_FP][cur, :, l], unk, Pt[:, :, l])
         step_block(M[LEG], M[ROT], M[TRN], M[PLAT], K[K_FA], FE, Pt, K[K_T], K[K_G], K[K_B],
                    K[K_XS], K[K_AR], STEP, K[K_RHS], K[K_LS], cur, nu, W[W_FROZ], nb)
         for l in range(nb):

@@ -327,52 +327,25 @@ def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
 
 @borrowing
 def platform_columns(M, fp, unk, Pt):
-    """One pose's length-normalised platform twists per unit of each unknown parameter, ``Pt
-    (6, nu)``, at its platform ``fp (27,)`` (:func:`platform_columns_lanes` on a block of one
-    lane)."""
-    platform_columns_lanes(M[PLAT], one_lane(fp), unk, one_lane(Pt), 1, 1)
-
-
-@borrowing
-def platform_columns_block(plat, FPb, unk, Pt, nb):
-    """The platform columns of the ``nb`` lanes of a block of :data:`._layout.BLOCK`
-    (:func:`platform_columns_lanes`)."""
-    platform_columns_lanes(plat, FPb, unk, Pt, nb, BLOCK)
-
-
-@inlined
-def platform_columns_lanes(plat, FPb, unk, Pt, nb, ls):
-    """Length-normalised platform twists per unit of each unknown parameter (a length
-    parameter per unit of ``L``) of ``nb`` lanes, into ``Pt (6, >= nu, ls)``, at their
-    platforms ``FPb (27, ls)`` (``plat`` the model's ``PLAT``).  Each lane's arithmetic is
-    one pose's; inlined into :func:`platform_columns` and :func:`platform_columns_block`
-    only, where ``ls`` is a constant (a block's lanes at once: a call per lane cost more
-    than the columns)."""
+    """Length-normalised platform twists per unit of each unknown parameter, ``Pt (6, nu)``
+    (a length parameter per unit of ``L``)."""
+    plat = M[PLAT]
     L = plat[P_L]
-    c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
-    fp, pt = lanes(FPb), lanes(Pt)
-    npc = Pt.shape[1]
     for k in range(unk.shape[0]):
         u = unk[k]
         if u < 3:
             for r in range(3):
-                x = plat[P_R0 + 3 * r + u]
-                for l in range(nb):
-                    pt[(r * npc + k) * ls + l] = x
-                    pt[((3 + r) * npc + k) * ls + l] = 0.0
+                Pt[r, k] = plat[P_R0 + 3 * r + u]
+                Pt[3 + r, k] = 0.0
         else:
-            wr = (18 + u - 3) * ls
-            for l in range(nb):
-                w0, w1, w2 = fp[wr + l], fp[wr + 3 * ls + l], fp[wr + 6 * ls + l]
-                o0 = fp[15 * ls + l] - c0
-                o1 = fp[16 * ls + l] - c1
-                o2 = fp[17 * ls + l] - c2
-                pt[k * ls + l] = (o1 * w2 - o2 * w1) / L
-                pt[(npc + k) * ls + l] = (o2 * w0 - o0 * w2) / L
-                pt[(2 * npc + k) * ls + l] = (o0 * w1 - o1 * w0) / L
-                pt[(3 * npc + k) * ls + l] = w0
-                pt[(4 * npc + k) * ls + l] = w1
-                pt[(5 * npc + k) * ls + l] = w2
+            w0, w1, w2 = fp[18 + u - 3], fp[21 + u - 3], fp[24 + u - 3]
+            o0 = fp[15] - plat[P_C]
+            o1 = fp[16] - plat[P_C + 1]
+            o2 = fp[17] - plat[P_C + 2]
+            Pt[0, k] = (o1 * w2 - o2 * w1) / L
+            Pt[1, k] = (o2 * w0 - o0 * w2) / L
+            Pt[2, k] = (o0 * w1 - o1 * w0) / L
+            Pt[3, k], Pt[4, k], Pt[5, k] = w0, w1, w2
 
 
 @borrowing
