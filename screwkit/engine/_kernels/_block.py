@@ -15,9 +15,10 @@ iterations, so the same bits), instead of the block iterating again for them.  T
 of the block's lanes is one (:func:`._newton.step_block`: the lane loops of
 :func:`._newton.step_lanes`, the function one pose's step runs on a block of one).
 
-The block workspace ``K`` (:func:`make_block`) holds the current (buffer 0) and trial
-(buffer 1) frames of every lane, the unknowns, the given parameters, and per lane the
-residual, the tolerance, the iterations and the state (``LANE_*``).
+The block workspace ``K`` (:func:`make_block`) holds two buffers of frames of every lane,
+the current and the trial ones, which swap roles at each iteration (:func:`block_newton`
+returns the current one), the unknowns, the given parameters, and per lane the residual,
+the tolerance, the iterations and the state (``LANE_*``).
 """
 
 import math
@@ -28,7 +29,7 @@ from ._jit import borrowing, inlined, inner, lanes
 from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
 from ._layout import LEG, PLAT, ROT, TRN
-from ._newton import HALVINGS, W_FA, W_FE, W_FL, W_FP, W_FROZ, step_block
+from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, step_block
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
  K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(27)
@@ -59,50 +60,56 @@ def make_block(n, m, nx, B):
 
 
 @inlined
-def lane_frames(K, b, l, W, wb):
+def lane_frames(K, b, l, W, wb, errors):
     """Lane ``l``'s frames in buffer ``b`` of the block into buffer ``wb`` of the one-pose
-    workspace ``W``."""
-    FA, FL, FE, FP = K[K_FA][b], K[K_FL][b], K[K_FE][b], K[K_FP][b]
-    WA, WL, WE, WP = W[W_FA][wb], W[W_FL][wb], W[W_FE][wb], W[W_FP][wb]
+    workspace ``W``: the joints' axes and points and the platform, which the rows read, and
+    with ``errors`` the closure errors, which a Newton run continued alone reads (its first
+    step and decrease test).  Not the legs' end displacements ``FL``: only the forward pass
+    that writes them reads them."""
+    FA, FE, FP = K[K_FA][b], K[K_FE][b], K[K_FP][b]
+    WA, WE, WP = W[W_FA][wb], W[W_FE][wb], W[W_FP][wb]
     for i in range(WA.shape[0]):
         for j in range(WA.shape[1]):
             for k in range(6):
                 WA[i, j, k] = FA[i, j, k, l]
-        for k in range(12):
-            WL[i, k] = FL[i, k, l]
-        for k in range(6):
-            WE[i, k] = FE[i, k, l]
+        if errors:
+            for k in range(6):
+                WE[i, k] = FE[i, k, l]
     for k in range(27):
         WP[k] = FP[k, l]
 
 
 @inlined
-def _take(A, half, acc, nb):
-    """In each lane ``k < nb`` with ``acc[k]``, the trial half of ``A`` (its second half: buffer
-    1, or ``Xn`` after ``X``) becomes the current one (the first half), row by row of
-    ``BLOCK`` lanes: a select per lane that LLVM vectorises."""
-    p, t = lanes(A), lanes(acc)
-    for r in range(half // BLOCK):
+def _accept(K, nb):
+    """The trial unknowns ``K[K_XN]`` of the lanes ``0..nb-1`` become their unknowns
+    ``K[K_X]``: a plain copy, since every lane not accepted already has its trial equal to
+    its unknowns (:func:`block_newton`).  The frames are not copied: the trial buffer
+    becomes the current one."""
+    p, q = lanes(K[K_X]), lanes(K[K_XN])
+    for r in range(K[K_X].shape[0]):
         o = r * BLOCK
         for k in range(nb):
-            p[o + k] = p[half + o + k] if t[k] else p[o + k]
+            p[o + k] = q[o + k]
 
 
 @inlined
-def _accept(K, nb):
-    """The trial (buffer 1) of the lanes whose ``K[K_OK]`` is set becomes their current state
-    (buffer 0)."""
-    acc = K[K_OK]
-    X = K[K_X]
-    p, q, t = lanes(X), lanes(K[K_XN]), lanes(acc)
-    for r in range(X.shape[0]):
-        o = r * BLOCK
-        for k in range(nb):
-            p[o + k] = q[o + k] if t[k] else p[o + k]
-    _take(K[K_FA], K[K_FA].size // 2, acc, nb)
-    _take(K[K_FL], K[K_FL].size // 2, acc, nb)
-    _take(K[K_FE], K[K_FE].size // 2, acc, nb)
-    _take(K[K_FP], K[K_FP].size // 2, acc, nb)
+def _copy_lane(A, src, dst, l):
+    """Lane ``l`` of buffer ``src`` of the frames ``A (2, ..., BLOCK)`` into buffer ``dst``."""
+    a = lanes(A)
+    half = A.size // 2
+    s, d = src * half, dst * half
+    for r in range(half // BLOCK):
+        a[d + r * BLOCK + l] = a[s + r * BLOCK + l]
+
+
+@inlined
+def _keep_lane(K, src, dst, l):
+    """Lane ``l``'s frames in buffer ``src`` of the block copied into buffer ``dst`` (a lane
+    that stalled: the frames of its unknowns are in the buffer that stops being current)."""
+    _copy_lane(K[K_FA], src, dst, l)
+    _copy_lane(K[K_FL], src, dst, l)
+    _copy_lane(K[K_FE], src, dst, l)
+    _copy_lane(K[K_FP], src, dst, l)
 
 
 @borrowing
@@ -118,20 +125,34 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     """Gauss-Newton on the lanes ``0..nb-1`` of the block ``K`` whose state is
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
     tolerances ``K[K_TOL]``: each lane's residual, iterations and state into ``K[K_F]``,
-    ``K[K_ITS]``, ``K[K_STATE]``, its accepted steps into ``K[K_ACC]``; the frames of its
-    final unknowns in buffer 0.  Lanes left ``LANE_ACTIVE`` (at most ``nb / ALONE_SHARE``,
-    or all after ``max_iter`` iterations) are to finish alone from there, ``max_iter`` less
-    their iterations to go (:func:`._newton.newton_from`).  ``W`` a one-pose workspace (the
-    lanes' Newton steps)."""
+    ``K[K_ITS]``, ``K[K_STATE]``, its accepted steps into ``K[K_ACC]``.  Returns the buffer
+    (0 or 1) holding the frames of every lane's final unknowns.  Lanes left
+    ``LANE_ACTIVE`` (at most ``nb / ALONE_SHARE``, or all after ``max_iter`` iterations) are
+    to finish alone from there, ``max_iter`` less their iterations to go
+    (:func:`._newton.newton_from`).  ``W`` a one-pose workspace (the lanes' Newton steps).
+
+    The two frame buffers alternate: each iteration's trial pass writes the other buffer,
+    which then becomes the current one (no copy of the accepted lanes' frames).  This holds
+    for every lane because a lane not iterating keeps its trial unknowns ``K[K_XN]`` equal
+    to its unknowns: the trial pass, which runs across all the lanes, forms its frames again
+    (the same bits: each lane's pass is its own arithmetic) in the trial buffer.  A lane
+    that stalls has its trial reset to its unknowns and its frames copied into the trial
+    buffer (once: the frames of its unknowns are in the buffer that stops being current).
+    A lane's sum of squared closure errors at its unknowns (the decrease test's reference)
+    is that of the trial it accepted, kept from the test, not summed again."""
     X, Xn, STEP, FE = K[K_X], K[K_XN], K[K_STEP], K[K_FE]
     F, FN, E2, TOL, ITS, ST, OK = K[K_F], K[K_FN], K[K_E2], K[K_TOL], K[K_ITS], K[K_STATE], \
         K[K_OK]
     nu = unk.shape[0]
     nx = X.shape[0]
-    forward_lanes(M, unk, xs, K, X, 0, F, nb)
+    cur = 0
+    forward_lanes(M, unk, xs, K, X, cur, F, nb)
     for l in range(nb):
         ITS[l] = 0
         K[K_ACC][l] = 0
+        for k in range(nx):
+            Xn[k, l] = X[k, l]
+    first = True
     for _ in range(max_iter):
         active = 0
         for l in range(nb):
@@ -145,17 +166,20 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 active += 1
         if active * ALONE_SHARE <= nb:       # none, or a few: they finish alone
             break
+        new = 1 - cur
         # every lane's step at once (the stopped lanes' too: masked, not read)
         Pt = K[K_PT]
         for l in range(nb):
-            platform_columns(M, K[K_FP][0, :, l], unk, Pt[:, :, l])
+            platform_columns(M, K[K_FP][cur, :, l], unk, Pt[:, :, l])
         step_block(M[LEG], M[ROT], M[TRN], M[PLAT], K[K_FA], FE, Pt, K[K_T], K[K_G], K[K_B],
-                   K[K_XS], K[K_AR], STEP, K[K_RHS], K[K_LS], 0, nu, W[W_FROZ], nb)
+                   K[K_XS], K[K_AR], STEP, K[K_RHS], K[K_LS], cur, nu, W[W_FROZ], nb)
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
                 continue
-            E2[l] = closure_sq(FE, 0, l)
+            if first:                   # (later, the sum of the trial it accepted: below)
+                E2[l] = closure_sq(FE, cur, l)
             OK[l] = 0
+        first = False
         for h in range(HALVINGS + 1):
             for l in range(nb):
                 if ST[l] != LANE_ACTIVE or OK[l]:
@@ -165,20 +189,21 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                         STEP[k, l] *= 0.5
                 for k in range(nx):
                     Xn[k, l] = X[k, l] + STEP[k, l]
-            forward_lanes(M, unk, xs, K, Xn, 1, FN, nb)
+            forward_lanes(M, unk, xs, K, Xn, new, FN, nb)
             pending = False
             for l in range(nb):
                 if ST[l] != LANE_ACTIVE or OK[l]:
                     continue
-                if closure_sq(FE, 1, l) < E2[l]:      # False for NaN and inf
+                e2n = closure_sq(FE, new, l)
+                if e2n < E2[l]:                 # False for NaN and inf
                     OK[l] = 1
+                    E2[l] = e2n                 # the next iteration's, if the lane goes on
                 else:
                     pending = True
             if not pending:
                 break
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
-                OK[l] = 0                   # (not accepted below)
                 continue
             ITS[l] += 1
             if OK[l]:
@@ -186,4 +211,9 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 K[K_ACC][l] += 1
             else:
                 ST[l] = LANE_STALLED
+                for k in range(nx):
+                    Xn[k, l] = X[k, l]
+                _keep_lane(K, cur, new, l)
         _accept(K, nb)
+        cur = new
+    return cur

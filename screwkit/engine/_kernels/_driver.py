@@ -116,7 +116,9 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
     if flags[F_LINES] and lines_here:
         bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
                         W[W_XN], O[OUT_LINES][p])
-        O[OUT_PLATFORM][p, :] = FP[bl]
+        po, fl = O[OUT_PLATFORM][p], FP[bl]
+        for k in range(po.shape[0]):  # (a loop: an array assignment needs reference counts)
+            po[k] = fl[k]
     if not flags[F_ROWS]:
         return
     n = M[D].shape[0]
@@ -239,11 +241,28 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
     time (:func:`solve_block`), or the frames of their given unknowns formed ``BLOCK`` at a
     time (:func:`frames_block`), as :func:`run_poses` otherwise (the same bits: every lane
-    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`)."""
+    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the workspaces
+    allocated here, the poses run by :func:`block_poses`."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
     Wo, RWo, SWo, CWo = _workspaces(M, O)
-    W, RW, SW, CW = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo)
+    Ko = make_block(n, m, nx, BLOCK if stop - first > 1 else 0)
+    block_poses(M, Z, I, O, flags, first, stop, borrowed(Wo), borrowed(RWo), borrowed(SWo),
+                borrowed(CWo), borrowed(Ko))
+    # the owners are used here, so they live (and keep the buffers) until the loop is done
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
+        Ko[0].shape[0]
+
+
+@borrowing
+def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
+    """:func:`run_blocks`'s loop over its poses, with its workspaces (borrowed views): a
+    function without reference counts (:func:`~._jit.borrowing`).  In a function with them
+    (one that allocates, as :func:`run_blocks`), numba takes and drops a reference to every
+    array of every tuple an inlined function receives (the model, the parameters, the
+    inputs, the outputs, the workspaces: a hundred-odd calls of ``NRT_incref`` and
+    ``NRT_decref`` for each of :func:`finish_lane` and :func:`pose_rows`, a pose), even for
+    borrowed views, whose counts are null."""
     # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
     # the one finish_rows below (inlined once: its compile is not paid twice), and every
     # block of poses in finish_block, solved in blocks or not
@@ -252,19 +271,18 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     # pass too, the lanes at once (the bits of one pose's pass: see _kin)
     given = not flags[F_SOLVE] and stop - first > 1
     inblock = blocked or given
-    Ko = make_block(n, m, nx, BLOCK if inblock else 0)
-    K = borrowed(Ko)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
+        kb = 0
         if blocked:
-            solve_block(M, Z, I, O, p0, nb, W, K)
+            kb = solve_block(M, Z, I, O, p0, nb, W, K)
         elif given:
             frames_block(M, Z, I, O, p0, nb, K)
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
             if given:
-                lane_frames(K, 0, l, W, 0)
+                lane_frames(K, 0, l, W, 0, False)
                 res, b = K[K_F][l], 0
             elif flags[F_SOLVE]:
                 # one call site of the closure alone: a pose alone, or a lane the block
@@ -274,14 +292,11 @@ def run_blocks(M, Z, I, O, flags, first, stop):
                 if not blocked or K[K_STATE][l] == LANE_ALONE:
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
-                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l)
+                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock)
         if flags[F_LINES] and inblock:
             block_lines(M, Z, I, O, p0, nb, W, K)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-    # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
-        Ko[0].shape[0]
 
 
 @borrowing
@@ -320,7 +335,7 @@ def block_lines(M, Z, I, O, p0, nb, W, K):
             P6b[k, l] = P6[p, k]
     forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
     for l in range(nb):
-        lane_frames(K, 1, l, W, 1)
+        lane_frames(K, 1, l, W, 1, False)
         lines_at(M, W[W_FA], 1, O[OUT_LINES][p0 + l])
         fp, out = W[W_FP][1], O[OUT_PLATFORM][p0 + l]
         for k in range(fp.shape[0]):
@@ -331,7 +346,8 @@ def block_lines(M, Z, I, O, p0, nb, W, K):
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
     starts, as one pose alone); a pose near the representation singularity is left to be
-    solved alone (``LANE_ALONE``)."""
+    solved alone (``LANE_ALONE``).  Returns the buffer of ``K`` holding the lanes' frames
+    (:func:`._block.block_newton`)."""
     unk, xs = Z[0], Z[1]
     order = M[ORDER]
     P6 = I[0]
@@ -356,16 +372,16 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         p6fix = P6[p]
         TOL[l] = tolerance(order, unk, xs, p6fix, X)
         ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
-    block_newton(M, unk, xs, K, nb, 30, W)
+    return block_newton(M, unk, xs, K, nb, 30, W)
 
 
 @inlined
-def finish_lane(M, Z, I, O, flags, p, W, K, l):
+def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
-    Newton run: its unknowns; a lane the block left active, the rest of its Newton run
-    alone; where the run did not converge, the rescue (continuation, polish), as
-    :func:`._closures.solve_pose`; its frames into buffer ``b`` of ``W`` (``b < 0``: to be
-    formed again at its unknowns).  Returns ``(residual, b)``."""
+    Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
+    active, the rest of its Newton run alone; where the run did not converge, the rescue
+    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
+    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b)``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -375,11 +391,13 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l):
     res, its = K[K_F][l], K[K_ITS][l]
     how = 0
     sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
-    # the lane's frames (at its unknowns) into buffer 0; after any Newton run of its
-    # rescue b < 0: they are formed again at the unknowns the rescue returns
+    # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
+    # rest of a Newton run: nothing after the solve reads them); after any Newton run of
+    # its rescue b < 0: they are formed again at the unknowns the rescue returns
     b = 0
-    lane_frames(K, 0, l, W, b)
-    if K[K_STATE][l] == LANE_ACTIVE:
+    more_steps = K[K_STATE][l] == LANE_ACTIVE
+    lane_frames(K, kb, l, W, b, more_steps)
+    if more_steps:
         # one of the few lanes the block left iterating: the rest of its run alone, from
         # its unknowns, frames and residual (the iterations it has left of the pose's 30)
         res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
