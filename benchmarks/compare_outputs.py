@@ -8,7 +8,8 @@ closures), run it once with the code before and once after, then compare::
     python benchmarks/compare_outputs.py compare before.npz after.npz
 
 ``workers`` (default 1: the serial kernel, one pose at a time) 2 runs the batches on two
-threads (the parallel kernel: the closures in blocks).
+threads (the parallel kernel: the closures in blocks); ``1b`` the parallel kernel on one
+thread (what a batch on one thread runs).
 
 Saved per PM: the closures ``X``, the normalised rows ``J``, the singular values, the
 condition numbers and the statics' values under the benchmark's load (random poses around
@@ -28,7 +29,7 @@ KEYS = ("X", "residual", "iterations", "J", "singular_values", "condition_number
         "how")
 
 
-def save(path: str, n: int = 2000, workers: int = 1) -> None:
+def save(path: str, n: int = 2000, workers: int = 1, blocks: bool = False) -> None:
     import screwkit
     from screwkit.engine._chains import chains_of
     from screwkit.engine._launch import run_poses
@@ -44,7 +45,7 @@ def save(path: str, n: int = 2000, workers: int = 1) -> None:
         pose = _random_pose(pm, n, np.random.default_rng(0))
         ch = chains_of(pm)
         r = run_poses(ch.flat, predictor_of(ch), ch.full_params(pose, n), F=F_LOAD, T=T_LOAD,
-                      workers=workers)
+                      workers=workers, blocks=blocks)
         for k in KEYS:
             if k in r:
                 out[f"{name}/{k}"] = np.asarray(r[k])
@@ -75,6 +76,7 @@ def compare(a: str, b: str) -> None:
 
 if __name__ == "__main__":
     if sys.argv[1] == "save":
-        save(sys.argv[2], workers=int(sys.argv[3]) if len(sys.argv) > 3 else 1)
+        w = sys.argv[3] if len(sys.argv) > 3 else "1"
+        save(sys.argv[2], workers=int(w.rstrip("b")), blocks=w.endswith("b") or w != "1")
     else:
         compare(sys.argv[2], sys.argv[3])

@@ -277,7 +277,7 @@ def test_the_predictor_fit_in_one_thread_is_the_threaded_one_bit_for_bit():
              for p in ch.fixed}
     args = (ch.flat, Z, ch.full_params(fixed, 64))
     kw = dict(X0=ch.home_vector(64).T, rows=False)
-    one = run_poses(*args, workers=1, **kw)
+    one = run_poses(*args, workers=1, blocks=False, **kw)
     two = run_poses(*args, workers=2, per_thread=32, **kw)
     assert one["X"].tobytes() == two["X"].tobytes()
     assert one["residual"].tobytes() == two["residual"].tobytes()

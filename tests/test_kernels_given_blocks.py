@@ -47,13 +47,13 @@ def test_given_unknowns_and_lines_on_blocks_equal_one_pose_at_a_time(name):
     # solved from the predictor: the block solve and the block's lines, against the serial
     # kernel (every pose alone)
     blocks = run_poses(flat, Z, P6, workers=2, per_thread=1, **kw)
-    alone = run_poses(flat, Z, P6, workers=1, **kw)
+    alone = run_poses(flat, Z, P6, workers=1, blocks=False, **kw)
     _same(blocks, alone, "solved")
     assert np.all(alone["residual"] <= 1e-9)
     # the same unknowns given: the block's forward pass against the one-pose pass
     X = np.ascontiguousarray(alone["X"])
     blocks = run_poses(flat, Z, P6, X=X, workers=2, per_thread=1, **kw)
-    alone = run_poses(flat, Z, P6, X=X, workers=1, **kw)
+    alone = run_poses(flat, Z, P6, X=X, workers=1, blocks=False, **kw)
     # (a launch on given unknowns solves nothing: its iterations, how and singular_beta are
     # not outputs)
     _same(blocks, alone, "given", skip=("iterations", "how", "singular_beta"))
@@ -65,3 +65,47 @@ def test_given_unknowns_and_lines_on_blocks_equal_one_pose_at_a_time(name):
         act = max(int(leg[i, L_ACT]), 0)
         d = np.abs(tw[:, i, act] - blocks["lines"][:, i, LN_V:LN_V + 6]).max()
         assert d <= 1e-9 * max(1.0, np.abs(tw[:, i, act]).max()), (name, i, d)
+
+
+class _Counted:
+    """A kernel dispatcher that counts its calls and the threads each was given."""
+
+    def __init__(self, fn):
+        self.fn, self.calls = fn, []
+
+    @property
+    def overloads(self):
+        return self.fn.overloads
+
+    def __call__(self, *args):
+        self.calls.append(args[-1])
+        return self.fn(*args)
+
+
+def test_a_batch_on_one_thread_runs_in_blocks_with_the_serial_kernels_bits(monkeypatch):
+    """A launch of the analysis kernel on one thread (``workers=1``, or too few poses for
+    two threads) runs the parallel kernel on that one thread, its closures solved in blocks,
+    from :data:`BLOCKS_ALONE` poses (once that kernel is loaded; from
+    :data:`BLOCKS_LOADING` in any case); the serial kernel below, and where asked
+    (``blocks=False``).  The outputs are the serial kernel's, bit for bit."""
+    from screwkit.engine import _launch
+    from screwkit.engine._kernels import kernels
+    pm = screwkit.load_pm("3RRPRR")
+    ch = chains_of(pm)
+    flat, Z = ch.flat, predictor_of(ch)
+    k = kernels()
+    spy = _Counted(k.run_parallel)
+    monkeypatch.setattr(k, "run_parallel", spy)
+    n = _launch.BLOCKS_LOADING + 37
+    P6 = ch.full_params(_poses(pm, n, seed=3), n)
+    kw = dict(F=F, T=T, lines=True)
+    blocks = run_poses(flat, Z, P6, workers=1, **kw)
+    assert spy.calls == [1]                          # the parallel kernel, one thread
+    for many in (None, 2):                           # too few poses for two threads
+        run_poses(flat, Z, P6[:_launch.BLOCKS_ALONE], workers=many, **kw)
+    assert spy.calls == [1, 1, 1]
+    run_poses(flat, Z, P6[:_launch.BLOCKS_ALONE - 1], workers=1, **kw)
+    alone = run_poses(flat, Z, P6, workers=1, blocks=False, **kw)
+    assert spy.calls == [1, 1, 1]                    # the serial kernel for these two
+    _same(blocks, alone, "one thread")
+    assert np.all(alone["residual"] <= 1e-9)

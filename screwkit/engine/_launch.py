@@ -22,6 +22,14 @@ __all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_
 #: Fewest poses per thread worth a parallel launch.
 MIN_PER_THREAD = 256
 
+#: Fewest poses a launch of the analysis kernel on one thread runs in blocks (the parallel
+#: kernel on one thread: its closures solved :data:`._kernels._layout.BLOCK` poses at a time,
+#: about 2.5 times less CPU a pose than the serial kernel, which forms each pose alone; the
+#: same bits).  Below :data:`BLOCKS_LOADING` poses only where this process has loaded the
+#: parallel kernel already: a small batch of a one-pose command neither loads nor compiles it.
+BLOCKS_ALONE = 64
+BLOCKS_LOADING = 2 * MIN_PER_THREAD
+
 #: How long the first compile of a parallel kernel takes (the note on stderr).
 PARALLEL_COMPILE = "about a minute"
 
@@ -49,9 +57,13 @@ def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
 
 
-def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False):
+def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False,
+            blocks=False):
+    """``serial(*args, 0, N)`` on this thread, or ``par(*args, threads)`` on the threads
+    :func:`threads` gives; ``blocks``: ``par`` also on one thread (the analysis kernel's
+    parallel version solves its poses in blocks, the serial one each pose alone)."""
     nw = threads(N, workers, per_thread)
-    if nw <= 1:
+    if nw <= 1 and not blocks:
         serial(*args, 0, N)
         return
     if note:
@@ -107,7 +119,8 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
 
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
-              lines=False, workers=None, per_thread: int = MIN_PER_THREAD) -> dict:
+              lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
+              blocks: bool = True) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
@@ -115,7 +128,10 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     outputs by name (:data:`OUTPUTS`); with ``lines`` also ``lines (N, n, LINE_WIDTH)``, the
     joints the transmission indices read (``_kernels/_indices.pose_lines``), and the platform
     ``platform (N, 27)`` of each pose (empty without).  ``per_thread``: the fewest poses
-    worth a thread (fewer for poses that cost more, such as closures solved from home)."""
+    worth a thread (fewer for poses that cost more, such as closures solved from home).
+    ``blocks``: on one thread too, at least :data:`BLOCKS_ALONE` poses run in blocks (see
+    there); False: on one thread, the serial kernel (each pose alone), whatever ``N``.  The
+    outputs are the same bit for bit either way."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -142,7 +158,9 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
-            N, workers, per_thread, note=True)
+            N, workers, per_thread, note=True,
+            blocks=blocks and N >= BLOCKS_ALONE and (N >= BLOCKS_LOADING
+                                                     or bool(k.run_parallel.overloads)))
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
                               for is_int, is_bool, o0, o1, sh in plan.out]))
 
