@@ -109,3 +109,21 @@ def test_a_batch_on_one_thread_runs_in_blocks_with_the_serial_kernels_bits(monke
     assert spy.calls == [1, 1, 1]                    # the serial kernel for these two
     _same(blocks, alone, "one thread")
     assert np.all(alone["residual"] <= 1e-9)
+
+
+def test_loading_the_block_kernel_before_a_dask_map_loads_it():
+    """What a Dask map's client does before it sends the blocks (the workers run them in
+    blocks on one thread): the parallel kernel loaded in a fresh process, which had not."""
+    import subprocess
+    import sys
+    code = ("import screwkit\n"
+            "from screwkit.engine._kernels import kernels\n"
+            "from screwkit.engine._run import load_block_kernel\n"
+            "k = kernels()\n"
+            "before = bool(k.run_parallel.overloads)\n"
+            "load_block_kernel(screwkit.load_pm('3RRPRR'))\n"
+            "print(before, bool(k.run_parallel.overloads))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["False", "True"]

@@ -23,7 +23,7 @@ from ._templates import labels_of, templates_of
 from ._path import balanced_chunk, solve_path
 from ._solve import Closures, predictor_of
 
-__all__ = ["CHUNK", "Computed", "compute", "row_points"]
+__all__ = ["CHUNK", "Computed", "compute", "load_block_kernel", "row_points"]
 
 #: Poses per launch (progress is reported after each).
 CHUNK = 32768
@@ -54,6 +54,18 @@ class Computed:
     twists: np.ndarray = None
     lines: np.ndarray = None
     platform: np.ndarray = None
+
+
+def load_block_kernel(model) -> None:
+    """Load the parallel analysis kernel in this process (on a first run, compile it: once,
+    with its note on stderr), by a launch of two poses at home on two threads.  Worker
+    processes that analyse their batches on one thread in blocks (a Dask map's, which run
+    the parallel kernel on one thread) then load it from the cache rather than each
+    compiling it at once."""
+    ch = chains_of(model)
+    fixed = {p: np.full(2, float(ch.home[p])) for p in ch.fixed}
+    run_poses(ch.flat, predictor_of(ch), ch.full_params(fixed, 2), rows=False, workers=2,
+              per_thread=1)
 
 
 def _chunks(N, size):

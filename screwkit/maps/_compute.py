@@ -275,6 +275,10 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
                              max_level_code))
         return result()
     from ._dask import client_for
+    # the workers analyse each block on one thread in blocks (the parallel kernel): on a
+    # first run it is compiled here, once, not by every worker process at the same time
+    from ..engine._run import load_block_kernel
+    load_block_kernel(model)
     with client_for(cluster) as client:
         from distributed import as_completed
         m, g = client.scatter([model, grid], broadcast=True)
