@@ -127,3 +127,46 @@ def test_loading_the_block_kernel_before_a_dask_map_loads_it():
                          timeout=600)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split() == ["False", "True"]
+
+
+def test_a_one_pose_analysis_of_a_six_parameter_pm_never_loads_the_parallel_kernel():
+    """The home predictor's fit of a 6-SPS (741 poses, more than a launch on one thread
+    takes in blocks unasked) runs in blocks only where the parallel kernel is loaded
+    already: a one-pose command in a fresh process neither loads nor compiles it."""
+    import subprocess
+    import sys
+    code = ("import screwkit\n"
+            "from screwkit.engine._kernels import _driver\n"
+            "m = screwkit.load_pm('6SPS')\n"
+            "res = screwkit.analyze(m, dict(m.default_pose))\n"
+            "print(bool(res.ok), len(_driver.run_parallel.overloads))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=900)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["True", "0"]
+
+
+def test_the_predictor_fit_runs_in_blocks_once_the_parallel_kernel_is_loaded(monkeypatch):
+    """A fit of the home predictor (a new model's: an optimiser's candidate) in a process
+    that has loaded the parallel kernel runs in blocks on one thread, and gives the
+    predictor of the serial kernel's fit bit for bit."""
+    from screwkit.engine import _launch, _solve
+    from screwkit.engine._kernels import kernels
+    from screwkit.engine._run import load_block_kernel
+    pm = screwkit.load_pm("3RRPRR")
+    load_block_kernel(pm)
+    k = kernels()
+    spy = _Counted(k.run_parallel)
+    monkeypatch.setattr(k, "run_parallel", spy)
+    ch = chains_of(pm.with_dimensions({"l": 61.5}))
+    in_blocks = _solve.predictor_of(ch)
+    assert spy.calls == [1]
+    _solve._PREDICTORS.pop(ch)
+    real = _launch.run_poses
+    monkeypatch.setattr(_launch, "run_poses",
+                        lambda *a, **kw: real(*a, **dict(kw, blocks=False)))
+    alone = _solve.predictor_of(ch)
+    assert spy.calls == [1]                          # the serial kernel's fit
+    assert len(in_blocks) == len(alone)
+    for a, b in zip(in_blocks, alone):
+        assert np.asarray(a).tobytes() == np.asarray(b).tobytes()

@@ -270,6 +270,11 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
         raise InputError(f"seed must be a non-negative integer, got {seed!r:.40}")
     from ..maps._map import _cluster
     cl = _cluster(cluster, scheduler)
+    # each candidate is a batch of the task's cells and a fit of its predictor, run in
+    # blocks by the parallel kernel (on one thread for fewer than 512 poses) once it is
+    # loaded: loaded here (on a first run compiled once, before any cluster's workers)
+    from ..engine._run import load_block_kernel
+    load_block_kernel(base)
     if cl is None:
         return _run(prob, Evaluator(prob), several, maxiter, popsize, seed, polish, progress)
     from ..maps import client_for

@@ -120,7 +120,7 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
               lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
-              blocks: bool = True) -> dict:
+              blocks: bool | None = True) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
@@ -130,8 +130,9 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     ``platform (N, 27)`` of each pose (empty without).  ``per_thread``: the fewest poses
     worth a thread (fewer for poses that cost more, such as closures solved from home).
     ``blocks``: on one thread too, at least :data:`BLOCKS_ALONE` poses run in blocks (see
-    there); False: on one thread, the serial kernel (each pose alone), whatever ``N``.  The
-    outputs are the same bit for bit either way."""
+    there); None: only where this process has loaded the parallel kernel already (nothing
+    loaded or compiled for this launch); False: on one thread, the serial kernel (each pose
+    alone), whatever ``N``.  The outputs are the same bit for bit either way."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -159,8 +160,8 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
             N, workers, per_thread, note=True,
-            blocks=blocks and N >= BLOCKS_ALONE and (N >= BLOCKS_LOADING
-                                                     or bool(k.run_parallel.overloads)))
+            blocks=blocks is not False and N >= BLOCKS_ALONE and (
+                bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
                               for is_int, is_bool, o0, o1, sh in plan.out]))
 
