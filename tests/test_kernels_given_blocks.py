@@ -114,36 +114,34 @@ def test_a_batch_on_one_thread_runs_in_blocks_with_the_serial_kernels_bits(monke
 def test_loading_the_block_kernel_before_a_dask_map_loads_it():
     """What a Dask map's client does before it sends the blocks (the workers run them in
     blocks on one thread): the parallel kernel loaded in a fresh process, which had not."""
-    import subprocess
-    import sys
-    code = ("import screwkit\n"
-            "from screwkit.engine._kernels import kernels\n"
-            "from screwkit.engine._run import load_block_kernel\n"
-            "k = kernels()\n"
-            "before = bool(k.run_parallel.overloads)\n"
-            "load_block_kernel(screwkit.load_pm('3RRPRR'))\n"
-            "print(before, bool(k.run_parallel.overloads))\n")
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=600)
-    assert run.returncode == 0, run.stderr
-    assert run.stdout.split() == ["False", "True"]
+    assert _printed_in_a_fresh_process(
+        "from screwkit.engine._kernels import kernels\n"
+        "from screwkit.engine._run import load_block_kernel\n"
+        "k = kernels()\n"
+        "before = bool(k.run_parallel.overloads)\n"
+        "load_block_kernel(screwkit.load_pm('3RRPRR'))\n"
+        "print(before, bool(k.run_parallel.overloads))\n") == ["False", "True"]
 
 
 def test_a_one_pose_analysis_of_a_six_parameter_pm_never_loads_the_parallel_kernel():
     """The home predictor's fit of a 6-SPS (741 poses, more than a launch on one thread
     takes in blocks unasked) runs in blocks only where the parallel kernel is loaded
     already: a one-pose command in a fresh process neither loads nor compiles it."""
+    assert _printed_in_a_fresh_process(
+        "from screwkit.engine._kernels import _driver\n"
+        "m = screwkit.load_pm('6SPS')\n"
+        "res = screwkit.analyze(m, dict(m.default_pose))\n"
+        "print(bool(res.ok), len(_driver.run_parallel.overloads))\n") == ["True", "0"]
+
+
+def _printed_in_a_fresh_process(code):
+    """The words ``code`` (after ``import screwkit``) prints in a new Python process."""
     import subprocess
     import sys
-    code = ("import screwkit\n"
-            "from screwkit.engine._kernels import _driver\n"
-            "m = screwkit.load_pm('6SPS')\n"
-            "res = screwkit.analyze(m, dict(m.default_pose))\n"
-            "print(bool(res.ok), len(_driver.run_parallel.overloads))\n")
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=900)
+    run = subprocess.run([sys.executable, "-c", "import screwkit\n" + code],
+                         capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split() == ["True", "0"]
+    return run.stdout.split()
 
 
 def test_the_predictor_fit_runs_in_blocks_once_the_parallel_kernel_is_loaded(monkeypatch):
