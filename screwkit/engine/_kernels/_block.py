@@ -124,7 +124,7 @@ def forward_lanes(M, unk, xs, K, X, b, res, nb):
                   BLOCK, res, K[K_CS])
 
 
-@borrowing
+@inlined
 def block_newton(M, unk, xs, K, nb, max_iter, W):
     """Gauss-Newton on the lanes ``0..nb-1`` of the block ``K`` whose state is
     ``LANE_ACTIVE``, from ``K[K_X]`` (in place) at the given parameters ``K[K_P6]`` to the
@@ -223,7 +223,7 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     return cur
 
 
-@borrowing
+@inlined
 def frames_block(M, unk, xs, P6, X, p0, nb, K):
     """The frames of the given unknowns ``X[p0:p0+nb] (N, nx)`` at the given parameters
     ``P6[p0:p0+nb] (N, 6)`` as the lanes of the block ``K`` (buffer 0), each lane's residual
@@ -237,7 +237,7 @@ def frames_block(M, unk, xs, P6, X, p0, nb, K):
     forward_lanes(M, unk, xs, K, Xb, 0, K[K_F], nb)
 
 
-@borrowing
+@inlined
 def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
     """The lines ``lines[p0:p0+nb]`` and platforms ``platform[p0:p0+nb]`` of the poses of
     unknowns ``X`` (:func:`._indices.pose_lines`), from the frames of the unknowns as the

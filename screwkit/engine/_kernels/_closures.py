@@ -191,7 +191,7 @@ def near_singular(order, unk, p6fix, tol):
     return s <= tol
 
 
-@borrowing
+@inlined
 def resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, W):
     """A pose at a representation singularity: the dependent angle(s) of the pair as the
     limit, then the pose solved with them given (``X`` in place: the full unknowns).

@@ -26,7 +26,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 
 from numba import prange
 
-from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
+from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
 from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
                      block_lines, block_newton, frames_block, lane_frames, make_block)
@@ -213,7 +213,7 @@ def _workspaces(M, O):
             make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK))
 
 
-@inner
+@inlined
 def run_poses(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` one at a time with one workspace (borrowed views: no
     reference counts in the loop; returns a number so that the owners visibly outlive it).
@@ -235,7 +235,7 @@ def run_poses(M, Z, I, O, flags, first, stop):
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0]
 
 
-@inner
+@inlined
 def run_blocks(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
     time (:func:`solve_block`), or the frames of their given unknowns formed ``BLOCK`` at a
@@ -299,7 +299,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
         finish_block(M, I, O, flags, p0, nb, SW, CW)
 
 
-@borrowing
+@inlined
 def solve_block(M, Z, I, O, p0, nb, W, K):
     """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
     starts, as one pose alone); a pose near the representation singularity is left to be
