@@ -23,11 +23,12 @@ default poses):
   solution, less the same launch without rows (on one thread: the serial kernel, one pose
   at a time);
 * ``analysis``: ``screwkit.analyze`` on one thread (closures, rows, conditioning, statics;
-  the serial kernel, one pose at a time).
+  a batch on one thread runs the parallel kernel's blocks on that thread: ``_launch``).
 
-Times are the CPU time of this thread (``time.thread_time``, best of 7), so that other
-processes on a shared machine inflate them less than wall-clock times; the ratios between
-the lines are the figures to read.  Run: ``python benchmarks/bench_closure.py [PM ...]``.
+Times are CPU times, best of 7: of this thread (``time.thread_time``), so that other
+processes on a shared machine inflate them less than wall-clock times, except the last two
+lines, of the process (``time.process_time``: a launch on one thread may run on one of
+numba's threads); the ratios between the lines are the figures to read.  Run: ``python benchmarks/bench_closure.py [PM ...]``.
 """
 
 from __future__ import annotations
@@ -104,12 +105,12 @@ def _bench_kernel():
     return parts, blocks, driver
 
 
-def _best(fn, repeat=7):
+def _best(fn, repeat=7, clock=time.thread_time):
     times = []
     for _ in range(repeat):
-        t0 = time.thread_time()
+        t0 = clock()
         out = fn()
-        times.append(time.thread_time() - t0)
+        times.append(clock() - t0)
     return min(times), out
 
 
@@ -172,15 +173,18 @@ def measure(name: str, n: int = 20_000) -> None:
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
     from screwkit.engine._launch import run_poses as launch
     Z = predictor_of(ch)
-    t_solve, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, rows=False, workers=1))
-    t_all, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, F=F_LOAD, T=T_LOAD, workers=1))
+    # (the process's CPU time: a launch on one thread may run on one of numba's threads)
+    t_solve, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, rows=False, workers=1,
+                                      blocks=False), clock=time.process_time)
+    t_all, _ = _best(lambda: launch(ch.flat, Z, P6, X0=Xs, F=F_LOAD, T=T_LOAD, workers=1,
+                                    blocks=False), clock=time.process_time)
     rows.append(("rows, conditioning, statics", (t_all - t_solve) * us,
                  "(the launch from a warm start, less its solve)"))
     fixed = {p: pose[p] for p in ch.fixed}
     screwkit.analyze(pm, {p: v[:10] for p, v in fixed.items()}, force=F_LOAD, torque=T_LOAD,
                      workers=1)
     t, _ = _best(lambda: screwkit.analyze(pm, fixed, force=F_LOAD, torque=T_LOAD, workers=1),
-                 3)
+                 3, clock=time.process_time)
     rows.append(("analysis (screwkit.analyze)", t * us, ""))
     print(f"{name}, {n} random poses, CPU time per pose on one thread:")
     for label, v, note in rows:

@@ -30,7 +30,7 @@ PACKAGE = "screwkit.engine._kernels."
 #: The kernels whose compile the child does (and everything compiled under them).
 CLOSURE = "solve_pose"
 #: The pose kernel's own functions (compiled last, once the closure is in the cache).
-POSE = ("run_range", "run_poses")
+POSE = ("run_range",)  # (its loop, `run_poses`, is typed into it)
 
 
 #: This process's kernels that call no kinematics (compiled first, while the child

@@ -31,7 +31,7 @@ BLOCKS_ALONE = 64
 BLOCKS_LOADING = 2 * MIN_PER_THREAD
 
 #: How long the first compile of a parallel kernel takes (the note on stderr).
-PARALLEL_COMPILE = "about a minute"
+PARALLEL_COMPILE = "a minute or two"
 
 #: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",

@@ -93,7 +93,13 @@ parallel = njit(parallel=True, **_OPTIONS)
 #: A function with a single caller that takes many tuples of arrays (the pose driver): its body
 #: typed into the caller (numba's IR inlining).  A call passes every array of its tuples as
 #: separate scalars (pointer, shape, strides...): the driver's hundred-odd arrays cost about
-#: 1 us a pose, as much as a forward-kinematics pass.
+#: 1 us a pose, as much as a forward-kinematics pass.  It also compiles less: numba optimises
+#: and generates the machine code of every compiled function with all it calls linked in, so
+#: a large callee of one caller compiled on its own (``inner``) has its whole subtree compiled
+#: once for itself and once more in its caller (the drivers' loops and the block's Newton,
+#: typed into their callers: a first run 72 s of CPU instead of 80-90 s, the parallel kernel
+#: 100 s instead of 126 s).  A function with several callers stays ``inner`` or ``borrowing``
+#: (compiled once, called), else every call site would type and optimise it again.
 inlined = njit(inline="always", no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
 
 
