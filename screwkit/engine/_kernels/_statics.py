@@ -27,7 +27,8 @@ from ._small import lu_factor, lu_apply
  SW_COMP) = range(14)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
-(CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R) = range(12)
+(CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R, CW_LU, CW_PIV,
+ CW_JW, CW_G, CW_Z, CW_Y, CW_W, CW_COMP) = range(20)
 
 
 @inner
@@ -98,11 +99,18 @@ def make_conditioning_work(mr, B):
     normalised rows ``Jn (mr, 6, B)``, their norms ``d (mr, B)``, the platforms' origins
     ``o (3, B)``, the singular values of all rows and of the constraint rows ``(6, B)`` each,
     ranks ``(2, B)`` (int) and conditions ``(2, B)``, and the scratch of
-    :func:`._eigen.singular_values_lanes`."""
-    return (np.zeros((max(mr, 1), 6, B)), np.zeros((max(mr, 1), B)), np.zeros((3, B)),
+    :func:`._eigen.singular_values_lanes`; then the statics of the lanes
+    (:func:`._driver.statics_block`): the LU factors ``(6, 6, B)`` and their interchanges
+    ``(6, B)`` (int), the weighted rows ``(mr, 6, B)`` and weights ``(mr, B)``, the
+    right-hand sides ``(6, B)``, the efforts ``(mr, B)``, the workloads ``(6, B)`` and the
+    compliances ``(mr, B)``."""
+    r = max(mr, 1)
+    return (np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((3, B)),
             np.zeros((6, B)), np.zeros((6, B)), np.zeros((2, B), np.int64), np.zeros((2, B)),
             np.zeros((6, 6, B)), np.zeros((6, B)), np.zeros((6, B)), np.zeros((4, B), np.int64),
-            np.zeros((max(mr, 6), 6)))
+            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, B)), np.zeros((6, B), np.int64),
+            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, B)), np.zeros((r, B)),
+            np.zeros((6, B)), np.zeros((r, B)))
 
 
 @borrowing
