@@ -10,7 +10,7 @@ pivoting.  Eigenvalues and singular values are in :mod:`._eigen`.
 import math
 
 import numpy as np
-from ._jit import borrowing, inlined, inner, lanes, one_lane
+from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
 
 @borrowing
 def cross_to(a0, a1, a2, b0, b1, b2, out, k):
@@ -158,7 +158,7 @@ def lu_apply(A, n, piv, b):
     lu_apply_lanes(one_lane(A), n, one_lane(piv), one_lane(b), 1, 1)
 
 
-@borrowing
+@borrowing_inlined
 def lu_sign(A, n, piv, k):
     """The sign of ``det A`` of lane ``k`` from its factors (:func:`lu_lanes`): ``-1`` per
     interchange and per negative pivot, 0 at the first zero pivot (where the factorisation

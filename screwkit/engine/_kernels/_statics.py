@@ -199,7 +199,7 @@ def statics_prepare(mr, sv, comp, SW):
     return MODE_PINV, sign
 
 
-@borrowing
+@borrowing_inlined
 def normalise_wrench(W, c, L, out):
     f0, f1, f2 = W[0], W[1], W[2]
     out[0], out[1], out[2] = f0, f1, f2
@@ -255,7 +255,7 @@ def statics_apply(mode, mr, W, c, L, SW, values):
         values[r] = y[r] * g[r] / d[r] if mr > 6 else y[r] / d[r]
 
 
-@borrowing
+@borrowing_inlined
 def equilibrium(J, mr, values, W, c, L, d):
     """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and the row wrenches ``|F_r J_r|``,
     all length-normalised about the centroid (unit-free, frame-free)."""
@@ -283,7 +283,7 @@ def equilibrium(J, mr, values, W, c, L, d):
     return num / (scale if scale > 0 else 1.0)
 
 
-@borrowing
+@borrowing_inlined
 def amplification(values, mr, torque, W, o, L):
     """The largest effort over the workload's size, consistent units: couples and rotary
     actuator torques over ``L``; the size ``sqrt(|F|^2 + |T / L|^2)`` with ``T`` the torque
@@ -301,7 +301,7 @@ def amplification(values, mr, torque, W, o, L):
     return eff / max(size, 1e-300)
 
 
-@borrowing
+@borrowing_inlined
 def workload_about_origin(F, T, o, W):
     """``W = [F; T + o x F]``."""
     W[0], W[1], W[2] = F[0], F[1], F[2]
