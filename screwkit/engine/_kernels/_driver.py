@@ -24,8 +24,6 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   transmission indices' joints and the platform (1/0 each).
 """
 
-import math
-
 from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
@@ -35,34 +33,20 @@ from ._block import K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LA
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
 from ._kin import forward
-from ._layout import BLOCK, CONVERGED, REFINE, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
+from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
-from ._small import lu_apply_lanes, lu_lanes, lu_sign
-from ._statics import (CW_COMP, CW_COND, CW_D, CW_G, CW_JN, CW_JW, CW_LU, CW_O, CW_PIV,
-                       CW_RANK, CW_SV, CW_W, CW_Y, CW_Z, SW_AP, SW_COMP, SW_D, SW_JN, SW_W,
-                       SW_WN, amplification, conditioning_lanes, equilibrium,
-                       make_conditioning_work, make_statics_work, normalise_rows,
-                       normalise_wrench, spread, statics_apply, statics_prepare,
-                       workload_about_origin)
+from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_D, SW_JN,
+                       conditioning_lanes, make_conditioning_work, make_statics_work,
+                       normalise_rows, spread)
+from ._statics_block import statics_block
 
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
  OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
-
-
-@borrowing
-def _compliance(I, p, mr, torque, L, comp, l):
-    """Pose ``p``'s compliances into lane ``l`` of ``comp (mr, ls)``."""
-    c = I[5]
-    for r in range(mr):
-        if c.shape[0] == 0:
-            comp[r, l] = 1.0 / (L * L) if torque[r] else 1.0
-        else:
-            comp[r, l] = c[p if c.shape[0] > 1 else 0, r]
 
 
 @inlined
@@ -181,96 +165,8 @@ def finish_block(M, I, O, flags, p0, nb, SW, CW):
         O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
         O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
     if flags[F_STATICS]:
-        statics_block(I, O, p0, nb, mr, SW, CW)
-
-
-@borrowing
-def statics_block(I, O, p0, nb, mr, SW, CW):
-    """The statics of the poses ``p0..p0+nb-1`` (lanes ``0..nb-1`` of ``CW``, their
-    conditioning done), each lane's operations those of the pose alone
-    (:func:`._statics.statics_prepare`, :func:`._statics.statics_apply`), in the same order:
-    a square well-conditioned ``Jn`` (``MODE_SQUARE``) and the normal equations of more
-    rows (``MODE_NORMAL``) on the lanes at once (:func:`._small.lu_lanes`,
-    :func:`._small.lu_apply_lanes`); a lane that needs the pseudo-inverse (rare: an
-    ill-conditioned pose) alone, through the one-pose functions.  Compiled once (the lane
-    stride ``BLOCK``), for both loops."""
-    ls = BLOCK
-    torque = I[6]
-    Jn, d, co, sv = CW[CW_JN], CW[CW_D], CW[CW_O], CW[CW_SV]
-    LU, piv, Jw, g, z, y, Wl, comp = CW[CW_LU], CW[CW_PIV], CW[CW_JW], CW[CW_G], CW[CW_Z], \
-        CW[CW_Y], CW[CW_W], CW[CW_COMP]
-    Wp, Wn, o = SW[SW_W], SW[SW_WN], SW[SW_AP]   # (spread's scratch: free once rows formed)
-    for l in range(nb):
-        p = p0 + l
-        L = O[OUT_LENGTH][p]
-        _compliance(I, p, mr, torque, L, comp, l)
-        for q in range(3):
-            o[q] = co[q, l]
-        workload_about_origin(I[3], I[4], o, Wp)
-        normalise_wrench(Wp, O[OUT_CENTRE][p], L, Wn)
-        for q in range(6):
-            Wl[q, l] = Wp[q]
-            z[q, l] = -Wn[q]
-    if mr == 6:                       # LU of Jn^T (every lane: the sign of det J)
-        for r in range(6):
-            for q in range(6):
-                for l in range(nb):
-                    LU[q, r, l] = Jn[r, q, l]
-    elif mr > 6:                      # the normal equations of the weighted rows
-        for r in range(mr):
-            for l in range(nb):
-                g[r, l] = d[r, l] / math.sqrt(comp[r, l])
-            for q in range(6):
-                for l in range(nb):
-                    Jw[r, q, l] = Jn[r, q, l] * g[r, l]
-        for a in range(6):
-            for b in range(6):
-                for l in range(nb):
-                    LU[a, b, l] = 0.0
-                for r in range(mr):
-                    for l in range(nb):
-                        LU[a, b, l] += Jw[r, a, l] * Jw[r, b, l]
-    if mr >= 6:
-        lu_lanes(LU, 6, piv, nb, ls)
-        lu_apply_lanes(LU, 6, piv, z, nb, ls)
-    if mr > 6:
-        for r in range(mr):
-            for l in range(nb):
-                y[r, l] = 0.0
-            for q in range(6):
-                for l in range(nb):
-                    y[r, l] += Jw[r, q, l] * z[q, l]
-    Jp, dp, cp = SW[SW_JN], SW[SW_D], SW[SW_COMP]
-    for l in range(nb):
-        p = p0 + l
-        J, centre, L = O[OUT_J][p], O[OUT_CENTRE][p], O[OUT_LENGTH][p]
-        values = O[OUT_VALUES][p]
-        for r in range(mr):
-            dp[r] = d[r, l]
-        for q in range(6):
-            Wp[q] = Wl[q, l]
-        well = mr >= 6 and sv[5, l] * REFINE > sv[0, l]
-        if well:
-            sign = 0.0
-            if mr == 6:
-                sign = lu_sign(LU, 6, piv, l)
-                for r in range(6):
-                    values[r] = z[r, l] / d[r, l]
-            else:
-                for r in range(mr):
-                    values[r] = y[r, l] * g[r, l] / d[r, l]
-        else:                         # the pseudo-inverse: the pose alone
-            for r in range(mr):
-                for q in range(6):
-                    Jp[r, q] = Jn[r, q, l]
-                cp[r] = comp[r, l]
-            mode, sign = statics_prepare(mr, O[OUT_SV][p], cp, SW)
-            statics_apply(mode, mr, Wp, centre, L, SW, values)
-        for q in range(3):
-            o[q] = co[q, l]
-        O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, dp)
-        O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
-        O[OUT_DET][p] = sign
+        statics_block(I, p0, nb, mr, SW, CW, O[OUT_J], O[OUT_CENTRE], O[OUT_LENGTH], O[OUT_SV],
+                      O[OUT_VALUES], O[OUT_EQ], O[OUT_AMP], O[OUT_DET])
 
 
 @inlined

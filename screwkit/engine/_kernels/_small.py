@@ -198,6 +198,11 @@ def lu_lanes(A, n, piv, nb, ls):
                     big, p = v, i
             pv[j * ls + k] = p if live else -1
         for i in range(j + 1, n):         # rows j and piv[j] interchanged (exact selects)
+            hit = False                   # (a row no lane takes is left alone: one lane's
+            for k in range(nb):           # LU swaps only where it pivots)
+                hit |= pv[j * ls + k] == i
+            if not hit:
+                continue
             for c in range(n):
                 jc, ic = (j * m + c) * ls, (i * m + c) * ls
                 for k in range(nb):
@@ -228,6 +233,11 @@ def lu_apply_lanes(A, n, piv, b, nb, ls):
     a, pv, x = lanes(A), lanes(piv), lanes(b)
     for j in range(n):                    # the row interchanges, in order
         for i in range(j + 1, n):
+            hit = False
+            for k in range(nb):
+                hit |= pv[j * ls + k] == i
+            if not hit:
+                continue
             for k in range(nb):
                 s = pv[j * ls + k] == i
                 u, v = x[j * ls + k], x[i * ls + k]
