@@ -19,6 +19,9 @@ The block workspace ``K`` (:func:`make_block`) holds two buffers of frames of ev
 the current and the trial ones, which swap roles at each iteration (:func:`block_newton`
 returns the current one), the unknowns, the given parameters, and per lane the residual,
 the tolerance, the iterations and the state (``LANE_*``).
+
+The block's forward pass also serves the launches on given unknowns (:func:`frames_block`)
+and the lines of the transmission indices' joints (:func:`block_lines`).
 """
 
 import math
@@ -26,10 +29,11 @@ import math
 import numpy as np
 
 from ._jit import borrowing, inlined, inner, lanes
+from ._indices import lines_at, rounded_unknowns
 from ._kin import closure_sq, forward_block, platform_columns
 from ._layout import BLOCK
 from ._layout import LEG, PLAT, ROT, TRN
-from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, step_block
+from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
  K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(27)
@@ -217,3 +221,44 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
         _accept(K, nb)
         cur = new
     return cur
+
+
+@borrowing
+def frames_block(M, unk, xs, P6, X, p0, nb, K):
+    """The frames of the given unknowns ``X[p0:p0+nb] (N, nx)`` at the given parameters
+    ``P6[p0:p0+nb] (N, 6)`` as the lanes of the block ``K`` (buffer 0), each lane's residual
+    into ``K[K_F]`` (the bits of each pose's one-pose pass)."""
+    Xb, P6b = K[K_X], K[K_P6]
+    for l in range(nb):
+        for k in range(6):
+            P6b[k, l] = P6[p0 + l, k]
+        for k in range(Xb.shape[0]):
+            Xb[k, l] = X[p0 + l, k]
+    forward_lanes(M, unk, xs, K, Xb, 0, K[K_F], nb)
+
+
+@borrowing
+def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
+    """The lines ``lines[p0:p0+nb]`` and platforms ``platform[p0:p0+nb]`` of the poses of
+    unknowns ``X`` (:func:`._indices.pose_lines`), from the frames of the unknowns as the
+    solution hands them back (:func:`._indices.rounded_unknowns`), formed for the block's
+    lanes at once in its trial unknowns and buffer 1 (free once the closures are solved);
+    ``W`` a one-pose workspace.  Each lane's frames are those of the pose alone, so where
+    the rounding changes nothing they are the solve's, bit for bit."""
+    nu = unk.shape[0]
+    Xr, P6b = K[K_XN], K[K_P6]
+    Xp = W[W_XN]
+    for l in range(nb):
+        p = p0 + l
+        rounded_unknowns(M, nu, X[p], Xp)
+        for k in range(Xr.shape[0]):
+            Xr[k, l] = Xp[k]
+        for k in range(6):
+            P6b[k, l] = P6[p, k]
+    forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
+    for l in range(nb):
+        lane_frames(K, 1, l, W, 1, False)
+        lines_at(M, W[W_FA], 1, lines[p0 + l])
+        fp, out = W[W_FP][1], platform[p0 + l]
+        for k in range(fp.shape[0]):
+            out[k] = fp[k]

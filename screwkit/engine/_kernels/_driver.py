@@ -28,10 +28,10 @@ from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
 
-from ._block import (K_F, K_FN, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, K_XN, LANE_ACTIVE,
-                     LANE_ALONE, block_newton, forward_lanes, lane_frames, make_block)
+from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
+                     block_lines, block_newton, frames_block, lane_frames, make_block)
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
-from ._indices import lines_at, pose_lines, rounded_unknowns
+from ._indices import pose_lines
 from ._kin import forward
 from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
@@ -94,10 +94,9 @@ def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
 @inlined
 def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
     """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
-    ``res``): the lines (``lines_here``: else its block's, :func:`block_lines`) and rows, as
-    ``flags`` says; its normalised rows, their norms and its
-    platform's origin into lane ``l`` of the conditioning workspace ``CW`` (for
-    :func:`finish_block`)."""
+    ``res``): the lines (``lines_here``: else its block's, :func:`._block.block_lines`) and
+    rows, as ``flags`` says; its normalised rows, their norms and its platform's origin
+    into lane ``l`` of the conditioning workspace ``CW`` (for :func:`finish_block`)."""
     unk, xs = Z[0], Z[1]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -209,9 +208,9 @@ def run_poses(M, Z, I, O, flags, first, stop):
 def run_blocks(M, Z, I, O, flags, first, stop):
     """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
     time (:func:`solve_block`), or the frames of their given unknowns formed ``BLOCK`` at a
-    time (:func:`frames_block`), as :func:`run_poses` otherwise (the same bits: every lane
-    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the workspaces
-    allocated here, the poses run by :func:`block_poses`."""
+    time (:func:`._block.frames_block`), as :func:`run_poses` otherwise (the same bits:
+    every lane is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the
+    workspaces allocated here, the poses run by :func:`block_poses`."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
     Wo, RWo, SWo, CWo = _workspaces(M, O)
@@ -246,7 +245,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
         if blocked:
             kb = solve_block(M, Z, I, O, p0, nb, W, K)
         elif given:
-            frames_block(M, Z, I, O, p0, nb, K)
+            frames_block(M, Z[0], Z[1], I[0], O[OUT_X], p0, nb, K)
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
@@ -264,51 +263,9 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
                     res, b = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock)
         if flags[F_LINES] and inblock:
-            block_lines(M, Z, I, O, p0, nb, W, K)
+            block_lines(M, Z[0], Z[1], I[0], O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
+                        W, K)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-
-
-@borrowing
-def frames_block(M, Z, I, O, p0, nb, K):
-    """The frames of the given unknowns ``O[OUT_X][p0:p0+nb]`` as the lanes of the block ``K``
-    (buffer 0), each lane's residual into ``K[K_F]``."""
-    Xb, P6b = K[K_X], K[K_P6]
-    P6, X = I[0], O[OUT_X]
-    for l in range(nb):
-        for k in range(6):
-            P6b[k, l] = P6[p0 + l, k]
-        for k in range(Xb.shape[0]):
-            Xb[k, l] = X[p0 + l, k]
-    forward_lanes(M, Z[0], Z[1], K, Xb, 0, K[K_F], nb)
-
-
-@borrowing
-def block_lines(M, Z, I, O, p0, nb, W, K):
-    """The lines and platforms of the poses ``p0..p0+nb-1`` (:func:`._indices.pose_lines`),
-    from the frames of their final unknowns as the solution hands them back
-    (:func:`._indices.rounded_unknowns`), formed for the block's lanes at once (its trial
-    unknowns and buffer 1, free once the closures are solved): each lane's frames are
-    those of the pose alone, so where the rounding changes nothing they are the solve's,
-    bit for bit."""
-    unk, xs = Z[0], Z[1]
-    nu = unk.shape[0]
-    Xr, P6b = K[K_XN], K[K_P6]
-    Xp = W[W_XN]
-    P6 = I[0]
-    for l in range(nb):
-        p = p0 + l
-        rounded_unknowns(M, nu, O[OUT_X][p], Xp)
-        for k in range(Xr.shape[0]):
-            Xr[k, l] = Xp[k]
-        for k in range(6):
-            P6b[k, l] = P6[p, k]
-    forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
-    for l in range(nb):
-        lane_frames(K, 1, l, W, 1, False)
-        lines_at(M, W[W_FA], 1, O[OUT_LINES][p0 + l])
-        fp, out = W[W_FP][1], O[OUT_PLATFORM][p0 + l]
-        for k in range(fp.shape[0]):
-            out[k] = fp[k]
 
 
 @borrowing
