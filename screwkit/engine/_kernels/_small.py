@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
+from ._layout import BLOCK
 
 @borrowing
 def cross_to(a0, a1, a2, b0, b1, b2, out, k):
@@ -158,6 +159,26 @@ def lu_apply(A, n, piv, b):
     lu_apply_lanes(one_lane(A), n, one_lane(piv), one_lane(b), 1, 1)
 
 
+@borrowing
+def lu_block(A, n, piv, nb):
+    """:func:`lu_lanes` on the ``nb`` lanes of a block (``A (m, m, BLOCK)``, ``piv (>= n,
+    BLOCK)``), compiled once for the lane stride ``BLOCK``, as :func:`lu_factor` is once for
+    one lane.  A function of its own, called rather than inlined, with its order ``n`` a
+    run-time value: LLVM would otherwise unroll the loops over the rows and columns of a
+    known order 6 around every lane loop, each copy vectorised with its checks and
+    remainder (about 40 KiB of machine code that each kernel calling it compiles again:
+    numba links a callee into every caller's module, where LLVM optimises and emits it once
+    more)."""
+    lu_lanes(A, n, piv, nb, BLOCK)
+
+
+@borrowing
+def lu_apply_block(A, n, piv, b, nb):
+    """:func:`lu_apply_lanes` on the ``nb`` lanes of a block (``b (>= n, BLOCK)``), compiled
+    once for the lane stride ``BLOCK`` (as :func:`lu_block`)."""
+    lu_apply_lanes(A, n, piv, b, nb, BLOCK)
+
+
 @borrowing_inlined
 def lu_sign(A, n, piv, k):
     """The sign of ``det A`` of lane ``k`` from its factors (:func:`lu_lanes`): ``-1`` per
@@ -182,7 +203,8 @@ def lu_lanes(A, n, piv, nb, ls):
     algorithm for one matrix, in the same order: its own pivot (the first largest ``|A[i,
     j]|``, the same comparisons), the interchange of whole rows and the elimination by
     selects across the lanes.  A lane whose pivot is exactly zero stops there (its later
-    ``piv`` entries -1, the rest of its ``A`` untouched): :func:`lu_sign` gives it 0."""
+    ``piv`` entries -1, the rest of its ``A`` untouched): :func:`lu_sign` gives it 0.
+    Inlined into :func:`lu_factor` (one lane) and :func:`lu_block` (``BLOCK`` lanes) only."""
     m = A.shape[1]
     a, pv = lanes(A), lanes(piv)
     for j in range(n):
@@ -228,7 +250,8 @@ def lu_lanes(A, n, piv, nb, ls):
 def lu_apply_lanes(A, n, piv, b, nb, ls):
     """Solve ``A x = b`` in place on each of ``nb`` lanes with the factors of
     :func:`lu_lanes` (``b (>= n, ls)``), each lane's operations those of one system in the
-    same order (the interchanges by selects)."""
+    same order (the interchanges by selects).  Inlined into :func:`lu_apply` (one lane) and
+    :func:`lu_apply_block` (``BLOCK`` lanes) only."""
     m = A.shape[1]
     a, pv, x = lanes(A), lanes(piv), lanes(b)
     for j in range(n):                    # the row interchanges, in order

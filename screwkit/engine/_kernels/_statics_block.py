@@ -4,7 +4,7 @@ After a block's conditioning (:func:`._statics.conditioning_lanes`, the lanes' n
 in the conditioning workspace ``CW``), :func:`statics_block` solves every lane's statics as
 the pose alone would (:func:`._statics.statics_prepare`, :func:`._statics.statics_apply`),
 the common modes across the lanes at once: the LU of ``Jn^T`` of a square well-conditioned
-``Jn`` and the normal equations of more rows (:func:`._small.lu_lanes`, each lane its own
+``Jn`` and the normal equations of more rows (:func:`._small.lu_block`, each lane its own
 pivots by selects: the same comparisons, the same bits); a lane that needs the
 pseudo-inverse alone.
 """
@@ -12,8 +12,8 @@ pseudo-inverse alone.
 import math
 
 from ._jit import borrowing
-from ._layout import BLOCK, REFINE
-from ._small import lu_apply_lanes, lu_lanes, lu_sign
+from ._layout import REFINE
+from ._small import lu_apply_block, lu_block, lu_sign
 from ._statics import (CW_COMP, CW_D, CW_G, CW_JN, CW_JW, CW_LU, CW_O, CW_PIV, CW_SV, CW_W,
                        CW_Y, CW_Z, SW_AP, SW_COMP, SW_D, SW_JN, SW_W, SW_WN, amplification,
                        equilibrium, normalise_wrench, statics_apply, statics_prepare,
@@ -37,18 +37,22 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
     conditioning done), each lane's operations those of the pose alone
     (:func:`._statics.statics_prepare`, :func:`._statics.statics_apply`), in the same order:
     a square well-conditioned ``Jn`` (``MODE_SQUARE``) and the normal equations of more
-    rows (``MODE_NORMAL``) on the lanes at once (:func:`._small.lu_lanes`,
-    :func:`._small.lu_apply_lanes`); a lane that needs the pseudo-inverse (rare: an
+    rows (``MODE_NORMAL``) on the lanes at once (:func:`._small.lu_block`,
+    :func:`._small.lu_apply_block`); a lane that needs the pseudo-inverse (rare: an
     ill-conditioned pose) alone, through the one-pose functions.  Compiled once (the lane
     stride ``BLOCK``), for both loops.  The poses' outputs: their rows ``Jo (N, mr, 6)``,
     centroids, lengths, singular values (read), efforts, equilibrium residuals, force
     amplifications and signs of ``det J`` (written)."""
-    ls = BLOCK
     torque = I[6]
     Jn, d, co, sv = CW[CW_JN], CW[CW_D], CW[CW_O], CW[CW_SV]
     LU, piv, Jw, g, z, y, Wl, comp = CW[CW_LU], CW[CW_PIV], CW[CW_JW], CW[CW_G], CW[CW_Z], \
         CW[CW_Y], CW[CW_W], CW[CW_COMP]
     Wp, Wn, o = SW[SW_W], SW[SW_WN], SW[SW_AP]   # (spread's scratch: free once rows formed)
+    # the order 6 as a run-time value (the LU's): LLVM would otherwise unroll the loops of
+    # known trip count 6 around the lane loops, every copy vectorised with its own checks
+    # and remainder (twice the machine code, which each caller compiles again: a first
+    # run's time); the lane loops inside are the work
+    six = LU.shape[0]
     for l in range(nb):
         p = p0 + l
         L = lengths[p]
@@ -61,32 +65,32 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
             Wl[q, l] = Wp[q]
             z[q, l] = -Wn[q]
     if mr == 6:                       # LU of Jn^T (every lane: the sign of det J)
-        for r in range(6):
-            for q in range(6):
+        for r in range(six):
+            for q in range(six):
                 for l in range(nb):
                     LU[q, r, l] = Jn[r, q, l]
     elif mr > 6:                      # the normal equations of the weighted rows
         for r in range(mr):
             for l in range(nb):
                 g[r, l] = d[r, l] / math.sqrt(comp[r, l])
-            for q in range(6):
+            for q in range(six):
                 for l in range(nb):
                     Jw[r, q, l] = Jn[r, q, l] * g[r, l]
-        for a in range(6):
-            for b in range(6):
+        for a in range(six):
+            for b in range(six):
                 for l in range(nb):
                     LU[a, b, l] = 0.0
                 for r in range(mr):
                     for l in range(nb):
                         LU[a, b, l] += Jw[r, a, l] * Jw[r, b, l]
     if mr >= 6:
-        lu_lanes(LU, 6, piv, nb, ls)
-        lu_apply_lanes(LU, 6, piv, z, nb, ls)
+        lu_block(LU, six, piv, nb)
+        lu_apply_block(LU, six, piv, z, nb)
     if mr > 6:
         for r in range(mr):
             for l in range(nb):
                 y[r, l] = 0.0
-            for q in range(6):
+            for q in range(six):
                 for l in range(nb):
                     y[r, l] += Jw[r, q, l] * z[q, l]
     Jp, dp, cp = SW[SW_JN], SW[SW_D], SW[SW_COMP]
