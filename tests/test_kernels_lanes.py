@@ -12,7 +12,9 @@ calls bit for bit):
 * LU with partial pivoting on lanes (``_small.lu_lanes``, ``lu_apply_lanes``: the statics of
   a block) against LAPACK (``scipy.linalg.lu_factor``, ``numpy.linalg.solve``) on random,
   graded, nearly singular and exactly singular matrices, against the one-pose
-  ``lu_factor`` / ``lu_apply`` (the same kernel on one lane), with a NaN lane.
+  ``lu_factor`` / ``lu_apply`` (the same kernel on one lane), with a NaN lane; the block's
+  compiled functions (``lu_block``, ``lu_apply_block``) and ``_extra.det_sign_batch`` on
+  them, each matrix as alone.
 """
 
 import itertools
@@ -270,3 +272,58 @@ def test_lu_on_lanes_with_a_nan_and_a_singular_lane(lu):
     for g, w in zip(worse[:2], alone[:2]):         # the NaN lane's factors as alone
         assert np.array_equal(g[4], w[4], equal_nan=True)
     assert np.array_equal(worse[0][9], alone[0][9])   # stopped at the zero pivot, as alone
+
+
+def test_lu_block_and_det_sign_batch_are_the_matrices_alone(lu):
+    """``_small.lu_block`` / ``lu_apply_block`` (the lane LU compiled once for the stride
+    ``BLOCK``, the order a run-time value) and ``_extra.det_sign_batch`` (on blocks of
+    them) give every matrix's factors, solution and sign as the one-pose LU alone: random
+    matrices, an exactly singular and a NaN one, a last block of 13 lanes."""
+    from numba import njit
+
+    from screwkit.engine._kernels._extra import det_sign_batch
+    from screwkit.engine._kernels._small import lu_apply_block, lu_block, lu_sign
+
+    @njit(cache=False, error_model="numpy")
+    def blocks(A, b):
+        N = A.shape[0]
+        F, x = np.zeros((N, 6, 6)), np.zeros((N, 6))
+        P, sg = np.zeros((N, 6), np.int64), np.zeros(N)
+        L, piv, y = np.zeros((6, 6, B)), np.zeros((6, B), np.int64), np.zeros((6, B))
+        for p0 in range(0, N, B):
+            m = min(B, N - p0)
+            for k in range(m):
+                for r in range(6):
+                    y[r, k] = b[p0 + k, r]
+                    for c in range(6):
+                        L[r, c, k] = A[p0 + k, r, c]
+            lu_block(L, 6, piv, m)
+            lu_apply_block(L, 6, piv, y, m)
+            for k in range(m):
+                sg[p0 + k] = lu_sign(L, 6, piv, k)
+                for r in range(6):
+                    P[p0 + k, r] = piv[r, k]
+                    x[p0 + k, r] = y[r, k]
+                    for c in range(6):
+                        F[p0 + k, r, c] = L[r, c, k]
+        return F, P, x, sg
+
+    rng = np.random.default_rng(5)
+    N = 3 * B + 13
+    A = rng.normal(size=(N, 6, 6))
+    b = rng.normal(size=(N, 6))
+    A[40, :, 2] = 0.0                              # exactly singular: det sign 0
+    A[77, 1, 4] = np.nan
+    alone = lu(A, b, 0)
+    got = blocks(A, b)
+    solved = alone[3] != 0.0                       # (alone, a singular system is not solved)
+    for g, r in zip(got, alone):
+        assert np.array_equal(g[solved], r[solved], equal_nan=True)
+    assert np.array_equal(got[0], alone[0], equal_nan=True) and np.array_equal(got[1], alone[1])
+    assert np.array_equal(got[3], alone[3], equal_nan=True)
+    sign = np.full(N, 7.0)
+    det_sign_batch(A, sign)
+    assert np.array_equal(sign, alone[3], equal_nan=True)
+    assert sign[40] == 0.0
+    fin = np.isfinite(A).all(axis=(1, 2))
+    assert np.array_equal(sign[fin], np.sign(np.linalg.det(A[fin])))
