@@ -38,25 +38,15 @@ from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
 from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
-from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
-                       SW_JN, SW_W, amplification, conditioning_lanes, equilibrium,
-                       make_conditioning_work, make_statics_work, normalise_rows, spread,
-                       statics_apply, statics_prepare, workload_about_origin)
+from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_D, SW_JN,
+                       conditioning_lanes, make_conditioning_work, make_statics_work,
+                       normalise_rows, spread)
+from ._statics_block import statics_block
 
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
  OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
-
-
-@borrowing
-def _compliance(I, p, mr, torque, L, comp):
-    c = I[5]
-    for r in range(mr):
-        if c.shape[0] == 0:
-            comp[r] = 1.0 / (L * L) if torque[r] else 1.0
-        else:
-            comp[r] = c[p if c.shape[0] > 1 else 0, r]
 
 
 @inlined
@@ -176,30 +166,9 @@ def finish_block(M, I, O, flags, p0, nb, SW, CW):
             out[q] = sv[q, l]
         O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
         O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
-    if not flags[F_STATICS]:
-        return
-    torque = I[6]
-    comp = SW[SW_COMP]
-    Jn, d, Wp = SW[SW_JN], SW[SW_D], SW[SW_W]
-    cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
-    for l in range(nb):
-        p = p0 + l
-        for r in range(mr):
-            for q in range(6):
-                Jn[r, q] = cj[r, q, l]
-            d[r] = cd[r, l]
-        J, centre, L = O[OUT_J][p], O[OUT_CENTRE][p], O[OUT_LENGTH][p]
-        _compliance(I, p, mr, torque, L, comp)
-        mode, sign = statics_prepare(mr, O[OUT_SV][p], comp, SW)
-        o = SW[SW_AP]                 # (spread's scratch: free once the rows are formed)
-        for q in range(3):
-            o[q] = co[q, l]
-        workload_about_origin(I[3], I[4], o, Wp)
-        values = O[OUT_VALUES][p]
-        statics_apply(mode, mr, Wp, centre, L, SW, values)
-        O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, d)
-        O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
-        O[OUT_DET][p] = sign
+    if flags[F_STATICS]:
+        statics_block(I, p0, nb, mr, SW, CW, O[OUT_J], O[OUT_CENTRE], O[OUT_LENGTH], O[OUT_SV],
+                      O[OUT_VALUES], O[OUT_EQ], O[OUT_AMP], O[OUT_DET])
 
 
 @inlined
