@@ -70,17 +70,17 @@ def lane_frames(K, b, l, W, wb, errors):
     with ``errors`` the closure errors, which a Newton run continued alone reads (its first
     step and decrease test).  Not the legs' end displacements ``FL``: only the forward pass
     that writes them reads them."""
-    FA, FE, FP = K[K_FA][b], K[K_FE][b], K[K_FP][b]
-    WA, WE, WP = W[W_FA][wb], W[W_FE][wb], W[W_FP][wb]
-    for i in range(WA.shape[0]):
-        for j in range(WA.shape[1]):
-            for k in range(6):
-                WA[i, j, k] = FA[i, j, k, l]
-        if errors:
-            for k in range(6):
-                WE[i, k] = FE[i, k, l]
-    for k in range(27):
-        WP[k] = FP[k, l]
+    # flat loops through pointers: an entry's four indices (and numba's wraparound of each)
+    # cost more than its load
+    FA, FE, FP = lanes(K[K_FA][b]), lanes(K[K_FE][b]), lanes(K[K_FP][b])
+    WA, WE, WP = lanes(W[W_FA][wb]), lanes(W[W_FE][wb]), lanes(W[W_FP][wb])
+    for q in range(W[W_FA][wb].size):
+        WA[q] = FA[q * BLOCK + l]
+    if errors:
+        for q in range(W[W_FE][wb].size):
+            WE[q] = FE[q * BLOCK + l]
+    for q in range(27):
+        WP[q] = FP[q * BLOCK + l]
 
 
 @inlined
