@@ -29,7 +29,8 @@ from numba import prange
 from ._jit import borrowed, borrowing, entry, inlined, inner, one_lane, parallel
 
 from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE,
-                     LANE_ALONE, block_lines, block_newton, frames_block, lane_frames, make_block)
+                     LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
+                     lane_frames_into, make_block, make_rows_lanes)
 from ._geometry import legs_frames_block
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
@@ -38,8 +39,7 @@ from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, 
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
-from ._rows import (RW_TW, lane_frames_into, leg_frames, leg_rows, make_rows_lanes,
-                    make_rows_work, template_rows)
+from ._rows import RW_TW, leg_frames, leg_rows, make_rows_work, template_rows
 from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
                        SW_JN, SW_W, amplification, conditioning_lanes, equilibrium,
                        make_conditioning_work, make_statics_work, normalise_rows, spread,

@@ -19,13 +19,12 @@ a call passing the model and workspace tuples costs more than their arithmetic.
 import math
 
 import numpy as np
-from ._jit import borrowing, borrowing_inlined, inner, lanes
+from ._jit import borrowing, borrowing_inlined, inner
 
 from ._geometry import (canonical_basis, eval_directions, eval_points, group_rows,
                         is_prismatic, leg_setup, null_space)
-from ._kin import twist_lane
 from ._layout import (A_LINE, A_NONE, GRP, GREF, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE,
-                      REF_FLAG, ROT, TRA, T_AKIND, T_AP1, T_AP2, T_CROW, T_GENERIC, T_K, T_NG, TPL,
+                      REF_FLAG, T_AKIND, T_AP1, T_AP2, T_CROW, T_GENERIC, T_K, T_NG, TPL,
                       ZERO)
 from ._eigen import jacobi_rows
 from ._small import cholesky_solve
@@ -320,42 +319,6 @@ def leg_frames(M, i, RW, fa, fp):
     eval_directions(M, i, fa, fp, ctx, RW[RW_DV])
 
 
-@inner
-def make_rows_lanes(n, npts, ndirs, B):
-    """A thread's rows workspace of a block of ``B`` lanes: every leg's context ``(n, 4, 3,
-    B)``, named points ``(n, p, 3, B)`` and directions ``(n, d, 3, B)``
-    (``_geometry.legs_frames_block``)."""
-    return (np.zeros((n, 4, 3, B)), np.zeros((n, max(npts, 1), 3, B)),
-            np.zeros((n, max(ndirs, 1), 3, B)))
-
-
-@borrowing_inlined
-def lane_frames_into(M, i, RL, l, RW, fa):
-    """Leg ``i``'s context, points and directions of lane ``l`` of the block's rows
-    workspace ``RL`` (:func:`make_rows_lanes`) into ``RW``, and its twists at that lane's
-    frames ``fa``: what :func:`leg_frames` would form there, the same bits.  Flat loops
-    through pointers (an entry's indices and numba's wraparound of each cost more than its
-    load)."""
-    B = RL[0].shape[3]
-    _lane_copy(RL[0], i, 12, B, l, RW[RW_CTX])
-    _lane_copy(RL[1], i, RL[1].shape[1] * 3, B, l, RW[RW_PV])
-    _lane_copy(RL[2], i, RL[2].shape[1] * 3, B, l, RW[RW_DV])
-    # the twists (a dozen operations each: less than copying them out of a lane)
-    rot, tra, tw = M[ROT], M[TRA], RW[RW_TW]
-    for j in range(M[LEG][i, L_SIZE]):
-        twist_lane(rot[i, j], tra[i, j], fa[j], tw[j], 0, 1)
-
-
-@borrowing_inlined
-def _lane_copy(S, i, per, B, l, dst):
-    """The ``per`` entries of leg ``i`` of lane ``l`` of ``S (n, ..., B)`` into ``dst``
-    (C-contiguous)."""
-    src, out = lanes(S), lanes(dst)
-    o = i * per * B + l
-    for q in range(per):
-        out[q] = src[o + q * B]
-
-
 @borrowing_inlined
 def put_constraints(cons, k, r0, J, scale):
     """The ``k`` constraint rows ``cons`` into ``J`` from row ``r0`` (scale 1)."""
@@ -370,7 +333,7 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
     """Leg ``i``'s rows into ``J (rows, 6)`` and ``scale``: its actuation row at its index
     (active legs) and its constraint rows from ``TPL[i, T_CROW]``, at its frames ``fa``,
     ``fp`` whose context, twists, points and directions are in ``RW`` (:func:`leg_frames`,
-    or a block's lane, :func:`lane_frames_into`).  Returns ``(ok, structure_ok)``."""
+    or a block's lane, ``_block.lane_frames_into``).  Returns ``(ok, structure_ok)``."""
     tpl = M[TPL][i]
     cons = RW[RW_CONS]
     k = tpl[T_K]
