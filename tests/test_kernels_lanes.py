@@ -8,7 +8,13 @@ calls bit for bit):
   with a non-finite lane among finite ones (``singular_values_lanes``);
 * the home predictor's polynomial (``_closures.predict``) against the same polynomial
   evaluated here with numpy from its monomials, and a lane far outside the fit starting at
-  home.
+  home;
+* LU with partial pivoting on lanes (``_small.lu_lanes``, ``lu_apply_lanes``: the statics of
+  a block) against LAPACK (``scipy.linalg.lu_factor``, ``numpy.linalg.solve``) on random,
+  graded, nearly singular and exactly singular matrices, against the one-pose
+  ``lu_factor`` / ``lu_apply`` (the same kernel on one lane), with a NaN lane; the block's
+  compiled functions (``lu_block``, ``lu_apply_block``) and ``_extra.det_sign_batch`` on
+  them, each matrix as alone.
 """
 
 import itertools
@@ -161,3 +167,163 @@ def test_predictor_on_lanes_is_its_polynomial(predictor, nf, degree):
     ref[17] = Xhome
     assert np.array_equal(got[17], Xhome)
     assert np.max(np.abs(got - ref)) < 1e-12 * np.max(np.abs(ref))
+
+
+@pytest.fixture(scope="module")
+def lu():
+    from numba import njit
+
+    from screwkit.engine._kernels._small import (lu_apply, lu_apply_lanes, lu_factor,
+                                                 lu_lanes, lu_sign)
+
+    @njit(cache=False, error_model="numpy")          # as the kernels: no exceptions
+    def run(A, b, nb):
+        """LU factors, interchanges, solutions of ``A x = b`` and signs of ``det A`` of
+        ``A (N, 6, 6)``, ``nb`` matrices a block on lanes (stride ``B``; ``nb = 0``: each
+        alone through the one-pose ``lu_factor`` and ``lu_apply``)."""
+        N = A.shape[0]
+        F, x = np.zeros((N, 6, 6)), np.zeros((N, 6))
+        P, sg = np.zeros((N, 6), np.int64), np.zeros(N)
+        if nb == 0:
+            a, piv, y = np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(6)
+            for p in range(N):
+                a[:, :] = A[p]
+                y[:] = b[p]
+                sg[p] = lu_factor(a, 6, piv)
+                if sg[p] != 0.0:
+                    lu_apply(a, 6, piv, y)
+                F[p], P[p], x[p] = a, piv, y
+            return F, P, x, sg
+        L, piv, y = np.zeros((6, 6, B)), np.zeros((6, B), np.int64), np.zeros((6, B))
+        for p0 in range(0, N, nb):
+            m = min(nb, N - p0)
+            for k in range(m):
+                for r in range(6):
+                    y[r, k] = b[p0 + k, r]
+                    for c in range(6):
+                        L[r, c, k] = A[p0 + k, r, c]
+            lu_lanes(L, 6, piv, m, B)
+            lu_apply_lanes(L, 6, piv, y, m, B)
+            for k in range(m):
+                sg[p0 + k] = lu_sign(L, 6, piv, k)
+                for r in range(6):
+                    P[p0 + k, r] = piv[r, k]
+                    x[p0 + k, r] = y[r, k]
+                    for c in range(6):
+                        F[p0 + k, r, c] = L[r, c, k]
+        return F, P, x, sg
+
+    return run
+
+
+def _matrices(rng, N, kind):
+    A = rng.normal(size=(N, 6, 6))
+    if kind == "graded":                           # rows and columns over 1e-6 .. 1e6
+        A *= np.logspace(-3, 3, 6)[:, None] * np.logspace(3, -3, 6)
+    elif kind == "nearly singular":                # condition numbers 1e8 .. 1e14
+        U, _, Vt = np.linalg.svd(A)
+        s = np.logspace(0, -1, 6) * np.ones((N, 1))
+        s[:, 5] = 10.0 ** -rng.uniform(8, 14, N)
+        A = np.einsum("pij,pj,pjk->pik", U, s, Vt)
+    return A
+
+
+@pytest.mark.parametrize("kind", ["random", "graded", "nearly singular"])
+def test_lu_on_lanes_matches_lapack_and_the_matrices_alone(lu, kind):
+    import scipy.linalg
+
+    rng = np.random.default_rng(len(kind))
+    N = 1000
+    A = _matrices(rng, N, kind)
+    b = rng.normal(size=(N, 6))
+    F, P, x, sg = lu(A, b, B)
+    for got, alone in zip((F, P, x, sg), lu(A, b, 0)):
+        assert np.array_equal(got, alone)          # every lane as the matrix alone
+    for got, alone in zip((F, P, x, sg), lu(A, b, 7)):
+        assert np.array_equal(got, alone)          # whatever the block's width
+    assert np.array_equal(sg, np.sign(np.linalg.det(A)))
+    cond = np.linalg.cond(A)
+    ref = np.linalg.solve(A, b[..., None])[..., 0]
+    err = np.linalg.norm(x - ref, axis=1) / np.linalg.norm(ref, axis=1)
+    assert np.all(err < 1e-14 * cond)
+    res = np.linalg.norm(np.einsum("pij,pj->pi", A, x) - b, axis=1)
+    assert np.all(res < 1e-14 * np.linalg.norm(A, axis=(1, 2)) * np.linalg.norm(x, axis=1))
+    for p in range(0, N, 50):                      # LAPACK's getrf: its pivots, its factors
+        lf, lp = scipy.linalg.lu_factor(A[p])
+        assert np.array_equal(P[p], lp)
+        assert np.max(np.abs(F[p] - lf)) <= 1e-12 * np.max(np.abs(lf)) * min(cond[p], 1e4)
+
+
+def test_lu_on_lanes_with_a_nan_and_a_singular_lane(lu):
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(B, 6, 6))
+    b = rng.normal(size=(B, 6))
+    bad = A.copy()
+    bad[4, 2, 3] = np.nan
+    bad[9, :, 1] = 0.0                             # exactly singular: det sign 0
+    bad[9, 3, 1] = 0.0
+    good, worse = lu(A, b, B), lu(bad, b, B)
+    keep = ~np.isin(np.arange(B), [4, 9])
+    for g, w in zip(good, worse):
+        assert np.array_equal(g[keep], w[keep])    # the other lanes do not notice them
+    assert worse[3][9] == 0.0 and np.isnan(worse[2][4]).any()
+    alone = lu(bad, b, 0)
+    assert np.array_equal(worse[3], alone[3])
+    for g, w in zip(worse[:2], alone[:2]):         # the NaN lane's factors as alone
+        assert np.array_equal(g[4], w[4], equal_nan=True)
+    assert np.array_equal(worse[0][9], alone[0][9])   # stopped at the zero pivot, as alone
+
+
+def test_lu_block_and_det_sign_batch_are_the_matrices_alone(lu):
+    """``_small.lu_block`` / ``lu_apply_block`` (the lane LU compiled once for the stride
+    ``BLOCK``, the order a run-time value) and ``_extra.det_sign_batch`` (on blocks of
+    them) give every matrix's factors, solution and sign as the one-pose LU alone: random
+    matrices, an exactly singular and a NaN one, a last block of 13 lanes."""
+    from numba import njit
+
+    from screwkit.engine._kernels._extra import det_sign_batch
+    from screwkit.engine._kernels._small import lu_apply_block, lu_block, lu_sign
+
+    @njit(cache=False, error_model="numpy")
+    def blocks(A, b):
+        N = A.shape[0]
+        F, x = np.zeros((N, 6, 6)), np.zeros((N, 6))
+        P, sg = np.zeros((N, 6), np.int64), np.zeros(N)
+        L, piv, y = np.zeros((6, 6, B)), np.zeros((6, B), np.int64), np.zeros((6, B))
+        for p0 in range(0, N, B):
+            m = min(B, N - p0)
+            for k in range(m):
+                for r in range(6):
+                    y[r, k] = b[p0 + k, r]
+                    for c in range(6):
+                        L[r, c, k] = A[p0 + k, r, c]
+            lu_block(L, 6, piv, m)
+            lu_apply_block(L, 6, piv, y, m)
+            for k in range(m):
+                sg[p0 + k] = lu_sign(L, 6, piv, k)
+                for r in range(6):
+                    P[p0 + k, r] = piv[r, k]
+                    x[p0 + k, r] = y[r, k]
+                    for c in range(6):
+                        F[p0 + k, r, c] = L[r, c, k]
+        return F, P, x, sg
+
+    rng = np.random.default_rng(5)
+    N = 3 * B + 13
+    A = rng.normal(size=(N, 6, 6))
+    b = rng.normal(size=(N, 6))
+    A[40, :, 2] = 0.0                              # exactly singular: det sign 0
+    A[77, 1, 4] = np.nan
+    alone = lu(A, b, 0)
+    got = blocks(A, b)
+    solved = alone[3] != 0.0                       # (alone, a singular system is not solved)
+    for g, r in zip(got, alone):
+        assert np.array_equal(g[solved], r[solved], equal_nan=True)
+    assert np.array_equal(got[0], alone[0], equal_nan=True) and np.array_equal(got[1], alone[1])
+    assert np.array_equal(got[3], alone[3], equal_nan=True)
+    sign = np.full(N, 7.0)
+    det_sign_batch(A, sign)
+    assert np.array_equal(sign, alone[3], equal_nan=True)
+    assert sign[40] == 0.0
+    fin = np.isfinite(A).all(axis=(1, 2))
+    assert np.array_equal(sign[fin], np.sign(np.linalg.det(A[fin])))

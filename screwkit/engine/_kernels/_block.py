@@ -21,18 +21,21 @@ returns the current one), the unknowns, the given parameters, and per lane the r
 the tolerance, the iterations and the state (``LANE_*``).
 
 The block's forward pass also serves the launches on given unknowns (:func:`frames_block`)
-and the lines of the transmission indices' joints (:func:`block_lines`).
+and the lines of the transmission indices' joints (:func:`block_lines`).  The rows' leg
+frames of a block's lanes (``_geometry.legs_frames_block``) are kept in a workspace of their
+own (:func:`make_rows_lanes`), each pose's copied out by :func:`lane_frames_into`.
 """
 
 import math
 
 import numpy as np
 
-from ._jit import borrowing, inlined, inner, lanes
+from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes
 from ._indices import lines_at, rounded_unknowns
-from ._kin import closure_sq, forward_block, platform_columns
+from ._kin import closure_sq, forward_block, platform_columns, twist_lane
 from ._layout import BLOCK
-from ._layout import LEG, PLAT, ROT, TRN
+from ._layout import LEG, L_SIZE, PLAT, ROT, TRA, TRN
+from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
 from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
@@ -70,17 +73,17 @@ def lane_frames(K, b, l, W, wb, errors):
     with ``errors`` the closure errors, which a Newton run continued alone reads (its first
     step and decrease test).  Not the legs' end displacements ``FL``: only the forward pass
     that writes them reads them."""
-    FA, FE, FP = K[K_FA][b], K[K_FE][b], K[K_FP][b]
-    WA, WE, WP = W[W_FA][wb], W[W_FE][wb], W[W_FP][wb]
-    for i in range(WA.shape[0]):
-        for j in range(WA.shape[1]):
-            for k in range(6):
-                WA[i, j, k] = FA[i, j, k, l]
-        if errors:
-            for k in range(6):
-                WE[i, k] = FE[i, k, l]
-    for k in range(27):
-        WP[k] = FP[k, l]
+    # flat loops through pointers: an entry's four indices (and numba's wraparound of each)
+    # cost more than its load
+    FA, FE, FP = lanes(K[K_FA][b]), lanes(K[K_FE][b]), lanes(K[K_FP][b])
+    WA, WE, WP = lanes(W[W_FA][wb]), lanes(W[W_FE][wb]), lanes(W[W_FP][wb])
+    for q in range(W[W_FA][wb].size):
+        WA[q] = FA[q * BLOCK + l]
+    if errors:
+        for q in range(W[W_FE][wb].size):
+            WE[q] = FE[q * BLOCK + l]
+    for q in range(27):
+        WP[q] = FP[q * BLOCK + l]
 
 
 @inlined
@@ -262,3 +265,39 @@ def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
         fp, out = W[W_FP][1], platform[p0 + l]
         for k in range(fp.shape[0]):
             out[k] = fp[k]
+
+
+@inner
+def make_rows_lanes(n, npts, ndirs, B):
+    """A thread's rows workspace of a block of ``B`` lanes: every leg's context ``(n, 4, 3,
+    B)``, named points ``(n, p, 3, B)`` and directions ``(n, d, 3, B)``
+    (``_geometry.legs_frames_block``)."""
+    return (np.zeros((n, 4, 3, B)), np.zeros((n, max(npts, 1), 3, B)),
+            np.zeros((n, max(ndirs, 1), 3, B)))
+
+
+@borrowing_inlined
+def lane_frames_into(M, i, RL, l, RW, fa):
+    """Leg ``i``'s context, points and directions of lane ``l`` of the block's rows
+    workspace ``RL`` (:func:`make_rows_lanes`) into ``RW``, and its twists at that lane's
+    frames ``fa``: what ``_rows.leg_frames`` would form there, the same bits.  Flat loops
+    through pointers (an entry's indices and numba's wraparound of each cost more than its
+    load)."""
+    B = RL[0].shape[3]
+    _lane_copy(RL[0], i, 12, B, l, RW[RW_CTX])
+    _lane_copy(RL[1], i, RL[1].shape[1] * 3, B, l, RW[RW_PV])
+    _lane_copy(RL[2], i, RL[2].shape[1] * 3, B, l, RW[RW_DV])
+    # the twists (a dozen operations each: less than copying them out of a lane)
+    rot, tra, tw = M[ROT], M[TRA], RW[RW_TW]
+    for j in range(M[LEG][i, L_SIZE]):
+        twist_lane(rot[i, j], tra[i, j], fa[j], tw[j], 0, 1)
+
+
+@borrowing_inlined
+def _lane_copy(S, i, per, B, l, dst):
+    """The ``per`` entries of leg ``i`` of lane ``l`` of ``S (n, ..., B)`` into ``dst``
+    (C-contiguous)."""
+    src, out = lanes(S), lanes(dst)
+    o = i * per * B + l
+    for q in range(per):
+        out[q] = src[o + q * B]

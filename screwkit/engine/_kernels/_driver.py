@@ -28,8 +28,10 @@ from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
-from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
-                     block_lines, block_newton, frames_block, lane_frames, make_block)
+from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE,
+                     LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
+                     lane_frames_into, make_block, make_rows_lanes)
+from ._geometry import legs_frames_block
 from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
 from ._indices import pose_lines
 from ._kin import forward
@@ -37,26 +39,16 @@ from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, 
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
-from ._rows import RW_TW, leg_rows, make_rows_work, template_rows
-from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_COMP, SW_D,
-                       SW_JN, SW_W, amplification, conditioning_lanes, equilibrium,
-                       make_conditioning_work, make_statics_work, normalise_rows, spread,
-                       statics_apply, statics_prepare, workload_about_origin)
+from ._rows import RW_TW, leg_frames, leg_rows, make_rows_work, template_rows
+from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_D, SW_JN,
+                       conditioning_lanes, make_conditioning_work, make_statics_work,
+                       normalise_rows, spread)
+from ._statics_block import statics_block
 
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
  OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
-
-
-@borrowing
-def _compliance(I, p, mr, torque, L, comp):
-    c = I[5]
-    for r in range(mr):
-        if c.shape[0] == 0:
-            comp[r] = 1.0 / (L * L) if torque[r] else 1.0
-        else:
-            comp[r] = c[p if c.shape[0] > 1 else 0, r]
 
 
 @inlined
@@ -91,22 +83,23 @@ def solve_alone(M, Z, I, O, flags, p, W):
 
 
 @inlined
-def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
+def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane):
     """:func:`finish_rows` of pose ``p`` after its closures (``b < 0``: its frames formed
     here at its unknowns, given or returned by a rescue's Newton runs)."""
     if b < 0:
         b = 0
         res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL], W[W_FE],
                       W[W_FP], 0, W[W_S], W[W_P6])
-    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here)
+    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane)
 
 
 @inlined
-def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
+def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane):
     """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
     ``res``): the lines (``lines_here``: else its block's, :func:`._block.block_lines`) and
     rows, as ``flags`` says; its normalised rows, their norms and its platform's origin
-    into lane ``l`` of the conditioning workspace ``CW`` (for :func:`finish_block`)."""
+    into lane ``l`` of the conditioning workspace ``CW`` (for :func:`finish_block`).  Its
+    legs' frames are lane ``lane`` of the block's ``RL`` where ``lane >= 0``, else formed here."""
     unk, xs = Z[0], Z[1]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -128,6 +121,10 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here):
     tw_out = O[OUT_TWISTS]
     leg = M[LEG]
     for i in range(n):
+        if lane >= 0:
+            lane_frames_into(M, i, RL, lane, RW, FA[b, i])
+        else:
+            leg_frames(M, i, RW, FA[b, i], fp)
         lok, st, done = template_rows(M, i, RW, FA[b, i], fp, J, scale)
         if not done:                  # the general rules (the call kept out of the legs')
             lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
@@ -176,41 +173,20 @@ def finish_block(M, I, O, flags, p0, nb, SW, CW):
             out[q] = sv[q, l]
         O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
         O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
-    if not flags[F_STATICS]:
-        return
-    torque = I[6]
-    comp = SW[SW_COMP]
-    Jn, d, Wp = SW[SW_JN], SW[SW_D], SW[SW_W]
-    cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
-    for l in range(nb):
-        p = p0 + l
-        for r in range(mr):
-            for q in range(6):
-                Jn[r, q] = cj[r, q, l]
-            d[r] = cd[r, l]
-        J, centre, L = O[OUT_J][p], O[OUT_CENTRE][p], O[OUT_LENGTH][p]
-        _compliance(I, p, mr, torque, L, comp)
-        mode, sign = statics_prepare(mr, O[OUT_SV][p], comp, SW)
-        o = SW[SW_AP]                 # (spread's scratch: free once the rows are formed)
-        for q in range(3):
-            o[q] = co[q, l]
-        workload_about_origin(I[3], I[4], o, Wp)
-        values = O[OUT_VALUES][p]
-        statics_apply(mode, mr, Wp, centre, L, SW, values)
-        O[OUT_EQ][p] = equilibrium(J, mr, values, Wp, centre, L, d)
-        O[OUT_AMP][p] = amplification(values, mr, torque, Wp, o, L)
-        O[OUT_DET][p] = sign
+    if flags[F_STATICS]:
+        statics_block(I, p0, nb, mr, SW, CW, O[OUT_J], O[OUT_CENTRE], O[OUT_LENGTH], O[OUT_SV],
+                      O[OUT_VALUES], O[OUT_EQ], O[OUT_AMP], O[OUT_DET])
 
 
 @inlined
-def _workspaces(M, O):
-    """A thread's one-pose workspace, rows workspace, statics workspace and conditioning
-    workspace (their owners: the caller keeps them alive while it uses borrowed views of
-    them)."""
-    n, m = M[D].shape[0], M[D].shape[1]
-    return (make_work(n, m, O[OUT_X].shape[1]),
-            make_rows_work(m, M[PTS].shape[1], M[DIRS].shape[1]),
-            make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK))
+def _workspaces(M, O, B):
+    """A thread's one-pose workspace, rows workspace, statics workspace, conditioning
+    workspace and rows workspace of blocks of ``B`` lanes (their owners: the caller keeps
+    them alive while it uses borrowed views of them)."""
+    n, m, npts, ndirs = M[D].shape[0], M[D].shape[1], M[PTS].shape[1], M[DIRS].shape[1]
+    return (make_work(n, m, O[OUT_X].shape[1]), make_rows_work(m, npts, ndirs),
+            make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK),
+            make_rows_lanes(n, npts, ndirs, B))
 
 
 @inlined
@@ -219,8 +195,8 @@ def run_poses(M, Z, I, O, flags, first, stop):
     reference counts in the loop; returns a number so that the owners visibly outlive it).
     The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
     links no block kernel, so that a one-pose command does not compile them."""
-    Wo, RWo, SWo, CWo = _workspaces(M, O)
-    W, RW, SW, CW = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo)
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, 0)    # (no block: no rows of a block)
+    W, RW, SW, CW, RL = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(RLo)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         for l in range(nb):
@@ -229,10 +205,10 @@ def run_poses(M, Z, I, O, flags, first, stop):
             if flags[F_SOLVE]:
                 start(Z, I, O, p, W)
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
-            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True)
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True, RL, -1)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
-    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0]
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + RLo[0].size
 
 
 @inlined
@@ -244,24 +220,26 @@ def run_blocks(M, Z, I, O, flags, first, stop):
     workspaces allocated here, the poses run by :func:`block_poses`."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
-    Wo, RWo, SWo, CWo = _workspaces(M, O)
-    Ko = make_block(n, m, nx, BLOCK if stop - first > 1 else 0)
+    B = BLOCK if stop - first > 1 else 0
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, B)
+    Ko = make_block(n, m, nx, B)
     block_poses(M, Z, I, O, flags, first, stop, borrowed(Wo), borrowed(RWo), borrowed(SWo),
-                borrowed(CWo), borrowed(Ko))
+                borrowed(CWo), borrowed(Ko), borrowed(RLo))
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
-        Ko[0].shape[0]
+        Ko[0].shape[0] + RLo[0].shape[0]
 
 
 @borrowing
-def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
+def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
     """:func:`run_blocks`'s loop over its poses, with its workspaces (borrowed views): a
     function without reference counts (:func:`~._jit.borrowing`).  In a function with them
     (one that allocates, as :func:`run_blocks`), numba takes and drops a reference to every
     array of every tuple an inlined function receives (the model, the parameters, the
     inputs, the outputs, the workspaces: a hundred-odd calls of ``NRT_incref`` and
     ``NRT_decref`` for each of :func:`finish_lane` and :func:`pose_rows`, a pose), even for
-    borrowed views, whose counts are null."""
+    borrowed views, whose counts are null.  The legs' frames of the rows are formed for the
+    block's lanes at once (``RL``), but by a lane finished, rescued or solved alone."""
     # a range of one solves alone (its lane loops folded: see _kin); every pose ends in
     # the one finish_rows below (inlined once: its compile is not paid twice), and every
     # block of poses in finish_block, solved in blocks or not
@@ -277,12 +255,14 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
             kb = solve_block(M, Z, I, O, p0, nb, W, K)
         elif given:
             frames_block(M, Z[0], Z[1], I[0], O[OUT_X], p0, nb, K)
+        if inblock and flags[F_ROWS]:
+            legs_frames_block(M, K[K_FA][kb], K[K_FP][kb], RL, nb)
         for l in range(nb):
             p = p0 + l
-            res, b = 0.0, -1
+            res, b, fr = 0.0, -1, -1
             if given:
                 lane_frames(K, 0, l, W, 0, False)
-                res, b = K[K_F][l], 0
+                res, b, fr = K[K_F][l], 0, l
             elif flags[F_SOLVE]:
                 # one call site of the closure alone: a pose alone, or a lane the block
                 # left to it (near the representation singularity)
@@ -291,8 +271,9 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K):
                 if not blocked or K[K_STATE][l] == LANE_ALONE:
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
-                    res, b = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
-            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock)
+                    res, b, same = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
+                    fr = l if same else -1
+            pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock, RL, fr)
         if flags[F_LINES] and inblock:
             block_lines(M, Z[0], Z[1], I[0], O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
                         W, K)
@@ -338,7 +319,8 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
     active, the rest of its Newton run alone; where the run did not converge, the rescue
     (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
-    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b)``."""
+    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b,
+    same)``: ``same``, its frames are the block's (no step alone, no rescue)."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -359,13 +341,14 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
         # its unknowns, frames and residual (the iterations it has left of the pose's 30)
         res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
         its += more
-    if not res <= CONVERGED:
+    same = not more_steps and res <= CONVERGED
+    if not same:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
     O[OUT_SING][p] = sing
-    return res, b
+    return res, b, same
 
 
 @entry

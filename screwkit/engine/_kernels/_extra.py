@@ -21,7 +21,7 @@ from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, BLOCK, D, DIRS, HINGE, LEG, L_SIZE, ORDER, PLAT, PTS, ROWS
 from ._newton import home_vector
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
-from ._small import lu_factor
+from ._small import lu_block, lu_sign
 
 from ._statics import (CW_COND, CW_JN, CW_RANK, CW_SV, SW_COMP, SW_D, SW_JN, amplification,
                        conditioning_lanes, equilibrium, make_conditioning_work, make_statics_work,
@@ -267,14 +267,21 @@ def equilibrium_batch(J, values, W, centre, length, out):
 
 @entry
 def det_sign_batch(J, out):
-    """The signs of ``det J`` of square ``J (N, 6, 6)`` (LU with partial pivoting)."""
-    A = np.zeros((6, 6))
-    piv = np.zeros(6, np.int64)
-    for p in range(J.shape[0]):
+    """The signs of ``det J`` of square ``J (N, 6, 6)`` (LU with partial pivoting), ``BLOCK``
+    matrices at a time on the lanes of :func:`._small.lu_block` (each lane the operations
+    of :func:`._small.lu_factor` on its matrix: the same signs)."""
+    N = J.shape[0]
+    A = np.zeros((6, 6, BLOCK))
+    piv = np.zeros((6, BLOCK), np.int64)
+    for p0 in range(0, N, BLOCK):
+        nb = min(BLOCK, N - p0)
         for r in range(6):
             for c in range(6):
-                A[r, c] = J[p, r, c]
-        out[p] = lu_factor(A, 6, piv)
+                for l in range(nb):
+                    A[r, c, l] = J[p0 + l, r, c]
+        lu_block(A, 6, piv, nb)
+        for l in range(nb):
+            out[p0 + l] = lu_sign(A, 6, piv, l)
 
 
 @entry

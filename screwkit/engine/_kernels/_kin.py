@@ -348,22 +348,42 @@ def platform_columns(M, fp, unk, Pt):
             Pt[3, k], Pt[4, k], Pt[5, k] = w0, w1, w2
 
 
+@borrowing_inlined
+def platform_point(ap, i, FPb, k, ls, r):
+    """Coordinate ``r`` of ``a_i`` (world) at lane ``k`` of the platforms ``FPb (27, ls)``
+    (one pose: ``fp (27,)``, ``k = 0``, ``ls = 1``): the one formula of
+    :func:`platform_points` and of the rows' lane loops (``_geometry.context_lanes``)."""
+    fp = lanes(FPb)
+    return (fp[(6 + 3 * r) * ls + k] * ap[i, 0] + fp[(7 + 3 * r) * ls + k] * ap[i, 1]
+            + fp[(8 + 3 * r) * ls + k] * ap[i, 2] + fp[(15 + r) * ls + k])
+
+
 @borrowing
 def platform_points(M, fp, i, out):
     """``a_i`` (world) at the platform ``fp`` into ``out (3,)``."""
     ap = M[AP]
     for r in range(3):
-        out[r] = (fp[6 + 3 * r] * ap[i, 0] + fp[6 + 3 * r + 1] * ap[i, 1]
-                  + fp[6 + 3 * r + 2] * ap[i, 2] + fp[15 + r])
+        out[r] = platform_point(ap, i, fp, 0, 1, r)
+
+
+@borrowing_inlined
+def twist_lane(rot, tra, FAj, TWj, k, ls):
+    """Lane ``k``'s unit twist ``[v; w]`` about the base origin (physical) of the joint of
+    frames ``FAj (6, ls)`` (axis, point) into ``TWj (6, ls)``; ``rot``, ``tra`` its rotation
+    and translation per unit joint value.  :func:`joint_twist` (one pose: ``k = 0``, ``ls =
+    1``) without the model tuple, for loops over a leg's joints and lanes
+    (``_geometry.context_lanes``, ``_rows.lane_frames_into``)."""
+    fa, out = lanes(FAj), lanes(TWj)
+    d0, d1, d2 = fa[k], fa[ls + k], fa[2 * ls + k]
+    p0, p1, p2 = fa[3 * ls + k], fa[4 * ls + k], fa[5 * ls + k]
+    w0, w1, w2 = rot * d0, rot * d1, rot * d2
+    out[k] = p1 * w2 - p2 * w1 + tra * d0
+    out[ls + k] = p2 * w0 - p0 * w2 + tra * d1
+    out[2 * ls + k] = p0 * w1 - p1 * w0 + tra * d2
+    out[3 * ls + k], out[4 * ls + k], out[5 * ls + k] = w0, w1, w2
 
 
 @borrowing
 def joint_twist(M, i, j, fa, out):
     """Joint ``j`` of leg ``i``'s unit twist ``[v; w]`` about the base origin (physical)."""
-    rot, tra = M[ROT][i, j], M[TRA][i, j]
-    d0, d1, d2, p0, p1, p2 = fa[j, 0], fa[j, 1], fa[j, 2], fa[j, 3], fa[j, 4], fa[j, 5]
-    w0, w1, w2 = rot * d0, rot * d1, rot * d2
-    out[0] = p1 * w2 - p2 * w1 + tra * d0
-    out[1] = p2 * w0 - p0 * w2 + tra * d1
-    out[2] = p0 * w1 - p1 * w0 + tra * d2
-    out[3], out[4], out[5] = w0, w1, w2
+    twist_lane(M[ROT][i, j], M[TRA][i, j], fa[j], out, 0, 1)

@@ -331,10 +331,10 @@ def put_constraints(cons, k, r0, J, scale):
 @borrowing
 def leg_rows(M, i, RW, fa, fp, J, scale):
     """Leg ``i``'s rows into ``J (rows, 6)`` and ``scale``: its actuation row at its index
-    (active legs) and its constraint rows from ``TPL[i, T_CROW]``.  Returns ``(ok,
-    structure_ok)``."""
+    (active legs) and its constraint rows from ``TPL[i, T_CROW]``, at its frames ``fa``,
+    ``fp`` whose context, twists, points and directions are in ``RW`` (:func:`leg_frames`,
+    or a block's lane, ``_block.lane_frames_into``).  Returns ``(ok, structure_ok)``."""
     tpl = M[TPL][i]
-    leg_frames(M, i, RW, fa, fp)
     cons = RW[RW_CONS]
     k = tpl[T_K]
     ok = True
@@ -362,12 +362,12 @@ def template_rows(M, i, RW, fa, fp, J, scale):
     of a large kernel costs every call of its caller, taken or not).  Returns ``(ok,
     structure_ok, done)``; not ``done`` (nothing written) where the leg needs
     :func:`leg_rows`: the generic rule, a least-norm actuation, or a group whose structure
-    does not hold at this pose."""
+    does not hold at this pose.  Its frames' context, twists, points and directions are in
+    ``RW`` already (as for :func:`leg_rows`, which reads them unchanged)."""
     tpl = M[TPL][i]
     akind = tpl[T_AKIND]
     if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
         return False, False, False
-    leg_frames(M, i, RW, fa, fp)
     cons = RW[RW_CONS]
     k = tpl[T_K]
     if k and not group_members(M, i, RW, fa, cons):

@@ -10,7 +10,8 @@ pivoting.  Eigenvalues and singular values are in :mod:`._eigen`.
 import math
 
 import numpy as np
-from ._jit import borrowing, inlined, inner, lanes, one_lane
+from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
+from ._layout import BLOCK
 
 @borrowing
 def cross_to(a0, a1, a2, b0, b1, b2, out, k):
@@ -145,46 +146,136 @@ def cholesky_lanes(G, n, X, nrhs, shift, acc, nb, ls):
 @borrowing
 def lu_factor(A, n, piv):
     """LU factors of ``A[:n, :n]`` in place, with partial pivoting (rows swapped as
-    ``piv`` says); returns the sign of ``det A`` (0 for an exactly singular ``A``)."""
-    sign = 1.0
-    for j in range(n):
-        p = j
-        big = abs(A[j, j])
-        for i in range(j + 1, n):
-            if abs(A[i, j]) > big:
-                big, p = abs(A[i, j]), i
-        piv[j] = p
-        if p != j:
-            sign = -sign
-            for k in range(n):
-                A[j, k], A[p, k] = A[p, k], A[j, k]
-        if A[j, j] == 0.0:
-            return 0.0
-        if A[j, j] < 0.0:
-            sign = -sign
-        inv = 1.0 / A[j, j]
-        for i in range(j + 1, n):
-            f = A[i, j] * inv
-            A[i, j] = f
-            for k in range(j + 1, n):
-                A[i, k] -= f * A[j, k]
-    return sign
+    ``piv`` says); returns the sign of ``det A`` (0 for an exactly singular ``A``).
+    :func:`lu_lanes` on one lane."""
+    lu_lanes(one_lane(A), n, one_lane(piv), 1, 1)
+    return lu_sign(one_lane(A), n, one_lane(piv), 0)
 
 
 @borrowing
 def lu_apply(A, n, piv, b):
-    """Solve ``A x = b`` in place with the factors of :func:`lu_factor`."""
-    for j in range(n):                  # the row interchanges, in order (whole rows)
-        p = piv[j]
-        if p != j:
-            b[j], b[p] = b[p], b[j]
+    """Solve ``A x = b`` in place with the factors of :func:`lu_factor`.
+    :func:`lu_apply_lanes` on one lane."""
+    lu_apply_lanes(one_lane(A), n, one_lane(piv), one_lane(b), 1, 1)
+
+
+@borrowing
+def lu_block(A, n, piv, nb):
+    """:func:`lu_lanes` on the ``nb`` lanes of a block (``A (m, m, BLOCK)``, ``piv (>= n,
+    BLOCK)``), compiled once for the lane stride ``BLOCK``, as :func:`lu_factor` is once for
+    one lane.  A function of its own, called rather than inlined, with its order ``n`` a
+    run-time value: LLVM would otherwise unroll the loops over the rows and columns of a
+    known order 6 around every lane loop, each copy vectorised with its checks and
+    remainder (about 40 KiB of machine code that each kernel calling it compiles again:
+    numba links a callee into every caller's module, where LLVM optimises and emits it once
+    more)."""
+    lu_lanes(A, n, piv, nb, BLOCK)
+
+
+@borrowing
+def lu_apply_block(A, n, piv, b, nb):
+    """:func:`lu_apply_lanes` on the ``nb`` lanes of a block (``b (>= n, BLOCK)``), compiled
+    once for the lane stride ``BLOCK`` (as :func:`lu_block`)."""
+    lu_apply_lanes(A, n, piv, b, nb, BLOCK)
+
+
+@borrowing_inlined
+def lu_sign(A, n, piv, k):
+    """The sign of ``det A`` of lane ``k`` from its factors (:func:`lu_lanes`): ``-1`` per
+    interchange and per negative pivot, 0 at the first zero pivot (where the factorisation
+    of that lane stopped)."""
+    sign = 1.0
+    for j in range(n):
+        if piv[j, k] != j:
+            sign = -sign
+        if A[j, j, k] == 0.0:
+            return 0.0
+        if A[j, j, k] < 0.0:
+            sign = -sign
+    return sign
+
+
+@inlined
+def lu_lanes(A, n, piv, nb, ls):
+    """LU factors with partial pivoting of ``A[:n, :n]`` of each of ``nb`` lanes in place
+    (``A (m, m, ls)``, ``piv (>= n, ls)`` int; the lane axis last, of length ``ls``, a
+    constant where this is inlined).  Each lane does the operations of the textbook
+    algorithm for one matrix, in the same order: its own pivot (the first largest ``|A[i,
+    j]|``, the same comparisons), the interchange of whole rows and the elimination by
+    selects across the lanes.  A lane whose pivot is exactly zero stops there (its later
+    ``piv`` entries -1, the rest of its ``A`` untouched): :func:`lu_sign` gives it 0.
+    Inlined into :func:`lu_factor` (one lane) and :func:`lu_block` (``BLOCK`` lanes) only."""
+    m = A.shape[1]
+    a, pv = lanes(A), lanes(piv)
+    for j in range(n):
+        jj = (j * m + j) * ls
+        for k in range(nb):               # each lane's pivot (its own comparisons)
+            live = j == 0 or (pv[(j - 1) * ls + k] >= 0
+                              and a[((j - 1) * m + j - 1) * ls + k] != 0.0)
+            p = j
+            big = abs(a[jj + k])
+            for i in range(j + 1, n):
+                v = abs(a[(i * m + j) * ls + k])
+                if v > big:
+                    big, p = v, i
+            pv[j * ls + k] = p if live else -1
+        for i in range(j + 1, n):         # rows j and piv[j] interchanged (exact selects)
+            hit = False                   # (a row no lane takes is left alone: one lane's
+            for k in range(nb):           # LU swaps only where it pivots)
+                hit |= pv[j * ls + k] == i
+            if not hit:
+                continue
+            for c in range(n):
+                jc, ic = (j * m + c) * ls, (i * m + c) * ls
+                for k in range(nb):
+                    s = pv[j * ls + k] == i
+                    x, y = a[jc + k], a[ic + k]
+                    a[jc + k] = y if s else x
+                    a[ic + k] = x if s else y
+        for i in range(j + 1, n):         # the elimination (f = A[i, j] / A[j, j] kept)
+            ij = (i * m + j) * ls
+            for k in range(nb):
+                live = pv[j * ls + k] >= 0 and a[jj + k] != 0.0
+                f = a[ij + k] * (1.0 / a[jj + k])
+                a[ij + k] = f if live else a[ij + k]
+            for c in range(j + 1, n):
+                ic, jc = (i * m + c) * ls, (j * m + c) * ls
+                for k in range(nb):
+                    live = pv[j * ls + k] >= 0 and a[jj + k] != 0.0
+                    x = a[ic + k]
+                    a[ic + k] = x - a[ij + k] * a[jc + k] if live else x
+
+
+@inlined
+def lu_apply_lanes(A, n, piv, b, nb, ls):
+    """Solve ``A x = b`` in place on each of ``nb`` lanes with the factors of
+    :func:`lu_lanes` (``b (>= n, ls)``), each lane's operations those of one system in the
+    same order (the interchanges by selects).  Inlined into :func:`lu_apply` (one lane) and
+    :func:`lu_apply_block` (``BLOCK`` lanes) only."""
+    m = A.shape[1]
+    a, pv, x = lanes(A), lanes(piv), lanes(b)
+    for j in range(n):                    # the row interchanges, in order
+        for i in range(j + 1, n):
+            hit = False
+            for k in range(nb):
+                hit |= pv[j * ls + k] == i
+            if not hit:
+                continue
+            for k in range(nb):
+                s = pv[j * ls + k] == i
+                u, v = x[j * ls + k], x[i * ls + k]
+                x[j * ls + k] = v if s else u
+                x[i * ls + k] = u if s else v
     for i in range(1, n):
-        s = b[i]
-        for k in range(i):
-            s -= A[i, k] * b[k]
-        b[i] = s
+        for q in range(i):
+            iq = (i * m + q) * ls
+            for k in range(nb):
+                x[i * ls + k] -= a[iq + k] * x[q * ls + k]
     for i in range(n - 1, -1, -1):
-        s = b[i]
-        for k in range(i + 1, n):
-            s -= A[i, k] * b[k]
-        b[i] = s / A[i, i]
+        for q in range(i + 1, n):
+            iq = (i * m + q) * ls
+            for k in range(nb):
+                x[i * ls + k] -= a[iq + k] * x[q * ls + k]
+        ii = (i * m + i) * ls
+        for k in range(nb):
+            x[i * ls + k] = x[i * ls + k] / a[ii + k]

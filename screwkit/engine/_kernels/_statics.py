@@ -27,7 +27,8 @@ from ._small import lu_factor, lu_apply
  SW_COMP) = range(14)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
-(CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R) = range(12)
+(CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R, CW_LU, CW_PIV,
+ CW_JW, CW_G, CW_Z, CW_Y, CW_W, CW_COMP) = range(20)
 
 
 @inner
@@ -98,11 +99,18 @@ def make_conditioning_work(mr, B):
     normalised rows ``Jn (mr, 6, B)``, their norms ``d (mr, B)``, the platforms' origins
     ``o (3, B)``, the singular values of all rows and of the constraint rows ``(6, B)`` each,
     ranks ``(2, B)`` (int) and conditions ``(2, B)``, and the scratch of
-    :func:`._eigen.singular_values_lanes`."""
-    return (np.zeros((max(mr, 1), 6, B)), np.zeros((max(mr, 1), B)), np.zeros((3, B)),
+    :func:`._eigen.singular_values_lanes`; then the statics of the lanes
+    (:func:`._driver.statics_block`): the LU factors ``(6, 6, B)`` and their interchanges
+    ``(6, B)`` (int), the weighted rows ``(mr, 6, B)`` and weights ``(mr, B)``, the
+    right-hand sides ``(6, B)``, the efforts ``(mr, B)``, the workloads ``(6, B)`` and the
+    compliances ``(mr, B)``."""
+    r = max(mr, 1)
+    return (np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((3, B)),
             np.zeros((6, B)), np.zeros((6, B)), np.zeros((2, B), np.int64), np.zeros((2, B)),
             np.zeros((6, 6, B)), np.zeros((6, B)), np.zeros((6, B)), np.zeros((4, B), np.int64),
-            np.zeros((max(mr, 6), 6)))
+            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, B)), np.zeros((6, B), np.int64),
+            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, B)), np.zeros((r, B)),
+            np.zeros((6, B)), np.zeros((r, B)))
 
 
 @borrowing
@@ -191,7 +199,7 @@ def statics_prepare(mr, sv, comp, SW):
     return MODE_PINV, sign
 
 
-@borrowing
+@borrowing_inlined
 def normalise_wrench(W, c, L, out):
     f0, f1, f2 = W[0], W[1], W[2]
     out[0], out[1], out[2] = f0, f1, f2
@@ -247,7 +255,7 @@ def statics_apply(mode, mr, W, c, L, SW, values):
         values[r] = y[r] * g[r] / d[r] if mr > 6 else y[r] / d[r]
 
 
-@borrowing
+@borrowing_inlined
 def equilibrium(J, mr, values, W, c, L, d):
     """``|sum_r F_r J_r + W|`` over the largest of ``|W|`` and the row wrenches ``|F_r J_r|``,
     all length-normalised about the centroid (unit-free, frame-free)."""
@@ -275,7 +283,7 @@ def equilibrium(J, mr, values, W, c, L, d):
     return num / (scale if scale > 0 else 1.0)
 
 
-@borrowing
+@borrowing_inlined
 def amplification(values, mr, torque, W, o, L):
     """The largest effort over the workload's size, consistent units: couples and rotary
     actuator torques over ``L``; the size ``sqrt(|F|^2 + |T / L|^2)`` with ``T`` the torque
@@ -293,7 +301,7 @@ def amplification(values, mr, torque, W, o, L):
     return eff / max(size, 1e-300)
 
 
-@borrowing
+@borrowing_inlined
 def workload_about_origin(F, T, o, W):
     """``W = [F; T + o x F]``."""
     W[0], W[1], W[2] = F[0], F[1], F[2]
