@@ -175,6 +175,46 @@ def test_threads_do_not_change_a_bit_and_chunks_only_rounding():
                                atol=1e-11 * np.abs(a.statics.values).max())
 
 
+@pytest.mark.parametrize("name", ["2SPS+2SPR", "4UPU"])
+def test_chunks_written_in_place_equal_one_launch(name):
+    # a batch of several chunks writes each chunk's rows of one set of output buffers; the
+    # same poses in one launch (its own outputs) give every output bit for bit
+    from screwkit.engine._launch import output_buffers, run_poses
+    from screwkit.engine._run import compute
+    from screwkit.engine._solve import predictor_of
+    pm = screwkit.load_pm(name)
+    pose = _random_pose(pm, 1500, 5)
+    load = dict(F=np.array([-20.0, -30.0, -60.0]), T=np.array([-30.0, -30.0, 100.0]))
+    for kw in (dict(load, twists=True, lines=True), {}, dict(rows=False)):
+        parts = compute(pm, pose, chunk=400, **kw)
+        whole = compute(pm, pose, chunk=10 ** 6, **kw)
+        for f in ("X", "residual", "iterations", "how", "singular_beta"):
+            a, b = getattr(parts.closures, f), getattr(whole.closures, f)
+            assert a.dtype == b.dtype
+            np.testing.assert_array_equal(a, b)
+        for f in ("J", "scale", "rows_ok", "structure_ok", "values", "equilibrium",
+                  "amplification", "det_sign", "twists", "lines", "platform"):
+            a, b = getattr(parts, f), getattr(whole, f)
+            assert (a is None) == (b is None), f
+            if a is not None:
+                assert a.dtype == b.dtype and a.shape == b.shape, f
+                np.testing.assert_array_equal(a, b)
+        if whole.conditioning is not None:
+            for f in ("singular_values", "rank", "condition_number",
+                      "constraint_condition_number"):
+                np.testing.assert_array_equal(getattr(parts.conditioning, f),
+                                              getattr(whole.conditioning, f))
+    # buffers laid out for other outputs, or rows past their end, are refused
+    from screwkit.engine._chains import chains_of
+    ch = chains_of(pm)
+    P6 = ch.full_params(pose, 1500)
+    b = output_buffers(ch.flat, 1500, rows=True, statics=True)
+    with pytest.raises(ValueError, match="output buffers"):
+        run_poses(ch.flat, predictor_of(ch), P6[:10], rows=False, out=(b, 0))
+    with pytest.raises(ValueError, match="output buffers"):
+        run_poses(ch.flat, predictor_of(ch), P6[:10], out=(b, 1495))
+
+
 @pytest.mark.parametrize("order", ["XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ", "XYZ", "XZY", "YXZ",
                                    "YZX", "ZXY", "ZYX"])
 @pytest.mark.parametrize("extrinsic", [False, True])

@@ -16,8 +16,8 @@ from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
 from ._kernels._layout import LINE_WIDTH
 
-__all__ = ["threads", "run_poses", "OUTPUTS", "frames", "platform_of", "statics_of",
-           "leg_wrenches"]
+__all__ = ["threads", "run_poses", "OUTPUTS", "OutputBuffers", "output_buffers", "frames",
+           "platform_of", "statics_of", "leg_wrenches"]
 
 #: Fewest poses per thread worth a parallel launch.
 MIN_PER_THREAD = 256
@@ -117,10 +117,56 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     return plan
 
 
+class OutputBuffers:
+    """The analysis kernel's packed outputs of ``N`` poses (:func:`output_buffers`), filled
+    by launches on consecutive ranges of the poses (``run_poses(..., out=(buffers, at))``),
+    each writing its rows in place: a chunked analysis copies nothing and touches every
+    output byte once (fresh memory costs a page fault a page: on a virtual machine that
+    hands freed memory back to its host, as much as the kernels' own work on it)."""
+
+    __slots__ = ("f", "i", "d", "layout", "N", "kind")
+
+    def arrays(self) -> dict:
+        """The outputs of all ``N`` poses by name (:data:`OUTPUTS`), views of the buffers
+        (the booleans converted)."""
+        return dict(zip(OUTPUTS, [_view(self.i if is_int else self.f, o0, o1, sh, is_bool)
+                                  for is_int, is_bool, o0, o1, sh in self.layout]))
+
+
+def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
+                   lines=False) -> OutputBuffers:
+    """Empty output buffers of ``N`` poses for launches of :func:`run_poses` with the same
+    ``rows``, ``statics``, ``twists`` and ``lines`` on ranges of them."""
+    plan = _plan(flat, N, 0, 0, 0, True, bool(rows), bool(statics), True, bool(twists),
+                 bool(lines))
+    b = OutputBuffers()
+    b.f, b.i = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+    b.d, b.layout, b.N = plan.out_d, plan.out, N
+    b.kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines))
+    return b
+
+
+def _rows_of(buffers: OutputBuffers, at: int, n: int):
+    """The descriptor and layout of rows ``at..at+n`` of ``buffers``' outputs (the arrays of
+    no rows left as they are)."""
+    d = buffers.d.copy()
+    full = d[:, 2] == buffers.N
+    per = d[:, 3] * d[:, 4]
+    d[full, 1] += at * per[full]
+    d[full, 2] = n
+    layout = []
+    for (is_int, is_bool, o0, o1, sh), f, q in zip(buffers.layout, full, per):
+        if f:
+            o0, o1 = o0 + at * int(q), o0 + (at + n) * int(q)
+            sh = None if sh is None else (n,) + sh[1:]
+        layout.append((is_int, is_bool, o0, o1, sh))
+    return d, layout
+
+
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
               lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
-              blocks: bool | None = True) -> dict:
+              blocks: bool | None = True, out=None) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
@@ -132,7 +178,10 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     ``blocks``: on one thread too, at least :data:`BLOCKS_ALONE` poses run in blocks (see
     there); None: only where this process has loaded the parallel kernel already (nothing
     loaded or compiled for this launch); False: on one thread, the serial kernel (each pose
-    alone), whatever ``N``.  The outputs are the same bit for bit either way."""
+    alone), whatever ``N``.  The outputs are the same bit for bit either way.  ``out``
+    ``(buffers, at)``: the outputs written into rows ``at..at+N`` of ``buffers``
+    (:func:`output_buffers`, made with the same ``rows``, ``statics``, ``twists`` and
+    ``lines``) and returned as views of those rows."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -152,18 +201,28 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     If[t0:t1] = 0.0 if T is None else T
     if comp is not None:
         If[c0:c1].reshape(csh)[...] = comp
-    Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+    if out is None:
+        Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+        out_d, layout = plan.out_d, plan.out
+    else:
+        buffers, at = out
+        if buffers.kind != (bool(rows), bool(rows and statics), bool(twists), bool(lines)) \
+                or not 0 <= at <= buffers.N - N:
+            raise ValueError(f"output buffers of {buffers.N} poses {buffers.kind} do not "
+                             f"take rows {at}..{at + N} of this launch's outputs")
+        Of, Oi = buffers.f, buffers.i
+        out_d, layout = _rows_of(buffers, at, N)
     if X is not None:
-        _, _, o0, o1, sh = plan.out[0]
+        _, _, o0, o1, sh = layout[0]
         Of[o0:o1].reshape(sh)[...] = X
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
-            Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, plan.out_d, plan.flags),
+            Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, out_d, plan.flags),
             N, workers, per_thread, note=True,
             blocks=blocks is not False and N >= BLOCKS_ALONE and (
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
-                              for is_int, is_bool, o0, o1, sh in plan.out]))
+                              for is_int, is_bool, o0, o1, sh in layout]))
 
 
 def _view(buf, o0, o1, sh, is_bool):

@@ -17,7 +17,7 @@ import numpy as np
 from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
 from ._kernels._layout import CONVERGED
-from ._launch import run_poses, threads
+from ._launch import output_buffers, run_poses, threads
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
 from ._path import balanced_chunk, solve_path
@@ -244,7 +244,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))
     slices = _chunks(N, chunk)
-    if path or len(slices) > 1:
+    if path:
         X = np.empty((N, ch.n_unknowns))
         res = np.empty(N)
         its, how, sing = np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool)
@@ -295,6 +295,10 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         if progress:
             progress(steps, steps)
     else:
+        # poses in chunks (not a path): each launch writes its rows of one set of output
+        # buffers in place (fresh memory touched once, nothing copied)
+        buffers = None if path else output_buffers(flat, N, rows=rows, statics=statics,
+                                                   twists=twists, lines=lines)
         for sl in slices:
             n = sl.stop - sl.start
             P6 = ch.full_params({k: v[sl] for k, v in fixed.items()}, n)
@@ -304,7 +308,11 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
                           X=X[sl] if path else None,
                           side=None if side is None else side[sl], F=F, T=T, compliance=comp,
                           rows=rows, statics=statics, twists=twists, lines=lines,
-                          workers=workers)
+                          workers=workers, out=None if path else (buffers, sl.start))
+            if buffers is not None:
+                if progress:
+                    progress(sl.stop, steps)
+                continue
             if path:
                 res[sl] = np.where(np.isfinite(path_res[sl]), o["residual"], np.inf)
             elif n == N:
@@ -319,6 +327,11 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
                         put(key, sl, o[key])
             if progress and (rows or not path):
                 progress(steps - N + sl.stop, steps)
+        if buffers is not None:
+            o = buffers.arrays()
+            X, res = o["X"], o["residual"]
+            its, how, sing = o["iterations"], o["how"], o["singular_beta"]
+            out = {key: o[key] for key in _KEYS if o[key].shape[0]} if rows else {}
     closures = Closures(ch, X.T, fixed, res, its, how, sing)
     if not rows:
         return Computed(closures, (), flat.n_act, diagnostics=diag)
