@@ -14,26 +14,17 @@ from screwkit.engine._launch import frames, run_poses
 from screwkit.engine._run import predictor_of
 from screwkit.engine._kernels._layout import LEG, L_ACT, LN_V
 
+from random_poses import around_default, assert_same_bits
+
 F, T = np.array([10.0, -20.0, 50.0]), np.array([1.0, 2.0, -3.0])
 
 
 def _poses(pm, n, seed=0):
     """``n`` random poses around the default one (angles +-0.1 rad, lengths +-5%)."""
-    rng = np.random.default_rng(seed)
-    pose = {}
-    for p, v in dict(pm.default_pose).items():
-        amp = 0.1 if p in ("alpha", "beta", "gamma") else 0.05 * max(abs(v), 1.0)
-        pose[p] = v + rng.uniform(-amp, amp, n)
-    return pose
+    return around_default(pm, n, seed, 0.1, 0.05)
 
 
-def _same(a, b, where, skip=()):
-    for key in a:
-        if key in skip:
-            continue
-        x, y = np.asarray(a[key]), np.asarray(b[key])
-        assert x.shape == y.shape, (where, key)
-        assert x.tobytes() == y.tobytes(), (where, key)
+_same = assert_same_bits
 
 
 @pytest.mark.parametrize("name", ["3RRPRR", "6SPS", "2SPS+2SPR"])
