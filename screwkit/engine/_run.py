@@ -295,8 +295,9 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         if progress:
             progress(steps, steps)
     else:
-        # poses in chunks (not a path): each launch writes its rows of one set of output
-        # buffers in place (fresh memory touched once, nothing copied)
+        # poses in chunks, or a path's residuals at its solved unknowns (no rows: with rows,
+        # a path takes one of the branches above); the chunks of poses write their rows of
+        # one set of output buffers in place (fresh memory touched once, nothing copied)
         buffers = None if path else output_buffers(flat, N, rows=rows, statics=statics,
                                                    twists=twists, lines=lines)
         for sl in slices:
@@ -309,24 +310,10 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
                           side=None if side is None else side[sl], F=F, T=T, compliance=comp,
                           rows=rows, statics=statics, twists=twists, lines=lines,
                           workers=workers, out=None if path else (buffers, sl.start))
-            if buffers is not None:
-                if progress:
-                    progress(sl.stop, steps)
-                continue
             if path:
                 res[sl] = np.where(np.isfinite(path_res[sl]), o["residual"], np.inf)
-            elif n == N:
-                X, res = o["X"], o["residual"]
-                its, how, sing = o["iterations"], o["how"], o["singular_beta"]
-            else:
-                X[sl], res[sl] = o["X"], o["residual"]
-                its[sl], how[sl], sing[sl] = o["iterations"], o["how"], o["singular_beta"]
-            if rows:
-                for key in _KEYS:
-                    if o[key].shape[0]:
-                        put(key, sl, o[key])
-            if progress and (rows or not path):
-                progress(steps - N + sl.stop, steps)
+            elif progress:
+                progress(sl.stop, steps)
         if buffers is not None:
             o = buffers.arrays()
             X, res = o["X"], o["residual"]
