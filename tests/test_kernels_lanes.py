@@ -173,14 +173,15 @@ def test_predictor_on_lanes_is_its_polynomial(predictor, nf, degree):
 def lu():
     from numba import njit
 
-    from screwkit.engine._kernels._small import (lu_apply, lu_apply_lanes, lu_factor,
-                                                 lu_lanes, lu_sign)
+    from screwkit.engine._kernels._small import (lu_apply, lu_apply_block, lu_apply_lanes,
+                                                 lu_block, lu_factor, lu_lanes, lu_sign)
 
     @njit(cache=False, error_model="numpy")          # as the kernels: no exceptions
-    def run(A, b, nb):
+    def run(A, b, nb, once=False):
         """LU factors, interchanges, solutions of ``A x = b`` and signs of ``det A`` of
         ``A (N, 6, 6)``, ``nb`` matrices a block on lanes (stride ``B``; ``nb = 0``: each
-        alone through the one-pose ``lu_factor`` and ``lu_apply``)."""
+        alone through the one-pose ``lu_factor`` and ``lu_apply``; ``once``: the block's LU
+        compiled once for the stride ``B``, ``lu_block`` and ``lu_apply_block``)."""
         N = A.shape[0]
         F, x = np.zeros((N, 6, 6)), np.zeros((N, 6))
         P, sg = np.zeros((N, 6), np.int64), np.zeros(N)
@@ -202,8 +203,12 @@ def lu():
                     y[r, k] = b[p0 + k, r]
                     for c in range(6):
                         L[r, c, k] = A[p0 + k, r, c]
-            lu_lanes(L, 6, piv, m, B)
-            lu_apply_lanes(L, 6, piv, y, m, B)
+            if once:
+                lu_block(L, 6, piv, m)
+                lu_apply_block(L, 6, piv, y, m)
+            else:
+                lu_lanes(L, 6, piv, m, B)
+                lu_apply_lanes(L, 6, piv, y, m, B)
             for k in range(m):
                 sg[p0 + k] = lu_sign(L, 6, piv, k)
                 for r in range(6):
@@ -279,34 +284,7 @@ def test_lu_block_and_det_sign_batch_are_the_matrices_alone(lu):
     ``BLOCK``, the order a run-time value) and ``_extra.det_sign_batch`` (on blocks of
     them) give every matrix's factors, solution and sign as the one-pose LU alone: random
     matrices, an exactly singular and a NaN one, a last block of 13 lanes."""
-    from numba import njit
-
     from screwkit.engine._kernels._extra import det_sign_batch
-    from screwkit.engine._kernels._small import lu_apply_block, lu_block, lu_sign
-
-    @njit(cache=False, error_model="numpy")
-    def blocks(A, b):
-        N = A.shape[0]
-        F, x = np.zeros((N, 6, 6)), np.zeros((N, 6))
-        P, sg = np.zeros((N, 6), np.int64), np.zeros(N)
-        L, piv, y = np.zeros((6, 6, B)), np.zeros((6, B), np.int64), np.zeros((6, B))
-        for p0 in range(0, N, B):
-            m = min(B, N - p0)
-            for k in range(m):
-                for r in range(6):
-                    y[r, k] = b[p0 + k, r]
-                    for c in range(6):
-                        L[r, c, k] = A[p0 + k, r, c]
-            lu_block(L, 6, piv, m)
-            lu_apply_block(L, 6, piv, y, m)
-            for k in range(m):
-                sg[p0 + k] = lu_sign(L, 6, piv, k)
-                for r in range(6):
-                    P[p0 + k, r] = piv[r, k]
-                    x[p0 + k, r] = y[r, k]
-                    for c in range(6):
-                        F[p0 + k, r, c] = L[r, c, k]
-        return F, P, x, sg
 
     rng = np.random.default_rng(5)
     N = 3 * B + 13
@@ -315,7 +293,7 @@ def test_lu_block_and_det_sign_batch_are_the_matrices_alone(lu):
     A[40, :, 2] = 0.0                              # exactly singular: det sign 0
     A[77, 1, 4] = np.nan
     alone = lu(A, b, 0)
-    got = blocks(A, b)
+    got = lu(A, b, B, True)
     solved = alone[3] != 0.0                       # (alone, a singular system is not solved)
     for g, r in zip(got, alone):
         assert np.array_equal(g[solved], r[solved], equal_nan=True)
