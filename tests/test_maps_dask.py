@@ -32,6 +32,10 @@ def test_dask_map_equals_the_serial_map_bit_for_bit(tmp_path):
             distributed.Client(cluster) as client:
         dask = screwkit.map("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True, block=4096,
                             cluster=client)
+        # five given parameters: the home predictor's fit solves 126 x 126 normal equations,
+        # whose bits once depended on OpenBLAS's threads (one in a Dask worker)
+        five = {"alpha": (-6.0, 6.0, 9), "beta": (-6.0, 6.0, 9), "gamma": (-4.0, 4.0, 5)}
+        dask5 = screwkit.map("4SPS+SPR", five, degrees=True, block=4096, cluster=client)
         sizing = screwkit.size("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True,
                                scheduler=cluster.scheduler_address)
         # validate on the same running cluster (--scheduler): one leg string per task
@@ -71,6 +75,7 @@ def test_dask_map_equals_the_serial_map_bit_for_bit(tmp_path):
     assert v_dask == v_serial and len(v_serial["legs"]) == 3
     assert dask.attrs["computed_on"] == "dask"
     _same(serial, dask)
+    _same(screwkit.map("4SPS+SPR", five, degrees=True, block=4096), dask5)
     ref = screwkit.size("3RRPRR", grid, fix={"Zo": 75.0}, degrees=True)
     assert sizing.rows == ref.rows
 

@@ -109,20 +109,46 @@ def _monomials(nf, degree):
 
 
 def _least_squares(A, Y):
-    """``C`` minimising ``|A C - Y|``: the normal equations, formed in numpy's own loops
-    (``einsum``) and solved.  LAPACK's ``lstsq`` hands matrices of these sizes (161 x 70 for
-    four parameters) to OpenBLAS's threads, which on a busy machine took 30-250 ms instead
-    of under one; the monomials' Gram matrix is well enough conditioned (``A``'s condition
-    number at most about 200 on these grids) for a start, which needs a few digits.  Where
-    failed fitting poses leave it near singular, ``lstsq`` (the least-norm fit)."""
-    G = np.einsum("pk,pl->kl", A, A)
-    try:
-        d = np.diag(np.linalg.cholesky(G))
-    except np.linalg.LinAlgError:
-        d = np.zeros(1)
-    if not d.min() > 1e-5 * d.max():
-        return np.linalg.lstsq(A, Y, rcond=None)[0]
-    return np.linalg.solve(G, np.einsum("pk,px->kx", A, Y))
+    """``C`` minimising ``|A C - Y|``: the normal equations, formed and solved in numpy's own
+    loops (``einsum``), never through BLAS or LAPACK.  Their results depend on how many
+    threads OpenBLAS runs (``numpy.linalg.solve`` of the 126 x 126 normal equations of a
+    4SPS+SPR gave other bits on one core than on two), and a Dask worker runs it on one
+    (``OPENBLAS_NUM_THREADS=1``): the predictor, so the starts and the last bits of every
+    solution, must not depend on the process.  LAPACK's ``lstsq`` also handed matrices of
+    these sizes to OpenBLAS's threads, which on a busy machine took 30-250 ms.  The
+    monomials' Gram matrix is well enough conditioned (``A``'s condition number at most about
+    200 on these grids) for a start, which needs a few digits; where failed fitting poses
+    leave it near singular, the monomials it cannot tell apart are left out (their
+    coefficients 0: :func:`_cholesky_solve`)."""
+    return _cholesky_solve(np.einsum("pk,pl->kl", A, A), np.einsum("pk,px->kx", A, Y))
+
+
+def _cholesky_solve(G, B, rtol=1e-5):
+    """``X`` with ``G X = B`` for the symmetric positive semi-definite ``G (n, n)``, ``B (n,
+    k)``, by its Cholesky factor formed column by column; a column whose pivot's square root
+    is at most ``rtol`` times the largest of ``G``'s diagonal's is dropped (its row of ``X``
+    0: the solution on the other columns).  Every sum is an ``einsum`` (numpy's loops, the
+    same bits whatever the threads)."""
+    n = G.shape[0]
+    L = np.zeros((n, n))
+    keep = np.zeros(n, bool)
+    floor = (rtol * rtol) * float(np.max(np.diag(G), initial=0.0))
+    for j in range(n):
+        v = G[j:, j] - np.einsum("ik,k->i", L[j:, :j], L[j, :j])
+        if v[0] > floor:
+            d = np.sqrt(v[0])
+            L[j + 1:, j] = v[1:] / d
+            L[j, j] = d
+            keep[j] = True
+    Z = np.zeros(B.shape)
+    for i in range(n):
+        if keep[i]:
+            Z[i] = (B[i] - np.einsum("k,kx->x", L[i, :i], Z[:i])) / L[i, i]
+    X = np.zeros(B.shape)
+    for i in range(n - 1, -1, -1):
+        if keep[i]:
+            X[i] = (Z[i] - np.einsum("k,kx->x", L[i + 1:, i], X[i + 1:])) / L[i, i]
+    return X
 
 
 def _fit_grid(nf):
