@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import prange
 
-from ._jit import borrowing_inlined, entry, inner, parallel
+from ._jit import borrowed, borrowing, borrowing_inlined, entry, inner, parallel
 from ._kin import forward, joint_twist
 from ._layout import (L_ACT, L_SIZE, LEG, LEVERAGE_RTOL, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q,
                       LN_V, QS, RANK_RTOL, ROT, TRANSLATION_RTOL)
@@ -108,7 +108,7 @@ def lines_at(M, FA, b, lines):
         joint_twist(M, i, act, fa, out[LN_V:LN_V + 6])
 
 
-@inner
+@borrowing_inlined
 def power_one(W, V, p, couple):
     """``(zeta, arm)`` of one wrench ``W (6,)`` on one twist ``V (6,)``, ``p (3,)`` a point of
     the wrench axis (the formulas of :func:`screwkit.engine.power_coefficient`)."""
@@ -139,7 +139,7 @@ def power_one(W, V, p, couple):
     return min(zeta, 1.0), arm
 
 
-@inner
+@borrowing_inlined
 def entry_point(W, q, d, out):
     """``out (3,)``: the point of the axis of ``W (6,)`` nearest the line ``q + s d`` (its
     point nearest ``q`` where the two are parallel or ``d`` is 0)."""
@@ -162,7 +162,7 @@ def entry_point(W, q, d, out):
     out[0], out[1], out[2] = p0 + t * u0, p1 + t * u1, p2 + t * u2
 
 
-@inner
+@borrowing
 def _svd_rows(A, k, B, Q, s, order):
     """One-sided Jacobi of ``A[:k] (k, 6)``: ``A = Q diag(s) Vt`` with the rows of ``Vt``
     ``B[j] / s_j``; ``order[:g]`` the ``g = min(k, 6)`` largest ``s`` descending.  Returns
@@ -191,7 +191,7 @@ def _svd_rows(A, k, B, Q, s, order):
     return g
 
 
-@inner
+@borrowing
 def _leverage_redundant(Q, s, order, g, k, out):
     """``out[:k]``: True where a row's leverage over the directions of rank (``s`` above
     ``RANK_RTOL`` of the largest) is below ``1 - LEVERAGE_RTOL``."""
@@ -205,7 +205,7 @@ def _leverage_redundant(Q, s, order, g, k, out):
         out[r] = 1.0 - lev > LEVERAGE_RTOL
 
 
-@inner
+@borrowing
 def null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col):
     """Row ``k`` of ``Vn[:K]``: the unit twist (normalised coordinates) reciprocal to every
     row of ``Wu[:K]`` but ``k`` (the column ``k`` of the pseudo-inverse); ``none[k]``: the
@@ -254,25 +254,36 @@ def null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col):
 def indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
                   length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop):
     """The indices of the poses ``start:stop`` (module docstring; outputs as in
-    :func:`screwkit.engine.transmission_indices`)."""
+    :func:`screwkit.engine.transmission_indices`).  Returns a number (the workspace's owners
+    visibly outlive the loop, which borrows them)."""
+    cap = max(keep.shape[0], 6)
+    Fo = (np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((6, 6)),
+          np.zeros((cap, 6)), np.zeros((cap, cap)))
+    Vo = (np.zeros(cap), np.zeros(6), np.zeros(3), np.zeros(3), np.zeros(6))
+    Io = (np.zeros(6, np.int64), np.zeros(6, np.int64))
+    Bo = (np.zeros(cap, np.bool_), np.zeros(cap, np.bool_))
+    _indices_poses(borrowed(J), borrowed(couple), borrowed(keep), n_a, borrowed(V_in),
+                   borrowed(in_q), borrowed(in_d), borrowed(out_q), borrowed(out_d),
+                   borrowed(row_leg), borrowed(centre), borrowed(length), borrowed(crank),
+                   borrowed(iti), borrowed(oti), borrowed(in_arm), borrowed(out_arm),
+                   borrowed(cti), borrowed(c_arm), borrowed(red), start, stop, borrowed(Fo),
+                   borrowed(Vo), borrowed(Io), borrowed(Bo))
+    return Fo[0].shape[0] + Vo[0].shape[0] + Io[0].shape[0] + Bo[0].shape[0]
+
+
+@borrowing
+def _indices_poses(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
+                   length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop,
+                   Fw, Vw, Iw, Bw):
+    """:func:`indices_range`'s loop over its poses, on borrowed views (no reference counts:
+    a row view a wrench, a call of the kernels below with a dozen arrays), its workspace
+    ``Fw, Vw, Iw, Bw`` (float matrices, float vectors, integers, flags)."""
     K = keep.shape[0]
     kc = K - n_a
-    cap = max(K, 6)
-    Wn = np.zeros((cap, 6))
-    Wu = np.zeros((cap, 6))
-    Vn = np.zeros((cap, 6))
-    none = np.zeros(cap, np.bool_)
-    A = np.zeros((6, 6))
-    B = np.zeros((cap, 6))
-    Q = np.zeros((cap, cap))
-    s = np.zeros(cap)
-    order = np.zeros(6, np.int64)
-    piv = np.zeros(6, np.int64)
-    col = np.zeros(6)
-    pt = np.zeros(3)
-    qn = np.zeros(3)
-    vin = np.zeros(6)
-    rc = np.zeros(cap, np.bool_)
+    Wn, Wu, Vn, A, B, Q = Fw
+    s, col, pt, qn, vin = Vw
+    order, piv = Iw
+    none, rc = Bw
     for p in range(start, stop):
         c0, c1, c2 = centre[p, 0], centre[p, 1], centre[p, 2]
         L = length[p]
