@@ -126,8 +126,8 @@ def _least_squares(A, Y):
 def _cholesky_solve(G, B, rtol=1e-5):
     """``X`` with ``G X = B`` for the symmetric positive semi-definite ``G (n, n)``, ``B (n,
     k)``, by its Cholesky factor formed column by column; a column whose pivot's square root
-    is at most ``rtol`` times the largest of ``G``'s diagonal's is dropped (its row of ``X``
-    0: the solution on the other columns).  Every sum is an ``einsum`` (numpy's loops, the
+    is at most ``rtol`` times that of ``G``'s largest diagonal entry is dropped (its row of
+    ``X`` 0: the solution on the other columns).  Every sum is an ``einsum`` (numpy's loops, the
     same bits whatever the threads)."""
     n = G.shape[0]
     L = np.zeros((n, n))
