@@ -24,10 +24,12 @@ import numpy as np
 from ._jit import borrowing, inlined, lanes
 
 from ._kin import forward
-from ._layout import ACCEPTED, CONVERGED, ORDER
+from ._layout import ACCEPTED, CONVERGED, KIND, K_R, LEG, L_SIZE, ORDER
 from ._newton import (W_FA, W_FE, W_FL, W_FP, W_P6, W_P6S, W_S, W_XB, W_XC, W_XR,
                       gauss_newton, home_vector, newton_iterate, tolerance)
 
+#: A whole turn (radians).
+TURN = 2.0 * math.pi
 SING_STEP = 1e-4
 SING_TOL = 1e-7
 NEAR_TOL = 1e-5
@@ -292,3 +294,38 @@ def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continu
     if near and not math.isfinite(res):
         f = np.inf                # an unreachable side makes the limit meaningless
     return f, its, how, sing, cur
+
+
+@borrowing
+def whole_turns(M, unk, X, X0, warm):
+    """Take the whole turns out of a solved pose's angles (in place): each dependent Euler
+    angle and revolute joint value of ``X`` more than half a turn from its reference is
+    moved by whole turns to within half a turn of it.  The reference is the warm start
+    ``X0`` where ``warm`` (a path stays continuous), else 0: the angles of a pose solved
+    from home or the predictor lie in ``[-pi, pi]``.  Newton steps know no turns, so a pose
+    far from its start could come back a turn or a hundred away from the canonical value
+    (the same configuration; a joint limit then judged on the wrong number).  Helical
+    joints keep their turns (they translate).  Returns True where ``X`` changed (its frames
+    are then formed again)."""
+    changed = False
+    nu = unk.shape[0]
+    for k in range(nu):
+        if unk[k] >= 3:                     # alpha, beta, gamma (radians: xs 1)
+            changed = _turns(X, X0, k, warm) or changed
+    kind, leg = M[KIND], M[LEG]
+    m = kind.shape[1]
+    for i in range(kind.shape[0]):
+        for j in range(leg[i, L_SIZE]):
+            if kind[i, j] == K_R:           # (the unknown is the angle: q_scale 1)
+                changed = _turns(X, X0, nu + i * m + j, warm) or changed
+    return changed
+
+
+@borrowing
+def _turns(X, X0, k, warm):
+    ref = X0[k] if warm else 0.0
+    d = X[k] - ref
+    if not abs(d) > math.pi:                # (NaN: left alone)
+        return False
+    X[k] = X[k] - TURN * round(d / TURN)
+    return True

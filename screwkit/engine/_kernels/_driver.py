@@ -32,7 +32,8 @@ from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LA
                      LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
                      lane_frames_into, make_block, make_rows_lanes)
 from ._geometry import legs_frames_block
-from ._closures import NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose
+from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
+                        whole_turns)
 from ._indices import pose_lines
 from ._kin import forward
 from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
@@ -76,6 +77,8 @@ def solve_alone(M, Z, I, O, flags, p, W):
     side = sides[p] if sides.shape[0] else 0.0
     res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][p], side,
                                         p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
+    if _turned(Z, I, O, p, M):
+        b = -1                        # its frames formed again at the unknowns turned
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
     O[OUT_SING][p] = sing
@@ -345,10 +348,21 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     if not same:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
+    if _turned(Z, I, O, p, M):
+        b, same = -1, False
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
     O[OUT_SING][p] = sing
     return res, b, same
+
+
+@inlined
+def _turned(Z, I, O, p, M):
+    """Pose ``p``'s solved unknowns without whole turns (:func:`._closures.whole_turns`,
+    against its warm start where it has one); True where they changed."""
+    X0 = I[1]
+    warm = X0.shape[0] > 0
+    return whole_turns(M, Z[0], O[OUT_X][p], X0[p] if warm else O[OUT_X][p], warm)
 
 
 @entry
