@@ -36,7 +36,7 @@ from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solv
                         whole_turns)
 from ._indices import pose_lines
 from ._kin import forward
-from ._layout import BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
+from ._layout import ACCEPTED, BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
@@ -77,7 +77,7 @@ def solve_alone(M, Z, I, O, flags, p, W):
     side = sides[p] if sides.shape[0] else 0.0
     res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][p], side,
                                         p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
-    if _turned(Z, I, O, p, M):
+    if _turned(Z, I, O, p, M, res):
         b = -1                        # its frames formed again at the unknowns turned
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
@@ -348,7 +348,7 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     if not same:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
-    if _turned(Z, I, O, p, M):
+    if _turned(Z, I, O, p, M, res):
         b, same = -1, False
     O[OUT_ITS][p] = its
     O[OUT_HOW][p] = how
@@ -357,9 +357,13 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
 
 
 @inlined
-def _turned(Z, I, O, p, M):
+def _turned(Z, I, O, p, M, res):
     """Pose ``p``'s solved unknowns without whole turns (:func:`._closures.whole_turns`,
-    against its warm start where it has one); True where they changed."""
+    against its warm start where it has one); True where they changed.  A pose not solved
+    (residual ``res`` above ``ACCEPTED``, or the infinite one of a representation
+    singularity with a side out of reach) keeps its unknowns and its verdict."""
+    if not res <= ACCEPTED:
+        return False
     X0 = I[1]
     warm = X0.shape[0] > 0
     return whole_turns(M, Z[0], O[OUT_X][p], X0[p] if warm else O[OUT_X][p], warm)
