@@ -33,8 +33,10 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes
 from ._indices import lines_at, rounded_unknowns
 from ._kin import closure_sq, forward_block, platform_columns, twist_lane
-from ._layout import BLOCK
+from ._layout import (A_LINE, A_NONE, BLOCK, D, L_AROW, TPL, T_AKIND, T_CROW, T_GENERIC,
+                      T_K)
 from ._layout import LEG, L_SIZE, PLAT, ROT, TRA, TRN
+from ._members import DONE, NOT_DONE, NSC, SC_STATUS, template_lanes
 from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
 from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
 
@@ -268,12 +270,55 @@ def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
 
 
 @inner
-def make_rows_lanes(n, npts, ndirs, B):
+def make_rows_lanes(n, m, mr, npts, ndirs, B):
     """A thread's rows workspace of a block of ``B`` lanes: every leg's context ``(n, 4, 3,
-    B)``, named points ``(n, p, 3, B)`` and directions ``(n, d, 3, B)``
-    (``_geometry.legs_frames_block``)."""
+    B)``, named points ``(n, p, 3, B)``, directions ``(n, d, 3, B)`` and twists ``(n, m, 6,
+    B)`` (``_geometry.legs_frames_block``); the rows ``(mr, 6, B)`` and scales ``(mr, B)`` of
+    the legs that follow their templates, each leg's scratch and status ``(n, NSC, B)``, and
+    the scratch of :func:`._members.template_lanes` (:func:`template_rows_block`)."""
     return (np.zeros((n, 4, 3, B)), np.zeros((n, max(npts, 1), 3, B)),
-            np.zeros((n, max(ndirs, 1), 3, B)))
+            np.zeros((n, max(ndirs, 1), 3, B)), np.zeros((n, m, 6, B)),
+            np.zeros((max(mr, 1), 6, B)), np.zeros((max(mr, 1), B)), np.zeros((n, NSC, B)),
+            np.zeros((max(m, 1), 3, B)), np.zeros((3, B)), np.zeros((3, 3, B)))
+
+
+@inlined
+def template_rows_block(M, FA, RL, nb):
+    """The rows of every leg that follows its template (``_rows.template_rows``) for the
+    ``nb`` lanes of a block at once, from their frames ``FA (n, m, 6, BLOCK)`` and the legs'
+    lanes in ``RL`` (:func:`._geometry.legs_frames_block`): into ``RL``'s rows and scales,
+    each leg's status per lane in its scratch (``SC_STATUS``; ``NOT_DONE`` for a leg without
+    a template, and where the template does not hold: those rows are formed pose by pose)."""
+    CTX, PV, DV, TW, JL, SL, SC, R, V, BASIS = RL
+    for i in range(M[D].shape[0]):
+        tpl = M[TPL][i]
+        akind = tpl[T_AKIND]
+        if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
+            for k in range(nb):
+                SC[i, SC_STATUS, k] = NOT_DONE
+            continue
+        template_lanes(M, i, CTX[i], PV[i], DV[i], FA[i], TW[i], JL, SL, SC[i], R, V, BASIS,
+                       nb, BLOCK)
+
+
+@borrowing_inlined
+def lane_rows_into(M, i, RL, l, J, scale):
+    """Leg ``i``'s rows and scales of lane ``l`` of :func:`template_rows_block` into the
+    pose's ``J (rows, 6)`` and ``scale (rows,)``.  Returns whether they are well defined
+    (its status ``DONE``)."""
+    JL, SL, SC = RL[4], RL[5], RL[6]
+    rows = lanes(JL)
+    B = JL.shape[2]
+    crow, arow = M[TPL][i, T_CROW], M[LEG][i, L_AROW]
+    for r in range(crow, crow + M[TPL][i, T_K]):
+        scale[r] = SL[r, l]
+        for q in range(6):
+            J[r, q] = rows[(r * 6 + q) * B + l]
+    if arow >= 0:
+        scale[arow] = SL[arow, l]
+        for q in range(6):
+            J[arow, q] = rows[(arow * 6 + q) * B + l]
+    return SC[i, SC_STATUS, l] == DONE
 
 
 @borrowing_inlined

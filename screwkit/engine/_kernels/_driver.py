@@ -30,7 +30,9 @@ from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
 from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE,
                      LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
-                     lane_frames_into, make_block, make_rows_lanes)
+                     lane_frames_into, lane_rows_into, make_block, make_rows_lanes,
+                     template_rows_block)
+from ._members import NOT_DONE, SC_STATUS
 from ._geometry import legs_frames_block
 from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
                         whole_turns)
@@ -124,6 +126,15 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
     tw_out = O[OUT_TWISTS]
     leg = M[LEG]
     for i in range(n):
+        a = leg[i, L_AROW]
+        if lane >= 0 and RL[6][i, SC_STATUS, lane] != NOT_DONE:
+            # its template's rows, formed for the block's lanes at once
+            ok = lane_rows_into(M, i, RL, lane, J, scale) and ok
+            O[OUT_STRUCT][p, i] = True
+            if flags[F_TWISTS] and a >= 0:
+                for q in range(6):
+                    tw_out[p, a, q] = RL[3][i, leg[i, L_ACT], q, lane]
+            continue
         if lane >= 0:
             lane_frames_into(M, i, RL, lane, RW, FA[b, i])
         else:
@@ -133,7 +144,6 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
             lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
         ok = ok and lok
         O[OUT_STRUCT][p, i] = st
-        a = leg[i, L_AROW]
         if flags[F_TWISTS] and a >= 0:
             tw = RW[RW_TW][leg[i, L_ACT]]
             for q in range(6):
@@ -189,7 +199,7 @@ def _workspaces(M, O, B):
     n, m, npts, ndirs = M[D].shape[0], M[D].shape[1], M[PTS].shape[1], M[DIRS].shape[1]
     return (make_work(n, m, O[OUT_X].shape[1]), make_rows_work(m, npts, ndirs),
             make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK),
-            make_rows_lanes(n, npts, ndirs, B))
+            make_rows_lanes(n, m, M[ROWS].shape[0], npts, ndirs, B))
 
 
 @inlined
@@ -260,6 +270,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
             frames_block(M, Z[0], Z[1], I[0], O[OUT_X], p0, nb, K)
         if inblock and flags[F_ROWS]:
             legs_frames_block(M, K[K_FA][kb], K[K_FP][kb], RL, nb)
+            template_rows_block(M, K[K_FA][kb], RL, nb)
         for l in range(nb):
             p = p0 + l
             res, b, fr = 0.0, -1, -1

@@ -1,5 +1,5 @@
-"""One leg at one pose, compiled: its end points and twists, named points, reference
-directions, the null spaces of its dimensionless rows and their canonical bases (private).
+"""One leg at one pose or the lanes of a block, compiled: its end points and twists, named
+points and reference directions (private; its members from them: :mod:`._members`).
 
 A leg's context ``ctx (4, 3)``: ``A``, ``a`` (world), its centroid (``A``, ``a`` and every
 joint point) and ``[|a - A|, 0, 0]`` (its characteristic length).  Twists ``tw (m, 6)`` are
@@ -8,13 +8,13 @@ the physical unit twists ``[v; w]`` about the base origin.
 
 import math
 
-from ._jit import borrowing, borrowing_inlined, inlined, lanes
+from ._jit import borrowing, inlined, lanes
 
 from ._kin import platform_point, twist_lane
 from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGENT, DIR_JOINT,
                       DIR_LEG, DIR_PERPENDICULAR, DIR_PLATFORM, DIR_PLATFORM_OA,
-                      DIR_PLATFORM_TANGENT, KIND, K_P, K_PA, LEG, L_SIZE, PLAT, PTS, PT_A,
-                      PT_JOINT, PT_MEET, PT_a, P_P0, P_R0, ZERO)
+                      DIR_PLATFORM_TANGENT, K_P, K_PA, LEG, L_SIZE, PLAT, PTS, PT_A,
+                      PT_JOINT, PT_MEET, PT_a, P_P0, P_R0)
 from ._layout import AP, BLOCK, D, ROT, TRA
 
 
@@ -41,17 +41,16 @@ def eval_directions(M, i, fa, fp, ctx, out):
 
 @borrowing
 def legs_frames_block(M, FA, FP, RL, nb):
-    """Every leg's context, named points and directions (:func:`leg_setup` but the twists,
+    """Every leg's context and twists, named points and directions (:func:`leg_setup`,
     :func:`eval_points`, :func:`eval_directions`) for the ``nb`` lanes of a block at once:
     the frames ``FA (n, m, 6, BLOCK)`` and platforms ``FP (27, BLOCK)`` of one of the
     block's buffers into ``RL``: ``CTX (n, 4, 3, BLOCK)``, ``PV (n, p, 3, BLOCK)``, ``DV (n,
-    d, 3, BLOCK)`` (``_rows.make_rows_lanes``).  The lane loops of
+    d, 3, BLOCK)``, ``TW (n, m, 6, BLOCK)`` (``_block.make_rows_lanes``).  The lane loops of
     the one-pose functions with the block's stride (compiled once for it: the one-pose
     functions are the stride 1), so each lane's values are the pose's alone, bit for bit."""
-    CTX, PV, DV = RL
+    CTX, PV, DV, TW = RL[0], RL[1], RL[2], RL[3]
     for i in range(M[D].shape[0]):
-        # (not the twists: formed pose by pose, ``_rows.lane_frames_into``)
-        context_lanes(M, i, FA[i], FP, CTX[i], CTX[i], False, nb, BLOCK)
+        context_lanes(M, i, FA[i], FP, CTX[i], TW[i], True, nb, BLOCK)
         points_lanes(M, i, FA[i], CTX[i], PV[i], nb, BLOCK)
         directions_lanes(M, i, FA[i], FP, CTX[i], DV[i], nb, BLOCK)
 
@@ -211,124 +210,3 @@ def directions_lanes(M, i, FA, FP, CTX, OUT, nb, ls):
 @borrowing
 def is_prismatic(kind):
     return kind == K_P or kind == K_PA
-
-
-@borrowing
-def group_rows(M, i, couple, X, fa, tw, ctx, rows):
-    """The dimensionless rows whose null space is a group's members: for couples the
-    rotation axes (rule 3); for forces through ``X`` the velocities ``v_j - X x w_j`` of
-    ``X`` under every joint (over the leg's length for R and H: rules 1 and 2).  Returns
-    their count."""
-    kind = M[KIND]
-    cnt = 0
-    L = ctx[3, 0]
-    for j in range(M[LEG][i, L_SIZE]):
-        if couple:
-            if is_prismatic(kind[i, j]):
-                continue
-            for c in range(3):
-                rows[cnt, c] = fa[j, c]
-        else:
-            t = tw[j]
-            f = 1.0 if is_prismatic(kind[i, j]) else 1.0 / L
-            rows[cnt, 0] = (t[0] - (X[1] * t[5] - X[2] * t[4])) * f
-            rows[cnt, 1] = (t[1] - (X[2] * t[3] - X[0] * t[5])) * f
-            rows[cnt, 2] = (t[2] - (X[0] * t[4] - X[1] * t[3])) * f
-        cnt += 1
-    return cnt
-
-
-@borrowing_inlined
-def null_space(rows, r, g, vec):
-    """The null space of dimension ``g`` of ``rows[:r]`` (dimensionless 3-vectors): for
-    ``g = 1`` its unit vector, for ``g = 2`` the unit normal of the null plane, into
-    ``vec``; returns False where the rows do not leave a null space of exactly that
-    dimension (within ``ZERO``)."""
-    big, kbig = 0.0, 0
-    for q in range(r if g >= 2 else 0):   # the longest row (not needed for g = 1)
-        nq = math.sqrt(rows[q, 0] ** 2 + rows[q, 1] ** 2 + rows[q, 2] ** 2)
-        if nq > big:
-            big, kbig = nq, q
-    if g >= 3:
-        return big < ZERO
-    if g == 2:
-        nb = max(big, 1e-300)
-        for c in range(3):
-            vec[c] = rows[kbig, c] / nb
-        off = 0.0
-        for q in range(r):
-            x0 = rows[q, 1] * vec[2] - rows[q, 2] * vec[1]
-            x1 = rows[q, 2] * vec[0] - rows[q, 0] * vec[2]
-            x2 = rows[q, 0] * vec[1] - rows[q, 1] * vec[0]
-            off = max(off, math.sqrt(x0 * x0 + x1 * x1 + x2 * x2))
-        return big > 1e-6 and off < ZERO
-    if r < 2:
-        for c in range(3):
-            vec[c] = math.nan
-        return False
-    # the largest cross product (rows are dimensionless), compared by its square: the
-    # square roots only for the pair chosen
-    best2, ba, bb = -1.0, 0, 1
-    for a in range(r - 1):
-        for b in range(a + 1, r):
-            x0 = rows[a, 1] * rows[b, 2] - rows[a, 2] * rows[b, 1]
-            x1 = rows[a, 2] * rows[b, 0] - rows[a, 0] * rows[b, 2]
-            x2 = rows[a, 0] * rows[b, 1] - rows[a, 1] * rows[b, 0]
-            size2 = x0 * x0 + x1 * x1 + x2 * x2
-            if size2 > best2:
-                best2, ba, bb = size2, a, b
-                vec[0], vec[1], vec[2] = x0, x1, x2
-    best, brel = -1.0, 0.0            # (no pair compared: non-finite rows)
-    if best2 >= 0.0:
-        best = math.sqrt(best2)
-        na = math.sqrt(rows[ba, 0] ** 2 + rows[ba, 1] ** 2 + rows[ba, 2] ** 2)
-        nb = math.sqrt(rows[bb, 0] ** 2 + rows[bb, 1] ** 2 + rows[bb, 2] ** 2)
-        brel = best / max(na * nb, 1e-300)
-    nv = max(best, 1e-300)
-    for c in range(3):
-        vec[c] /= nv
-    res = 0.0
-    for q in range(r):
-        res = max(res, abs(rows[q, 0] * vec[0] + rows[q, 1] * vec[1] + rows[q, 2] * vec[2]))
-    return brel > 1e-6 and res < ZERO
-
-
-@borrowing
-def reference_remainder(g, vec, basis, q, d):
-    """``(p0, p1, p2, rem)``: a reference direction ``d (3,)`` in a null space of dimension
-    ``g`` (``vec`` as :func:`null_space` gives it) after the basis members ``basis[:q]``.
-    For ``g = 1`` ``rem`` is the signed cosine ``vec . d`` (``p`` unused); else ``p`` is
-    ``d`` projected on the null space and orthogonalised against the members (Gram-Schmidt),
-    ``rem`` its size.  The one rule of the rows (:func:`canonical_basis`) and of the home
-    choice of the references (``_probe.home_groups``)."""
-    if g == 1:
-        return 0.0, 0.0, 0.0, vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
-    p0, p1, p2 = d[0], d[1], d[2]
-    if g == 2:
-        c = vec[0] * d[0] + vec[1] * d[1] + vec[2] * d[2]
-        p0, p1, p2 = p0 - vec[0] * c, p1 - vec[1] * c, p2 - vec[2] * c
-    for e in range(q):
-        c = basis[e, 0] * p0 + basis[e, 1] * p1 + basis[e, 2] * p2
-        p0, p1, p2 = p0 - basis[e, 0] * c, p1 - basis[e, 1] * c, p2 - basis[e, 2] * c
-    return p0, p1, p2, math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
-
-
-@borrowing_inlined
-def canonical_basis(g, vec, refs, dv, basis):
-    """A basis ``basis[:g]`` of a null space from its reference directions ``dv[refs[q]]``:
-    one member along its reference (``g = 1``), else the Gram-Schmidt orthonormalisation of
-    the references projected on it (:func:`reference_remainder`); returns the smallest
-    remainder."""
-    worst = math.inf
-    for q in range(g):
-        p0, p1, p2, rem = reference_remainder(g, vec, basis, q, dv[refs[q]])
-        if g == 1:
-            sg = -1.0 if rem < 0 else 1.0
-            for k in range(3):
-                basis[q, k] = vec[k] * sg
-            rem = abs(rem)
-        else:
-            s = max(rem, 1e-300)
-            basis[q, 0], basis[q, 1], basis[q, 2] = p0 / s, p1 / s, p2 / s
-        worst = min(worst, rem)
-    return worst

@@ -18,13 +18,14 @@ import math
 
 import numpy as np
 
-from ._geometry import (eval_directions, eval_points, group_rows, leg_setup, null_space,
-                        reference_remainder)
+from ._geometry import eval_directions, eval_points, leg_setup
 from ._jit import entry, inner, one_lane
 from ._kin import chain
-from ._layout import D, DIRS, GREF, PTS, REF_MIN, TPL, T_K
-from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_TW, RW_VEC, generic_members,
-                    least_norm_member, make_rows_work)
+from ._layout import D, DIRS, GREF, KIND, LEG, L_SIZE, PTS, REF_MIN, TPL, T_K
+from ._members import (SC_NULL, SC_P0, SC_P1, SC_P2, SC_REM, group_rows_lanes,
+                       null_space_lanes, remainder_lanes)
+from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_SC, RW_TW, RW_VEC,
+                    generic_members, least_norm_member, make_rows_work)
 
 
 @inner
@@ -47,15 +48,19 @@ def _home(M, fp):
 @entry
 def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
     """Per group: ``ok[g]`` its null space has dimension ``gdim[g]`` at home;
-    ``chosen[g, :dim]`` the first candidates (rows of ``DIRS``) of a clear basis (-1: none)."""
+    ``chosen[g, :dim]`` the first candidates (rows of ``DIRS``) of a clear basis (-1: none).
+    The rows' own functions (``_members``) on a block of one."""
     fa, RW = _home(M, fp)
-    rows, vec, dv = RW[RW_NR], RW[RW_VEC], RW[RW_DV]
-    basis = np.zeros((3, 3))
+    rows, vec, dv, SC = RW[RW_NR], RW[RW_VEC], RW[RW_DV], RW[RW_SC]
+    basis = np.zeros((3, 3, 1))    # (with its lane axis: owned here, see one_lane)
+    kind, size = M[KIND][0], M[LEG][0, L_SIZE]
     for g in range(gkind.shape[0]):
         dim = gdim[g]
-        cnt = group_rows(M, 0, gkind[g] == 0, RW[RW_PV][gpoint[g]], fa, RW[RW_TW], RW[RW_CTX],
-                         rows)
-        ok[g] = null_space(rows, cnt, dim, vec)
+        cnt = group_rows_lanes(kind, size, gkind[g] == 0, one_lane(RW[RW_PV]), gpoint[g],
+                               one_lane(fa), one_lane(RW[RW_TW]), one_lane(RW[RW_CTX]),
+                               one_lane(rows), 1, 1)
+        null_space_lanes(one_lane(rows), cnt, dim, one_lane(vec), SC, 1, 1)
+        ok[g] = SC[SC_NULL, 0] != 0.0
         k = 0
         for c in cand:
             if k == dim:
@@ -64,12 +69,13 @@ def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
             nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             if not (math.isfinite(nd) and nd > 0.5):
                 continue
-            p0, p1, p2, rem = reference_remainder(dim, vec, basis, k, d)
-            rem = abs(rem)
+            remainder_lanes(dim, one_lane(vec), basis, k, one_lane(dv), c, SC, 1, 1)
+            p0, p1, p2, rem = SC[SC_P0, 0], SC[SC_P1, 0], SC[SC_P2, 0], abs(SC[SC_REM, 0])
             if rem >= REF_MIN:
                 chosen[g, k] = c
                 if dim > 1:
-                    basis[k, 0], basis[k, 1], basis[k, 2] = p0 / rem, p1 / rem, p2 / rem
+                    basis[k, 0, 0], basis[k, 1, 0], basis[k, 2, 0] = p0 / rem, p1 / rem, \
+                        p2 / rem
                 k += 1
 
 

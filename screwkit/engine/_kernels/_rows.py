@@ -19,18 +19,19 @@ a call passing the model and workspace tuples costs more than their arithmetic.
 import math
 
 import numpy as np
-from ._jit import borrowing, borrowing_inlined, inner
+from ._jit import borrowing, borrowing_inlined, inner, one_lane
 
-from ._geometry import (canonical_basis, eval_directions, eval_points, group_rows,
-                        is_prismatic, leg_setup, null_space)
-from ._layout import (A_LINE, A_NONE, GRP, GREF, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE,
-                      REF_FLAG, T_AKIND, T_AP1, T_AP2, T_CROW, T_GENERIC, T_K, T_NG, TPL,
-                      ZERO)
+from ._geometry import eval_directions, eval_points, leg_setup
+from ._layout import (A_LINE, A_NONE, GREF, LEG, L_ACT, L_AROW, L_SIZE, REF_FLAG, T_AKIND,
+                      T_CROW, T_GENERIC, T_K, TPL)
 from ._eigen import jacobi_rows
+from ._members import (DONE, NOT_DONE, NSC, SC_ACT, SC_GROUPS, SC_STATUS,
+                       group_members_lanes, line_member_lanes, scale_actuation_lanes,
+                       template_lanes)
 from ._small import cholesky_solve
 
 (RW_CTX, RW_TW, RW_PV, RW_DV, RW_NR, RW_BASIS, RW_CONS, RW_TN, RW_REF, RW_G, RW_RHS,
- RW_VEC, RW_NRM, RW_TOP, RW_REM) = range(15)
+ RW_VEC, RW_NRM, RW_TOP, RW_REM, RW_SC) = range(16)
 
 
 @inner
@@ -40,7 +41,7 @@ def make_rows_work(m, npts, ndirs):
             np.zeros((max(ndirs, 1), 3)), np.zeros((m, 3)), np.zeros((3, 3)),
             np.zeros((6, 6)), np.zeros((max(m, 1), 6)), np.zeros((6, 6)),
             np.zeros((m, m)), np.zeros((m, 1)), np.zeros(12), np.zeros(max(m, 1)),
-            np.zeros(max(m, 1), np.int64), np.zeros(6))
+            np.zeros(max(m, 1), np.int64), np.zeros(6), np.zeros((NSC, 1)))
 
 
 @borrowing
@@ -163,35 +164,15 @@ def generic_members(M, i, RW, cons):
     return ok
 
 
-@borrowing_inlined
+@borrowing
 def group_members(M, i, RW, fa, cons):
-    """The leg's constraint members group by group into ``cons[:k]``; returns False where
-    a group's structure or basis does not hold."""
-    ctx, tw, pv, dv = RW[RW_CTX], RW[RW_TW], RW[RW_PV], RW[RW_DV]
-    rows, basis, vec = RW[RW_NR], RW[RW_BASIS], RW[RW_VEC]
-    grp = M[GRP][i]
-    ok = True
-    r = 0
-    for g in range(M[TPL][i, T_NG]):
-        couple = grp[g, 0] == G_COUPLE
-        dim = grp[g, 2]
-        X = pv[grp[g, 1]]
-        cnt = group_rows(M, i, couple, X, fa, tw, ctx, rows)
-        ok = null_space(rows, cnt, dim, vec) and ok
-        rem = canonical_basis(dim, vec, grp[g, 3:6], dv, basis)
-        ok = ok and rem > REF_FLAG
-        for q in range(dim):
-            e0, e1, e2 = basis[q, 0], basis[q, 1], basis[q, 2]
-            if couple:
-                cons[r, 0], cons[r, 1], cons[r, 2] = 0.0, 0.0, 0.0
-                cons[r, 3], cons[r, 4], cons[r, 5] = e0, e1, e2
-            else:
-                cons[r, 0], cons[r, 1], cons[r, 2] = e0, e1, e2
-                cons[r, 3] = X[1] * e2 - X[2] * e1
-                cons[r, 4] = X[2] * e0 - X[0] * e2
-                cons[r, 5] = X[0] * e1 - X[1] * e0
-            r += 1
-    return ok
+    """The leg's constraint members group by group into ``cons[:k]`` (one pose: a block of
+    one of :func:`._members.group_members_lanes`); returns False where a group's structure
+    or basis does not hold."""
+    group_members_lanes(M, i, one_lane(RW[RW_CTX]), one_lane(RW[RW_PV]), one_lane(RW[RW_DV]),
+                        one_lane(fa), one_lane(RW[RW_TW]), one_lane(cons), 0, RW[RW_SC],
+                        one_lane(RW[RW_NR]), one_lane(RW[RW_VEC]), one_lane(RW[RW_BASIS]), 1, 1)
+    return RW[RW_SC][SC_GROUPS, 0] != 0.0
 
 
 @borrowing_inlined
@@ -242,71 +223,26 @@ def least_norm_member(M, i, RW, member):
     return nf > 1e-9 * math.sqrt(nw)
 
 
-@borrowing
-def line_member(M, i, RW, row):
-    """The unit force on the line through the leg's two named actuation points into ``row
-    (6,)`` (physical); returns False where a passive joint moves the first point along the
-    line (the structure chosen at home does not hold)."""
-    tpl, kind = M[TPL][i], M[KIND]
-    ctx, tw, pv = RW[RW_CTX], RW[RW_TW], RW[RW_PV]
-    size, act = M[LEG][i, L_SIZE], M[LEG][i, L_ACT]
-    X, Y = pv[tpl[T_AP1]], pv[tpl[T_AP2]]
-    d0, d1, d2 = Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]
-    nd = max(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300)
-    d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
-    row[0], row[1], row[2] = d0, d1, d2
-    row[3] = X[1] * d2 - X[2] * d1
-    row[4] = X[2] * d0 - X[0] * d2
-    row[5] = X[0] * d1 - X[1] * d0
-    # every passive joint leaves X's velocity normal to the line (a structural choice)
-    res = 0.0
-    inv_l = 1.0 / ctx[3, 0]
-    for j in range(size):
-        if j == act:
-            continue
-        t = tw[j]
-        v0 = t[0] - (X[1] * t[5] - X[2] * t[4])
-        v1 = t[1] - (X[2] * t[3] - X[0] * t[5])
-        v2 = t[2] - (X[0] * t[4] - X[1] * t[3])
-        f = 1.0 if is_prismatic(kind[i, j]) else inv_l
-        res = max(res, abs(v0 * d0 + v1 * d1 + v2 * d2) * f)
-    return res < ZERO
-
-
-@borrowing
-def scale_actuation(row, t, size_a):
-    """Scale the unit member ``row (6,)`` in place so that its reciprocal product with the
-    actuated joint's unit twist ``t`` is 1; returns ``(scale, dependent)`` (``dependent``:
-    the product vanishes relative to ``size_a``, 1 for a prismatic joint, ``L`` else)."""
-    prod = 0.0
-    for q in range(6):
-        prod += row[q] * t[q]
-    dependent = abs(prod) <= 1e-9 * max(size_a, 1e-300)
-    scale = 0.0 if dependent else 1.0 / abs(prod)
-    sg = -1.0 if prod < 0 else 1.0
-    for q in range(6):
-        row[q] *= sg * scale
-    return scale, dependent
-
-
 @borrowing_inlined
-def actuation_row(M, i, RW, row):
-    """The actuation row of leg ``i`` into ``row (6,)`` (``[f; m]`` about O, reciprocal
-    product 1 with the actuated joint's unit twist).  Returns ``(scale, ok)``: ``row =
-    scale * unit member``."""
-    tpl, kind = M[TPL][i], M[KIND]
-    act = M[LEG][i, L_ACT]
+def actuation_row(M, i, RW, J, scale, arow):
+    """The actuation row of leg ``i`` into ``J[arow]`` (``[f; m]`` about O, reciprocal
+    product 1 with the actuated joint's unit twist) and its scale into ``scale[arow]``
+    (``row = scale * unit member``).  Returns whether it is well defined."""
+    tpl = M[TPL][i]
+    row = J[arow]
     if tpl[T_AKIND] == A_NONE:
         for q in range(6):
             row[q] = 0.0
-        return 0.0, False
+        scale[arow] = 0.0
+        return False
+    SC = RW[RW_SC]
+    ctx, tw, Jl = one_lane(RW[RW_CTX]), one_lane(RW[RW_TW]), one_lane(J)
     if tpl[T_AKIND] == A_LINE:
-        ok = line_member(M, i, RW, row)
+        line_member_lanes(M, i, ctx, one_lane(RW[RW_PV]), tw, Jl, arow, SC, 1, 1)
     else:
-        ok = least_norm_member(M, i, RW, row)
-    size_a = 1.0 if is_prismatic(kind[i, act]) else RW[RW_CTX][3, 0]
-    scale, dependent = scale_actuation(row, RW[RW_TW][act], size_a)
-    return scale, ok and not dependent
+        SC[SC_ACT, 0] = 1.0 if least_norm_member(M, i, RW, row) else 0.0
+    scale_actuation_lanes(M, i, ctx, tw, Jl, arow, one_lane(scale), SC, 1, 1)
+    return SC[SC_ACT, 0] != 0.0
 
 
 @borrowing_inlined
@@ -349,9 +285,7 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
     put_constraints(cons, k, tpl[T_CROW], J, scale)
     arow = M[LEG][i, L_AROW]
     if arow >= 0:
-        s, aok = actuation_row(M, i, RW, J[arow])
-        scale[arow] = s
-        ok = ok and aok
+        ok = actuation_row(M, i, RW, J, scale, arow) and ok
     return ok, structure
 
 
@@ -359,32 +293,21 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
 def template_rows(M, i, RW, fa, fp, J, scale):
     """:func:`leg_rows` for a leg whose rows follow its template (groups, a line or no
     actuation): the common case, kept free of the calls of the general rules (a call site
-    of a large kernel costs every call of its caller, taken or not).  Returns ``(ok,
-    structure_ok, done)``; not ``done`` (nothing written) where the leg needs
-    :func:`leg_rows`: the generic rule, a least-norm actuation, or a group whose structure
-    does not hold at this pose.  Its frames' context, twists, points and directions are in
-    ``RW`` already (as for :func:`leg_rows`, which reads them unchanged)."""
+    of a large kernel costs every call of its caller, taken or not); one pose, a block of
+    one of :func:`._members.template_lanes`.  Returns ``(ok, structure_ok, done)``; not
+    ``done`` where the leg needs :func:`leg_rows` (the generic rule, a least-norm actuation,
+    or a group whose structure does not hold at this pose), which then writes all its rows
+    again.  Its frames' context, twists, points and directions are in ``RW`` already (as for
+    :func:`leg_rows`, which reads them unchanged)."""
     tpl = M[TPL][i]
     akind = tpl[T_AKIND]
     if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
         return False, False, False
-    cons = RW[RW_CONS]
-    k = tpl[T_K]
-    if k and not group_members(M, i, RW, fa, cons):
+    SC = RW[RW_SC]
+    template_lanes(M, i, one_lane(RW[RW_CTX]), one_lane(RW[RW_PV]), one_lane(RW[RW_DV]),
+                   one_lane(fa), one_lane(RW[RW_TW]), one_lane(J), one_lane(scale), SC,
+                   one_lane(RW[RW_NR]), one_lane(RW[RW_VEC]), one_lane(RW[RW_BASIS]), 1, 1)
+    status = SC[SC_STATUS, 0]
+    if status == NOT_DONE:
         return False, False, False
-    put_constraints(cons, k, tpl[T_CROW], J, scale)
-    arow = M[LEG][i, L_AROW]
-    if arow < 0:
-        return True, True, True
-    row = J[arow]
-    if akind == A_NONE:
-        for q in range(6):
-            row[q] = 0.0
-        scale[arow] = 0.0
-        return False, True, True
-    ok = line_member(M, i, RW, row)
-    act = M[LEG][i, L_ACT]
-    size_a = 1.0 if is_prismatic(M[KIND][i, act]) else RW[RW_CTX][3, 0]
-    s, dependent = scale_actuation(row, RW[RW_TW][act], size_a)
-    scale[arow] = s
-    return ok and not dependent, True, True
+    return status == DONE, True, True
