@@ -298,7 +298,7 @@ def template_rows_block(M, FA, RL, nb):
                 SC[i, SC_STATUS, k] = NOT_DONE
             continue
         template_lanes(M, i, CTX[i], PV[i], DV[i], FA[i], TW[i], JL, SL, SC[i], R, V, BASIS,
-                       nb, BLOCK)
+                       True, 1, nb, BLOCK)
 
 
 @borrowing_inlined

@@ -21,7 +21,7 @@ Arrays: a leg's frames ``FA (m, 6, ls)`` (axis, point), twists ``TW (m, 6, ls)``
 
 import math
 
-from ._jit import inlined, lanes
+from ._jit import borrowing, inlined, lanes
 
 from ._geometry import is_prismatic
 from ._layout import (A_NONE, GRP, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE, REF_FLAG,
@@ -322,32 +322,34 @@ def scale_actuation_lanes(M, i, CTX, TW, OUT, row, SCALE, SC, nb, ls):
 
 
 @inlined
-def template_lanes(M, i, CTX, PV, DV, FA, TW, OUT, SCALE, SC, R, V, BASIS, nb, ls):
-    """Leg ``i``'s rows by its template (its groups; its actuation on a line, or none) into
-    ``OUT (rows, 6, ls)`` and ``SCALE (rows, ls)`` at its rows (``T_CROW`` on, ``L_AROW``), for a
-    leg whose template says so (not the generic rule, no least-norm actuation: the caller
-    checks).  ``SC[SC_STATUS]`` per lane: :data:`NOT_DONE` where a group's structure or basis
-    does not hold at that pose (the general rules decide, ``_rows.leg_rows``),
-    :data:`DONE`, or :data:`DONE_FLAGGED` (no actuation, or its line's structure does not
-    hold, or the member is dependent)."""
+def template_lanes(M, i, CTX, PV, DV, FA, TW, OUT, SCALE, SC, R, V, BASIS, groups, actuation,
+                   nb, ls):
+    """Leg ``i``'s rows by its template into ``OUT (rows, 6, ls)`` and ``SCALE (rows, ls)`` at
+    its rows (``T_CROW`` on, ``L_AROW``): with ``groups`` its group members (else
+    ``SC[SC_GROUPS]`` set to 1); ``actuation`` 1 its actuation row by the template (none, or
+    the force on its line, scaled), 2 the scaling of the unit member already in its row
+    (``SC[SC_ACT]`` set by the caller), 0 none.  ``SC[SC_STATUS]`` per lane: :data:`NOT_DONE`
+    where a group's structure or basis does not hold at that pose (the general rules
+    decide, ``_rows.leg_rows``), :data:`DONE`, or :data:`DONE_FLAGGED` (no actuation, or its
+    line's structure does not hold, or the member is dependent)."""
     tpl = M[TPL][i]
     k_rows, crow = tpl[T_K], tpl[T_CROW]
     sc, sl, out = lanes(SC), lanes(SCALE), lanes(OUT)
     GR, ACT, ST = SC_GROUPS * ls, SC_ACT * ls, SC_STATUS * ls
-    if k_rows:
+    if groups and k_rows:
         group_members_lanes(M, i, CTX, PV, DV, FA, TW, OUT, crow, SC, R, V, BASIS, nb, ls)
+        for r in range(k_rows):
+            for k in range(nb):
+                sl[(crow + r) * ls + k] = 1.0
     else:
         for k in range(nb):
             sc[GR + k] = 1.0
-    for r in range(k_rows):
-        for k in range(nb):
-            sl[(crow + r) * ls + k] = 1.0
     arow = M[LEG][i, L_AROW]
-    if arow < 0:
+    if arow < 0 or actuation == 0:
         for k in range(nb):
             sc[ST + k] = DONE if sc[GR + k] != 0.0 else NOT_DONE
         return
-    if tpl[T_AKIND] == A_NONE:
+    if actuation == 1 and tpl[T_AKIND] == A_NONE:
         o = 6 * arow * ls
         for q in range(6):
             for k in range(nb):
@@ -356,8 +358,34 @@ def template_lanes(M, i, CTX, PV, DV, FA, TW, OUT, SCALE, SC, R, V, BASIS, nb, l
             sl[arow * ls + k] = 0.0
             sc[ST + k] = DONE_FLAGGED if sc[GR + k] != 0.0 else NOT_DONE
         return
-    line_member_lanes(M, i, CTX, PV, TW, OUT, arow, SC, nb, ls)
+    if actuation == 1:
+        line_member_lanes(M, i, CTX, PV, TW, OUT, arow, SC, nb, ls)
     scale_actuation_lanes(M, i, CTX, TW, OUT, arow, SCALE, SC, nb, ls)
     for k in range(nb):
         done = DONE if sc[ACT + k] != 0.0 else DONE_FLAGGED
         sc[ST + k] = done if sc[GR + k] != 0.0 else NOT_DONE
+
+
+@borrowing
+def template_one(M, i, CTX, PV, DV, FA, TW, OUT, SCALE, SC, R, V, BASIS, groups, actuation):
+    """:func:`template_lanes` on one pose (a block of one: each array with its lane axis of
+    one), compiled once for every one-pose use (``_rows``: the template rows, the groups and
+    the actuation of the general rule)."""
+    template_lanes(M, i, CTX, PV, DV, FA, TW, OUT, SCALE, SC, R, V, BASIS, groups, actuation,
+                   1, 1)
+
+
+@borrowing
+def home_null_space(kind, size, couple, PV, xp, FA, TW, CTX, R, g, V, SC):
+    """A group's rows and their null space at one pose (:func:`group_rows_lanes`,
+    :func:`null_space_lanes` on a block of one; ``_probe.home_groups``).  Returns the rows'
+    count."""
+    cnt = group_rows_lanes(kind, size, couple, PV, xp, FA, TW, CTX, R, 1, 1)
+    null_space_lanes(R, cnt, g, V, SC, 1, 1)
+    return cnt
+
+
+@borrowing
+def home_remainder(g, V, BASIS, q, DV, dr, SC):
+    """:func:`remainder_lanes` on a block of one (``_probe.home_groups``)."""
+    remainder_lanes(g, V, BASIS, q, DV, dr, SC, 1, 1)

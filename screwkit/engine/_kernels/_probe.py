@@ -22,8 +22,8 @@ from ._geometry import eval_directions, eval_points, leg_setup
 from ._jit import entry, inner, one_lane
 from ._kin import chain
 from ._layout import D, DIRS, GREF, KIND, LEG, L_SIZE, PTS, REF_MIN, TPL, T_K
-from ._members import (SC_NULL, SC_P0, SC_P1, SC_P2, SC_REM, group_rows_lanes,
-                       null_space_lanes, remainder_lanes)
+from ._members import (SC_NULL, SC_P0, SC_P1, SC_P2, SC_REM, home_null_space,
+                       home_remainder)
 from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_SC, RW_TW, RW_VEC,
                     generic_members, least_norm_member, make_rows_work)
 
@@ -56,10 +56,9 @@ def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
     kind, size = M[KIND][0], M[LEG][0, L_SIZE]
     for g in range(gkind.shape[0]):
         dim = gdim[g]
-        cnt = group_rows_lanes(kind, size, gkind[g] == 0, one_lane(RW[RW_PV]), gpoint[g],
-                               one_lane(fa), one_lane(RW[RW_TW]), one_lane(RW[RW_CTX]),
-                               one_lane(rows), 1, 1)
-        null_space_lanes(one_lane(rows), cnt, dim, one_lane(vec), SC, 1, 1)
+        home_null_space(kind, size, gkind[g] == 0, one_lane(RW[RW_PV]), gpoint[g],
+                        one_lane(fa), one_lane(RW[RW_TW]), one_lane(RW[RW_CTX]),
+                        one_lane(rows), dim, one_lane(vec), SC)
         ok[g] = SC[SC_NULL, 0] != 0.0
         k = 0
         for c in cand:
@@ -69,7 +68,7 @@ def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
             nd = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             if not (math.isfinite(nd) and nd > 0.5):
                 continue
-            remainder_lanes(dim, one_lane(vec), basis, k, one_lane(dv), c, SC, 1, 1)
+            home_remainder(dim, one_lane(vec), basis, k, one_lane(dv), c, SC)
             p0, p1, p2, rem = SC[SC_P0, 0], SC[SC_P1, 0], SC[SC_P2, 0], abs(SC[SC_REM, 0])
             if rem >= REF_MIN:
                 chosen[g, k] = c

@@ -25,9 +25,7 @@ from ._geometry import eval_directions, eval_points, leg_setup
 from ._layout import (A_LINE, A_NONE, GREF, LEG, L_ACT, L_AROW, L_SIZE, REF_FLAG, T_AKIND,
                       T_CROW, T_GENERIC, T_K, TPL)
 from ._eigen import jacobi_rows
-from ._members import (DONE, NOT_DONE, NSC, SC_ACT, SC_GROUPS, SC_STATUS,
-                       group_members_lanes, line_member_lanes, scale_actuation_lanes,
-                       template_lanes)
+from ._members import DONE, NOT_DONE, NSC, SC_ACT, SC_GROUPS, SC_STATUS, template_one
 from ._small import cholesky_solve
 
 (RW_CTX, RW_TW, RW_PV, RW_DV, RW_NR, RW_BASIS, RW_CONS, RW_TN, RW_REF, RW_G, RW_RHS,
@@ -164,15 +162,17 @@ def generic_members(M, i, RW, cons):
     return ok
 
 
-@borrowing
-def group_members(M, i, RW, fa, cons):
-    """The leg's constraint members group by group into ``cons[:k]`` (one pose: a block of
-    one of :func:`._members.group_members_lanes`); returns False where a group's structure
-    or basis does not hold."""
-    group_members_lanes(M, i, one_lane(RW[RW_CTX]), one_lane(RW[RW_PV]), one_lane(RW[RW_DV]),
-                        one_lane(fa), one_lane(RW[RW_TW]), one_lane(cons), 0, RW[RW_SC],
-                        one_lane(RW[RW_NR]), one_lane(RW[RW_VEC]), one_lane(RW[RW_BASIS]), 1, 1)
-    return RW[RW_SC][SC_GROUPS, 0] != 0.0
+@borrowing_inlined
+def _template(M, i, RW, fa, J, scale, groups, actuation, flag):
+    """:func:`._members.template_one` on this pose's rows workspace: the leg's template
+    rows into ``J`` and ``scale`` (``groups``, ``actuation`` as there); returns the flag of
+    row ``flag`` of its scratch (``SC_GROUPS``, ``SC_ACT``, ``SC_STATUS``)."""
+    SC = RW[RW_SC]
+    template_one(M, i, one_lane(RW[RW_CTX]), one_lane(RW[RW_PV]), one_lane(RW[RW_DV]),
+                 one_lane(fa), one_lane(RW[RW_TW]), one_lane(J), one_lane(scale), SC,
+                 one_lane(RW[RW_NR]), one_lane(RW[RW_VEC]), one_lane(RW[RW_BASIS]), groups,
+                 actuation)
+    return SC[flag, 0]
 
 
 @borrowing_inlined
@@ -224,25 +224,20 @@ def least_norm_member(M, i, RW, member):
 
 
 @borrowing_inlined
-def actuation_row(M, i, RW, J, scale, arow):
-    """The actuation row of leg ``i`` into ``J[arow]`` (``[f; m]`` about O, reciprocal
-    product 1 with the actuated joint's unit twist) and its scale into ``scale[arow]``
-    (``row = scale * unit member``).  Returns whether it is well defined."""
-    tpl = M[TPL][i]
-    row = J[arow]
-    if tpl[T_AKIND] == A_NONE:
+def actuation_row(M, i, RW, fa, J, scale, arow):
+    """The actuation row of leg ``i`` (frames ``fa``) into ``J[arow]`` (``[f; m]`` about O,
+    reciprocal product 1 with the actuated joint's unit twist) and its scale into
+    ``scale[arow]`` (``row = scale * unit member``).  Returns whether it is well defined."""
+    akind = M[TPL][i, T_AKIND]
+    if akind == A_NONE:
         for q in range(6):
-            row[q] = 0.0
+            J[arow, q] = 0.0
         scale[arow] = 0.0
         return False
-    SC = RW[RW_SC]
-    ctx, tw, Jl = one_lane(RW[RW_CTX]), one_lane(RW[RW_TW]), one_lane(J)
-    if tpl[T_AKIND] == A_LINE:
-        line_member_lanes(M, i, ctx, one_lane(RW[RW_PV]), tw, Jl, arow, SC, 1, 1)
-    else:
-        SC[SC_ACT, 0] = 1.0 if least_norm_member(M, i, RW, row) else 0.0
-    scale_actuation_lanes(M, i, ctx, tw, Jl, arow, one_lane(scale), SC, 1, 1)
-    return SC[SC_ACT, 0] != 0.0
+    if akind == A_LINE:
+        return _template(M, i, RW, fa, J, scale, False, 1, SC_ACT) != 0.0
+    RW[RW_SC][SC_ACT, 0] = 1.0 if least_norm_member(M, i, RW, J[arow]) else 0.0
+    return _template(M, i, RW, fa, J, scale, False, 2, SC_ACT) != 0.0
 
 
 @borrowing_inlined
@@ -277,15 +272,17 @@ def leg_rows(M, i, RW, fa, fp, J, scale):
     structure = True
     if tpl[T_GENERIC]:
         ok = generic_members(M, i, RW, cons)
+        put_constraints(cons, k, tpl[T_CROW], J, scale)
     elif k:
-        ok = group_members(M, i, RW, fa, cons)
+        # the groups' members straight into J (unit scales)
+        ok = _template(M, i, RW, fa, J, scale, True, 0, SC_GROUPS) != 0.0
         structure = ok
         if not ok:            # the structure of home does not hold here: the generic rule
             ok = generic_members(M, i, RW, cons)
-    put_constraints(cons, k, tpl[T_CROW], J, scale)
+            put_constraints(cons, k, tpl[T_CROW], J, scale)
     arow = M[LEG][i, L_AROW]
     if arow >= 0:
-        ok = actuation_row(M, i, RW, J, scale, arow) and ok
+        ok = actuation_row(M, i, RW, fa, J, scale, arow) and ok
     return ok, structure
 
 
@@ -303,11 +300,7 @@ def template_rows(M, i, RW, fa, fp, J, scale):
     akind = tpl[T_AKIND]
     if tpl[T_GENERIC] or (akind != A_LINE and akind != A_NONE):
         return False, False, False
-    SC = RW[RW_SC]
-    template_lanes(M, i, one_lane(RW[RW_CTX]), one_lane(RW[RW_PV]), one_lane(RW[RW_DV]),
-                   one_lane(fa), one_lane(RW[RW_TW]), one_lane(J), one_lane(scale), SC,
-                   one_lane(RW[RW_NR]), one_lane(RW[RW_VEC]), one_lane(RW[RW_BASIS]), 1, 1)
-    status = SC[SC_STATUS, 0]
+    status = _template(M, i, RW, fa, J, scale, True, 1, SC_STATUS)
     if status == NOT_DONE:
         return False, False, False
     return status == DONE, True, True
