@@ -11,6 +11,7 @@ import math
 from ._jit import borrowing, inlined, lanes
 
 from ._kin import platform_point, twist_lane
+from ._small import cross
 from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGENT, DIR_JOINT,
                       DIR_LEG, DIR_PERPENDICULAR, DIR_PLATFORM, DIR_PLATFORM_OA,
                       DIR_PLATFORM_TANGENT, K_P, K_PA, LEG, L_SIZE, PLAT, PTS, PT_A,
@@ -165,7 +166,7 @@ def directions_lanes(M, i, FA, FP, CTX, OUT, nb, ls):
             for k in range(nb):
                 x0, x1, x2 = ctx[k] - c0, ctx[ls + k] - c1, ctx[2 * ls + k] - c2
                 if tangent:
-                    x0, x1, x2 = z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0
+                    x0, x1, x2 = cross(z0, z1, z2, x0, x1, x2)
                 out[o0 + k], out[o1 + k], out[o2 + k] = x0, x1, x2
         elif t == DIR_PLATFORM_OA or t == DIR_PLATFORM_TANGENT:
             tangent = t == DIR_PLATFORM_TANGENT
@@ -175,7 +176,7 @@ def directions_lanes(M, i, FA, FP, CTX, OUT, nb, ls):
                 x2 = ctx[5 * ls + k] - fp[17 * ls + k]
                 if tangent:
                     z0, z1, z2 = fp[8 * ls + k], fp[11 * ls + k], fp[14 * ls + k]
-                    x0, x1, x2 = z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0
+                    x0, x1, x2 = cross(z0, z1, z2, x0, x1, x2)
                 out[o0 + k], out[o1 + k], out[o2 + k] = x0, x1, x2
         elif t == DIR_JOINT:
             for k in range(nb):
@@ -187,9 +188,7 @@ def directions_lanes(M, i, FA, FP, CTX, OUT, nb, ls):
             for k in range(nb):
                 u0, u1, u2 = out[u + k], out[u + ls + k], out[u + 2 * ls + k]
                 v0, v1, v2 = out[v + k], out[v + ls + k], out[v + 2 * ls + k]
-                x0 = u1 * v2 - u2 * v1
-                x1 = u2 * v0 - u0 * v2
-                x2 = u0 * v1 - u1 * v0
+                x0, x1, x2 = cross(u0, u1, u2, v0, v1, v2)
                 nx = max(math.sqrt(x0 * x0 + x1 * x1 + x2 * x2), 1e-300)
                 out[o0 + k], out[o1 + k], out[o2 + k] = x0 / nx, x1 / nx, x2 / nx
         elif t == DIR_ALONG:

@@ -24,6 +24,7 @@ import math
 from ._jit import borrowing, inlined, lanes
 
 from ._geometry import is_prismatic
+from ._small import cross
 from ._layout import (A_NONE, GRP, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE, REF_FLAG,
                       TPL, T_AKIND, T_AP1, T_AP2, T_CROW, T_K, T_NG, ZERO)
 
@@ -106,9 +107,7 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
             o = 3 * q * ls
             for k in range(nb):
                 a0, a1, a2 = rw[o + k], rw[o + ls + k], rw[o + 2 * ls + k]
-                x0 = a1 * v[2 * ls + k] - a2 * v[ls + k]
-                x1 = a2 * v[k] - a0 * v[2 * ls + k]
-                x2 = a0 * v[ls + k] - a1 * v[k]
+                x0, x1, x2 = cross(a0, a1, a2, v[k], v[ls + k], v[2 * ls + k])
                 sc[RES + k] = max(sc[RES + k], math.sqrt(x0 * x0 + x1 * x1 + x2 * x2))
         for k in range(nb):
             sc[NUL + k] = 1.0 if sc[BIG + k] > 1e-6 and sc[RES + k] < ZERO else 0.0
@@ -130,9 +129,7 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
             for k in range(nb):
                 a0, a1, a2 = rw[oa + k], rw[oa + ls + k], rw[oa + 2 * ls + k]
                 b0, b1, b2 = rw[ob + k], rw[ob + ls + k], rw[ob + 2 * ls + k]
-                x0 = a1 * b2 - a2 * b1
-                x1 = a2 * b0 - a0 * b2
-                x2 = a0 * b1 - a1 * b0
+                x0, x1, x2 = cross(a0, a1, a2, b0, b1, b2)
                 size2 = x0 * x0 + x1 * x1 + x2 * x2
                 take = size2 > sc[B2 + k]
                 sc[B2 + k] = size2 if take else sc[B2 + k]
@@ -252,9 +249,8 @@ def group_members_lanes(M, i, CTX, PV, DV, FA, TW, OUT, r0, SC, R, V, BASIS, nb,
                 else:
                     x0, x1, x2 = pv[x + k], pv[x + ls + k], pv[x + 2 * ls + k]
                     out[o + k], out[o + ls + k], out[o + 2 * ls + k] = e0, e1, e2
-                    out[o + 3 * ls + k] = x1 * e2 - x2 * e1
-                    out[o + 4 * ls + k] = x2 * e0 - x0 * e2
-                    out[o + 5 * ls + k] = x0 * e1 - x1 * e0
+                    out[o + 3 * ls + k], out[o + 4 * ls + k], out[o + 5 * ls + k] = \
+                        cross(x0, x1, x2, e0, e1, e2)
             r += 1
 
 
@@ -273,9 +269,8 @@ def line_member_lanes(M, i, CTX, PV, TW, OUT, row, SC, nb, ls):
         nd = max(math.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300)
         d0, d1, d2 = d0 / nd, d1 / nd, d2 / nd
         out[o + k], out[o + ls + k], out[o + 2 * ls + k] = d0, d1, d2
-        out[o + 3 * ls + k] = x1 * d2 - x2 * d1
-        out[o + 4 * ls + k] = x2 * d0 - x0 * d2
-        out[o + 5 * ls + k] = x0 * d1 - x1 * d0
+        out[o + 3 * ls + k], out[o + 4 * ls + k], out[o + 5 * ls + k] = \
+            cross(x0, x1, x2, d0, d1, d2)
         sc[RES + k] = 0.0
     # every passive joint leaves X's velocity normal to the line (a structural choice)
     for j in range(size):
