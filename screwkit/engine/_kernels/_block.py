@@ -35,7 +35,7 @@ from ._indices import lines_at, rounded_unknowns
 from ._kin import closure_sq, forward_block, platform_columns, twist_lane
 from ._layout import (A_LINE, A_NONE, BLOCK, D, L_AROW, TPL, T_AKIND, T_CROW, T_GENERIC,
                       T_K)
-from ._layout import LEG, L_SIZE, PLAT, ROT, TRA, TRN
+from ._layout import LEG, L_SIZE, PLAT, RL_CTX, RL_DV, RL_J, RL_PV, RL_SC, RL_SCALE, ROT, TRA, TRN
 from ._members import DONE, NOT_DONE, NSC, SC_STATUS, template_lanes
 from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
 from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
@@ -306,7 +306,7 @@ def lane_rows_into(M, i, RL, l, J, scale):
     """Leg ``i``'s rows and scales of lane ``l`` of :func:`template_rows_block` into the
     pose's ``J (rows, 6)`` and ``scale (rows,)``.  Returns whether they are well defined
     (its status ``DONE``)."""
-    JL, SL, SC = RL[4], RL[5], RL[6]
+    JL, SL, SC = RL[RL_J], RL[RL_SCALE], RL[RL_SC]
     rows = lanes(JL)
     B = JL.shape[2]
     crow, arow = M[TPL][i, T_CROW], M[LEG][i, L_AROW]
@@ -328,10 +328,11 @@ def lane_frames_into(M, i, RL, l, RW, fa):
     frames ``fa``: what ``_rows.leg_frames`` would form there, the same bits.  Flat loops
     through pointers (an entry's indices and numba's wraparound of each cost more than its
     load)."""
-    B = RL[0].shape[3]
-    _lane_copy(RL[0], i, 12, B, l, RW[RW_CTX])
-    _lane_copy(RL[1], i, RL[1].shape[1] * 3, B, l, RW[RW_PV])
-    _lane_copy(RL[2], i, RL[2].shape[1] * 3, B, l, RW[RW_DV])
+    CTX, PV, DV = RL[RL_CTX], RL[RL_PV], RL[RL_DV]
+    B = CTX.shape[3]
+    _lane_copy(CTX, i, 12, B, l, RW[RW_CTX])
+    _lane_copy(PV, i, PV.shape[1] * 3, B, l, RW[RW_PV])
+    _lane_copy(DV, i, DV.shape[1] * 3, B, l, RW[RW_DV])
     # the twists (a dozen operations each: less than copying them out of a lane)
     rot, tra, tw = M[ROT], M[TRA], RW[RW_TW]
     for j in range(M[LEG][i, L_SIZE]):

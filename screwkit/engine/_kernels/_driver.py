@@ -38,7 +38,8 @@ from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solv
                         whole_turns)
 from ._indices import pose_lines
 from ._kin import forward
-from ._layout import ACCEPTED, BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS, ROWS
+from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS,
+                      RL_SC, RL_TW, ROWS)
 from ._pack import inputs, model, outputs, params
 from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
                       make_work, newton_from, tolerance)
@@ -127,13 +128,13 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
     leg = M[LEG]
     for i in range(n):
         a = leg[i, L_AROW]
-        if lane >= 0 and RL[6][i, SC_STATUS, lane] != NOT_DONE:
+        if lane >= 0 and RL[RL_SC][i, SC_STATUS, lane] != NOT_DONE:
             # its template's rows, formed for the block's lanes at once
             ok = lane_rows_into(M, i, RL, lane, J, scale) and ok
             O[OUT_STRUCT][p, i] = True
             if flags[F_TWISTS] and a >= 0:
                 for q in range(6):
-                    tw_out[p, a, q] = RL[3][i, leg[i, L_ACT], q, lane]
+                    tw_out[p, a, q] = RL[RL_TW][i, leg[i, L_ACT], q, lane]
             continue
         if lane >= 0:
             lane_frames_into(M, i, RL, lane, RW, FA[b, i])

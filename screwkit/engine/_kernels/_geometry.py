@@ -16,7 +16,7 @@ from ._layout import (A, DIRS, DIR_ALONG, DIR_BASE, DIR_BASE_OA, DIR_BASE_TANGEN
                       DIR_LEG, DIR_PERPENDICULAR, DIR_PLATFORM, DIR_PLATFORM_OA,
                       DIR_PLATFORM_TANGENT, K_P, K_PA, LEG, L_SIZE, PLAT, PTS, PT_A,
                       PT_JOINT, PT_MEET, PT_a, P_P0, P_R0)
-from ._layout import AP, BLOCK, D, ROT, TRA
+from ._layout import AP, BLOCK, D, RL_CTX, RL_DV, RL_PV, RL_TW, ROT, TRA
 
 
 @borrowing
@@ -49,7 +49,7 @@ def legs_frames_block(M, FA, FP, RL, nb):
     d, 3, BLOCK)``, ``TW (n, m, 6, BLOCK)`` (``_block.make_rows_lanes``).  The lane loops of
     the one-pose functions with the block's stride (compiled once for it: the one-pose
     functions are the stride 1), so each lane's values are the pose's alone, bit for bit."""
-    CTX, PV, DV, TW = RL[0], RL[1], RL[2], RL[3]
+    CTX, PV, DV, TW = RL[RL_CTX], RL[RL_PV], RL[RL_DV], RL[RL_TW]
     for i in range(M[D].shape[0]):
         context_lanes(M, i, FA[i], FP, CTX[i], TW[i], True, nb, BLOCK)
         points_lanes(M, i, FA[i], CTX[i], PV[i], nb, BLOCK)

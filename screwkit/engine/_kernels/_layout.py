@@ -101,3 +101,8 @@ LEVERAGE_RTOL = 1e-8
 #: axis of the joint after its actuator, its actuated joint's unit twist.
 LN_OUT_Q, LN_OUT_D, LN_IN_Q, LN_IN_D, LN_V = 0, 3, 6, 9, 12
 LINE_WIDTH = 18
+
+#: The rows workspace of a block of lanes (``_block.make_rows_lanes``): the legs' contexts,
+#: named points, directions and twists; the template legs' rows, their scales, each leg's
+#: scratch and status; the scratch of ``_members.template_lanes``.
+RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS = range(10)
