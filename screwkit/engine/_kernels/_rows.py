@@ -2,13 +2,14 @@
 
 What the rows are was decided once per leg at home (:mod:`screwkit.engine._templates`,
 encoded in ``GRP``, ``TPL``, ``GREF``): groups of pure couples and of forces through named
-points, recomputed here exactly as null spaces of the current joint axes and given their
-canonical bases from the reference directions; or the generic rule (the constraint system
-by SVD of the length-normalised joint twists, a basis from projected reference wrenches),
-which also takes over at a pose where a group's structure does not hold.  The actuation
-row is the force on the line through two named points, or the least-norm wrench reciprocal
-to the passive joints, scaled so that its reciprocal product with the actuated joint's unit
-twist is 1.
+points, recomputed exactly as null spaces of the current joint axes and given their
+canonical bases from the reference directions (:mod:`._members`, on lanes; one pose here
+is a block of one); or the generic rule (here: the constraint system by SVD of the
+length-normalised joint twists, a basis from projected reference wrenches), which also
+takes over at a pose where a group's structure does not hold.  The actuation row is the
+force on the line through two named points (:mod:`._members`), or the least-norm wrench
+reciprocal to the passive joints (here), scaled so that its reciprocal product with the
+actuated joint's unit twist is 1 (:mod:`._members`).
 
 The rows workspace ``RW`` of a thread: see :func:`make_rows_work`.  These kernels only
 borrow arrays (compiled without reference counts, :func:`._jit.borrowing`); those a pose
