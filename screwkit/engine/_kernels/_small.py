@@ -13,15 +13,11 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
 from ._layout import BLOCK
 
+
 @borrowing_inlined
 def cross(a0, a1, a2, b0, b1, b2):
     """``a x b`` of two 3-vectors given by their components (a tuple of three)."""
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-
-
-@borrowing
-def cross_to(a0, a1, a2, b0, b1, b2, out, k):
-    out[k], out[k + 1], out[k + 2] = cross(a0, a1, a2, b0, b1, b2)
 
 
 @borrowing
