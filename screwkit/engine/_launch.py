@@ -33,7 +33,7 @@ BLOCKS_LOADING = 2 * MIN_PER_THREAD
 #: How long the first compile of a parallel kernel takes (the note on stderr).
 PARALLEL_COMPILE = "a minute or two"
 
-#: The outputs of the analysis kernel, in the kernel's order (``_driver.OUT_*``).
+#: The outputs of the analysis kernel, in its order (``_kernels._layout.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
            "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
            "constraint_rank", "constraint_condition_number", "values", "equilibrium",

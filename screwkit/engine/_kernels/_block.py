@@ -275,11 +275,13 @@ def make_rows_lanes(n, m, mr, npts, ndirs, B):
     B)``, named points ``(n, p, 3, B)``, directions ``(n, d, 3, B)`` and twists ``(n, m, 6,
     B)`` (``_geometry.legs_frames_block``); the rows ``(mr, 6, B)`` and scales ``(mr, B)`` of
     the legs that follow their templates, each leg's scratch and status ``(n, NSC, B)``, and
-    the scratch of :func:`._members.template_lanes` (:func:`template_rows_block`)."""
+    the scratch of :func:`._members.template_lanes` (:func:`template_rows_block`), and the
+    lanes' centroids, spreads and origins ``(8, B)`` (``_statics.spread_lanes``)."""
     return (np.zeros((n, 4, 3, B)), np.zeros((n, max(npts, 1), 3, B)),
             np.zeros((n, max(ndirs, 1), 3, B)), np.zeros((n, m, 6, B)),
             np.zeros((max(mr, 1), 6, B)), np.zeros((max(mr, 1), B)), np.zeros((n, NSC, B)),
-            np.zeros((max(m, 1), 3, B)), np.zeros((3, B)), np.zeros((3, 3, B)))
+            np.zeros((max(m, 1), 3, B)), np.zeros((3, B)), np.zeros((3, 3, B)),
+            np.zeros((8, B)))
 
 
 @inlined
@@ -289,7 +291,7 @@ def template_rows_block(M, FA, RL, nb):
     lanes in ``RL`` (:func:`._geometry.legs_frames_block`): into ``RL``'s rows and scales,
     each leg's status per lane in its scratch (``SC_STATUS``; ``NOT_DONE`` for a leg without
     a template, and where the template does not hold: those rows are formed pose by pose)."""
-    CTX, PV, DV, TW, JL, SL, SC, R, V, BASIS = RL
+    CTX, PV, DV, TW, JL, SL, SC, R, V, BASIS = RL[:10]
     for i in range(M[D].shape[0]):
         tpl = M[TPL][i]
         akind = tpl[T_AKIND]

@@ -19,7 +19,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 * ``I`` the inputs: ``P6 (N, 6)`` the given parameters (the dependent ones are ignored),
   ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
   or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``;
-* ``O`` the outputs (``OUT_*``), filled pose by pose;
+* ``O`` the outputs (``_layout.OUT_*``), filled pose by pose;
 * ``flags``: solve, rows, statics, continuation, actuated twists, the lines of the
   transmission indices' joints and the platform (1/0 each).
 """
@@ -30,29 +30,19 @@ from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
 from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE,
                      LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
-                     lane_frames_into, lane_rows_into, make_block, make_rows_lanes,
-                     template_rows_block)
-from ._members import NOT_DONE, SC_STATUS
+                     make_block, make_rows_lanes, template_rows_block)
+from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
 from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
                         whole_turns)
-from ._indices import pose_lines
-from ._kin import forward
-from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, LEG, L_ACT, L_AROW, ORDER, PTS,
-                      RL_SC, RL_TW, ROWS)
+from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
+                      F_SOLVE, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING, OUT_X,
+                      ORDER, PTS, RL_J, RL_SP, ROWS)
 from ._pack import inputs, model, outputs, params
-from ._newton import (W_FA, W_FL, W_FE, W_FP, W_P6, W_PZ, W_S, W_XB, W_XN, home_vector,
-                      make_work, newton_from, tolerance)
-from ._rows import RW_TW, leg_frames, leg_rows, make_rows_work, template_rows
-from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_AP, SW_D, SW_JN,
-                       conditioning_lanes, make_conditioning_work, make_statics_work,
-                       normalise_rows, spread)
-from ._statics_block import statics_block
-
-(OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
- OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
- OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
-F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
+from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
+from ._rows import make_rows_work
+from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
+                       spread_lanes)
 
 
 @inlined
@@ -86,110 +76,6 @@ def solve_alone(M, Z, I, O, flags, p, W):
     O[OUT_HOW][p] = how
     O[OUT_SING][p] = sing
     return res, b
-
-
-@inlined
-def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane):
-    """:func:`finish_rows` of pose ``p`` after its closures (``b < 0``: its frames formed
-    here at its unknowns, given or returned by a rescue's Newton runs)."""
-    if b < 0:
-        b = 0
-        res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL], W[W_FE],
-                      W[W_FP], 0, W[W_S], W[W_P6])
-    finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane)
-
-
-@inlined
-def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane):
-    """Pose ``p`` after its closures (its frames in buffer ``b`` of ``W``, its residual
-    ``res``): the lines (``lines_here``: else its block's, :func:`._block.block_lines`) and
-    rows, as ``flags`` says; its normalised rows, their norms and its platform's origin
-    into lane ``l`` of the conditioning workspace ``CW`` (for :func:`finish_block`).  Its
-    legs' frames are lane ``lane`` of the block's ``RL`` where ``lane >= 0``, else formed here."""
-    unk, xs = Z[0], Z[1]
-    p6fix = I[0][p]
-    X = O[OUT_X][p]
-    FA, FP = W[W_FA], W[W_FP]
-    O[OUT_RES][p] = res
-    if flags[F_LINES] and lines_here:
-        bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
-                        W[W_XN], O[OUT_LINES][p])
-        po, fl = O[OUT_PLATFORM][p], FP[bl]
-        for k in range(po.shape[0]):  # (a loop: an array assignment needs reference counts)
-            po[k] = fl[k]
-    if not flags[F_ROWS]:
-        return
-    n = M[D].shape[0]
-    fp = FP[b]
-    J, scale = O[OUT_J][p], O[OUT_SCALE][p]
-    mr = J.shape[0]
-    ok = True
-    tw_out = O[OUT_TWISTS]
-    leg = M[LEG]
-    for i in range(n):
-        a = leg[i, L_AROW]
-        if lane >= 0 and RL[RL_SC][i, SC_STATUS, lane] != NOT_DONE:
-            # its template's rows, formed for the block's lanes at once
-            ok = lane_rows_into(M, i, RL, lane, J, scale) and ok
-            O[OUT_STRUCT][p, i] = True
-            if flags[F_TWISTS] and a >= 0:
-                for q in range(6):
-                    tw_out[p, a, q] = RL[RL_TW][i, leg[i, L_ACT], q, lane]
-            continue
-        if lane >= 0:
-            lane_frames_into(M, i, RL, lane, RW, FA[b, i])
-        else:
-            leg_frames(M, i, RW, FA[b, i], fp)
-        lok, st, done = template_rows(M, i, RW, FA[b, i], fp, J, scale)
-        if not done:                  # the general rules (the call kept out of the legs')
-            lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
-        ok = ok and lok
-        O[OUT_STRUCT][p, i] = st
-        if flags[F_TWISTS] and a >= 0:
-            tw = RW[RW_TW][leg[i, L_ACT]]
-            for q in range(6):
-                tw_out[p, a, q] = tw[q]
-    O[OUT_ROWS_OK][p] = ok
-    centre = O[OUT_CENTRE][p]
-    L = spread(M, FA, b, fp, SW[SW_AP], centre)
-    O[OUT_LENGTH][p] = L
-    Jn, d = SW[SW_JN], SW[SW_D]
-    normalise_rows(J, mr, centre, L, Jn, d)
-    cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
-    for r in range(mr):
-        for q in range(6):
-            cj[r, q, l] = Jn[r, q]
-        cd[r, l] = d[r]
-    for q in range(3):
-        co[q, l] = fp[15 + q]
-
-
-@inlined
-def finish_block(M, I, O, flags, p0, nb, SW, CW):
-    """The poses ``p0..p0+nb-1`` after :func:`finish_rows` (lanes ``0..nb-1`` of ``CW``): their
-    conditioning (the lanes at once, :func:`conditioning_lanes`), then each one's statics,
-    as ``flags`` says."""
-    if not flags[F_ROWS]:
-        return
-    leg = M[LEG]
-    n = M[D].shape[0]
-    mr = M[ROWS].shape[0]
-    n_act = 0
-    for i in range(n):
-        if leg[i, L_AROW] >= 0:
-            n_act += 1
-    conditioning_lanes(CW, mr, n_act, nb)
-    sv, RK, CD = CW[CW_SV], CW[CW_RANK], CW[CW_COND]
-    for l in range(nb):
-        p = p0 + l
-        out = O[OUT_SV][p]
-        for q in range(out.shape[0]):
-            out[q] = sv[q, l]
-        O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
-        O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
-    if flags[F_STATICS]:
-        statics_block(I, p0, nb, mr, SW, CW, O[OUT_J], O[OUT_CENTRE], O[OUT_LENGTH], O[OUT_SV],
-                      O[OUT_VALUES], O[OUT_EQ], O[OUT_AMP], O[OUT_DET])
 
 
 @inlined
@@ -272,11 +158,15 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
         if inblock and flags[F_ROWS]:
             legs_frames_block(M, K[K_FA][kb], K[K_FP][kb], RL, nb)
             template_rows_block(M, K[K_FA][kb], RL, nb)
+            spread_lanes(M, K[K_FA][kb], K[K_FP][kb], RL[RL_SP], nb, BLOCK)
+            normalise_lanes(RL[RL_J], M[ROWS].shape[0], RL[RL_SP], CW[CW_JN], CW[CW_D], nb,
+                            BLOCK)
         for l in range(nb):
             p = p0 + l
             res, b, fr = 0.0, -1, -1
             if given:
-                lane_frames(K, 0, l, W, 0, False)
+                if reads_frames(M, flags, RL, l):
+                    lane_frames(K, 0, l, W, 0, False)
                 res, b, fr = K[K_F][l], 0, l
             elif flags[F_SOLVE]:
                 # one call site of the closure alone: a pose alone, or a lane the block
@@ -286,7 +176,8 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
                 if not blocked or K[K_STATE][l] == LANE_ALONE:
                     res, b = solve_alone(M, Z, I, O, flags, p, W)
                 else:
-                    res, b, same = finish_lane(M, Z, I, O, flags, p, W, K, l, kb)
+                    res, b, same = finish_lane(M, Z, I, O, flags, p, W, K, l, kb,
+                                               reads_frames(M, flags, RL, l))
                     fr = l if same else -1
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock, RL, fr)
         if flags[F_LINES] and inblock:
@@ -329,13 +220,15 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
 
 
 @inlined
-def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
+def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
     """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
     Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
     active, the rest of its Newton run alone; where the run did not converge, the rescue
     (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
-    of ``W`` (``b < 0``: to be formed again at its unknowns).  Returns ``(residual, b,
-    same)``: ``same``, its frames are the block's (no step alone, no rescue)."""
+    of ``W`` (``b < 0``: to be formed again at its unknowns; for a lane whose frames stay
+    the block's, only where its rows ``reads`` them: :func:`._finish.reads_frames`).  Returns
+    ``(residual, b, same)``: ``same``, its frames are the block's (no step alone, no
+    rescue)."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
     X = O[OUT_X][p]
@@ -350,13 +243,15 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb):
     # its rescue b < 0: they are formed again at the unknowns the rescue returns
     b = 0
     more_steps = K[K_STATE][l] == LANE_ACTIVE
-    lane_frames(K, kb, l, W, b, more_steps)
     if more_steps:
+        lane_frames(K, kb, l, W, b, True)
         # one of the few lanes the block left iterating: the rest of its run alone, from
         # its unknowns, frames and residual (the iterations it has left of the pose's 30)
         res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
         its += more
     same = not more_steps and res <= CONVERGED
+    if not more_steps and (reads or not same):
+        lane_frames(K, kb, l, W, b, False)
     if not same:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)

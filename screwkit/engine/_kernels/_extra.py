@@ -25,7 +25,8 @@ from ._small import lu_block, lu_sign
 
 from ._statics import (CW_COND, CW_JN, CW_RANK, CW_SV, SW_COMP, SW_D, SW_JN, amplification,
                        conditioning_lanes, equilibrium, make_conditioning_work, make_statics_work,
-                       normalise_rows, statics_apply, statics_prepare)
+                       normalise_lanes, normalise_rows, statics_apply,
+                       statics_prepare)
 
 
 @entry
@@ -37,7 +38,7 @@ def statics_range(J, centre, length, sv, comp, torque, Wall, o, values, eq, amp,
     for p in range(start, stop):
         L = length[p]
         c = centre[p]
-        normalise_rows(J[p], mr, c, L, SW[SW_JN], SW[SW_D])
+        normalise_rows(J[p], mr, c, L, SW)
         for r in range(mr):
             if comp.shape[0] == 0:
                 cp[r] = 1.0 / (L * L) if torque[r] else 1.0
@@ -181,8 +182,12 @@ def frames_parallel(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, nchunk
 def normalise_batch(J, centre, length, Jn, d):
     """The rows of ``J (N, m, 6)`` about the centroid, moments over the length, unit
     (``Jn``), and their norms ``d (N, m)``."""
+    S = np.zeros(8)
     for p in range(J.shape[0]):
-        normalise_rows(J[p], J.shape[1], centre[p], length[p], Jn[p], d[p])
+        for q in range(3):
+            S[q] = centre[p, q]
+        S[3] = length[p]
+        normalise_lanes(J[p], J.shape[1], S, Jn[p], d[p], 1, 1)
 
 
 @entry
@@ -259,7 +264,7 @@ def equilibrium_batch(J, values, W, centre, length, out):
     mr = J.shape[1]
     SW = make_statics_work(mr)
     for p in range(J.shape[0]):
-        normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
+        normalise_rows(J[p], mr, centre[p], length[p], SW)
         for k in range(values.shape[1]):
             out[p, k] = equilibrium(J[p], mr, values[p, k], W[p, k], centre[p], length[p],
                                     SW[SW_D])
@@ -297,7 +302,7 @@ def conditioning_batch(J, centre, length, n_act, sv, rank, cond, crank, ccond):
         nb = min(BLOCK, N - p0)
         for l in range(nb):
             p = p0 + l
-            normalise_rows(J[p], mr, centre[p], length[p], SW[SW_JN], SW[SW_D])
+            normalise_rows(J[p], mr, centre[p], length[p], SW)
             for r in range(mr):
                 for q in range(6):
                     cj[r, q, l] = SW[SW_JN][r, q]

@@ -104,5 +104,14 @@ LINE_WIDTH = 18
 
 #: The rows workspace of a block of lanes (``_block.make_rows_lanes``): the legs' contexts,
 #: named points, directions and twists; the template legs' rows, their scales, each leg's
-#: scratch and status; the scratch of ``_members.template_lanes``.
-RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS = range(10)
+#: scratch and status; the scratch of ``_members.template_lanes``; the lanes' centroids,
+#: spreads and origins (``_statics.spread_lanes``).
+RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP = range(11)
+
+#: The outputs of the analysis kernel (``_driver``), in its order (``_launch``), and its
+#: flags: solve, rows, statics, continuation, actuated twists, the lines of the transmission
+#: indices' joints and the platform (1/0 each).
+(OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
+ OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
+ OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
+F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)

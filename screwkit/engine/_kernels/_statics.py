@@ -16,15 +16,15 @@ The statics workspace ``SW`` of a thread: see :func:`make_statics_work`.
 import math
 
 import numpy as np
-from ._jit import borrowing, borrowing_inlined, inner
+from ._jit import borrowing, borrowing_inlined, inner, lanes
 
-from ._kin import platform_points
-from ._layout import A, D, LEG, L_SIZE, RANK_RTOL, REFINE
+from ._kin import platform_point
+from ._layout import A, AP, D, LEG, L_SIZE, RANK_RTOL, REFINE
 from ._eigen import jacobi_rows, singular_values_lanes
 from ._small import lu_factor, lu_apply
 
 (SW_JN, SW_D, SW_U, SW_V, SW_LU, SW_PIV, SW_Y, SW_JW, SW_G, SW_WN, SW_AP, SW_Z, SW_W,
- SW_COMP) = range(14)
+ SW_COMP, SW_SP) = range(15)
 #: Statics modes of a pose: LU of Jn^T, LU of the normal equations, pseudo-inverse.
 MODE_SQUARE, MODE_NORMAL, MODE_PINV = 0, 1, 2
 (CW_JN, CW_D, CW_O, CW_SV, CW_SC, CW_RANK, CW_COND, CW_U, CW_E, CW_S, CW_I, CW_R, CW_LU, CW_PIV,
@@ -37,60 +37,99 @@ def make_statics_work(mr):
     r = max(mr, 6)
     return (np.zeros((r, 6)), np.zeros(r), np.zeros((r, 6)), np.zeros((r, r)),
             np.zeros((6, 6)), np.zeros(6, np.int64), np.zeros(r), np.zeros((r, 6)), np.zeros(r),
-            np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6), np.zeros(r))
+            np.zeros(6), np.zeros(3), np.zeros(6), np.zeros(6), np.zeros(r),
+            np.zeros(8))
 
 
 @borrowing_inlined
-def spread(M, FA, b, fp, ap, centre):
-    """Centroid (into ``centre (3,)``) and RMS spread of every leg's points (``A``, ``a``,
-    the joint points) and ``o``: the normalisation of the rank decisions; returns ``L``."""
-    Am, leg = M[A], M[LEG]
-    n = M[D].shape[0]
-    s0 = s1 = s2 = q = big = 0.0
-    k = 0
+def _add_point(S, k, ls, x0, x1, x2):
+    """One point into lane ``k`` of :func:`spread_lanes`'s sums ``S``."""
+    s = lanes(S)
+    s[k] += x0
+    s[ls + k] += x1
+    s[2 * ls + k] += x2
+    s[3 * ls + k] += x0 * x0 + x1 * x1 + x2 * x2
+    s[4 * ls + k] = max(s[4 * ls + k], abs(x0), abs(x1), abs(x2))
+
+
+@borrowing_inlined
+def spread_lanes(M, FA, FP, S, nb, ls):
+    """The centroid and RMS spread of every leg's points (``A``, ``a``, the joint points) and
+    the platform's origin ``o``, the normalisation of the rank decisions, at ``nb`` lanes of
+    the frames ``FA (n, m, 6, ls)`` and platforms ``FP (27, ls)`` (one pose: the arrays
+    without their lane axis, ``ls = 1``): into ``S (8, ls)`` the centroid (rows 0-2), the
+    spread ``L`` (row 3) and ``o`` (rows 5-7).  The lane loops of one pose's sums, in its
+    order, so that each lane's values are the pose's alone, bit for bit."""
+    Am, ap, leg = M[A], M[AP], M[LEG]
+    n, m = M[D].shape[0], M[D].shape[1]
+    fa, fp, s = lanes(FA), lanes(FP), lanes(S)
+    S0, S1, S2, Q, BIG = 0, ls, 2 * ls, 3 * ls, 4 * ls
+    for k in range(nb):
+        s[S0 + k] = s[S1 + k] = s[S2 + k] = s[Q + k] = s[BIG + k] = 0.0
+    count = 1
     for i in range(n + 1):
-        for j in range(-2, leg[i, L_SIZE] if i < n else -1):
+        size = leg[i, L_SIZE] if i < n else -1
+        count += size + 2 if i < n else 0
+        for j in range(-2, size):
+            o = (i * m + j) * 6 * ls
             if i == n:
-                x0, x1, x2 = fp[15], fp[16], fp[17]
+                for k in range(nb):
+                    _add_point(S, k, ls, fp[15 * ls + k], fp[16 * ls + k], fp[17 * ls + k])
             elif j == -2:
-                x0, x1, x2 = Am[i, 0], Am[i, 1], Am[i, 2]
+                a0, a1, a2 = Am[i, 0], Am[i, 1], Am[i, 2]
+                for k in range(nb):
+                    _add_point(S, k, ls, a0, a1, a2)
             elif j == -1:
-                platform_points(M, fp, i, ap)
-                x0, x1, x2 = ap[0], ap[1], ap[2]
+                for k in range(nb):
+                    _add_point(S, k, ls, platform_point(ap, i, FP, k, ls, 0),
+                               platform_point(ap, i, FP, k, ls, 1),
+                               platform_point(ap, i, FP, k, ls, 2))
             else:
-                f = FA[b, i, j]
-                x0, x1, x2 = f[3], f[4], f[5]
-            s0 += x0
-            s1 += x1
-            s2 += x2
-            q += x0 * x0 + x1 * x1 + x2 * x2
-            big = max(big, abs(x0), abs(x1), abs(x2))
-            k += 1
-    s0, s1, s2 = s0 / k, s1 / k, s2 / k
-    centre[0], centre[1], centre[2] = s0, s1, s2
-    L = math.sqrt(max(q / k - (s0 * s0 + s1 * s1 + s2 * s2), 0.0))
-    if L <= 1e-12 * big:
-        L = big
-    return L if L > 0 else 1.0
+                for k in range(nb):
+                    _add_point(S, k, ls, fa[o + 3 * ls + k], fa[o + 4 * ls + k],
+                               fa[o + 5 * ls + k])
+    for k in range(nb):
+        s0, s1, s2 = s[S0 + k] / count, s[S1 + k] / count, s[S2 + k] / count
+        big = s[BIG + k]
+        s[S0 + k], s[S1 + k], s[S2 + k] = s0, s1, s2
+        L = math.sqrt(max(s[Q + k] / count - (s0 * s0 + s1 * s1 + s2 * s2), 0.0))
+        if L <= 1e-12 * big:
+            L = big
+        s[Q + k] = L if L > 0 else 1.0
+        for r in range(3):
+            s[(5 + r) * ls + k] = fp[(15 + r) * ls + k]
+
+
+@borrowing_inlined
+def normalise_lanes(J, mr, S, Jn, d, nb, ls):
+    """The rows ``J[:mr] (mr, 6, ls)`` of ``nb`` lanes about their centroids ``S[0:3]``,
+    moments over their spreads ``S[3]`` (:func:`spread_lanes`'s ``S (8, ls)``), unit, into
+    ``Jn (mr, 6, ls)``, their norms into ``d (mr, ls)`` (one pose: the arrays without their
+    lane axis, ``ls = 1``).  Each lane's operations are one pose's, so its values are the
+    pose's alone, bit for bit."""
+    j, s, jn, dd = lanes(J), lanes(S), lanes(Jn), lanes(d)
+    for r in range(mr):
+        o = r * 6 * ls
+        for k in range(nb):
+            c0, c1, c2, L = s[k], s[ls + k], s[2 * ls + k], s[3 * ls + k]
+            f0, f1, f2 = j[o + k], j[o + ls + k], j[o + 2 * ls + k]
+            m0 = (j[o + 3 * ls + k] - (c1 * f2 - c2 * f1)) / L
+            m1 = (j[o + 4 * ls + k] - (c2 * f0 - c0 * f2)) / L
+            m2 = (j[o + 5 * ls + k] - (c0 * f1 - c1 * f0)) / L
+            t = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + m0 * m0 + m1 * m1 + m2 * m2)
+            t = t if t > 0 else 1.0
+            dd[r * ls + k] = t
+            jn[o + k], jn[o + ls + k], jn[o + 2 * ls + k] = f0 / t, f1 / t, f2 / t
+            jn[o + 3 * ls + k], jn[o + 4 * ls + k], jn[o + 5 * ls + k] = m0 / t, m1 / t, m2 / t
 
 
 @borrowing
-def normalise_rows(J, mr, c, L, Jn, d):
-    """``Jn[:mr]``: the rows about ``c``, moments over ``L``, unit; ``d`` their norms."""
-    for r in range(mr):
-        f0, f1, f2 = J[r, 0], J[r, 1], J[r, 2]
-        Jn[r, 0], Jn[r, 1], Jn[r, 2] = f0, f1, f2
-        Jn[r, 3] = (J[r, 3] - (c[1] * f2 - c[2] * f1)) / L
-        Jn[r, 4] = (J[r, 4] - (c[2] * f0 - c[0] * f2)) / L
-        Jn[r, 5] = (J[r, 5] - (c[0] * f1 - c[1] * f0)) / L
-        s = 0.0
-        for q in range(6):
-            s += Jn[r, q] * Jn[r, q]
-        s = math.sqrt(s)
-        s = s if s > 0 else 1.0
-        d[r] = s
-        for q in range(6):
-            Jn[r, q] /= s
+def normalise_rows(J, mr, c, L, SW):
+    """One pose's rows ``J (mr, 6)`` about ``c (3,)``, moments over ``L``, unit
+    (:func:`normalise_lanes`), into ``SW[SW_JN]``, their norms into ``SW[SW_D]``."""
+    S = SW[SW_SP]
+    S[0], S[1], S[2], S[3] = c[0], c[1], c[2], L
+    normalise_lanes(J, mr, S, SW[SW_JN], SW[SW_D], 1, 1)
 
 
 @inner
