@@ -12,7 +12,7 @@ import screwkit
 from screwkit.engine._chains import chains_of
 from screwkit.engine._launch import run_poses
 from screwkit.engine._run import predictor_of
-from screwkit.engine._kernels._layout import TPL, T_GENERIC
+from screwkit.engine._kernels._layout import BLOCK, TPL, T_GENERIC
 
 from random_poses import around_default, assert_same_bits
 
@@ -42,7 +42,7 @@ def test_block_rows_equal_one_pose_at_a_time(name, generic):
     flat, Z = ch.flat, predictor_of(ch)
     if generic:
         flat.M[TPL][:, T_GENERIC] = 1
-    n = 100                             # three blocks of 32 and a part of one
+    n = 2 * BLOCK + 36                  # blocks and a part of one
     P6 = ch.full_params(_poses(pm, n), n)
     kw = dict(F=F, T=T, twists=True)
     blocks = run_poses(flat, Z, P6, workers=2, per_thread=1, **kw)

@@ -12,7 +12,7 @@ import screwkit
 from screwkit.engine._chains import chains_of
 from screwkit.engine._launch import frames, run_poses
 from screwkit.engine._run import predictor_of
-from screwkit.engine._kernels._layout import LEG, L_ACT, LN_V
+from screwkit.engine._kernels._layout import BLOCK, LEG, L_ACT, LN_V
 
 from random_poses import around_default, assert_same_bits
 
@@ -32,7 +32,7 @@ def test_given_unknowns_and_lines_on_blocks_equal_one_pose_at_a_time(name):
     pm = screwkit.load_pm(name)
     ch = chains_of(pm)
     flat, Z = ch.flat, predictor_of(ch)
-    n = 150                                   # four blocks of 32 and a part of one
+    n = 2 * BLOCK + 22                        # blocks and a part of one
     P6 = ch.full_params(_poses(pm, n), n)
     kw = dict(F=F, T=T, lines=True, twists=True)
     # solved from the predictor: the block solve and the block's lines, against the serial

@@ -22,7 +22,10 @@ import itertools
 import numpy as np
 import pytest
 
-B = 32
+from screwkit.engine._kernels._layout import BLOCK
+
+#: The lane stride of these tests' blocks: the engine's (its block kernels are compiled for it).
+B = BLOCK
 
 
 @pytest.fixture(scope="module")
