@@ -25,8 +25,7 @@ from ._small import lu_block, lu_sign
 
 from ._statics import (CW_COND, CW_JN, CW_RANK, CW_SV, SW_COMP, SW_D, SW_JN, amplification,
                        conditioning_lanes, equilibrium, make_conditioning_work, make_statics_work,
-                       normalise_lanes, normalise_rows, statics_apply,
-                       statics_prepare)
+                       normalise_lanes, normalise_rows, statics_apply, statics_prepare)
 
 
 @entry

@@ -69,8 +69,8 @@ G_COUPLE, G_FORCE = 0, 1
 R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
 
 #: Poses a thread solves together (the lanes of a block: :mod:`._block`).  64 rather than 32
-#: (2-6 % less CPU a pose of the whole analysis, 2026-12-05) or 128 (more again: a 6-SPS
-#: block's two buffers of frames, 2 x 252 x 128 doubles, outgrow the core's L2 share).
+#: (2-6 % less CPU a pose of the whole analysis, measured 2026-12-05) or 128 (slower than 64
+#: again, by as much).
 BLOCK = 64
 
 #: Length-normalised closure residual regarded as converged (success).
