@@ -13,7 +13,8 @@ thread (what a batch on one thread runs).
 
 Saved per PM: the closures ``X``, the normalised rows ``J``, the singular values, the
 condition numbers and the statics' values under the benchmark's load (random poses around
-each model's default pose, as ``bench_engine.py``).  ``compare`` prints, per PM and output,
+each model's default pose, as ``bench_engine.py``), and the transmission and constraint
+indices of the same poses (``INDEX_KEYS``, an analysis through :func:`screwkit.analyze`).  ``compare`` prints, per PM and output,
 the largest difference relative to the largest magnitude of that output over the poses
 (poses flagged unsolved in either run are counted apart).
 """
@@ -27,6 +28,10 @@ import numpy as np
 KEYS = ("X", "residual", "iterations", "J", "singular_values", "condition_number",
         "constraint_condition_number", "values", "equilibrium", "rank", "constraint_rank",
         "how")
+#: The transmission and constraint indices (:attr:`screwkit.engine.PMAnalysis.indices`),
+#: from an analysis of the same poses through the public API (its indices kernel).
+INDEX_KEYS = ("iti_legs", "oti_legs", "cti_rows", "input_arm", "output_arm", "constraint_arm",
+              "amplification")
 
 
 def save(path: str, n: int = 2000, workers: int = 1, blocks: bool = False) -> None:
@@ -49,6 +54,11 @@ def save(path: str, n: int = 2000, workers: int = 1, blocks: bool = False) -> No
         for k in KEYS:
             if k in r:
                 out[f"{name}/{k}"] = np.asarray(r[k])
+        res = screwkit.analyze(pm, pose, force=F_LOAD, torque=T_LOAD, lines=True,
+                               raise_on_singular=False, workers=workers)
+        ix = res.indices
+        for k in INDEX_KEYS:
+            out[f"{name}/{k}"] = np.asarray(getattr(ix, k), float)
     np.savez(path, **out)
 
 
@@ -58,7 +68,7 @@ def compare(a: str, b: str) -> None:
     for name in sorted({k.rsplit("/", 1)[0] for k in A.files}):
         ok = (A[f"{name}/how"] < 2) & (B[f"{name}/how"] < 2)
         line = []
-        for k in KEYS:
+        for k in KEYS + INDEX_KEYS:
             key = f"{name}/{k}"
             if key not in A.files or key not in B.files or k == "how":
                 continue

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._transmission import _all_finite, leg_screws, transmission_indices
+from ._transmission import _all_finite, leg_lines, lines_indices
 
 __all__ = ["TransmissionIndices", "transmission"]
 
@@ -149,13 +149,13 @@ def transmission(analysis) -> TransmissionIndices:
     J = np.asarray(jac.matrix, float)
     reach = np.asarray(sol.reachable_mask, bool).reshape(N)
     diag = analysis.diagnostics
-    V_in, in_line, out_line = leg_screws(sol, legs, diag.get("lines"), diag.get("platform"))
+    lines, in_leg = leg_lines(sol, legs, diag.get("lines"), diag.get("platform"))
     couple = np.array([r.member == "couple" for r in info])
     all_finite = _all_finite(J)                  # (the usual case: J itself, no copy)
     finite = None if all_finite else np.isfinite(J)
     Jf = J if all_finite else np.where(finite, J, 0.0)
-    iti, oti, in_arm, out_arm, cti, c_arm, redundant = transmission_indices(
-        Jf, couple, act, con, V_in, in_line, out_line, jac.leg_of_row, cond.centre,
+    iti, oti, in_arm, out_arm, cti, c_arm, redundant = lines_indices(
+        Jf, couple, act, con, lines, in_leg, jac.leg_of_row, cond.centre,
         cond.length, np.where(reach, cond.constraint_rank, len(con)))
     if not all_finite:
         iti = np.where(~np.all(finite[:, act], axis=-1), 0.0, iti)
@@ -182,13 +182,8 @@ def transmission(analysis) -> TransmissionIndices:
 def _amplification(analysis, reach):
     """The force amplification of every pose under the analysis' workload (the trust rule
     of :mod:`screwkit.engine._quality`, without the home pose's det J sign)."""
-    from ._quality import trust
-    st, jac = analysis.statics, analysis.jacobian
+    from ._quality import trust_of
     if not analysis.has_workload:
-        return np.full(len(jac), np.nan)          # no workload: no amplification to give
-    if st is None:
-        return np.full(len(jac), np.inf)
-    amp, _ = trust(jac, np.asarray(st.F_r, float).reshape(len(jac), -1),
-                   np.asarray(st._W, float).reshape(len(jac), -1),
-                   analysis.solution._platform[1], reach)
-    return np.asarray(amp, float).reshape(len(jac))
+        return np.full(len(analysis.jacobian), np.nan)   # no workload: no amplification
+    amp, _ = trust_of(analysis, reach)
+    return np.asarray(amp, float).reshape(len(analysis.jacobian))

@@ -32,7 +32,8 @@ import numpy as np
 
 from ..errors import ScrewkitError
 
-__all__ = ["CONDITIONING", "classify", "LEVELS", "det_reference", "base_side", "trust", "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
+__all__ = ["CONDITIONING", "classify", "LEVELS", "det_reference", "base_side", "trust", "trust_of",
+           "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
            "ILL_CONDITIONED_AMPLIFICATION", "NEAR_SINGULAR_AMPLIFICATION", "Quality",
            "quality", "home_det_sign", "det_signs"]
 
@@ -211,6 +212,17 @@ def trust(jac, values, W, o, reachable, amp=None, no_load: bool = False) -> tupl
     return np.where(unreach, np.nan, amp), lev
 
 
+def trust_of(analysis, reach) -> tuple:
+    """:func:`trust` of every pose of an analysis under its workload (the amplification the
+    kernel gave with the statics where it did): ``(amplification, level)``."""
+    st = analysis.statics
+    loaded = st is not None and analysis.has_workload
+    return trust(analysis.jacobian, st.F_r if loaded else None, st._W if loaded else None,
+                 analysis.solution._platform[1], reach,
+                 None if not loaded or st.amp is None or st.F_r.ndim != 2 else
+                 np.nan_to_num(st.amp, nan=0.0), no_load=not analysis.has_workload)
+
+
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
@@ -250,15 +262,11 @@ def home_det_sign(model, analyze) -> int:
 def quality(analysis, analyze) -> Quality:
     """The :class:`Quality` of every pose of an analysis (``analyze``: the engine's analysis
     function, for the home pose's sign)."""
-    jac, st = analysis.jacobian, analysis.statics
+    jac = analysis.jacobian
     N = len(jac)
     cond = jac.conditioning.condition_number
     reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
-    loaded = st is not None and analysis.has_workload
-    amp, lev = trust(jac, st.F_r if loaded else None, st._W if loaded else None,
-                     analysis.solution._platform[1], reach,
-                     None if not loaded or st.amp is None or st.F_r.ndim != 2 else
-                     np.nan_to_num(st.amp, nan=0.0), no_load=not analysis.has_workload)
+    amp, lev = trust_of(analysis, reach)
     unreach = ~reach
     det = det_signs(analysis, reach)
     home, ref = det_reference(analysis.model, analyze)

@@ -52,10 +52,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels._layout import LEVERAGE_RTOL, RANK_RTOL, TRANSLATION_RTOL  # noqa: F401
+from ._kernels._layout import (  # noqa: F401  (RANK_RTOL: named in the docstring)
+    LEVERAGE_RTOL, LINE_WIDTH, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q, LN_V, RANK_RTOL,
+    TRANSLATION_RTOL)
 
-__all__ = ["transmission_indices", "leg_screws", "power_coefficient", "TRANSLATION_RTOL",
-           "LEVERAGE_RTOL"]
+__all__ = ["transmission_indices", "lines_indices", "leg_screws", "leg_lines",
+           "power_coefficient", "TRANSLATION_RTOL", "LEVERAGE_RTOL"]
 
 
 def _c(a, dtype=float):
@@ -119,24 +121,49 @@ def transmission_indices(J, couple, act_rows, con_rows, V_in, in_line, out_line,
         Constraint rows whose removal leaves the rank of the constraint rows unchanged
         (their index is NaN).
     """
+    lines, in_leg = _pack_lines(V_in, in_line, out_line)
+    return lines_indices(J, couple, act_rows, con_rows, lines, in_leg, row_leg, centre, length,
+                         constraint_rank, workers)
+
+
+def _pack_lines(V_in, in_line, out_line):
+    """``(lines (N, n + n_a, LINE_WIDTH), in_leg (n_a,))``: the arrays of
+    :func:`transmission_indices` as the kernel reads them (each leg's platform side at its
+    own index, each active row's actuated joint after the legs)."""
+    out_q = np.asarray(out_line[0], float)
+    N, n = out_q.shape[:2]
+    V_in = np.asarray(V_in, float).reshape(N, -1, 6)
+    na = V_in.shape[1]
+    lines = np.zeros((N, n + na, LINE_WIDTH))
+    lines[:, :n, LN_OUT_Q:LN_OUT_Q + 3] = out_q
+    lines[:, :n, LN_OUT_D:LN_OUT_D + 3] = np.reshape(out_line[1], (N, n, 3))
+    lines[:, n:, LN_V:LN_V + 6] = V_in
+    lines[:, n:, LN_IN_Q:LN_IN_Q + 3] = np.reshape(in_line[0], (N, na, 3))
+    lines[:, n:, LN_IN_D:LN_IN_D + 3] = np.reshape(in_line[1], (N, na, 3))
+    return lines, np.arange(n, n + na)
+
+
+def lines_indices(J, couple, act_rows, con_rows, lines, in_leg, row_leg, centre, length,
+                  constraint_rank=None, workers=None):
+    """:func:`transmission_indices` from the joints' lines as the analysis kernel forms them
+    (:func:`leg_lines`), read in place: ``lines (N, l, LINE_WIDTH)`` with the platform side
+    of leg ``i`` at ``lines[:, i]`` and the actuated joint of the ``r``-th actuation row at
+    ``lines[:, in_leg[r]]``."""
     from ._kernels import kernels
     from ._launch import _launch
     J = _c(J)
     N = J.shape[0]
     act, con = [int(k) for k in act_rows], [int(k) for k in con_rows]
     na, kc = len(act), len(con)
-    n = np.asarray(out_line[0]).shape[1]
     crank = (np.full(N, -1, np.int64) if constraint_rank is None
              else _c(np.broadcast_to(constraint_rank, (N,)), np.int64))
     out = (np.empty((N, na)), np.empty((N, na)), np.empty((N, na)), np.empty((N, na)),
            np.empty((N, kc)), np.empty((N, kc)), np.zeros((N, kc), bool))
     iti, oti, in_arm, out_arm, cti, c_arm, red = out
     k = kernels()
-    args = (J, _c(couple, np.int64), _c(act + con, np.int64), na,
-            _c(np.reshape(V_in, (N, na, 6))), _c(np.reshape(in_line[0], (N, na, 3))),
-            _c(np.reshape(in_line[1], (N, na, 3))), _c(np.reshape(out_line[0], (N, n, 3))),
-            _c(np.reshape(out_line[1], (N, n, 3))), _c(row_leg, np.int64), _c(centre),
-            _c(length), crank, iti, oti, in_arm, out_arm, cti, c_arm, red)
+    args = (J, _c(couple, np.int64), _c(act + con, np.int64), na, _c(lines),
+            _c(in_leg, np.int64), _c(row_leg, np.int64), _c(centre), _c(length), crank, iti,
+            oti, in_arm, out_arm, cti, c_arm, red)
     _launch(k.indices_range, k.indices_parallel, args, N, workers)
     if not _all_finite(J):                  # (a sum is finite only if every term is)
         bad_row = ~np.all(np.isfinite(J[:, act]), axis=-1)
@@ -157,16 +184,33 @@ def leg_screws(solution, active, lines=None, platform=None):
     """``(V_in (N, n_a, 6), in_line, out_line)`` of :func:`transmission_indices` at the poses
     of a :class:`~screwkit.engine.PoseSolution`: the actuated joint's unit twist of each
     active leg (``active``: 0-based legs), the joint through which its transmission wrench
-    enters the actuated link, and each leg's last non-prismatic joint (its platform side),
-    from the analysis kernel's lines of those joints ``lines (N, n, 18)`` and platform
-    ``platform (N, 27)`` (kept by the analysis run, else formed by
-    :func:`~screwkit.engine._links.index_lines`; the platform is kept by the solution), or,
-    for legs with a parallelogram (which the kernel's frames do not cover), from the legs
+    enters the actuated link, and each leg's last non-prismatic joint (its platform side);
+    :func:`leg_lines` taken apart."""
+    lines, in_leg = leg_lines(solution, active, lines, platform)
+    n = solution.model.n_legs
+
+    def part(legs, a, b):
+        return np.ascontiguousarray(lines[:, legs, a:b])
+    return (part(in_leg, LN_V, LN_V + 6),
+            (part(in_leg, LN_IN_Q, LN_IN_Q + 3), part(in_leg, LN_IN_D, LN_IN_D + 3)),
+            (part(slice(0, n), LN_OUT_Q, LN_OUT_Q + 3), part(slice(0, n), LN_OUT_D, LN_OUT_D + 3)))
+
+
+def leg_lines(solution, active, lines=None, platform=None):
+    """``(lines (N, l, LINE_WIDTH), in_leg (n_a,))`` of :func:`lines_indices` at the poses of
+    a :class:`~screwkit.engine.PoseSolution` (``active``: the 0-based active legs): the
+    analysis kernel's lines of the joints the indices read ``lines (N, n, LINE_WIDTH)`` and
+    platform ``platform (N, 27)`` (kept by the analysis run, else formed by
+    :func:`~screwkit.engine._links.index_lines`; the platform is kept by the solution), as
+    they are where every leg turns after its actuator.  A leg with no turning joint enters
+    the platform at its platform point ``a_i`` (direction 0), and one with none after its
+    actuator enters the actuated link as it enters the platform: those entries are written
+    into a copy.  Legs with a parallelogram (which the kernel's frames do not cover) are
     placed pose by pose."""
     from ._links import index_lines, keep_platform, reached_platform
     ch = solution.closures.chains
     if ch.bars is not None and ch.bars.any():
-        return _placed_leg_screws(solution, active)
+        return _pack_lines(*_placed_leg_screws(solution, active))
     if lines is None:
         lines, platform = index_lines(solution)
     keep_platform(solution, reached_platform(solution, platform))
@@ -177,19 +221,17 @@ def leg_screws(solution, active, lines=None, platform=None):
         return any(rot[i, j] != 0 for j in slots)
 
     act = list(active)
-    out_q, out_d = lines[:, :, 0:3].copy(), lines[:, :, 3:6].copy()
-    # every leg active in order (the usual case): a plain slice copy, far cheaper than a
-    # gather (both C-contiguous, the same values)
-    legs = slice(None) if act == list(range(n)) else act
-    in_q, in_d, V_in = (np.ascontiguousarray(lines[:, legs, a:b])
-                        for a, b in ((6, 9), (9, 12), (12, 18)))
-    for i in range(n):
-        if not turns(i, range(ch.sizes[i])):   # no turning joint: the platform point a_i
-            out_q[:, i], out_d[:, i] = solution._platform[2][:, i], 0.0
-    for c, i in enumerate(act):
-        if not turns(i, range(int(ch.actuated[i]) + 1, ch.sizes[i])):
-            in_q[:, c], in_d[:, c] = out_q[:, i], out_d[:, i]   # none after the actuator
-    return V_in, (in_q, in_d), (out_q, out_d)
+    no_out = [i for i in range(n) if not turns(i, range(ch.sizes[i]))]
+    no_in = [i for i in act if not turns(i, range(int(ch.actuated[i]) + 1, ch.sizes[i]))]
+    if no_out or no_in:
+        lines = np.array(lines)
+        for i in no_out:                   # no turning joint: the platform point a_i
+            lines[:, i, LN_OUT_Q:LN_OUT_Q + 3] = solution._platform[2][:, i]
+            lines[:, i, LN_OUT_D:LN_OUT_D + 3] = 0.0
+        for i in no_in:                    # none after the actuator
+            lines[:, i, LN_IN_Q:LN_IN_Q + 3] = lines[:, i, LN_OUT_Q:LN_OUT_Q + 3]
+            lines[:, i, LN_IN_D:LN_IN_D + 3] = lines[:, i, LN_OUT_D:LN_OUT_D + 3]
+    return lines, np.array(act, np.int64)
 
 
 def _placed_leg_screws(solution, active):

@@ -82,7 +82,7 @@ class Grid:
     def poses(self, sl: slice = slice(None)) -> dict:
         """The independent parameters of the cells ``sl`` of the flattened grid, radians and
         model lengths, ``(n,)`` each (the engine's input)."""
-        idx = np.arange(self.size)[sl]
+        idx = np.arange(*sl.indices(self.size))
         out = {}
         if self.samples:
             for k, v in self.coords.items():

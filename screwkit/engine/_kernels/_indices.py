@@ -6,9 +6,11 @@ the kernels that compute them, one pose at a time, ``prange`` over chunks of pos
 
 Inputs of :func:`indices_range` (poses first): ``J (N, m, 6)`` the rows about O (finite),
 ``couple (m,)`` 1 for pure-couple rows, ``keep (K,)`` the rows that take part (the
-``n_a`` actuation rows of the active legs first, then the constraint rows), ``V_in
-(N, n_a, 6)`` the actuated joints' unit twists, ``in_q, in_d (N, n_a, 3)`` and ``out_q,
-out_d (N, n, 3)`` the entry joints' points and directions, ``row_leg (m,)``, the
+``n_a`` actuation rows of the active legs first, then the constraint rows), ``lines (N, l,
+LINE_WIDTH)`` the joints the indices read (``LN_*`` columns, as :func:`pose_lines` forms
+them): at ``lines[:, i]`` the platform-side joint of leg ``i`` (``LN_OUT_*``, the legs
+first), at ``lines[:, in_leg[r]]`` the actuated joint's unit twist (``LN_V``) and the
+joint after it (``LN_IN_*``) of the ``r``-th actuation row, ``row_leg (m,)``, the
 normalisation ``centre (N, 3)``, ``length (N,)``, ``crank (N,)`` the rank of the
 constraint rows where known (``-1``: unknown).
 """
@@ -20,10 +22,10 @@ from numba import prange
 
 from ._jit import borrowed, borrowing, borrowing_inlined, entry, inner, parallel
 from ._kin import forward, joint_twist
-from ._layout import (L_ACT, L_SIZE, LEG, LEVERAGE_RTOL, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q,
-                      LN_V, QS, RANK_RTOL, ROT, TRANSLATION_RTOL)
-from ._eigen import jacobi_rows
-from ._small import lu_apply, lu_factor
+from ._layout import (BLOCK, L_ACT, L_SIZE, LEG, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q, LN_V,
+                      QS, ROT, TRANSLATION_RTOL)
+from ._reciprocal import inverse_lanes, leverage_redundant, null_twists, svd_rows, unit_rows
+from ._small import lu_sign
 
 
 @borrowing_inlined
@@ -162,97 +164,9 @@ def entry_point(W, q, d, out):
     out[0], out[1], out[2] = p0 + t * u0, p1 + t * u1, p2 + t * u2
 
 
-@borrowing
-def _svd_rows(A, k, B, Q, s, order):
-    """One-sided Jacobi of ``A[:k] (k, 6)``: ``A = Q diag(s) Vt`` with the rows of ``Vt``
-    ``B[j] / s_j``; ``order[:g]`` the ``g = min(k, 6)`` largest ``s`` descending.  Returns
-    ``g``."""
-    for i in range(k):
-        for c in range(6):
-            B[i, c] = A[i, c]
-    jacobi_rows(B, k, Q, True)
-    for i in range(k):
-        t = 0.0
-        for c in range(6):
-            t += B[i, c] * B[i, c]
-        s[i] = math.sqrt(t)
-    g = min(k, 6)
-    for q in range(g):
-        best = -1.0
-        bi = 0
-        for i in range(k):
-            seen = False
-            for r in range(q):
-                if order[r] == i:
-                    seen = True
-            if not seen and s[i] > best:
-                best, bi = s[i], i
-        order[q] = bi
-    return g
-
-
-@borrowing
-def _leverage_redundant(Q, s, order, g, k, out):
-    """``out[:k]``: True where a row's leverage over the directions of rank (``s`` above
-    ``RANK_RTOL`` of the largest) is below ``1 - LEVERAGE_RTOL``."""
-    top = max(s[order[0]], 1e-300)
-    for r in range(k):
-        lev = 0.0
-        for q in range(g):
-            j = order[q]
-            if s[j] > RANK_RTOL * top:
-                lev += Q[r, j] * Q[r, j]
-        out[r] = 1.0 - lev > LEVERAGE_RTOL
-
-
-@borrowing
-def null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col):
-    """Row ``k`` of ``Vn[:K]``: the unit twist (normalised coordinates) reciprocal to every
-    row of ``Wu[:K]`` but ``k`` (the column ``k`` of the pseudo-inverse); ``none[k]``: the
-    row is redundant (no such twist).  Fewer than 6 rows: zeros."""
-    for r in range(K):
-        none[r] = False
-        for c in range(6):
-            Vn[r, c] = 0.0
-    if K < 6:
-        return
-    if K == 6:
-        for r in range(6):
-            for c in range(6):
-                A[r, c] = Wu[r, c]
-        if lu_factor(A, 6, piv) != 0.0:      # else exactly singular: the SVD below
-            for kk in range(6):               # inv(Wu)^T row kk = column kk of inv(Wu)
-                for c in range(6):
-                    col[c] = 1.0 if c == kk else 0.0
-                lu_apply(A, 6, piv, col)
-                nrm = 0.0
-                for c in range(6):
-                    nrm += col[c] * col[c]
-                nrm = max(math.sqrt(nrm), 1e-300)
-                for c in range(6):
-                    Vn[kk, c] = col[c] / nrm
-            return
-    g = _svd_rows(Wu, K, B, Q, s, order)
-    top = max(s[order[0]], 1e-300)
-    for r in range(K):
-        nrm = 0.0
-        for c in range(6):
-            t = 0.0
-            for q in range(g):
-                j = order[q]
-                sj = max(s[j], 1e-300 * top)
-                t += Q[r, j] * B[j, c] / (sj * sj)
-            Vn[r, c] = t
-            nrm += t * t
-        nrm = max(math.sqrt(nrm), 1e-300)
-        for c in range(6):
-            Vn[r, c] /= nrm
-    _leverage_redundant(Q, s, order, g, K, none)
-
-
 @entry
-def indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
-                  length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop):
+def indices_range(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, crank, iti,
+                  oti, in_arm, out_arm, cti, c_arm, red, start, stop):
     """The indices of the poses ``start:stop`` (module docstring; outputs as in
     :func:`screwkit.engine.transmission_indices`).  Returns a number (the workspace's owners
     visibly outlive the loop, which borrows them)."""
@@ -262,61 +176,62 @@ def indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg,
     Vo = (np.zeros(cap), np.zeros(6), np.zeros(3), np.zeros(3), np.zeros(6))
     Io = (np.zeros(6, np.int64), np.zeros(6, np.int64))
     Bo = (np.zeros(cap, np.bool_), np.zeros(cap, np.bool_))
-    _indices_poses(borrowed(J), borrowed(couple), borrowed(keep), n_a, borrowed(V_in),
-                   borrowed(in_q), borrowed(in_d), borrowed(out_q), borrowed(out_d),
-                   borrowed(row_leg), borrowed(centre), borrowed(length), borrowed(crank),
-                   borrowed(iti), borrowed(oti), borrowed(in_arm), borrowed(out_arm),
+    Lo = (np.zeros((6, 6, BLOCK)), np.zeros((6, BLOCK)), np.zeros((6, 6, BLOCK)))
+    piv_lanes = np.zeros((6, BLOCK), np.int64)
+    _indices_poses(borrowed(J), borrowed(couple), borrowed(keep), n_a, borrowed(lines),
+                   borrowed(in_leg), borrowed(row_leg), borrowed(centre), borrowed(length),
+                   borrowed(crank), borrowed(iti), borrowed(oti), borrowed(in_arm), borrowed(out_arm),
                    borrowed(cti), borrowed(c_arm), borrowed(red), start, stop, borrowed(Fo),
-                   borrowed(Vo), borrowed(Io), borrowed(Bo))
-    return Fo[0].shape[0] + Vo[0].shape[0] + Io[0].shape[0] + Bo[0].shape[0]
+                   borrowed(Vo), borrowed(Io), borrowed(Bo), borrowed(Lo), borrowed(piv_lanes))
+    return (Fo[0].shape[0] + Vo[0].shape[0] + Io[0].shape[0] + Bo[0].shape[0]
+            + Lo[0].shape[0] + piv_lanes.shape[0])
 
 
 @borrowing
-def _indices_poses(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
-                   length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop,
-                   Fw, Vw, Iw, Bw):
+def _indices_poses(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, crank,
+                   iti, oti, in_arm, out_arm, cti, c_arm, red, start, stop, Fw, Vw, Iw, Bw, Lw,
+                   piv_lanes):
     """:func:`indices_range`'s loop over its poses, on borrowed views (no reference counts:
     a row view a wrench, a call of the kernels below with a dozen arrays), its workspace
-    ``Fw, Vw, Iw, Bw`` (float matrices, float vectors, integers, flags)."""
+    ``Fw, Vw, Iw, Bw`` (float matrices, float vectors, integers, flags) and ``Lw,
+    piv_lanes`` (a block's lanes, :func:`._reciprocal.inverse_lanes`)."""
     K = keep.shape[0]
     kc = K - n_a
     Wn, Wu, Vn, A, B, Q = Fw
     s, col, pt, qn, vin = Vw
     order, piv = Iw
     none, rc = Bw
+    A_lanes, V_lanes = Lw[0], Lw[2]
     for p in range(start, stop):
+        lane = (p - start) % BLOCK
+        if K == 6 and lane == 0:
+            inverse_lanes(J, keep, centre, length, p, min(BLOCK, stop - p), Wn, Wu, Lw,
+                          piv_lanes)
         c0, c1, c2 = centre[p, 0], centre[p, 1], centre[p, 2]
         L = length[p]
-        for r in range(K):
-            row = J[p, keep[r]]
-            f0, f1, f2 = row[0], row[1], row[2]
-            Wn[r, 0], Wn[r, 1], Wn[r, 2] = f0, f1, f2
-            Wn[r, 3] = (row[3] - (c1 * f2 - c2 * f1)) / L
-            Wn[r, 4] = (row[4] - (c2 * f0 - c0 * f2)) / L
-            Wn[r, 5] = (row[5] - (c0 * f1 - c1 * f0)) / L
-            t = 0.0
-            for c in range(6):
-                t += Wn[r, c] * Wn[r, c]
-            t = math.sqrt(t)
-            t = t if t > 0 else 1.0
-            for c in range(6):
-                Wu[r, c] = Wn[r, c] / t
-        null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col)
+        unit_rows(J, keep, p, c0, c1, c2, L, Wn, Wu)
+        if K == 6 and lu_sign(A_lanes, 6, piv_lanes, lane) != 0.0:
+            for r in range(6):          # (null_twists on this pose: the same operations)
+                none[r] = False
+                for c in range(6):
+                    Vn[r, c] = V_lanes[r, c, lane]
+        else:
+            null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col)
         # redundant constraint rows (their leverage among the constraint rows)
         for r in range(kc):
             rc[r] = False
         if kc >= 2 and not (crank[p] >= kc):
-            g = _svd_rows(Wu[n_a:], kc, B, Q, s, order)
-            _leverage_redundant(Q, s, order, g, kc, rc)
+            g = svd_rows(Wu[n_a:], kc, B, Q, s, order)
+            leverage_redundant(Q, s, order, g, kc, rc)
         for r in range(kc):
             red[p, r] = rc[r]
             none[n_a + r] = none[n_a + r] or rc[r]
         for r in range(K):
-            leg = row_leg[keep[r]]
-            qn[0] = (out_q[p, leg, 0] - c0) / L
-            qn[1] = (out_q[p, leg, 1] - c1) / L
-            qn[2] = (out_q[p, leg, 2] - c2) / L
-            entry_point(Wn[r], qn, out_d[p, leg], pt)
+            line = lines[p, row_leg[keep[r]]]
+            qn[0] = (line[LN_OUT_Q] - c0) / L
+            qn[1] = (line[LN_OUT_Q + 1] - c1) / L
+            qn[2] = (line[LN_OUT_Q + 2] - c2) / L
+            entry_point(Wn[r], qn, line[LN_OUT_D:LN_OUT_D + 3], pt)
             z, arm = power_one(Wn[r], Vn[r], pt, couple[keep[r]] != 0)
             if none[r]:
                 z, arm = math.nan, math.nan
@@ -325,26 +240,27 @@ def _indices_poses(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg
             else:
                 cti[p, r - n_a], c_arm[p, r - n_a] = z, arm * L
         for r in range(n_a):
-            w0, w1, w2 = V_in[p, r, 3], V_in[p, r, 4], V_in[p, r, 5]
-            vin[0] = V_in[p, r, 0] + (w1 * c2 - w2 * c1)
-            vin[1] = V_in[p, r, 1] + (w2 * c0 - w0 * c2)
-            vin[2] = V_in[p, r, 2] + (w0 * c1 - w1 * c0)
+            line = lines[p, in_leg[r]]
+            w0, w1, w2 = line[LN_V + 3], line[LN_V + 4], line[LN_V + 5]
+            vin[0] = line[LN_V] + (w1 * c2 - w2 * c1)
+            vin[1] = line[LN_V + 1] + (w2 * c0 - w0 * c2)
+            vin[2] = line[LN_V + 2] + (w0 * c1 - w1 * c0)
             vin[3], vin[4], vin[5] = w0 * L, w1 * L, w2 * L
-            qn[0] = (in_q[p, r, 0] - c0) / L
-            qn[1] = (in_q[p, r, 1] - c1) / L
-            qn[2] = (in_q[p, r, 2] - c2) / L
-            entry_point(Wn[r], qn, in_d[p, r], pt)
+            qn[0] = (line[LN_IN_Q] - c0) / L
+            qn[1] = (line[LN_IN_Q + 1] - c1) / L
+            qn[2] = (line[LN_IN_Q + 2] - c2) / L
+            entry_point(Wn[r], qn, line[LN_IN_D:LN_IN_D + 3], pt)
             z, arm = power_one(Wn[r], vin, pt, couple[keep[r]] != 0)
             iti[p, r], in_arm[p, r] = z, arm * L
 
 
 @parallel
-def indices_parallel(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
-                     length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red, nchunks):
+def indices_parallel(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, crank,
+                     iti, oti, in_arm, out_arm, cti, c_arm, red, nchunks):
     N = J.shape[0]
     for c in prange(nchunks):
-        indices_range(J, couple, keep, n_a, V_in, in_q, in_d, out_q, out_d, row_leg, centre,
-                      length, crank, iti, oti, in_arm, out_arm, cti, c_arm, red,
+        indices_range(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, crank,
+                      iti, oti, in_arm, out_arm, cti, c_arm, red,
                       c * N // nchunks, (c + 1) * N // nchunks)
 
 
