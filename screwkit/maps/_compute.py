@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..engine import CONVERGED, analyze
+from ..engine._memory import fresh_array
 from ..engine._report import row_quantity
 
 __all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NAMES", "Meta",
@@ -209,23 +210,6 @@ def _linear(model):
     return [lg.actuated_joint.kind == "P" for lg in model.home_legs]
 
 
-def _map_array(shape, dtype):
-    """An uninitialised array of the map (Fortran order: each column of a per-row or per-leg
-    array is then one Dataset variable without a copy) in fresh anonymous memory of its own,
-    without the huge-page advice numpy gives arrays of 4 MiB and more.  The map fills it
-    block by block, once; under that advice (with the kernel's usual ``defrag = madvise``)
-    each first touch of a 2 MiB page may wait for the kernel to compact memory: measured on
-    a 1e6-cell 3RRPRR map, the copies into the map's arrays took 0.13-0.51 s with the advice
-    and 0.10 s without."""
-    import mmap
-    dtype = np.dtype(dtype)
-    n = int(np.prod(shape)) * dtype.itemsize
-    if n < 1 << 22:
-        return np.empty(shape, dtype, order="F")
-    buf = mmap.mmap(-1, n, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
-    return np.ndarray(shape, dtype, buffer=buf, order="F")
-
-
 def _blocks(N, size):
     return [slice(s, min(s + size, N)) for s in range(0, N, size)]
 
@@ -277,8 +261,9 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
         for k, v in part.items():
             if k not in out:
                 # per-row and per-leg arrays column by column (Fortran order): each column
-                # is then one Dataset variable without a copy
-                out[k] = _map_array((N,) + v.shape[1:], v.dtype)
+                # is then one Dataset variable without a copy; filled once, block by block
+                # (fresh_array: without numpy's huge-page advice)
+                out[k] = fresh_array((N,) + v.shape[1:], v.dtype, order="F")
             out[k][sl] = v
         if progress:
             done[0] += sl.stop - sl.start
