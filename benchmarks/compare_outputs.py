@@ -14,9 +14,10 @@ thread (what a batch on one thread runs).
 Saved per PM: the closures ``X``, the normalised rows ``J``, the singular values, the
 condition numbers and the statics' values under the benchmark's load (random poses around
 each model's default pose, as ``bench_engine.py``), and the transmission and constraint
-indices of the same poses (``INDEX_KEYS``, an analysis through :func:`screwkit.analyze`).  ``compare`` prints, per PM and output,
-the largest difference relative to the largest magnitude of that output over the poses
-(poses flagged unsolved in either run are counted apart).
+indices of the same poses (``INDEX_KEYS``, an analysis through :func:`screwkit.analyze`).
+``compare`` prints, per PM and output, the largest difference relative to the largest
+magnitude of that output over the poses (poses flagged unsolved in either run are counted
+apart).
 """
 
 from __future__ import annotations

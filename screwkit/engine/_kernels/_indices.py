@@ -180,9 +180,10 @@ def indices_range(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, 
     piv_lanes = np.zeros((6, BLOCK), np.int64)
     _indices_poses(borrowed(J), borrowed(couple), borrowed(keep), n_a, borrowed(lines),
                    borrowed(in_leg), borrowed(row_leg), borrowed(centre), borrowed(length),
-                   borrowed(crank), borrowed(iti), borrowed(oti), borrowed(in_arm), borrowed(out_arm),
-                   borrowed(cti), borrowed(c_arm), borrowed(red), start, stop, borrowed(Fo),
-                   borrowed(Vo), borrowed(Io), borrowed(Bo), borrowed(Lo), borrowed(piv_lanes))
+                   borrowed(crank), borrowed(iti), borrowed(oti), borrowed(in_arm),
+                   borrowed(out_arm), borrowed(cti), borrowed(c_arm), borrowed(red), start,
+                   stop, borrowed(Fo), borrowed(Vo), borrowed(Io), borrowed(Bo), borrowed(Lo),
+                   borrowed(piv_lanes))
     return (Fo[0].shape[0] + Vo[0].shape[0] + Io[0].shape[0] + Bo[0].shape[0]
             + Lo[0].shape[0] + piv_lanes.shape[0])
 
