@@ -31,9 +31,10 @@ def test_a_small_array_is_numpys_own():
     assert b.shape == (5,) and b.dtype == bool
 
 
-def test_a_map_filled_into_mapped_arrays_equals_one_filled_into_numpys(monkeypatch):
+def test_a_map_filled_into_mapped_arrays_equals_one_filled_into_numpys(monkeypatch, tmp_path):
     """Every array of a map above a threshold of one byte (all of them mapped) equals the
-    same map's arrays in numpy's own memory."""
+    same map's arrays in numpy's own memory, and so does the map written to netCDF and read
+    back."""
     pytest.importorskip("xarray")
     grid = {"alpha": (-10.0, 10.0, 5), "beta": (-10.0, 10.0, 4), "Zo": (60.0, 90.0, 3)}
     load = dict(force=(0.0, 0.0, -1.0), torque=(0.0, 0.0, 0.0))
@@ -43,3 +44,7 @@ def test_a_map_filled_into_mapped_arrays_equals_one_filled_into_numpys(monkeypat
     assert set(plain.data_vars) == set(mapped.data_vars)
     for name in plain.data_vars:
         assert np.array_equal(plain[name].values, mapped[name].values, equal_nan=True), name
+    import xarray as xr
+    back = xr.open_dataset(screwkit.maps.write(mapped, tmp_path / "m.nc")).load()
+    for name in ("F_a1", "condition_number", "level", "iti"):
+        assert np.array_equal(back[name].values, plain[name].values, equal_nan=True), name
