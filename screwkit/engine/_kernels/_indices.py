@@ -171,10 +171,10 @@ def indices_range(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, 
     :func:`screwkit.engine.transmission_indices`).  Returns a number (the workspace's owners
     visibly outlive the loop, which borrows them)."""
     cap = max(keep.shape[0], 6)
-    Fo = (np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((6, 6)),
-          np.zeros((cap, 6)), np.zeros((cap, cap)))
-    Vo = (np.zeros(cap), np.zeros(6), np.zeros(3), np.zeros(3), np.zeros(6))
-    Io = (np.zeros(6, np.int64), np.zeros(6, np.int64))
+    Fo = (np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((cap, 6)), np.zeros((cap, 6)),
+          np.zeros((cap, cap)))
+    Vo = (np.zeros(cap), np.zeros(3), np.zeros(3), np.zeros(6))
+    Io = np.zeros(6, np.int64)
     Bo = (np.zeros(cap, np.bool_), np.zeros(cap, np.bool_))
     Lo = (np.zeros((6, 6, BLOCK)), np.zeros((6, BLOCK)), np.zeros((6, 6, BLOCK)))
     piv_lanes = np.zeros((6, BLOCK), np.int64)
@@ -184,7 +184,7 @@ def indices_range(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length, 
                    borrowed(out_arm), borrowed(cti), borrowed(c_arm), borrowed(red), start,
                    stop, borrowed(Fo), borrowed(Vo), borrowed(Io), borrowed(Bo), borrowed(Lo),
                    borrowed(piv_lanes))
-    return (Fo[0].shape[0] + Vo[0].shape[0] + Io[0].shape[0] + Bo[0].shape[0]
+    return (Fo[0].shape[0] + Vo[0].shape[0] + Io.shape[0] + Bo[0].shape[0]
             + Lo[0].shape[0] + piv_lanes.shape[0])
 
 
@@ -194,13 +194,13 @@ def _indices_poses(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length,
                    piv_lanes):
     """:func:`indices_range`'s loop over its poses, on borrowed views (no reference counts:
     a row view a wrench, a call of the kernels below with a dozen arrays), its workspace
-    ``Fw, Vw, Iw, Bw`` (float matrices, float vectors, integers, flags) and ``Lw,
+    ``Fw, Vw, Iw, Bw`` (float matrices, float vectors, the order of singular values, flags) and ``Lw,
     piv_lanes`` (a block's lanes, :func:`._reciprocal.inverse_lanes`)."""
     K = keep.shape[0]
     kc = K - n_a
-    Wn, Wu, Vn, A, B, Q = Fw
-    s, col, pt, qn, vin = Vw
-    order, piv = Iw
+    Wn, Wu, Vn, B, Q = Fw
+    s, pt, qn, vin = Vw
+    order = Iw
     none, rc = Bw
     A_lanes, V_lanes = Lw[0], Lw[2]
     for p in range(start, stop):
@@ -217,7 +217,7 @@ def _indices_poses(J, couple, keep, n_a, lines, in_leg, row_leg, centre, length,
                 for c in range(6):
                     Vn[r, c] = V_lanes[r, c, lane]
         else:
-            null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col)
+            null_twists(Wu, K, Vn, none, B, Q, s, order)
         # redundant constraint rows (their leverage among the constraint rows)
         for r in range(kc):
             rc[r] = False

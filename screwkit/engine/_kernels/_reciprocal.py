@@ -15,7 +15,7 @@ import math
 from ._eigen import jacobi_rows
 from ._jit import borrowing, borrowing_inlined
 from ._layout import LEVERAGE_RTOL, RANK_RTOL
-from ._small import lu_apply, lu_apply_block, lu_block, lu_factor
+from ._small import lu_apply_block, lu_block
 
 
 @borrowing
@@ -113,32 +113,17 @@ def inverse_lanes(J, keep, centre, length, p0, nb, Wn, Wu, Lw, piv):
 
 
 @borrowing
-def null_twists(Wu, K, Vn, none, A, B, Q, s, order, piv, col):
+def null_twists(Wu, K, Vn, none, B, Q, s, order):
     """Row ``k`` of ``Vn[:K]``: the unit twist (normalised coordinates) reciprocal to every
-    row of ``Wu[:K]`` but ``k`` (the column ``k`` of the pseudo-inverse); ``none[k]``: the
-    row is redundant (no such twist).  Fewer than 6 rows: zeros."""
+    row of ``Wu[:K]`` but ``k`` (the column ``k`` of the pseudo-inverse, by one-sided
+    Jacobi); ``none[k]``: the row is redundant (no such twist).  Fewer than 6 rows: zeros.
+    Six rows reach it only where :func:`inverse_lanes` found them exactly singular."""
     for r in range(K):
         none[r] = False
         for c in range(6):
             Vn[r, c] = 0.0
     if K < 6:
         return
-    if K == 6:
-        for r in range(6):
-            for c in range(6):
-                A[r, c] = Wu[r, c]
-        if lu_factor(A, 6, piv) != 0.0:      # else exactly singular: the SVD below
-            for kk in range(6):               # inv(Wu)^T row kk = column kk of inv(Wu)
-                for c in range(6):
-                    col[c] = 1.0 if c == kk else 0.0
-                lu_apply(A, 6, piv, col)
-                nrm = 0.0
-                for c in range(6):
-                    nrm += col[c] * col[c]
-                nrm = max(math.sqrt(nrm), 1e-300)
-                for c in range(6):
-                    Vn[kk, c] = col[c] / nrm
-            return
     g = svd_rows(Wu, K, B, Q, s, order)
     top = max(s[order[0]], 1e-300)
     for r in range(K):
