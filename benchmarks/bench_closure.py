@@ -161,7 +161,8 @@ def measure(name: str, n: int = 20_000) -> None:
     for label, X0 in (("solve, warm start at the solution", Xs), ("solve from the predictor",
                                                                   np.zeros((0, nx)))):
         z = (np.zeros(0), np.zeros(0, np.int64))
-        I = (P6, X0, z[0], np.zeros(3), np.zeros(3), np.zeros((0, mr)), np.zeros(mr, np.int64))
+        I = (P6, X0, z[0], np.zeros(3), np.zeros(3), np.zeros((0, mr)), np.zeros(mr, np.int64),
+             z[1])
         O = (np.zeros((n, nx)), np.zeros(n), np.zeros(n, np.int64), np.zeros(n, np.int64),
              np.zeros(n, np.int64), np.zeros((0, mr, 6)), np.zeros((0, mr)), z[1],
              np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],

@@ -81,13 +81,14 @@ class _Plan:
     the outputs, where each array starts in its buffer, the flags, and the inputs that do
     not change between calls (the torque rows, in the integer buffer)."""
 
-    __slots__ = ("in_d", "in_nf", "in_f", "in_i", "out", "out_d", "out_nf", "out_ni",
-                 "flags")
+    __slots__ = ("in_d", "in_nf", "in_f", "in_i", "in_rows", "out", "out_d", "out_nf",
+                 "out_ni", "flags")
 
 
 def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
-          lines=False) -> _Plan:
-    key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines)
+          lines=False, nrows=0) -> _Plan:
+    key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines,
+           nrows)
     plan = flat.packed.get(key)
     if plan is not None:
         return plan
@@ -95,12 +96,14 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     rn = N if rows else 0
     sn = N if (rows and statics) else 0
     plan = _Plan()
-    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,)]
-    inp = Packed(ins, ("f",) * 6 + ("i",))
+    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,), (nrows,)]
+    inp = Packed(ins, ("f",) * 6 + ("i", "i"))
     plan.in_d, plan.in_nf = inp.d, inp.f.size
     plan.in_f = [(o, o + size, sh) for (o, size), sh in zip(inp.offsets[:6], ins)]
     plan.in_i = inp.i
-    plan.in_i[inp.offsets[6][0]:] = flat.torque          # constant: the kernel only reads it
+    t0 = inp.offsets[6][0]
+    plan.in_i[t0:t0 + mr] = flat.torque          # constant: the kernel only reads it
+    plan.in_rows = inp.offsets[7][0]
     out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
                   (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
                   (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6),
@@ -126,10 +129,11 @@ class OutputBuffers:
 
     __slots__ = ("f", "i", "d", "layout", "N", "kind")
 
-    def arrays(self) -> dict:
+    def arrays(self, convert: bool = True) -> dict:
         """The outputs of all ``N`` poses by name (:data:`OUTPUTS`), views of the buffers
-        (the booleans converted)."""
-        return dict(zip(OUTPUTS, [_view(self.i if is_int else self.f, o0, o1, sh, is_bool)
+        (the booleans converted: copies; without ``convert``, views of their integers)."""
+        return dict(zip(OUTPUTS, [_view(self.i if is_int else self.f, o0, o1, sh,
+                                        is_bool and convert)
                                   for is_int, is_bool, o0, o1, sh in self.layout]))
 
 
@@ -181,13 +185,17 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     alone), whatever ``N``.  The outputs are the same bit for bit either way.  ``out``
     ``(buffers, at)``: the outputs written into rows ``at..at+N`` of ``buffers``
     (:func:`output_buffers`, made with the same ``rows``, ``statics``, ``twists`` and
-    ``lines``) and returned as views of those rows."""
+    ``lines``) and returned as views of those rows; or, ``at`` an integer array ``(N,)``,
+    pose ``j``'s outputs into row ``at[j]`` of ``buffers`` (a path's level: its samples'
+    rows of the path's outputs), the whole buffers' arrays returned."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
+    scattered = out is not None and np.ndim(out[1]) == 1
     plan = _plan(flat, N, 0 if X0 is None else N, 0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
-                 bool(statics), bool(continuation), bool(twists), bool(lines))
+                 bool(statics), bool(continuation), bool(twists), bool(lines),
+                 N if scattered else 0)
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \
@@ -201,23 +209,37 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     If[t0:t1] = 0.0 if T is None else T
     if comp is not None:
         If[c0:c1].reshape(csh)[...] = comp
+    Ii = plan.in_i
     if out is None:
         Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
         out_d, layout = plan.out_d, plan.out
     else:
         buffers, at = out
-        if buffers.kind != (bool(rows), bool(rows and statics), bool(twists), bool(lines)) \
-                or not 0 <= at <= buffers.N - N:
-            raise ValueError(f"output buffers of {buffers.N} poses {buffers.kind} do not "
-                             f"take rows {at}..{at + N} of this launch's outputs")
+        kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines))
+        if scattered:
+            at = np.asarray(at, np.int64)
+            if buffers.kind != kind or len(at) != N or (N and not (
+                    0 <= at.min() and at.max() < buffers.N)):
+                raise ValueError(f"output buffers of {buffers.N} poses {buffers.kind} do not "
+                                 f"take the {len(at)} rows given of this launch's outputs")
+            Ii = Ii.copy()                   # (the plan's buffer, shared, left as it is)
+            Ii[plan.in_rows:] = at
+            out_d, layout = buffers.d, buffers.layout
+        else:
+            if buffers.kind != kind or not 0 <= at <= buffers.N - N:
+                raise ValueError(f"output buffers of {buffers.N} poses {buffers.kind} do not "
+                                 f"take rows {at}..{at + N} of this launch's outputs")
+            out_d, layout = _rows_of(buffers, at, N)
         Of, Oi = buffers.f, buffers.i
-        out_d, layout = _rows_of(buffers, at, N)
     if X is not None:
         _, _, o0, o1, sh = layout[0]
-        Of[o0:o1].reshape(sh)[...] = X
+        if scattered:
+            Of[o0:o1].reshape(sh)[at] = X
+        else:
+            Of[o0:o1].reshape(sh)[...] = X
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
-            Mp.args + Zp.args + (If, plan.in_i, plan.in_d, Of, Oi, out_d, plan.flags),
+            Mp.args + Zp.args + (If, Ii, plan.in_d, Of, Oi, out_d, plan.flags),
             N, workers, per_thread, note=True,
             blocks=blocks is not False and N >= BLOCKS_ALONE and (
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))

@@ -106,48 +106,39 @@ class PathRows:
     frames of its final unknowns either way).  The samples solved elsewhere (the anchors)
     or again after their level (the retries taken), and those Newton did not close from
     their level's start, are *stale*: :meth:`finish` forms theirs from their final
-    unknowns."""
+    unknowns.
+
+    Each launch writes its samples' outputs into their rows of the path's output buffers
+    (the kernel given the rows: ``run_poses(..., out=(buffers, idx))``): nothing copied
+    after a launch, and every output byte touched once."""
 
     def __init__(self, ch, N, F, T, compliance, twists, lines):
         self.ch, self.N, self.F, self.T = ch, N, F, T
         self.compliance, self.twists, self.lines = compliance, twists, lines
         self.fresh = np.zeros(N, bool)
-        self.out = {}
+        self.buffers = output_buffers(ch.flat, N, statics=F is not None, twists=twists,
+                                      lines=lines)
+        self.views = self.buffers.arrays(convert=False)      # (views: read after launches)
 
     def _launch(self, P6, idx, workers, **kw):
-        o = run_poses(self.ch.flat, predictor_of(self.ch), P6, F=self.F, T=self.T,
-                      compliance=_per_pose(self.compliance, self.N, idx),
-                      statics=self.F is not None, twists=self.twists, lines=self.lines,
-                      workers=workers, **kw)
-        for key in _KEYS + ("residual",):
-            v = o[key]
-            if v.shape[0]:
-                if key not in self.out:
-                    self.out[key] = np.empty((self.N,) + v.shape[1:], v.dtype)
-                # a scatter of whole rows, as 2-D arrays: numpy copies a row at once
-                # (twice as fast as indexing the first axis of a 3-D array)
-                w = int(np.prod(v.shape[1:]))
-                self.out[key].reshape(self.N, w)[idx] = v.reshape(v.shape[0], w)
-        return o
+        run_poses(self.ch.flat, predictor_of(self.ch), P6, F=self.F, T=self.T,
+                  compliance=_per_pose(self.compliance, self.N, idx),
+                  statics=self.F is not None, twists=self.twists, lines=self.lines,
+                  workers=workers, out=(self.buffers, idx), **kw)
 
     def solve(self, fixed, X0, idx, workers):
         """Solve the samples ``idx`` from ``X0 (n_unknowns, K)`` (as ``solve_closures``) and
-        keep their rows, in launches of up to :data:`CHUNK` samples (the rows' outputs of a
-        launch are its memory)."""
+        keep their rows, in launches of up to :data:`CHUNK` samples."""
         from ._solve import Closure
         K = len(idx)
         P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
         keys = ("X", "residual", "iterations", "how", "singular_beta")
-        got = {}
         # launches of nearly equal size (a multiple of the threads): no idle thread on a
         # short last launch
         for sl in _chunks(K, balanced_chunk(K, CHUNK, threads(K, workers))):
-            o = self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
-            if sl.stop - sl.start == K:
-                got = {k: o[k] for k in keys}
-                break
-            for k in keys:
-                got.setdefault(k, np.empty((K,) + o[k].shape[1:], o[k].dtype))[sl] = o[k]
+            self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
+        got = {k: self.views[k][idx] for k in keys}
+        got["singular_beta"] = got["singular_beta"].astype(bool)
         # kept where Newton converged from the start given (the frames are then those of
         # the final unknowns); the others are formed again from their unknowns
         self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
@@ -159,13 +150,16 @@ class PathRows:
 
     def finish(self, fixed, X, workers) -> dict:
         """The outputs of every sample (``X (N, n_unknowns)`` the path's unknowns): the
-        stale samples' formed now, in launches of up to :data:`CHUNK`."""
+        stale samples' formed now, in launches of up to :data:`CHUNK`; the residuals and
+        the arrays of :data:`_KEYS` the launches filled, by name."""
         stale = np.flatnonzero(~self.fresh)
         for sl in _chunks(stale.size, CHUNK):
             idx = stale[sl]
             self._launch(self.ch.full_params({k: v[idx] for k, v in fixed.items()}, idx.size),
                          idx, workers, X=X[idx])
-        return self.out
+        # (the booleans converted now, once all rows are in)
+        return {k: v for k, v in self.buffers.arrays().items()
+                if k in _KEYS + ("residual",) and v.shape[0]}
 
 
 def chunk_after_path(model, fx, X, path_res, rows=True, F=None, T=None, compliance=None,

@@ -39,6 +39,7 @@ from ._layout import LEG, L_SIZE, PLAT, RL_CTX, RL_DV, RL_J, RL_PV, RL_SC, RL_SC
 from ._members import DONE, NOT_DONE, NSC, SC_STATUS, template_lanes
 from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
 from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
+from ._pack import out_row
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
  K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(27)
@@ -229,33 +230,38 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
 
 
 @inlined
-def frames_block(M, unk, xs, P6, X, p0, nb, K):
-    """The frames of the given unknowns ``X[p0:p0+nb] (N, nx)`` at the given parameters
-    ``P6[p0:p0+nb] (N, 6)`` as the lanes of the block ``K`` (buffer 0), each lane's residual
-    into ``K[K_F]`` (the bits of each pose's one-pose pass)."""
+def frames_block(M, unk, xs, I, X, p0, nb, K):
+    """The frames of the given unknowns of the poses ``p0..p0+nb-1`` (their rows of ``X (.,
+    nx)``, :func:`._pack.out_row`) at their given parameters (``I[0] (N, 6)``) as the lanes
+    of the block ``K`` (buffer 0), each lane's residual into ``K[K_F]`` (the bits of each
+    pose's one-pose pass)."""
     Xb, P6b = K[K_X], K[K_P6]
+    P6 = I[0]
     for l in range(nb):
+        q = out_row(I, p0 + l)
         for k in range(6):
             P6b[k, l] = P6[p0 + l, k]
         for k in range(Xb.shape[0]):
-            Xb[k, l] = X[p0 + l, k]
+            Xb[k, l] = X[q, k]
     forward_lanes(M, unk, xs, K, Xb, 0, K[K_F], nb)
 
 
 @inlined
-def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
-    """The lines ``lines[p0:p0+nb]`` and platforms ``platform[p0:p0+nb]`` of the poses of
-    unknowns ``X`` (:func:`._indices.pose_lines`), from the frames of the unknowns as the
-    solution hands them back (:func:`._indices.rounded_unknowns`), formed for the block's
+def block_lines(M, unk, xs, I, X, lines, platform, p0, nb, W, K):
+    """The lines (:func:`._indices.pose_lines`) and platforms of the poses ``p0..p0+nb-1``
+    (given parameters ``I[0]``) into their rows of ``lines`` and ``platform``, at their
+    unknowns, their rows of ``X`` (:func:`._pack.out_row`), from the frames of the unknowns
+    as the solution hands them back (:func:`._indices.rounded_unknowns`), formed for the block's
     lanes at once in its trial unknowns and buffer 1 (free once the closures are solved);
     ``W`` a one-pose workspace.  Each lane's frames are those of the pose alone, so where
     the rounding changes nothing they are the solve's, bit for bit."""
     nu = unk.shape[0]
     Xr, P6b = K[K_XN], K[K_P6]
     Xp = W[W_XN]
+    P6 = I[0]
     for l in range(nb):
         p = p0 + l
-        rounded_unknowns(M, nu, X[p], Xp)
+        rounded_unknowns(M, nu, X[out_row(I, p)], Xp)
         for k in range(Xr.shape[0]):
             Xr[k, l] = Xp[k]
         for k in range(6):
@@ -263,8 +269,9 @@ def block_lines(M, unk, xs, P6, X, lines, platform, p0, nb, W, K):
     forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
     for l in range(nb):
         lane_frames(K, 1, l, W, 1, False)
-        lines_at(M, W[W_FA], 1, lines[p0 + l])
-        fp, out = W[W_FP][1], platform[p0 + l]
+        q = out_row(I, p0 + l)
+        lines_at(M, W[W_FA], 1, lines[q])
+        fp, out = W[W_FP][1], platform[q]
         for k in range(fp.shape[0]):
             out[k] = fp[k]
 

@@ -18,8 +18,10 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   ``fspan`` and ``degree`` (an array of one integer);
 * ``I`` the inputs: ``P6 (N, 6)`` the given parameters (the dependent ones are ignored),
   ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
-  or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``;
-* ``O`` the outputs (``_layout.OUT_*``), filled pose by pose;
+  or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``, ``rows (N
+  or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`);
+* ``O`` the outputs (``_layout.OUT_*``), filled pose by pose (of the rows given: a path's
+  level writes its samples' rows of the path's outputs, no copy after the launch);
 * ``flags``: solve, rows, statics, continuation, actuated twists, the lines of the
   transmission indices' joints and the platform (1/0 each).
 """
@@ -38,7 +40,7 @@ from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solv
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
                       F_SOLVE, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING, OUT_X,
                       ORDER, PTS, RL_J, RL_SP, ROWS)
-from ._pack import inputs, model, outputs, params
+from ._pack import inputs, model, out_row, outputs, params
 from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
 from ._rows import make_rows_work
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
@@ -47,10 +49,11 @@ from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, n
 
 @inlined
 def start(Z, I, O, p, W):
-    """Pose ``p``'s start into ``O[OUT_X][p]``: its warm start, else the home predictor's."""
+    """Pose ``p``'s start into its row of ``O[OUT_X]``: its warm start, else the home
+    predictor's."""
     unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
     P6, X0 = I[0], I[1]
-    X = O[OUT_X][p]
+    X = O[OUT_X][out_row(I, p)]
     if X0.shape[0]:
         for k in range(X.shape[0]):
             X[k] = X0[p, k]
@@ -63,18 +66,19 @@ def start(Z, I, O, p, W):
 
 @inlined
 def solve_alone(M, Z, I, O, flags, p, W):
-    """Pose ``p``'s closures alone from the start in ``O[OUT_X][p]`` (:func:`solve_pose`).
+    """Pose ``p``'s closures alone from the start in its row of ``O[OUT_X]`` (:func:`solve_pose`).
     Returns ``(residual, b)``: its frames in buffer ``b`` of ``W``."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     sides = I[2]
     side = sides[p] if sides.shape[0] else 0.0
-    res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][p], side,
+    q = out_row(I, p)
+    res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][q], side,
                                         p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
     if _turned(Z, I, O, p, M, res):
         b = -1                        # its frames formed again at the unknowns turned
-    O[OUT_ITS][p] = its
-    O[OUT_HOW][p] = how
-    O[OUT_SING][p] = sing
+    O[OUT_ITS][q] = its
+    O[OUT_HOW][q] = how
+    O[OUT_SING][q] = sing
     return res, b
 
 
@@ -154,7 +158,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
         if blocked:
             kb = solve_block(M, Z, I, O, p0, nb, W, K)
         elif given:
-            frames_block(M, Z[0], Z[1], I[0], O[OUT_X], p0, nb, K)
+            frames_block(M, Z[0], Z[1], I, O[OUT_X], p0, nb, K)
         if inblock and flags[F_ROWS]:
             legs_frames_block(M, K[K_FA][kb], K[K_FP][kb], RL, nb)
             template_rows_block(M, K[K_FA][kb], RL, nb)
@@ -181,7 +185,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
                     fr = l if same else -1
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock, RL, fr)
         if flags[F_LINES] and inblock:
-            block_lines(M, Z[0], Z[1], I[0], O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
+            block_lines(M, Z[0], Z[1], I, O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
                         W, K)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
 
@@ -210,7 +214,7 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, Xb, K[K_PZ], nb, BLOCK)
     for l in range(nb):
         p = p0 + l
-        X = O[OUT_X][p]
+        X = O[OUT_X][out_row(I, p)]
         for k in range(X.shape[0]):
             X[k] = Xb[k, l]
         p6fix = P6[p]
@@ -231,7 +235,8 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
     rescue)."""
     unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
     p6fix = I[0][p]
-    X = O[OUT_X][p]
+    q = out_row(I, p)
+    X = O[OUT_X][q]
     Xb = K[K_X]
     for k in range(X.shape[0]):
         X[k] = Xb[k, l]
@@ -257,9 +262,9 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
     if _turned(Z, I, O, p, M, res):
         b, same = -1, False
-    O[OUT_ITS][p] = its
-    O[OUT_HOW][p] = how
-    O[OUT_SING][p] = sing
+    O[OUT_ITS][q] = its
+    O[OUT_HOW][q] = how
+    O[OUT_SING][q] = sing
     return res, b, same
 
 
@@ -273,7 +278,8 @@ def _turned(Z, I, O, p, M, res):
         return False
     X0 = I[1]
     warm = X0.shape[0] > 0
-    return whole_turns(M, Z[0], O[OUT_X][p], X0[p] if warm else O[OUT_X][p], warm)
+    X = O[OUT_X][out_row(I, p)]
+    return whole_turns(M, Z[0], X, X0[p] if warm else X, warm)
 
 
 @entry

@@ -21,6 +21,7 @@ from ._layout import (D, F_LINES, F_ROWS, F_STATICS, F_TWISTS, LEG, L_ACT, L_ARO
                       OUT_SCALE, OUT_STRUCT, OUT_SV, OUT_TWISTS, OUT_VALUES, OUT_X, RL_SC,
                       RL_SP, RL_TW, ROWS)
 from ._newton import W_FA, W_FE, W_FL, W_FP, W_P6, W_S, W_XN
+from ._pack import out_row
 from ._rows import RW_TW, leg_frames, leg_rows, template_rows
 from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_D, SW_JN, SW_SP,
                        conditioning_lanes, normalise_rows, spread_lanes)
@@ -33,8 +34,8 @@ def pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, la
     here at its unknowns, given or returned by a rescue's Newton runs)."""
     if b < 0:
         b = 0
-        res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][p], W[W_FA], W[W_FL], W[W_FE],
-                      W[W_FP], 0, W[W_S], W[W_P6])
+        res = forward(M, Z[0], Z[1], I[0][p], O[OUT_X][out_row(I, p)], W[W_FA], W[W_FL],
+                      W[W_FE], W[W_FP], 0, W[W_S], W[W_P6])
     finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, lane)
 
 
@@ -47,20 +48,21 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
     legs' frames are lane ``lane`` of the block's ``RL`` where ``lane >= 0``, else formed here."""
     unk, xs = Z[0], Z[1]
     p6fix = I[0][p]
-    X = O[OUT_X][p]
+    q = out_row(I, p)               # (pose p of the inputs writes row q of the outputs)
+    X = O[OUT_X][q]
     FA, FP = W[W_FA], W[W_FP]
-    O[OUT_RES][p] = res
+    O[OUT_RES][q] = res
     if flags[F_LINES] and lines_here:
         bl = pose_lines(M, unk, xs, p6fix, X, FA, W[W_FL], W[W_FE], FP, b, W[W_S], W[W_P6],
-                        W[W_XN], O[OUT_LINES][p])
-        po, fl = O[OUT_PLATFORM][p], FP[bl]
+                        W[W_XN], O[OUT_LINES][q])
+        po, fl = O[OUT_PLATFORM][q], FP[bl]
         for k in range(po.shape[0]):  # (a loop: an array assignment needs reference counts)
             po[k] = fl[k]
     if not flags[F_ROWS]:
         return
     n = M[D].shape[0]
     fp = FP[b]
-    J, scale = O[OUT_J][p], O[OUT_SCALE][p]
+    J, scale = O[OUT_J][q], O[OUT_SCALE][q]
     mr = J.shape[0]
     ok = True
     tw_out = O[OUT_TWISTS]
@@ -70,10 +72,10 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
         if lane >= 0 and RL[RL_SC][i, SC_STATUS, lane] != NOT_DONE:
             # its template's rows, formed for the block's lanes at once
             ok = lane_rows_into(M, i, RL, lane, J, scale) and ok
-            O[OUT_STRUCT][p, i] = True
+            O[OUT_STRUCT][q, i] = True
             if flags[F_TWISTS] and a >= 0:
-                for q in range(6):
-                    tw_out[p, a, q] = RL[RL_TW][i, leg[i, L_ACT], q, lane]
+                for k in range(6):
+                    tw_out[q, a, k] = RL[RL_TW][i, leg[i, L_ACT], k, lane]
             continue
         if lane >= 0:
             lane_frames_into(M, i, RL, lane, RW, FA[b, i])
@@ -83,33 +85,33 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
         if not done:                  # the general rules (the call kept out of the legs')
             lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
         ok = ok and lok
-        O[OUT_STRUCT][p, i] = st
+        O[OUT_STRUCT][q, i] = st
         if flags[F_TWISTS] and a >= 0:
             tw = RW[RW_TW][leg[i, L_ACT]]
-            for q in range(6):
-                tw_out[p, a, q] = tw[q]
-    O[OUT_ROWS_OK][p] = ok
+            for k in range(6):
+                tw_out[q, a, k] = tw[k]
+    O[OUT_ROWS_OK][q] = ok
     # the centroid, spread and origin: the block's lane's, else formed here
     S, sl = RL[RL_SP], lane
     if lane < 0:
         S, sl = one_lane(SW[SW_SP]), 0
         spread_lanes(M, FA[b], fp, S, 1, 1)
-    centre = O[OUT_CENTRE][p]
-    for q in range(3):
-        centre[q] = S[q, sl]
+    centre = O[OUT_CENTRE][q]
+    for k in range(3):
+        centre[k] = S[k, sl]
     L = S[3, sl]
-    O[OUT_LENGTH][p] = L
+    O[OUT_LENGTH][q] = L
     cj, cd, co = CW[CW_JN], CW[CW_D], CW[CW_O]
     if lane < 0 or reads_frames(M, flags, RL, lane):
         # (else its rows were normalised on the block's lanes: _driver.block_poses)
         normalise_rows(J, mr, centre, L, SW)
         Jn, d = SW[SW_JN], SW[SW_D]
         for r in range(mr):
-            for q in range(6):
-                cj[r, q, l] = Jn[r, q]
+            for k in range(6):
+                cj[r, k, l] = Jn[r, k]
             cd[r, l] = d[r]
-    for q in range(3):
-        co[q, l] = S[5 + q, sl]
+    for k in range(3):
+        co[k, l] = S[5 + k, sl]
 
 
 @inlined
@@ -129,12 +131,12 @@ def finish_block(M, I, O, flags, p0, nb, SW, CW):
     conditioning_lanes(CW, mr, n_act, nb)
     sv, RK, CD = CW[CW_SV], CW[CW_RANK], CW[CW_COND]
     for l in range(nb):
-        p = p0 + l
-        out = O[OUT_SV][p]
-        for q in range(out.shape[0]):
-            out[q] = sv[q, l]
-        O[OUT_RANK][p], O[OUT_COND][p] = RK[0, l], CD[0, l]
-        O[OUT_CRANK][p], O[OUT_CCOND][p] = RK[1, l], CD[1, l]
+        q = out_row(I, p0 + l)
+        out = O[OUT_SV][q]
+        for k in range(out.shape[0]):
+            out[k] = sv[k, l]
+        O[OUT_RANK][q], O[OUT_COND][q] = RK[0, l], CD[0, l]
+        O[OUT_CRANK][q], O[OUT_CCOND][q] = RK[1, l], CD[1, l]
     if flags[F_STATICS]:
         statics_block(I, p0, nb, mr, SW, CW, O[OUT_J], O[OUT_CENTRE], O[OUT_LENGTH], O[OUT_SV],
                       O[OUT_VALUES], O[OUT_EQ], O[OUT_AMP], O[OUT_DET])

@@ -50,7 +50,15 @@ def params(F, I, d):
 def inputs(F, I, d):
     """The inputs ``I`` of the analysis kernel (:mod:`._driver`)."""
     return (f2(F, d, 0), f2(F, d, 1), f1(F, d, 2), f1(F, d, 3), f1(F, d, 4), f2(F, d, 5),
-            f1(I, d, 6))
+            f1(I, d, 6), f1(I, d, 7))
+
+
+@inner
+def out_row(I, p):
+    """The row of the outputs that pose ``p`` of the inputs writes: ``I[7][p]``, the rows
+    given (a path's level writes its samples' rows of the path's outputs), else ``p``."""
+    rows = I[7]
+    return rows[p] if rows.shape[0] else p
 
 
 @inner

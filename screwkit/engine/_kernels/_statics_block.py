@@ -13,6 +13,7 @@ import math
 
 from ._jit import borrowing
 from ._layout import REFINE
+from ._pack import out_row
 from ._small import lu_apply_block, lu_block, lu_sign
 from ._statics import (CW_COMP, CW_D, CW_G, CW_JN, CW_JW, CW_LU, CW_O, CW_PIV, CW_SV, CW_W,
                        CW_Y, CW_Z, SW_AP, SW_COMP, SW_D, SW_JN, SW_W, SW_WN, amplification,
@@ -40,9 +41,10 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
     rows (``MODE_NORMAL``) on the lanes at once (:func:`._small.lu_block`,
     :func:`._small.lu_apply_block`); a lane that needs the pseudo-inverse (rare: an
     ill-conditioned pose) alone, through the one-pose functions.  Compiled once (the lane
-    stride ``BLOCK``), for both loops.  The poses' outputs: their rows ``Jo (N, mr, 6)``,
-    centroids, lengths, singular values (read), efforts, equilibrium residuals, force
-    amplifications and signs of ``det J`` (written)."""
+    stride ``BLOCK``), for both loops.  The poses' outputs (each pose's row,
+    :func:`._pack.out_row`): their rows ``Jo (., mr, 6)``, centroids, lengths, singular
+    values (read), efforts, equilibrium residuals, force amplifications and signs of ``det
+    J`` (written)."""
     torque = I[6]
     Jn, d, co, sv = CW[CW_JN], CW[CW_D], CW[CW_O], CW[CW_SV]
     LU, piv, Jw, g, z, y, Wl, comp = CW[CW_LU], CW[CW_PIV], CW[CW_JW], CW[CW_G], CW[CW_Z], \
@@ -55,12 +57,12 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
     six = LU.shape[0]
     for l in range(nb):
         p = p0 + l
-        L = lengths[p]
+        L = lengths[out_row(I, p)]
         _compliance(I, p, mr, torque, L, comp, l)
         for q in range(3):
             o[q] = co[q, l]
         workload_about_origin(I[3], I[4], o, Wp)
-        normalise_wrench(Wp, centres[p], L, Wn)
+        normalise_wrench(Wp, centres[out_row(I, p)], L, Wn)
         for q in range(6):
             Wl[q, l] = Wp[q]
             z[q, l] = -Wn[q]
@@ -95,9 +97,9 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
                     y[r, l] += Jw[r, q, l] * z[q, l]
     Jp, dp, cp = SW[SW_JN], SW[SW_D], SW[SW_COMP]
     for l in range(nb):
-        p = p0 + l
-        J, centre, L = Jo[p], centres[p], lengths[p]
-        values = values_o[p]
+        row = out_row(I, p0 + l)
+        J, centre, L = Jo[row], centres[row], lengths[row]
+        values = values_o[row]
         for r in range(mr):
             dp[r] = d[r, l]
         for q in range(6):
@@ -117,10 +119,10 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
                 for q in range(6):
                     Jp[r, q] = Jn[r, q, l]
                 cp[r] = comp[r, l]
-            mode, sign = statics_prepare(mr, svo[p], cp, SW)
+            mode, sign = statics_prepare(mr, svo[row], cp, SW)
             statics_apply(mode, mr, Wp, centre, L, SW, values)
         for q in range(3):
             o[q] = co[q, l]
-        eq[p] = equilibrium(J, mr, values, Wp, centre, L, dp)
-        amp[p] = amplification(values, mr, torque, Wp, o, L)
-        det[p] = sign
+        eq[row] = equilibrium(J, mr, values, Wp, centre, L, dp)
+        amp[row] = amplification(values, mr, torque, Wp, o, L)
+        det[row] = sign
