@@ -36,6 +36,8 @@ _LOAD_LOCK = threading.Lock()
 _K: SimpleNamespace | None = None
 _NOTED: set = set()
 _ANALYSIS_READY = False
+#: ``{pid: n}``: the threads of this process's launches on ``n`` threads are pinned.
+_PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
 _LOADER = ("__init__.py", "_loading.py", "_warm.py")
@@ -158,13 +160,14 @@ def kernels() -> SimpleNamespace:
         if _K is None:
             numba = _configure()
             _check_stamp(numba)
-            from . import _driver, _extra, _fk, _indices, _levels, _probe
-            _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _probe))
+            from . import _driver, _extra, _fk, _indices, _levels, _probe, _threads
+            _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _probe,
+                                   _threads))
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, a minute or two; "
                       f"cached in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
-            for mod in (_driver, _extra, _fk, _indices, _levels, _probe):
+            for mod in (_driver, _extra, _fk, _indices, _levels, _probe, _threads):
                 for name in dir(mod):
                     if not name.startswith("_"):
                         setattr(ns, name, getattr(mod, name))
@@ -189,8 +192,31 @@ def compile_analysis() -> None:
 
 
 def set_threads(n: int) -> int:
-    """Threads of the next parallel launch (at most numba's pool); returns the number."""
+    """Threads of the next parallel launch (at most numba's pool); returns the number.
+    Where the process may use no more CPUs than that, each of the threads is kept on a CPU
+    of its own (:mod:`._threads`), once per process and number of threads."""
     k = kernels().numba
     n = max(1, min(int(n), k.config.NUMBA_NUM_THREADS))
     k.set_num_threads(n)
+    if n > 1 and _PINNED.get(os.getpid()) != n:
+        _PINNED.clear()
+        _PINNED[os.getpid()] = n
+        _pin_threads(n)
     return n
+
+
+def _pin_threads(n: int) -> None:
+    """Worker ``i`` of the launches on ``n`` threads on the ``i``-th CPU the process may use,
+    where those CPUs are no more than ``n`` (Linux; not with ``SCREWKIT_PIN_THREADS=0``)."""
+    if os.environ.get("SCREWKIT_PIN_THREADS", "") == "0" or not sys.platform.startswith(
+            "linux") or not hasattr(os, "sched_getaffinity"):
+        return
+    import numpy as np
+    cpus = sorted(os.sched_getaffinity(0))
+    if not cpus or len(cpus) > n:
+        return
+    masks = np.zeros((n, max(cpus) // 64 + 1), np.uint64)
+    for i in range(n):
+        c = cpus[i % len(cpus)]
+        masks[i, c // 64] |= np.uint64(1) << np.uint64(c % 64)
+    kernels().pin_threads(masks, np.zeros(n, np.int32))
