@@ -219,4 +219,7 @@ def _pin_threads(n: int) -> None:
     for i in range(n):
         c = cpus[i % len(cpus)]
         masks[i, c // 64] |= np.uint64(1) << np.uint64(c % 64)
-    kernels().pin_threads(masks, np.zeros(n, np.int32))
+    try:
+        kernels().pin_threads(masks, np.zeros(n, np.int32))
+    except Exception:       # (an optimisation only: where it cannot be had, threads as they are)
+        pass
