@@ -207,9 +207,16 @@ def set_threads(n: int) -> int:
 
 def _pin_threads(n: int) -> None:
     """Worker ``i`` of the launches on ``n`` threads on the ``i``-th CPU the process may use,
-    where those CPUs are no more than ``n`` (Linux; not with ``SCREWKIT_PIN_THREADS=0``)."""
+    where those CPUs are no more than ``n`` (Linux; not with ``SCREWKIT_PIN_THREADS=0``;
+    only on numba's ``workqueue`` layer, whose workers are threads of their own: with OpenMP
+    the calling thread runs the first range, and would stay pinned)."""
     if os.environ.get("SCREWKIT_PIN_THREADS", "") == "0" or not sys.platform.startswith(
             "linux") or not hasattr(os, "sched_getaffinity"):
+        return
+    try:
+        if kernels().numba.threading_layer() != "workqueue":
+            return
+    except ValueError:          # (no layer started: none to pin)
         return
     import numpy as np
     cpus = sorted(os.sched_getaffinity(0))
