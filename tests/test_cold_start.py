@@ -247,6 +247,16 @@ def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
     assert json.loads(out)["pm"] == "3RRPRR" and imported == "[]"
 
 
+
+def test_a_serial_map_command_imports_no_dask():
+    """xarray imports ``dask.array`` where it casts a numpy coordinate to an index or reduces
+    a variable (0.2-0.3 s of a command): a map computed in this process never needs it."""
+    _quick()
+    out, imported = _imports_of(["map", "3RRPRR", "--grid", "alpha=-5:5:3", "--grid",
+                                 "beta=-5:5:3", "--grid", "Zo=70:90:3", "--json"],
+                                ("dask", "xarray"))
+    assert json.loads(out)["counts"]["cells"] == 27 and imported == "['xarray']"
+
 # --- a one-pose command compiles (and loads) only what it runs ---------------------------
 
 def test_a_one_pose_analysis_never_runs_the_parallel_kernel():

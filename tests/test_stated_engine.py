@@ -103,6 +103,32 @@ def test_singular_pose_names_its_unrestrained_direction():
     assert "rotation about the axis" in r.to_dict()["unrestrained"][0]["description"]
 
 
+
+def test_an_unrestrained_direction_has_a_canonical_sign():
+    """An unrestrained twist is free both ways, and its singular vector's sign is the SVD's:
+    the named one has the first significant component of its axis (of its direction, for a
+    translation) positive, whatever the sign of the vector it came from (the 3RPS
+    singularity's axis is x: printed (1, 0, 0) cm, not as the last bits of the rows fall)."""
+    from screwkit.dynamics._compliance import _unit_twists
+    r = stiffness("3RPS", {"alpha": A0, "beta": 0.0, "Zo": 60.0}, degrees=True,
+                  actuator=2000.0, force_stiffness=5000.0, force=[0, 0, -1],
+                  raise_on_singular=False)
+    w = r.unrestrained(0)[0][3:]
+    np.testing.assert_allclose(w, [1.0, 0.0, 0.0], atol=1e-9)
+    rng = np.random.default_rng(3)
+    V = rng.normal(size=(5, 6, 3))
+    V[1, 3:] = 0.0                                  # a translation
+    V[2, 3, :] = 0.0                                # an axis in the y-z plane
+    U = _unit_twists(V)
+    np.testing.assert_array_equal(_unit_twists(-V), U)
+    for n in range(5):
+        for c in range(3):
+            part = U[n, 3:, c] if np.any(V[n, 3:, c]) else U[n, :3, c]
+            first = part[np.flatnonzero(np.abs(part) > 1e-8 * np.abs(part).max())[0]]
+            assert first > 0 and np.isclose(np.linalg.norm(part), 1.0)
+            cos = U[n, :, c] @ V[n, :, c] / np.linalg.norm(U[n, :, c]) / np.linalg.norm(V[n, :, c])
+            assert np.isclose(abs(cos), 1.0)
+
 def test_stiffness_for_rows_the_pm_does_not_have_and_out_of_range():
     with pytest.raises(InputError, match="no constraint couple rows"):
         stiffness("3RRPRR", couple_stiffness=5.0)

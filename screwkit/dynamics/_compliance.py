@@ -125,12 +125,19 @@ def _held_compliance(Ah, c, Vh):
 
 
 def _unit_twists(V):
-    """Twists ``[v; w]`` (columns) scaled to ``|w| = 1``, or ``|v| = 1`` for a translation."""
+    """Twists ``[v; w]`` (columns) scaled to ``|w| = 1``, or ``|v| = 1`` for a translation,
+    with a canonical sign (an unrestrained direction is free both ways; a singular vector's
+    sign is the SVD's, which the last bits of the rows flip): the first component of ``w``
+    (of ``v`` for a translation) above ``1e-8`` of the largest is positive."""
     w = np.linalg.norm(V[:, 3:], axis=1, keepdims=True)
     v = np.linalg.norm(V[:, :3], axis=1, keepdims=True)
     rot = w > 1e-9 * np.maximum(v, 1e-300)
     den = np.where(rot, w, np.where(v > 0, v, 1.0))
-    return V / den
+    U = V / den
+    part = np.where(rot, U[:, 3:], U[:, :3])              # (N, 3, k)
+    big = np.abs(part) > 1e-8 * np.max(np.abs(part), axis=1, keepdims=True)
+    first = np.take_along_axis(part, np.argmax(big, axis=1)[:, None, :], axis=1)
+    return U * np.where(first < 0.0, -1.0, 1.0)
 
 
 def twist_text(t, length: str, digits: int = 4) -> str:

@@ -125,8 +125,8 @@ def summary(ds, lti_threshold: float = 0.7) -> dict:
     from ...maps import CONDITIONING_CODES, LEVEL_CODES, extremes, locus_list, workspace
     lev = ds["level"].values.reshape(-1)
     cls = ds["conditioning"].values.reshape(-1)
-    counts = {"cells": int(lev.size), "reachable": int(ds["reachable"].sum()),
-              "ok": int(ds["ok"].sum()),
+    counts = {"cells": int(lev.size), "reachable": int(np.sum(ds["reachable"].values)),
+              "ok": int(np.sum(ds["ok"].values)),
               "conditioning": {name: int(np.sum(cls == k))
                                for k, name in enumerate(CONDITIONING_CODES)},
               "levels": {name: int(np.sum(lev == k)) for k, name in enumerate(LEVEL_CODES)},
