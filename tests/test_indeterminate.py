@@ -72,3 +72,43 @@ def test_stiffness_input_errors(upu):
         screwkit.analyze(upu, stiffness=[1, 1, 1, 1, 1, 1, 1, -1], **PAPER_LOAD)
     with pytest.raises(InputError, match="one value per row"):
         screwkit.analyze(upu, stiffness=[1, 2], **PAPER_LOAD)
+
+
+def _pivoted_basis(N, rtol=1e-9):
+    """The canonical basis of the span of the columns of ``N (m, k)`` computed apart from the
+    engine: the pivots are the first coordinates, in order, that raise the rank of the rows
+    taken so far (numpy's rank), then ``inv(N[piv].T) N.T`` is 1 on its own pivot, 0 on the
+    others'."""
+    piv = []
+    for c in range(N.shape[0]):
+        if np.linalg.matrix_rank(N[piv + [c]], tol=rtol * np.abs(N).max()) > len(piv):
+            piv.append(c)
+    return np.linalg.solve(N[piv].T, N.T), piv
+
+
+def test_the_self_stress_basis_is_canonical(upu):
+    """The self-stresses are one basis of their space whatever the last bits of J (an SVD's
+    basis is not): in reduced row echelon form over the rows, as an independent null space
+    (scipy's) gives it by another route, and the same values when the model's lengths are
+    a thousand times larger (the couples' ratios have no unit)."""
+    from scipy.linalg import null_space
+    res = screwkit.analyze(upu, **PAPER_LOAD)
+    S = res.statics.self_stress
+    J = np.asarray(res.jacobian.J)
+    d = np.linalg.norm(J[:, :3], axis=1) * res.jacobian.conditioning.length + \
+        np.linalg.norm(J[:, 3:], axis=1)                  # rows' sizes: coordinates of a kind
+    ref, piv = _pivoted_basis(null_space(J.T) * d[:, None])
+    ref = ref / d[None, :]
+    ref = ref / ref[np.arange(len(piv)), piv][:, None]
+    assert S.shape == ref.shape == (2, 8) and piv == [4, 5]
+    np.testing.assert_allclose(S, ref, rtol=1e-9, atol=1e-12)
+    np.testing.assert_array_equal(S[:, piv], np.eye(2))
+    assert np.all(S[:, :4] == 0.0)                        # no actuator takes part: exact 0
+    k = 1000.0
+    big = screwkit.load_pm("4UPU", {n: v * k for n, v in upu.dimensions.items()
+                                    if isinstance(v, (int, float)) and n != "order"})
+    pose = {n: (v * k if n in ("Xo", "Yo", "Zo") else v)
+            for n, v in res.solution.params.items() if n in upu.independent}
+    res_big = screwkit.analyze(big, pose, force=PAPER_LOAD["force"],
+                               torque=np.array(PAPER_LOAD["torque"]) * k)
+    np.testing.assert_allclose(res_big.statics.self_stress, S, rtol=1e-9, atol=1e-12)

@@ -115,6 +115,11 @@ def test_an_unrestrained_direction_has_a_canonical_sign():
                   raise_on_singular=False)
     w = r.unrestrained(0)[0][3:]
     np.testing.assert_allclose(w, [1.0, 0.0, 0.0], atol=1e-9)
+    jac = screwkit.analyze("3RPS", {"alpha": A0, "beta": 0.0, "Zo": 60.0}, degrees=True,
+                           raise_on_singular=False).jacobian
+    u = jac.uncontrolled_twist                      # the same rule, [v_O; w] about O
+    np.testing.assert_allclose(u[3:] / np.linalg.norm(u[3:]), [1.0, 0.0, 0.0], atol=1e-9)
+    assert np.abs(np.asarray(jac.J) @ u).max() < 1e-6 * np.abs(jac.J).max() * np.abs(u).max()
     rng = np.random.default_rng(3)
     V = rng.normal(size=(5, 6, 3))
     V[1, 3:] = 0.0                                  # a translation

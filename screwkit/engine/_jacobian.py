@@ -344,11 +344,17 @@ class JacobianResult:
 
     @property
     def uncontrolled_twist(self) -> np.ndarray:
-        """The platform twist ``[v_O; w]`` that ``J`` maps closest to zero (one pose)."""
+        """The platform twist ``[v_O; w]`` that ``J`` maps closest to zero (one pose), with
+        a canonical sign (free both ways): the first significant component of ``w``, or of
+        ``v_O`` for a translation, positive."""
         self._one("uncontrolled_twist")
+        from ..screws._echelon import canonical_sign
         Jn = self.normalised()[0][0]
-        Vt = np.linalg.svd(Jn, full_matrices=True)[2]
-        return self.normalisation.twists_back(Vt[-1])
+        u = np.linalg.svd(Jn, full_matrices=True)[2][-1]           # [v_O / L; w], unit
+        rot = np.linalg.norm(u[3:]) > 1e-9 * np.linalg.norm(u[:3])
+        part = u[3:] if rot else u[:3]
+        u = -u if np.any(canonical_sign(part) != part) else u
+        return self.normalisation.twists_back(u)
 
     def check(self) -> "JacobianResult":
         """Return self, or raise :class:`SingularityError` at a singular pose (the first)."""
@@ -370,7 +376,7 @@ class JacobianResult:
         raise SingularityError(
             f"{kind} singularity at o = {np.round(self.o, 9).tolist()}: normalised condition "
             f"number {self.condition_number:.3g} > {self.threshold:.3g}; {why}; uncontrolled "
-            f"twist [v_O; w] ~ {np.round(w / max(np.abs(w).max(), 1e-300), 4).tolist()}",
+            f"twist [v_O; w] ~ {(np.round(w / max(np.abs(w).max(), 1e-300), 4) + 0.0).tolist()}",
             kind=kind, condition_number=self.condition_number)
 
     def rows_about(self, point: ArrayLike) -> np.ndarray:

@@ -48,6 +48,7 @@ from ._jacobian import JacobianResult
 from ._pipeline import (RANK_RTOL, leg_wrenches_of, statics_values, torque_rows,
                         workload_about_origin)
 from ..screws import as_vector3, cross
+from ..screws._echelon import reduced_echelon
 
 __all__ = ["StaticsResult", "statics", "workload_wrench", "compliance_of"]
 
@@ -255,14 +256,21 @@ class StaticsResult:
 
     @cached_property
     def self_stress(self) -> np.ndarray:
-        """Basis ``(indeterminacy, m)`` of ``{x : J^T x = 0}`` (one pose)."""
+        """Basis ``(indeterminacy, m)`` of ``{x : J^T x = 0}`` (one pose), canonical: in
+        reduced row echelon form, each self-stress 1 on a row of its own (its pivot, the
+        first row, in the rows' order, that the self-stresses after the earlier ones move)
+        and 0 on the other self-stresses' pivots; the pivots are chosen on the normalised
+        rows, so the basis does not depend on the units or the base frame (an SVD's basis
+        is one of many, its signs and mixing set by the last bits of ``J``)."""
         jac = self.jacobian
         jac._one("self_stress")
         if jac.indeterminacy <= 0:
             return np.zeros((0, jac.n_rows))
         Jn, d = jac.normalised()
         Vt = np.linalg.svd(Jn[0].T, full_matrices=True)[2]
-        N = Vt[jac.rank:] / d[0][None, :]
+        E, piv = reduced_echelon(Vt[jac.rank:])
+        N = E[:len(piv)] / d[0][None, :]
+        N = N / N[np.arange(len(piv)), piv][:, None]
         N.setflags(write=False)
         return N
 

@@ -1,0 +1,82 @@
+"""The reduced row echelon form of a basis: one canonical basis of a subspace; the
+canonical sign of a direction (private).
+
+A subspace given by any basis (an SVD's null vectors, whose signs and mixing the last bits of
+the matrix decide) has one basis in reduced row echelon form: each vector 1 on a coordinate
+of its own (its pivot, the first coordinate, in order, that the vectors after the earlier
+ones reach) and 0 on the other vectors' pivots.  Printed results take it so that they do not
+depend on those bits, nor on anything the subspace itself does not depend on.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["reduced_echelon", "canonical_sign"]
+
+
+def reduced_echelon(B, rtol: float = 1e-9) -> tuple:
+    """``(E, pivots)``: the reduced row echelon form of the rows of ``B``.
+
+    Gauss-Jordan with partial pivoting, column by column.  A column whose entries left to
+    pivot are all at most ``rtol`` times the largest entry of ``B`` has no pivot, and the
+    entries of ``E`` at most that small are set to 0 (rounding of an exact zero: a
+    coordinate the subspace does not reach).
+
+    Parameters
+    ----------
+    B : array_like (k, m)
+        Rows of full rank ``k``, entries of comparable size (an orthonormal basis, or one
+        in normalised coordinates): the tolerance is relative to the largest.
+    rtol : float
+
+    Returns
+    -------
+    E : ndarray (k, m)
+        The same span; ``E[i, pivots[i]] = 1`` and ``E[j, pivots[i]] = 0`` for ``j != i``.
+    pivots : ndarray (k,) of int
+        Increasing.  Fewer than ``k`` where ``B`` is not of full rank to ``rtol`` (the rows
+        past them are then 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> E, p = reduced_echelon([[0.0, 2.0, 2.0], [0.0, 1.0, -1.0]])
+    >>> E.tolist(), p.tolist()
+    ([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], [1, 2])
+    """
+    E = np.array(B, float)
+    k = E.shape[0]
+    tol = rtol * np.abs(E).max(initial=0.0)
+    piv = []
+    for c in range(E.shape[1]):
+        r = len(piv)
+        if r == k:
+            break
+        best = r + int(np.argmax(np.abs(E[r:, c])))
+        if abs(E[best, c]) <= tol:
+            continue
+        E[[r, best]] = E[[best, r]]
+        E[r] /= E[r, c]
+        others = np.arange(k) != r
+        E[others] -= np.outer(E[others, c], E[r])
+        E[others, c] = 0.0
+        piv.append(c)
+    E[len(piv):] = 0.0
+    E[np.abs(E) <= tol] = 0.0
+    return E + 0.0, np.array(piv, int)
+
+
+def canonical_sign(x, rtol: float = 1e-8) -> np.ndarray:
+    """``x`` or ``-x`` (1-D): the one whose first entry above ``rtol`` times the largest is
+    positive (a direction free both ways, a null vector, has no sign of its own; an SVD's is
+    set by the last bits of its matrix).
+
+    Examples
+    --------
+    >>> canonical_sign([1e-12, -0.6, 0.8]).tolist()
+    [-1e-12, 0.6, -0.8]
+    """
+    x = np.asarray(x, float)
+    big = np.flatnonzero(np.abs(x) > rtol * np.abs(x).max(initial=0.0))
+    return -x if big.size and x[big[0]] < 0.0 else x + 0.0
