@@ -132,7 +132,7 @@ def predictor():
     def run(C, fix, home, span, degree, P6, Xhome, nb):
         """The starts of the poses ``P6 (N, 6)``, ``nb`` a block."""
         N, nx = P6.shape[0], C.shape[1]
-        P, X, z = np.zeros((6, B)), np.zeros((nx, B)), np.zeros((8, B))
+        P, X, z = np.zeros((6, B)), np.zeros((nx, B)), np.zeros((12, B))
         out = np.zeros((N, nx))
         for p0 in range(0, N, nb):
             m = min(nb, N - p0)

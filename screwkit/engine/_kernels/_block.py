@@ -66,7 +66,7 @@ def make_block(n, m, nx, B):
             np.zeros((6, 6, B)), np.zeros((m, 6, B)), np.zeros((m, m, B)), np.zeros((m, 7, B)),
             np.zeros((n, m, 7, B)), np.zeros((6, 7, B)), np.zeros((6, 1, B)), np.zeros((4, B)),
             # the home predictor's scratch (_closures.predict)
-            np.zeros((8, B)))
+            np.zeros((12, B)))
 
 
 @inlined

@@ -41,12 +41,15 @@ def predict(C, fix, home, span, degree, P6, Xhome, out, z, nb, ls):
     """The home predictor's starts ``out (nx, ls)`` of the lanes ``0..nb-1`` at their given
     parameters ``P6 (6, ls)`` (``C (features, nx)``, the monomials of degree up to ``degree``
     (3 or 4) in :func:`screwkit.engine._solve._monomials`'s order; no rows: start at home, as
-    does a lane more than four half-widths out; ``z (8, ls)`` scratch).  The lanes at once, each as
-    alone (the monomials' terms added in the same order); one pose is a block of one."""
+    does a lane more than four half-widths out; ``z (12, ls)`` scratch).  The lanes at once,
+    each as alone (the monomials' terms added in the same order); one pose is a block of
+    one.  The monomials are formed four at a time into ``z[8:12]`` and their terms added
+    four at a time (:func:`_add_terms`: each start read and written once per four terms, not
+    once per term; the same sums)."""
     nf = fix.shape[0]
     nx = out.shape[0]
     po, pz, pp = lanes(out), lanes(z), lanes(P6)
-    WR, FR = 6 * ls, 7 * ls                 # z's rows: the monomial, the lane far out
+    FR, BUF = 7 * ls, 8 * ls          # z's rows: the lane far out, the monomials' buffer
     for l in range(nb):
         pz[FR + l] = 1.0 if C.shape[0] == 0 else 0.0
     for k in range(nf):
@@ -64,50 +67,70 @@ def predict(C, fix, home, span, degree, P6, Xhome, out, z, nb, ls):
         c = C[0, x]
         for l in range(nb):
             po[x * ls + l] = c
-    f = 1
+    f = 1                             # the next monomial's row of C
+    q = 0                             # monomials in the buffer
     for a in range(nf):
-        for x in range(nx):
-            c = C[f, x]
-            for l in range(nb):
-                po[x * ls + l] += pz[a * ls + l] * c
-        f += 1
+        for l in range(nb):
+            pz[BUF + q * ls + l] = pz[a * ls + l]
+        f, q = _buffered(C, f, q, pz, po, BUF, nx, nb, ls)
     for a in range(nf):
         for b in range(a, nf):
             for l in range(nb):
-                pz[WR + l] = pz[a * ls + l] * pz[b * ls + l]
-            for x in range(nx):
-                c = C[f, x]
-                for l in range(nb):
-                    po[x * ls + l] += pz[WR + l] * c
-            f += 1
+                pz[BUF + q * ls + l] = pz[a * ls + l] * pz[b * ls + l]
+            f, q = _buffered(C, f, q, pz, po, BUF, nx, nb, ls)
     if degree >= 3:
         for a in range(nf):
             for b in range(a, nf):
                 for e in range(b, nf):
                     for l in range(nb):
-                        pz[WR + l] = pz[a * ls + l] * pz[b * ls + l] * pz[e * ls + l]
-                    for x in range(nx):
-                        c = C[f, x]
-                        for l in range(nb):
-                            po[x * ls + l] += pz[WR + l] * c
-                    f += 1
+                        pz[BUF + q * ls + l] = pz[a * ls + l] * pz[b * ls + l] * pz[e * ls + l]
+                    f, q = _buffered(C, f, q, pz, po, BUF, nx, nb, ls)
     if degree >= 4:
         for a in range(nf):
             for b in range(a, nf):
                 for e in range(b, nf):
                     for g in range(e, nf):
                         for l in range(nb):
-                            pz[WR + l] = pz[a * ls + l] * pz[b * ls + l] * pz[e * ls + l] * \
-                                pz[g * ls + l]
-                        for x in range(nx):
-                            c = C[f, x]
-                            for l in range(nb):
-                                po[x * ls + l] += pz[WR + l] * c
-                        f += 1
+                            pz[BUF + q * ls + l] = pz[a * ls + l] * pz[b * ls + l] * \
+                                pz[e * ls + l] * pz[g * ls + l]
+                        f, q = _buffered(C, f, q, pz, po, BUF, nx, nb, ls)
+    _add_terms(C, f - q, q, pz, po, BUF, nx, nb, ls)
     for x in range(nx):
         h = Xhome[x]
         for l in range(nb):
             po[x * ls + l] = h if pz[FR + l] != 0.0 else po[x * ls + l]
+
+
+@inlined
+def _buffered(C, f, q, pz, po, BUF, nx, nb, ls):
+    """A monomial put in the buffer's slot ``q``: its terms (and the three before it) added
+    when the buffer is full.  Returns the next ``(f, q)``."""
+    if q == 3:
+        _add_terms(C, f - 3, 4, pz, po, BUF, nx, nb, ls)
+        return f + 1, 0
+    return f + 1, q + 1
+
+
+@inlined
+def _add_terms(C, f0, count, pz, po, BUF, nx, nb, ls):
+    """Add the terms of the ``count`` (0 to 4) buffered monomials, rows ``f0..`` of ``C``,
+    to the starts, one after the other (the order of a term at a time)."""
+    if count == 4:
+        for x in range(nx):
+            c0, c1, c2, c3 = C[f0, x], C[f0 + 1, x], C[f0 + 2, x], C[f0 + 3, x]
+            for l in range(nb):
+                v = po[x * ls + l]
+                v += pz[BUF + l] * c0
+                v += pz[BUF + ls + l] * c1
+                v += pz[BUF + 2 * ls + l] * c2
+                v += pz[BUF + 3 * ls + l] * c3
+                po[x * ls + l] = v
+        return
+    for j in range(count):
+        for x in range(nx):
+            c = C[f0 + j, x]
+            for l in range(nb):
+                po[x * ls + l] += pz[BUF + j * ls + l] * c
 
 
 @borrowing

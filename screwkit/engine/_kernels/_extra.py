@@ -250,7 +250,7 @@ def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
 def predict_batch(Z, P6, out):
     """The home predictor's starts ``out (N, nx)`` at the given parameters ``P6 (N, 6)``."""
     Xh = np.zeros(out.shape[1])
-    z = np.zeros((8, 1))
+    z = np.zeros((12, 1))
     home_vector(Z[0], Z[1], Z[6], Xh)
     for p in range(P6.shape[0]):
         predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], one_lane(P6[p]), Xh, one_lane(out[p]), z,

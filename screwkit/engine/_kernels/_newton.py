@@ -43,7 +43,7 @@ def make_work(n, m, nx):
             np.zeros((6, 6)), np.zeros((m, m)), np.zeros((n, m, 7)), np.zeros((n, m, 7)),
             np.zeros((6, 7)), np.zeros(nx), np.zeros(nx), np.zeros((n, m), np.int64),
             np.zeros(nx), np.zeros(nx), np.zeros((4, 6)), np.zeros((6, nx)),
-            np.zeros(m, np.int64), np.zeros((6, 1)), np.zeros((4, 1)), np.zeros((8, 1)))
+            np.zeros(m, np.int64), np.zeros((6, 1)), np.zeros((4, 1)), np.zeros((12, 1)))
 
 
 @inlined
