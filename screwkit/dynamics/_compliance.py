@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..screws import RANK_RTOL
+from ..screws._echelon import canonical_sign
 
 __all__ = ["flexibility", "twist_text"]
 
@@ -135,9 +136,8 @@ def _unit_twists(V):
     den = np.where(rot, w, np.where(v > 0, v, 1.0))
     U = V / den
     part = np.where(rot, U[:, 3:], U[:, :3])              # (N, 3, k)
-    big = np.abs(part) > 1e-8 * np.max(np.abs(part), axis=1, keepdims=True)
-    first = np.take_along_axis(part, np.argmax(big, axis=1)[:, None, :], axis=1)
-    return U * np.where(first < 0.0, -1.0, 1.0)
+    flip = np.any(canonical_sign(part, axis=1) != part, axis=1, keepdims=True)
+    return np.where(flip, -U, U) + 0.0
 
 
 def twist_text(t, length: str, digits: int = 4) -> str:

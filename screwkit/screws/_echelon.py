@@ -67,16 +67,19 @@ def reduced_echelon(B, rtol: float = 1e-9) -> tuple:
     return E + 0.0, np.array(piv, int)
 
 
-def canonical_sign(x, rtol: float = 1e-8) -> np.ndarray:
-    """``x`` or ``-x`` (1-D): the one whose first entry above ``rtol`` times the largest is
-    positive (a direction free both ways, a null vector, has no sign of its own; an SVD's is
-    set by the last bits of its matrix).
+def canonical_sign(x, rtol: float = 1e-8, axis: int = -1) -> np.ndarray:
+    """``x`` or ``-x`` along ``axis``, each vector the one whose first entry above ``rtol``
+    times its largest is positive (a direction free both ways, a null vector, has no sign
+    of its own; an SVD's is set by the last bits of its matrix).  A zero vector is left.
 
     Examples
     --------
     >>> canonical_sign([1e-12, -0.6, 0.8]).tolist()
     [-1e-12, 0.6, -0.8]
+    >>> canonical_sign([[0.0, -1.0], [2.0, 3.0]], axis=0).tolist()
+    [[0.0, 1.0], [2.0, -3.0]]
     """
-    x = np.asarray(x, float)
-    big = np.flatnonzero(np.abs(x) > rtol * np.abs(x).max(initial=0.0))
-    return -x if big.size and x[big[0]] < 0.0 else x + 0.0
+    x = np.moveaxis(np.asarray(x, float), axis, -1)
+    big = np.abs(x) > rtol * np.max(np.abs(x), axis=-1, keepdims=True)
+    first = np.take_along_axis(x, np.argmax(big, axis=-1)[..., None], axis=-1)
+    return np.moveaxis(np.where(first < 0.0, -x, x) + 0.0, -1, axis)
