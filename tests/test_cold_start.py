@@ -248,13 +248,14 @@ def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
 
 
 
-def test_a_serial_map_command_imports_no_dask():
+def test_a_serial_map_command_imports_no_dask_nor_scipy_ndimage():
     """xarray imports ``dask.array`` where it casts a numpy coordinate to an index or reduces
-    a variable (0.2-0.3 s of a command): a map computed in this process never needs it."""
+    a variable (0.2-0.3 s of a command): a map computed in this process never needs it; nor
+    ``scipy.ndimage`` (0.25 s), whose ``label`` the workspace's flood fill replaced."""
     _quick()
     out, imported = _imports_of(["map", "3RRPRR", "--grid", "alpha=-5:5:3", "--grid",
                                  "beta=-5:5:3", "--grid", "Zo=70:90:3", "--json"],
-                                ("dask", "xarray"))
+                                ("dask", "xarray", "scipy.ndimage"))
     assert json.loads(out)["counts"]["cells"] == 27 and imported == "['xarray']"
 
 # --- a one-pose command compiles (and loads) only what it runs ---------------------------

@@ -89,3 +89,24 @@ def test_cli_prints_the_workspace_and_refuses_a_bad_threshold(capsys):
     assert err.strip() == "screwkit map: error: --lti-threshold must be in (0, 1], got 0"
     with pytest.raises(screwkit.InputError, match="threshold"):
         screwkit.maps.workspace(screwkit.map("3RRPRR", {"alpha": (0, 1, 2)}, degrees=True), 1.5)
+
+
+@pytest.mark.parametrize("shape", [(7,), (9, 11), (6, 7, 8), (3, 4, 2, 5)])
+def test_the_face_component_is_scipys_label_of_the_seed(shape):
+    """The singularity-free region's flood fill against ``scipy.ndimage.label`` (face
+    connectivity, the same grids): random masks in one to four dimensions, every seed of a
+    few, one seed outside the mask (nothing)."""
+    from scipy import ndimage
+
+    from screwkit.engine._kernels import kernels
+    rng = np.random.default_rng(len(shape))
+    for density in (0.45, 0.6, 0.8):
+        mask = rng.random(shape) < density
+        lab, _ = ndimage.label(mask)
+        for seed in rng.choice(mask.size, 6, replace=False):
+            out = np.zeros(mask.size, bool)
+            n = kernels().face_component(mask.reshape(-1), np.array(shape, np.int64),
+                                         int(seed), out)
+            k = lab.reshape(-1)[seed]
+            want = (lab.reshape(-1) == k) if k else np.zeros(mask.size, bool)
+            assert np.array_equal(out, want) and n == want.sum()

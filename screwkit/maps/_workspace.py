@@ -11,8 +11,10 @@ estimate with its standard error ``sqrt(f (1 - f) / N)`` times the box volume).
   some);
 * ``singularity_free``: the reachable cells that are not singular and have ``det J`` of the
   home sign (square ``J``), *connected to home* through faces of the grid: the connected
-  component (``scipy.ndimage.label``) that holds the cell nearest the home pose.  Random
-  samples have no neighbours: there, every regular sample of the home assembly mode counts
+  component that holds the cell nearest the home pose (a compiled flood fill from that
+  cell, ``engine/_kernels/_extra.face_component``: ``scipy.ndimage.label`` gave the same
+  cells, but its import took a quarter of a second of a ``map`` command).  Random samples
+  have no neighbours: there, every regular sample of the home assembly mode counts
   (``method`` says which);
 * ``good_transmission``: the reachable cells with ``LTI >= threshold`` (0.7 by default, the
   usual bound of a good motion/force transmission).
@@ -142,11 +144,12 @@ def workspace(ds, threshold: float = GOOD_TRANSMISSION, home=None) -> Workspace:
         free = regular
         method = "samples: every regular sample of home's assembly mode (det J sign)"
     else:
-        from scipy import ndimage
+        from ..engine._kernels import kernels
         seed, inside, on_slice = _home_cell(ds, home, dims)
-        lab, _ = ndimage.label(regular)
-        k = lab.reshape(-1)[seed]
-        free = (lab == k) if k > 0 else np.zeros_like(regular)
+        free = np.zeros(regular.size, bool)
+        kernels().face_component(np.ascontiguousarray(regular, bool).reshape(-1),
+                                 np.array(regular.shape, np.int64), int(seed), free)
+        free = free.reshape(regular.shape)
         where = ("home lies in the box" if inside and on_slice else
                  "home lies outside the box or off its slice: the component of the node "
                  "nearest home")

@@ -311,3 +311,38 @@ def conditioning_batch(J, centre, length, n_act, sv, rank, cond, crank, ccond):
             rank[p], cond[p], crank[p], ccond[p] = RK[0, l], CD[0, l], RK[1, l], CD[1, l]
             for q in range(sv.shape[1]):
                 sv[p, q] = cs[q, l]
+
+
+@entry
+def face_component(mask, shape, seed, out):
+    """The cells of the N-D grid ``mask`` (flat, C order, of ``shape``) connected to cell
+    ``seed`` through faces of the grid, each within ``mask``: ``out`` (flat, False on
+    entry) True there (nowhere if ``mask[seed]`` is False).  A depth-first fill with a stack
+    of cell indices; each cell is pushed at most once (marked when pushed).  Returns the
+    number of cells."""
+    nd = shape.shape[0]
+    stride = np.ones(nd, np.int64)
+    for d in range(nd - 2, -1, -1):
+        stride[d] = stride[d + 1] * shape[d + 1]
+    if not mask[seed]:
+        return 0
+    stack = np.empty(mask.shape[0], np.int64)
+    stack[0] = seed
+    out[seed] = True
+    top, count = 1, 1
+    while top:
+        top -= 1
+        i = stack[top]
+        rest = i
+        for d in range(nd - 1, -1, -1):        # i's coordinate along each axis
+            c = rest % shape[d]
+            rest //= shape[d]
+            for step in (-1, 1):
+                if 0 <= c + step < shape[d]:
+                    j = i + step * stride[d]
+                    if mask[j] and not out[j]:
+                        out[j] = True
+                        stack[top] = j
+                        top += 1
+                        count += 1
+    return count
