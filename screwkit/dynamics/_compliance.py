@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..screws import RANK_RTOL
-from ..screws._echelon import canonical_sign
+from ..screws._echelon import canonical_twist_sign
 
 __all__ = ["flexibility", "twist_text"]
 
@@ -134,10 +134,7 @@ def _unit_twists(V):
     v = np.linalg.norm(V[:, :3], axis=1, keepdims=True)
     rot = w > 1e-9 * np.maximum(v, 1e-300)
     den = np.where(rot, w, np.where(v > 0, v, 1.0))
-    U = V / den
-    part = np.where(rot, U[:, 3:], U[:, :3])              # (N, 3, k)
-    flip = np.any(canonical_sign(part, axis=1) != part, axis=1, keepdims=True)
-    return np.where(flip, -U, U) + 0.0
+    return canonical_twist_sign(V / den, axis=1)
 
 
 def twist_text(t, length: str, digits: int = 4) -> str:

@@ -348,13 +348,10 @@ class JacobianResult:
         a canonical sign (free both ways): the first significant component of ``w``, or of
         ``v_O`` for a translation, positive."""
         self._one("uncontrolled_twist")
-        from ..screws._echelon import canonical_sign
+        from ..screws._echelon import canonical_twist_sign
         Jn = self.normalised()[0][0]
         u = np.linalg.svd(Jn, full_matrices=True)[2][-1]           # [v_O / L; w], unit
-        rot = np.linalg.norm(u[3:]) > 1e-9 * np.linalg.norm(u[:3])
-        part = u[3:] if rot else u[:3]
-        u = -u if np.any(canonical_sign(part) != part) else u
-        return self.normalisation.twists_back(u)
+        return self.normalisation.twists_back(canonical_twist_sign(u))
 
     def check(self) -> "JacobianResult":
         """Return self, or raise :class:`SingularityError` at a singular pose (the first)."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["reduced_echelon", "canonical_sign"]
+__all__ = ["reduced_echelon", "canonical_sign", "canonical_twist_sign"]
 
 
 def reduced_echelon(B, rtol: float = 1e-9) -> tuple:
@@ -83,3 +83,23 @@ def canonical_sign(x, rtol: float = 1e-8, axis: int = -1) -> np.ndarray:
     big = np.abs(x) > rtol * np.max(np.abs(x), axis=-1, keepdims=True)
     first = np.take_along_axis(x, np.argmax(big, axis=-1)[..., None], axis=-1)
     return np.moveaxis(np.where(first < 0.0, -x, x) + 0.0, -1, axis)
+
+
+def canonical_twist_sign(T, axis: int = -1) -> np.ndarray:
+    """Twists ``[v; w]`` (6 entries along ``axis``) with the sign of :func:`canonical_sign`
+    applied to their ``w`` (to their ``v`` for a translation, ``|w| <= 1e-9 |v|``): a
+    motion free both ways (an unrestrained or uncontrolled twist) named one way.
+
+    Examples
+    --------
+    >>> canonical_twist_sign([1.0, 0.0, 0.0, 0.0, -1.0, 0.0]).tolist()
+    [-1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+    """
+    T = np.moveaxis(np.asarray(T, float), axis, -1)
+    v, w = T[..., :3], T[..., 3:]
+    rot = np.linalg.norm(w, axis=-1, keepdims=True) > \
+        1e-9 * np.linalg.norm(v, axis=-1, keepdims=True)
+    part = np.where(rot, w, v)
+    flip = np.any(canonical_sign(part) != part, axis=-1, keepdims=True)
+    return np.moveaxis(np.where(flip, -T, T) + 0.0, -1, axis)
+
