@@ -9,14 +9,17 @@ fixed dimensions, so that one compiled version of each kernel serves every model
 from __future__ import annotations
 
 import os
+import threading
+from contextlib import contextmanager
 
 import numpy as np
 
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
-from ._kernels._layout import LINE_WIDTH
+from ._kernels._layout import BLOCK, LINE_WIDTH
 
-__all__ = ["threads", "run_poses", "OUTPUTS", "OutputBuffers", "output_buffers", "frames",
+__all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
+           "output_buffers", "frames",
            "platform_of", "statics_of", "leg_wrenches"]
 
 #: Fewest poses per thread worth a parallel launch.
@@ -30,6 +33,13 @@ MIN_PER_THREAD = 256
 BLOCKS_ALONE = 64
 BLOCKS_LOADING = 2 * MIN_PER_THREAD
 
+#: A block launch's poses are cut into about this many pieces a thread, each thread taking
+#: the next piece when it is done with one: a thread slowed by another process or by another
+#: Python thread of this one (a map's numpy work) takes fewer, the others more.
+PIECES_PER_THREAD = 8
+#: The fewest poses of a piece (whole blocks of ``BLOCK`` poses otherwise).
+MIN_PIECE = 256
+
 #: How long the first compile of a parallel kernel takes (the note on stderr).
 PARALLEL_COMPILE = "a minute or two"
 
@@ -41,6 +51,8 @@ OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", 
 
 
 _CORES = min(2, os.cpu_count() or 1)
+#: ``on``: this Python thread's launches run on it alone (:func:`on_this_thread`).
+_HERE_ONLY = threading.local()
 _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
               "f", "f", "f", "f", "f", "f", "f")
 
@@ -58,12 +70,14 @@ def _c(a, dtype=float):
 
 
 def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False,
-            blocks=False):
+            blocks=False, pieces=False):
     """``serial(*args, 0, N)`` on this thread, or ``par(*args, threads)`` on the threads
     :func:`threads` gives; ``blocks``: ``par`` also on one thread (the analysis kernel's
-    parallel version solves its poses in blocks, the serial one each pose alone)."""
+    parallel version solves its poses in blocks, the serial one each pose alone);
+    ``pieces``: ``par(*args, piece, threads)``, its threads taking pieces of the poses
+    (:func:`piece_of`)."""
     nw = threads(N, workers, per_thread)
-    if nw <= 1 and not blocks:
+    if (nw <= 1 and not blocks) or getattr(_HERE_ONLY, "on", False):
         serial(*args, 0, N)
         return
     if note:
@@ -72,7 +86,31 @@ def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False
         note_first_compile(par, "the engine's parallel kernel for batches", PARALLEL_COMPILE)
     with LAUNCH_LOCK:
         set_threads(nw)
-        par(*args, nw)
+        par(*args, *((piece_of(N, nw), nw) if pieces else (nw,)))
+
+
+@contextmanager
+def on_this_thread():
+    """Within: the kernels this Python thread launches run on it alone (their serial
+    versions, without the GIL), never on numba's threads, which run one launch at a time
+    (:data:`LAUNCH_LOCK`).  For a thread that works beside another one's parallel launches
+    (a map's arrays of one block while the next is analysed): the same bits."""
+    before = getattr(_HERE_ONLY, "on", False)
+    _HERE_ONLY.on = True
+    try:
+        yield
+    finally:
+        _HERE_ONLY.on = before
+
+
+def piece_of(N: int, nw: int) -> int:
+    """Poses of each piece the threads of a block launch take as they are free
+    (``_driver.run_parallel``): about :data:`PIECES_PER_THREAD` a thread, whole blocks of
+    ``BLOCK`` poses, at least :data:`MIN_PIECE`; all ``N`` on one thread."""
+    if nw <= 1:
+        return max(N, 1)
+    per = -(-N // (nw * PIECES_PER_THREAD))
+    return max(MIN_PIECE, -(-per // BLOCK) * BLOCK)
 
 
 class _Plan:
@@ -240,7 +278,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     Mp, Zp = flat.pack(Z)
     _launch(k.run_range, k.run_parallel,
             Mp.args + Zp.args + (If, Ii, plan.in_d, Of, Oi, out_d, plan.flags),
-            N, workers, per_thread, note=True,
+            N, workers, per_thread, note=True, pieces=True,
             blocks=blocks is not False and N >= BLOCKS_ALONE and (
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)

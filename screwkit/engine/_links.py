@@ -127,10 +127,11 @@ def platform_arrays(solution, fp=None, chunk: int = 32768) -> tuple:
         flat, P6 = solution.closures.chains.flat, _pose_matrix(solution)
         parts = [platform_of(flat, P6[s:s + chunk]) for s in range(0, max(len(P6), 1), chunk)]
         fp = parts[0] if len(parts) == 1 else np.concatenate(parts)
-    R = np.ascontiguousarray(fp[:, 6:15].reshape(-1, 3, 3))
-    o = np.ascontiguousarray(fp[:, 15:18])
-    a = np.ascontiguousarray(np.einsum("nij,kj->nki", R, solution.model.platform_points)
-                             + o[:, None, :])
+    from ._kernels import kernels
+    pts = np.ascontiguousarray(solution.model.platform_points, float)
+    N = len(fp)
+    R, o, a = np.empty((N, 3, 3)), np.empty((N, 3)), np.empty((N, len(pts), 3))
+    kernels().platform_points(np.ascontiguousarray(fp, float), pts, R, o, a)
     for x in (R, o, a):
         x.setflags(write=False)
     return R, o, a

@@ -113,8 +113,13 @@ def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
     """:func:`evaluate` and, from the same analysis, the block's largest efforts under each
     of ``loads`` (:func:`screwkit.maps._loads.reduce_block`); the cells counted for any
     workload are the per-cell array ``usable_any``."""
-    from ._loads import reduce_block
     res = _analysis(model, poses, force, torque, stiffness, threads)
+    return _arrays_loads(model, res, loads, max_level_code, offset)
+
+
+def _arrays_loads(model, res, loads, max_level_code, offset) -> tuple:
+    """:func:`evaluate_loads` of a block's analysis ``res`` (its first cell ``offset``)."""
+    from ._loads import reduce_block
     out = arrays_of(model, res)
     red, usable_any = reduce_block(res, out, loads, _linear(model), max_level_code, offset,
                                    _level_codes)
@@ -221,6 +226,44 @@ def _block(model, grid, sl, force, torque, stiffness, threads, loads, max_level_
                           max_level_code, sl.start)
 
 
+def _pipelined(model, grid, slices, force, torque, stiffness, workers, loads, max_level_code,
+               write, advance):
+    """The blocks in order, each analysed here (the kernels on ``workers`` threads) while a
+    second Python thread turns the analyses into the map's arrays and writes them (``write(sl,
+    part)``; numpy, and the kernels it launches run on that thread:
+    :func:`screwkit.engine._launch.on_this_thread`); ``advance(sl)`` here once a block is
+    written.  The kernels run without the GIL and the analysis's threads take pieces of its
+    poses as they are free, so the numpy work of one block fills the CPU time the analysis
+    of the next leaves.  Each block's arrays are those of :func:`_block` (the same functions
+    on the same analysis): the same bits.  At most three analyses are held at once."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..engine._launch import on_this_thread
+
+    def arrays(res, sl):
+        with on_this_thread():
+            write(sl, arrays_of(model, res) if loads is None else
+                  _arrays_loads(model, res, loads, max_level_code, sl.start))
+
+    pending = []
+    with ThreadPoolExecutor(1, thread_name_prefix="screwkit-map") as helper:
+        try:
+            for sl in slices:
+                res = _analysis(model, grid.poses(sl), force, torque, stiffness, workers)
+                pending.append((sl, helper.submit(arrays, res, sl)))
+                del res
+                while len(pending) > 2:
+                    done, fut = pending.pop(0)
+                    fut.result()
+                    advance(done)
+            for done, fut in pending:
+                fut.result()
+                advance(done)
+        finally:
+            for _, fut in pending:
+                fut.cancel()
+
+
 def _remote_block(model, grid, sl, force, torque, stiffness, loads=None, max_level_code=0):
     """One block on a Dask worker (one thread: the worker's processes give the parallelism)."""
     return _block(model, grid, sl, force, torque, stiffness, 1, loads, max_level_code)
@@ -255,7 +298,7 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
     out = {}
     reductions = [None] * len(slices)
 
-    def store(sl, part):
+    def write(sl, part):
         if loads is not None:
             part, reductions[slices.index(sl)] = part
         for k, v in part.items():
@@ -265,16 +308,27 @@ def compute(model, grid, force, torque, *, stiffness=None, workers=None, cluster
                 # (fresh_array: without numpy's huge-page advice)
                 out[k] = fresh_array((N,) + v.shape[1:], v.dtype, order="F")
             out[k][sl] = v
+
+    def advance(sl):
         if progress:
             done[0] += sl.stop - sl.start
             progress(done[0], N)
 
+    def store(sl, part):
+        write(sl, part)
+        advance(sl)
+
     done = [0]
     result = (lambda: (out, reductions)) if loads is not None else (lambda: out)
     if cluster is None:
-        for sl in slices:
-            store(sl, _block(model, grid, sl, force, torque, stiffness, workers, loads,
-                             max_level_code))
+        from ..engine._launch import threads
+        if len(slices) < 2 or threads(min(N, size), workers) < 2:
+            for sl in slices:
+                store(sl, _block(model, grid, sl, force, torque, stiffness, workers, loads,
+                                 max_level_code))
+        else:
+            _pipelined(model, grid, slices, force, torque, stiffness, workers, loads,
+                       max_level_code, write, advance)
         return result()
     from ._dask import client_for
     # the workers analyse each block on one thread in blocks (the parallel kernel): on a

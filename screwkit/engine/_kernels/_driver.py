@@ -26,6 +26,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   transmission indices' joints and the platform (1/0 each).
 """
 
+import numpy as np
 from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
@@ -43,6 +44,7 @@ from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LIN
 from ._pack import inputs, model, out_row, outputs, params
 from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
 from ._rows import make_rows_work
+from ._threads import claim
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
                        spread_lanes)
 
@@ -116,19 +118,24 @@ def run_poses(M, Z, I, O, flags, first, stop):
 
 
 @inlined
-def run_blocks(M, Z, I, O, flags, first, stop):
-    """Poses ``first`` to ``stop`` with one workspace, their closures solved ``BLOCK`` at a
-    time (:func:`solve_block`), or the frames of their given unknowns formed ``BLOCK`` at a
-    time (:func:`._block.frames_block`), as :func:`run_poses` otherwise (the same bits:
-    every lane is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the
-    workspaces allocated here, the poses run by :func:`block_poses`."""
+def run_blocks(M, Z, I, O, flags, piece, taken):
+    """The pieces of ``piece`` poses this thread takes (:func:`._threads.claim` on ``taken``)
+    with one workspace, their closures solved ``BLOCK`` at a time (:func:`solve_block`), or
+    the frames of their given unknowns formed ``BLOCK`` at a time
+    (:func:`._block.frames_block`), as :func:`run_poses` otherwise (the same bits: every lane
+    is the pose alone).  The parallel kernel's loop (:func:`run_parallel`): the workspaces
+    allocated here, the poses run by :func:`block_poses`."""
     n, m = M[D].shape[0], M[D].shape[1]
     nx = O[OUT_X].shape[1]
-    B = BLOCK if stop - first > 1 else 0
+    N = I[0].shape[0]
+    B = BLOCK if N > 1 else 0
     Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, B)
     Ko = make_block(n, m, nx, B)
-    block_poses(M, Z, I, O, flags, first, stop, borrowed(Wo), borrowed(RWo), borrowed(SWo),
-                borrowed(CWo), borrowed(Ko), borrowed(RLo))
+    c = claim(taken)
+    while c * piece < N:
+        block_poses(M, Z, I, O, flags, c * piece, min((c + 1) * piece, N), borrowed(Wo),
+                    borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(Ko), borrowed(RLo))
+        c = claim(taken)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
         Ko[0].shape[0] + RLo[0].shape[0]
@@ -290,10 +297,15 @@ def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop
 
 
 @parallel
-def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nchunks):
-    """:func:`run_blocks` over ``nchunks`` equal ranges of the poses, in ``prange``."""
+def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, piece, nthreads):
+    """:func:`run_blocks` on the launch's ``nthreads`` threads (``prange`` over them), the
+    poses in pieces of ``piece`` each thread takes as it is free (the pieces' bits are the
+    poses' own).  (The threads are given: numba's ``get_num_threads`` in a kernel is a call
+    through a pointer of this process, which keeps the kernel out of the cache.)"""
     M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
         outputs(Of, Oi, Od)
     N = I[0].shape[0]
-    for c in prange(nchunks):
-        run_blocks(M, Z, I, O, flags, c * N // nchunks, (c + 1) * N // nchunks)
+    nt = max(1, min(nthreads, -(-N // piece)))
+    taken = np.zeros(1, np.int64)
+    for t in prange(nt):
+        run_blocks(M, Z, I, O, flags, piece, taken)

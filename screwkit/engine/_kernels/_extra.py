@@ -346,3 +346,20 @@ def face_component(mask, shape, seed, out):
                         top += 1
                         count += 1
     return count
+
+
+@entry
+def platform_points(fp, pts, R, o, a):
+    """The platform of each pose from the kernels' ``fp (N, 27)``: its rotation ``R (N, 3,
+    3)``, origin ``o (N, 3)`` and the points ``a (N, k, 3)`` of ``pts (k, 3)`` (platform
+    frame) in the base frame, ``a = R p + o``.  Each product's sum in the order of the
+    ``einsum`` this replaced (``(R_i0 p_0 + R_i2 p_2) + R_i1 p_1``): the same bits."""
+    for n in range(fp.shape[0]):
+        for i in range(3):
+            o[n, i] = fp[n, 15 + i]
+            for j in range(3):
+                R[n, i, j] = fp[n, 6 + 3 * i + j]
+        for k in range(pts.shape[0]):
+            for i in range(3):
+                s = R[n, i, 0] * pts[k, 0] + R[n, i, 2] * pts[k, 2]
+                a[n, k, i] = (s + R[n, i, 1] * pts[k, 1]) + o[n, i]

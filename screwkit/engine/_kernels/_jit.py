@@ -4,7 +4,8 @@
 a large part of the compile time of functions taking tuples of arrays), ``borrowing`` for
 such a function that only borrows arrays (no reference counting), ``borrowing_inlined`` for
 one LLVM always inlines into its callers, ``entry`` for the ones Python calls, ``parallel``
-for the ``prange`` drivers, ``inlined`` for a function inlined into its one caller.
+for the ``prange`` drivers (both without the GIL), ``inlined`` for a function inlined into its
+one caller.
 Division follows numpy's error model (no Python exception branch on every division).
 
 No fast-math flag, not even ``contract``: with it LLVM may fuse a multiply and an add into
@@ -88,8 +89,10 @@ def borrowing_inlined(fn):
     return _inner(fn, nrt=False, always_inline=True)
 
 
-entry = njit(**_OPTIONS)
-parallel = njit(parallel=True, **_OPTIONS)
+#: Kernels Python calls release the GIL while they run: another Python thread of the process
+#: works meanwhile (a map's numpy work on one block while the kernels solve the next).
+entry = njit(nogil=True, **_OPTIONS)
+parallel = njit(parallel=True, nogil=True, **_OPTIONS)
 #: A function with a single caller that takes many tuples of arrays (the pose driver): its body
 #: typed into the caller (numba's IR inlining).  A call passes every array of its tuples as
 #: separate scalars (pointer, shape, strides...): the driver's hundred-odd arrays cost about

@@ -53,3 +53,19 @@ def pin_threads(masks, status):
     CPUs of ``masks[i] (words,)`` only; ``status[i]`` its call's result (0: done)."""
     for i in prange(masks.shape[0]):
         status[i] = _set_affinity(masks[i])
+
+
+@intrinsic
+def claim(typingctx, counter):
+    """The next piece of a launch's poses: atomically adds one to ``counter[0]`` (an int64
+    array shared by the launch's threads) and returns its value before.  Each thread takes
+    pieces until they run out, so a thread slowed by another process (or by this process's
+    own Python thread) takes fewer: a launch of ``n`` equal ranges waits for its slowest."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(counter)(context, builder, args[0])
+        return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1),
+                                  "monotonic")
+    return types.int64(counter), codegen
