@@ -42,7 +42,8 @@ from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
 from ._pack import out_row
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
- K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ) = range(27)
+ K_CS, K_OK, K_S, K_ACC, K_PT, K_T, K_G, K_B, K_XS, K_AR, K_RHS, K_LS, K_PZ,
+ K_SAME) = range(28)
 #: Lane states: iterating, converged (residual at or below its tolerance), stalled (no
 #: decrease, or a non-finite residual), not solved in the block (solved alone).
 LANE_ACTIVE, LANE_DONE, LANE_STALLED, LANE_ALONE = 0, 1, 2, 3
@@ -66,7 +67,9 @@ def make_block(n, m, nx, B):
             np.zeros((6, 6, B)), np.zeros((m, 6, B)), np.zeros((m, m, B)), np.zeros((m, 7, B)),
             np.zeros((n, m, 7, B)), np.zeros((6, 7, B)), np.zeros((6, 1, B)), np.zeros((4, B)),
             # the home predictor's scratch (_closures.predict)
-            np.zeros((12, B)))
+            np.zeros((12, B)),
+            # per lane: its frames in the block are those of its unknowns (block_lines)
+            np.zeros(B, np.int64))
 
 
 @inlined
@@ -247,33 +250,60 @@ def frames_block(M, unk, xs, I, X, p0, nb, K):
 
 
 @inlined
-def block_lines(M, unk, xs, I, X, lines, platform, p0, nb, W, K):
+def block_lines(M, unk, xs, I, X, lines, platform, p0, nb, W, K, kb):
     """The lines (:func:`._indices.pose_lines`) and platforms of the poses ``p0..p0+nb-1``
     (given parameters ``I[0]``) into their rows of ``lines`` and ``platform``, at their
-    unknowns, their rows of ``X`` (:func:`._pack.out_row`), from the frames of the unknowns
-    as the solution hands them back (:func:`._indices.rounded_unknowns`), formed for the block's
-    lanes at once in its trial unknowns and buffer 1 (free once the closures are solved);
-    ``W`` a one-pose workspace.  Each lane's frames are those of the pose alone, so where
-    the rounding changes nothing they are the solve's, bit for bit."""
+    unknowns, their rows of ``X`` (:func:`._pack.out_row`), as the solution hands them back
+    (:func:`._indices.rounded_unknowns`).  As :func:`._indices.pose_lines` does for a pose
+    alone: from the block's frames in buffer ``kb`` where they are the lane's (``K[K_SAME]``:
+    no step alone, no rescue) and the rounding changes neither the unknowns nor the
+    platform's parameters (nine poses in ten of a 3RRPRR's map); the other lanes' frames
+    formed again, gathered into the first lanes of the other buffer (a forward pass of those
+    lanes alone).  Each lane's frames are those of the pose alone: the same bits either
+    way.  ``W`` a one-pose workspace."""
     nu = unk.shape[0]
-    Xr, P6b = K[K_XN], K[K_P6]
+    Xr, P6b, SAME = K[K_XN], K[K_P6], K[K_SAME]
     Xp = W[W_XN]
     P6 = I[0]
+    fp = K[K_FP][kb]
+    again = 0                     # lanes to form again; SAME[j] becomes the j-th one's lane
     for l in range(nb):
         p = p0 + l
-        rounded_unknowns(M, nu, X[out_row(I, p)], Xp)
-        for k in range(Xr.shape[0]):
-            Xr[k, l] = Xp[k]
+        x = X[out_row(I, p)]
+        rounded_unknowns(M, nu, x, Xp)
+        exact = SAME[l] != 0
+        for k in range(Xp.shape[0]):
+            exact = exact and Xp[k] == x[k]
         for k in range(6):
-            P6b[k, l] = P6[p, k]
-    forward_lanes(M, unk, xs, K, Xr, 1, K[K_FN], nb)
-    for l in range(nb):
-        lane_frames(K, 1, l, W, 1, False)
-        q = out_row(I, p0 + l)
-        lines_at(M, W[W_FA], 1, lines[q])
-        fp, out = W[W_FP][1], platform[q]
-        for k in range(fp.shape[0]):
-            out[k] = fp[k]
+            v = P6[p, k]
+            for u in range(nu):
+                if unk[u] == k:
+                    v = x[u] * xs[u]
+            exact = exact and v == fp[k, l]
+        if exact:
+            _lines_of_lane(M, I, K, kb, l, p, W, lines, platform)
+        else:
+            for k in range(Xr.shape[0]):
+                Xr[k, again] = Xp[k]
+            for k in range(6):
+                P6b[k, again] = P6[p, k]
+            SAME[again] = l               # (lane ``again`` <= l: its flag already read)
+            again += 1
+    if again:
+        forward_lanes(M, unk, xs, K, Xr, 1 - kb, K[K_FN], again)
+        for j in range(again):
+            _lines_of_lane(M, I, K, 1 - kb, j, p0 + SAME[j], W, lines, platform)
+
+
+@inlined
+def _lines_of_lane(M, I, K, b, l, p, W, lines, platform):
+    """Pose ``p``'s lines and platform from lane ``l`` of the block's buffer ``b``."""
+    lane_frames(K, b, l, W, 1, False)
+    q = out_row(I, p)
+    lines_at(M, W[W_FA], 1, lines[q])
+    fw, out = W[W_FP][1], platform[q]
+    for k in range(fw.shape[0]):
+        out[k] = fw[k]
 
 
 @inner

@@ -31,8 +31,8 @@ from numba import prange
 
 from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
-from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE,
-                     LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
+from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_SAME, K_STATE, K_TOL, K_X,
+                     LANE_ACTIVE, LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
                      make_block, make_rows_lanes, template_rows_block)
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
@@ -191,9 +191,11 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
                                                reads_frames(M, flags, RL, l))
                     fr = l if same else -1
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, not inblock, RL, fr)
+            if inblock:
+                K[K_SAME][l] = 1 if fr >= 0 else 0
         if flags[F_LINES] and inblock:
             block_lines(M, Z[0], Z[1], I, O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
-                        W, K)
+                        W, K, kb)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
 
 
