@@ -5,7 +5,8 @@ each block is one call of :func:`screwkit.engine.analyze` (threads inside it, as
 ``workers``), and :func:`evaluate` keeps only the compact per-cell arrays of the map.  With
 a Dask cluster the same function runs on the workers, one block per task, so a distributed
 map equals the serial one bit for bit (the same code on the same inputs); results are
-stored as the blocks finish.
+stored as the blocks finish.  On two threads or more, a second Python thread forms each
+block's arrays while the next block is analysed (:func:`_pipelined`).
 """
 
 from __future__ import annotations

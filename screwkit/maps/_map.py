@@ -80,7 +80,9 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
         Refine the sign changes of ``det J`` between neighbouring cells
         (:mod:`screwkit.maps._locus`) into the ``crossing`` variables.
     workers : int, optional
-        *Threads* of each block's analysis, as in :func:`screwkit.analyze`.
+        *Threads* of each block's analysis, as in :func:`screwkit.analyze`; with two or more
+        (the default where there are two cores), a second Python thread forms each block's
+        arrays while the next block is analysed (the same bits as one thread).
     cluster : int or distributed.Client, optional
         *Dask*: N starts a local cluster of N worker processes on loopback for this call; a
         Client is used as it is.  The result equals the serial map bit for bit.
