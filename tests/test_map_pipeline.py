@@ -157,3 +157,20 @@ def test_the_platform_points_are_the_rotated_points_plus_the_origin():
     assert np.allclose(a, expect, rtol=0, atol=1e-12 * np.abs(expect).max())
     for x in (R, o, a):
         assert not x.flags.writeable
+
+
+
+def test_a_stiffness_map_on_two_threads_equals_one_thread(pipelined):
+    # the 6-SPS of tests/data declares its legs' stiffness: the second thread also forms the
+    # cells' stiffness fields (their launches on that thread)
+    from pathlib import Path
+    pm = screwkit.load_pm(str(Path(__file__).parent / "data" / "stewart_6sps.yaml"))
+    assert pm.dynamics is not None and pm.dynamics.has_stiffness
+    z = pm.default_pose["Zo"]
+    grid = {"alpha": (-4.0, 4.0, 21), "beta": (-4.0, 4.0, 21), "Zo": (z - 5.0, z + 5.0, 21)}
+    load = dict(force=(10.0, -20.0, -300.0), torque=(100.0, 0.0, 50.0))
+    one = screwkit.map(pm, grid, degrees=True, block=4096, workers=1, **load)
+    two = screwkit.map(pm, grid, degrees=True, block=4096, workers=2, **load)
+    assert pipelined
+    assert any(k.startswith("k_") or "stiff" in k for k in two.data_vars)
+    _same(one, two)

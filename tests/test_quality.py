@@ -72,3 +72,28 @@ def test_json_on_error_is_a_json_object(capsys):
     out = capsys.readouterr()
     err = json.loads(out.out)["error"]
     assert err["type"] == "UnreachablePoseError" and err["residual"] > 1e-6
+
+
+def test_the_quality_and_the_indices_share_one_trust(monkeypatch):
+    # the force amplification and levels (the trust rule) formed once for both
+    from screwkit.engine import _quality
+    calls = []
+    real = _quality.trust
+
+    def counted(jac, *args, **kwargs):
+        calls.append(len(jac))
+        return real(jac, *args, **kwargs)
+    monkeypatch.setattr(_quality, "trust", counted)
+    pm = screwkit.load_pm("3RRPRR")
+    pose = {"alpha": np.linspace(-0.2, 0.2, 50), "beta": 0.1, "Zo": np.linspace(60.0, 100, 50)}
+    res = screwkit.analyze(pm, pose)
+    amp_q = np.asarray(res.quality.amplification)
+    amp_i = np.asarray(res.indices.amplification)
+    assert calls == [50]
+    # the trust rule itself on the same analysis, independently of the cache
+    st = res.statics
+    fresh = real(res.jacobian, st.F_r, st._W, res.solution._platform[1],
+                 np.asarray(res.solution.reachable_mask, bool), np.nan_to_num(st.amp, nan=0.0))
+    assert np.array_equal(amp_q, fresh[0], equal_nan=True)
+    assert np.array_equal(amp_i, fresh[0], equal_nan=True)
+    assert np.array_equal(np.asarray(res.quality.level), fresh[1])

@@ -169,7 +169,7 @@ def transmission(analysis) -> TransmissionIndices:
             x[unreached] = np.nan
     s = np.asarray(cond.singular_values, float)
     smin = np.where(reach, s[:, -1] if s.shape[1] >= 6 else 0.0, np.nan)
-    amp = _amplification(analysis, reach)
+    amp = _amplification(analysis)
     data = dict(zip(_ARRAYS, (iti, oti, cti, in_arm, out_arm, c_arm,
                               np.asarray(cond.condition_number, float).reshape(N), smin,
                               amp)))
@@ -179,11 +179,11 @@ def transmission(analysis) -> TransmissionIndices:
                                bool(analysis.single))
 
 
-def _amplification(analysis, reach):
+def _amplification(analysis):
     """The force amplification of every pose under the analysis' workload (the trust rule
     of :mod:`screwkit.engine._quality`, without the home pose's det J sign)."""
     from ._quality import trust_of
     if not analysis.has_workload:
         return np.full(len(analysis.jacobian), np.nan)   # no workload: no amplification
-    amp, _ = trust_of(analysis, reach)
+    amp, _ = trust_of(analysis)                 # (the quality's, formed once)
     return np.asarray(amp, float).reshape(len(analysis.jacobian))

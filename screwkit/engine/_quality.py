@@ -212,15 +212,22 @@ def trust(jac, values, W, o, reachable, amp=None, no_load: bool = False) -> tupl
     return np.where(unreach, np.nan, amp), lev
 
 
-def trust_of(analysis, reach) -> tuple:
-    """:func:`trust` of every pose of an analysis under its workload (the amplification the
-    kernel gave with the statics where it did): ``(amplification, level)``."""
-    st = analysis.statics
-    loaded = st is not None and analysis.has_workload
-    return trust(analysis.jacobian, st.F_r if loaded else None, st._W if loaded else None,
-                 analysis.solution._platform[1], reach,
-                 None if not loaded or st.amp is None or st.F_r.ndim != 2 else
-                 np.nan_to_num(st.amp, nan=0.0), no_load=not analysis.has_workload)
+def trust_of(analysis) -> tuple:
+    """:func:`trust` of every pose of an analysis under its workload, at its solution's
+    reachable poses (the amplification the kernel gave with the statics where it did):
+    ``(amplification, level)``, formed once and kept in the analysis (its quality and its
+    indices both read it)."""
+    got = analysis.__dict__.get("_trust")
+    if got is None:
+        st = analysis.statics
+        loaded = st is not None and analysis.has_workload
+        reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(len(analysis.jacobian))
+        got = trust(analysis.jacobian, st.F_r if loaded else None, st._W if loaded else None,
+                    analysis.solution._platform[1], reach,
+                    None if not loaded or st.amp is None or st.F_r.ndim != 2 else
+                    np.nan_to_num(st.amp, nan=0.0), no_load=not analysis.has_workload)
+        analysis.__dict__["_trust"] = got
+    return got
 
 
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -266,7 +273,7 @@ def quality(analysis, analyze) -> Quality:
     N = len(jac)
     cond = jac.conditioning.condition_number
     reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
-    amp, lev = trust_of(analysis, reach)
+    amp, lev = trust_of(analysis)
     unreach = ~reach
     det = det_signs(analysis, reach)
     home, ref = det_reference(analysis.model, analyze)
