@@ -2,7 +2,7 @@
 
 The cells are cut into blocks of :data:`BLOCK` poses (one engine launch each);
 each block is one call of :func:`screwkit.engine.analyze` (threads inside it, as analyze's
-``workers``), and :func:`evaluate` keeps only the compact per-cell arrays of the map.  With
+``workers``), and :func:`arrays_of` keeps only the compact per-cell arrays of the map.  With
 a Dask cluster the same function runs on the workers, one block per task, so a distributed
 map equals the serial one bit for bit (the same code on the same inputs); results are
 stored as the blocks finish.  On two threads or more, a second Python thread forms each
@@ -20,8 +20,7 @@ from ..engine._memory import fresh_array
 from ..engine._report import row_quantity
 
 __all__ = ["BLOCK", "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "INDEX_NAMES", "Meta",
-           "meta_of", "evaluate", "evaluate_loads",
-           "arrays_of", "compute"]
+           "meta_of", "arrays_of", "compute"]
 
 #: Cells per block (one engine launch).  Blocks of 16,384 3RRPRR cells rather than 65,536:
 #: the launch's outputs (about 1.4 kB a cell with the indices' lines) then stay under
@@ -88,17 +87,6 @@ def meta_of(model) -> Meta:
                 tuple(model.dependent), home_det_sign(model, analyze), jac.square)
 
 
-def evaluate(model, poses: dict, force, torque, stiffness=None, threads=None) -> dict:
-    """The map's arrays at N poses (radians, model lengths): one engine analysis.
-
-    Returns
-    -------
-    dict str -> ndarray
-        ``(N,)`` per cell, or ``(N, m)`` / ``(N, n)`` per row / leg (see :func:`compute`).
-    """
-    return arrays_of(model, _analysis(model, poses, force, torque, stiffness, threads))
-
-
 def _analysis(model, poses, force, torque, stiffness, threads):
     """The engine's analysis of a block: one launch (its outputs as they are, not copied
     together from chunks), keeping the joints and platform the indices read (no second
@@ -109,17 +97,11 @@ def _analysis(model, poses, force, torque, stiffness, threads):
                    chunk=min(max(N, 1), 1 << 20))
 
 
-def evaluate_loads(model, poses: dict, force, torque, stiffness, threads, loads,
-                   max_level_code, offset) -> tuple:
-    """:func:`evaluate` and, from the same analysis, the block's largest efforts under each
-    of ``loads`` (:func:`screwkit.maps._loads.reduce_block`); the cells counted for any
-    workload are the per-cell array ``usable_any``."""
-    res = _analysis(model, poses, force, torque, stiffness, threads)
-    return _arrays_loads(model, res, loads, max_level_code, offset)
-
-
 def _arrays_loads(model, res, loads, max_level_code, offset) -> tuple:
-    """:func:`evaluate_loads` of a block's analysis ``res`` (its first cell ``offset``)."""
+    """``(arrays, reductions)``: :func:`arrays_of` of a block's analysis ``res`` (its first
+    cell ``offset``) and, from the same analysis, the block's largest efforts under each of
+    ``loads`` (:func:`screwkit.maps._loads.reduce_block`); the cells counted for any
+    workload are the per-cell array ``usable_any``."""
     from ._loads import reduce_block
     out = arrays_of(model, res)
     red, usable_any = reduce_block(res, out, loads, _linear(model), max_level_code, offset,
@@ -135,7 +117,8 @@ def _level_codes(names):
 
 
 def arrays_of(model, res) -> dict:
-    """The map's per-cell arrays of an analysis of N cells (see :func:`evaluate`)."""
+    """The map's per-cell arrays of an analysis of N cells (radians, model lengths):
+    ``(N,)`` per cell, or ``(N, m)`` / ``(N, n)`` per row / leg (see :func:`compute`)."""
     sol, jac = res.solution, res.jacobian
     ix = res.indices            # first: its frames give the platform the rest reads
     st = res.statics if res.has_workload else None          # no workload: no forces
@@ -221,10 +204,15 @@ def _blocks(N, size):
 
 
 def _block(model, grid, sl, force, torque, stiffness, threads, loads, max_level_code):
-    if loads is None:
-        return evaluate(model, grid.poses(sl), force, torque, stiffness, threads)
-    return evaluate_loads(model, grid.poses(sl), force, torque, stiffness, threads, loads,
-                          max_level_code, sl.start)
+    res = _analysis(model, grid.poses(sl), force, torque, stiffness, threads)
+    return _block_arrays(model, res, sl, loads, max_level_code)
+
+
+def _block_arrays(model, res, sl, loads, max_level_code):
+    """The arrays of the block ``sl`` from its analysis ``res``: :func:`arrays_of`, or with
+    ``loads`` :func:`_arrays_loads`."""
+    return arrays_of(model, res) if loads is None else \
+        _arrays_loads(model, res, loads, max_level_code, sl.start)
 
 
 def _pipelined(model, grid, slices, force, torque, stiffness, workers, loads, max_level_code,
@@ -243,8 +231,7 @@ def _pipelined(model, grid, slices, force, torque, stiffness, workers, loads, ma
 
     def arrays(res, sl):
         with on_this_thread():
-            write(sl, arrays_of(model, res) if loads is None else
-                  _arrays_loads(model, res, loads, max_level_code, sl.start))
+            write(sl, _block_arrays(model, res, sl, loads, max_level_code))
 
     pending = []
     with ThreadPoolExecutor(1, thread_name_prefix="screwkit-map") as helper:
