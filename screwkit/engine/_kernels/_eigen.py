@@ -18,7 +18,7 @@ the bits of its poses one at a time.
 import math
 
 import numpy as np
-from ._jit import borrowing, lanes
+from ._jit import borrowing, borrowing_inlined, lanes
 
 #: Largest one-sided Jacobi sweeps (6x6 converges in 5 to 7).
 JACOBI_SWEEPS = 30
@@ -29,6 +29,10 @@ JACOBI_TOL = 1e-15
 REFINE_GRAM = 300.0
 #: The square of the unit roundoff (the QL's convergence test on squared off-diagonals).
 EPS2 = 2.220446049250313e-16 ** 2
+#: The rows of the QL's lane scratch: ``I``'s (a lane's ``lo``, steps, ``m``) and ``S``'s (the
+#: shift, gamma, p, c and s of its step), in units of the lane stride.
+_LO, _ITS, _MM = 0, 1, 2
+_SIG, _GAM, _P, _C, _SS = 0, 1, 2, 3, 4
 
 
 @borrowing
@@ -242,8 +246,8 @@ def symmetric_eigenvalues_lanes(A, n, d, e, S, I, nb, ls):
             ee[(i - 1) * ls + k] = x * x
     for k in range(nb):
         ee[(n - 1) * ls + k] = 0.0
-    LO, ITS, MM = 0, ls, 2 * ls                         # the rows of I
-    SIG, GAM, P, C, SS = 0, ls, 2 * ls, 3 * ls, 4 * ls  # (S's rows again)
+    LO, ITS, MM = _LO * ls, _ITS * ls, _MM * ls             # the rows of I
+    SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls  # (S's again)
     for k in range(nb):
         ii[LO + k] = 0
         ii[ITS + k] = 0
@@ -307,34 +311,51 @@ def symmetric_eigenvalues_lanes(A, n, d, e, S, I, nb, ls):
         # the step's rotations, row i across the lanes: each lane's from its m - 1 down to
         # its lo (selected), the rest of the lanes left as they are
         for i in range(top, bottom - 1, -1):
-            for k in range(nb):
-                m = ii[MM + k]
-                on = ii[LO + k] <= i and i <= m - 1
-                p, s, c = sc[P + k], sc[SS + k], sc[C + k]
-                gamma, sigma = sc[GAM + k], sc[SIG + k]
-                bb = ee[i * ls + k]
-                r = p + bb
-                up = ee[(i + 1) * ls + k]
-                ee[(i + 1) * ls + k] = s * r if on and i != m - 1 else up
-                alpha = dd[i * ls + k]
-                gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
-                rp = r * p
-                inv = 1.0 / rp
-                ir = p * inv                              # 1 / r
-                nz = rp != 0.0                            # else c = 0
-                c1 = p * ir if nz else 0.0
-                s1 = bb * ir if nz else 1.0
-                ng = gt * ir if nz else -gamma
-                p1 = gt * gt * inv if nz else c * bb      # gamma^2 / c
-                dn = dd[(i + 1) * ls + k]
-                dd[(i + 1) * ls + k] = gamma + (alpha - ng) if on else dn
-                sc[C + k] = c1 if on else c
-                sc[SS + k] = s1 if on else s
-                sc[P + k] = p1 if on else p
-                sc[GAM + k] = ng if on else gamma
+            _rotation_row(ii, sc, ee, dd, i, nb, ls)
         for k in range(nb):
             if ii[MM + k] < 0:
                 continue
             lo = ii[LO + k]
             ee[lo * ls + k] = sc[SS + k] * sc[P + k]
             dd[lo * ls + k] = sc[SIG + k] + sc[GAM + k]
+
+
+
+@borrowing_inlined
+def _rotation_row(ii, sc, ee, dd, i, nb, ls):
+    """Row ``i`` of a QL step's rotations, across the lanes ``0..nb-1`` (pointers from
+    :func:`~._jit.lanes`): a lane whose step covers ``i`` (``lo <= i <= m - 1``) rotates, the
+    others keep their values (selects, no branch).  A function of its own: written inline, the
+    loop's temporaries outlived it in the caller's loops (Python's scoping) and LLVM left it
+    scalar ("value ... used outside the loop"); alone it vectorises (packed divisions),
+    each lane's operations unchanged and in the same order (the same bits)."""
+    MM, LO = _MM * ls, _LO * ls
+    SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls
+    for k in range(nb):
+        m = ii[MM + k]
+        on = (ii[LO + k] <= i) & (i <= m - 1)
+        p = sc[P + k]
+        s = sc[SS + k]
+        c = sc[C + k]
+        gamma = sc[GAM + k]
+        sigma = sc[SIG + k]
+        bb = ee[i * ls + k]
+        r = p + bb
+        up = ee[(i + 1) * ls + k]
+        ee[(i + 1) * ls + k] = s * r if on & (i != m - 1) else up
+        alpha = dd[i * ls + k]
+        gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
+        rp = r * p
+        inv = 1.0 / rp
+        ir = p * inv                              # 1 / r
+        nz = rp != 0.0                            # else c = 0
+        c1 = p * ir if nz else 0.0
+        s1 = bb * ir if nz else 1.0
+        ng = gt * ir if nz else -gamma
+        p1 = gt * gt * inv if nz else c * bb      # gamma^2 / c
+        dn = dd[(i + 1) * ls + k]
+        dd[(i + 1) * ls + k] = gamma + (alpha - ng) if on else dn
+        sc[C + k] = c1 if on else c
+        sc[SS + k] = s1 if on else s
+        sc[P + k] = p1 if on else p
+        sc[GAM + k] = ng if on else gamma
