@@ -100,7 +100,9 @@ def _bench_kernel():
 
     @njit
     def driver(Mf, Mi, Md, Zf, Zi, Zd, I, O, flags):
-        run_blocks(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, 0, I[0].shape[0])
+        # one piece of all the poses, claimed from a counter of this call (one thread)
+        taken = np.zeros(1, np.int64)
+        run_blocks(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, I[0].shape[0], taken)
 
     return parts, blocks, driver
 

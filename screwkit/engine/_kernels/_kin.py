@@ -28,10 +28,10 @@ import math
 from ._jit import borrowing, borrowing_inlined, flat, inlined, lanes, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L,
-                      P_PH, P_R0, P_RH, QS, ROT, TRA, TRN)
+                      P_PH, P_R0, P_RH, QS, ROT, TRA)
 from ._platform import platform_block, platform_lanes
 from ._small import rodrigues, rotation_vector
-from ._trig import sin_cos, sin_cos_fix
+from ._trig import SMALL_ANGLE, angle_over_sine, sin_cos, sin_cos_fix
 
 
 @borrowing
@@ -205,8 +205,10 @@ def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
     """The length-normalised closure errors ``[d / L; w]`` of a leg on ``nb`` lanes into
     ``Eb (6, ls)``: the twist carrying its end pose ``(R Rh, R ph + t)`` (``RT (12, ls)``, as
     :func:`chain` leaves it) onto the platform's (``FPb (27, ls)``).  ``d`` and ``w``'s
-    antisymmetric part across the lanes (vectorised), then the angle (atan2, a call; the
-    near-pi branch, :func:`~._small.rotation_vector`) one lane at a time.  ``plat`` the
+    antisymmetric part across the lanes (vectorised), and the angle of a rotation below
+    :data:`._trig.SMALL_ANGLE` by a series (every lane of a Newton run but the first steps of a
+    far start); the others' (atan2, a call; the near-pi branch,
+    :func:`~._small.rotation_vector`) one lane at a time.  ``plat`` the
     model's ``PLAT``; ``CS`` (``2 ls`` elements or more), ``Rd (3, 3)`` scratch.  Inlined
     into :func:`closure_one` and :func:`closure_block` only, where ``ls`` is a constant."""
     fp, rt, e, cs = lanes(FPb), lanes(RT), lanes(Eb), lanes(CS)
@@ -224,11 +226,19 @@ def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
         e[ls + k] = (d[3] * u0 + d[4] * u1 + d[5] * u2 + fp[16 * ls + k] - c1) / L
         e[2 * ls + k] = (d[6] * u0 + d[7] * u1 + d[8] * u2 + fp[17 * ls + k] - c2) / L
         w0, w1, w2 = 0.5 * (d[7] - d[5]), 0.5 * (d[2] - d[6]), 0.5 * (d[3] - d[1])
-        e[3 * ls + k], e[4 * ls + k], e[5 * ls + k] = w0, w1, w2
-        cs[k] = 0.5 * (d[0] + d[4] + d[8] - 1.0)
-        cs[ls + k] = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        c = 0.5 * (d[0] + d[4] + d[8] - 1.0)
+        z = w0 * w0 + w1 * w1 + w2 * w2
+        # a small angle (the closure errors of a Newton run): its ratio to its sine |w| by
+        # the series of asin(s) / s, so that no lane calls atan2 (the others: the loop below)
+        small = (z <= SMALL_ANGLE * SMALL_ANGLE) & (c > 0.0)
+        f = angle_over_sine(z) if small else 1.0
+        e[3 * ls + k], e[4 * ls + k], e[5 * ls + k] = w0 * f, w1 * f, w2 * f
+        cs[k] = c
+        cs[ls + k] = -1.0 if small else math.sqrt(z)      # (-1: done)
     for k in range(nb):
         c = cs[k]
+        if cs[ls + k] < 0.0:
+            continue
         if c < -0.9:               # (rare) the lane's Rd again, for the near-pi branch
             d = relative_rotation(plat, FPb, RT, k, ls)
             for r in range(3):

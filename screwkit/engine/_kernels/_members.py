@@ -110,7 +110,7 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
                 x0, x1, x2 = cross(a0, a1, a2, v[k], v[ls + k], v[2 * ls + k])
                 sc[RES + k] = max(sc[RES + k], math.sqrt(x0 * x0 + x1 * x1 + x2 * x2))
         for k in range(nb):
-            sc[NUL + k] = 1.0 if sc[BIG + k] > 1e-6 and sc[RES + k] < ZERO else 0.0
+            sc[NUL + k] = 1.0 if (sc[BIG + k] > 1e-6) & (sc[RES + k] < ZERO) else 0.0
         return
     if r < 2:
         for k in range(nb):
@@ -139,10 +139,13 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
                 sc[NA + k] = (a0 ** 2 + a1 ** 2 + a2 ** 2) if take else sc[NA + k]
                 sc[NB + k] = (b0 ** 2 + b1 ** 2 + b2 ** 2) if take else sc[NB + k]
     for k in range(nb):
-        best, brel = -1.0, 0.0            # (no pair compared: non-finite rows)
-        if sc[B2 + k] >= 0.0:
-            best = math.sqrt(sc[B2 + k])
-            brel = best / max(math.sqrt(sc[NA + k]) * math.sqrt(sc[NB + k]), 1e-300)
+        # (no pair compared, non-finite rows: -1 and 0; selects, no branch, so that the
+        # loop vectorises: short-circuit `and` and branches in a lane loop keep it scalar)
+        pair = sc[B2 + k] >= 0.0
+        root = math.sqrt(sc[B2 + k])
+        best = root if pair else -1.0
+        rel = root / max(math.sqrt(sc[NA + k]) * math.sqrt(sc[NB + k]), 1e-300)
+        brel = rel if pair else 0.0
         nv = max(best, 1e-300)
         v[k], v[ls + k], v[2 * ls + k] = v[k] / nv, v[ls + k] / nv, v[2 * ls + k] / nv
         sc[NUL + k] = brel                # (the flag below, once the residual is known)
@@ -153,7 +156,7 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
             d = rw[o + k] * v[k] + rw[o + ls + k] * v[ls + k] + rw[o + 2 * ls + k] * v[2 * ls + k]
             sc[RES + k] = max(sc[RES + k], abs(d))
     for k in range(nb):
-        sc[NUL + k] = 1.0 if sc[NUL + k] > 1e-6 and sc[RES + k] < ZERO else 0.0
+        sc[NUL + k] = 1.0 if (sc[NUL + k] > 1e-6) & (sc[RES + k] < ZERO) else 0.0
 
 
 @inlined
@@ -236,7 +239,7 @@ def group_members_lanes(M, i, CTX, PV, DV, FA, TW, OUT, r0, SC, R, V, BASIS, nb,
         null_space_lanes(R, cnt, dim, V, SC, nb, ls)
         canonical_basis_lanes(dim, V, grp[g, 3:6], DV, BASIS, SC, nb, ls)
         for k in range(nb):
-            ok = sc[NUL + k] != 0.0 and sc[GR + k] != 0.0 and sc[WORST + k] > REF_FLAG
+            ok = (sc[NUL + k] != 0.0) & (sc[GR + k] != 0.0) & (sc[WORST + k] > REF_FLAG)
             sc[GR + k] = 1.0 if ok else 0.0
         x = 3 * xp * ls
         for q in range(dim):

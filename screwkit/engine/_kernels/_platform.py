@@ -9,10 +9,9 @@ into every kernel of the forward pass doubled the first run's compile); within e
 stride is a constant, so that LLVM folds the one-pose loops and vectorises the block's.
 """
 
-import math
-
 from ._jit import borrowing, borrowing_inlined, inlined, lanes
 from ._layout import BLOCK, P_P0, P_R0
+from ._trig import sin_cos, sin_cos_fix
 
 
 @borrowing_inlined
@@ -80,17 +79,19 @@ def platform_lanes(order, plat, FPb, nb, ls):
     """The platforms of ``nb`` lanes at the pose parameters (Xo Yo Zo alpha beta gamma)
     already in rows 0-5 of ``FPb (27, ls)`` into its other rows (module docstring); Euler
     angles as scipy's ``Rotation.from_euler`` defines them.  The sines and cosines are
-    libm's, one lane at a time, parked in rows 18-23 (``E``'s, written last); the rest
-    runs across the lanes (vectorised: the Euler order is the model's, a select per entry
-    of :func:`axis_entries`).  Inlined into :func:`._kin.platform` and
+    :func:`._trig.sin_cos`'s (a lane loop, vectorised, as the joints'; libm's beyond its
+    range), parked in rows 18-23 (``E``'s, written last); the rest runs across the lanes
+    too (the Euler order is the model's, a select per entry of :func:`axis_entries`).  Inlined into :func:`._kin.platform` and
     :func:`platform_block` only, where ``ls`` is a constant."""
     a0, a1, a2 = order[0], order[1], order[2]
     fp = lanes(FPb)
-    for k in range(nb):
-        for q in range(3):
+    for q in range(3):
+        for k in range(nb):
+            fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k] = sin_cos(fp[(3 + q) * ls + k])
+        for k in range(nb):
             x = fp[(3 + q) * ls + k]
-            fp[(18 + 2 * q) * ls + k] = math.cos(x)
-            fp[(19 + 2 * q) * ls + k] = math.sin(x)
+            fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k] = sin_cos_fix(
+                x, fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k])
     if order[3] == 1:              # intrinsic: R = R1(alpha) R2(beta) R3(gamma)
         for k in range(nb):
             R1 = axis_entries(a0, fp[18 * ls + k], fp[19 * ls + k])

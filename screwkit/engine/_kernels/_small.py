@@ -209,16 +209,20 @@ def lu_lanes(A, n, piv, nb, ls):
     a, pv = lanes(A), lanes(piv)
     for j in range(n):
         jj = (j * m + j) * ls
-        for k in range(nb):               # each lane's pivot (its own comparisons)
-            live = j == 0 or (pv[(j - 1) * ls + k] >= 0
-                              and a[((j - 1) * m + j - 1) * ls + k] != 0.0)
-            p = j
-            big = abs(a[jj + k])
-            for i in range(j + 1, n):
-                v = abs(a[(i * m + j) * ls + k])
-                if v > big:
-                    big, p = v, i
-            pv[j * ls + k] = p if live else -1
+        # each lane's pivot, its own comparisons in its order (the candidate rows in the outer
+        # loop, the lanes inside, each against its best so far: a loop LLVM vectorises)
+        for k in range(nb):
+            pv[j * ls + k] = j
+        for i in range(j + 1, n):
+            ij = (i * m + j) * ls
+            for k in range(nb):
+                take = abs(a[ij + k]) > abs(a[(pv[j * ls + k] * m + j) * ls + k])
+                pv[j * ls + k] = i if take else pv[j * ls + k]
+        if j > 0:                         # a lane stopped at a zero pivot stays stopped
+            q = ((j - 1) * m + j - 1) * ls
+            for k in range(nb):
+                live = (pv[(j - 1) * ls + k] >= 0) & (a[q + k] != 0.0)
+                pv[j * ls + k] = pv[j * ls + k] if live else -1
         for i in range(j + 1, n):         # rows j and piv[j] interchanged (exact selects)
             hit = False                   # (a row no lane takes is left alone: one lane's
             for k in range(nb):           # LU swaps only where it pivots)
@@ -235,13 +239,13 @@ def lu_lanes(A, n, piv, nb, ls):
         for i in range(j + 1, n):         # the elimination (f = A[i, j] / A[j, j] kept)
             ij = (i * m + j) * ls
             for k in range(nb):
-                live = pv[j * ls + k] >= 0 and a[jj + k] != 0.0
+                live = (pv[j * ls + k] >= 0) & (a[jj + k] != 0.0)
                 f = a[ij + k] * (1.0 / a[jj + k])
                 a[ij + k] = f if live else a[ij + k]
             for c in range(j + 1, n):
                 ic, jc = (i * m + c) * ls, (j * m + c) * ls
                 for k in range(nb):
-                    live = pv[j * ls + k] >= 0 and a[jj + k] != 0.0
+                    live = (pv[j * ls + k] >= 0) & (a[jj + k] != 0.0)
                     x = a[ic + k]
                     a[ic + k] = x - a[ij + k] * a[jc + k] if live else x
 
