@@ -3,7 +3,7 @@ against its lanes one at a time (the engine's promise: a batch equals a loop of 
 calls bit for bit):
 
 * the eigenvalues of small symmetric matrices (``_eigen.symmetric_eigenvalues_lanes``: the
-  QL iteration in rounds, each lane doing its own deflations and steps) against LAPACK's
+  QL iteration with the lanes in step, each taking a step where its own test says) against LAPACK's
   (``numpy.linalg.eigvalsh``), on well-conditioned, graded and rank-deficient Gram matrices,
   with a non-finite lane among finite ones (``singular_values_lanes``);
 * the home predictor's polynomial (``_closures.predict``) against the same polynomial
@@ -40,7 +40,6 @@ def eig():
         N = G.shape[0]
         A = np.zeros((6, 6, B))
         d, e, S = np.zeros((6, B)), np.zeros((6, B)), np.zeros((6, B))
-        Ii = np.zeros((5, B), np.int64)
         out = np.zeros((N, n))
         for p0 in range(0, N, nb):
             m = min(nb, N - p0)
@@ -48,7 +47,7 @@ def eig():
                 for b in range(a + 1):
                     for k in range(m):
                         A[a, b, k] = G[p0 + k, a, b]
-            symmetric_eigenvalues_lanes(A, n, d, e, S, Ii, m, B)
+            symmetric_eigenvalues_lanes(A, n, d, e, S, m, B)
             for k in range(m):
                 for a in range(n):
                     out[p0 + k, a] = d[a, k]

@@ -8,11 +8,16 @@ one-sided Jacobi also gives the statics' pseudo-inverse and the indices' columns
 
 The Gram matrices and their eigenvalues are computed for the lanes of a block at once (the
 lane axis last, ``ls`` apart: :func:`~._jit.lanes`), one pose being a block of one.  The QL
-iteration is data-dependent (where it splits, how many steps): it runs in rounds, each lane
-doing in a round what its own iteration does next (its deflations, then one step), the
-rotations of a step across the lanes with each lane's own range selected; so every lane
-performs exactly the operations of the matrix alone, in the same order, and a block gives
-the bits of its poses one at a time.
+iteration runs the lanes in step: the eigenvalues are deflated from the first row down,
+``d[t]`` by QL steps on rows ``t..n-1`` (Wilkinson's shift from the 2x2 at ``t``) until
+``e[t]`` is negligible, the last 2x2 block solved directly.  A step is taken by every lane
+whose ``e[t]`` is not yet negligible (its own test), the others left as they are (selects),
+until none is left: every lane performs exactly the operations of its matrix alone, in the
+same order, and a block gives the bits of its poses one at a time.  No lane splits its
+matrix where an inner ``e[m]`` is negligible: the step passes through it (the rotation there
+is the identity to rounding, and the rows above start the step afresh from ``d[m]``), so
+the lanes share one range of rows, the shifts and rotations are branch-free lane loops
+(vectorised), and nothing is decided lane by lane but whether to take the step.
 """
 
 import math
@@ -29,10 +34,11 @@ JACOBI_TOL = 1e-15
 REFINE_GRAM = 300.0
 #: The square of the unit roundoff (the QL's convergence test on squared off-diagonals).
 EPS2 = 2.220446049250313e-16 ** 2
-#: The rows of the QL's lane scratch: ``I``'s (a lane's ``lo``, steps, ``m``) and ``S``'s (the
-#: shift, gamma, p, c and s of its step), in units of the lane stride.
-_LO, _ITS, _MM = 0, 1, 2
-_SIG, _GAM, _P, _C, _SS = 0, 1, 2, 3, 4
+#: The most QL steps a lane takes to deflate one eigenvalue (two or three, as a rule).
+QL_STEPS = 60
+#: The rows of the QL's lane scratch ``S``: a lane's shift, gamma, p, c and s of its step, and
+#: whether it takes the step (1.0) or not, in units of the lane stride.
+_SIG, _GAM, _P, _C, _SS, _ON = 0, 1, 2, 3, 4, 5
 
 
 @borrowing
@@ -93,7 +99,7 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
     eigenvalues of the smaller Gram matrix where the condition ``s_1 / s_k`` is below
     :data:`REFINE_GRAM` (they give ``s_k`` to about ``eps cond^2 / 2`` relative), else (lane by
     lane) by one-sided Jacobi (high relative accuracy).  Scratch: ``U (6, 6, ls)`` the Gram
-    matrices, ``e, S (6, ls)``, ``I (4, ls)`` (int), ``R (>= max(m, 6), 6)`` one lane's rows; NaN
+    matrices, ``e, S (6, ls)``, ``I (>= 1, ls)`` (int), ``R (>= max(m, 6), 6)`` one lane's rows; NaN
     singular values for a lane whose Gram matrix is not finite."""
     g = min(m, 6)
     if g == 0:
@@ -121,7 +127,7 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
                         u[o + l] += j[pa + l] * j[pb + l]
     # a lane with a non-finite Gram matrix: NaN singular values (its matrix zero for the
     # iteration, which would otherwise run to its limit of steps on NaN)
-    bad = I[3]
+    bad = I[0]
     for l in range(nb):
         bad[l] = 0
         for a in range(g):
@@ -132,7 +138,7 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
             for a in range(g):
                 for b in range(a + 1):
                     U[a, b, l] = 0.0
-    symmetric_eigenvalues_lanes(U, g, s, e, S, I, nb, ls)
+    symmetric_eigenvalues_lanes(U, g, s, e, S, nb, ls)
     for l in range(nb):
         if bad[l]:
             for q in range(s.shape[0]):
@@ -167,14 +173,14 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
 
 
 @borrowing
-def symmetric_eigenvalues_lanes(A, n, d, e, S, I, nb, ls):
+def symmetric_eigenvalues_lanes(A, n, d, e, S, nb, ls):
     """The eigenvalues of the symmetric ``A[:n, :n] (>= n, >= n, ls)`` of each lane ``0..nb-1``
     (its lower triangle read, overwritten; entries of order one, as in a Gram matrix of unit
     rows) into ``d[:n] (>= n, ls)``, in no order: Householder reduction to tridiagonal form,
-    then the root-free implicit QL iteration (Pal-Walker-Kahan; a 2x2 block left is solved
-    directly), each lane exactly as alone (module docstring).  Scratch ``e, S (>= 6, ls)``,
-    ``I (>= 3, ls)`` (int).  About ``eps |A|`` absolute accuracy."""
-    a, dd, ee, sc, ii = lanes(A), lanes(d), lanes(e), lanes(S), lanes(I)
+    then the root-free implicit QL iteration (Pal-Walker-Kahan), the eigenvalues deflated
+    from the first row down, the last 2x2 block solved directly; each lane exactly as alone
+    (module docstring).  Scratch ``e, S (>= 6, ls)``.  About ``eps |A|`` absolute accuracy."""
+    a, dd, ee, sc = lanes(A), lanes(d), lanes(e), lanes(S)
     nn = A.shape[1] * ls
     # the rows of S: Householder's h, f, hh, 1 / h and skip; QL's shift, gamma, p, c and s
     H, F, G, HI, SK = 0, ls, 2 * ls, 3 * ls, 4 * ls
@@ -246,94 +252,87 @@ def symmetric_eigenvalues_lanes(A, n, d, e, S, I, nb, ls):
             ee[(i - 1) * ls + k] = x * x
     for k in range(nb):
         ee[(n - 1) * ls + k] = 0.0
-    LO, ITS, MM = _LO * ls, _ITS * ls, _MM * ls             # the rows of I
-    SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls  # (S's again)
-    for k in range(nb):
-        ii[LO + k] = 0
-        ii[ITS + k] = 0
-    while True:
-        top = -1
-        bottom = n
-        for k in range(nb):
-            # this lane's round: its deflations and 2x2 blocks up to its next QL step
-            lo = ii[LO + k]
-            m = lo
-            while lo < n:
-                m = lo
-                while m < n - 1:                  # |e_m| <= eps (|d_m| + |d_m+1|), squared
-                    t = abs(dd[m * ls + k]) + abs(dd[(m + 1) * ls + k])
-                    if ee[m * ls + k] <= EPS2 * t * t:
-                        break
-                    m += 1
-                if m == lo:                       # d[lo] converged
-                    lo += 1
-                    ii[ITS + k] = 0
-                    continue
-                if m == lo + 1:                   # a 2x2 block left: its eigenvalues directly
-                    x, z = dd[lo * ls + k], dd[(lo + 1) * ls + k]
-                    b2 = ee[lo * ls + k]
-                    sm = x + z
-                    rt = math.sqrt((x - z) * (x - z) + 4.0 * b2)
-                    r1 = 0.5 * (sm + rt) if sm >= 0.0 else 0.5 * (sm - rt)
-                    dd[lo * ls + k] = r1
-                    # the smaller without cancellation
-                    dd[(lo + 1) * ls + k] = (x * z - b2) / r1 if r1 != 0.0 else 0.0
-                    ee[lo * ls + k] = 0.0
-                    lo += 2
-                    ii[ITS + k] = 0
-                    continue
-                if ii[ITS + k] == 60:
-                    lo += 1
-                    ii[ITS + k] = 0
-                    continue
+    # the lanes in step (module docstring): d[t] deflated by QL steps on rows t..n-1, each
+    # step taken by the lanes whose e[t] is not yet negligible, the others left as they are
+    ON = _ON * ls
+    for t in range(n - 2):
+        for step in range(QL_STEPS):
+            active = 0
+            for k in range(nb):          # |e_t| > eps (|d_t| + |d_t+1|), squared
+                x = abs(dd[t * ls + k]) + abs(dd[(t + 1) * ls + k])
+                on = ee[t * ls + k] > EPS2 * x * x
+                sc[ON + k] = 1.0 if on else 0.0
+                active += 1 if on else 0
+            if active == 0:
                 break
-            ii[LO + k] = lo
-            if lo >= n:
-                ii[MM + k] = -1
-                continue
-            ii[ITS + k] += 1
-            ii[MM + k] = m
-            # Wilkinson's shift: the eigenvalue of the leading 2x2 nearer d[lo]
-            g = 0.5 * (dd[(lo + 1) * ls + k] - dd[lo * ls + k])
-            el = ee[lo * ls + k]
-            r = math.sqrt(g * g + el)
-            sigma = dd[lo * ls + k] - el / (g + (r if g >= 0.0 else -r))
-            sc[SIG + k] = sigma
-            gamma = dd[m * ls + k] - sigma
-            sc[GAM + k] = gamma
-            sc[P + k] = gamma * gamma
-            sc[C + k] = 1.0
-            sc[SS + k] = 0.0
-            top = max(top, m - 1)
-            bottom = min(bottom, lo)
-        if top < 0:
-            break
-        # the step's rotations, row i across the lanes: each lane's from its m - 1 down to
-        # its lo (selected), the rest of the lanes left as they are
-        for i in range(top, bottom - 1, -1):
-            _rotation_row(ii, sc, ee, dd, i, nb, ls)
-        for k in range(nb):
-            if ii[MM + k] < 0:
-                continue
-            lo = ii[LO + k]
-            ee[lo * ls + k] = sc[SS + k] * sc[P + k]
-            dd[lo * ls + k] = sc[SIG + k] + sc[GAM + k]
-
+            _shift_lanes(S, e, d, t, n - 1, nb, ls)
+            for i in range(n - 2, t - 1, -1):
+                _rotation_row(S, e, d, i, n - 1, nb, ls)
+            _step_end(S, e, d, t, nb, ls)
+    if n >= 2:                           # the 2x2 block left: its eigenvalues directly
+        _last_pair(e, d, n - 2, nb, ls)
 
 
 @borrowing_inlined
-def _rotation_row(ii, sc, ee, dd, i, nb, ls):
-    """Row ``i`` of a QL step's rotations, across the lanes ``0..nb-1`` (pointers from
-    :func:`~._jit.lanes`): a lane whose step covers ``i`` (``lo <= i <= m - 1``) rotates, the
-    others keep their values (selects, no branch).  A function of its own: written inline, the
-    loop's temporaries outlived it in the caller's loops (Python's scoping) and LLVM left it
-    scalar ("value ... used outside the loop"); alone it vectorises (packed divisions),
-    each lane's operations unchanged and in the same order (the same bits)."""
-    MM, LO = _MM * ls, _LO * ls
+def _shift_lanes(S, e, d, t, m, nb, ls):
+    """Wilkinson's shift of each lane (the eigenvalue of its leading 2x2 at ``t`` nearer
+    ``d[t]``) and the start of its step at row ``m`` (gamma, p, c, s into ``S``)."""
+    sc, ee, dd = lanes(S), lanes(e), lanes(d)
     SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls
     for k in range(nb):
-        m = ii[MM + k]
-        on = (ii[LO + k] <= i) & (i <= m - 1)
+        g = 0.5 * (dd[(t + 1) * ls + k] - dd[t * ls + k])
+        el = ee[t * ls + k]
+        r = math.sqrt(g * g + el)
+        sigma = dd[t * ls + k] - el / (g + (r if g >= 0.0 else -r))
+        gamma = dd[m * ls + k] - sigma
+        sc[SIG + k] = sigma
+        sc[GAM + k] = gamma
+        sc[P + k] = gamma * gamma
+        sc[C + k] = 1.0
+        sc[SS + k] = 0.0
+
+
+@borrowing_inlined
+def _step_end(S, e, d, t, nb, ls):
+    """The end of a QL step at row ``t`` (the lanes that took it)."""
+    sc, ee, dd = lanes(S), lanes(e), lanes(d)
+    SIG, GAM, P, SS, ON = _SIG * ls, _GAM * ls, _P * ls, _SS * ls, _ON * ls
+    for k in range(nb):
+        on = sc[ON + k] != 0.0
+        e_t = sc[SS + k] * sc[P + k]
+        d_t = sc[SIG + k] + sc[GAM + k]
+        ee[t * ls + k] = e_t if on else ee[t * ls + k]
+        dd[t * ls + k] = d_t if on else dd[t * ls + k]
+
+
+@borrowing_inlined
+def _last_pair(e, d, lo, nb, ls):
+    """The eigenvalues of each lane's 2x2 block at ``lo`` (rows ``lo, lo + 1``), directly."""
+    ee, dd = lanes(e), lanes(d)
+    for k in range(nb):
+        x, z = dd[lo * ls + k], dd[(lo + 1) * ls + k]
+        b2 = ee[lo * ls + k]
+        sm = x + z
+        rt = math.sqrt((x - z) * (x - z) + 4.0 * b2)
+        r1 = 0.5 * (sm + rt) if sm >= 0.0 else 0.5 * (sm - rt)
+        dd[lo * ls + k] = r1
+        # the smaller without cancellation
+        dd[(lo + 1) * ls + k] = (x * z - b2) / r1 if r1 != 0.0 else 0.0
+        ee[lo * ls + k] = 0.0
+
+
+@borrowing_inlined
+def _rotation_row(S, e, d, i, m, nb, ls):
+    """Row ``i`` of a QL step's rotations (the step from row ``m`` up), across the lanes
+    ``0..nb-1`` (through :func:`~._jit.lanes`): a lane taking the step (``S``'s row ``_ON``)
+    rotates, the others keep their values (selects, no branch).  A function of its
+    own: written inline, the loop's temporaries outlived it in the caller's loops (Python's
+    scoping) and LLVM left it scalar ("value ... used outside the loop"); alone it vectorises
+    (packed divisions)."""
+    sc, ee, dd = lanes(S), lanes(e), lanes(d)
+    SIG, GAM, P, C, SS, ON = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls, _ON * ls
+    for k in range(nb):
+        on = sc[ON + k] != 0.0
         p = sc[P + k]
         s = sc[SS + k]
         c = sc[C + k]
