@@ -81,8 +81,9 @@ def platform_lanes(order, plat, FPb, nb, ls):
     angles as scipy's ``Rotation.from_euler`` defines them.  The sines and cosines are
     :func:`._trig.sin_cos`'s (a lane loop, vectorised, as the joints'; libm's beyond its
     range), parked in rows 18-23 (``E``'s, written last); the rest runs across the lanes
-    too (the Euler order is the model's, a select per entry of :func:`axis_entries`).  Inlined into :func:`._kin.platform` and
-    :func:`platform_block` only, where ``ls`` is a constant."""
+    too (the Euler order is the model's, a select per entry of :func:`axis_entries`).
+    Inlined into :func:`._kin.platform` and :func:`platform_block` only, where ``ls`` is a
+    constant."""
     a0, a1, a2 = order[0], order[1], order[2]
     fp = lanes(FPb)
     for q in range(3):
