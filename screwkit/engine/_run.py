@@ -26,7 +26,7 @@ from ._solve import Closures, predictor_of
 __all__ = ["CHUNK", "Computed", "compute", "load_block_kernel", "row_points"]
 
 #: Poses per launch (progress is reported after each).
-CHUNK = 32768
+CHUNK = 131072
 #: The column of each pose parameter in ``P6``.
 _COLUMN = {p: k for k, p in enumerate(PARAMS)}
 
