@@ -17,6 +17,7 @@ import numpy as np
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
 from ._kernels._layout import BLOCK, LINE_WIDTH
+from ._memory import recycled_empty
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
            "output_buffers", "frames",
@@ -162,8 +163,9 @@ class OutputBuffers:
     """The analysis kernel's packed outputs of ``N`` poses (:func:`output_buffers`), filled
     by launches on consecutive ranges of the poses (``run_poses(..., out=(buffers, at))``),
     each writing its rows in place: a chunked analysis copies nothing and touches every
-    output byte once (fresh memory costs a page fault a page: on a virtual machine that
-    hands freed memory back to its host, as much as the kernels' own work on it)."""
+    output byte once.  The buffers are recycled memory (:class:`._memory.Recycler`): fresh
+    memory costs a page fault a page, on a virtual machine that hands freed memory back to
+    its host as much as the kernels' own work on it."""
 
     __slots__ = ("f", "i", "d", "layout", "N", "kind")
 
@@ -182,7 +184,7 @@ def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
     plan = _plan(flat, N, 0, 0, 0, True, bool(rows), bool(statics), True, bool(twists),
                  bool(lines))
     b = OutputBuffers()
-    b.f, b.i = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+    b.f, b.i = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
     b.d, b.layout, b.N = plan.out_d, plan.out, N
     b.kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines))
     return b
@@ -249,7 +251,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
         If[c0:c1].reshape(csh)[...] = comp
     Ii = plan.in_i
     if out is None:
-        Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+        Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
         out_d, layout = plan.out_d, plan.out
     else:
         buffers, at = out

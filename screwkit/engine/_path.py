@@ -6,6 +6,7 @@ import numpy as np
 
 from ._chains import LENGTH_PARAMS, chains_of
 from ._kernels._layout import ACCEPTED, CONVERGED
+from ._memory import recycled_empty
 from ._solve import Closure, predictor_of, solve_closures
 
 __all__ = ["PATH_ANCHORS", "SCATTERED_STEP", "STEP_FLOOR", "balanced_chunk", "check_path", "solve_path"]
@@ -76,7 +77,9 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     with ``solve(fixed, X0, indices, workers) -> Closure`` (the samples ``indices`` of the
     path) and ``stale(indices)``, told of the samples solved again after their level (the
     retries taken): the engine's driver forms each level's rows in the launch that solves
-    it (:class:`screwkit.engine._run.PathRows`).
+    it (:class:`screwkit.engine._run.PathRows`); and ``unknowns() -> (N, n_unknowns)``:
+    the path's unknowns sample by sample, which ``solve`` fills in place (the rows of its
+    samples; the ``Closure`` it returns need not hold them).
     """
     ch = chains_of(model)
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
@@ -85,8 +88,13 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     anchors = list(range(0, N, K))
     if anchors[-1] != N - 1:
         anchors.append(N - 1)
-    # the unknowns sample by sample (rows): the levels gather and scatter whole samples
-    XT = np.zeros((N, ch.n_unknowns))
+    # the unknowns sample by sample (rows): the levels' launches write their samples' rows
+    # in place where ``levels`` holds them (the path's outputs), else they are put here
+    if levels is not None:
+        XT = levels.unknowns()
+    else:
+        XT = recycled_empty(N * ch.n_unknowns).reshape(N, ch.n_unknowns)
+        XT[...] = 0.0
     X = XT.T                                    # (n_unknowns, N): a view, as the API reads
     res = np.full(N, np.inf)
     its = np.zeros(N, int)
@@ -164,10 +172,11 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         c = _solve_level(model, fx, Xs.T, workers) if levels is None else \
             levels.solve(fx, Xs.T, mid, workers)
         rm, hm = c.residual, c.how
-        # a branch jump: the solution moved more than its neighbours differ; the solutions
-        # into XT
+        if levels is None:
+            XT[mid] = c.X.T
+        # a branch jump: the solution moved more than its neighbours differ
         jump = np.empty(len(k), bool)
-        K_.level_check(XT, idx, k, mid, good, Xs, np.ascontiguousarray(c.X.T), hm, jump)
+        K_.level_check(XT, idx, k, mid, good, Xs, hm, jump)
         res[mid], its[mid], how[mid], sing[mid] = rm, c.iterations, hm, c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the

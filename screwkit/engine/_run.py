@@ -128,11 +128,12 @@ class PathRows:
 
     def solve(self, fixed, X0, idx, workers):
         """Solve the samples ``idx`` from ``X0 (n_unknowns, K)`` (as ``solve_closures``) and
-        keep their rows, in launches of up to :data:`CHUNK` samples."""
+        keep their rows, in launches of up to :data:`CHUNK` samples: their unknowns into
+        their rows of :meth:`unknowns` (the ``Closure`` returned holds the rest)."""
         from ._solve import Closure
         K = len(idx)
         P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
-        keys = ("X", "residual", "iterations", "how", "singular_beta")
+        keys = ("residual", "iterations", "how", "singular_beta")
         # launches of nearly equal size (a multiple of the threads): no idle thread on a
         # short last launch
         for sl in _chunks(K, balanced_chunk(K, CHUNK, threads(K, workers))):
@@ -142,8 +143,13 @@ class PathRows:
         # kept where Newton converged from the start given (the frames are then those of
         # the final unknowns); the others are formed again from their unknowns
         self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
-        return Closure(self.ch, got["X"].T, None, got["residual"], got["iterations"],
-                       got["how"], got["singular_beta"])
+        return Closure(self.ch, None, None, got["residual"], got["iterations"], got["how"],
+                       got["singular_beta"])
+
+    def unknowns(self) -> np.ndarray:
+        """The path's unknowns ``(N, n_unknowns)``, sample by sample: the launches of
+        :meth:`solve` write their samples' rows (the outputs' own array)."""
+        return self.views["X"]
 
     def stale(self, idx):
         self.fresh[idx] = False

@@ -8,11 +8,10 @@ interpolation of its two neighbours, or the one that converged.  After the level
 sample whose solution moved from its start by more than half its neighbours' difference has
 jumped to another branch.  These are per-sample sums and maxima over the unknowns: one pass
 over a level's samples here, where numpy made some twenty passes over whole arrays.  The
-operations are those the numpy code made, element by element and in the same order (the
-cubic's sum from ``0.0``, the Lagrange weights as products left to right): the same bits.
+starts' operations are those the numpy code made, element by element and in the same order
+(the cubic's sum from ``0.0``, the Lagrange weights as products left to right, of node
+differences exact as integers): the same bits.
 """
-
-import math
 
 from ._jit import entry, inner
 
@@ -22,9 +21,13 @@ def level_starts(XT, idx, k, good, mid, four, Xs):
     """The starts ``Xs (G, nx)`` of the samples ``mid (G,)`` in the middle of the gaps
     ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the solved samples in
     order, ``XT (N, nx)`` the unknowns sample by sample, ``good (N,)`` those converged);
-    ``four (G,)`` whether the cubic through four solved samples gave it."""
+    ``four (G,)`` whether the cubic through four solved samples gave it.  (The cubic's
+    weights depend only on the spacing of its nodes, the same for most gaps of a level:
+    formed again only where it changes.)"""
     nx = XT.shape[1]
     last = idx.shape[0] - 1
+    w0 = w1 = w2 = w3 = 0.0
+    s0 = s1 = s2 = s3 = -1
     for g in range(k.shape[0]):
         kg = k[g]
         left, right = idx[kg], idx[kg + 1]
@@ -36,11 +39,15 @@ def level_starts(XT, idx, k, good, mid, four, Xs):
         f = k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]
         four[g] = f
         if f:
-            t = float(m)
-            w0 = _lagrange(float(p0), float(left), float(right), float(p3), 0, t)
-            w1 = _lagrange(float(p0), float(left), float(right), float(p3), 1, t)
-            w2 = _lagrange(float(p0), float(left), float(right), float(p3), 2, t)
-            w3 = _lagrange(float(p0), float(left), float(right), float(p3), 3, t)
+            if left - p0 != s0 or right - left != s1 or p3 - right != s2 or m - left != s3:
+                s0, s1, s2, s3 = left - p0, right - left, p3 - right, m - left
+                # (the nodes relative to the left one: the same weights for every gap of
+                # this spacing, and exact as integers)
+                t0, t2, t3, t = float(-s0), float(s1), float(s1 + s2), float(s3)
+                w0 = _lagrange(t0, 0.0, t2, t3, 0, t)
+                w1 = _lagrange(t0, 0.0, t2, t3, 1, t)
+                w2 = _lagrange(t0, 0.0, t2, t3, 2, t)
+                w3 = _lagrange(t0, 0.0, t2, t3, 3, t)
             for x in range(nx):
                 c = XT[p0, x] * w0
                 c += 0.0                    # (the sum starts from 0: -0 is +0)
@@ -70,21 +77,22 @@ def _lagrange(t0, t1, t2, t3, j, t):
 
 
 @entry
-def level_check(XT, idx, k, mid, good, Xs, Xm, how, jump):
-    """After a level's solve: ``jump (G,)`` where the solution ``Xm[g]`` of sample ``mid[g]``
-    moved from its start ``Xs[g]`` by more than half the difference of its two neighbours
-    (both converged, and solved by Newton from the start: ``how == 0``); the solutions into
-    ``XT``.  (A NaN in either difference counts as no jump, as numpy's maximum gave.)"""
+def level_check(XT, idx, k, mid, good, Xs, how, jump):
+    """After a level's solve (its solutions in their rows of ``XT``): ``jump (G,)`` where the
+    solution of sample ``mid[g]`` moved from its start ``Xs[g]`` by more than half the
+    difference of its two neighbours (both converged, and solved by Newton from the start:
+    ``how == 0``).  A NaN in either difference counts as no jump."""
     nx = XT.shape[1]
     for g in range(k.shape[0]):
-        left, right = idx[k[g]], idx[k[g] + 1]
+        left, right, m = idx[k[g]], idx[k[g] + 1], mid[g]
         span = 0.0
         moved = 0.0
+        nan = False
         for x in range(nx):
             d = abs(XT[right, x] - XT[left, x])
-            span = span if math.isnan(span) else (d if d > span or math.isnan(d) else span)
-            e = abs(Xm[g, x] - Xs[g, x])
-            moved = moved if math.isnan(moved) else (e if e > moved or math.isnan(e) else moved)
-        jump[g] = moved > 0.5 * span + 1e-9 and good[left] and good[right] and how[g] == 0
-        for x in range(nx):
-            XT[mid[g], x] = Xm[g, x]
+            e = abs(XT[m, x] - Xs[g, x])
+            nan = nan | (d != d) | (e != e)
+            span = max(span, d)
+            moved = max(moved, e)
+        jump[g] = (moved > 0.5 * span + 1e-9) & (not nan) & good[left] & good[right] & \
+            (how[g] == 0)
