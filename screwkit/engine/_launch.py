@@ -227,7 +227,8 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     (:func:`output_buffers`, made with the same ``rows``, ``statics``, ``twists`` and
     ``lines``) and returned as views of those rows; or, ``at`` an integer array ``(N,)``,
     pose ``j``'s outputs into row ``at[j]`` of ``buffers`` (a path's level: its samples'
-    rows of the path's outputs), the whole buffers' arrays returned."""
+    rows of the path's outputs), the whole buffers' arrays returned (views; the booleans
+    as their integers, :meth:`OutputBuffers.arrays` without ``convert``)."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -283,6 +284,8 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
             N, workers, per_thread, note=True, pieces=True,
             blocks=blocks is not False and N >= BLOCKS_ALONE and (
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
+    if scattered:                   # (views of the whole buffers: no boolean copied)
+        return buffers.arrays(convert=False)
     return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
                               for is_int, is_bool, o0, o1, sh in layout]))
 

@@ -165,8 +165,8 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         # neighbours on each side, where all four are good; elsewhere the linear
         # interpolation, or the one good neighbour (compiled: one pass over the samples)
         mid, four = np.empty(len(k), np.int64), np.empty(len(k), bool)
-        Xs = np.empty((len(k), ch.n_unknowns))
-        K_.level_starts(XT, idx, k, good, mid, four, Xs)
+        Xs, span = np.empty((len(k), ch.n_unknowns)), np.empty(len(k))
+        K_.level_starts(XT, idx, k, good, mid, four, Xs, span)
         left, right = idx[k], idx[k + 1]
         fx = {p: v[mid] for p, v in fixed.items()}
         c = _solve_level(model, fx, Xs.T, workers) if levels is None else \
@@ -176,7 +176,7 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
             XT[mid] = c.X.T
         # a branch jump: the solution moved more than its neighbours differ
         jump = np.empty(len(k), bool)
-        K_.level_check(XT, idx, k, mid, good, Xs, hm, jump)
+        K_.level_check(XT, idx, k, mid, good, Xs, span, hm, jump)
         res[mid], its[mid], how[mid], sing[mid] = rm, c.iterations, hm, c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the

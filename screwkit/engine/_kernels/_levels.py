@@ -13,17 +13,21 @@ starts' operations are those the numpy code made, element by element and in the 
 differences exact as integers): the same bits.
 """
 
+import math
+
 from ._jit import entry, inner
 
 
 @entry
-def level_starts(XT, idx, k, good, mid, four, Xs):
+def level_starts(XT, idx, k, good, mid, four, Xs, span):
     """The starts ``Xs (G, nx)`` of the samples ``mid (G,)`` in the middle of the gaps
     ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the solved samples in
     order, ``XT (N, nx)`` the unknowns sample by sample, ``good (N,)`` those converged);
-    ``four (G,)`` whether the cubic through four solved samples gave it.  (The cubic's
-    weights depend only on the spacing of its nodes, the same for most gaps of a level:
-    formed again only where it changes.)"""
+    ``four (G,)`` whether the cubic through four solved samples gave it; ``span (G,)`` the
+    largest difference of the two neighbours' unknowns (NaN where one is NaN), which
+    :func:`level_check` reads (formed here, where the neighbours are read anyway).  (The
+    cubic's weights depend only on the spacing of its nodes, the same for most gaps of a
+    level: formed again only where it changes.)"""
     nx = XT.shape[1]
     last = idx.shape[0] - 1
     w0 = w1 = w2 = w3 = 0.0
@@ -36,6 +40,13 @@ def level_starts(XT, idx, k, good, mid, four, Xs):
         k0, k3 = max(kg - 1, 0), min(kg + 2, last)
         p0, p3 = idx[k0], idx[k3]
         gl, gr = good[left], good[right]
+        wide = 0.0
+        nan = False
+        for x in range(nx):
+            d = abs(XT[right, x] - XT[left, x])
+            nan = nan | (d != d)
+            wide = max(wide, d)
+        span[g] = math.nan if nan else wide
         f = k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]
         four[g] = f
         if f:
@@ -77,22 +88,20 @@ def _lagrange(t0, t1, t2, t3, j, t):
 
 
 @entry
-def level_check(XT, idx, k, mid, good, Xs, how, jump):
+def level_check(XT, idx, k, mid, good, Xs, span, how, jump):
     """After a level's solve (its solutions in their rows of ``XT``): ``jump (G,)`` where the
     solution of sample ``mid[g]`` moved from its start ``Xs[g]`` by more than half the
-    difference of its two neighbours (both converged, and solved by Newton from the start:
-    ``how == 0``).  A NaN in either difference counts as no jump."""
+    difference ``span[g]`` of its two neighbours (:func:`level_starts`; both converged, and
+    solved by Newton from the start: ``how == 0``).  A NaN in either difference counts as no
+    jump."""
     nx = XT.shape[1]
     for g in range(k.shape[0]):
-        left, right, m = idx[k[g]], idx[k[g] + 1], mid[g]
-        span = 0.0
+        m = mid[g]
         moved = 0.0
         nan = False
         for x in range(nx):
-            d = abs(XT[right, x] - XT[left, x])
             e = abs(XT[m, x] - Xs[g, x])
-            nan = nan | (d != d) | (e != e)
-            span = max(span, d)
+            nan = nan | (e != e)
             moved = max(moved, e)
-        jump[g] = (moved > 0.5 * span + 1e-9) & (not nan) & good[left] & good[right] & \
-            (how[g] == 0)
+        jump[g] = (moved > 0.5 * span[g] + 1e-9) & (not nan) & good[idx[k[g]]] & \
+            good[idx[k[g] + 1]] & (how[g] == 0)
