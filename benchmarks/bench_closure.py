@@ -45,11 +45,12 @@ def _bench_kernel():
     from screwkit.engine._kernels._closures import predict
     from screwkit.engine._kernels._jit import one_lane
     from screwkit.engine._kernels._driver import run_blocks
-    from screwkit.engine._kernels._kin import forward, forward_block, platform_columns
+    from screwkit.engine._kernels._kin import forward, forward_block
     from screwkit.engine._kernels._layout import BLOCK
     from screwkit.engine._kernels._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_P6,
                                                   W_PT, W_PZ, W_S, W_XB, gauss_newton,
-                                                  home_vector, make_work, newton_step)
+                                                  home_vector, make_work, newton_step,
+                                                  platform_columns)
     from screwkit.engine._kernels._pack import model, params
 
     @njit
@@ -70,7 +71,7 @@ def _bench_kernel():
             forward(M, unk, xs, P6[p], X, W[W_FA], W[W_FL], W[W_FE], W[W_FP], 0, W[W_S],
                     W[W_P6])
             if what == 1:
-                platform_columns(M, W[W_FP][0], unk, W[W_PT])
+                platform_columns(M, one_lane(W[W_FP][0]), unk, one_lane(W[W_PT]), 1, 1)
                 newton_step(M, W, 0, unk.shape[0], W[W_FROZ])
         return steps
 

@@ -32,13 +32,14 @@ import numpy as np
 
 from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes
 from ._indices import lines_at, rounded_unknowns
-from ._kin import closure_sq, forward_block, platform_columns, twist_lane
+from ._kin import forward_block, twist_lane
 from ._layout import (A_LINE, A_NONE, BLOCK, D, L_AROW, TPL, T_AKIND, T_CROW, T_GENERIC,
                       T_K)
 from ._layout import LEG, L_SIZE, PLAT, RL_CTX, RL_DV, RL_J, RL_PV, RL_SC, RL_SCALE, ROT, TRA, TRN
 from ._members import DONE, NOT_DONE, NSC, SC_STATUS, template_lanes
 from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
-from ._newton import HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, step_block
+from ._newton import (HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, closure_sq,
+                      platform_columns, step_block)
 from ._pack import out_row
 
 (K_X, K_XN, K_P6, K_FA, K_FL, K_FE, K_FP, K_STEP, K_F, K_FN, K_E2, K_TOL, K_ITS, K_STATE,
@@ -182,15 +183,17 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
         new = 1 - cur
         # every lane's step at once (the stopped lanes' too: masked, not read)
         Pt = K[K_PT]
-        for l in range(nb):
-            platform_columns(M, K[K_FP][cur, :, l], unk, Pt[:, :, l])
+        platform_columns(M, K[K_FP][cur], unk, Pt, nb, BLOCK)
         step_block(M[LEG], M[ROT], M[TRN], M[PLAT], K[K_FA], FE, Pt, K[K_T], K[K_G], K[K_B],
                    K[K_XS], K[K_AR], STEP, K[K_RHS], K[K_LS], cur, nu, W[W_FROZ], nb)
+        sq = K[K_LS][3]                 # (the step's scratch row it leaves free)
+        if first:                       # (later, the sum of the trial it accepted: below)
+            closure_sq(FE, cur, sq, nb, BLOCK)
         for l in range(nb):
             if ST[l] != LANE_ACTIVE:
                 continue
-            if first:                   # (later, the sum of the trial it accepted: below)
-                E2[l] = closure_sq(FE, cur, l)
+            if first:
+                E2[l] = sq[l]
             OK[l] = 0
         first = False
         for h in range(HALVINGS + 1):
@@ -203,11 +206,12 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 for k in range(nx):
                     Xn[k, l] = X[k, l] + STEP[k, l]
             forward_lanes(M, unk, xs, K, Xn, new, FN, nb)
+            closure_sq(FE, new, sq, nb, BLOCK)
             pending = False
             for l in range(nb):
                 if ST[l] != LANE_ACTIVE or OK[l]:
                     continue
-                e2n = closure_sq(FE, new, l)
+                e2n = sq[l]
                 if e2n < E2[l]:                 # False for NaN and inf
                     OK[l] = 1
                     E2[l] = e2n                 # the next iteration's, if the lane goes on

@@ -20,9 +20,10 @@ import numpy as np
 from numba import prange
 
 from ._jit import entry, inner, one_lane, parallel
-from ._kin import closure_sq, legs_forward
+from ._kin import legs_forward
 from ._layout import CONVERGED, D, LEG, L_ACT, L_ACTIVE, L_AROW, PLAT, P_C, P_L, QS
-from ._newton import W_FA, W_FE, W_FL, W_FP, W_FROZ, W_PT, W_S, W_STEP, make_work, newton_step
+from ._newton import (W_FA, W_FE, W_FL, W_FP, W_FROZ, W_LS, W_PT, W_S, W_STEP, closure_sq,
+                      make_work, newton_step)
 from ._small import matmul3, rodrigues
 
 #: Largest change of an actuated value per continuation step (``L`` or rad).
@@ -71,7 +72,9 @@ def newton(M, R, o, X, tol, max_iter, W, R2, o2, X2, Rw):
         if not math.isfinite(res) or res <= tol:
             break
         newton_step(M, W, 0, 6, W[W_FROZ])
-        e2 = closure_sq(one_lane(W[W_FE]), 0, 0)
+        sq = W[W_LS][3]                 # (the step's scratch row it leaves free)
+        closure_sq(one_lane(W[W_FE]), 0, sq, 1, 1)
+        e2 = sq[0]
         done = False
         for h in range(HALVINGS):
             f = 0.5 ** h
@@ -86,7 +89,8 @@ def newton(M, R, o, X, tol, max_iter, W, R2, o2, X2, Rw):
             for k in range(6, nx):
                 X2[k] = X[k] + step[k] * f
             r2 = _forward(M, R2, o2, X2, W, 1)
-            if math.isfinite(r2) and closure_sq(one_lane(W[W_FE]), 1, 0) < e2:
+            closure_sq(one_lane(W[W_FE]), 1, sq, 1, 1)
+            if math.isfinite(r2) and sq[0] < e2:
                 for r in range(3):
                     o[r] = o2[r]
                     for q in range(3):

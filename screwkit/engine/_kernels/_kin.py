@@ -28,7 +28,7 @@ import math
 from ._jit import borrowing, borrowing_inlined, flat, inlined, lanes, one_lane
 
 from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLAT, P_C, P_L,
-                      P_PH, P_R0, P_RH, QS, ROT, TRA)
+                      P_PH, P_RH, QS, ROT, TRA)
 from ._platform import platform_block, platform_lanes
 from ._small import rodrigues, rotation_vector
 from ._trig import SMALL_ANGLE, angle_over_sine, sin_cos, sin_cos_fix
@@ -247,18 +247,6 @@ def closure_lanes(plat, FPb, RT, Eb, nb, ls, CS, Rd):
             Rd, e[3 * ls + k], e[4 * ls + k], e[5 * ls + k], c, cs[ls + k])
 
 
-@borrowing
-def closure_sq(FE, b, l):
-    """Lane ``l``'s sum of squared closure errors in buffer ``b`` of ``FE (2, n, 6, B)``
-    (legs, then components, in order: a pose's figure for Newton's decrease test; one pose
-    passes its ``(2, n, 6)`` frames through :func:`~._jit.one_lane`)."""
-    s = 0.0
-    for i in range(FE.shape[1]):
-        for k in range(6):
-            s += FE[b, i, k, l] * FE[b, i, k, l]
-    return s
-
-
 @inlined
 def forward_block(M, unk, xs, P6, X, FA, FL, FE, FP, b, S, nb, ls, res, CS):
     """The forward pass of a block of ``nb`` lanes (poses), the lane axis last: the frames of
@@ -333,29 +321,6 @@ def legs_forward(M, X, nu, FA, FL, FE, FP, b, S):
     legs_block(M, one_lane(X), nu, one_lane(FA), one_lane(FL), one_lane(FE), one_lane(FP), b,
                S, 1, 1, CS[2], CS)
     return CS[2, 0]
-
-
-@borrowing
-def platform_columns(M, fp, unk, Pt):
-    """Length-normalised platform twists per unit of each unknown parameter, ``Pt (6, nu)``
-    (a length parameter per unit of ``L``)."""
-    plat = M[PLAT]
-    L = plat[P_L]
-    for k in range(unk.shape[0]):
-        u = unk[k]
-        if u < 3:
-            for r in range(3):
-                Pt[r, k] = plat[P_R0 + 3 * r + u]
-                Pt[3 + r, k] = 0.0
-        else:
-            w0, w1, w2 = fp[18 + u - 3], fp[21 + u - 3], fp[24 + u - 3]
-            o0 = fp[15] - plat[P_C]
-            o1 = fp[16] - plat[P_C + 1]
-            o2 = fp[17] - plat[P_C + 2]
-            Pt[0, k] = (o1 * w2 - o2 * w1) / L
-            Pt[1, k] = (o2 * w0 - o0 * w2) / L
-            Pt[2, k] = (o0 * w1 - o1 * w0) / L
-            Pt[3, k], Pt[4, k], Pt[5, k] = w0, w1, w2
 
 
 @borrowing_inlined

@@ -17,10 +17,11 @@ representation singularity.
 import math
 
 import numpy as np
-from ._jit import borrowing, inlined, inner, lanes, one_lane
 
-from ._kin import closure_sq, forward, platform_columns
-from ._layout import BLOCK, LEG, L_SIZE, PLAT, P_C, P_L, ROT, STOP, TRN
+from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
+
+from ._kin import forward
+from ._layout import BLOCK, LEG, L_SIZE, PLAT, P_C, P_L, P_R0, ROT, STOP, TRN
 from ._small import cholesky_lanes
 
 #: Relative Tikhonov shift of a leg's Gram matrix (exact legs) and of a leg with more joints
@@ -85,7 +86,8 @@ def step_lanes(leg, rot, trn, plat, FA, FE, Pt, T, G, B, Xs, Ar, step, rhs, LS, 
     LLVM vectorises the lane loops over the flat views (:func:`~._jit.flat`).  Scratch: ``T
     (m, 6, ls)`` the free joints' length-normalised twists, ``G (m, m, ls)`` the leg's Gram
     matrix, ``B (m, 7, ls)`` and ``Xs (n, m, 7, ls)`` ``T^T [e, P]`` and its solve, ``Ar (6,
-    7, ls)`` the reduced system, ``rhs (6, 1, ls)``, ``LS (4, >= ls)``."""
+    7, ls)`` the reduced system, ``rhs (6, 1, ls)``, ``LS (4, >= ls)`` (rows 0-2: row 3 is left to the callers' decrease
+    tests, :func:`closure_sq`)."""
     L = plat[P_L]
     c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
     n, m = Xs.shape[0], Xs.shape[1]
@@ -277,9 +279,11 @@ def newton_loop(M, unk, xs, p6fix, X, tol, max_iter, W, f):
             break
         if f <= tol:
             break
-        platform_columns(M, FP[cur], unk, W[W_PT])
+        platform_columns(M, one_lane(FP[cur]), unk, one_lane(W[W_PT]), 1, 1)
         newton_step(M, W, cur, nu, frozen)
-        e2 = closure_sq(one_lane(FE), cur, 0)
+        sq = W[W_LS][3]                 # (the step's scratch row it leaves free)
+        closure_sq(one_lane(FE), cur, sq, 1, 1)
+        e2 = sq[0]
         new = 1 - cur
         ok = False
         fn = f
@@ -290,8 +294,8 @@ def newton_loop(M, unk, xs, p6fix, X, tol, max_iter, W, f):
             for k in range(nx):
                 Xn[k] = X[k] + step[k]
             fn = forward(M, unk, xs, p6fix, Xn, FA, FL, FE, FP, new, S, p6)
-            e2n = closure_sq(one_lane(FE), new, 0)
-            if e2n < e2:               # False for NaN and inf
+            closure_sq(one_lane(FE), new, sq, 1, 1)
+            if sq[0] < e2:               # False for NaN and inf
                 ok = True
                 break
         its += 1
@@ -330,3 +334,53 @@ def home_vector(unk, xs, p6home, out):
     out[:] = 0.0
     for k in range(unk.shape[0]):
         out[k] = p6home[unk[k]] / xs[k]
+
+
+@borrowing_inlined
+def platform_columns(M, FPb, unk, Pt, nb, ls):
+    """Length-normalised platform twists per unit of each unknown parameter of the lanes
+    ``0..nb-1`` of the platforms ``FPb (27, ls)``, into ``Pt (6, >= nu, ls)`` (a length
+    parameter per unit of ``L``; one pose: its ``(27,)`` and ``(6, nu)`` through
+    :func:`~._jit.one_lane`, ``nb = ls = 1``)."""
+    plat = M[PLAT]
+    L = plat[P_L]
+    c0, c1, c2 = plat[P_C], plat[P_C + 1], plat[P_C + 2]
+    fp, pt = lanes(FPb), lanes(Pt)
+    npc = Pt.shape[1]
+    for k in range(unk.shape[0]):
+        u = unk[k]
+        if u < 3:
+            for r in range(3):
+                v = plat[P_R0 + 3 * r + u]
+                qa, qb = (r * npc + k) * ls, ((3 + r) * npc + k) * ls
+                for j in range(nb):
+                    pt[qa + j] = v
+                    pt[qb + j] = 0.0
+        else:
+            a0, a1, a2 = (18 + u - 3) * ls, (21 + u - 3) * ls, (24 + u - 3) * ls
+            q0, q1, q2 = k * ls, (npc + k) * ls, (2 * npc + k) * ls
+            q3, q4, q5 = (3 * npc + k) * ls, (4 * npc + k) * ls, (5 * npc + k) * ls
+            for j in range(nb):
+                w0, w1, w2 = fp[a0 + j], fp[a1 + j], fp[a2 + j]
+                o0 = fp[15 * ls + j] - c0
+                o1 = fp[16 * ls + j] - c1
+                o2 = fp[17 * ls + j] - c2
+                pt[q0 + j] = (o1 * w2 - o2 * w1) / L
+                pt[q1 + j] = (o2 * w0 - o0 * w2) / L
+                pt[q2 + j] = (o0 * w1 - o1 * w0) / L
+                pt[q3 + j], pt[q4 + j], pt[q5 + j] = w0, w1, w2
+
+
+@borrowing_inlined
+def closure_sq(FE, b, out, nb, ls):
+    """Each lane's sum of squared closure errors in buffer ``b`` of ``FE (2, n, 6, ls)`` into
+    ``out[:nb]`` (legs, then components, in order from ``0.0``: a pose's figure for Newton's
+    decrease test; one pose passes its ``(2, n, 6)`` frames through :func:`~._jit.one_lane`
+    and an ``out`` of one entry)."""
+    fe = lanes(FE[b])
+    for j in range(nb):
+        out[j] = 0.0
+    for q in range(FE.shape[1] * 6):
+        o = q * ls
+        for j in range(nb):
+            out[j] += fe[o + j] * fe[o + j]
