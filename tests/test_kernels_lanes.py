@@ -121,6 +121,22 @@ def test_singular_values_on_lanes_with_a_non_finite_lane(svd):
     assert np.max(np.abs(s_good - ref) / ref[:, :1]) < 1e-13
 
 
+
+@pytest.mark.parametrize("value", [np.inf, -np.inf])
+def test_singular_values_on_lanes_with_an_infinite_lane(svd, value):
+    # an infinite entry (its Gram matrix infinite or NaN) gives the lane NaN singular
+    # values, as a NaN does; the finite lanes equal numpy's SVD
+    rng = np.random.default_rng(8)
+    J = 0.7 * np.eye(6) + 0.3 * rng.normal(size=(B, 6, 6))
+    J /= np.linalg.norm(J, axis=2, keepdims=True)
+    bad = J.copy()
+    bad[9, 0, 0] = value
+    s_bad = svd(bad)
+    assert np.all(np.isnan(s_bad[9]))
+    keep = np.arange(B) != 9
+    ref = np.linalg.svd(J[keep], compute_uv=False)
+    assert np.max(np.abs(s_bad[keep] - ref) / ref[:, :1]) < 1e-13
+
 @pytest.fixture(scope="module")
 def predictor():
     from numba import njit

@@ -126,30 +126,28 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
                     for l in range(nb):
                         u[o + l] += j[pa + l] * j[pb + l]
     # a lane with a non-finite Gram matrix: NaN singular values (its matrix zero for the
-    # iteration, which would otherwise run to its limit of steps on NaN)
-    bad = I[0]
-    for l in range(nb):
-        bad[l] = 0
-        for a in range(g):
-            for b in range(a + 1):
-                if not math.isfinite(U[a, b, l]):
-                    bad[l] = 1
-        if bad[l]:
-            for a in range(g):
-                for b in range(a + 1):
-                    U[a, b, l] = 0.0
+    # iteration, which would otherwise run to its limit of steps on NaN).  Lane loops of
+    # arithmetic (vectorised): an entry times 0 is NaN exactly where it is not finite, so
+    # a lane's sum of them is 0 where every entry is finite
+    bad, acc = I[0], e[0]                  # (e: free until the iteration)
+    _non_finite(U, g, acc, bad, nb)
     symmetric_eigenvalues_lanes(U, g, s, e, S, nb, ls)
+    for q in range(g):
+        for l in range(nb):
+            s[q, l] = math.sqrt(max(s[q, l], 0.0))
+    # descending: a selection sort's exchanges (g <= 6), each a select on every lane
+    for q in range(g):
+        for r in range(q + 1, g):
+            for l in range(nb):
+                hi, lo = s[r, l], s[q, l]
+                up = hi > lo
+                s[q, l] = hi if up else lo
+                s[r, l] = lo if up else hi
     for l in range(nb):
         if bad[l]:
             for q in range(s.shape[0]):
                 s[q, l] = np.nan
             continue
-        for q in range(g):
-            s[q, l] = math.sqrt(max(s[q, l], 0.0))
-        for q in range(g):                 # descending (g <= 6: a selection sort)
-            for r in range(q + 1, g):
-                if s[r, l] > s[q, l]:
-                    s[q, l], s[r, l] = s[r, l], s[q, l]
         if not s[g - 1, l] * REFINE_GRAM > s[0, l]:
             for i in range(m):
                 for c in range(6):
@@ -170,6 +168,24 @@ def singular_values_lanes(J, r0, m, U, s, k, e, S, I, R, nb, ls):
                 R[bi, 0] = -2.0
         for q in range(k, s.shape[0]):
             s[q, l] = np.nan
+
+
+@borrowing_inlined
+def _non_finite(U, g, acc, bad, nb):
+    """``bad[l]`` 1 where lane ``l``'s lower triangle of ``U[:g, :g]`` holds a NaN or an
+    infinity (that triangle then zero), else 0; ``acc`` scratch."""
+    for l in range(nb):
+        acc[l] = 0.0
+    for a in range(g):
+        for b in range(a + 1):
+            for l in range(nb):
+                acc[l] += U[a, b, l] * 0.0
+    for l in range(nb):
+        bad[l] = 0 if acc[l] == 0.0 else 1
+    for a in range(g):
+        for b in range(a + 1):
+            for l in range(nb):
+                U[a, b, l] = U[a, b, l] if bad[l] == 0 else 0.0
 
 
 @borrowing

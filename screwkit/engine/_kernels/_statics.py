@@ -163,13 +163,17 @@ def conditioning_lanes(CW, mr, n_act, nb):
     U, E, S, I, R = CW[CW_U], CW[CW_E], CW[CW_S], CW[CW_I], CW[CW_R]
     ls = Jn.shape[2]
     k = min(mr, 6)
+    # a lane with a NaN or an infinity in Jn: -1 (an entry times 0 is NaN exactly there;
+    # lane loops of arithmetic, vectorised); E is free until the singular values
+    acc = E[0]
     for l in range(nb):
-        finite = True
-        for r in range(mr):
-            for q in range(6):
-                if not math.isfinite(Jn[r, q, l]):
-                    finite = False
-        RK[0, l] = 0 if finite else -1
+        acc[l] = 0.0
+    for r in range(mr):
+        for q in range(6):
+            for l in range(nb):
+                acc[l] += Jn[r, q, l] * 0.0
+    for l in range(nb):
+        RK[0, l] = 0 if acc[l] == 0.0 else -1
     singular_values_lanes(Jn, 0, mr, U, sv, k, E, S, I, R, nb, ls)
     mc = mr - n_act
     kk = max(0, 6 - n_act)
