@@ -40,13 +40,7 @@ def level_starts(XT, idx, k, good, mid, four, Xs, span):
         k0, k3 = max(kg - 1, 0), min(kg + 2, last)
         p0, p3 = idx[k0], idx[k3]
         gl, gr = good[left], good[right]
-        wide = 0.0
-        nan = False
-        for x in range(nx):
-            d = abs(XT[right, x] - XT[left, x])
-            nan = nan | (d != d)
-            wide = max(wide, d)
-        span[g] = math.nan if nan else wide
+        span[g] = _largest_difference(XT, right, XT, left, nx)
         f = k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]
         four[g] = f
         if f:
@@ -96,12 +90,19 @@ def level_check(XT, idx, k, mid, good, Xs, span, how, jump):
     jump."""
     nx = XT.shape[1]
     for g in range(k.shape[0]):
-        m = mid[g]
-        moved = 0.0
-        nan = False
-        for x in range(nx):
-            e = abs(XT[m, x] - Xs[g, x])
-            nan = nan | (e != e)
-            moved = max(moved, e)
-        jump[g] = (moved > 0.5 * span[g] + 1e-9) & (not nan) & good[idx[k[g]]] & \
-            good[idx[k[g] + 1]] & (how[g] == 0)
+        moved = _largest_difference(XT, mid[g], Xs, g, nx)
+        # (False where either is NaN)
+        jump[g] = (moved > 0.5 * span[g] + 1e-9) & good[idx[k[g]]] & good[idx[k[g] + 1]] & \
+            (how[g] == 0)
+
+
+@inner
+def _largest_difference(A, i, B, j, nx):
+    """``max |A[i, :nx] - B[j, :nx]|``, NaN where a difference is NaN."""
+    largest = 0.0
+    nan = False
+    for x in range(nx):
+        d = abs(A[i, x] - B[j, x])
+        nan = nan | (d != d)
+        largest = max(largest, d)
+    return math.nan if nan else largest
