@@ -79,3 +79,67 @@ def test_index_minima_and_finite_test_equal_numpy():
         assert _all_finite(b) == bool(np.isfinite(b).all()) is False
     big = np.full((4, 6, 6), 1e308)                    # the sum overflows: checked one by one
     assert _all_finite(big) is True
+
+
+def test_levels_solved_in_the_launches_equal_the_plain_route():
+    """The starts and branch-jump test formed in the levels' launches (the analysis with
+    rows) solve the path as the route without rows does (``solve``: starts and test in the
+    levels' own passes), retries and unreachable samples included, bit for bit."""
+    pm = screwkit.load_pm("3RRPRR")
+    pose = _path("walk", 4000)
+    fused = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
+    plain = screwkit.solve(pm, pose, path=True)
+    assert fused.diagnostics["retried"] > 0
+    a, b = fused.solution.closures, plain.closures
+    np.testing.assert_array_equal(a.X, b.X)
+    np.testing.assert_array_equal(a.iterations, b.iterations)
+    np.testing.assert_array_equal(a.how, b.how)
+    np.testing.assert_array_equal(np.isfinite(a.residual), np.isfinite(b.residual))
+
+
+def test_level_stencils_are_the_interpolations_of_the_neighbours():
+    """A level's starts (``level_stencil`` then ``level_starts``) against numpy: the cubic
+    through the four solved samples around a gap (``np.polyfit`` of degree 3 through
+    them) where all four converged, the linear interpolation of the two neighbours, or
+    the one that converged; the excess against its formula in numpy."""
+    from screwkit.engine._kernels import kernels
+    from screwkit.engine._kernels._layout import STENCIL_WIDTH
+    K = kernels()
+    rng = np.random.default_rng(5)
+    N, nx = 200, 7
+    XT = rng.normal(size=(N, nx))
+    idx = np.unique(np.concatenate([[0, N - 1], rng.choice(N, 40, replace=False)]))
+    good = rng.uniform(size=N) > 0.2
+    k = np.flatnonzero(np.diff(idx) > 1)
+    G = len(k)
+    mid, S = np.empty(G, np.int64), np.empty((G, STENCIL_WIDTH))
+    K.level_stencil(idx, k, good, mid, S)
+    Xs = np.empty((G, nx))
+    K.level_starts(S, XT, Xs)
+    kinds = set()
+    for g, kg in enumerate(k):
+        left, right = idx[kg], idx[kg + 1]
+        assert mid[g] == (left + right) // 2
+        nodes = idx[max(kg - 1, 0):kg + 3]
+        if len(nodes) == 4 and kg >= 1 and good[nodes].all():
+            want = [np.polyval(np.polyfit(nodes, XT[nodes, x], 3), mid[g]) for x in range(nx)]
+            np.testing.assert_allclose(Xs[g], want, rtol=1e-9, atol=1e-9)
+            kinds.add("cubic")
+        elif good[left] and good[right]:
+            w = (mid[g] - left) / (right - left)
+            np.testing.assert_allclose(Xs[g], (1 - w) * XT[left] + w * XT[right], rtol=1e-14)
+            kinds.add("linear")
+        else:
+            np.testing.assert_array_equal(Xs[g], XT[left] if good[left] else XT[right])
+            kinds.add("one")
+    assert kinds == {"cubic", "linear", "one"}
+    XT[mid] = Xs + rng.normal(scale=0.3, size=Xs.shape)        # the level's "solutions"
+    XT[mid[3], 2] = np.nan
+    XT[mid[5]] += 10.0                                          # a jump
+    excess = np.empty(G)
+    K.level_check(S, XT, mid, Xs, excess)
+    left, right = idx[k], idx[k + 1]
+    want = np.abs(XT[mid] - Xs).max(axis=1) - (
+        0.5 * np.abs(XT[right] - XT[left]).max(axis=1) + 1e-9)
+    np.testing.assert_allclose(excess, want, rtol=1e-15, atol=0)
+    assert np.isnan(excess[3]) and (excess > 0).any() and (excess <= 0).any()

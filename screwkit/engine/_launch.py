@@ -16,7 +16,7 @@ import numpy as np
 
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
-from ._kernels._layout import BLOCK, LINE_WIDTH
+from ._kernels._layout import BLOCK, LINE_WIDTH, ST_ROW, STENCIL_WIDTH
 from ._memory import recycled_empty
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
@@ -48,14 +48,14 @@ PARALLEL_COMPILE = "a minute or two"
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
            "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
            "constraint_rank", "constraint_condition_number", "values", "equilibrium",
-           "amplification", "det_sign", "twists", "lines", "platform")
+           "amplification", "det_sign", "twists", "lines", "platform", "excess")
 
 
 _CORES = min(2, os.cpu_count() or 1)
 #: ``on``: this Python thread's launches run on it alone (:func:`on_this_thread`).
 _HERE_ONLY = threading.local()
 _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
-              "f", "f", "f", "f", "f", "f", "f")
+              "f", "f", "f", "f", "f", "f", "f", "f")
 
 
 def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
@@ -120,14 +120,14 @@ class _Plan:
     the outputs, where each array starts in its buffer, the flags, and the inputs that do
     not change between calls (the torque rows, in the integer buffer)."""
 
-    __slots__ = ("in_d", "in_nf", "in_f", "in_i", "in_rows", "out", "out_d", "out_nf",
-                 "out_ni", "flags")
+    __slots__ = ("in_d", "in_nf", "in_f", "in_i", "in_rows", "in_stencil", "out", "out_d",
+                 "out_nf", "out_ni", "flags")
 
 
 def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
-          lines=False, nrows=0) -> _Plan:
+          lines=False, nrows=0, nstencil=0, excess=False) -> _Plan:
     key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines,
-           nrows)
+           nrows, nstencil, excess)
     plan = flat.packed.get(key)
     if plan is not None:
         return plan
@@ -135,10 +135,12 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     rn = N if rows else 0
     sn = N if (rows and statics) else 0
     plan = _Plan()
-    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,), (nrows,)]
-    inp = Packed(ins, ("f",) * 6 + ("i", "i"))
+    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,), (nrows,),
+           (nstencil, STENCIL_WIDTH)]
+    inp = Packed(ins, ("f",) * 6 + ("i", "i", "f"))
     plan.in_d, plan.in_nf = inp.d, inp.f.size
     plan.in_f = [(o, o + size, sh) for (o, size), sh in zip(inp.offsets[:6], ins)]
+    plan.in_stencil = (inp.offsets[8][0], inp.offsets[8][0] + inp.offsets[8][1], ins[8])
     plan.in_i = inp.i
     t0 = inp.offsets[6][0]
     plan.in_i[t0:t0 + mr] = flat.torque          # constant: the kernel only reads it
@@ -146,7 +148,8 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     out = Packed([(N, nx), (N,), (N,), (N,), (N,), (rn, mr, 6), (rn, mr), (rn,), (rn, n),
                   (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
                   (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6),
-                  (N if lines else 0, n, LINE_WIDTH), (N if lines else 0, 27)], _OUT_KINDS)
+                  (N if lines else 0, n, LINE_WIDTH), (N if lines else 0, 27),
+                  (N if excess else 0,)], _OUT_KINDS)
     plan.out_d, plan.out_nf, plan.out_ni = out.d, out.f.size, out.i.size
     plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
                      for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
@@ -178,15 +181,16 @@ class OutputBuffers:
 
 
 def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
-                   lines=False) -> OutputBuffers:
+                   lines=False, excess=False) -> OutputBuffers:
     """Empty output buffers of ``N`` poses for launches of :func:`run_poses` with the same
-    ``rows``, ``statics``, ``twists`` and ``lines`` on ranges of them."""
+    ``rows``, ``statics``, ``twists`` and ``lines`` on ranges of them; ``excess``: with the
+    rows of the excess of a path level's samples (launches given a ``stencil``)."""
     plan = _plan(flat, N, 0, 0, 0, True, bool(rows), bool(statics), True, bool(twists),
-                 bool(lines))
+                 bool(lines), excess=bool(excess))
     b = OutputBuffers()
     b.f, b.i = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
     b.d, b.layout, b.N = plan.out_d, plan.out, N
-    b.kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines))
+    b.kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines), bool(excess))
     return b
 
 
@@ -210,7 +214,7 @@ def _rows_of(buffers: OutputBuffers, at: int, n: int):
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
               lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
-              blocks: bool | None = True, out=None) -> dict:
+              blocks: bool | None = True, out=None, stencil=None) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
@@ -228,15 +232,26 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     ``lines``) and returned as views of those rows; or, ``at`` an integer array ``(N,)``,
     pose ``j``'s outputs into row ``at[j]`` of ``buffers`` (a path's level: its samples'
     rows of the path's outputs), the whole buffers' arrays returned (views; the booleans
-    as their integers, :meth:`OutputBuffers.arrays` without ``convert``)."""
+    as their integers, :meth:`OutputBuffers.arrays` without ``convert``).  ``stencil (N,
+    STENCIL_WIDTH)`` (with such ``out`` of buffers made with ``excess``, in place of
+    ``X0``): a path level's samples, their starts formed in the launch from the rows of the
+    solved samples' unknowns in ``buffers`` (:func:`._kernels._levels.level_stencil`), and
+    their excess written into their rows of ``excess``."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
     scattered = out is not None and np.ndim(out[1]) == 1
-    plan = _plan(flat, N, 0 if X0 is None else N, 0 if side is None else len(side),
+    if stencil is not None and (X0 is not None or not scattered or len(stencil) != N or (
+            N and not (0 <= stencil[:, ST_ROW:].min() and
+                       stencil[:, ST_ROW:].max() < out[0].N)) or not out[0].kind[-1]):
+        raise ValueError("a stencil of a path level's starts takes the rows of output "
+                         "buffers with the excess, one a pose, of rows within them, no X0")
+    plan = _plan(flat, N, 0 if X0 is None and stencil is None else N,
+                 0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
                  bool(statics), bool(continuation), bool(twists), bool(lines),
-                 N if scattered else 0)
+                 N if scattered else 0, 0 if stencil is None else N,
+                 out is not None and out[0].kind[-1])
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \
@@ -250,13 +265,16 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     If[t0:t1] = 0.0 if T is None else T
     if comp is not None:
         If[c0:c1].reshape(csh)[...] = comp
+    if stencil is not None:
+        s0, s1, ssh = plan.in_stencil
+        If[s0:s1].reshape(ssh)[...] = stencil
     Ii = plan.in_i
     if out is None:
         Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
         out_d, layout = plan.out_d, plan.out
     else:
         buffers, at = out
-        kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines))
+        kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines), buffers.kind[-1])
         if scattered:
             at = np.asarray(at, np.int64)
             if buffers.kind != kind or len(at) != N or (N and not (

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, chains_of
-from ._kernels._layout import ACCEPTED, CONVERGED
+from ._kernels._layout import ACCEPTED, CONVERGED, STENCIL_WIDTH
 from ._memory import recycled_empty
 from ._solve import Closure, predictor_of, solve_closures
 
@@ -74,12 +74,15 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     a sample with no solved neighbour keeps its level's result.
 
     ``levels`` (optional) solves the levels instead of :func:`solve_closures`: an object
-    with ``solve(fixed, X0, indices, workers) -> Closure`` (the samples ``indices`` of the
-    path) and ``stale(indices)``, told of the samples solved again after their level (the
-    retries taken): the engine's driver forms each level's rows in the launch that solves
-    it (:class:`screwkit.engine._run.PathRows`); and ``unknowns() -> (N, n_unknowns)``:
-    the path's unknowns sample by sample, which ``solve`` fills in place (the rows of its
-    samples; the ``Closure`` it returns need not hold them).
+    with ``solve(fixed, stencil, indices, workers) -> (Closure, excess)`` (the samples
+    ``indices`` of the path, their starts described by ``stencil``, rows of
+    :func:`~._kernels._levels.level_stencil`; ``excess (K,)`` as
+    :func:`~._kernels._levels.stencil_excess`) and ``stale(indices)``, told of the samples
+    solved again after their level (the retries taken): the engine's driver forms each
+    level's starts, excess and rows in the launch that solves it
+    (:class:`screwkit.engine._run.PathRows`); and ``unknowns() -> (N, n_unknowns)``: the
+    path's unknowns sample by sample, which ``solve`` reads (the solved samples') and fills
+    (its samples' rows; the ``Closure`` it returns need not hold them).
     """
     ch = chains_of(model)
     fixed = {p: np.asarray(fixed[p], float) for p in ch.fixed}
@@ -164,19 +167,23 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
         # each gap's middle sample and its start: the cubic through the two solved
         # neighbours on each side, where all four are good; elsewhere the linear
         # interpolation, or the one good neighbour (compiled: one pass over the samples)
-        mid, four = np.empty(len(k), np.int64), np.empty(len(k), bool)
-        Xs, span = np.empty((len(k), ch.n_unknowns)), np.empty(len(k))
-        K_.level_starts(XT, idx, k, good, mid, four, Xs, span)
+        mid, S = np.empty(len(k), np.int64), np.empty((len(k), STENCIL_WIDTH))
+        K_.level_stencil(idx, k, good, mid, S)
         left, right = idx[k], idx[k + 1]
         fx = {p: v[mid] for p, v in fixed.items()}
-        c = _solve_level(model, fx, Xs.T, workers) if levels is None else \
-            levels.solve(fx, Xs.T, mid, workers)
-        rm, hm = c.residual, c.how
         if levels is None:
+            Xs, excess = np.empty((len(k), ch.n_unknowns)), np.empty(len(k))
+            K_.level_starts(S, XT, Xs)
+            c = _solve_level(model, fx, Xs.T, workers)
             XT[mid] = c.X.T
-        # a branch jump: the solution moved more than its neighbours differ
-        jump = np.empty(len(k), bool)
-        K_.level_check(XT, idx, k, mid, good, Xs, span, hm, jump)
+            K_.level_check(S, XT, mid, Xs, excess)
+        else:
+            # (the starts formed, and the excess, in the launches that solve the level)
+            c, excess = levels.solve(fx, S, mid, workers)
+        rm, hm = c.residual, c.how
+        # a branch jump: the solution moved from its start more than half its neighbours
+        # differ (both converged, and solved by Newton from the start)
+        jump = (excess > 0) & good[left] & good[right] & (hm == 0)
         res[mid], its[mid], how[mid], sing[mid] = rm, c.iterations, hm, c.singular_beta
         # the retries, all at once: from a solved neighbour only (with none, there is no
         # better start than the level's), Newton alone (the level solve already ran the

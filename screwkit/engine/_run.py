@@ -117,7 +117,7 @@ class PathRows:
         self.compliance, self.twists, self.lines = compliance, twists, lines
         self.fresh = np.zeros(N, bool)
         self.buffers = output_buffers(ch.flat, N, statics=F is not None, twists=twists,
-                                      lines=lines)
+                                      lines=lines, excess=True)
         self.views = self.buffers.arrays(convert=False)      # (views: read after launches)
 
     def _launch(self, P6, idx, workers, **kw):
@@ -126,25 +126,26 @@ class PathRows:
                   statics=self.F is not None, twists=self.twists, lines=self.lines,
                   workers=workers, out=(self.buffers, idx), **kw)
 
-    def solve(self, fixed, X0, idx, workers):
-        """Solve the samples ``idx`` from ``X0 (n_unknowns, K)`` (as ``solve_closures``) and
-        keep their rows, in launches of up to :data:`CHUNK` samples: their unknowns into
-        their rows of :meth:`unknowns` (the ``Closure`` returned holds the rest)."""
+    def solve(self, fixed, stencil, idx, workers):
+        """Solve the samples ``idx`` from the starts ``stencil (K, STENCIL_WIDTH)``
+        describes (as ``solve_closures``) and keep their rows, in launches of up to
+        :data:`CHUNK` samples: their unknowns into their rows of :meth:`unknowns`.  Returns
+        ``(Closure, excess (K,))`` (the ``Closure`` without the unknowns)."""
         from ._solve import Closure
         K = len(idx)
-        P6, X0 = self.ch.full_params(fixed, K), np.asarray(X0, float).T
-        keys = ("residual", "iterations", "how", "singular_beta")
+        P6 = self.ch.full_params(fixed, K)
+        keys = ("residual", "iterations", "how", "singular_beta", "excess")
         # launches of nearly equal size (a multiple of the threads): no idle thread on a
         # short last launch
         for sl in _chunks(K, balanced_chunk(K, CHUNK, threads(K, workers))):
-            self._launch(P6[sl], idx[sl], workers, X0=X0[sl])
+            self._launch(P6[sl], idx[sl], workers, stencil=stencil[sl])
         got = {k: self.views[k][idx] for k in keys}
         got["singular_beta"] = got["singular_beta"].astype(bool)
         # kept where Newton converged from the start given (the frames are then those of
         # the final unknowns); the others are formed again from their unknowns
         self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
         return Closure(self.ch, None, None, got["residual"], got["iterations"], got["how"],
-                       got["singular_beta"])
+                       got["singular_beta"]), got["excess"]
 
     def unknowns(self) -> np.ndarray:
         """The path's unknowns ``(N, n_unknowns)``, sample by sample: the launches of

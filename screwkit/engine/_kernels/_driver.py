@@ -19,7 +19,10 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 * ``I`` the inputs: ``P6 (N, 6)`` the given parameters (the dependent ones are ignored),
   ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
   or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``, ``rows (N
-  or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`);
+  or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`),
+  ``stencil (N or 0, _levels.STENCIL_WIDTH)`` a path level's starts (the rows of ``X0``
+  formed in the launch from the solved samples' unknowns, rows of ``O``'s, and each
+  pose's excess written: :func:`path_starts`, :func:`path_excess`);
 * ``O`` the outputs (``_layout.OUT_*``), filled pose by pose (of the rows given: a path's
   level writes its samples' rows of the path's outputs, no copy after the launch);
 * ``flags``: solve, rows, statics, continuation, actuated twists, the lines of the
@@ -39,8 +42,9 @@ from ._geometry import legs_frames_block
 from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
                         whole_turns)
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
-                      F_SOLVE, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING, OUT_X,
-                      ORDER, PTS, RL_J, RL_SP, ROWS)
+                      F_SOLVE, OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING,
+                      OUT_X, ORDER, PTS, RL_J, RL_SP, ROWS)
+from ._levels import stencil_excess, stencil_start
 from ._pack import inputs, model, out_row, outputs, params
 from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
 from ._rows import make_rows_work
@@ -105,6 +109,7 @@ def run_poses(M, Z, I, O, flags, first, stop):
     W, RW, SW, CW, RL = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(RLo)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
+        path_starts(I, O, p0, nb)
         for l in range(nb):
             p = p0 + l
             res, b = 0.0, -1
@@ -113,6 +118,7 @@ def run_poses(M, Z, I, O, flags, first, stop):
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True, RL, -1)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
+        path_excess(I, O, p0, nb)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + RLo[0].size
 
@@ -162,6 +168,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         kb = 0
+        path_starts(I, O, p0, nb)
         if blocked:
             kb = solve_block(M, Z, I, O, p0, nb, W, K)
         elif given:
@@ -197,6 +204,29 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
             block_lines(M, Z[0], Z[1], I, O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
                         W, K, kb)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
+        path_excess(I, O, p0, nb)
+
+
+@inlined
+def path_starts(I, O, p0, nb):
+    """A path level's launch (a stencil a pose): the starts of the poses ``p0..p0+nb-1``
+    into their rows of ``X0``, from the solved samples' unknowns (rows of ``O[OUT_X]`` no
+    pose of the launch writes)."""
+    S = I[8]
+    if S.shape[0]:
+        for p in range(p0, p0 + nb):
+            stencil_start(S, p, O[OUT_X], I[1], p)
+
+
+@inlined
+def path_excess(I, O, p0, nb):
+    """A path level's launch: each pose's excess (:func:`._levels.stencil_excess`) into
+    its row of ``O[OUT_EXCESS]``, its solution and start at hand."""
+    S = I[8]
+    if S.shape[0]:
+        for p in range(p0, p0 + nb):
+            q = out_row(I, p)
+            O[OUT_EXCESS][q] = stencil_excess(S, p, O[OUT_X], q, I[1], p)
 
 
 @inlined

@@ -112,8 +112,18 @@ RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP 
 
 #: The outputs of the analysis kernel (``_driver``), in its order (``_launch``), and its
 #: flags: solve, rows, statics, continuation, actuated twists, the lines of the transmission
-#: indices' joints and the platform (1/0 each).
+#: indices' joints and the platform (1/0 each).  ``OUT_EXCESS``: a path level's samples'
+#: excess (``_levels.stencil_excess``; no rows otherwise).
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
- OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM) = range(23)
+ OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM, OUT_EXCESS) = range(24)
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
+
+#: A path level's stencils (``_levels.level_stencil``), a sample's start: the columns, its
+#: kind (``SK_*``), the four weights, the four rows of the unknowns it reads (the cubic's
+#: nodes: the left neighbour's left, the left and right neighbours, the right one's right;
+#: exact as floats); the kinds, the left neighbour's unknowns, the right one's, the linear
+#: interpolation of the two (``w``, the right one's weight, in ``ST_W``), the cubic.
+ST_KIND, ST_W, ST_ROW = 0, 1, 5
+STENCIL_WIDTH = 9
+SK_LEFT, SK_RIGHT, SK_LINEAR, SK_CUBIC = 0, 1, 2, 3

@@ -6,29 +6,36 @@ spacing: the sample in the middle of each gap between two solved ones starts fro
 through the two solved samples on each side (where all four converged), else from the linear
 interpolation of its two neighbours, or the one that converged.  After the level's solve, a
 sample whose solution moved from its start by more than half its neighbours' difference has
-jumped to another branch.  These are per-sample sums and maxima over the unknowns: one pass
-over a level's samples here, where numpy made some twenty passes over whole arrays.  The
-starts' operations are those the numpy code made, element by element and in the same order
-(the cubic's sum from ``0.0``, the Lagrange weights as products left to right, of node
-differences exact as integers): the same bits.
+jumped to another branch.
+
+A level's starts are described by a *stencil* a sample (:func:`level_stencil`, formed from
+the solved samples' indices alone): its kind, the four weights and the four rows of the
+unknowns it reads (``ST_*``).  The engine's driver applies it in the launch that solves the
+level (:func:`stencil_start`, into the sample's start), and forms the sample's *excess*
+there (:func:`stencil_excess`: how much more than half its neighbours' difference its
+solution moved from its start; a jump where positive), each sample's rows read while its
+pose is at hand; a path solved without the driver's rows applies the same functions here
+(:func:`level_starts`, :func:`level_check`).  The starts' operations are those the numpy
+code made, element by element and in the same order (the cubic's sum from ``0.0``, the
+Lagrange weights as products left to right, of node differences exact as integers): the
+same bits.
 """
 
 import math
 
-from ._jit import entry, inner
+from ._jit import borrowing, entry, inner
+from ._layout import SK_CUBIC, SK_LEFT, SK_LINEAR, SK_RIGHT, ST_KIND, ST_ROW, ST_W
 
 
 @entry
-def level_starts(XT, idx, k, good, mid, four, Xs, span):
-    """The starts ``Xs (G, nx)`` of the samples ``mid (G,)`` in the middle of the gaps
-    ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the solved samples in
-    order, ``XT (N, nx)`` the unknowns sample by sample, ``good (N,)`` those converged);
-    ``four (G,)`` whether the cubic through four solved samples gave it; ``span (G,)`` the
-    largest difference of the two neighbours' unknowns (NaN where one is NaN), which
-    :func:`level_check` reads (formed here, where the neighbours are read anyway).  (The
-    cubic's weights depend only on the spacing of its nodes, the same for most gaps of a
-    level: formed again only where it changes.)"""
-    nx = XT.shape[1]
+def level_stencil(idx, k, good, mid, S):
+    """The stencils ``S (G, STENCIL_WIDTH)`` of the samples ``mid (G,)`` (written) in the
+    middle of the gaps ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the
+    solved samples in order, ``good (N,)`` those converged): the cubic through the two
+    solved samples on each side where all four converged, else the linear interpolation
+    of the two neighbours, or the one that converged (the right one where neither did).
+    (The cubic's weights depend only on the spacing of its nodes, the same for most gaps of
+    a level: formed again only where it changes.)"""
     last = idx.shape[0] - 1
     w0 = w1 = w2 = w3 = 0.0
     s0 = s1 = s2 = s3 = -1
@@ -40,10 +47,11 @@ def level_starts(XT, idx, k, good, mid, four, Xs, span):
         k0, k3 = max(kg - 1, 0), min(kg + 2, last)
         p0, p3 = idx[k0], idx[k3]
         gl, gr = good[left], good[right]
-        span[g] = _largest_difference(XT, right, XT, left, nx)
-        f = k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]
-        four[g] = f
-        if f:
+        S[g, ST_ROW] = p0
+        S[g, ST_ROW + 1] = left
+        S[g, ST_ROW + 2] = right
+        S[g, ST_ROW + 3] = p3
+        if k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]:
             if left - p0 != s0 or right - left != s1 or p3 - right != s2 or m - left != s3:
                 s0, s1, s2, s3 = left - p0, right - left, p3 - right, m - left
                 # (the nodes relative to the left one: the same weights for every gap of
@@ -53,21 +61,68 @@ def level_starts(XT, idx, k, good, mid, four, Xs, span):
                 w1 = _lagrange(t0, 0.0, t2, t3, 1, t)
                 w2 = _lagrange(t0, 0.0, t2, t3, 2, t)
                 w3 = _lagrange(t0, 0.0, t2, t3, 3, t)
-            for x in range(nx):
-                c = XT[p0, x] * w0
-                c += 0.0                    # (the sum starts from 0: -0 is +0)
-                c += XT[left, x] * w1
-                c += XT[right, x] * w2
-                c += XT[p3, x] * w3
-                Xs[g, x] = c
+            S[g, ST_KIND] = SK_CUBIC
+            S[g, ST_W] = w0
+            S[g, ST_W + 1] = w1
+            S[g, ST_W + 2] = w2
+            S[g, ST_W + 3] = w3
         else:
-            w = (m - left) / (right - left)
-            for x in range(nx):
-                a, b = XT[left, x], XT[right, x]
-                if gl and gr:
-                    Xs[g, x] = (1 - w) * a + w * b
-                else:
-                    Xs[g, x] = a if gl else b
+            S[g, ST_KIND] = SK_LINEAR if gl and gr else (SK_LEFT if gl else SK_RIGHT)
+            S[g, ST_W] = (m - left) / (right - left)
+            S[g, ST_W + 1] = S[g, ST_W + 2] = S[g, ST_W + 3] = 0.0
+
+
+@borrowing
+def stencil_start(S, g, XT, X0, p):
+    """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
+    into ``X0[p]``."""
+    kind = S[g, ST_KIND]
+    r0, r1 = int(S[g, ST_ROW]), int(S[g, ST_ROW + 1])
+    r2, r3 = int(S[g, ST_ROW + 2]), int(S[g, ST_ROW + 3])
+    if kind == SK_CUBIC:
+        w0, w1, w2, w3 = S[g, ST_W], S[g, ST_W + 1], S[g, ST_W + 2], S[g, ST_W + 3]
+        for x in range(XT.shape[1]):
+            c = XT[r0, x] * w0
+            c += 0.0                    # (the sum starts from 0: -0 is +0)
+            c += XT[r1, x] * w1
+            c += XT[r2, x] * w2
+            c += XT[r3, x] * w3
+            X0[p, x] = c
+    elif kind == SK_LINEAR:
+        w = S[g, ST_W]
+        for x in range(XT.shape[1]):
+            X0[p, x] = (1 - w) * XT[r1, x] + w * XT[r2, x]
+    else:
+        r = r1 if kind == SK_LEFT else r2
+        for x in range(XT.shape[1]):
+            X0[p, x] = XT[r, x]
+
+
+@borrowing
+def stencil_excess(S, g, XT, q, X0, p):
+    """How much more than half the largest difference of its two neighbours' unknowns (rows
+    of ``XT``, stencil ``S[g]``) the solution ``XT[q]`` of sample ``g`` moved from its
+    start ``X0[p]`` (largest difference over the unknowns, plus 1e-9): a jump to another
+    branch where positive; NaN where either difference is NaN."""
+    nx = XT.shape[1]
+    span = _largest_difference(XT, int(S[g, ST_ROW + 2]), XT, int(S[g, ST_ROW + 1]), nx)
+    return _largest_difference(XT, q, X0, p, nx) - (0.5 * span + 1e-9)
+
+
+@entry
+def level_starts(S, XT, Xs):
+    """The starts ``Xs (G, nx)`` of a level's samples, their stencils ``S (G, ...)`` applied
+    to the unknowns ``XT (N, nx)`` (:func:`stencil_start`)."""
+    for g in range(S.shape[0]):
+        stencil_start(S, g, XT, Xs, g)
+
+
+@entry
+def level_check(S, XT, mid, Xs, excess):
+    """After a level's solve (its solutions in their rows ``mid`` of ``XT``, from the starts
+    ``Xs``): each sample's ``excess (G,)`` (:func:`stencil_excess`)."""
+    for g in range(S.shape[0]):
+        excess[g] = stencil_excess(S, g, XT, mid[g], Xs, g)
 
 
 @inner
@@ -81,22 +136,7 @@ def _lagrange(t0, t1, t2, t3, j, t):
     return w
 
 
-@entry
-def level_check(XT, idx, k, mid, good, Xs, span, how, jump):
-    """After a level's solve (its solutions in their rows of ``XT``): ``jump (G,)`` where the
-    solution of sample ``mid[g]`` moved from its start ``Xs[g]`` by more than half the
-    difference ``span[g]`` of its two neighbours (:func:`level_starts`; both converged, and
-    solved by Newton from the start: ``how == 0``).  A NaN in either difference counts as no
-    jump."""
-    nx = XT.shape[1]
-    for g in range(k.shape[0]):
-        moved = _largest_difference(XT, mid[g], Xs, g, nx)
-        # (False where either is NaN)
-        jump[g] = (moved > 0.5 * span[g] + 1e-9) & good[idx[k[g]]] & good[idx[k[g] + 1]] & \
-            (how[g] == 0)
-
-
-@inner
+@borrowing
 def _largest_difference(A, i, B, j, nx):
     """``max |A[i, :nx] - B[j, :nx]|``, NaN where a difference is NaN."""
     largest = 0.0

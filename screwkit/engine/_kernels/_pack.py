@@ -50,7 +50,7 @@ def params(F, I, d):
 def inputs(F, I, d):
     """The inputs ``I`` of the analysis kernel (:mod:`._driver`)."""
     return (f2(F, d, 0), f2(F, d, 1), f1(F, d, 2), f1(F, d, 3), f1(F, d, 4), f2(F, d, 5),
-            f1(I, d, 6), f1(I, d, 7))
+            f1(I, d, 6), f1(I, d, 7), f2(F, d, 8))
 
 
 @inner
@@ -68,4 +68,4 @@ def outputs(F, I, d):
             f2(F, d, 6), f1(I, d, 7), f2(I, d, 8), f2(F, d, 9), f1(F, d, 10), f2(F, d, 11),
             f1(I, d, 12), f1(F, d, 13), f1(I, d, 14), f1(F, d, 15), f2(F, d, 16),
             f1(F, d, 17), f1(F, d, 18), f1(F, d, 19), f3(F, d, 20), f3(F, d, 21),
-            f2(F, d, 22))
+            f2(F, d, 22), f1(F, d, 23))
