@@ -143,3 +143,11 @@ def test_level_stencils_are_the_interpolations_of_the_neighbours():
         0.5 * np.abs(XT[right] - XT[left]).max(axis=1) + 1e-9)
     np.testing.assert_allclose(excess, want, rtol=1e-15, atol=0)
     assert np.isnan(excess[3]) and (excess > 0).any() and (excess <= 0).any()
+    # a stencil naming a row the unknowns do not have: NaN, never a read outside them
+    for bad in (-1.0, float(N), 1e30):
+        S2 = S.copy()
+        S2[4, 5 + 3] = bad
+        K.level_starts(S2, XT, Xs)
+        K.level_check(S2, XT, mid, Xs, excess)
+        assert np.isnan(Xs[4]).all() and np.isnan(excess[4])
+        assert np.isfinite(np.delete(Xs, 4, axis=0)).all()

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
-from ._kernels._layout import BLOCK, LINE_WIDTH, ST_ROW, STENCIL_WIDTH
+from ._kernels._layout import BLOCK, LINE_WIDTH, STENCIL_WIDTH
 from ._memory import recycled_empty
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
@@ -241,11 +241,11 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
     scattered = out is not None and np.ndim(out[1]) == 1
-    if stencil is not None and (X0 is not None or not scattered or len(stencil) != N or (
-            N and not (0 <= stencil[:, ST_ROW:].min() and
-                       stencil[:, ST_ROW:].max() < out[0].N)) or not out[0].kind[-1]):
+    if stencil is not None and (X0 is not None or not scattered or np.shape(stencil) != (
+            N, STENCIL_WIDTH) or not out[0].kind[-1]):
+        # (a stencil's rows outside the buffers give NaN starts: the kernel checks them)
         raise ValueError("a stencil of a path level's starts takes the rows of output "
-                         "buffers with the excess, one a pose, of rows within them, no X0")
+                         "buffers with the excess, one a pose, and no X0")
     plan = _plan(flat, N, 0 if X0 is None and stencil is None else N,
                  0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),

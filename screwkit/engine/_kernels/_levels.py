@@ -75,11 +75,14 @@ def level_stencil(idx, k, good, mid, S):
 @borrowing
 def stencil_start(S, g, XT, X0, p):
     """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
-    into ``X0[p]``."""
+    into ``X0[p]``: NaN where the stencil names a row ``XT`` does not have."""
     kind = S[g, ST_KIND]
     r0, r1 = int(S[g, ST_ROW]), int(S[g, ST_ROW + 1])
     r2, r3 = int(S[g, ST_ROW + 2]), int(S[g, ST_ROW + 3])
-    if kind == SK_CUBIC:
+    if not _rows_in(S, g, XT.shape[0]):
+        for x in range(XT.shape[1]):
+            X0[p, x] = math.nan
+    elif kind == SK_CUBIC:
         w0, w1, w2, w3 = S[g, ST_W], S[g, ST_W + 1], S[g, ST_W + 2], S[g, ST_W + 3]
         for x in range(XT.shape[1]):
             c = XT[r0, x] * w0
@@ -105,8 +108,21 @@ def stencil_excess(S, g, XT, q, X0, p):
     start ``X0[p]`` (largest difference over the unknowns, plus 1e-9): a jump to another
     branch where positive; NaN where either difference is NaN."""
     nx = XT.shape[1]
+    if not _rows_in(S, g, XT.shape[0]):
+        return math.nan
     span = _largest_difference(XT, int(S[g, ST_ROW + 2]), XT, int(S[g, ST_ROW + 1]), nx)
     return _largest_difference(XT, q, X0, p, nx) - (0.5 * span + 1e-9)
+
+
+@borrowing
+def _rows_in(S, g, N):
+    """Whether the four rows of stencil ``S[g]`` are rows of ``N`` (never a read outside
+    the unknowns, whatever the stencil)."""
+    ok = True
+    for j in range(4):
+        r = S[g, ST_ROW + j]
+        ok = ok & (r >= 0) & (r < N)
+    return ok
 
 
 @entry
