@@ -20,7 +20,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
   or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``, ``rows (N
   or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`),
-  ``stencil (N or 0, _levels.STENCIL_WIDTH)`` a path level's starts (the rows of ``X0``
+  ``stencil (N or 0, _layout.STENCIL_WIDTH)`` a path level's starts (the rows of ``X0``
   formed in the launch from the solved samples' unknowns, rows of ``O``'s, and each
   pose's excess written: :func:`path_starts`, :func:`path_excess`);
 * ``O`` the outputs (``_layout.OUT_*``), filled pose by pose (of the rows given: a path's
