@@ -76,13 +76,14 @@ def level_stencil(idx, k, good, mid, S):
 def stencil_start(S, g, XT, X0, p):
     """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
     into ``X0[p]``: NaN where the stencil names a row ``XT`` does not have."""
-    kind = S[g, ST_KIND]
-    r0, r1 = int(S[g, ST_ROW]), int(S[g, ST_ROW + 1])
-    r2, r3 = int(S[g, ST_ROW + 2]), int(S[g, ST_ROW + 3])
     if not _rows_in(S, g, XT.shape[0]):
         for x in range(XT.shape[1]):
             X0[p, x] = math.nan
-    elif kind == SK_CUBIC:
+        return
+    kind = S[g, ST_KIND]
+    r0, r1 = int(S[g, ST_ROW]), int(S[g, ST_ROW + 1])
+    r2, r3 = int(S[g, ST_ROW + 2]), int(S[g, ST_ROW + 3])
+    if kind == SK_CUBIC:
         w0, w1, w2, w3 = S[g, ST_W], S[g, ST_W + 1], S[g, ST_W + 2], S[g, ST_W + 3]
         for x in range(XT.shape[1]):
             c = XT[r0, x] * w0
