@@ -143,3 +143,31 @@ def test_a_declared_motion_that_is_not_the_computed_one_is_an_error(tmp_path, ca
     assert main(["analyze", str(path), "--force=0,0,-1"]) == 0     # (a stated workload)
     out = capsys.readouterr().out
     assert "1T2R" in out and "parasitic motion Xo, Yo, gamma" in out
+
+
+def test_freedoms_where_an_angular_part_is_just_above_the_rank_tolerance():
+    """A 3RPUR pose whose twists' angular parts have a third singular value of 1.05e-8, just
+    above the rank tolerance (1e-8): the principal screws' metric w w^T then has an
+    eigenvalue of 1e-16, which rounding made negative (NaN, then numpy's eigh failed).  The
+    freedoms are finite, as many as the DOF, and every one is reciprocal to the PM's
+    constraint wrenches (f.v + m.w = 0, the solver's wrenches, not the classification's)."""
+    import warnings
+
+    from screwkit.engine import analyze_pm
+    model = load_pm("3RPUR")
+    pose = {"alpha": 0.009080764225058758, "beta": -0.016194688578630757,
+            "Zo": 60.22932488249735}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        m = analyze_pm(model, pose).mobility
+        freedoms = m.freedoms
+    w = np.linalg.svd(np.asarray(m.twists)[:, 3:], compute_uv=False)
+    assert 1e-8 < w[-1] < 2e-8                           # the case this test is about
+    assert m.dof == model.stated_dof == len(freedoms)
+    W = np.asarray(m.wrenches)
+    for f in freedoms:
+        t = np.asarray(f.twist, float)
+        assert np.isfinite(t).all()
+        u = t / np.linalg.norm(t)
+        recip = W[:, :3] @ u[:3] + W[:, 3:] @ u[3:]
+        assert np.abs(recip).max() <= 1e-6 * np.abs(W).max()

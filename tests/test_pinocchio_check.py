@@ -6,6 +6,8 @@ code under test: the product of exponentials with ``scipy.linalg.expm`` of the
 null spaces of those twists (``scipy.linalg.null_space``).
 """
 
+import zlib
+
 import numpy as np
 import pytest
 from scipy.linalg import expm, null_space
@@ -100,7 +102,7 @@ def test_home_frames_are_world_aligned_at_the_joint_points(name):
 
 @pytest.mark.parametrize("name", LEGS)
 def test_fk_jacobian_and_q_map_agree_with_poe(name):
-    rng = np.random.default_rng(abs(hash(name)) % 2**32)
+    rng = np.random.default_rng(zlib.crc32(name.encode()))   # (the same draws every run)
     leg = screwkit.leg(name)
     lm = build_leg_model(leg)
     L = leg.length

@@ -8,6 +8,8 @@ Independent checks (not the statics code's own algebra):
 * moving the base frame or rescaling every length changes no force.
 """
 
+import zlib
+
 import numpy as np
 import pytest
 
@@ -44,7 +46,7 @@ def test_mobility_is_stated_dof_and_statics_balance(name):
     model = load_pm(name)
     done = 0
     guess = None
-    for pose in _random_poses(model, N_POSES * 2, seed=hash(name) % 2**32):
+    for pose in _random_poses(model, N_POSES * 2, seed=zlib.crc32(name.encode())):
         try:
             res = analyze_pm(model, pose, guess=guess, **PAPER_LOAD)
         except (SingularityError, UnreachablePoseError):

@@ -347,10 +347,12 @@ def classify_freedoms(Vn: np.ndarray, norm: Normalisation,
     Y1, Y2 = U[:, ns:].T, U[:, :ns].T
     w1, v1 = Y1 @ wr, Y1 @ v
     if len(w1):
-        B = w1 @ w1.T
         A = 0.5 * (w1 @ v1.T + v1 @ w1.T)
-        lb, Ub = np.linalg.eigh(B)
-        Bm = Ub @ np.diag(lb ** -0.5) @ Ub.T
+        # B^(-1/2) for B = w1 w1^T, from the singular values of w1 (the eigenvalues of B
+        # would be their squares: an angular part just above the rank tolerance, 1e-8,
+        # gives an eigenvalue of 1e-16, which rounding can make negative)
+        Ub, sb, _ = np.linalg.svd(w1, full_matrices=False)
+        Bm = Ub @ np.diag(1.0 / sb) @ Ub.T
         hs, Y = np.linalg.eigh(Bm @ A @ Bm)
         for h, y in zip(hs.tolist(), (Bm @ Y).T):
             wd, vd = y @ w1, y @ v1
