@@ -151,3 +151,24 @@ def test_level_stencils_are_the_interpolations_of_the_neighbours():
         K.level_check(S2, XT, mid, Xs, excess)
         assert np.isnan(Xs[4]).all() and np.isnan(excess[4])
         assert np.isfinite(np.delete(Xs, 4, axis=0)).all()
+
+
+def test_a_stencil_needs_scattered_buffers_with_the_excess():
+    """A launch given a path level's stencil writes its samples' rows of a path's output
+    buffers, with their excess: any other use is refused with an error naming it."""
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._kernels._layout import STENCIL_WIDTH
+    from screwkit.engine._launch import output_buffers, run_poses
+    from screwkit.engine._solve import predictor_of
+    ch = chains_of(screwkit.load_pm("3RRPRR"))
+    P6 = ch.full_params({"alpha": np.zeros(2), "beta": np.zeros(2), "Zo": np.full(2, 80.0)}, 2)
+    S = np.zeros((2, STENCIL_WIDTH))
+    Z = predictor_of(ch)
+    plain = output_buffers(ch.flat, 10)
+    with_excess = output_buffers(ch.flat, 10, excess=True)
+    for kw in (dict(), dict(out=(plain, np.array([3, 5]))),
+               dict(out=(with_excess, 0)), dict(out=(with_excess, np.array([3, 5])), X0=P6),
+               dict(out=(with_excess, np.array([3, 5]))) | {"stencil": S[:1]}):
+        kw = {"stencil": S} | kw
+        with pytest.raises(ValueError, match="stencil"):
+            run_poses(ch.flat, Z, P6, **kw)
