@@ -152,7 +152,7 @@ def measure(name: str, n: int = 20_000) -> None:
     rows = []
     t_fwd, _ = _best(lambda: parts(*args, P6, Xs, 0))
     rows.append(("forward pass", t_fwd * us, ""))
-    from screwkit.engine._kernels._layout import BLOCK
+    from screwkit.engine._kernels._layout import BLOCK, STENCIL_WIDTH
     t, _ = _best(lambda: blocks(*args, P6, Xs))
     rows.append((f"forward pass, blocks of {BLOCK}", t * us, f"{t_fwd / t:.2f}x"))
     t_step, _ = _best(lambda: parts(*args, P6, Xs, 1))
@@ -165,13 +165,13 @@ def measure(name: str, n: int = 20_000) -> None:
                                                                   np.zeros((0, nx)))):
         z = (np.zeros(0), np.zeros(0, np.int64))
         I = (P6, X0, z[0], np.zeros(3), np.zeros(3), np.zeros((0, mr)), np.zeros(mr, np.int64),
-             z[1])
+             z[1], np.zeros((0, STENCIL_WIDTH)))
         O = (np.zeros((n, nx)), np.zeros(n), np.zeros(n, np.int64), np.zeros(n, np.int64),
              np.zeros(n, np.int64), np.zeros((0, mr, 6)), np.zeros((0, mr)), z[1],
              np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],
              np.zeros((0, min(mr, 6))), z[1], z[0], z[1], z[0], np.zeros((0, mr)), z[0], z[0],
              z[0], np.zeros((0, na, 6)), np.zeros((0, ch.flat.n, LINE_WIDTH)),
-             np.zeros((0, 27)))
+             np.zeros((0, 27)), z[0])
         flags = np.array([1, 0, 0, 1, 0, 0], np.int64)
         t, _ = _best(lambda: driver(*args, I, O, flags))
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))

@@ -33,10 +33,10 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes
 from ._indices import lines_at, rounded_unknowns
 from ._kin import forward_block, twist_lane
-from ._layout import (A_LINE, A_NONE, BLOCK, D, L_AROW, TPL, T_AKIND, T_CROW, T_GENERIC,
-                      T_K)
+from ._layout import (A_LINE, A_NONE, BLOCK, D, L_AROW, OUT_J, OUT_SCALE, TPL, T_AKIND,
+                      T_CROW, T_GENERIC, T_K)
 from ._layout import LEG, L_SIZE, PLAT, RL_CTX, RL_DV, RL_J, RL_PV, RL_SC, RL_SCALE, ROT, TRA, TRN
-from ._members import DONE, NOT_DONE, NSC, SC_STATUS, template_lanes
+from ._members import NOT_DONE, NSC, SC_STATUS, template_lanes
 from ._rows import RW_CTX, RW_DV, RW_PV, RW_TW
 from ._newton import (HALVINGS, W_FA, W_FE, W_FP, W_FROZ, W_XN, closure_sq,
                       platform_columns, step_block)
@@ -344,24 +344,27 @@ def template_rows_block(M, FA, RL, nb):
                        True, 1, nb, BLOCK)
 
 
-@borrowing_inlined
-def lane_rows_into(M, i, RL, l, J, scale):
-    """Leg ``i``'s rows and scales of lane ``l`` of :func:`template_rows_block` into the
-    pose's ``J (rows, 6)`` and ``scale (rows,)``.  Returns whether they are well defined
-    (its status ``DONE``)."""
+@borrowing
+def block_rows_into(M, I, O, RL, p0, nb):
+    """The rows and scales :func:`template_rows_block` formed for the lanes ``0..nb-1`` (of
+    the legs whose status is not ``NOT_DONE``) into the rows of ``O``'s ``J`` and ``scale`` of
+    the poses ``p0..p0+nb-1`` (:func:`._pack.out_row`), all lanes at once: each of the
+    block's rows read along its lanes (a lane at a time, each value of the pose's rows sat in
+    another cache line of the lanes' rows, fetched again for every lane).  A pose whose rows
+    are formed again later (frames of its own, or a template that does not hold there)
+    writes them over."""
     JL, SL, SC = RL[RL_J], RL[RL_SCALE], RL[RL_SC]
-    rows = lanes(JL)
-    B = JL.shape[2]
-    crow, arow = M[TPL][i, T_CROW], M[LEG][i, L_AROW]
-    for r in range(crow, crow + M[TPL][i, T_K]):
-        scale[r] = SL[r, l]
-        for q in range(6):
-            J[r, q] = rows[(r * 6 + q) * B + l]
-    if arow >= 0:
-        scale[arow] = SL[arow, l]
-        for q in range(6):
-            J[arow, q] = rows[(arow * 6 + q) * B + l]
-    return SC[i, SC_STATUS, l] == DONE
+    J, S = O[OUT_J], O[OUT_SCALE]
+    for i in range(M[D].shape[0]):
+        crow, k, arow = M[TPL][i, T_CROW], M[TPL][i, T_K], M[LEG][i, L_AROW]
+        for j in range(k + (1 if arow >= 0 else 0)):
+            r = crow + j if j < k else arow
+            for l in range(nb):
+                if SC[i, SC_STATUS, l] != NOT_DONE:
+                    q = out_row(I, p0 + l)
+                    S[q, r] = SL[r, l]
+                    for c in range(6):
+                        J[q, r, c] = JL[r, c, l]
 
 
 @borrowing_inlined

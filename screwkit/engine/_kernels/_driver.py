@@ -35,7 +35,8 @@ from numba import prange
 from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
 
 from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_SAME, K_STATE, K_TOL, K_X,
-                     LANE_ACTIVE, LANE_ALONE, block_lines, block_newton, frames_block, lane_frames,
+                     LANE_ACTIVE, LANE_ALONE, block_lines, block_newton, block_rows_into,
+                     frames_block, lane_frames,
                      make_block, make_rows_lanes, template_rows_block)
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
@@ -179,6 +180,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
             spread_lanes(M, K[K_FA][kb], K[K_FP][kb], RL[RL_SP], nb, BLOCK)
             normalise_lanes(RL[RL_J], M[ROWS].shape[0], RL[RL_SP], CW[CW_JN], CW[CW_D], nb,
                             BLOCK)
+            block_rows_into(M, I, O, RL, p0, nb)
         for l in range(nb):
             p = p0 + l
             res, b, fr = 0.0, -1, -1

@@ -11,8 +11,8 @@ frames copied into the one-pose workspace (:func:`reads_frames`).
 
 from ._jit import inlined, one_lane
 
-from ._block import lane_frames_into, lane_rows_into
-from ._members import NOT_DONE, SC_STATUS
+from ._block import lane_frames_into
+from ._members import DONE, NOT_DONE, SC_STATUS
 from ._indices import pose_lines
 from ._kin import forward
 from ._layout import (D, F_LINES, F_ROWS, F_STATICS, F_TWISTS, LEG, L_ACT, L_AROW, OUT_AMP,
@@ -70,8 +70,9 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
     for i in range(n):
         a = leg[i, L_AROW]
         if lane >= 0 and RL[RL_SC][i, SC_STATUS, lane] != NOT_DONE:
-            # its template's rows, formed for the block's lanes at once
-            ok = lane_rows_into(M, i, RL, lane, J, scale) and ok
+            # its template's rows, formed for the block's lanes at once and put in its rows
+            # of the outputs already (_block.block_rows_into)
+            ok = RL[RL_SC][i, SC_STATUS, lane] == DONE and ok
             O[OUT_STRUCT][q, i] = True
             if flags[F_TWISTS] and a >= 0:
                 for k in range(6):
@@ -130,11 +131,12 @@ def finish_block(M, I, O, flags, p0, nb, SW, CW):
             n_act += 1
     conditioning_lanes(CW, mr, n_act, nb)
     sv, RK, CD = CW[CW_SV], CW[CW_RANK], CW[CW_COND]
+    SV = O[OUT_SV]
+    for k in range(SV.shape[1]):      # (each value along the lanes: the lanes' rows read once)
+        for l in range(nb):
+            SV[out_row(I, p0 + l), k] = sv[k, l]
     for l in range(nb):
         q = out_row(I, p0 + l)
-        out = O[OUT_SV][q]
-        for k in range(out.shape[0]):
-            out[k] = sv[k, l]
         O[OUT_RANK][q], O[OUT_COND][q] = RK[0, l], CD[0, l]
         O[OUT_CRANK][q], O[OUT_CCOND][q] = RK[1, l], CD[1, l]
     if flags[F_STATICS]:

@@ -107,20 +107,28 @@ def normalise_lanes(J, mr, S, Jn, d, nb, ls):
     ``Jn (mr, 6, ls)``, their norms into ``d (mr, ls)`` (one pose: the arrays without their
     lane axis, ``ls = 1``).  Each lane's operations are one pose's, so its values are the
     pose's alone, bit for bit."""
-    j, s, jn, dd = lanes(J), lanes(S), lanes(Jn), lanes(d)
     for r in range(mr):
-        o = r * 6 * ls
-        for k in range(nb):
-            c0, c1, c2, L = s[k], s[ls + k], s[2 * ls + k], s[3 * ls + k]
-            f0, f1, f2 = j[o + k], j[o + ls + k], j[o + 2 * ls + k]
-            m0 = (j[o + 3 * ls + k] - (c1 * f2 - c2 * f1)) / L
-            m1 = (j[o + 4 * ls + k] - (c2 * f0 - c0 * f2)) / L
-            m2 = (j[o + 5 * ls + k] - (c0 * f1 - c1 * f0)) / L
-            t = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + m0 * m0 + m1 * m1 + m2 * m2)
-            t = t if t > 0 else 1.0
-            dd[r * ls + k] = t
-            jn[o + k], jn[o + ls + k], jn[o + 2 * ls + k] = f0 / t, f1 / t, f2 / t
-            jn[o + 3 * ls + k], jn[o + 4 * ls + k], jn[o + 5 * ls + k] = m0 / t, m1 / t, m2 / t
+        _normalise_row(J, S, Jn, d, r, nb, ls)
+
+
+@borrowing
+def _normalise_row(J, S, Jn, d, r, nb, ls):
+    """Row ``r`` of :func:`normalise_lanes` (a function of its own: inline, its loop's
+    temporaries outlived it in the caller's loop over the rows, and LLVM left it scalar,
+    nine divisions a row and lane one after the other)."""
+    j, s, jn, dd = lanes(J), lanes(S), lanes(Jn), lanes(d)
+    o = r * 6 * ls
+    for k in range(nb):
+        c0, c1, c2, L = s[k], s[ls + k], s[2 * ls + k], s[3 * ls + k]
+        f0, f1, f2 = j[o + k], j[o + ls + k], j[o + 2 * ls + k]
+        m0 = (j[o + 3 * ls + k] - (c1 * f2 - c2 * f1)) / L
+        m1 = (j[o + 4 * ls + k] - (c2 * f0 - c0 * f2)) / L
+        m2 = (j[o + 5 * ls + k] - (c0 * f1 - c1 * f0)) / L
+        t = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2 + m0 * m0 + m1 * m1 + m2 * m2)
+        t = t if t > 0 else 1.0
+        dd[r * ls + k] = t
+        jn[o + k], jn[o + ls + k], jn[o + 2 * ls + k] = f0 / t, f1 / t, f2 / t
+        jn[o + 3 * ls + k], jn[o + 4 * ls + k], jn[o + 5 * ls + k] = m0 / t, m1 / t, m2 / t
 
 
 @borrowing
