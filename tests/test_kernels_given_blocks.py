@@ -58,6 +58,34 @@ def test_given_unknowns_and_lines_on_blocks_equal_one_pose_at_a_time(name):
         assert d <= 1e-9 * max(1.0, np.abs(tw[:, i, act]).max()), (name, i, d)
 
 
+def test_a_block_with_poses_solved_alone_or_rescued_equals_one_pose_at_a_time():
+    """A block whose lanes the block solves, beside lanes solved alone (``beta = 0``, the
+    XYX representation singularity of the 3RRPRR: its limit taken) and lanes Newton does
+    not close from the predictor (far from home: the continuation from home): the block puts
+    its lanes' template rows into their poses' rows of the outputs at once
+    (``_block.block_rows_into``), and a pose whose frames are its own forms its rows again
+    over them.  Every output equals the serial kernel's (every pose alone, no block), bit
+    for bit."""
+    pm = screwkit.load_pm("3RRPRR")
+    ch = chains_of(pm)
+    flat, Z = ch.flat, predictor_of(ch)
+    rng = np.random.default_rng(7)
+    n = BLOCK + 6
+    a, b = np.radians(rng.uniform(-10, 10, n)), np.radians(rng.uniform(-10, 10, n))
+    z = rng.uniform(60, 100, n)
+    b[5::9] = 0.0
+    a[7::11], b[7::11], z[7::11] = np.radians(38.0), np.radians(-36.0), 115.0
+    P6 = ch.full_params({"alpha": a, "beta": b, "Zo": z}, n)
+    kw = dict(F=F, T=T, twists=True)
+    alone = run_poses(flat, Z, P6, workers=1, blocks=False, **kw)
+    # (the kinds of lanes asked for are there: alone at the singularity, rescued)
+    assert alone["singular_beta"].sum() >= 5 and (alone["how"] == 1).sum() >= 5
+    assert np.all(alone["residual"] <= 1e-9)
+    for workers in (2, 1):          # (two first: the parallel kernel then runs on one too)
+        blocks = run_poses(flat, Z, P6, workers=workers, per_thread=1, **kw)
+        _same(blocks, alone, f"mixed block, {workers} thread(s)")
+
+
 class _Counted:
     """A kernel dispatcher that counts its calls and the threads each was given."""
 
