@@ -27,6 +27,7 @@ from ._kin import forward
 from ._layout import ACCEPTED, CONVERGED, KIND, K_R, LEG, L_SIZE, ORDER
 from ._newton import (W_FA, W_FE, W_FL, W_FP, W_P6, W_P6S, W_S, W_XB, W_XC, W_XR,
                       gauss_newton, home_vector, newton_iterate, tolerance)
+from ._trig import trig_exceeds
 
 #: A whole turn (radians).
 TURN = 2.0 * math.pi
@@ -212,6 +213,8 @@ def near_singular(order, unk, p6fix, tol):
     if not pair:
         return False
     b = p6fix[4]
+    if trig_exceeds(b, order[4] == 1, tol):
+        return False
     s = abs(math.sin(b)) if order[4] == 1 else abs(math.cos(b))
     return s <= tol
 

@@ -45,8 +45,8 @@ from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solv
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
                       F_SOLVE, OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING,
                       OUT_X, ORDER, PTS, RL_J, RL_SP, ROWS)
-from ._levels import stencil_excess, stencil_start
-from ._pack import inputs, model, out_row, outputs, params
+from ._levels import prefetch_stencil, stencil_excess, stencil_start
+from ._pack import inputs, model, out_row, outputs, params, prefetch_outputs
 from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
 from ._rows import make_rows_work
 from ._threads import claim
@@ -183,6 +183,12 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
             block_rows_into(M, I, O, RL, p0, nb)
         for l in range(nb):
             p = p0 + l
+            if p + BLOCK < stop:
+                # the next block's rows of the outputs (and the unknowns its stencils read),
+                # fetched while this one computes
+                prefetch_outputs(I, O, p + BLOCK)
+                if I[8].shape[0]:
+                    prefetch_stencil(I[8], p + BLOCK, O[OUT_X])
             res, b, fr = 0.0, -1, -1
             if given:
                 if reads_frames(M, flags, RL, l):

@@ -199,3 +199,36 @@ def lanes(typingctx, x):
     def codegen(context, builder, sig, args):
         return context.make_array(x)(context, builder, value=args[0]).data
     return out(x), codegen
+
+
+def _prefetch(write, name):
+    def typer(typingctx, x, i):
+        if not (isinstance(x, types.Array) and x.layout == "C"
+                and isinstance(i, types.Integer)):
+            return None
+
+        def codegen(context, builder, sig, args):
+            from llvmlite import ir
+            ary = context.make_array(sig.args[0])(context, builder, args[0])
+            at = builder.gep(ary.data, [context.cast(builder, args[1], sig.args[1],
+                                                     types.intp)])
+            i8p, i32 = ir.IntType(8).as_pointer(), ir.IntType(32)
+            fn = cgutils.get_or_insert_function(
+                builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+                "llvm.prefetch.p0")
+            # (read or write, keep in every cache level, data)
+            builder.call(fn, [builder.bitcast(at, i8p), ir.Constant(i32, write),
+                              ir.Constant(i32, 3), ir.Constant(i32, 1)])
+            return context.get_dummy_value()
+        return types.void(x, i), codegen
+    typer.__name__ = typer.__qualname__ = name
+    return typer
+
+
+#: ``prefetch_read(x, i)``, ``prefetch_write(x, i)``: ask the processor for the cache line
+#: of element ``i`` (flat, C order) of the C-contiguous array ``x``, to be read or written
+#: soon; a hint (no fault, no result; ``i`` is not checked).  A launch's rows scattered over
+#: a path's outputs miss the cache one sample after the other: fetched while the block
+#: before computes, they do not wait.
+prefetch_read = intrinsic(_prefetch(0, "prefetch_read"))
+prefetch_write = intrinsic(_prefetch(1, "prefetch_write"))

@@ -23,7 +23,7 @@ same bits.
 
 import math
 
-from ._jit import borrowing, entry, inner
+from ._jit import borrowing, borrowing_inlined, entry, inner, prefetch_read
 from ._layout import SK_CUBIC, SK_LEFT, SK_LINEAR, SK_RIGHT, ST_KIND, ST_ROW, ST_W
 
 
@@ -100,6 +100,18 @@ def stencil_start(S, g, XT, X0, p):
         r = r1 if kind == SK_LEFT else r2
         for x in range(XT.shape[1]):
             X0[p, x] = XT[r, x]
+
+
+@borrowing_inlined
+def prefetch_stencil(S, g, XT):
+    """Ask for the cache lines of the rows of ``XT (N, nx)`` stencil ``S[g]`` reads (those
+    of ``XT``'s rows; the lines of a row's first and last values)."""
+    nx = XT.shape[1]
+    for j in range(4):
+        r = int(S[g, ST_ROW + j])
+        if r >= 0 and r < XT.shape[0]:
+            prefetch_read(XT, r * nx)
+            prefetch_read(XT, r * nx + nx - 1)
 
 
 @borrowing

@@ -23,6 +23,7 @@ from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
 from ._kin import forward
 from ._layout import BLOCK, LEG, L_SIZE, PLAT, P_C, P_L, P_R0, ROT, STOP, TRN
 from ._small import cholesky_lanes
+from ._trig import trig_exceeds
 
 #: Relative Tikhonov shift of a leg's Gram matrix (exact legs) and of a leg with more joints
 #: than twist-space dimensions (idle motions: least-norm steps).
@@ -324,6 +325,8 @@ def tolerance(order, unk, xs, p6fix, X0):
     if not pair:
         return STOP
     b = X0[kb] * xs[kb] if kb >= 0 else p6fix[4]
+    if trig_exceeds(b, order[4] == 1, 1e-2):
+        return STOP                     # (s >= 1e-2: what the line below gives)
     s = abs(math.sin(b)) if order[4] == 1 else abs(math.cos(b))
     return max(STOP * min(1.0, s / 1e-2), 1e-16)
 

@@ -8,7 +8,7 @@ views of the same types as always (C-contiguous arrays of fixed dimensions), bor
 (:func:`._jit.borrowed`: the arrays Python passed own the data for the whole call).
 """
 
-from ._jit import borrowed, inner
+from ._jit import borrowed, borrowing_inlined, inlined, inner, prefetch_write
 
 
 @inner
@@ -69,3 +69,46 @@ def outputs(F, I, d):
             f1(I, d, 12), f1(F, d, 13), f1(I, d, 14), f1(F, d, 15), f2(F, d, 16),
             f1(F, d, 17), f1(F, d, 18), f1(F, d, 19), f3(F, d, 20), f3(F, d, 21),
             f2(F, d, 22), f1(F, d, 23))
+
+
+@borrowing_inlined
+def _row_ahead(A, q):
+    """Ask for the cache lines of row ``q`` of the output ``A`` (none where ``A`` has no
+    rows: an output not asked for)."""
+    if q < A.shape[0]:
+        n = A.size // A.shape[0]
+        for e in range(0, n, 8):
+            prefetch_write(A, q * n + e)
+        prefetch_write(A, q * n + n - 1)
+
+
+@inlined
+def prefetch_outputs(I, O, p):
+    """Ask for the lines of every output row pose ``p`` will write (:func:`out_row`): a
+    launch of a path's level writes rows spread over the path's outputs, each row's lines
+    missing the cache; asked for a block ahead, they are there when the pose writes them."""
+    q = out_row(I, p)
+    _row_ahead(O[0], q)
+    _row_ahead(O[1], q)
+    _row_ahead(O[2], q)
+    _row_ahead(O[3], q)
+    _row_ahead(O[4], q)
+    _row_ahead(O[5], q)
+    _row_ahead(O[6], q)
+    _row_ahead(O[7], q)
+    _row_ahead(O[8], q)
+    _row_ahead(O[9], q)
+    _row_ahead(O[10], q)
+    _row_ahead(O[11], q)
+    _row_ahead(O[12], q)
+    _row_ahead(O[13], q)
+    _row_ahead(O[14], q)
+    _row_ahead(O[15], q)
+    _row_ahead(O[16], q)
+    _row_ahead(O[17], q)
+    _row_ahead(O[18], q)
+    _row_ahead(O[19], q)
+    _row_ahead(O[20], q)
+    _row_ahead(O[21], q)
+    _row_ahead(O[22], q)
+    _row_ahead(O[23], q)

@@ -7,12 +7,14 @@ ns, AVX-512).  fdlibm's (FreeBSD's) algorithm: the three-part Cody-Waite reducti
 and its minimax polynomials on [-pi/4, pi/4]; within 2.5 ulps of the exact values
 (``tests/test_kernels_sincos.py`` against extended precision and the C library).  And
 the ratio of a small angle to its sine (:func:`angle_over_sine`): the closure errors'
-rotation vectors without a call of ``atan2``.
+rotation vectors without a call of ``atan2``.  And whether a sine or cosine certainly
+exceeds a small tolerance (:func:`trig_exceeds`): the representation singularity's tests
+without a call of the C library for nearly every pose.
 """
 
 import math
 
-from ._jit import inlined
+from ._jit import borrowing_inlined, inlined
 
 #: The largest angle (radians) :func:`sin_cos` reduces itself (its three-part Cody-Waite
 #: reduction is exact for multiples of pi/2 below 2**20); beyond, and for a non-finite angle,
@@ -83,3 +85,23 @@ def angle_over_sine(z):
     a lane loop of it vectorises; a closure error's rotation vector is its axial vector
     ``w``, of norm ``s``, times this)."""
     return 1.0 + z * (_ASIN1 + z * (_ASIN2 + z * _ASIN3))
+
+
+#: 1 / pi.
+_INV_PI = 0.3183098861837907
+
+
+@borrowing_inlined
+def trig_exceeds(b, sine, tol):
+    """Whether ``|sin b|`` (``sine``) or ``|cos b|`` certainly exceeds ``tol`` (at most
+    1e-2), told without a call of the C library: ``b``'s distance ``d`` to the nearest zero
+    of the function (a multiple of pi, or of pi plus pi / 2) bounds it from below (``|sin
+    d| >= 2 d / pi`` up to pi / 2), and ``d`` is computed to within 1e-9 for ``|b| <
+    1e6``.  False where that does not settle it (then the caller takes the C library's
+    value, as it always did: the same results, a call fewer for nearly every pose)."""
+    if not abs(b) < 1e6:
+        return False
+    h = b * _INV_PI if sine else b * _INV_PI - 0.5
+    k = math.floor(h + 0.5)
+    d = abs(b - (k if sine else k + 0.5) * math.pi)
+    return d > 1.5707963267948966 * tol + 1e-9
