@@ -36,6 +36,8 @@ REFINE_GRAM = 300.0
 EPS2 = 2.220446049250313e-16 ** 2
 #: The most QL steps a lane takes to deflate one eigenvalue (two or three, as a rule).
 QL_STEPS = 60
+#: The lanes still iterating finish their QL steps alone once at most one in this many.
+QL_ALONE_SHARE = 8
 #: The rows of the QL's lane scratch ``S``: a lane's shift, gamma, p, c and s of its step, and
 #: whether it takes the step (1.0) or not, in units of the lane stride.
 _SIG, _GAM, _P, _C, _SS, _ON = 0, 1, 2, 3, 4, 5
@@ -281,21 +283,43 @@ def symmetric_eigenvalues_lanes(A, n, d, e, S, nb, ls):
                 active += 1 if on else 0
             if active == 0:
                 break
-            _shift_lanes(S, e, d, t, n - 1, nb, ls)
+            if active * QL_ALONE_SHARE <= nb:
+                # the few lanes left finish alone: the same steps, the same bits, without
+                # a whole block's rotations for each
+                for k in range(nb):
+                    if sc[ON + k] != 0.0:
+                        _lane_alone(S, e, d, t, n, k, step, ls)
+                break
+            _shift_lanes(S, e, d, t, n - 1, 0, nb, ls)
             for i in range(n - 2, t - 1, -1):
-                _rotation_row(S, e, d, i, n - 1, nb, ls)
-            _step_end(S, e, d, t, nb, ls)
+                _rotation_row(S, e, d, i, n - 1, 0, nb, ls)
+            _step_end(S, e, d, t, 0, nb, ls)
     if n >= 2:                           # the 2x2 block left: its eigenvalues directly
         _last_pair(e, d, n - 2, nb, ls)
 
 
+@borrowing
+def _lane_alone(S, e, d, t, n, k, step, ls):
+    """Lane ``k``'s QL steps at row ``t`` from step ``step`` on, alone, as the lanes in step."""
+    sc, ee, dd = lanes(S), lanes(e), lanes(d)
+    for _ in range(step, QL_STEPS):
+        x = abs(dd[t * ls + k]) + abs(dd[(t + 1) * ls + k])
+        if not ee[t * ls + k] > EPS2 * x * x:
+            return
+        sc[_ON * ls + k] = 1.0
+        _shift_lanes(S, e, d, t, n - 1, k, k + 1, ls)
+        for i in range(n - 2, t - 1, -1):
+            _rotation_row(S, e, d, i, n - 1, k, k + 1, ls)
+        _step_end(S, e, d, t, k, k + 1, ls)
+
+
 @borrowing_inlined
-def _shift_lanes(S, e, d, t, m, nb, ls):
+def _shift_lanes(S, e, d, t, m, k0, k1, ls):
     """Wilkinson's shift of each lane (the eigenvalue of its leading 2x2 at ``t`` nearer
     ``d[t]``) and the start of its step at row ``m`` (gamma, p, c, s into ``S``)."""
     sc, ee, dd = lanes(S), lanes(e), lanes(d)
     SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls
-    for k in range(nb):
+    for k in range(k0, k1):
         g = 0.5 * (dd[(t + 1) * ls + k] - dd[t * ls + k])
         el = ee[t * ls + k]
         r = math.sqrt(g * g + el)
@@ -309,11 +333,11 @@ def _shift_lanes(S, e, d, t, m, nb, ls):
 
 
 @borrowing_inlined
-def _step_end(S, e, d, t, nb, ls):
+def _step_end(S, e, d, t, k0, k1, ls):
     """The end of a QL step at row ``t`` (the lanes that took it)."""
     sc, ee, dd = lanes(S), lanes(e), lanes(d)
     SIG, GAM, P, SS, ON = _SIG * ls, _GAM * ls, _P * ls, _SS * ls, _ON * ls
-    for k in range(nb):
+    for k in range(k0, k1):
         on = sc[ON + k] != 0.0
         e_t = sc[SS + k] * sc[P + k]
         d_t = sc[SIG + k] + sc[GAM + k]
@@ -338,7 +362,7 @@ def _last_pair(e, d, lo, nb, ls):
 
 
 @borrowing_inlined
-def _rotation_row(S, e, d, i, m, nb, ls):
+def _rotation_row(S, e, d, i, m, k0, k1, ls):
     """Row ``i`` of a QL step's rotations (the step from row ``m`` up), across the lanes
     ``0..nb-1`` (through :func:`~._jit.lanes`): a lane taking the step (``S``'s row ``_ON``)
     rotates, the others keep their values (selects, no branch).  A function of its
@@ -347,7 +371,7 @@ def _rotation_row(S, e, d, i, m, nb, ls):
     (packed divisions)."""
     sc, ee, dd = lanes(S), lanes(e), lanes(d)
     SIG, GAM, P, C, SS, ON = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls, _ON * ls
-    for k in range(nb):
+    for k in range(k0, k1):
         on = sc[ON + k] != 0.0
         p = sc[P + k]
         s = sc[SS + k]
