@@ -100,8 +100,9 @@ def test_wide_vectors_give_the_default_vectors_bits(tmp_path):
 
 
 def test_the_setting(monkeypatch):
-    monkeypatch.setenv("SCREWKIT_WIDE_VECTORS", "0")
-    assert wide_vector_features() is None
+    for off in ("0", "no", " OFF "):
+        monkeypatch.setenv("SCREWKIT_WIDE_VECTORS", off)
+        assert wide_vector_features() is None
     monkeypatch.delenv("SCREWKIT_WIDE_VECTORS")
     import llvmlite.binding as ll
     host = ll.get_host_cpu_features()

@@ -69,18 +69,20 @@ def cache_dir() -> str:
 
 def wide_vector_features() -> str | None:
     """The host's CPU features for numba with LLVM's preference for 256-bit vectors turned
-    off, on a CPU with AVX-512 (None elsewhere, or with ``SCREWKIT_WIDE_VECTORS=0``).
+    off, on a CPU with AVX-512 (None elsewhere, or with ``SCREWKIT_WIDE_VECTORS`` set to
+    ``0``, ``no`` or ``off``, as ``SCREWKIT_DISK_CACHE``).
 
     LLVM's models of Intel's AVX-512 CPUs prefer 256-bit vectors (older ones lowered their
     clock for the wider ones, which costs code that vectorises little).  The kernels' lane
     loops vectorise throughout, and measured on the benchmarks' machine (2 vCPUs, AVX-512,
-    3RRPRR, one thread, five alternations) the wider vectors take a pose's Newton step
+    3RRPRR, one thread, two alternations) the wider vectors take a pose's Newton step
     about 15 % faster (closures from the home predictor 1.58 against 1.75-1.79 us of CPU a
     pose; rows, conditioning and statics from given unknowns 0.80-0.82 against 0.82-0.84):
-    100,000 random poses on two threads 1.20M against 1.07M a second.  The arithmetic is
+    100,000 random poses on two threads 1.16M-1.21M against 1.03M-1.08M a second (three
+    alternations).  The arithmetic is
     the same operation for operation (lanes are independent, no fast-math): the same bits
     (``benchmarks/compare_outputs.py``, ``compare_paths_maps.py``: no difference)."""
-    if os.environ.get("SCREWKIT_WIDE_VECTORS", "1") == "0":
+    if os.environ.get("SCREWKIT_WIDE_VECTORS", "1").strip().lower() in ("0", "no", "off"):
         return None
     try:
         import llvmlite.binding as ll
