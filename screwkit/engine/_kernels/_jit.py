@@ -202,6 +202,8 @@ def lanes(typingctx, x):
 
 
 def _prefetch(write, name):
+    """The typing and code of an intrinsic ``name(x, i)``: a prefetch of element ``i`` of
+    the C-contiguous array ``x``, for a store where ``write`` (1), else for a load."""
     def typer(typingctx, x, i):
         if not (isinstance(x, types.Array) and x.layout == "C"
                 and isinstance(i, types.Integer)):
@@ -213,9 +215,10 @@ def _prefetch(write, name):
             at = builder.gep(ary.data, [context.cast(builder, args[1], sig.args[1],
                                                      types.intp)])
             i8p, i32 = ir.IntType(8).as_pointer(), ir.IntType(32)
-            fn = cgutils.get_or_insert_function(
-                builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-                "llvm.prefetch.p0")
+            # (named by llvmlite for the pointer type: llvm.prefetch.p0i8, which LLVMs with
+            # opaque pointers take as llvm.prefetch.p0)
+            fn = builder.module.declare_intrinsic(
+                "llvm.prefetch", [i8p], ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]))
             # (read or write, keep in every cache level, data)
             builder.call(fn, [builder.bitcast(at, i8p), ir.Constant(i32, write),
                               ir.Constant(i32, 3), ir.Constant(i32, 1)])
