@@ -79,7 +79,8 @@ def wide_vector_features() -> str | None:
     about 15 % faster (closures from the home predictor 1.58 against 1.75-1.79 us of CPU a
     pose; rows, conditioning and statics from given unknowns 0.80-0.82 against 0.82-0.84):
     100,000 random poses on two threads 1.16M-1.21M against 1.03M-1.08M a second (three
-    alternations).  The arithmetic is
+    alternations); one pose alone through the serial kernel gains nothing (a warm 6-SPS pose
+    73 against 69 us, docs/architecture.md).  The arithmetic is
     the same operation for operation (lanes are independent, no fast-math): the same bits
     (``benchmarks/compare_outputs.py``, ``compare_paths_maps.py``: no difference)."""
     if os.environ.get("SCREWKIT_WIDE_VECTORS", "1").strip().lower() in ("0", "no", "off"):
