@@ -76,7 +76,9 @@ def _row_ahead(A, q):
     """Ask for the cache lines of row ``q`` of the output ``A`` (none where ``A`` has no
     rows: an output not asked for)."""
     if q < A.shape[0]:
-        n = A.size // A.shape[0]
+        n = 1                           # (a row's values: products, not a division a pose)
+        for k in range(1, A.ndim):
+            n *= A.shape[k]
         for e in range(0, n, 8):
             prefetch_write(A, q * n + e)
         prefetch_write(A, q * n + n - 1)
