@@ -112,16 +112,17 @@ def test_launches_on_this_thread_run_the_serial_kernels(monkeypatch):
 @pytest.mark.parametrize("N, nw", [(1, 2), (255, 2), (256, 2), (5000, 2), (100_000, 2),
                                    (16384, 2), (77, 1), (100_000, 1), (10_000, 4)])
 def test_pieces_are_whole_blocks_about_eight_a_thread(N, nw):
-    piece = _launch.piece_of(N, nw)
+    from screwkit.engine._kernels._layout import MIN_PIECE, PIECES_PER_THREAD
+    piece = kernels().piece_of(N, nw)
     if nw == 1:
         assert piece >= N
         return
-    assert piece >= _launch.MIN_PIECE and piece % BLOCK == 0
+    assert piece >= MIN_PIECE and piece % BLOCK == 0
     pieces = -(-N // piece)
-    assert pieces <= nw * _launch.PIECES_PER_THREAD
-    if N >= nw * _launch.PIECES_PER_THREAD * max(_launch.MIN_PIECE, BLOCK):
+    assert pieces <= nw * PIECES_PER_THREAD
+    if N >= nw * PIECES_PER_THREAD * max(MIN_PIECE, BLOCK):
         # enough poses: every thread has about eight pieces to take
-        assert pieces >= nw * (_launch.PIECES_PER_THREAD - 1)
+        assert pieces >= nw * (PIECES_PER_THREAD - 1)
 
 
 def test_every_piece_is_solved_once_on_several_threads():

@@ -153,22 +153,21 @@ def test_level_stencils_are_the_interpolations_of_the_neighbours():
         assert np.isfinite(np.delete(Xs, 4, axis=0)).all()
 
 
-def test_a_stencil_needs_scattered_buffers_with_the_excess():
-    """A launch given a path level's stencil writes its samples' rows of a path's output
-    buffers, with their excess: any other use is refused with an error naming it."""
+def test_level_launches_take_only_a_paths_buffers():
+    """A path's levels write their samples' rows of the path's output buffers, with their
+    excess, made for as many samples and the same outputs: any other buffers are refused
+    with an error naming them."""
     from screwkit.engine._chains import chains_of
-    from screwkit.engine._kernels._layout import STENCIL_WIDTH
-    from screwkit.engine._launch import output_buffers, run_poses
+    from screwkit.engine._launch import output_buffers
+    from screwkit.engine._path_launch import LevelLaunches
     from screwkit.engine._solve import predictor_of
     ch = chains_of(screwkit.load_pm("3RRPRR"))
-    P6 = ch.full_params({"alpha": np.zeros(2), "beta": np.zeros(2), "Zo": np.full(2, 80.0)}, 2)
-    S = np.zeros((2, STENCIL_WIDTH))
     Z = predictor_of(ch)
-    plain = output_buffers(ch.flat, 10)
-    with_excess = output_buffers(ch.flat, 10, excess=True)
-    for kw in (dict(), dict(out=(plain, np.array([3, 5]))),
-               dict(out=(with_excess, 0)), dict(out=(with_excess, np.array([3, 5])), X0=P6),
-               dict(out=(with_excess, np.array([3, 5]))) | {"stencil": S[:1]}):
-        kw = {"stencil": S} | kw
-        with pytest.raises(ValueError, match="stencil"):
-            run_poses(ch.flat, Z, P6, **kw)
+    for buffers, kw in ((output_buffers(ch.flat, 10), {}),                 # no excess
+                        (output_buffers(ch.flat, 12, excess=True), {}),    # other samples
+                        (output_buffers(ch.flat, 10, excess=True), {"rows": False}),
+                        (output_buffers(ch.flat, 10, rows=False, excess=True), {})):
+        with pytest.raises(ValueError, match="path of 10 samples"):
+            LevelLaunches(ch.flat, Z, buffers, 10, **kw)
+    ok = LevelLaunches(ch.flat, Z, output_buffers(ch.flat, 10, statics=False, excess=True), 10)
+    assert ok.P6.shape == (10, 6) and ok.solved.shape == (10,) and not ok.solved.any()

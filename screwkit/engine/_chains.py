@@ -104,9 +104,12 @@ class Chains:
             X[k] = self.home[u] / self.x_scale[k]
         return X
 
-    def full_params(self, fixed: dict, N: int) -> np.ndarray:
-        """``P6 (N, 6)``: the given parameters in their columns (the others 0)."""
-        P6 = np.zeros((N, 6))
+    def full_params(self, fixed: dict, N: int, out=None) -> np.ndarray:
+        """``P6 (N, 6)``: the given parameters in their columns (the others 0); into
+        ``out (N, 6)`` where given."""
+        P6 = np.zeros((N, 6)) if out is None else out
+        if out is not None:
+            P6[...] = 0.0
         for p, v in fixed.items():
             P6[:, PARAMS.index(p)] = v
         return P6

@@ -158,21 +158,21 @@ def _default(model, k, degrees):
 def _flag(model, k, a, degrees, invalid) -> np.ndarray:
     """The poses of a batch whose value of ``k`` is not finite or beyond the limits, each
     with its reason added to ``invalid`` (index -> text)."""
+    if k in LENGTH_PARAMS:
+        size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
+        lim, unit = MAX_LENGTH_FACTOR * size, ""
+    else:
+        lim = MAX_ANGLE_DEG if degrees else np.radians(MAX_ANGLE_DEG)
+        unit = " deg" if degrees else " rad"
+    # (NaN and the infinities are not within the limit either: one test)
     with np.errstate(invalid="ignore"):
-        if k in LENGTH_PARAMS:
-            size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
-            lim, unit = MAX_LENGTH_FACTOR * size, ""
-            over = np.abs(a) > lim
-        else:
-            lim = MAX_ANGLE_DEG if degrees else np.radians(MAX_ANGLE_DEG)
-            unit = " deg" if degrees else " rad"
-            over = np.abs(a) > lim
-    bad = ~np.isfinite(a) | over
-    for i in np.flatnonzero(bad)[:1000]:
+        bad = ~(np.abs(a) <= lim)
+    where = np.flatnonzero(bad)
+    for i in where[:1000]:
         why = "is not a finite number" if not np.isfinite(a[i]) else \
             f"is beyond the limit +-{lim:g}{unit}"
         invalid.setdefault(int(i), []).append(f"pose parameter {k} = {a[i]:g}{unit} {why}")
-    for i in np.flatnonzero(bad)[1000:]:
+    for i in where[1000:]:
         invalid.setdefault(int(i), []).append(f"pose parameter {k} is not valid")
     return bad
 

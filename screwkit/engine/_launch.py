@@ -16,15 +16,12 @@ import numpy as np
 
 from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
-from ._kernels._layout import BLOCK, LINE_WIDTH, STENCIL_WIDTH
+from ._kernels._layout import LINE_WIDTH, MIN_PER_THREAD, STENCIL_WIDTH
 from ._memory import recycled_empty
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
            "output_buffers", "frames",
            "platform_of", "statics_of", "leg_wrenches"]
-
-#: Fewest poses per thread worth a parallel launch.
-MIN_PER_THREAD = 256
 
 #: Fewest poses a launch of the analysis kernel on one thread runs in blocks (the parallel
 #: kernel on one thread: its closures solved :data:`._kernels._layout.BLOCK` poses at a time,
@@ -34,12 +31,12 @@ MIN_PER_THREAD = 256
 BLOCKS_ALONE = 64
 BLOCKS_LOADING = 2 * MIN_PER_THREAD
 
-#: A block launch's poses are cut into about this many pieces a thread, each thread taking
-#: the next piece when it is done with one: a thread slowed by another process or by another
-#: Python thread of this one (a map's numpy work) takes fewer, the others more.
-PIECES_PER_THREAD = 8
-#: The fewest poses of a piece (whole blocks of ``BLOCK`` poses otherwise).
-MIN_PIECE = 256
+# (MIN_PER_THREAD: the fewest poses a thread worth a parallel launch; a block launch's poses
+# are cut into about PIECES_PER_THREAD pieces a thread of at least MIN_PIECE poses, each
+# thread taking the next piece when it is done with one: a thread slowed by another process
+# or by another Python thread of this one, a map's numpy work, takes fewer; the kernels'
+# constants, ``_kernels._layout``, the pieces ``_kernels._threads.piece_of``)
+_NO_PATH_F, _NO_PATH_I = np.empty(0), np.empty(0, np.int64)
 
 #: How long the first compile of a parallel kernel takes (the note on stderr).
 PARALLEL_COMPILE = "a minute or two"
@@ -71,15 +68,16 @@ def _c(a, dtype=float):
 
 
 def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False,
-            blocks=False, pieces=False):
+            blocks=False, pieces=False, path=(_NO_PATH_F, _NO_PATH_I)):
     """``serial(*args, 0, N)`` on this thread, or ``par(*args, threads)`` on the threads
     :func:`threads` gives; ``blocks``: ``par`` also on one thread (the analysis kernel's
     parallel version solves its poses in blocks, the serial one each pose alone);
-    ``pieces``: ``par(*args, piece, threads)``, its threads taking pieces of the poses
-    (:func:`piece_of`)."""
+    ``pieces``: the analysis kernel, ``serial(*args, 0, N, *path)`` or ``par(*args,
+    threads, *path)`` (its threads take pieces of the poses: ``_kernels._threads.piece_of``;
+    ``path``: a path's state, :class:`._path_launch.LevelLaunches`, or none)."""
     nw = threads(N, workers, per_thread)
     if (nw <= 1 and not blocks) or getattr(_HERE_ONLY, "on", False):
-        serial(*args, 0, N)
+        serial(*args, 0, N, *(path if pieces else ()))
         return
     if note:
         # (a one-pose command never runs the parallel analysis kernel: its first compile
@@ -87,7 +85,7 @@ def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False
         note_first_compile(par, "the engine's parallel kernel for batches", PARALLEL_COMPILE)
     with LAUNCH_LOCK:
         set_threads(nw)
-        par(*args, *((piece_of(N, nw), nw) if pieces else (nw,)))
+        par(*args, nw, *(path if pieces else ()))
 
 
 @contextmanager
@@ -102,16 +100,6 @@ def on_this_thread():
         yield
     finally:
         _HERE_ONLY.on = before
-
-
-def piece_of(N: int, nw: int) -> int:
-    """Poses of each piece the threads of a block launch take as they are free
-    (``_driver.run_parallel``): about :data:`PIECES_PER_THREAD` a thread, whole blocks of
-    ``BLOCK`` poses, at least :data:`MIN_PIECE`; all ``N`` on one thread."""
-    if nw <= 1:
-        return max(N, 1)
-    per = -(-N // (nw * PIECES_PER_THREAD))
-    return max(MIN_PIECE, -(-per // BLOCK) * BLOCK)
 
 
 class _Plan:
@@ -214,7 +202,7 @@ def _rows_of(buffers: OutputBuffers, at: int, n: int):
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
               solve=True, rows=True, statics=True, continuation=True, twists=False,
               lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
-              blocks: bool | None = True, out=None, stencil=None) -> dict:
+              blocks: bool | None = True, out=None) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
     predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
@@ -232,26 +220,17 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     ``lines``) and returned as views of those rows; or, ``at`` an integer array ``(N,)``,
     pose ``j``'s outputs into row ``at[j]`` of ``buffers`` (a path's level: its samples'
     rows of the path's outputs), the whole buffers' arrays returned (views; the booleans
-    as their integers, :meth:`OutputBuffers.arrays` without ``convert``).  ``stencil (N,
-    STENCIL_WIDTH)`` (with such ``out`` of buffers made with ``excess``, in place of
-    ``X0``): a path level's samples, their starts formed in the launch from the rows of the
-    solved samples' unknowns in ``buffers`` (:func:`._kernels._levels.level_stencil`), and
-    their excess written into their rows of ``excess``."""
+    as their integers, :meth:`OutputBuffers.arrays` without ``convert``).  (A path's levels:
+    :class:`._path_launch.LevelLaunches`.)"""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
     scattered = out is not None and np.ndim(out[1]) == 1
-    if stencil is not None and (X0 is not None or not scattered or np.shape(stencil) != (
-            N, STENCIL_WIDTH) or not out[0].kind[-1]):
-        # (a stencil's rows outside the buffers give NaN starts: the kernel checks them)
-        raise ValueError("a stencil of a path level's starts takes the rows of output "
-                         "buffers with the excess, one a pose, and no X0")
-    plan = _plan(flat, N, 0 if X0 is None and stencil is None else N,
+    plan = _plan(flat, N, 0 if X0 is None else N,
                  0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
                  bool(statics), bool(continuation), bool(twists), bool(lines),
-                 N if scattered else 0, 0 if stencil is None else N,
-                 out is not None and out[0].kind[-1])
+                 N if scattered else 0, 0, out is not None and out[0].kind[-1])
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \
@@ -265,9 +244,6 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
     If[t0:t1] = 0.0 if T is None else T
     if comp is not None:
         If[c0:c1].reshape(csh)[...] = comp
-    if stencil is not None:
-        s0, s1, ssh = plan.in_stencil
-        If[s0:s1].reshape(ssh)[...] = stencil
     Ii = plan.in_i
     if out is None:
         Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)

@@ -16,11 +16,11 @@ import numpy as np
 
 from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
-from ._kernels._layout import CONVERGED
-from ._launch import output_buffers, run_poses, threads
+from ._launch import output_buffers, run_poses
+from ._path_launch import LevelLaunches
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
-from ._path import balanced_chunk, solve_path
+from ._path import solve_path
 from ._solve import Closures, predictor_of
 
 __all__ = ["CHUNK", "Computed", "compute", "load_block_kernel", "row_points"]
@@ -100,70 +100,48 @@ def _per_pose(compliance, N, idx):
 
 class PathRows:
     """The rows, conditioning and statics of a path's samples, formed in the launches that
-    solve the path's levels (:func:`~screwkit.engine._path.solve_path`): the frames of each
-    sample's final unknowns are then at hand, one forward pass a sample fewer than a launch
-    from the solved unknowns, and the same bits (the kernels form a pose's rows from the
-    frames of its final unknowns either way).  The samples solved elsewhere (the anchors)
-    or again after their level (the retries taken), and those Newton did not close from
-    their level's start, are *stale*: :meth:`finish` forms theirs from their final
-    unknowns.
+    solve the path's levels (:func:`~screwkit.engine._path.solve_path`,
+    :class:`~screwkit.engine._path_launch.LevelLaunches`): the frames of each sample's final
+    unknowns are then at hand, one forward pass a sample fewer than a launch from the
+    solved unknowns, and the same bits (the kernels form a pose's rows from the frames of
+    its final unknowns either way).  The samples solved elsewhere (the anchors) or again
+    after their level (the retries taken), and those Newton did not close from their
+    level's start, are not *kept*: :meth:`finish` forms theirs from their final unknowns.
 
-    Each launch writes its samples' outputs into their rows of the path's output buffers
-    (the kernel given the rows: ``run_poses(..., out=(buffers, idx))``): nothing copied
-    after a launch, and every output byte touched once."""
+    Each level's launch writes its samples' outputs into their rows of the path's output
+    buffers: nothing copied after a launch, and every output byte touched once."""
 
     def __init__(self, ch, N, F, T, compliance, twists, lines):
         self.ch, self.N, self.F, self.T = ch, N, F, T
         self.compliance, self.twists, self.lines = compliance, twists, lines
-        self.fresh = np.zeros(N, bool)
         self.buffers = output_buffers(ch.flat, N, statics=F is not None, twists=twists,
                                       lines=lines, excess=True)
-        self.views = self.buffers.arrays(convert=False)      # (views: read after launches)
+        self.launches = None
 
-    def _launch(self, P6, idx, workers, **kw):
-        run_poses(self.ch.flat, predictor_of(self.ch), P6, F=self.F, T=self.T,
-                  compliance=_per_pose(self.compliance, self.N, idx),
-                  statics=self.F is not None, twists=self.twists, lines=self.lines,
-                  workers=workers, out=(self.buffers, idx), **kw)
+    def begin(self, N, Z) -> LevelLaunches:
+        """The path's :class:`~screwkit.engine._path_launch.LevelLaunches` (``N`` samples)."""
+        self.launches = LevelLaunches(self.ch.flat, Z, self.buffers, N, F=self.F,
+                                      T=self.T, compliance=self.compliance,
+                                      twists=self.twists, lines=self.lines)
+        return self.launches
 
-    def solve(self, fixed, stencil, idx, workers):
-        """Solve the samples ``idx`` from the starts ``stencil (K, STENCIL_WIDTH)``
-        describes (as ``solve_closures``) and keep their rows, in launches of up to
-        :data:`CHUNK` samples: their unknowns into their rows of :meth:`unknowns`.  Returns
-        ``(Closure, excess (K,))`` (the ``Closure`` without the unknowns)."""
-        from ._solve import Closure
-        K = len(idx)
-        P6 = self.ch.full_params(fixed, K)
-        keys = ("residual", "iterations", "how", "singular_beta", "excess")
-        # launches of nearly equal size (a multiple of the threads): no idle thread on a
-        # short last launch
-        for sl in _chunks(K, balanced_chunk(K, CHUNK, threads(K, workers))):
-            self._launch(P6[sl], idx[sl], workers, stencil=stencil[sl])
-        got = {k: self.views[k][idx] for k in keys}
-        got["singular_beta"] = got["singular_beta"].astype(bool)
-        # kept where Newton converged from the start given (the frames are then those of
-        # the final unknowns); the others are formed again from their unknowns
-        self.fresh[idx] = (got["residual"] <= CONVERGED) & (got["how"] == 0)
-        return Closure(self.ch, None, None, got["residual"], got["iterations"], got["how"],
-                       got["singular_beta"]), got["excess"]
-
-    def unknowns(self) -> np.ndarray:
-        """The path's unknowns ``(N, n_unknowns)``, sample by sample: the launches of
-        :meth:`solve` write their samples' rows (the outputs' own array)."""
-        return self.views["X"]
-
-    def stale(self, idx):
-        self.fresh[idx] = False
+    def kept(self) -> int:
+        """The samples whose rows their level's launch formed, and that stay."""
+        return 0 if self.launches is None else int(np.count_nonzero(self.launches.kept))
 
     def finish(self, fixed, X, workers) -> dict:
         """The outputs of every sample (``X (N, n_unknowns)`` the path's unknowns): the
-        stale samples' formed now, in launches of up to :data:`CHUNK`; the residuals and
+        samples not kept formed now, in launches of up to :data:`CHUNK`; the residuals and
         the arrays of :data:`_KEYS` the launches filled, by name."""
-        stale = np.flatnonzero(~self.fresh)
+        stale = np.flatnonzero(self.launches.kept == 0)
         for sl in _chunks(stale.size, CHUNK):
             idx = stale[sl]
-            self._launch(self.ch.full_params({k: v[idx] for k, v in fixed.items()}, idx.size),
-                         idx, workers, X=X[idx])
+            run_poses(self.ch.flat, predictor_of(self.ch),
+                      self.ch.full_params({k: v[idx] for k, v in fixed.items()}, idx.size),
+                      X=X[idx], F=self.F, T=self.T,
+                      compliance=_per_pose(self.compliance, self.N, idx),
+                      statics=self.F is not None, twists=self.twists, lines=self.lines,
+                      workers=workers, out=(self.buffers, idx))
         # (the booleans converted now, once all rows are in)
         return {k: v for k, v in self.buffers.arrays().items()
                 if k in _KEYS + ("residual",) and v.shape[0]}
@@ -256,7 +234,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
         levels = PathRows(ch, N, F, T, compliance, twists, lines) if fused else None
         # with the rows formed in the levels' launches, a sample kept is two steps done
         # (its closures and its rows)
-        done = (lambda d: d + int(levels.fresh.sum())) if fused else (lambda d: d)
+        done = (lambda d: d + levels.kept()) if fused else (lambda d: d)
         c = solve_path(model, fixed, X0, anchor_every=anchor_every, workers=workers,
                        progress=(lambda d, n: progress(done(d), steps)) if progress else None,
                        levels=levels)

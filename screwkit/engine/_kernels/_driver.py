@@ -22,7 +22,7 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`),
   ``stencil (N or 0, _layout.STENCIL_WIDTH)`` a path level's starts (the rows of ``X0``
   formed in the launch from the solved samples' unknowns, rows of ``O``'s, and each
-  pose's excess written: :func:`path_starts`, :func:`path_excess`);
+  pose's excess written: :func:`._path_loop.path_starts`, :func:`._path_loop.path_excess`);
 * ``O`` the outputs (``_layout.OUT_*``), filled pose by pose (of the rows given: a path's
   level writes its samples' rows of the path's outputs, no copy after the launch);
 * ``flags``: solve, rows, statics, continuation, actuated twists, the lines of the
@@ -43,13 +43,15 @@ from ._geometry import legs_frames_block
 from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
                         whole_turns)
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
-                      F_SOLVE, OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING,
-                      OUT_X, ORDER, PTS, RL_J, RL_SP, ROWS)
-from ._levels import prefetch_stencil, stencil_excess, stencil_start
+                      F_SOLVE, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING,
+                      OUT_X, ORDER, PTS, RL_J, RL_SP, ROWS, LV_GAPS, LV_GOOD, LV_IDX, LV_IDX2)
+from ._levels import prefetch_stencil
 from ._pack import inputs, model, out_row, outputs, params, prefetch_outputs
 from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
 from ._rows import make_rows_work
-from ._threads import claim
+from ._threads import claim, piece_of, threads_for
+from ._path_loop import (begin_levels, form_level, level_inputs, level_of, over_budget,
+                         path_excess, path_level, path_starts, path_state, take_level)
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
                        spread_lanes)
 
@@ -101,13 +103,15 @@ def _workspaces(M, O, B):
 
 
 @inlined
-def run_poses(M, Z, I, O, flags, first, stop):
+def run_poses(M, Z, I, O, flags, first, stop, L):
     """Poses ``first`` to ``stop`` one at a time with one workspace (borrowed views: no
     reference counts in the loop; returns a number so that the owners visibly outlive it).
     The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
-    links no block kernel, so that a one-pose command does not compile them."""
+    links no block kernel, so that a one-pose command does not compile them.  ``L``: a
+    path's level (:func:`._path_loop.level_of`; empty otherwise)."""
     Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, 0)    # (no block: no rows of a block)
     W, RW, SW, CW, RL = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(RLo)
+    path_level(L, I, first, stop)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         path_starts(I, O, p0, nb)
@@ -119,13 +123,13 @@ def run_poses(M, Z, I, O, flags, first, stop):
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True, RL, -1)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-        path_excess(I, O, p0, nb)
+        path_excess(L, I, O, p0, nb)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + RLo[0].size
 
 
 @inlined
-def run_blocks(M, Z, I, O, flags, piece, taken):
+def run_blocks(M, Z, I, O, flags, piece, taken, L):
     """The pieces of ``piece`` poses this thread takes (:func:`._threads.claim` on ``taken``)
     with one workspace, their closures solved ``BLOCK`` at a time (:func:`solve_block`), or
     the frames of their given unknowns formed ``BLOCK`` at a time
@@ -141,7 +145,8 @@ def run_blocks(M, Z, I, O, flags, piece, taken):
     c = claim(taken)
     while c * piece < N:
         block_poses(M, Z, I, O, flags, c * piece, min((c + 1) * piece, N), borrowed(Wo),
-                    borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(Ko), borrowed(RLo))
+                    borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(Ko), borrowed(RLo),
+                    L)
         c = claim(taken)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
@@ -149,7 +154,7 @@ def run_blocks(M, Z, I, O, flags, piece, taken):
 
 
 @borrowing
-def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
+def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL, L):
     """:func:`run_blocks`'s loop over its poses, with its workspaces (borrowed views): a
     function without reference counts (:func:`~._jit.borrowing`).  In a function with them
     (one that allocates, as :func:`run_blocks`), numba takes and drops a reference to every
@@ -166,6 +171,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
     # pass too, the lanes at once (the bits of one pose's pass: see _kin)
     given = not flags[F_SOLVE] and stop - first > 1
     inblock = blocked or given
+    path_level(L, I, first, stop)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         kb = 0
@@ -212,29 +218,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL):
             block_lines(M, Z[0], Z[1], I, O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
                         W, K, kb)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-        path_excess(I, O, p0, nb)
-
-
-@inlined
-def path_starts(I, O, p0, nb):
-    """A path level's launch (a stencil a pose): the starts of the poses ``p0..p0+nb-1``
-    into their rows of ``X0``, from the solved samples' unknowns (rows of ``O[OUT_X]`` no
-    pose of the launch writes)."""
-    S = I[8]
-    if S.shape[0]:
-        for p in range(p0, p0 + nb):
-            stencil_start(S, p, O[OUT_X], I[1], p)
-
-
-@inlined
-def path_excess(I, O, p0, nb):
-    """A path level's launch: each pose's excess (:func:`._levels.stencil_excess`) into
-    its row of ``O[OUT_EXCESS]``, its solution and start at hand."""
-    S = I[8]
-    if S.shape[0]:
-        for p in range(p0, p0 + nb):
-            q = out_row(I, p)
-            O[OUT_EXCESS][q] = stencil_excess(S, p, O[OUT_X], q, I[1], p)
+        path_excess(L, I, O, p0, nb)
 
 
 @inlined
@@ -330,22 +314,66 @@ def _turned(Z, I, O, p, M, res):
 
 
 @entry
-def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop):
-    """Poses ``first`` to ``stop`` (the tuples packed: :mod:`._pack`)."""
-    run_poses(model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), outputs(Of, Oi, Od),
-              flags, first, stop)
+def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop, Lf, Li):
+    """Poses ``first`` to ``stop`` (the tuples packed: :mod:`._pack`); with a path's state
+    ``Lf, Li`` (:mod:`._path_loop`; empty otherwise), the path's levels one after the other
+    (as :func:`run_parallel`, on this thread)."""
+    M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
+        outputs(Of, Oi, Od)
+    H, V, P6, res, comp = path_state(Lf, Li)
+    path = Li.shape[0] > 0
+    idx, idx2, gaps, good = V[LV_IDX], V[LV_IDX2], V[LV_GAPS], V[LV_GOOD]
+    n = begin_levels(V, res, idx, good) if path else 0
+    G = form_level(idx, n, gaps) if path else stop - first
+    done = 0
+    while G > 0:
+        Iv = level_inputs(I, G, comp.shape[0] > 0) if path else I
+        p0 = 0 if path else first
+        # (one call of the inlined loop: its code compiled once)
+        run_poses(M, Z, Iv, O, flags, p0, p0 + G, level_of(H, V, P6, res, comp, idx, n, G))
+        if path:
+            m = take_level(H, V, res, Iv, G, idx, n, idx2, gaps, good)
+            done += G
+            G = 0
+            if m >= 0 and not over_budget(H, done):
+                idx, idx2, n = idx2, idx, m
+                G = form_level(idx, n, gaps)
+        else:
+            G = 0
 
 
 @parallel
-def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, piece, nthreads):
+def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads, Lf, Li):
     """:func:`run_blocks` on the launch's ``nthreads`` threads (``prange`` over them), the
-    poses in pieces of ``piece`` each thread takes as it is free (the pieces' bits are the
-    poses' own).  (The threads are given: numba's ``get_num_threads`` in a kernel is a call
-    through a pointer of this process, which keeps the kernel out of the cache.)"""
+    poses in pieces (:func:`._threads.piece_of`) each thread takes as it is free (the pieces'
+    bits are the poses' own).  (The threads are given: numba's ``get_num_threads`` in a
+    kernel is a call through a pointer of this process, which keeps the kernel out of the
+    cache.)  With a path's state ``Lf, Li`` (:mod:`._path_loop`; empty otherwise): the
+    path's levels one after the other, each a launch of its samples on as many of the
+    threads as it has poses for, the inputs' buffers holding the level's rows."""
     M, Z, I, O = model(Mf, Mi, Md), params(Zf, Zi, Zd), inputs(If, Ii, Id), \
         outputs(Of, Oi, Od)
-    N = I[0].shape[0]
-    nt = max(1, min(nthreads, -(-N // piece)))
-    taken = np.zeros(1, np.int64)
-    for t in prange(nt):
-        run_blocks(M, Z, I, O, flags, piece, taken)
+    H, V, P6, res, comp = path_state(Lf, Li)
+    path = Li.shape[0] > 0
+    idx, idx2, gaps, good = V[LV_IDX], V[LV_IDX2], V[LV_GAPS], V[LV_GOOD]
+    n = begin_levels(V, res, idx, good) if path else 0
+    G = form_level(idx, n, gaps) if path else I[0].shape[0]
+    done = 0
+    while G > 0:
+        Iv = level_inputs(I, G, comp.shape[0] > 0) if path else I
+        L = level_of(H, V, P6, res, comp, idx, n, G)
+        nw = threads_for(G, nthreads) if path else nthreads
+        piece = piece_of(G, nw)
+        nt = max(1, min(nw, -(-G // piece)))
+        taken = np.zeros(1, np.int64)
+        for t in prange(nt):
+            run_blocks(M, Z, Iv, O, flags, piece, taken, L)
+        if path:
+            m = take_level(H, V, res, Iv, G, idx, n, idx2, gaps, good)
+            done += G
+            G = 0
+            if m >= 0 and not over_budget(H, done):
+                idx, idx2, n = idx2, idx, m
+                G = form_level(idx, n, gaps)
+        else:
+            G = 0

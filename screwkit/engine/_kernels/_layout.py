@@ -72,6 +72,12 @@ R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
 #: (2-6 % less CPU a pose of the whole analysis, measured 2026-12-05) or 128 (slower than 64
 #: again, by as much).
 BLOCK = 64
+#: The parallel kernel's threads and pieces (``_threads.piece_of``): the fewest poses a
+#: thread worth a launch on it; a launch's poses cut into about ``PIECES_PER_THREAD``
+#: pieces a thread, whole blocks, each of at least ``MIN_PIECE`` poses.
+MIN_PER_THREAD = 256
+PIECES_PER_THREAD = 8
+MIN_PIECE = 256
 
 #: Length-normalised closure residual regarded as converged (success).
 CONVERGED = 1e-10
@@ -113,7 +119,7 @@ RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP 
 #: The outputs of the analysis kernel (``_driver``), in its order (``_launch``), and its
 #: flags: solve, rows, statics, continuation, actuated twists, the lines of the transmission
 #: indices' joints and the platform (1/0 each).  ``OUT_EXCESS``: a path level's samples'
-#: excess (``_levels.stencil_excess``; no rows otherwise).
+#: excess (``_levels.moved_beyond``; no rows otherwise).
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
  OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM, OUT_EXCESS) = range(24)
@@ -127,3 +133,16 @@ F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
 ST_KIND, ST_W, ST_ROW = 0, 1, 5
 STENCIL_WIDTH = 9
 SK_LEFT, SK_RIGHT, SK_LINEAR, SK_CUBIC = 0, 1, 2, 3
+
+#: A path's levels solved in one launch (``_path_loop``): the header of its integer state,
+#: the samples, the samples to solve before the launch returns (at the end of the level
+#: that reaches them), the samples of the level left for Python's retries (0: none); then
+#: its arrays of ``N`` each (``LV_*``): solved, iterations, how, singular beta, kept (the
+#: rows formed in the level's launch stay), and the loop's scratch (the solved samples in
+#: order, twice, the gaps of a level, whether each sample converged).  The float state: the
+#: given parameters ``(N, 6)`` of every sample, then the residuals ``(N,)``, then the
+#: samples' compliances ``(N, rows)`` where each sample has its own.
+LH_N, LH_BUDGET, LH_RETRY = range(3)
+LH_SIZE = 4
+LV_SOLVED, LV_ITS, LV_HOW, LV_SING, LV_KEPT, LV_IDX, LV_IDX2, LV_GAPS, LV_GOOD = range(9)
+LV_ROWS = 9

@@ -12,8 +12,8 @@ A level's starts are described by a *stencil* a sample (:func:`level_stencil`, f
 the solved samples' indices alone): its kind, the four weights and the four rows of the
 unknowns it reads (``ST_*``).  The engine's driver applies it in the launch that solves the
 level (:func:`stencil_start`, into the sample's start), and forms the sample's *excess*
-there (:func:`stencil_excess`: how much more than half its neighbours' difference its
-solution moved from its start; a jump where positive), each sample's rows read while its
+there (:func:`moved_beyond`: how much more than half its neighbours' difference its
+solution moved from its start, :func:`allowance`; a jump where positive), each sample's rows read while its
 pose is at hand; a path solved without the driver's rows applies the same functions here
 (:func:`level_starts`, :func:`level_check`).  The starts' operations are those the numpy
 code made, element by element and in the same order (the cubic's sum from ``0.0``, the
@@ -23,12 +23,20 @@ same bits.
 
 import math
 
+import numpy as np
+
 from ._jit import borrowing, borrowing_inlined, entry, inner, prefetch_read
 from ._layout import SK_CUBIC, SK_LEFT, SK_LINEAR, SK_RIGHT, ST_KIND, ST_ROW, ST_W
 
 
 @entry
 def level_stencil(idx, k, good, mid, S):
+    """The stencils of a level's samples (:func:`stencils`)."""
+    stencils(idx, k, good, mid, S)
+
+
+@borrowing
+def stencils(idx, k, good, mid, S):
     """The stencils ``S (G, STENCIL_WIDTH)`` of the samples ``mid (G,)`` (written) in the
     middle of the gaps ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the
     solved samples in order, ``good (N,)`` those converged): the cubic through the two
@@ -73,9 +81,12 @@ def level_stencil(idx, k, good, mid, S):
 
 
 @borrowing
-def stencil_start(S, g, XT, X0, p):
+def stencil_start(S, g, XT, X0, p, allow, q):
     """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
-    into ``X0[p]``: NaN where the stencil names a row ``XT`` does not have."""
+    into ``X0[p]``, and the move it allows (:func:`allowance`) into ``allow[q]``, the
+    neighbours' rows at hand: NaN both where the stencil names a row ``XT`` does not
+    have."""
+    allow[q] = allowance(S, g, XT)
     if not _rows_in(S, g, XT.shape[0]):
         for x in range(XT.shape[1]):
             X0[p, x] = math.nan
@@ -105,26 +116,34 @@ def stencil_start(S, g, XT, X0, p):
 @borrowing_inlined
 def prefetch_stencil(S, g, XT):
     """Ask for the cache lines of the rows of ``XT (N, nx)`` stencil ``S[g]`` reads (those
-    of ``XT``'s rows; the lines of a row's first and last values)."""
+    of ``XT``'s rows: every line of each, a row of 18 values spanning three)."""
     nx = XT.shape[1]
     for j in range(4):
         r = int(S[g, ST_ROW + j])
         if r >= 0 and r < XT.shape[0]:
-            prefetch_read(XT, r * nx)
+            for e in range(0, nx, 8):
+                prefetch_read(XT, r * nx + e)
             prefetch_read(XT, r * nx + nx - 1)
 
 
 @borrowing
-def stencil_excess(S, g, XT, q, X0, p):
-    """How much more than half the largest difference of its two neighbours' unknowns (rows
-    of ``XT``, stencil ``S[g]``) the solution ``XT[q]`` of sample ``g`` moved from its
-    start ``X0[p]`` (largest difference over the unknowns, plus 1e-9): a jump to another
-    branch where positive; NaN where either difference is NaN."""
-    nx = XT.shape[1]
+def allowance(S, g, XT):
+    """The move sample ``g``'s solution may make from its start (stencil ``S[g]``, of the
+    rows of ``XT (N, nx)``): half the largest difference of its two neighbours' unknowns,
+    plus 1e-9; NaN where a difference is NaN or the stencil names a row ``XT`` does not
+    have."""
     if not _rows_in(S, g, XT.shape[0]):
         return math.nan
-    span = _largest_difference(XT, int(S[g, ST_ROW + 2]), XT, int(S[g, ST_ROW + 1]), nx)
-    return _largest_difference(XT, q, X0, p, nx) - (0.5 * span + 1e-9)
+    return 0.5 * _largest_difference(XT, int(S[g, ST_ROW + 2]), XT, int(S[g, ST_ROW + 1]),
+                                     XT.shape[1]) + 1e-9
+
+
+@borrowing
+def moved_beyond(XT, q, X0, p, allowed):
+    """The *excess* of a sample: how much more than ``allowed`` (:func:`allowance`) its
+    solution ``XT[q]`` moved from its start ``X0[p]`` (largest difference over the
+    unknowns): a jump to another branch where positive; NaN where a difference is NaN."""
+    return _largest_difference(XT, q, X0, p, XT.shape[1]) - allowed
 
 
 @borrowing
@@ -142,16 +161,17 @@ def _rows_in(S, g, N):
 def level_starts(S, XT, Xs):
     """The starts ``Xs (G, nx)`` of a level's samples, their stencils ``S (G, ...)`` applied
     to the unknowns ``XT (N, nx)`` (:func:`stencil_start`)."""
+    allow = np.empty(S.shape[0])
     for g in range(S.shape[0]):
-        stencil_start(S, g, XT, Xs, g)
+        stencil_start(S, g, XT, Xs, g, allow, g)
 
 
 @entry
 def level_check(S, XT, mid, Xs, excess):
     """After a level's solve (its solutions in their rows ``mid`` of ``XT``, from the starts
-    ``Xs``): each sample's ``excess (G,)`` (:func:`stencil_excess`)."""
+    ``Xs``): each sample's ``excess (G,)`` (:func:`moved_beyond`)."""
     for g in range(S.shape[0]):
-        excess[g] = stencil_excess(S, g, XT, mid[g], Xs, g)
+        excess[g] = moved_beyond(XT, mid[g], Xs, g, allowance(S, g, XT))
 
 
 @inner

@@ -22,7 +22,8 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 from llvmlite import ir
 
-from ._jit import parallel
+from ._jit import entry, parallel
+from ._layout import BLOCK, MIN_PER_THREAD, MIN_PIECE, PIECES_PER_THREAD
 
 
 @intrinsic
@@ -69,3 +70,21 @@ def claim(typingctx, counter):
         return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1),
                                   "monotonic")
     return types.int64(counter), codegen
+
+
+@entry
+def piece_of(N, nw):
+    """Poses of each piece the ``nw`` threads of a block launch of ``N`` poses take as they
+    are free (``_driver.run_parallel``): about ``PIECES_PER_THREAD`` a thread, whole blocks
+    of ``BLOCK`` poses, at least ``MIN_PIECE``; all ``N`` on one thread."""
+    if nw <= 1:
+        return max(N, 1)
+    per = -(-N // (nw * PIECES_PER_THREAD))
+    return max(MIN_PIECE, -(-per // BLOCK) * BLOCK)
+
+
+@entry
+def threads_for(N, nthreads):
+    """Threads of a launch of ``N`` poses given ``nthreads``: as many as have
+    ``MIN_PER_THREAD`` poses each, at least one (``_launch.threads``'s rule)."""
+    return max(1, min(nthreads, N // MIN_PER_THREAD))

@@ -1,0 +1,200 @@
+"""A path's levels solved in one launch of the parallel kernel (private).
+
+:func:`screwkit.engine._path.solve_path` solves a path's samples level by level, halving
+the spacing between solved samples (:mod:`._levels`).  The level loop runs here, inside
+``_driver.run_parallel``: each level's samples, stencils and given parameters formed on the
+launch's first thread (:func:`form_level`), its poses solved on the threads as any launch's
+(their outputs into their rows of the path's outputs), then its results taken into the
+path's state (:func:`take_level`), without Python between the levels.  Python (the
+anchors before, the retries between) reads and writes the same state, which is packed into
+two arrays (``_layout.LH_*``, ``LV_*``; :func:`path_state`):
+
+* a level with samples to solve again (a branch jump, or Newton not converged where a
+  neighbour is solved) ends the launch with its samples left unsolved and their count in
+  ``LH_RETRY``: Python retries them (:func:`screwkit.engine._path.solve_path`), marks them
+  solved and launches again;
+* the launch also returns at the end of the level that reaches ``LH_BUDGET`` samples (the
+  progress of a long path).
+
+Each level is the same computation as the numpy loop made of it: the same samples, the
+same stencils (:func:`._levels.level_stencil`), each pose solved alone in its lane, so the
+bits are those of a level launched from Python.
+"""
+
+from ._jit import borrowed, borrowing_inlined, inlined, inner
+from ._layout import (ACCEPTED, CONVERGED, LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LV_GAPS,
+                      LV_GOOD, LV_HOW, LV_ITS, LV_KEPT, LV_ROWS, LV_SING, LV_SOLVED,
+                      OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_RES, OUT_SING, OUT_X, ST_ROW)
+from ._levels import moved_beyond, stencil_start, stencils
+from ._pack import out_row
+
+
+@inner
+def path_state(Lf, Li):
+    """The path's state as views: ``(header (LH_SIZE,), V (LV_ROWS, N) int, P6 (N, 6),
+    res (N,), comp (N or 0, rows))`` (``LV_*`` the rows of ``V``)."""
+    N = Li[LH_N] if Li.shape[0] else 0
+    V = Li[LH_SIZE:LH_SIZE + LV_ROWS * N].reshape((LV_ROWS, N))
+    P6 = Lf[:6 * N].reshape((N, 6))
+    res = Lf[6 * N:7 * N]
+    nc = Lf.shape[0] - 7 * N
+    rows = nc // N if N else 0
+    comp = Lf[7 * N:7 * N + (N if rows else 0) * rows].reshape((N if rows else 0, rows))
+    return borrowed(Li[:LH_SIZE]), borrowed(V), borrowed(P6), borrowed(res), borrowed(comp)
+
+
+@inner
+def begin_levels(V, res, idx, good):
+    """The solved samples ``idx`` in order (their count returned) and ``good`` (1 where a
+    sample converged) from the state at the launch's start."""
+    n = 0
+    for i in range(res.shape[0]):
+        good[i] = 1 if res[i] <= ACCEPTED else 0
+        if V[LV_SOLVED, i]:
+            idx[n] = i
+            n += 1
+    return n
+
+
+@inner
+def form_level(idx, n, gaps):
+    """The gaps between the solved samples ``idx[:n]`` (their indices in ``idx``) into
+    ``gaps``: the next level has a sample in the middle of each.  Returns their count (0:
+    every sample solved)."""
+    G = 0
+    for j in range(n - 1):
+        if idx[j + 1] - idx[j] > 1:
+            gaps[G] = j
+            G += 1
+    return G
+
+
+@inlined
+def level_inputs(I, G, per_sample):
+    """The inputs of a level of ``G`` samples: the leading rows of the launch's buffers."""
+    comp = I[5][:G] if per_sample else I[5]
+    return (I[0][:G], I[1][:G], I[2], I[3], I[4], comp, I[6], I[7][:G], I[8][:G])
+
+
+@borrowing_inlined
+def level_block(L, I, p0, nb):
+    """A path's level (``L``: :func:`level_of`): its poses ``p0..p0+nb-1`` (in the gaps
+    ``L[1][p0:p0+nb]``): their samples into the rows ``I[7]``, their stencils into ``I[8]``
+    (:func:`._levels.stencils`), their given parameters into ``I[0]`` and their
+    compliances into ``I[5]`` (where each sample has its own), formed by the thread that
+    solves them."""
+    idx, gaps, good, P6, comp = L[0], L[1], L[2], L[3], L[4]
+    mid = I[7]
+    stencils(idx, gaps[p0:p0 + nb], good, mid[p0:p0 + nb], I[8][p0:p0 + nb])
+    P6l, C = I[0], I[5]
+    for p in range(p0, p0 + nb):
+        q = mid[p]
+        for c in range(6):
+            P6l[p, c] = P6[q, c]
+    if comp.shape[0]:
+        for p in range(p0, p0 + nb):
+            q = mid[p]
+            for c in range(comp.shape[1]):
+                C[p, c] = comp[q, c]
+
+
+@borrowing_inlined
+def take_block(L, I, O, p0, nb):
+    """A path's level's poses ``p0..p0+nb-1`` solved: each sample's residual, iterations,
+    how and singular flag into the path's state, and whether its rows stay (converged from
+    its start by Newton); ``H[LH_RETRY]`` set where one is to be solved again (its solution
+    jumped to another branch, or Newton did not converge; a solved neighbour to start
+    from).  The samples read (their neighbours') are none of the level's, which the
+    threads write."""
+    good, V, res, H = L[2], L[5], L[6], L[7]
+    mid, S = I[7], I[8]
+    for p in range(p0, p0 + nb):
+        q = mid[p]
+        rm, hm = O[OUT_RES][q], O[OUT_HOW][q]
+        res[q] = rm
+        V[LV_ITS, q] = O[OUT_ITS][q]
+        V[LV_HOW, q] = hm
+        V[LV_SING, q] = O[OUT_SING][q]
+        V[LV_KEPT, q] = 1 if (rm <= CONVERGED and hm == 0) else 0
+        left, right = int(S[p, ST_ROW + 1]), int(S[p, ST_ROW + 2])
+        jump = O[OUT_EXCESS][q] > 0 and good[left] == 1 and good[right] == 1 and hm == 0
+        if jump or not rm <= CONVERGED:
+            src = left if res[left] <= ACCEPTED else right
+            if res[src] <= ACCEPTED:
+                H[LH_RETRY] = 1
+
+
+@inlined
+def level_of(H, V, P6, res, comp, idx, n, G):
+    """The tuple of a path's level the blocks read and write (:func:`level_block`,
+    :func:`take_block`): the solved samples ``idx[:n]``, the level's gaps, whether each
+    sample converged, the given parameters and compliances, the state's rows and residuals
+    and its header."""
+    return (idx[:n], V[LV_GAPS][:G], V[LV_GOOD], P6, comp, V, res, H)
+
+
+@inner
+def take_level(H, V, res, I, G, idx, n, idx2, gaps, good):
+    """A solved level of ``G`` samples (:func:`take_block` done): where some sample is to
+    be solved again, the level is left to Python (``H[LH_RETRY] = G``) and -1 returned;
+    otherwise its samples are marked solved and merged into ``idx`` (written to ``idx2``,
+    the count returned)."""
+    if H[LH_RETRY]:
+        H[LH_RETRY] = G
+        return -1
+    mid = I[7]
+    # the level's samples among the solved ones, in order
+    g, m = 0, 0
+    for j in range(n):
+        idx2[m] = idx[j]
+        m += 1
+        if g < G and gaps[g] == j:
+            q = mid[g]
+            idx2[m] = q
+            m += 1
+            V[LV_SOLVED, q] = 1
+            good[q] = 1 if res[q] <= ACCEPTED else 0
+            g += 1
+    return m
+
+
+@inner
+def over_budget(H, done):
+    """Whether the launch has solved its budget of samples (``H[LH_BUDGET]``)."""
+    return done >= H[LH_BUDGET]
+
+
+@inlined
+def path_level(L, I, first, stop):
+    """A path's level (``L``: :func:`level_of`, empty otherwise): the samples,
+    stencils and given parameters of the poses ``first..stop-1`` (formed by the thread
+    that solves them, ahead of their blocks: the prefetches read them)."""
+    if L[0].shape[0] and stop > first:
+        level_block(L, I, first, stop - first)
+
+
+@inlined
+def path_starts(I, O, p0, nb):
+    """A path level's launch (a stencil a pose): the starts of the poses ``p0..p0+nb-1``
+    into their rows of ``X0``, from the solved samples' unknowns (rows of ``O[OUT_X]`` no
+    pose of the launch writes), and the move each may make into its row of
+    ``O[OUT_EXCESS]`` (:func:`._levels.stencil_start`)."""
+    S = I[8]
+    if S.shape[0]:
+        for p in range(p0, p0 + nb):
+            stencil_start(S, p, O[OUT_X], I[1], p, O[OUT_EXCESS], out_row(I, p))
+
+
+@inlined
+def path_excess(L, I, O, p0, nb):
+    """A path level's launch: each pose's excess (:func:`._levels.moved_beyond`: the move
+    beyond the one allowed, :func:`path_starts`) into its row of ``O[OUT_EXCESS]``, its
+    solution and start at hand; with a path's level ``L``, the poses' results into the
+    path's state (:func:`take_block`)."""
+    S = I[8]
+    if S.shape[0]:
+        for p in range(p0, p0 + nb):
+            q = out_row(I, p)
+            O[OUT_EXCESS][q] = moved_beyond(O[OUT_X], q, I[1], p, O[OUT_EXCESS][q])
+        if L[0].shape[0]:
+            take_block(L, I, O, p0, nb)

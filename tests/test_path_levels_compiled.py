@@ -1,0 +1,125 @@
+"""A path's level loop compiled into the analysis kernel.
+
+The levels run one after the other inside one launch (``_kernels._path_loop``), Python
+coming back only for a level's retries and, with progress told, every so many samples.
+Independent references: the same path solved with a launch per level (each launch
+returning after one level: the route without the compiled loop's bookkeeping between
+levels), and the rows and statics formed again from the path's solved unknowns by the
+launch from given unknowns (``chunk_after_path``), per-sample stiffnesses included.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.engine import _path, _path_launch
+from screwkit.engine._run import chunk_after_path
+
+LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
+
+
+def _smooth(n):
+    s = np.linspace(0, 1, n)
+    return {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
+            "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
+
+
+def _walk(n):
+    rng = np.random.default_rng(1)
+    return {"alpha": np.radians(np.cumsum(rng.normal(0, 1.5, n))),
+            "beta": np.radians(np.cumsum(rng.normal(0, 1.5, n))),
+            "Zo": 80 + np.cumsum(rng.normal(0, 0.5, n))}
+
+
+def _one_level_a_launch(monkeypatch):
+    """Every launch of a path's levels returns after one level; returns the launches'
+    log (the samples solved in each)."""
+    run = _path_launch.LevelLaunches.run
+    log = []
+
+    def one(self, budget, workers=None):
+        before = int(self.solved.sum())
+        got = run(self, 1, workers)
+        log.append(int(self.solved.sum()) - before)
+        return got
+    monkeypatch.setattr(_path_launch.LevelLaunches, "run", one)
+    return log
+
+
+@pytest.mark.parametrize("kind", ["smooth", "walk"])
+def test_all_levels_in_one_launch_equal_a_launch_a_level(kind, monkeypatch):
+    pm = screwkit.load_pm("3RRPRR")
+    pose = (_smooth if kind == "smooth" else _walk)(3000)
+    whole = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
+    log = _one_level_a_launch(monkeypatch)
+    apart = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
+    # 32 anchors, then levels halving gaps of about 94 samples: seven levels at least
+    assert len(log) >= 7
+    if kind == "walk":
+        assert whole.diagnostics["retried"] > 0 and \
+            whole.diagnostics["retried"] == apart.diagnostics["retried"]
+    a, b = whole.solution.closures, apart.solution.closures
+    for x, y in ((a.X, b.X), (a.residual, b.residual), (a.iterations, b.iterations),
+                 (a.how, b.how), (whole.jacobian.J, apart.jacobian.J),
+                 (whole.statics.values, apart.statics.values)):
+        np.testing.assert_array_equal(np.asarray(x), np.asarray(y))
+
+
+def test_each_sample_solved_once_and_its_rows_those_of_its_unknowns():
+    """Every sample of a path is solved (no sample left with the state's initial values)
+    and its rows, conditioning and statics are those formed again from its unknowns."""
+    pm = screwkit.load_pm("3RRPRR")
+    pose = _smooth(5001)
+    res = screwkit.analyze(pm, pose, path=True, **LOAD)
+    c = res.solution.closures
+    assert np.all(c.residual <= 1e-10) and np.all(c.how == 0)
+    again, out = chunk_after_path(pm, pose, c.X, c.residual, rows=True,
+                                  F=np.array(LOAD["force"]), T=np.array(LOAD["torque"]))
+    np.testing.assert_array_equal(c.residual, again)
+    np.testing.assert_array_equal(res.jacobian.J, out["J"])
+    np.testing.assert_array_equal(res.statics.values, out["values"])
+
+
+def test_per_sample_stiffness_along_a_path_equals_the_given_unknowns_route():
+    """A path of an indeterminate PM with a stiffness per sample: each level's samples take
+    their own compliances (gathered in the launch); the compliance-weighted statics equal
+    those formed from the solved unknowns with the same compliances."""
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._statics import compliance_of
+    from screwkit.engine._templates import labels_of, templates_of
+    pm = screwkit.load_pm("4UPU")
+    ch = chains_of(pm)
+    n = 1500
+    s = np.linspace(0, 1, n)
+    home = {k: float(pm.default_pose[k]) for k in ch.fixed}
+    pose = {k: v + (0.05 * np.sin(2 * np.pi * s) if k not in ("Xo", "Yo", "Zo")
+                    else 2.0 * np.sin(2 * np.pi * s)) for k, v in home.items()}
+    m = len(labels_of(templates_of(pm)))
+    k = 1e3 * (1.0 + 0.5 * np.sin(np.arange(n)[:, None] * 0.37 + np.arange(m)[None, :]))
+    F, T = np.array([1.0, -2.0, -30.0]), np.array([0.5, 0.2, 3.0])
+    res = screwkit.analyze(pm, pose, path=True, force=F, torque=T, stiffness=k,
+                           raise_on_singular=False)
+    c = res.solution.closures
+    assert np.all(c.residual <= 1e-6)
+    _, out = chunk_after_path(pm, pose, c.X, c.residual, rows=True, F=F, T=T,
+                              compliance=np.ascontiguousarray(compliance_of(k, m, n)))
+    np.testing.assert_array_equal(np.asarray(res.statics.values), out["values"])
+    # and the stiffnesses matter: one stiffness for all gives other forces
+    one = screwkit.analyze(pm, pose, path=True, force=F, torque=T, stiffness=k[0],
+                           raise_on_singular=False)
+    assert not np.allclose(np.asarray(one.statics.values), out["values"], rtol=1e-6)
+
+
+def test_progress_is_told_between_launches_up_to_the_total(monkeypatch):
+    monkeypatch.setattr(_path, "PROGRESS_SAMPLES", 500)
+    pm = screwkit.load_pm("3RRPRR")
+    seen = []
+    res = screwkit.analyze(pm, _smooth(8000), path=True, progress=lambda d, t: seen.append((d, t)),
+                           **LOAD)
+    done = [d for d, _ in seen]
+    assert {t for _, t in seen} == {16000}            # the closures, then the rows
+    assert done == sorted(done) and done[-1] == 16000 and len(seen) >= 4
+    quiet = screwkit.analyze(pm, _smooth(8000), path=True, **LOAD)
+    np.testing.assert_array_equal(res.solution.closures.X, quiet.solution.closures.X)
