@@ -123,3 +123,34 @@ def test_progress_is_told_between_launches_up_to_the_total(monkeypatch):
     assert done == sorted(done) and done[-1] == 16000 and len(seen) >= 4
     quiet = screwkit.analyze(pm, _smooth(8000), path=True, **LOAD)
     np.testing.assert_array_equal(res.solution.closures.X, quiet.solution.closures.X)
+
+
+@pytest.mark.parametrize("kind", ["smooth", "walk"])
+def test_a_team_of_threads_equals_a_launch_of_threads_a_level(kind, monkeypatch):
+    """The levels on a team of threads that wait for each other between levels (numba's
+    workqueue layer) and on threads started for each level (any other layer): the same
+    bits, retries included; and the team does run here (two threads, workqueue)."""
+    from screwkit.engine._kernels import kernels
+    from screwkit.engine._kernels._layout import LH_TEAM
+    pm = screwkit.load_pm("3RRPRR")
+    pose = (_smooth if kind == "smooth" else _walk)(6000)
+    init = _path_launch.LevelLaunches.__init__
+    teams = []
+
+    def spy(self, *a, **k):
+        init(self, *a, **k)
+        teams.append(int(self.Li[LH_TEAM]))
+    monkeypatch.setattr(_path_launch.LevelLaunches, "__init__", spy)
+    team = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, workers=2, **LOAD)
+    assert teams == [kernels().numba.config.THREADING_LAYER == "workqueue"]
+
+    def no_team(self, *a, **k):
+        init(self, *a, **k)
+        self.Li[LH_TEAM] = 0
+    monkeypatch.setattr(_path_launch.LevelLaunches, "__init__", no_team)
+    apart = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, workers=2, **LOAD)
+    a, b = team.solution.closures, apart.solution.closures
+    for x, y in ((a.X, b.X), (a.residual, b.residual), (a.iterations, b.iterations),
+                 (team.jacobian.J, apart.jacobian.J),
+                 (team.statics.values, apart.statics.values)):
+        np.testing.assert_array_equal(np.asarray(x), np.asarray(y))

@@ -84,7 +84,8 @@ def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False
         # comes with the first batch that needs threads, and says so)
         note_first_compile(par, "the engine's parallel kernel for batches", PARALLEL_COMPILE)
     with LAUNCH_LOCK:
-        set_threads(nw)
+        # (numba's pool may hold fewer threads: a launch's ranges are as many as its threads)
+        nw = set_threads(nw)
         par(*args, nw, *(path if pieces else ()))
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import kernels
-from ._kernels._layout import LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LV_IDX, LV_ROWS
+from ._kernels._layout import LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LH_TEAM, LV_IDX, LV_ROWS
 from ._launch import BLOCKS_ALONE, BLOCKS_LOADING, _launch, _plan, run_poses
 from ._memory import recycled_empty
 
@@ -64,6 +64,10 @@ class LevelLaunches:
         self.Li = recycled_empty(LH_SIZE + LV_ROWS * N, np.int64)
         self.Li[:LH_SIZE] = 0
         self.Li[LH_N] = N
+        # the levels on a team of threads that wait for each other only where each range of
+        # a launch has a thread of its own (numba's workqueue layer; a work-stealing layer
+        # could run two ranges on one thread, one waiting for the other)
+        self.Li[LH_TEAM] = kernels().numba.config.THREADING_LAYER == "workqueue"
         V = self.Li[LH_SIZE:].reshape(LV_ROWS, N)
         V[:LV_IDX] = 0                          # (the loop's scratch: written before read)
         self.solved, self.iterations, self.how, self.singular, self.kept = V[:LV_IDX]

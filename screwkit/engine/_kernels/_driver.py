@@ -32,63 +32,27 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
 import numpy as np
 from numba import prange
 
-from ._jit import borrowed, borrowing, entry, inlined, one_lane, parallel
+from ._jit import borrowed, borrowing, entry, inlined, inner, parallel
 
-from ._block import (K_F, K_FA, K_FP, K_ITS, K_P6, K_PZ, K_SAME, K_STATE, K_TOL, K_X,
-                     LANE_ACTIVE, LANE_ALONE, block_lines, block_newton, block_rows_into,
-                     frames_block, lane_frames,
-                     make_block, make_rows_lanes, template_rows_block)
+from ._block import (K_F, K_FA, K_FP, K_SAME, K_STATE, LANE_ALONE, block_lines, block_rows_into,
+                     frames_block, lane_frames, make_block, make_rows_lanes,
+                     template_rows_block)
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
-from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
-                        whole_turns)
-from ._layout import (ACCEPTED, BLOCK, CONVERGED, D, DIRS, F_CONTINUATION, F_LINES, F_ROWS,
-                      F_SOLVE, OUT_HOW, OUT_ITS, OUT_LINES, OUT_PLATFORM, OUT_SING,
-                      OUT_X, ORDER, PTS, RL_J, RL_SP, ROWS, LV_GAPS, LV_GOOD, LV_IDX, LV_IDX2)
+from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM, OUT_X,
+                      PTS, RL_J, RL_SP, ROWS, LH_TEAM, LV_GAPS, LV_GOOD, LV_IDX, LV_IDX2,
+                      SY_ARRIVED, SY_G, SY_N, SY_READY, SY_SIZE, SY_TAKEN, SY_WHICH)
 from ._levels import prefetch_stencil
-from ._pack import inputs, model, out_row, outputs, params, prefetch_outputs
-from ._newton import W_PZ, W_XB, home_vector, make_work, newton_from, tolerance
+from ._pack import inputs, model, outputs, params, prefetch_outputs
+from ._newton import make_work
 from ._rows import make_rows_work
-from ._threads import claim, piece_of, threads_for
-from ._path_loop import (begin_levels, form_level, level_inputs, level_of, over_budget,
-                         path_excess, path_level, path_starts, path_state, take_level)
+from ._solve_lanes import finish_lane, solve_alone, solve_block, start
+from ._threads import arrive, claim, piece_of, read_acquire, threads_for
+from ._path_loop import (begin_levels, form_level, lead_level, level_inputs, level_of,
+                         over_budget, path_excess, path_level, path_starts, path_state,
+                         take_level)
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
                        spread_lanes)
-
-
-@inlined
-def start(Z, I, O, p, W):
-    """Pose ``p``'s start into its row of ``O[OUT_X]``: its warm start, else the home
-    predictor's."""
-    unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
-    P6, X0 = I[0], I[1]
-    X = O[OUT_X][out_row(I, p)]
-    if X0.shape[0]:
-        for k in range(X.shape[0]):
-            X[k] = X0[p, k]
-    else:
-        Xh = W[W_XB]                  # (scratch: the home vector, read only here)
-        home_vector(unk, xs, p6home, Xh)
-        predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(P6[p]), Xh, one_lane(X), W[W_PZ],
-                1, 1)
-
-
-@inlined
-def solve_alone(M, Z, I, O, flags, p, W):
-    """Pose ``p``'s closures alone from the start in its row of ``O[OUT_X]`` (:func:`solve_pose`).
-    Returns ``(residual, b)``: its frames in buffer ``b`` of ``W``."""
-    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
-    sides = I[2]
-    side = sides[p] if sides.shape[0] else 0.0
-    q = out_row(I, p)
-    res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][q], side,
-                                        p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
-    if _turned(Z, I, O, p, M, res):
-        b = -1                        # its frames formed again at the unknowns turned
-    O[OUT_ITS][q] = its
-    O[OUT_HOW][q] = how
-    O[OUT_SING][q] = sing
-    return res, b
 
 
 @inlined
@@ -221,98 +185,6 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL, L):
         path_excess(L, I, O, p0, nb)
 
 
-@inlined
-def solve_block(M, Z, I, O, p0, nb, W, K):
-    """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
-    starts, as one pose alone); a pose near the representation singularity is left to be
-    solved alone (``LANE_ALONE``).  Returns the buffer of ``K`` holding the lanes' frames
-    (:func:`._block.block_newton`)."""
-    unk, xs = Z[0], Z[1]
-    order = M[ORDER]
-    P6 = I[0]
-    Xb, P6b, TOL, ST = K[K_X], K[K_P6], K[K_TOL], K[K_STATE]
-    X0 = I[1]
-    for l in range(nb):
-        for k in range(6):
-            P6b[k, l] = P6[p0 + l, k]
-    if X0.shape[0]:                   # the warm starts
-        for l in range(nb):
-            for k in range(Xb.shape[0]):
-                Xb[k, l] = X0[p0 + l, k]
-    else:                             # the home predictor's, the lanes at once
-        Xh = W[W_XB]
-        home_vector(unk, xs, Z[6], Xh)
-        predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, Xb, K[K_PZ], nb, BLOCK)
-    for l in range(nb):
-        p = p0 + l
-        X = O[OUT_X][out_row(I, p)]
-        for k in range(X.shape[0]):
-            X[k] = Xb[k, l]
-        p6fix = P6[p]
-        TOL[l] = tolerance(order, unk, xs, p6fix, X)
-        ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
-    return block_newton(M, unk, xs, K, nb, 30, W)
-
-
-@inlined
-def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
-    """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
-    Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
-    active, the rest of its Newton run alone; where the run did not converge, the rescue
-    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
-    of ``W`` (``b < 0``: to be formed again at its unknowns; for a lane whose frames stay
-    the block's, only where its rows ``reads`` them: :func:`._finish.reads_frames`).  Returns
-    ``(residual, b, same)``: ``same``, its frames are the block's (no step alone, no
-    rescue)."""
-    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
-    p6fix = I[0][p]
-    q = out_row(I, p)
-    X = O[OUT_X][q]
-    Xb = K[K_X]
-    for k in range(X.shape[0]):
-        X[k] = Xb[k, l]
-    res, its = K[K_F][l], K[K_ITS][l]
-    how = 0
-    sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
-    # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
-    # rest of a Newton run: nothing after the solve reads them); after any Newton run of
-    # its rescue b < 0: they are formed again at the unknowns the rescue returns
-    b = 0
-    more_steps = K[K_STATE][l] == LANE_ACTIVE
-    if more_steps:
-        lane_frames(K, kb, l, W, b, True)
-        # one of the few lanes the block left iterating: the rest of its run alone, from
-        # its unknowns, frames and residual (the iterations it has left of the pose's 30)
-        res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
-        its += more
-    same = not more_steps and res <= CONVERGED
-    if not more_steps and (reads or not same):
-        lane_frames(K, kb, l, W, b, False)
-    if not same:
-        res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
-                                  flags[F_CONTINUATION] == 1, W, res, its, b)
-    if _turned(Z, I, O, p, M, res):
-        b, same = -1, False
-    O[OUT_ITS][q] = its
-    O[OUT_HOW][q] = how
-    O[OUT_SING][q] = sing
-    return res, b, same
-
-
-@inlined
-def _turned(Z, I, O, p, M, res):
-    """Pose ``p``'s solved unknowns without whole turns (:func:`._closures.whole_turns`,
-    against its warm start where it has one); True where they changed.  A pose not solved
-    (residual ``res`` above ``ACCEPTED``, or the infinite one of a representation
-    singularity with a side out of reach) keeps its unknowns and its verdict."""
-    if not res <= ACCEPTED:
-        return False
-    X0 = I[1]
-    warm = X0.shape[0] > 0
-    X = O[OUT_X][out_row(I, p)]
-    return whole_turns(M, Z[0], X, X0[p] if warm else X, warm)
-
-
 @entry
 def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop, Lf, Li):
     """Poses ``first`` to ``stop`` (the tuples packed: :mod:`._pack`); with a path's state
@@ -342,6 +214,53 @@ def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop
             G = 0
 
 
+@inner
+def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
+    """Thread ``t`` of a team of ``nt`` running a path's levels (:func:`run_parallel`): the
+    threads stay in the launch from level to level, waiting for each other instead of being
+    woken for each level's launch (on a virtual machine the second thread of a launch often
+    started a millisecond late, most of a small level).  The lead thread (``t`` 0) forms
+    each level (:func:`._path_loop.lead_level`) while the others wait for its release; all
+    take the level's pieces (:func:`block_poses`, as :func:`run_blocks`), then arrive at the
+    level's end, where the lead waits for them all.  One workspace a thread for all levels.
+    Each pose is computed as in any launch: the same bits.  (A function of its own, not
+    typed into the ``prange`` body: numba hoists out of a ``prange`` loop the reads of an
+    array its body writes only through calls, and ``sync`` is such an array.)"""
+    n_legs, m = M[D].shape[0], M[D].shape[1]
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, BLOCK)
+    Ko = make_block(n_legs, m, O[OUT_X].shape[1], BLOCK)
+    own = comp.shape[0] > 0
+    level = 0
+    G = 1
+    while G > 0:
+        if t == 0:
+            G = lead_level(H, V, res, I, P6, comp, sync, level)
+        else:
+            while read_acquire(sync[SY_READY:SY_READY + 1]) <= level:
+                pass
+            G = sync[SY_G]
+        if G > 0:
+            idx = V[LV_IDX] if sync[SY_WHICH] == 0 else V[LV_IDX2]
+            Iv = level_inputs(I, G, own)
+            L = level_of(H, V, P6, res, comp, idx, sync[SY_N], G)
+            piece = piece_of(G, threads_for(G, nt))
+            taken = sync[SY_TAKEN:SY_TAKEN + 1]
+            c = claim(taken)
+            while c * piece < G:
+                block_poses(M, Z, Iv, O, flags, c * piece, min((c + 1) * piece, G),
+                            borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo),
+                            borrowed(Ko), borrowed(RLo), L)
+                c = claim(taken)
+            arrive(sync[SY_ARRIVED:SY_ARRIVED + 1])
+            level += 1
+            if t == 0:
+                while read_acquire(sync[SY_ARRIVED:SY_ARRIVED + 1]) < level * nt:
+                    pass
+    # the owners are used here, so they live (and keep the buffers) until the loop is done
+    return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
+        Ko[0].shape[0] + RLo[0].shape[0]
+
+
 @parallel
 def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads, Lf, Li):
     """:func:`run_blocks` on the launch's ``nthreads`` threads (``prange`` over them), the
@@ -355,6 +274,13 @@ def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads
         outputs(Of, Oi, Od)
     H, V, P6, res, comp = path_state(Lf, Li)
     path = Li.shape[0] > 0
+    if path and H[LH_TEAM] == 1 and nthreads > 1:
+        # a path's levels on a team of threads that stays in the launch (each range of the
+        # prange on a thread of its own: numba's workqueue layer)
+        sync = np.zeros(SY_SIZE, np.int64)
+        for t in prange(nthreads):
+            team_levels(M, Z, I, O, flags, t, nthreads, sync, H, V, P6, res, comp)
+        return
     idx, idx2, gaps, good = V[LV_IDX], V[LV_IDX2], V[LV_GAPS], V[LV_GOOD]
     n = begin_levels(V, res, idx, good) if path else 0
     G = form_level(idx, n, gaps) if path else I[0].shape[0]

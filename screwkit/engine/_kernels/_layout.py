@@ -136,13 +136,21 @@ SK_LEFT, SK_RIGHT, SK_LINEAR, SK_CUBIC = 0, 1, 2, 3
 
 #: A path's levels solved in one launch (``_path_loop``): the header of its integer state,
 #: the samples, the samples to solve before the launch returns (at the end of the level
-#: that reaches them), the samples of the level left for Python's retries (0: none); then
+#: that reaches them), the samples of the level left for Python's retries (0: none),
+#: whether the threads may wait for each other between levels (numba's workqueue layer,
+#: which runs each of a launch's ranges on a thread of its own); then
 #: its arrays of ``N`` each (``LV_*``): solved, iterations, how, singular beta, kept (the
 #: rows formed in the level's launch stay), and the loop's scratch (the solved samples in
 #: order, twice, the gaps of a level, whether each sample converged).  The float state: the
 #: given parameters ``(N, 6)`` of every sample, then the residuals ``(N,)``, then the
 #: samples' compliances ``(N, rows)`` where each sample has its own.
-LH_N, LH_BUDGET, LH_RETRY = range(3)
+LH_N, LH_BUDGET, LH_RETRY, LH_TEAM = range(4)
 LH_SIZE = 4
+#: The shared words of a path's levels run by a team of threads (``_driver.team_levels``,
+#: with ``LH_TEAM`` set): the levels released by the lead thread, the threads arrived at the
+#: end of a level (all levels counted), the pieces taken of the level, its samples, the
+#: solved samples, which of the two lists holds them, the samples solved in the launch.
+SY_READY, SY_ARRIVED, SY_TAKEN, SY_G, SY_N, SY_WHICH, SY_DONE = range(7)
+SY_SIZE = 8
 LV_SOLVED, LV_ITS, LV_HOW, LV_SING, LV_KEPT, LV_IDX, LV_IDX2, LV_GAPS, LV_GOOD = range(9)
 LV_ROWS = 9

@@ -23,10 +23,12 @@ bits are those of a level launched from Python.
 
 from ._jit import borrowed, borrowing_inlined, inlined, inner
 from ._layout import (ACCEPTED, CONVERGED, LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LV_GAPS,
-                      LV_GOOD, LV_HOW, LV_ITS, LV_KEPT, LV_ROWS, LV_SING, LV_SOLVED,
-                      OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_RES, OUT_SING, OUT_X, ST_ROW)
+                      LV_GOOD, LV_HOW, LV_IDX, LV_IDX2, LV_ITS, LV_KEPT, LV_ROWS, LV_SING,
+                      LV_SOLVED, OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_RES, OUT_SING, OUT_X, ST_ROW,
+                      SY_DONE, SY_G, SY_N, SY_READY, SY_TAKEN, SY_WHICH)
 from ._levels import moved_beyond, stencil_start, stencils
 from ._pack import out_row
+from ._threads import write_release
 
 
 @inner
@@ -198,3 +200,33 @@ def path_excess(L, I, O, p0, nb):
             O[OUT_EXCESS][q] = moved_beyond(O[OUT_X], q, I[1], p, O[OUT_EXCESS][q])
         if L[0].shape[0]:
             take_block(L, I, O, p0, nb)
+
+
+@inner
+def lead_level(H, V, res, I, P6, comp, sync, level):
+    """The lead thread of a team (``_driver.team_levels``) between two levels: the first
+    level formed (``level`` 0), or the last one's results merged and the next one formed
+    (:func:`take_level`, :func:`form_level`; none where it has retries or the budget is
+    spent); its samples, the solved ones and which list holds them published in ``sync``,
+    the pieces' counter reset, and the level released to the team.  Returns its samples (0:
+    the launch ends)."""
+    which = sync[SY_WHICH]
+    idx, idx2 = (V[LV_IDX], V[LV_IDX2]) if which == 0 else (V[LV_IDX2], V[LV_IDX])
+    gaps, good = V[LV_GAPS], V[LV_GOOD]
+    if level == 0:
+        n = begin_levels(V, res, idx, good)
+        G = form_level(idx, n, gaps)
+    else:
+        last, n = sync[SY_G], sync[SY_N]
+        m = take_level(H, V, res, I, last, idx, n, idx2, gaps, good)
+        sync[SY_DONE] += last
+        G = 0
+        if m >= 0 and not over_budget(H, sync[SY_DONE]):
+            which, idx, n = 1 - which, idx2, m
+            G = form_level(idx, n, gaps)
+    sync[SY_G] = G
+    sync[SY_N] = n
+    sync[SY_WHICH] = which
+    sync[SY_TAKEN] = 0
+    write_release(sync[SY_READY:SY_READY + 1], level + 1)
+    return G

@@ -88,3 +88,47 @@ def threads_for(N, nthreads):
     """Threads of a launch of ``N`` poses given ``nthreads``: as many as have
     ``MIN_PER_THREAD`` poses each, at least one (``_launch.threads``'s rule)."""
     return max(1, min(nthreads, N // MIN_PER_THREAD))
+
+
+@intrinsic
+def arrive(typingctx, counter):
+    """One more thread at a barrier: atomically adds one to ``counter[0]``, its writes
+    before it seen by the thread that reads the count (acquire-release); returns the count
+    before."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(counter)(context, builder, args[0])
+        return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1),
+                                  "acq_rel")
+    return types.int64(counter), codegen
+
+
+@intrinsic
+def read_acquire(typingctx, counter):
+    """``counter[0]`` read atomically (acquire: what its writer wrote before it is seen;
+    the read is made again on every call, in a waiting loop too)."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(counter)(context, builder, args[0])
+        return builder.load_atomic(ary.data, "acquire", 8)
+    return types.int64(counter), codegen
+
+
+@intrinsic
+def write_release(typingctx, counter, value):
+    """``counter[0] = value`` atomically (release: what this thread wrote before is seen by
+    a thread that reads it with :func:`read_acquire`)."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64
+            and isinstance(value, types.Integer)):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(counter)(context, builder, args[0])
+        v = context.cast(builder, args[1], sig.args[1], types.int64)
+        builder.store_atomic(v, ary.data, "release", 8)
+        return context.get_dummy_value()
+    return types.none(counter, value), codegen

@@ -16,7 +16,7 @@ process that compiles into the same disk cache:
   order; the results are the same bits), compiles the pose kernel itself (``run_range``),
   and waits for the child to finish (its kernels load from the cache on first use).
 
-The block closure's kernels (``_block``, ``_driver.solve_block``) are not among them: only
+The block closure's kernels (``_block``, ``_solve_lanes.solve_block``) are not among them: only
 the parallel kernel (``run_parallel``, every batch worth a thread) links them, and it
 compiles with the first such batch (``_launch``: a note on stderr).
 

@@ -1,0 +1,142 @@
+"""A pose's closures in the analysis kernel (private): its start, solved alone, or as a
+lane of a block of ``BLOCK`` poses and then finished alone (the rest of a Newton run, the
+rescue), as :mod:`._driver`'s loops call them; every lane is the pose alone, the same bits.
+"""
+
+from ._jit import inlined, one_lane
+
+from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
+                     block_newton, lane_frames)
+from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
+                        whole_turns)
+from ._layout import (ACCEPTED, BLOCK, CONVERGED, F_CONTINUATION, OUT_HOW, OUT_ITS, OUT_SING,
+                      OUT_X, ORDER)
+from ._newton import W_PZ, W_XB, home_vector, newton_from, tolerance
+from ._pack import out_row
+
+
+@inlined
+def start(Z, I, O, p, W):
+    """Pose ``p``'s start into its row of ``O[OUT_X]``: its warm start, else the home
+    predictor's."""
+    unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
+    P6, X0 = I[0], I[1]
+    X = O[OUT_X][out_row(I, p)]
+    if X0.shape[0]:
+        for k in range(X.shape[0]):
+            X[k] = X0[p, k]
+    else:
+        Xh = W[W_XB]                  # (scratch: the home vector, read only here)
+        home_vector(unk, xs, p6home, Xh)
+        predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(P6[p]), Xh, one_lane(X), W[W_PZ],
+                1, 1)
+
+
+@inlined
+def solve_alone(M, Z, I, O, flags, p, W):
+    """Pose ``p``'s closures alone from the start in its row of ``O[OUT_X]`` (:func:`solve_pose`).
+    Returns ``(residual, b)``: its frames in buffer ``b`` of ``W``."""
+    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
+    sides = I[2]
+    side = sides[p] if sides.shape[0] else 0.0
+    q = out_row(I, p)
+    res, its, how, sing, b = solve_pose(M, unk, xs, unk2, xs2, I[0][p], O[OUT_X][q], side,
+                                        p6home, fix, fix2, flags[F_CONTINUATION] == 1, W)
+    if _turned(Z, I, O, p, M, res):
+        b = -1                        # its frames formed again at the unknowns turned
+    O[OUT_ITS][q] = its
+    O[OUT_HOW][q] = how
+    O[OUT_SING][q] = sing
+    return res, b
+
+
+@inlined
+def solve_block(M, Z, I, O, p0, nb, W, K):
+    """The closures of the poses ``p0..p0+nb-1`` as the lanes of the block ``K`` (from their
+    starts, as one pose alone); a pose near the representation singularity is left to be
+    solved alone (``LANE_ALONE``).  Returns the buffer of ``K`` holding the lanes' frames
+    (:func:`._block.block_newton`)."""
+    unk, xs = Z[0], Z[1]
+    order = M[ORDER]
+    P6 = I[0]
+    Xb, P6b, TOL, ST = K[K_X], K[K_P6], K[K_TOL], K[K_STATE]
+    X0 = I[1]
+    for l in range(nb):
+        for k in range(6):
+            P6b[k, l] = P6[p0 + l, k]
+    if X0.shape[0]:                   # the warm starts
+        for l in range(nb):
+            for k in range(Xb.shape[0]):
+                Xb[k, l] = X0[p0 + l, k]
+    else:                             # the home predictor's, the lanes at once
+        Xh = W[W_XB]
+        home_vector(unk, xs, Z[6], Xh)
+        predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, Xb, K[K_PZ], nb, BLOCK)
+    for l in range(nb):
+        p = p0 + l
+        X = O[OUT_X][out_row(I, p)]
+        for k in range(X.shape[0]):
+            X[k] = Xb[k, l]
+        p6fix = P6[p]
+        TOL[l] = tolerance(order, unk, xs, p6fix, X)
+        ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
+    return block_newton(M, unk, xs, K, nb, 30, W)
+
+
+@inlined
+def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
+    """Pose ``p`` (lane ``l`` of the block ``K``, a lane the block solved) after the block's
+    Newton run (its frames in buffer ``kb`` of ``K``): its unknowns; a lane the block left
+    active, the rest of its Newton run alone; where the run did not converge, the rescue
+    (continuation, polish), as :func:`._closures.solve_pose`; its frames into buffer ``b``
+    of ``W`` (``b < 0``: to be formed again at its unknowns; for a lane whose frames stay
+    the block's, only where its rows ``reads`` them: :func:`._finish.reads_frames`).  Returns
+    ``(residual, b, same)``: ``same``, its frames are the block's (no step alone, no
+    rescue)."""
+    unk, xs, unk2, xs2, fix, fix2, p6home = Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]
+    p6fix = I[0][p]
+    q = out_row(I, p)
+    X = O[OUT_X][q]
+    Xb = K[K_X]
+    for k in range(X.shape[0]):
+        X[k] = Xb[k, l]
+    res, its = K[K_F][l], K[K_ITS][l]
+    how = 0
+    sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
+    # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
+    # rest of a Newton run: nothing after the solve reads them); after any Newton run of
+    # its rescue b < 0: they are formed again at the unknowns the rescue returns
+    b = 0
+    more_steps = K[K_STATE][l] == LANE_ACTIVE
+    if more_steps:
+        lane_frames(K, kb, l, W, b, True)
+        # one of the few lanes the block left iterating: the rest of its run alone, from
+        # its unknowns, frames and residual (the iterations it has left of the pose's 30)
+        res, more, _, b = newton_from(M, unk, xs, p6fix, X, K[K_TOL][l], 30 - its, W, res)
+        its += more
+    same = not more_steps and res <= CONVERGED
+    if not more_steps and (reads or not same):
+        lane_frames(K, kb, l, W, b, False)
+    if not same:
+        res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
+                                  flags[F_CONTINUATION] == 1, W, res, its, b)
+    if _turned(Z, I, O, p, M, res):
+        b, same = -1, False
+    O[OUT_ITS][q] = its
+    O[OUT_HOW][q] = how
+    O[OUT_SING][q] = sing
+    return res, b, same
+
+
+@inlined
+def _turned(Z, I, O, p, M, res):
+    """Pose ``p``'s solved unknowns without whole turns (:func:`._closures.whole_turns`,
+    against its warm start where it has one); True where they changed.  A pose not solved
+    (residual ``res`` above ``ACCEPTED``, or the infinite one of a representation
+    singularity with a side out of reach) keeps its unknowns and its verdict."""
+    if not res <= ACCEPTED:
+        return False
+    X0 = I[1]
+    warm = X0.shape[0] > 0
+    X = O[OUT_X][out_row(I, p)]
+    return whole_turns(M, Z[0], X, X0[p] if warm else X, warm)
