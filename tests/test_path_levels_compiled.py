@@ -154,3 +154,20 @@ def test_a_team_of_threads_equals_a_launch_of_threads_a_level(kind, monkeypatch)
                  (team.jacobian.J, apart.jacobian.J),
                  (team.statics.values, apart.statics.values)):
         np.testing.assert_array_equal(np.asarray(x), np.asarray(y))
+
+
+def test_the_serial_kernels_level_loop_equals_the_threads():
+    """On this thread alone (the serial kernel's loop over the levels, each pose alone) and
+    on the threads in blocks: the same bits."""
+    from screwkit.engine import _launch
+    pm = screwkit.load_pm("3RRPRR")
+    pose = _walk(3000)
+    threaded = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
+    with _launch.on_this_thread():
+        alone = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
+    assert threaded.diagnostics["retried"] > 0
+    for x, y in ((threaded.solution.closures.X, alone.solution.closures.X),
+                 (threaded.solution.closures.residual, alone.solution.closures.residual),
+                 (threaded.jacobian.J, alone.jacobian.J),
+                 (threaded.statics.values, alone.statics.values)):
+        np.testing.assert_array_equal(np.asarray(x), np.asarray(y))
