@@ -40,17 +40,16 @@ from ._block import (K_F, K_FA, K_FP, K_SAME, K_STATE, LANE_ALONE, block_lines, 
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
 from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM, OUT_X,
-                      PTS, RL_J, RL_SP, ROWS, LH_TEAM, LV_GAPS, LV_GOOD, LV_IDX, LV_IDX2,
-                      SY_ARRIVED, SY_G, SY_N, SY_READY, SY_SIZE, SY_TAKEN, SY_WHICH)
+                      PTS, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED, SY_G, SY_READY, SY_SIZE,
+                      SY_TAKEN)
 from ._levels import prefetch_stencil
 from ._pack import inputs, model, outputs, params, prefetch_outputs
 from ._newton import make_work
 from ._rows import make_rows_work
 from ._solve_lanes import finish_lane, solve_alone, solve_block, start
 from ._threads import arrive, claim, piece_of, read_acquire, threads_for
-from ._path_loop import (begin_levels, form_level, lead_level, level_inputs, level_of,
-                         over_budget, path_excess, path_level, path_starts, path_state,
-                         take_level)
+from ._path_loop import (lead_level, level_inputs, level_of, path_excess, path_level,
+                         path_starts, path_state)
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
                        spread_lanes)
 
@@ -194,24 +193,16 @@ def run_range(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, first, stop
         outputs(Of, Oi, Od)
     H, V, P6, res, comp = path_state(Lf, Li)
     path = Li.shape[0] > 0
-    idx, idx2, gaps, good = V[LV_IDX], V[LV_IDX2], V[LV_GAPS], V[LV_GOOD]
-    n = begin_levels(V, res, idx, good) if path else 0
-    G = form_level(idx, n, gaps) if path else stop - first
-    done = 0
+    sync = np.zeros(SY_SIZE, np.int64)
+    G = lead_level(H, V, res, I, P6, comp, sync, 0) if path else stop - first
+    level = 0
     while G > 0:
         Iv = level_inputs(I, G, comp.shape[0] > 0) if path else I
         p0 = 0 if path else first
         # (one call of the inlined loop: its code compiled once)
-        run_poses(M, Z, Iv, O, flags, p0, p0 + G, level_of(H, V, P6, res, comp, idx, n, G))
-        if path:
-            m = take_level(H, V, res, Iv, G, idx, n, idx2, gaps, good)
-            done += G
-            G = 0
-            if m >= 0 and not over_budget(H, done):
-                idx, idx2, n = idx2, idx, m
-                G = form_level(idx, n, gaps)
-        else:
-            G = 0
+        run_poses(M, Z, Iv, O, flags, p0, p0 + G, level_of(H, V, P6, res, comp, sync, G))
+        level += 1
+        G = lead_level(H, V, res, I, P6, comp, sync, level) if path else 0
 
 
 @inner
@@ -240,9 +231,8 @@ def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
                 pass
             G = sync[SY_G]
         if G > 0:
-            idx = V[LV_IDX] if sync[SY_WHICH] == 0 else V[LV_IDX2]
             Iv = level_inputs(I, G, own)
-            L = level_of(H, V, P6, res, comp, idx, sync[SY_N], G)
+            L = level_of(H, V, P6, res, comp, sync, G)
             piece = piece_of(G, threads_for(G, nt))
             taken = sync[SY_TAKEN:SY_TAKEN + 1]
             c = claim(taken)
@@ -277,29 +267,21 @@ def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads
     if path and H[LH_TEAM] == 1 and nthreads > 1:
         # a path's levels on a team of threads that stays in the launch (each range of the
         # prange on a thread of its own: numba's workqueue layer)
-        sync = np.zeros(SY_SIZE, np.int64)
+        team = np.zeros(SY_SIZE, np.int64)
         for t in prange(nthreads):
-            team_levels(M, Z, I, O, flags, t, nthreads, sync, H, V, P6, res, comp)
+            team_levels(M, Z, I, O, flags, t, nthreads, team, H, V, P6, res, comp)
         return
-    idx, idx2, gaps, good = V[LV_IDX], V[LV_IDX2], V[LV_GAPS], V[LV_GOOD]
-    n = begin_levels(V, res, idx, good) if path else 0
-    G = form_level(idx, n, gaps) if path else I[0].shape[0]
-    done = 0
+    sync = np.zeros(SY_SIZE, np.int64)
+    G = lead_level(H, V, res, I, P6, comp, sync, 0) if path else I[0].shape[0]
+    level = 0
     while G > 0:
         Iv = level_inputs(I, G, comp.shape[0] > 0) if path else I
-        L = level_of(H, V, P6, res, comp, idx, n, G)
+        L = level_of(H, V, P6, res, comp, sync, G)
         nw = threads_for(G, nthreads) if path else nthreads
         piece = piece_of(G, nw)
         nt = max(1, min(nw, -(-G // piece)))
         taken = np.zeros(1, np.int64)
         for t in prange(nt):
             run_blocks(M, Z, Iv, O, flags, piece, taken, L)
-        if path:
-            m = take_level(H, V, res, Iv, G, idx, n, idx2, gaps, good)
-            done += G
-            G = 0
-            if m >= 0 and not over_budget(H, done):
-                idx, idx2, n = idx2, idx, m
-                G = form_level(idx, n, gaps)
-        else:
-            G = 0
+        level += 1
+        G = lead_level(H, V, res, I, P6, comp, sync, level) if path else 0

@@ -127,12 +127,14 @@ def take_block(L, I, O, p0, nb):
 
 
 @inlined
-def level_of(H, V, P6, res, comp, idx, n, G):
-    """The tuple of a path's level the blocks read and write (:func:`level_block`,
-    :func:`take_block`): the solved samples ``idx[:n]``, the level's gaps, whether each
-    sample converged, the given parameters and compliances, the state's rows and residuals
-    and its header."""
-    return (idx[:n], V[LV_GAPS][:G], V[LV_GOOD], P6, comp, V, res, H)
+def level_of(H, V, P6, res, comp, sync, G):
+    """The tuple of a path's level of ``G`` samples (published in ``sync`` by
+    :func:`lead_level`) the blocks read and write (:func:`level_block`,
+    :func:`take_block`): the solved samples, the level's gaps, whether each sample
+    converged, the given parameters and compliances, the state's rows and residuals and
+    its header (no solved samples outside a path: ``V`` has none)."""
+    idx = V[LV_IDX] if sync[SY_WHICH] == 0 else V[LV_IDX2]
+    return (idx[:sync[SY_N]], V[LV_GAPS][:G], V[LV_GOOD], P6, comp, V, res, H)
 
 
 @inner
@@ -204,7 +206,8 @@ def path_excess(L, I, O, p0, nb):
 
 @inner
 def lead_level(H, V, res, I, P6, comp, sync, level):
-    """The lead thread of a team (``_driver.team_levels``) between two levels: the first
+    """Between two levels of a path (the lead thread of a team, ``_driver.team_levels``;
+    the one thread of a launch's level loop otherwise): the first
     level formed (``level`` 0), or the last one's results merged and the next one formed
     (:func:`take_level`, :func:`form_level`; none where it has retries or the budget is
     spent); its samples, the solved ones and which list holds them published in ``sync``,

@@ -56,20 +56,25 @@ def pin_threads(masks, status):
         status[i] = _set_affinity(masks[i])
 
 
+def _add_one(counter, ordering):
+    """The typing and code of ``counter[0] += 1`` done atomically (with ``ordering``),
+    returning the value before, for an int64 array ``counter``."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(counter)(context, builder, args[0])
+        return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1), ordering)
+    return types.int64(counter), codegen
+
+
 @intrinsic
 def claim(typingctx, counter):
     """The next piece of a launch's poses: atomically adds one to ``counter[0]`` (an int64
     array shared by the launch's threads) and returns its value before.  Each thread takes
     pieces until they run out, so a thread slowed by another process (or by this process's
     own Python thread) takes fewer: a launch of ``n`` equal ranges waits for its slowest."""
-    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
-        return None
-
-    def codegen(context, builder, sig, args):
-        ary = context.make_array(counter)(context, builder, args[0])
-        return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1),
-                                  "monotonic")
-    return types.int64(counter), codegen
+    return _add_one(counter, "monotonic")
 
 
 @entry
@@ -95,14 +100,7 @@ def arrive(typingctx, counter):
     """One more thread at a barrier: atomically adds one to ``counter[0]``, its writes
     before it seen by the thread that reads the count (acquire-release); returns the count
     before."""
-    if not (isinstance(counter, types.Array) and counter.dtype == types.int64):
-        return None
-
-    def codegen(context, builder, sig, args):
-        ary = context.make_array(counter)(context, builder, args[0])
-        return builder.atomic_rmw("add", ary.data, ir.Constant(ir.IntType(64), 1),
-                                  "acq_rel")
-    return types.int64(counter), codegen
+    return _add_one(counter, "acq_rel")
 
 
 @intrinsic
