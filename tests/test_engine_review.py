@@ -173,3 +173,32 @@ def test_a_path_that_leaves_the_workspace_and_comes_back():
                                raise_on_singular=False, **PAPER_LOAD)
         np.testing.assert_allclose(res.statics.values[i], one.statics.values, rtol=0,
                                    atol=1e-9 * np.abs(one.statics.values).max())
+
+
+@pytest.mark.parametrize("degrees", [False, True])
+def test_a_batch_keeps_its_own_copy_of_the_pose_arrays(degrees):
+    # the arrays given are read once: changing them after the call changes nothing the
+    # result holds (the given parameters its closures keep, the pose it reports), and the
+    # default put in a flagged pose's place goes into the copy, never the caller's array
+    pm = screwkit.load_pm("3RRPRR")
+    scale = 1.0 if degrees else np.pi / 180.0
+    for flagged in (False, True):
+        alpha = np.array([5.0, np.nan if flagged else 1.0, -3.0, 2.0]) * scale
+        beta = np.array([2.0, 1.0, -4.0, 0.0]) * scale
+        zo = [70, 80, 90, 75]                               # ints in a list
+        res = screwkit.analyze(pm, {"alpha": alpha, "beta": beta, "Zo": zo},
+                               degrees=degrees, **PAPER_LOAD)
+        assert res.ok.tolist() == [True, not flagged, True, True]
+        assert np.isnan(alpha[1]) == flagged                # (the caller's, as given)
+        held = res.solution.closures.fixed
+        assert not any(np.shares_memory(held[k], v) for k, v in
+                       (("alpha", alpha), ("beta", beta)))
+        kept = {k: np.array(v, copy=True) for k, v in held.items()}
+        params = {k: np.array(v, copy=True) for k, v in res.solution.params.items()}
+        alpha[:], beta[:], zo[0] = 0.0, 0.0, 10
+        for k, v in kept.items():
+            assert np.array_equal(held[k], v)
+        for k, v in params.items():
+            assert np.array_equal(res.solution.params[k], v, equal_nan=True)
+        assert np.allclose(kept["beta"], np.radians([2.0, 1.0, -4.0, 0.0]))
+        assert np.allclose(kept["Zo"], [70.0, 80.0, 90.0, 75.0])

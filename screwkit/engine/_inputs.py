@@ -70,6 +70,7 @@ def pose_arrays(model, pose, degrees: bool = False):
     vals, single, n = {}, True, None
     invalid: dict = {}
     plain = set()
+    fresh = set()           # (N,) float arrays of this call's own (real_array's copies)
     lims = _plain_limits(model, degrees)
     for k, v in pose.items():
         # the common case, one pose of plain numbers, decided without numpy's conversions:
@@ -95,12 +96,13 @@ def pose_arrays(model, pose, degrees: bool = False):
                        finite=not _is_batch(v))
         if a.ndim == 1:
             single = False
+            fresh.add(k)
             if n is not None and a.size != n:
                 raise err.InputError(f"{model.name}: pose parameter {k} has {a.size} values, "
                                      f"the others {n}")
             n = a.size
             bad = _flag(model, k, a, degrees, invalid)
-            if bad.any():
+            if bad is not None:
                 a = np.where(bad, _default(model, k, degrees), a)
         else:
             _pose_bound(model, k, a, degrees)
@@ -116,7 +118,8 @@ def pose_arrays(model, pose, degrees: bool = False):
         notes.append(f"{', '.join(missing)} taken from the default pose")
     if N == 1 and len(plain) == len(vals):
         return vals, N, single, notes, invalid          # (each already a new (1,) array)
-    return ({k: v if k in plain and N == 1 else np.broadcast_to(v, (N,)).astype(float)
+    return ({k: v if (k in plain and N == 1) or k in fresh else
+             np.broadcast_to(v, (N,)).astype(float)
              for k, v in vals.items()}, N, single, notes, invalid)
 
 
@@ -155,9 +158,9 @@ def _default(model, k, degrees):
     return np.degrees(v) if (degrees and k not in LENGTH_PARAMS) else v
 
 
-def _flag(model, k, a, degrees, invalid) -> np.ndarray:
+def _flag(model, k, a, degrees, invalid) -> np.ndarray | None:
     """The poses of a batch whose value of ``k`` is not finite or beyond the limits, each
-    with its reason added to ``invalid`` (index -> text)."""
+    with its reason added to ``invalid`` (index -> text); None where there is none."""
     if k in LENGTH_PARAMS:
         size = float(getattr(getattr(model, "normalisation", None), "length", 1.0) or 1.0)
         lim, unit = MAX_LENGTH_FACTOR * size, ""
@@ -166,7 +169,10 @@ def _flag(model, k, a, degrees, invalid) -> np.ndarray:
         unit = " deg" if degrees else " rad"
     # (NaN and the infinities are not within the limit either: one test)
     with np.errstate(invalid="ignore"):
-        bad = ~(np.abs(a) <= lim)
+        within = np.abs(a) <= lim
+    if within.all():
+        return None
+    bad = ~within
     where = np.flatnonzero(bad)
     for i in where[:1000]:
         why = "is not a finite number" if not np.isfinite(a[i]) else \

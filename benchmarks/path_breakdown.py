@@ -1,0 +1,138 @@
+"""Where the time of a path goes: ``screwkit.analyze(..., path=True)`` beside launches of the
+same samples' rows without the path's machinery, in the same run.
+
+``bench_engine.py``'s 100,000-sample 3RRPRR path (paper workload), each figure the best of
+``--repeat`` rounds, the variants alternated round by round (the machines are noisy):
+
+* ``path``: ``screwkit.analyze(pm, path, path=True)``, all of it;
+* ``path's levels kernel``: the launches of its levels alone (``LevelLaunches.run``); the
+  rest of ``path`` is Python and the anchors' small launches (the inputs' checks, the
+  anchors, the results' arrays);
+* ``closures from their solutions, levels' order``: one launch solving every sample from
+  its own solution as warm start (so Newton stops at once), the samples in the order the
+  levels solve them and their rows written where the levels write them: the solve's lanes,
+  rows, conditioning and statics without the stencils, the checks and the levels' barriers;
+* ``given unknowns, levels' order``: the same without the solve (frames at the given
+  unknowns: ``X=``);
+* ``given unknowns, in order``: the same in the path's order (rows written one after the
+  other): the floor of any route through the engine's rows.
+
+The levels' order is that of ``_path.solve_path`` (anchors every ``N / PATH_ANCHORS``
+samples, then the middle of every gap between solved samples, level by level), formed here
+from that rule.  Prints milliseconds and samples per second; ``--json`` for a record.
+
+Run: ``python benchmarks/path_breakdown.py [--n 100000] [--repeat 7] [--workers 2] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+
+
+def levels_order(N: int, anchors_every: int) -> np.ndarray:
+    """The samples of a path of ``N`` in the order its levels solve them (the anchors, then
+    each level's midpoints of the gaps between solved samples, in order)."""
+    anchors = np.arange(0, N, anchors_every)
+    if anchors[-1] != N - 1:
+        anchors = np.append(anchors, N - 1)
+    solved = np.zeros(N, bool)
+    solved[anchors] = True
+    order = [anchors]
+    while True:
+        idx = np.flatnonzero(solved)
+        gaps = np.flatnonzero(np.diff(idx) > 1)
+        if not gaps.size:
+            break
+        mid = (idx[gaps] + idx[gaps + 1]) // 2
+        solved[mid] = True
+        order.append(mid)
+    return np.concatenate(order)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--json", action="store_true")
+    args = ap.parse_args(argv)
+
+    import screwkit
+    from screwkit.engine import _path_launch
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._launch import output_buffers, run_poses
+    from screwkit.engine._path import PATH_ANCHORS
+    from screwkit.engine._solve import predictor_of
+
+    n, w = args.n, args.workers
+    pm = screwkit.load_pm("3RRPRR")
+    s = np.linspace(0, 1, n)
+    path = {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
+            "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
+    F, T = np.array([-20.0, -30.0, -60.0]), np.array([-30.0, -30.0, 100.0])
+    r = screwkit.analyze(pm, path, path=True, force=F, torque=T, workers=w)
+    X = np.ascontiguousarray(r.solution.closures.X.T)
+    ch = chains_of(pm)
+    Z, P6 = predictor_of(ch), ch.full_params(path, n)
+    order = levels_order(n, max(1, -(-n // PATH_ANCHORS)))
+    P6o, Xo = np.ascontiguousarray(P6[order]), np.ascontiguousarray(X[order])
+    buf = output_buffers(ch.flat, n)
+
+    # the levels' kernel timed inside the path's runs
+    kernel = []
+    run = _path_launch.LevelLaunches.run
+
+    def timed_run(self, *a, **k):
+        t0 = time.perf_counter()
+        try:
+            return run(self, *a, **k)
+        finally:
+            kernel[-1] += time.perf_counter() - t0
+
+    def whole_path():
+        kernel.append(0.0)
+        screwkit.analyze(pm, path, path=True, force=F, torque=T, workers=w)
+
+    variants = {
+        "path": whole_path,
+        "closures from their solutions, levels' order":
+            lambda: run_poses(ch.flat, Z, P6o, X0=Xo, F=F, T=T, workers=w, out=(buf, order)),
+        "given unknowns, levels' order":
+            lambda: run_poses(ch.flat, Z, P6o, X=Xo, F=F, T=T, workers=w, out=(buf, order)),
+        "given unknowns, in order":
+            lambda: run_poses(ch.flat, Z, P6, X=X, F=F, T=T, workers=w, out=(buf, 0)),
+    }
+    times = {k: [] for k in variants}
+    _path_launch.LevelLaunches.run = timed_run
+    try:
+        for f in variants.values():             # (loaded and warm before the rounds)
+            f()
+        kernel.clear()
+        for _ in range(args.repeat):
+            for key, f in variants.items():
+                t0 = time.perf_counter()
+                f()
+                times[key].append(time.perf_counter() - t0)
+    finally:
+        _path_launch.LevelLaunches.run = run
+    best = {k: min(v) for k, v in times.items()}
+    i = int(np.argmin(times["path"]))
+    rows = [("path", best["path"]), ("path's levels kernel", kernel[i]),
+            ("the rest: Python, the anchors' launches", best["path"] - kernel[i])]
+    rows += [(k, best[k]) for k in list(variants)[1:]]
+    if args.json:
+        print(json.dumps({"n": n, "workers": w, "repeat": args.repeat,
+                          "seconds": {k: v for k, v in rows}}, indent=1))
+        return
+    print(f"3RRPRR, {n} path samples, paper workload, {w} threads, best of {args.repeat} "
+          f"(variants alternated)")
+    for key, t in rows:
+        print(f"  {key:48s} {t * 1e3:7.1f} ms  {n / t / 1e3:7.0f}k samples/s")
+
+
+if __name__ == "__main__":
+    main()
