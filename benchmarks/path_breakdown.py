@@ -20,8 +20,12 @@ same samples' rows without the path's machinery, in the same run.
 The levels' order is that of ``_path.solve_path`` (anchors every ``N / PATH_ANCHORS``
 samples, then the middle of every gap between solved samples, level by level), formed here
 from that rule.  Prints milliseconds and samples per second; ``--json`` for a record.
+``--levels``: also the path with each level in a launch of its own (the launch's budget one
+sample), each level's samples, wall and CPU time (best of ``--repeat`` per level; a launch's
+start included, about half a millisecond).
 
-Run: ``python benchmarks/path_breakdown.py [--n 100000] [--repeat 7] [--workers 2] [--json]``.
+Run: ``python benchmarks/path_breakdown.py [--n 100000] [--repeat 7] [--workers 2] [--levels]
+[--json]``.
 """
 
 from __future__ import annotations
@@ -58,6 +62,7 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=100_000)
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--levels", action="store_true", help="also each level in a launch")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
 
@@ -119,6 +124,8 @@ def main(argv=None):
                 times[key].append(time.perf_counter() - t0)
     finally:
         _path_launch.LevelLaunches.run = run
+    levels = _per_level(lambda: screwkit.analyze(pm, path, path=True, force=F, torque=T,
+                                                 workers=w), args.repeat) if args.levels else []
     best = {k: min(v) for k, v in times.items()}
     i = int(np.argmin(times["path"]))
     rows = [("path", best["path"]), ("path's levels kernel", kernel[i]),
@@ -126,12 +133,49 @@ def main(argv=None):
     rows += [(k, best[k]) for k in list(variants)[1:]]
     if args.json:
         print(json.dumps({"n": n, "workers": w, "repeat": args.repeat,
-                          "seconds": {k: v for k, v in rows}}, indent=1))
+                          "seconds": {k: v for k, v in rows},
+                          "levels": [dict(zip(("samples", "wall", "cpu"), x))
+                                     for x in levels]}, indent=1))
         return
     print(f"3RRPRR, {n} path samples, paper workload, {w} threads, best of {args.repeat} "
           f"(variants alternated)")
     for key, t in rows:
         print(f"  {key:48s} {t * 1e3:7.1f} ms  {n / t / 1e3:7.0f}k samples/s")
+    if levels:
+        print("each level in a launch of its own (its start included):")
+        for k, (g, wall, cpu) in enumerate(levels):
+            print(f"  level {k:2d} {g:7d} samples {wall * 1e3:7.2f} ms, CPU {cpu * 1e3:7.2f} ms"
+                  f"  {g / wall / 1e3:7.0f}k samples/s")
+        print(f"  all levels {sum(x[1] for x in levels) * 1e3:.1f} ms")
+
+
+def _per_level(analyze, repeat):
+    """``[(samples, wall s, CPU s)]`` of each level of the path ``analyze()`` solves, each
+    level in a launch of its own (a budget of one sample), the best of ``repeat`` runs."""
+    from screwkit.engine import _path_launch
+    run = _path_launch.LevelLaunches.run
+    log = []
+
+    def one_level(self, budget, workers=None):
+        before = int(self.solved.sum())
+        t0, c0 = time.perf_counter(), time.process_time()
+        G = run(self, 1, workers)
+        log.append((int(self.solved.sum()) - before, time.perf_counter() - t0,
+                    time.process_time() - c0))
+        return G
+
+    _path_launch.LevelLaunches.run = one_level
+    try:
+        analyze()
+        best = None
+        for _ in range(repeat):
+            log.clear()
+            analyze()
+            best = list(log) if best is None or len(best) != len(log) else \
+                [min(a, b, key=lambda x: x[1]) for a, b in zip(best, log)]
+    finally:
+        _path_launch.LevelLaunches.run = run
+    return best
 
 
 if __name__ == "__main__":
