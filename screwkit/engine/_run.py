@@ -223,10 +223,6 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))
     slices = _chunks(N, chunk)
-    if path:
-        X = np.empty((N, ch.n_unknowns))
-        res = np.empty(N)
-        its, how, sing = np.zeros(N, np.int64), np.zeros(N, np.int64), np.zeros(N, bool)
     out = {}
     statics = F is not None
     fused = path and rows and mapper is None
@@ -239,9 +235,11 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
                        progress=(lambda d, n: progress(done(d), steps)) if progress else None,
                        levels=levels)
         X = np.ascontiguousarray(c.X.T)            # (the path's rows as they are: no copy)
-        its[:], how[:], sing[:] = c.iterations, c.how, c.singular_beta
+        # (the closure's arrays are its own copies, not the launches' recycled buffers)
+        its, how, sing = c.iterations, c.how, c.singular_beta
         diag = dict(c.diagnostics)
         path_res = c.residual
+        res = np.empty(N)
     Z = predictor_of(ch)
 
     def put(key, sl, value):
