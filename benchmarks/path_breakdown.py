@@ -65,6 +65,9 @@ def main(argv=None):
     ap.add_argument("--levels", action="store_true", help="also each level in a launch")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
+    for name, lo, hi in (("n", 64, 10_000_000), ("repeat", 1, 1000), ("workers", 1, 256)):
+        if not lo <= getattr(args, name) <= hi:
+            ap.error(f"--{name} must be within {lo}..{hi}")
 
     import screwkit
     from screwkit.engine import _path_launch
