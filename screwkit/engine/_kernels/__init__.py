@@ -10,7 +10,8 @@ stderr (numba compiles an entry point on its first call: a one-pose command comp
 serial ones; the first batch on several threads compiles the parallel kernel, with a note
 of its own).  The first analysis of a process with no pose kernel in the cache compiles the
 one-pose analysis kernels at once, on two processes where there are two cores
-(:func:`compile_analysis`, :mod:`._warm`).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
+(:func:`compile_analysis`, :mod:`._warm`); numba's IR inlining copies each inlined function's
+scope once (:mod:`._inlining`: a quarter of a first compile's time).  Parallel kernels run on numba's ``workqueue`` threading layer (safe across
 ``fork``), one launch at a time (:data:`LAUNCH_LOCK`): a launch from another Python thread
 waits for the running one, which uses every thread it was given.
 
@@ -40,7 +41,7 @@ _ANALYSIS_READY = False
 _PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_loading.py", "_warm.py")
+_LOADER = ("__init__.py", "_inlining.py", "_loading.py", "_warm.py")
 
 
 def _writable(path: str) -> bool:
@@ -111,6 +112,10 @@ def _configure():
         numba.config.CPU_FEATURES = os.environ["NUMBA_CPU_FEATURES"]   # (the same)
     if os.environ["NUMBA_THREADING_LAYER"] == "workqueue":
         numba.config.THREADING_LAYER = "workqueue"
+    # (numba's IR inlining without its quadratic copies, from the first compilation on:
+    # a quarter of a first compile)
+    from ._inlining import install_on_first_compile
+    install_on_first_compile()
     return numba
 
 
