@@ -364,6 +364,22 @@ def test_the_kernels_hold_no_version_per_literal():
         assert not any(isinstance(t, types.Literal) for s in sigs for t in s), fn
 
 
+
+def test_the_path_team_thread_function_has_one_version():
+    """The parallel kernel's team of a path (``_driver.team_levels``) is typed once: its
+    thread index an int64 both where numba types the call and in the ``prange`` body
+    (uint64 there unless cast), not one version of the same code for each."""
+    from numba import types
+    from screwkit.engine._kernels import _driver
+    s = np.linspace(0.0, 1.0, 3000)
+    path = {"alpha": np.radians(5 * np.sin(2 * np.pi * s)), "beta": np.radians(4 * s),
+            "Zo": 75 + 10 * s}
+    r = screwkit.analyze(load_pm("3RRPRR"), path, path=True, workers=2)
+    assert np.all(r.ok)
+    fn = _driver.team_levels
+    sigs = list(fn.signatures) + [key[0] for key in fn._cache._cache_file._load_index()]
+    assert sigs and {s[5] for s in sigs} == {types.int64}, sigs
+
 # --- the console command ends at once when nothing is pending (screwkit.cli.run) ---------
 
 def test_the_console_command_prints_all_and_exits_with_the_status(capsys):

@@ -269,7 +269,10 @@ def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads
         # prange on a thread of its own: numba's workqueue layer)
         team = np.zeros(SY_SIZE, np.int64)
         for t in prange(nthreads):
-            team_levels(M, Z, I, O, flags, t, nthreads, team, H, V, P6, res, comp)
+            # (the index as int64: numba types this call once with the loop's index as
+            # int64, and once more in the prange body, where it is uint64; two versions of
+            # team_levels, some 26 s of LLVM each, for the same code)
+            team_levels(M, Z, I, O, flags, np.int64(t), nthreads, team, H, V, P6, res, comp)
         return
     sync = np.zeros(SY_SIZE, np.int64)
     G = lead_level(H, V, res, I, P6, comp, sync, 0) if path else I[0].shape[0]

@@ -27,7 +27,8 @@ other numba code of the process that inlines gets the same copies, faster.  It i
 when numba starts its first compilation of the process (:func:`install_on_first_compile`,
 a listener of numba's ``numba:compile`` event, which a kernel loaded from the cache does
 not raise): importing numba's inliner costs 0.13 s, which a command that only loads
-cached kernels does not pay.  Set ``SCREWKIT_NUMBA_INLINING=0`` to leave numba as it is.
+cached kernels does not pay.  Set ``SCREWKIT_NUMBA_INLINING=0`` to leave numba as it is (a
+value other than 0/1, no/yes, off/on, false/true is a one-line error).
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ import copy
 import os
 import threading
 
-__all__ = ["install", "install_on_first_compile", "installed"]
+__all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 
 #: The memos of the running ``inline_ir`` call of this thread (``{id(scope): memo}``), or
 #: None outside one.
@@ -64,6 +65,23 @@ class _SharedScopeCopies:
         return copy.deepcopy(x, memo, *args)
 
 
+_ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
+
+
+def enabled() -> bool:
+    """Whether ``SCREWKIT_NUMBA_INLINING`` (unset: on) lets :func:`install` change numba.
+    Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,
+    off/on, false/true."""
+    value = os.environ.get("SCREWKIT_NUMBA_INLINING")
+    if value is None or value.strip().lower() in _ON:
+        return True
+    if value.strip().lower() in _OFF:
+        return False
+    from ...errors import InputError
+    raise InputError(f"SCREWKIT_NUMBA_INLINING must be 0 or 1 (no/yes, off/on, "
+                     f"false/true), got {value!r}")
+
+
 def installed() -> bool:
     """Whether :func:`install` changed numba's inlining in this process."""
     return _INSTALLED
@@ -74,7 +92,7 @@ def install() -> bool:
     Returns whether it is (now or before) in place: False where numba's module is not as
     expected or ``SCREWKIT_NUMBA_INLINING=0``."""
     global _INSTALLED
-    if os.environ.get("SCREWKIT_NUMBA_INLINING", "1").strip().lower() in ("0", "no", "off"):
+    if not enabled():
         return _INSTALLED
     with _LOCK:
         if _INSTALLED:
@@ -107,6 +125,8 @@ def install_on_first_compile() -> None:
     """:func:`install` when numba starts compiling a function in this process (its
     ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
     global _LISTENING
+    if not enabled():
+        return
     with _LOCK:
         if _LISTENING or _INSTALLED:
             return
