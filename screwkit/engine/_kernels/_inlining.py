@@ -17,7 +17,7 @@ its own scope, so its own memo: the two copies stay independent, as before.  num
 the copy's variables from that one scope, as it did from the first block's copy (the
 others were equal to it), so the inlined code is the same.  Measured (this change, the
 same minutes): a first run on one process 75-78 s of CPU against 99-105 s; on two
-processes 43-47 s of wall time against 57-60 s.
+processes 43-57 s of wall time against 57-67 s.
 
 The change is made to numba's module as loaded (its ``copy`` name, and
 ``InlineWorker.inline_ir`` to delimit one call's copies), once per process, only where
