@@ -39,7 +39,7 @@ BLOCKS_LOADING = 2 * MIN_PER_THREAD
 _NO_PATH_F, _NO_PATH_I = np.empty(0), np.empty(0, np.int64)
 
 #: How long the first compile of a parallel kernel takes (the note on stderr).
-PARALLEL_COMPILE = "a minute or two"
+PARALLEL_COMPILE = "one to four minutes, depending on the machine"
 
 #: The outputs of the analysis kernel, in its order (``_kernels._layout.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",

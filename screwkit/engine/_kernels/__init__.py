@@ -41,7 +41,7 @@ _ANALYSIS_READY = False
 _PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_inlining.py", "_loading.py", "_warm.py")
+_LOADER = ("__init__.py", "_inlining.py", "_linking.py", "_loading.py", "_warm.py")
 
 
 def _writable(path: str) -> bool:
@@ -114,8 +114,11 @@ def _configure():
         numba.config.THREADING_LAYER = "workqueue"
     # (numba's IR inlining without its quadratic copies, from the first compilation on:
     # a quarter of a first compile)
-    from ._inlining import install_on_first_compile
-    install_on_first_compile()
+    from . import _inlining, _linking
+    _inlining.install_on_first_compile()
+    # (the machine code of the parallel kernel's wrapper libraries only if asked for: the
+    # kernel links their code in and makes its own; a sixth of its first compile)
+    _linking.install_on_first_compile()
     return numba
 
 

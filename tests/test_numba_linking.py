@@ -1,0 +1,131 @@
+"""numba's parfor wrapper libraries without machine code of their own unless asked for
+(screwkit/engine/_kernels/_linking.py).
+
+The change only skips machine code nothing runs: a kernel must compute as it does without
+it.  Checked against numba as it is (``SCREWKIT_NUMBA_LINKING=0``, another process): a
+``prange`` kernel compiles to the same floating-point operations and gives the same results
+(and the results equal a numpy derivation); its wrapper libraries were deferred and never made; a library that is asked
+for a pointer (numba's ``guvectorize``, whose wrapper library has the deferred kind's
+name) gets its machine code then and computes right."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+
+from screwkit.engine._kernels import _linking
+
+_PROGRAM = textwrap.dedent("""
+    import collections, json, re
+    import numpy as np
+    from screwkit.engine._kernels import _configure
+    _configure()
+    from numba import guvectorize, njit, prange
+    from screwkit.engine._kernels import _linking
+
+    @njit
+    def weight(x, k):
+        return x * x + k if x > 0 else k - x
+
+    @njit(parallel=True)
+    def kernel(A, k):
+        out = np.empty(A.shape[0])
+        for r in prange(A.shape[0]):
+            s = 0.0
+            for q in range(A.shape[1]):
+                s += weight(A[r, q], k)
+            out[r] = s
+        return out
+
+    A = np.linspace(-3.0, 3.0, 60).reshape(12, 5)
+    out = kernel(A, 0.5)
+    sig = kernel.signatures[0]
+    after_kernel = _linking.counts()
+
+    @guvectorize(["void(float64[:], float64[:])"], "(n)->()")
+    def total(x, res):
+        s = 0.0
+        for i in range(x.shape[0]):
+            s += weight(x[i], 0.25)
+        res[0] = s
+
+    llvm = kernel.inspect_llvm(sig)
+    ops = collections.Counter(re.findall(r"= (fadd|fsub|fmul|fdiv|frem|fneg|fcmp [a-z]+) ", llvm))
+    ops.update(re.findall(r"@llvm[.](sqrt|fabs|fma|fmuladd|minnum|maxnum)[.]", llvm))
+    print(json.dumps({"installed": _linking.installed(), "ops": ops,
+                      "out": out.tolist(), "total": total(A).tolist(),
+                      "after_kernel": after_kernel, "after_gufunc": _linking.counts()}))
+""")
+
+
+def _run(flag, tmp_path):
+    env = dict(os.environ, SCREWKIT_NUMBA_LINKING=flag, NUMBA_CACHE_DIR=str(tmp_path / flag))
+    r = subprocess.run([sys.executable, "-c", _PROGRAM], capture_output=True, text=True,
+                       env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def _weight(x, k):
+    return np.where(x > 0, x * x + k, k - x)
+
+
+def test_a_prange_kernel_compiles_to_the_same_code_without_its_wrappers_machine_code(tmp_path):
+    deferred = _run("1", tmp_path)
+    numbas = _run("0", tmp_path)
+    assert deferred["installed"] is True and numbas["installed"] is False
+    # the same floating-point operations (the kernel's LLVM code); the loops' addressing
+    # may differ: numba's machine code of a wrapper rewrote the IR it then handed on
+    # (LLVM's codegen passes run on the module: loop strength reduction), now applied once
+    assert deferred["ops"] == numbas["ops"] and sum(numbas["ops"].values()) >= 20
+    assert deferred["out"] == numbas["out"] and deferred["total"] == numbas["total"]
+    # the kernel's wrappers (the launcher's and the gufunc's) deferred, never made
+    assert deferred["after_kernel"]["deferred"] >= 2
+    assert deferred["after_kernel"]["made"] == 0
+    # guvectorize's wrapper library (the gufunc wrapper's kind) asked for its pointer
+    gained = {k: deferred["after_gufunc"][k] - deferred["after_kernel"][k]
+              for k in ("deferred", "made")}
+    assert gained["deferred"] >= 1 and gained["made"] == gained["deferred"]
+    assert numbas["after_gufunc"] == {"deferred": 0, "made": 0}
+    # the results themselves, by hand (numpy)
+    A = np.linspace(-3.0, 3.0, 60).reshape(12, 5)
+    assert np.allclose(deferred["out"], _weight(A, 0.5).sum(axis=1), rtol=1e-15, atol=0)
+    assert np.allclose(deferred["total"], _weight(A, 0.25).sum(axis=1), rtol=1e-15, atol=0)
+
+
+def test_install_is_made_once_and_never_over_a_numba_it_does_not_know(tmp_path):
+    program = textwrap.dedent("""
+        from numba.core import codegen
+        from screwkit.engine._kernels import _linking
+        original = codegen.JITCodeLibrary.get_pointer_to_function
+        saved = codegen.CPUCodeLibrary._verify_declare_only_symbols
+        del codegen.CPUCodeLibrary._verify_declare_only_symbols     # a numba that differs
+        assert _linking.install() is False
+        assert codegen.JITCodeLibrary.get_pointer_to_function is original
+        codegen.CPUCodeLibrary._verify_declare_only_symbols = saved
+        assert _linking.install() is True and _linking.install() is True
+        assert codegen.JITCodeLibrary.get_pointer_to_function.__wrapped__ is original
+        print("ok")
+    """)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    r = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True,
+                       env=env, timeout=600)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
+
+
+def test_a_hostile_switch_is_a_one_line_error(tmp_path):
+    env = dict(os.environ, SCREWKIT_NUMBA_LINKING="maybe", NUMBA_CACHE_DIR=str(tmp_path))
+    r = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR"],
+                       capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 2 and r.stdout == ""
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "SCREWKIT_NUMBA_LINKING" in lines[0] and "'maybe'" in lines[0]
+    for value in ("0", "off", "1", " Yes "):
+        os.environ["SCREWKIT_NUMBA_LINKING"] = value
+        try:
+            assert _linking.enabled() is (value.strip().lower() in ("1", "yes"))
+        finally:
+            del os.environ["SCREWKIT_NUMBA_LINKING"]
