@@ -1,4 +1,4 @@
-"""numba's parfor wrapper libraries optimised and compiled only in the kernel (private).
+"""The libraries of numba's ``prange`` loops optimised and compiled once, in the kernel (private).
 
 numba compiles a ``prange`` loop of a parallel kernel (``_driver.run_parallel``) into three
 libraries of LLVM code besides the kernel's own: the loop's body (a gufunc), its gufunc
@@ -7,35 +7,41 @@ library it calls (for the engine's loops, the whole tree of the body's callees: 
 functions), then runs LLVM's full module pipeline over it all and makes its machine code,
 before the next library links it in again.  The kernel links them all, optimises and
 compiles once more: its machine code is the one that runs and the one the on-disk cache
-keeps.  numba never takes a pointer to a function of the wrappers: it only links their
-code into the kernel's.
+keeps.  numba only links the loop's libraries into the kernel: it takes a pointer to the
+body's Python wrapper alone (which nothing calls).
 
 Timed inside numba (the parallel kernel's first compile, 277-285 s on the development
-machine of session 53), each wrapper library spent 10.8-11.9 s optimising and 11.1-12.6 s
-making the machine code of its linked-in tree (two loops, two wrappers each: some 93 s).
-With this change the first batch's compile took 162 s against 245 s without (side by side).
+machine of session 53), each of the six libraries of the two loops spent 10.8-11.9 s
+optimising and 11.1-12.6 s making the machine code of its linked-in tree: some 140 s for
+code that never runs.  With this change that compile took 124.1 s against 247.7 s without
+(side by side, one process each).
 
-:func:`install` defers both for those two kinds of library (numba's
-``parallelgufuncwrapper`` and the gufunc wrapper of a ``prange`` loop) until something asks
-for the machine code: a pointer to one of its functions or its object code (numba's object
-cache and serialisation read it).  The kernel links in the wrapper's module as built (its
-functions optimised one by one, as numba does on adding them) and optimises it with
-everything else, once.  A library asked for its machine code is optimised and compiled
-then, as numba would have done at once (numba's ``guvectorize`` asks at once, so its
-wrappers are made as before).  The kernel's floating-point operations are the same (no
-fast-math: LLVM's passes do not change them); its loops' addressing may differ, since
-numba's machine code of a wrapper had rewritten the module the kernel then linked in
-(LLVM's code generation runs passes on the module, loop strength reduction among them):
-they now run once, on the kernel.  Checked: ``tests/test_numba_linking.py`` (the same
-operations and results as numba without the change, in another process), and the engine's
-outputs of 25 catalog PMs x 2,000 poses on two threads and of 759 arrays of paths and maps
-are the same bit for bit (``benchmarks/compare_outputs.py``,
-``benchmarks/compare_paths_maps.py``); the batches as fast (alternated runs).
+:func:`install` compiles a loop's body without the Python and C wrappers nothing calls, and
+defers the optimisation and machine code of those three kinds of library (the body,
+numba's gufunc wrapper of a ``prange`` loop and its ``parallelgufuncwrapper``) until
+something asks for the machine code: a pointer to a function the library defines, or its
+object code (numba's object cache and serialisation read it).  The kernel links their
+modules in as built (their functions optimised one by one, as numba does on adding them)
+and optimises them with everything else, once.  A library asked for its machine code is
+optimised and compiled then, as numba would have done at once (numba's ``guvectorize``
+asks at once, so its wrappers are made as before).  An environment numba sets for a
+function whose library is deferred (its global defined by no module of numba's engine yet)
+is set where the engine finds its global once one is, as numba's ``set_env`` does: in the
+kernel's module.  The kernel's code may differ (optimised once instead of once a library:
+what LLVM unrolls and inlines, the loops' addressing), never its arithmetic: no flag lets
+LLVM change a floating-point result (no fast-math, not even ``contract``).  Checked:
+``tests/test_numba_linking.py`` (against numba without the change, in another process: no
+such flag, the same results, and deferred libraries asked for a pointer made right), and
+the engine's outputs of 25 catalog PMs x 2,000 poses on two threads and of 759 arrays of
+paths and maps are the same bit for bit as the kernels compiled without the change
+(``benchmarks/compare_outputs.py``, ``benchmarks/compare_paths_maps.py``); the batches as
+fast (alternated runs).
 
-Only where numba's classes are the ones this was written against; once per process, from
-the first compilation on (a listener of numba's ``numba:compile`` event, as
-:mod:`._inlining`).  ``SCREWKIT_NUMBA_LINKING=0`` leaves numba alone (a value other than
-0/1, no/yes, off/on, false/true is a one-line error).
+Only where numba is the one this was written against (its code libraries, its parfor
+lowering's ``_create_gufunc_for_parfor_body``); once per process, from the first
+compilation on (a listener of numba's ``numba:compile`` event, as :mod:`._inlining`).
+``SCREWKIT_NUMBA_LINKING=0`` leaves numba alone (a value other than 0/1, no/yes, off/on,
+false/true is a one-line error).
 """
 
 from __future__ import annotations
@@ -48,17 +54,22 @@ __all__ = ["enabled", "install", "install_on_first_compile", "installed", "defer
            "counts"]
 
 _LOCK = threading.Lock()
-#: How many libraries had their machine code deferred, and how many of them were then asked
-#: for it (made), in this process.
+#: How many libraries had their machine code deferred, how many of them were then asked for
+#: it (made), and how many environments wait for a module defining their global, in this
+#: process.
 _COUNTS = {"deferred": 0, "made": 0}
+#: ``{name: environment}``: the environments numba set before any module in its engine
+#: defined their global (a deferred library's); set once one does (numba's ``set_env``).
+_PENDING_ENVS: dict = {}
 _INSTALLED = False
 _LISTENING = False
-#: The names of the libraries whose machine code is deferred: numba's parallel launcher
-#: wrapper, and the gufunc wrapper of a ``prange`` loop (``str`` of numba's
-#: ``_GufuncWrapper``; a ``guvectorize`` gufunc's wrapper, which numba caches, asks for its
-#: object code at once and so gets it at once).
-_LAUNCHER = "parallelgufuncwrapper"
+#: The names of the libraries whose optimisation and machine code are deferred: the body of
+#: a ``prange`` loop (compiled without the Python and C wrappers nothing calls), its gufunc
+#: wrapper (``str`` of numba's ``_GufuncWrapper``; a ``guvectorize`` gufunc's wrapper, which
+#: numba asks for a pointer at once, gets it at once) and the parallel launcher's wrapper.
+_BODY = "__numba_parfor_gufunc_"
 _GUFUNC_WRAPPER = "<numba.np.ufunc.wrappers._GufuncWrapper object at "
+_LAUNCHER = "parallelgufuncwrapper"
 _ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
 
 
@@ -87,21 +98,21 @@ def deferred(library) -> bool:
 
 
 def counts() -> dict:
-    """``{"deferred": n, "made": m}``: the libraries of this process whose machine code was
-    deferred, and those of them that were asked for it since (and got it)."""
-    return dict(_COUNTS)
+    """``{"deferred": n, "made": m, "pending_envs": e}``: the libraries of this process
+    whose machine code was deferred, those of them that were asked for it since (and got
+    it), and the environments still waiting for a module that defines their global."""
+    return dict(_COUNTS, pending_envs=len(_PENDING_ENVS))
 
 
-def _wrapper_only(library) -> bool:
+def _linked_only(library) -> bool:
     name = getattr(library, "name", "")
-    return name == _LAUNCHER or name.startswith(_GUFUNC_WRAPPER)
+    return name == _LAUNCHER or name.startswith((_GUFUNC_WRAPPER, _BODY))
 
 
 def install() -> bool:
-    """Defer the optimisation and machine code of numba's parfor wrapper libraries until
-    asked for (module docstring).
-    Returns whether the change is (now or before) in place: False where numba's classes
-    are not as expected or ``SCREWKIT_NUMBA_LINKING=0``."""
+    """Defer the optimisation and machine code of the libraries of numba's ``prange`` loops
+    until asked for (module docstring).  Returns whether the change is (now or before) in
+    place: False where numba is not as expected or ``SCREWKIT_NUMBA_LINKING=0``."""
     global _INSTALLED
     if not enabled():
         return _INSTALLED
@@ -110,24 +121,27 @@ def install() -> bool:
             return True
         try:
             from numba.core import codegen, config
-            library_class = codegen.JITCodeLibrary
+            from numba.parfors import parfor_lowering
+            library_class, jit_codegen = codegen.JITCodeLibrary, codegen.JITCPUCodegen
             finish = codegen.CPUCodeLibrary._finalize_final_module
             optimise = codegen.CPUCodeLibrary._optimize_final_module
             steps = (codegen.CPUCodeLibrary._finalize_dynamic_globals,
                      codegen.CPUCodeLibrary._verify_declare_only_symbols)
-            # (the ones that finalise the library first, and the object code's reader)
-            finalising = ("get_pointer_to_function", "serialize_using_object_code")
-            names = finalising + ("_get_compiled_object",)
-            originals = {n: getattr(library_class, n) for n in names}
-            originals["_finalize_specific"] = library_class._finalize_specific
-        except AttributeError:
+            pointer = library_class.get_pointer_to_function
+            serialise = library_class.serialize_using_object_code
+            compiled_object = library_class._get_compiled_object
+            specific = library_class._finalize_specific
+            set_env = jit_codegen.set_env
+            body = parfor_lowering._create_gufunc_for_parfor_body
+        except (ImportError, AttributeError):
             return False
-        if not all(callable(f) for f in (finish, optimise, *steps, *originals.values())):
+        if not all(callable(f) for f in (finish, optimise, *steps, pointer, serialise,
+                                         compiled_object, specific, set_env, body)):
             return False
         mangled = "_CPUCodeLibrary__library"       # numba's ``module.__library``
 
         def _deferring(self):
-            return type(self) is library_class and _wrapper_only(self) and \
+            return type(self) is library_class and _linked_only(self) and \
                 not (config.DUMP_OPTIMIZED or config.DUMP_ASSEMBLY)
 
         def _optimize_final_module(self):
@@ -141,8 +155,8 @@ def install() -> bool:
         def _finalize_final_module(self):
             if not _deferring(self):
                 return finish(self)
-            # numba's steps up to the engine (the module is optimised and linked in by
-            # finalize(), before this): the symbols checked and the module kept as is
+            # numba's steps up to the engine (finalize() linked the module in before): the
+            # symbols checked and the module kept as it is
             self._finalize_dynamic_globals()
             self._verify_declare_only_symbols()
             setattr(self._final_module, mangled, weakref.proxy(self))
@@ -151,34 +165,78 @@ def install() -> bool:
             _COUNTS["deferred"] += 1
 
         def _make_machine_code(self):
-            # the rest of numba's _finalize_final_module, once, when first needed
+            # the rest of numba's finalize, once, when first needed
             if self.__dict__.pop("_screwkit_deferred", False):
                 if self.__dict__.pop("_screwkit_unoptimised", False):
                     optimise(self)
                 cleanup = self._codegen._add_module(self._final_module)
                 if cleanup:
                     weakref.finalize(self, cleanup)
-                originals["_finalize_specific"](self)
+                self._finalize_specific()
                 _COUNTS["made"] += 1
 
-        def forcing(name):
-            original = originals[name]
+        def _defines(self, name):
+            try:
+                return not self._final_module.get_function(name).is_declaration
+            except NameError:
+                return False
 
-            def method(self, *args, **kwargs):
-                if name in finalising:
-                    self._ensure_finalized()
+        def get_pointer_to_function(self, name):
+            self._ensure_finalized()
+            # a name the library does not define (a function compiled without its Python
+            # wrapper is asked for it all the same: null) needs none of its machine code
+            if deferred(self) and _defines(self, name):
                 _make_machine_code(self)
-                return original(self, *args, **kwargs)
+            return pointer(self, name)
 
-            method.__name__ = original.__name__
-            method.__doc__ = original.__doc__
-            method.__wrapped__ = original
-            return method
+        def serialize_using_object_code(self):
+            self._ensure_finalized()
+            _make_machine_code(self)
+            return serialise(self)
 
+        def _get_compiled_object(self):
+            _make_machine_code(self)
+            return compiled_object(self)
+
+        def _finalize_specific(self):
+            specific(self)
+            # environments numba set while no module of the engine defined their global
+            # (a deferred library's): set where the engine now finds one
+            engine = self._codegen._engine
+            for name in [n for n in _PENDING_ENVS if engine.is_symbol_defined(n)]:
+                set_env(self._codegen, name, _PENDING_ENVS.pop(name))
+
+        def _set_env(self, env_name, env):
+            if self._engine.is_symbol_defined(env_name):
+                return set_env(self, env_name, env)
+            _PENDING_ENVS[env_name] = env
+            return None
+
+        def _create_gufunc_for_parfor_body(lowerer, parfor, typemap, typingctx, targetctx,
+                                           flags, *args, **kwargs):
+            # the loop's body is called by its gufunc wrapper alone: no Python or C wrapper
+            # (numba would ask for a pointer to the Python one, and so for machine code)
+            flags = flags.copy()
+            flags.no_cpython_wrapper = True
+            flags.no_cfunc_wrapper = True
+            return body(lowerer, parfor, typemap, typingctx, targetctx, flags, *args,
+                        **kwargs)
+
+        for new, old in ((get_pointer_to_function, pointer),
+                         (serialize_using_object_code, serialise),
+                         (_get_compiled_object, compiled_object),
+                         (_finalize_specific, specific), (_set_env, set_env),
+                         (_create_gufunc_for_parfor_body, body)):
+            new.__doc__ = old.__doc__
+            new.__wrapped__ = old
         codegen.CPUCodeLibrary._finalize_final_module = _finalize_final_module
         codegen.CPUCodeLibrary._optimize_final_module = _optimize_final_module
-        for name in names:
-            setattr(library_class, name, forcing(name))
+        library_class.get_pointer_to_function = get_pointer_to_function
+        library_class.serialize_using_object_code = serialize_using_object_code
+        library_class._get_compiled_object = _get_compiled_object
+        library_class._finalize_specific = _finalize_specific
+        jit_codegen.set_env = _set_env
+        parfor_lowering._create_gufunc_for_parfor_body = _create_gufunc_for_parfor_body
         _INSTALLED = True
         return True
 
