@@ -17,8 +17,6 @@ import textwrap
 
 import numpy as np
 
-from screwkit.engine._kernels import _linking
-
 _PROGRAM = textwrap.dedent("""
     import json, re
     import numpy as np
@@ -124,18 +122,3 @@ def test_install_is_made_once_and_never_over_a_numba_it_does_not_know(tmp_path):
     r = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True,
                        env=env, timeout=600)
     assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
-
-
-def test_a_hostile_switch_is_a_one_line_error(tmp_path):
-    env = dict(os.environ, SCREWKIT_NUMBA_LINKING="maybe", NUMBA_CACHE_DIR=str(tmp_path))
-    r = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR"],
-                       capture_output=True, text=True, env=env, timeout=600)
-    assert r.returncode == 2 and r.stdout == ""
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and "SCREWKIT_NUMBA_LINKING" in lines[0] and "'maybe'" in lines[0]
-    for value in ("0", "off", "1", " Yes "):
-        os.environ["SCREWKIT_NUMBA_LINKING"] = value
-        try:
-            assert _linking.enabled() is (value.strip().lower() in ("1", "yes"))
-        finally:
-            del os.environ["SCREWKIT_NUMBA_LINKING"]

@@ -41,7 +41,8 @@ _ANALYSIS_READY = False
 _PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_inlining.py", "_linking.py", "_loading.py", "_warm.py")
+_LOADER = ("__init__.py", "_inlining.py", "_linking.py", "_loading.py", "_patching.py",
+           "_warm.py")
 
 
 def _writable(path: str) -> bool:

@@ -34,8 +34,9 @@ value other than 0/1, no/yes, off/on, false/true is a one-line error).
 from __future__ import annotations
 
 import copy
-import os
 import threading
+
+from ._patching import on_first_compile, switch
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 
@@ -44,7 +45,6 @@ __all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 _STATE = threading.local()
 _LOCK = threading.Lock()
 _INSTALLED = False
-_LISTENING = False
 
 
 class _SharedScopeCopies:
@@ -65,21 +65,13 @@ class _SharedScopeCopies:
         return copy.deepcopy(x, memo, *args)
 
 
-_ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
 
 
 def enabled() -> bool:
     """Whether ``SCREWKIT_NUMBA_INLINING`` (unset: on) lets :func:`install` change numba.
     Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,
     off/on, false/true."""
-    value = os.environ.get("SCREWKIT_NUMBA_INLINING")
-    if value is None or value.strip().lower() in _ON:
-        return True
-    if value.strip().lower() in _OFF:
-        return False
-    from ...errors import InputError
-    raise InputError(f"SCREWKIT_NUMBA_INLINING must be 0 or 1 (no/yes, off/on, "
-                     f"false/true), got {value!r}")
+    return switch("SCREWKIT_NUMBA_INLINING")
 
 
 def installed() -> bool:
@@ -124,21 +116,5 @@ def install() -> bool:
 def install_on_first_compile() -> None:
     """:func:`install` when numba starts compiling a function in this process (its
     ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
-    global _LISTENING
-    if not enabled():
-        return
-    with _LOCK:
-        if _LISTENING or _INSTALLED:
-            return
-        _LISTENING = True
-    from numba.core import event
-
-    class _FirstCompile(event.Listener):
-        def on_start(self, ev):
-            if not _INSTALLED:
-                install()
-
-        def on_end(self, ev):
-            pass
-
-    event.register("numba:compile", _FirstCompile())
+    if enabled():
+        on_first_compile(install, installed)

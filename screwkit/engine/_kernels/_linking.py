@@ -46,9 +46,10 @@ false/true is a one-line error).
 
 from __future__ import annotations
 
-import os
 import threading
 import weakref
+
+from ._patching import on_first_compile, switch
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed", "deferred",
            "counts"]
@@ -62,7 +63,6 @@ _COUNTS = {"deferred": 0, "made": 0}
 #: defined their global (a deferred library's); set once one does (numba's ``set_env``).
 _PENDING_ENVS: dict = {}
 _INSTALLED = False
-_LISTENING = False
 #: The names of the libraries whose optimisation and machine code are deferred: the body of
 #: a ``prange`` loop (compiled without the Python and C wrappers nothing calls), its gufunc
 #: wrapper (``str`` of numba's ``_GufuncWrapper``; a ``guvectorize`` gufunc's wrapper, which
@@ -70,21 +70,13 @@ _LISTENING = False
 _BODY = "__numba_parfor_gufunc_"
 _GUFUNC_WRAPPER = "<numba.np.ufunc.wrappers._GufuncWrapper object at "
 _LAUNCHER = "parallelgufuncwrapper"
-_ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
 
 
 def enabled() -> bool:
     """Whether ``SCREWKIT_NUMBA_LINKING`` (unset: on) lets :func:`install` change numba.
     Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,
     off/on, false/true."""
-    value = os.environ.get("SCREWKIT_NUMBA_LINKING")
-    if value is None or value.strip().lower() in _ON:
-        return True
-    if value.strip().lower() in _OFF:
-        return False
-    from ...errors import InputError
-    raise InputError(f"SCREWKIT_NUMBA_LINKING must be 0 or 1 (no/yes, off/on, "
-                     f"false/true), got {value!r}")
+    return switch("SCREWKIT_NUMBA_LINKING")
 
 
 def installed() -> bool:
@@ -244,21 +236,5 @@ def install() -> bool:
 def install_on_first_compile() -> None:
     """:func:`install` when numba starts compiling a function in this process (its
     ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
-    global _LISTENING
-    if not enabled():
-        return
-    with _LOCK:
-        if _LISTENING or _INSTALLED:
-            return
-        _LISTENING = True
-    from numba.core import event
-
-    class _FirstCompile(event.Listener):
-        def on_start(self, ev):
-            if not _INSTALLED:
-                install()
-
-        def on_end(self, ev):
-            pass
-
-    event.register("numba:compile", _FirstCompile())
+    if enabled():
+        on_first_compile(install, installed)
