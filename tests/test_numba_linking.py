@@ -108,6 +108,11 @@ def test_install_is_made_once_and_never_over_a_numba_it_does_not_know(tmp_path):
         original = codegen.JITCodeLibrary.get_pointer_to_function
         body = parfor_lowering._create_gufunc_for_parfor_body
         saved = codegen.CPUCodeLibrary._verify_declare_only_symbols
+        from screwkit.engine._kernels import _loading
+        tested, _loading.TESTED = _loading.TESTED, ()          # a numba release not tested
+        assert _linking.install() is False
+        assert codegen.JITCodeLibrary.get_pointer_to_function is original
+        _loading.TESTED = tested
         del codegen.CPUCodeLibrary._verify_declare_only_symbols     # a numba that differs
         assert _linking.install() is False
         assert codegen.JITCodeLibrary.get_pointer_to_function is original

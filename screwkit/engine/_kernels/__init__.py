@@ -117,8 +117,8 @@ def _configure():
     # a quarter of a first compile)
     from . import _inlining, _linking
     _inlining.install_on_first_compile()
-    # (the machine code of the parallel kernel's wrapper libraries only if asked for: the
-    # kernel links their code in and makes its own; a sixth of its first compile)
+    # (the libraries of the parallel kernels' prange loops optimised and compiled only in
+    # the kernel that links them in: half of the parallel kernel's first compile)
     _linking.install_on_first_compile()
     return numba
 

@@ -65,8 +65,6 @@ class _SharedScopeCopies:
         return copy.deepcopy(x, memo, *args)
 
 
-
-
 def enabled() -> bool:
     """Whether ``SCREWKIT_NUMBA_INLINING`` (unset: on) lets :func:`install` change numba.
     Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,

@@ -37,8 +37,9 @@ paths and maps are the same bit for bit as the kernels compiled without the chan
 (``benchmarks/compare_outputs.py``, ``benchmarks/compare_paths_maps.py``); the batches as
 fast (alternated runs).
 
-Only where numba is the one this was written against (its code libraries, its parfor
-lowering's ``_create_gufunc_for_parfor_body``); once per process, from the first
+Only with the numba releases this was tested with (:data:`._loading.TESTED`) and where
+their code libraries and parfor lowering's ``_create_gufunc_for_parfor_body`` are as
+expected; once per process, from the first
 compilation on (a listener of numba's ``numba:compile`` event, as :mod:`._inlining`).
 ``SCREWKIT_NUMBA_LINKING=0`` leaves numba alone (a value other than 0/1, no/yes, off/on,
 false/true is a one-line error).
@@ -111,6 +112,9 @@ def install() -> bool:
     with _LOCK:
         if _INSTALLED:
             return True
+        from ._loading import supported
+        if not supported():           # (numba's internals as in the releases tested)
+            return False
         try:
             from numba.core import codegen, config
             from numba.parfors import parfor_lowering
