@@ -56,9 +56,8 @@ __all__ = ["enabled", "install", "install_on_first_compile", "installed", "defer
            "counts"]
 
 _LOCK = threading.Lock()
-#: How many libraries had their machine code deferred, how many of them were then asked for
-#: it (made), and how many environments wait for a module defining their global, in this
-#: process.
+#: How many libraries of this process had their machine code deferred, and how many of
+#: them were then asked for it (made).
 _COUNTS = {"deferred": 0, "made": 0}
 #: ``{name: environment}``: the environments numba set before any module in its engine
 #: defined their global (a deferred library's); set once one does (numba's ``set_env``).
