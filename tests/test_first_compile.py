@@ -205,3 +205,16 @@ def test_a_good_process_count_is_taken(monkeypatch):
     assert _warm._processes() == 1
     monkeypatch.setenv("SCREWKIT_COMPILE_PROCESSES", "2")
     assert _warm._processes() == 2
+
+
+def test_the_test_sessions_parallel_kernel_is_the_one_an_analysis_launches():
+    # tests/conftest.py compiles the parallel analysis kernel from the serial one's listed
+    # types: those must be the types a batch launches it with
+    import conftest
+
+    import screwkit
+    from screwkit.engine._kernels import kernels
+    from screwkit.engine._run import load_block_kernel
+    load_block_kernel(screwkit.load_pm("3RRPRR"))
+    k = kernels().run_parallel
+    assert conftest.parallel_signature() in [tuple(s) for s in k.signatures]

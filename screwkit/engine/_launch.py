@@ -21,7 +21,7 @@ from ._memory import recycled_empty
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
            "output_buffers", "frames",
-           "platform_of", "statics_of", "leg_wrenches"]
+           "platform_of", "statics_of", "leg_wrenches", "kernel_input"]
 
 #: Fewest poses a launch of the analysis kernel on one thread runs in blocks (the parallel
 #: kernel on one thread: its closures solved :data:`._kernels._layout.BLOCK` poses at a time,
@@ -65,6 +65,17 @@ def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
 
 def _c(a, dtype=float):
     return np.ascontiguousarray(a, dtype)
+
+
+def kernel_input(a, dtype=float):
+    """``a`` contiguous and read-only (a view where it was writable): a kernel's input,
+    typed the same whether the caller's array was writable or not (numba compiles a
+    read-only array's kernel apart: one more compile of the kernel for nothing)."""
+    v = np.ascontiguousarray(a, dtype)
+    if v.flags.writeable:
+        v = v.view()
+        v.setflags(write=False)
+    return v
 
 
 def _launch(serial, par, args, N, workers, per_thread=MIN_PER_THREAD, note=False,
@@ -197,6 +208,9 @@ def _rows_of(buffers: OutputBuffers, at: int, n: int):
             o0, o1 = o0 + at * int(q), o0 + (at + n) * int(q)
             sh = None if sh is None else (n,) + sh[1:]
         layout.append((is_int, is_bool, o0, o1, sh))
+    # (read-only as every packed descriptor: numba types a read-only array apart, and a
+    # writable one here compiled a second version of each analysis kernel, about a minute)
+    d.setflags(write=False)
     return d, layout
 
 
@@ -323,14 +337,15 @@ def statics_of(J, centre, length, sv, torque, W, o, compliance=None, workers=Non
     """``F_r (N, K, mr)``, equilibrium residuals and force amplifications ``(N, K)`` of the
     Jacobians ``J (N, mr, 6)`` under the workloads ``W (N, K, 6)`` about O."""
     k = kernels()
-    J, W = _c(J), _c(W)
+    ro = kernel_input
+    J, W = ro(J), ro(W)
     N, mr = J.shape[0], J.shape[1]
     K = W.shape[1]
-    comp = np.zeros((0, mr)) if compliance is None else _c(np.atleast_2d(compliance))
+    comp = ro(np.zeros((0, mr)) if compliance is None else np.atleast_2d(compliance))
     out = (np.empty((N, K, mr)), np.empty((N, K)), np.empty((N, K)))
     _launch(k.statics_range, k.statics_parallel,
-            (J, _c(centre), _c(length), _c(sv), comp, _c(torque, np.int64), W, _c(o)) + out,
-            N, workers)
+            (J, ro(centre), ro(length), ro(sv), comp, ro(torque, np.int64), W, ro(o))
+            + out, N, workers)
     return out
 
 
@@ -338,10 +353,11 @@ def leg_wrenches(J, values, row_leg, n_act, A, a, *, total=True, workers=None):
     """Each leg's constraint wrench and (``total``) total wrench ``(N, K, n, 6)`` about O,
     and ``T_r (N, K, n)``, from ``J (N, mr, 6)`` and ``values (N, K, mr)``; ``a (N, n, 3)``."""
     k = kernels()
-    J, values = _c(J), _c(values)
+    ro = kernel_input
+    J, values = ro(J), ro(values)
     N, K = values.shape[0], values.shape[1]
     n = len(A)
     out = (np.empty((N, K, n, 6)), np.empty((N if total else 0, K, n, 6)), np.empty((N, K, n)))
     _launch(k.leg_wrenches_range, k.leg_wrenches_parallel,
-            (J, values, _c(row_leg, np.int64), int(n_act), _c(A), _c(a)) + out, N, workers)
+            (J, values, ro(row_leg, np.int64), int(n_act), ro(A), ro(a)) + out, N, workers)
     return out

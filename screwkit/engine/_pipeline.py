@@ -108,14 +108,15 @@ def statics_values(J, cond: Conditioning, torque, W, o, compliance=None, workers
 def amplification_of(values, torque, W, o, L):
     """The force amplification ``(N, [K])`` of efforts ``values (N, [K,] m)`` under ``W``."""
     from ._kernels import kernels
+    from ._launch import kernel_input
     N = values.shape[0]
     extra = values.shape[1:-1]
-    v = np.ascontiguousarray(values, float).reshape(N, -1, values.shape[-1])
-    Wf = np.ascontiguousarray(np.broadcast_to(W, (N,) + W.shape[1:]), float).reshape(N, -1, 6)
+    v = kernel_input(np.reshape(values, (N, -1, values.shape[-1])))
+    Wf = kernel_input(np.reshape(np.broadcast_to(W, (N,) + W.shape[1:]), (N, -1, 6)))
     out = np.empty(v.shape[:2])
-    kernels().amplification_batch(v, np.ascontiguousarray(torque, np.int64), Wf,
-                                  np.ascontiguousarray(o, float),
-                                  np.ascontiguousarray(L, float), out)
+    # (the inputs read-only whatever the caller's: one compiled version of the kernel)
+    kernels().amplification_batch(v, kernel_input(torque, np.int64), Wf, kernel_input(o),
+                                  kernel_input(L), out)
     return out.reshape((N,) + extra)
 
 

@@ -41,8 +41,8 @@ _ANALYSIS_READY = False
 _PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_inlining.py", "_linking.py", "_loading.py", "_patching.py",
-           "_warm.py")
+_LOADER = ("__init__.py", "_compile_lock.py", "_inlining.py", "_linking.py", "_loading.py",
+           "_patching.py", "_warm.py")
 
 
 def _writable(path: str) -> bool:
@@ -162,8 +162,10 @@ def _check_stamp(numba):
                 if name.split(".", 1)[0] in mods and name.endswith((".nbi", ".nbc")):
                     os.remove(os.path.join(path, name))
         os.makedirs(path, exist_ok=True)
-        with open(stamp, "w") as f:
+        # (written whole, then renamed: a process reading it at once reads all of it)
+        with open(f"{stamp}.{os.getpid()}", "w") as f:
             f.write(want + "\n")
+        os.replace(f"{stamp}.{os.getpid()}", stamp)
     except OSError:              # a read-only cache: numba itself copes (or recompiles)
         pass
 
@@ -208,6 +210,10 @@ def kernels() -> SimpleNamespace:
             from . import _driver, _extra, _fk, _indices, _levels, _probe, _threads
             _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _probe,
                                    _threads))
+            # (one process at a time compiles a kernel into the cache; the others wait for
+            # it and load it)
+            from ._compile_lock import install_all
+            install_all(__name__, _kernel_cache_path(numba))
             if not _compiled_before(_driver.run_range):
                 print(f"screwkit: compiling the engine's kernels (once, a minute or two; "
                       f"cached in {cache_dir()})", file=sys.stderr, flush=True)
@@ -231,8 +237,12 @@ def compile_analysis() -> None:
     with _LOAD_LOCK:
         if not _ANALYSIS_READY and not k.run_range.overloads \
                 and not _compiled_before(k.run_range):
+            from ._compile_lock import holding
             from ._warm import compile_first
-            compile_first()
+            # (another process may be compiling them: wait for it, and ask again)
+            with holding("analysis"):
+                if not _compiled_before(k.run_range):
+                    compile_first()
         _ANALYSIS_READY = True
 
 

@@ -26,9 +26,10 @@ beside this file, one ``group, module, function, argument types`` a line, writte
 kernels).  Nothing depends on the split for correctness: a line that no longer matches a
 kernel compiles a version nobody calls, a child that fails or is slow only leaves its
 kernels to be compiled on demand, as on one process.  numba writes each cache file
-atomically (a temporary file renamed), and two processes that compile the same callee write
-the same entry (all of a kernel's argument types are compiled by one process: two processes
-adding entries to one index at once would name them the same file).  The child is silent, gets no input, and never outlives the call
+atomically (a temporary file renamed); a callee both processes would compile is compiled by
+one, the other waiting for it and loading it (the kernels' locks, :mod:`._compile_lock`), and
+all of a kernel's argument types are compiled by one process all the same (the list's
+generator sees to it).  The child is silent, gets no input, and never outlives the call
 (:func:`compile_first`).  ``SCREWKIT_COMPILE_PROCESSES=1`` (or a single core) compiles on
 one process as before.
 """
@@ -125,9 +126,10 @@ def _start_child(path):
     env["PYTHONPATH"] = os.pathsep.join([root] + ([env["PYTHONPATH"]]
                                                   if env.get("PYTHONPATH") else []))
     # (run from the package's root: ``-c`` puts the working directory first on the path)
+    from ._compile_lock import folder
     return subprocess.Popen(
         [sys.executable, "-c", f"from {_PACKAGE} import _configure; _configure(); "
-         f"from {_PACKAGE}._warm import _child; _child()", path],
+         f"from {_PACKAGE}._warm import _child; _child()", path, folder() or ""],
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
         env=env, cwd=root)
 
@@ -184,6 +186,12 @@ def _child() -> None:
     """The child's work (numba configured as this package does): the closure kernel (then
     ``closure`` on stdout), the others."""
     lines = signatures(sys.argv[1])
+    # (the kernels' locks, as in the parent: a callee both compile is compiled by one and
+    # loaded by the other, :mod:`._compile_lock`)
+    if len(sys.argv) > 2 and sys.argv[2]:
+        from . import _driver, _extra, _fk, _indices, _levels, _probe, _threads  # noqa: F401
+        from ._compile_lock import install_all
+        install_all(_PACKAGE, sys.argv[2])
     _compile(lines, "closure")
     print(_READY, flush=True)
     _compile(lines, "other")
