@@ -11,7 +11,7 @@ pseudo-inverse alone.
 
 import math
 
-from ._jit import borrowing
+from ._jit import borrowing, borrowing_inlined
 from ._layout import REFINE
 from ._pack import out_row
 from ._small import lu_apply_block, lu_block, lu_sign
@@ -21,9 +21,10 @@ from ._statics import (CW_COMP, CW_D, CW_G, CW_JN, CW_JW, CW_LU, CW_O, CW_PIV, C
                        workload_about_origin)
 
 
-@borrowing
+@borrowing_inlined
 def _compliance(I, p, mr, torque, L, comp, l):
-    """Pose ``p``'s compliances into lane ``l`` of ``comp (mr, ls)``."""
+    """Pose ``p``'s compliances into lane ``l`` of ``comp (mr, ls)``.  Inlined: called, it
+    took the inputs tuple's arrays on the stack (some 90 words), every lane."""
     c = I[5]
     for r in range(mr):
         if c.shape[0] == 0:
