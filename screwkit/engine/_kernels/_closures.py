@@ -333,8 +333,8 @@ def whole_turns(M, unk, X, X0, warm):
     (the same configuration; a joint limit then judged on the wrong number).  Helical
     joints keep their turns (they translate).  Returns True where ``X`` changed (its frames
     are then formed again).  Inlined by LLVM into its callers: called, it took every array
-    of the model tuple as arguments on the stack (some 220 words), every pose, which cost
-    three times what it does (a profile of a path: 4 % of the samples in the pushes)."""
+    of the model tuple as arguments on the stack (some 220 words), every pose (a profile of
+    a path: 4 % of the samples in those pushes, twice the function's own)."""
     changed = False
     nu = unk.shape[0]
     for k in range(nu):
