@@ -410,3 +410,37 @@ def test_an_exit_with_work_pending_is_orderly():
         release.set()
         worker.join()
     assert _nothing_pending() == before
+
+
+def test_a_kernel_cached_keeps_its_symbol_list_for_the_first_load(tmp_path):
+    # the process that compiles a kernel writes its symbol list (the first process that
+    # loads it would otherwise parse its bitcode for it: the parallel kernel's 0.9 GB);
+    # the list is the names an independent parse of the cached bitcode gives
+    import hashlib
+    import os
+    import pickle
+    import subprocess
+    import sys
+
+    _quick()
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    code = ("from screwkit.engine._kernels import kernels\n"
+            "k = kernels()\nprint(k.piece_of(100000, 2), k.threads_for(100000, 2))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=env, timeout=600)
+    assert run.returncode == 0, run.stderr
+    from llvmlite import binding as ll
+    from screwkit.engine._kernels import _loading
+    data = [os.path.join(dp, f) for dp, _, fs in os.walk(tmp_path) for f in fs
+            if f.startswith(("_threads.piece_of", "_threads.threads_for")) and f.endswith(".nbc")]
+    assert len(data) == 2
+    for path in data:
+        with open(path, "rb") as f:
+            reduced = pickle.load(f)                # (numba's data file: the reduced result)
+        name, kind, (_, bitcode) = reduced[0]
+        listed = os.path.join(os.path.dirname(path), "symbols",
+                              hashlib.sha1(bitcode).hexdigest())
+        with open(listed, encoding="utf-8") as f:
+            text = f.read()
+        assert kind == "object" and text.endswith("\n#end\n")
+        assert set(text.splitlines()[:-1]) == _loading._names_of(ll.parse_bitcode(bitcode))

@@ -22,8 +22,9 @@ initialising numba's runtime only (``rtsys.initialize``: the symbols the object 
 to; the parallel kernels start their threading layer by their own reload hooks), into a
 library that parses its bitcode on first use for linking (never, unless new code is
 compiled against it), and reads the names of the symbols from a list kept beside the
-kernels (``symbols/<sha1 of the bitcode>``, written once from the parsed bitcode: a function
-of those bytes alone), and with the environment of a function of a numba module not yet
+kernels (``symbols/<sha1 of the bitcode>``, a function of those bytes alone: written when the
+kernel is cached, from the module in memory the bitcode was written from, else once from the
+parsed bitcode by the first process that loads it), and with the environment of a function of a numba module not yet
 imported built on that module's name alone (not kept in numba's table of environments, so
 that code compiled later gets the real one).  A lookup that misses refreshes the registries as numba does, and
 numba compiles as usual (its compiler refreshes too).  Other numba users in the process are
@@ -77,15 +78,35 @@ def _symbols(folder, bitcode, ll):
         pass
     module = ll.parse_bitcode(bitcode)
     names = _names_of(module)
+    _keep(folder, digest, names)
+    return names, module
+
+
+def _keep(folder, digest, names) -> None:
+    """Keep ``names`` as the symbol list of the bitcode of sha1 ``digest``."""
     if any("\n" in n for n in names):                  # not one name a line: not kept
-        return names, module
+        return
     try:
         from ...pm._catalog_cache import keep_file
         keep_file(folder, digest, ("".join(n + "\n" for n in sorted(names)) + "#end\n")
                   .encode("utf-8"), _MAX_SYMBOL_FILES)
     except OSError:
         pass
-    return names, module
+
+
+def _keep_saved(folder, library, reduced) -> None:
+    """The symbol list of a library numba has just cached (``reduced``, its
+    ``CompileResult._reduce``; its first element the library's state ``(name, "object",
+    (object code, bitcode))``), from the module in memory the bitcode was written from: the
+    first process that loads the kernel does not parse the bitcode for it (for the parallel
+    analysis kernel some seconds and 0.9 GB of peak memory, once)."""
+    try:
+        name, kind, (_, bitcode) = reduced[0]
+        module = library._get_module_for_linking()      # (made by the save: kept there)
+    except Exception:                                   # (another numba: the load parses)
+        return
+    if kind == "object" and isinstance(bitcode, bytes):
+        _keep(folder, hashlib.sha1(bitcode).hexdigest(), _names_of(module))
 
 
 def install(dispatchers, symbol_folder: str) -> None:
@@ -104,7 +125,7 @@ def install(dispatchers, symbol_folder: str) -> None:
     if not all(hasattr(environment, a) for a in ("_rebuild_env", "lookup_environment",
                                                   "Environment")):
         return
-    if not (all(hasattr(FunctionCache, a) for a in ("_load_overload",
+    if not (all(hasattr(FunctionCache, a) for a in ("_load_overload", "_save_overload",
                                                     "_guard_against_spurious_io_errors"))
             and all(hasattr(JITCodeLibrary, a) for a in ("_unserialize", "_set_compiled_object",
                                                          "_finalize_final_module"))):
@@ -177,6 +198,24 @@ def install(dispatchers, symbol_folder: str) -> None:
             if data is None:
                 target_context.refresh()
             return data
+
+        def _save_overload(self, sig, data):
+            # numba's save, the reduced data it writes kept, for the library's symbol list
+            impl, kept = self._impl, []
+            reduce = impl.reduce
+
+            def reducing(cres):
+                out = reduce(cres)
+                kept.append(out)
+                return out
+
+            impl.reduce = reducing
+            try:
+                super()._save_overload(sig, data)
+            finally:
+                del impl.reduce
+            if kept and getattr(data, "library", None) is not None:
+                _keep_saved(symbol_folder, data.library, kept[0])
 
     for d in dispatchers:
         if type(getattr(d, "_cache", None)) is FunctionCache:
