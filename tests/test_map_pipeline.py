@@ -125,6 +125,40 @@ def test_pieces_are_whole_blocks_about_eight_a_thread(N, nw):
         assert pieces >= nw * (PIECES_PER_THREAD - 1)
 
 
+@pytest.mark.parametrize("N, nw", [(1, 2), (255, 2), (256, 2), (5000, 2), (100_000, 2),
+                                   (50_001, 2), (16384, 2), (77, 1), (100_000, 1),
+                                   (10_000, 4)])
+def test_the_pieces_cover_the_poses_once_and_shrink_at_the_end(N, nw):
+    # claims 0, 1, 2... in turn: consecutive pieces from 0 to N, each once; whole blocks
+    # but the last; none larger than piece_of's; never larger than the one before; and the
+    # last 2 nw pieces small (guided: at most a quarter of piece_of's size where that is
+    # above the floor), so the threads finish a launch or a path level together
+    from screwkit.engine._kernels._layout import MIN_PIECE
+    k = kernels()
+    piece = k.piece_of(N, nw)
+    spans, c = [], 0
+    while True:
+        a, b = k.piece_span(c, N, piece, nw)
+        if a >= N:
+            assert (a, b) == (N, N)
+            break
+        spans.append((a, b))
+        c += 1
+        assert c <= 10_000
+    assert spans[0][0] == 0 and spans[-1][1] == N
+    assert all(s[1] == t[0] for s, t in zip(spans, spans[1:]))
+    sizes = [b - a for a, b in spans]
+    assert all(0 < s <= piece for s in sizes)
+    assert all(s % BLOCK == 0 for s in sizes[:-1])
+    assert all(s >= t for s, t in zip(sizes[:-1], sizes[1:-1]))
+    if nw == 1:
+        assert sizes == [N]
+    elif piece >= 4 * MIN_PIECE:
+        assert max(sizes[-2 * nw:]) <= max(MIN_PIECE, piece // 4)
+    # asking again for a claim past the end still says none
+    assert k.piece_span(c + 5, N, piece, nw) == (N, N)
+
+
 def test_every_piece_is_solved_once_on_several_threads():
     # 6,001 poses in pieces of 256 (24 pieces, the last of 113): each pose equals its
     # one-thread solution, so no piece was skipped nor run twice into another's rows

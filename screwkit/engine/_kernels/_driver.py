@@ -47,7 +47,7 @@ from ._pack import inputs, model, outputs, params, prefetch_outputs
 from ._newton import make_work
 from ._rows import make_rows_work
 from ._solve_lanes import finish_lane, solve_alone, solve_block, start
-from ._threads import arrive, claim, piece_of, read_acquire, threads_for
+from ._threads import arrive, claim, piece_of, piece_span, read_acquire, threads_for
 from ._path_loop import (lead_level, level_inputs, level_of, path_excess, path_level,
                          path_starts, path_state)
 from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, normalise_lanes,
@@ -92,8 +92,9 @@ def run_poses(M, Z, I, O, flags, first, stop, L):
 
 
 @inlined
-def run_blocks(M, Z, I, O, flags, piece, taken, L):
-    """The pieces of ``piece`` poses this thread takes (:func:`._threads.claim` on ``taken``)
+def run_blocks(M, Z, I, O, flags, piece, nw, taken, L):
+    """The pieces this thread takes (:func:`._threads.claim` on ``taken``; ``piece`` poses,
+    smaller at the end: :func:`._threads.piece_span` of ``nw`` threads)
     with one workspace, their closures solved ``BLOCK`` at a time (:func:`solve_block`), or
     the frames of their given unknowns formed ``BLOCK`` at a time
     (:func:`._block.frames_block`), as :func:`run_poses` otherwise (the same bits: every lane
@@ -105,12 +106,11 @@ def run_blocks(M, Z, I, O, flags, piece, taken, L):
     B = BLOCK if N > 1 else 0
     Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, B)
     Ko = make_block(n, m, nx, B)
-    c = claim(taken)
-    while c * piece < N:
-        block_poses(M, Z, I, O, flags, c * piece, min((c + 1) * piece, N), borrowed(Wo),
-                    borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(Ko), borrowed(RLo),
-                    L)
-        c = claim(taken)
+    a, b = piece_span(claim(taken), N, piece, nw)
+    while a < N:
+        block_poses(M, Z, I, O, flags, a, b, borrowed(Wo), borrowed(RWo), borrowed(SWo),
+                    borrowed(CWo), borrowed(Ko), borrowed(RLo), L)
+        a, b = piece_span(claim(taken), N, piece, nw)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
         Ko[0].shape[0] + RLo[0].shape[0]
@@ -233,14 +233,14 @@ def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
         if G > 0:
             Iv = level_inputs(I, G, own)
             L = level_of(H, V, P6, res, comp, sync, G)
-            piece = piece_of(G, threads_for(G, nt))
+            nw = threads_for(G, nt)
+            piece = piece_of(G, nw)
             taken = sync[SY_TAKEN:SY_TAKEN + 1]
-            c = claim(taken)
-            while c * piece < G:
-                block_poses(M, Z, Iv, O, flags, c * piece, min((c + 1) * piece, G),
-                            borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo),
-                            borrowed(Ko), borrowed(RLo), L)
-                c = claim(taken)
+            a, b = piece_span(claim(taken), G, piece, nw)
+            while a < G:
+                block_poses(M, Z, Iv, O, flags, a, b, borrowed(Wo), borrowed(RWo),
+                            borrowed(SWo), borrowed(CWo), borrowed(Ko), borrowed(RLo), L)
+                a, b = piece_span(claim(taken), G, piece, nw)
             arrive(sync[SY_ARRIVED:SY_ARRIVED + 1])
             level += 1
             if t == 0:
@@ -285,6 +285,6 @@ def run_parallel(Mf, Mi, Md, Zf, Zi, Zd, If, Ii, Id, Of, Oi, Od, flags, nthreads
         nt = max(1, min(nw, -(-G // piece)))
         taken = np.zeros(1, np.int64)
         for t in prange(nt):
-            run_blocks(M, Z, Iv, O, flags, piece, taken, L)
+            run_blocks(M, Z, Iv, O, flags, piece, nw, taken, L)
         level += 1
         G = lead_level(H, V, res, I, P6, comp, sync, level) if path else 0

@@ -74,7 +74,8 @@ R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
 BLOCK = 64
 #: The parallel kernel's threads and pieces (``_threads.piece_of``): the fewest poses a
 #: thread worth a launch on it; a launch's poses cut into about ``PIECES_PER_THREAD``
-#: pieces a thread, whole blocks, each of at least ``MIN_PIECE`` poses.
+#: pieces a thread, whole blocks, each of at least ``MIN_PIECE`` poses (smaller towards
+#: the end of a launch: ``_threads.piece_span``).
 MIN_PER_THREAD = 256
 PIECES_PER_THREAD = 8
 MIN_PIECE = 256

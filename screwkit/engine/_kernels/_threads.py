@@ -89,6 +89,32 @@ def piece_of(N, nw):
 
 
 @entry
+def piece_span(c, N, piece, nw):
+    """The poses ``start, stop`` of piece ``c`` of a block launch of ``N`` poses on ``nw``
+    threads (:func:`claim` hands out ``c``): pieces of ``piece`` poses (:func:`piece_of`)
+    while at least ``2 nw`` of them are left, then each ``1 / (2 nw)`` of the poses left
+    (whole blocks, at least ``MIN_PIECE``), so that the threads' last pieces are small and
+    they finish together (guided self-scheduling: with equal pieces a thread slowed for a
+    moment left the other waiting up to a whole piece at the end of every launch and path
+    level).  ``start == N``: no such piece.  (Each pose's bits are its own whatever piece
+    holds it.)"""
+    start = 0
+    for i in range(c + 1):
+        left = N - start
+        if left <= 0:
+            return N, N
+        size = piece
+        if nw > 1:
+            guided = -(-left // (2 * nw))
+            size = min(piece, max(MIN_PIECE, -(-guided // BLOCK) * BLOCK))
+        stop = min(N, start + size)
+        if i == c:
+            return start, stop
+        start = stop
+    return N, N
+
+
+@entry
 def threads_for(N, nthreads):
     """Threads of a launch of ``N`` poses given ``nthreads``: as many as have
     ``MIN_PER_THREAD`` poses each, at least one (``_launch.threads``'s rule)."""
