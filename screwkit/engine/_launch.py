@@ -175,9 +175,7 @@ class OutputBuffers:
     def arrays(self, convert: bool = True) -> dict:
         """The outputs of all ``N`` poses by name (:data:`OUTPUTS`), views of the buffers
         (the booleans converted: copies; without ``convert``, views of their integers)."""
-        return dict(zip(OUTPUTS, [_view(self.i if is_int else self.f, o0, o1, sh,
-                                        is_bool and convert)
-                                  for is_int, is_bool, o0, o1, sh in self.layout]))
+        return _views(self.f, self.i, self.layout, convert)
 
 
 def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
@@ -295,15 +293,20 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     if scattered:                   # (views of the whole buffers: no boolean copied)
         return buffers.arrays(convert=False)
-    return dict(zip(OUTPUTS, [_view(Oi if is_int else Of, o0, o1, sh, is_bool)
-                              for is_int, is_bool, o0, o1, sh in layout]))
+    return _views(Of, Oi, layout, True)
 
 
-def _view(buf, o0, o1, sh, is_bool):
-    v = buf[o0:o1]
-    if sh is not None:
-        v = v.reshape(sh)
-    return v.astype(bool) if is_bool else v
+def _views(f, i, layout, convert):
+    """The outputs by name (:data:`OUTPUTS`): views of the float and integer buffers ``f``,
+    ``i`` as ``layout`` places them (the booleans converted where ``convert``: copies).  (A
+    loop, not a function a view: one pose's analysis takes 24 of them.)"""
+    out = {}
+    for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, layout):
+        v = i[o0:o1] if is_int else f[o0:o1]
+        if sh is not None:
+            v = v.reshape(sh)
+        out[name] = v.astype(bool) if is_bool and convert else v
+    return out
 
 
 def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:

@@ -9,8 +9,8 @@ poses and filled in place; only compact arrays are kept.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import partial
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,12 +31,13 @@ CHUNK = 131072
 _COLUMN = {p: k for k, p in enumerate(PARAMS)}
 
 
-@dataclass(frozen=True, eq=False)
-class Computed:
+class Computed(NamedTuple):
     """Compact arrays of N poses (poses first): the closures; and, when rows were asked
     for, ``J (N, m, 6)``, ``scale (N, m)``, the conditioning, the validity of the rows and
     of each leg's structure, and, with a workload, the values ``F_r``, the equilibrium
-    residuals, the force amplifications and the signs of ``det J``."""
+    residuals, the force amplifications and the signs of ``det J``.  (An immutable named
+    tuple, read by field: as a frozen dataclass of its 16 fields it took some 3 us to
+    build, one pose's analysis a twenty-fifth.)"""
 
     closures: Closures
     info: tuple
