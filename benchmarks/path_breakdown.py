@@ -15,7 +15,15 @@ same samples' rows without the path's machinery, in the same run.
 * ``given unknowns, levels' order``: the same without the solve (frames at the given
   unknowns: ``X=``);
 * ``given unknowns, in order``: the same in the path's order (rows written one after the
-  other): the floor of any route through the engine's rows.
+  other): the floor of any route through the engine's rows;
+* ``closures alone, the path's levels``: the path's levels without the rows, conditioning
+  and statics (``_path.solve_path`` by default): with ``given unknowns, in order``, the
+  two parts a path's analysis adds up to.
+
+Each figure is the whole call's, with the time of its kernel launches alone in a second
+column: a variant's call also pays Python's copies of its inputs into the kernel's buffers,
+for ``given unknowns, levels' order`` a fancy-indexed copy of every sample's unknowns into
+its scattered row.
 
 The levels' order is that of ``_path.solve_path`` (anchors every ``N / PATH_ANCHORS``
 samples, then the middle of every gap between solved samples, level by level), formed here
@@ -70,8 +78,9 @@ def main(argv=None):
             ap.error(f"--{name} must be within {lo}..{hi}")
 
     import screwkit
-    from screwkit.engine import _path_launch
+    from screwkit.engine import _launch as launch_module, _path_launch
     from screwkit.engine._chains import chains_of
+    from screwkit.engine._path import solve_path
     from screwkit.engine._launch import output_buffers, run_poses
     from screwkit.engine._path import PATH_ANCHORS
     from screwkit.engine._solve import predictor_of
@@ -90,20 +99,38 @@ def main(argv=None):
     P6o, Xo = np.ascontiguousarray(P6[order]), np.ascontiguousarray(X[order])
     buf = output_buffers(ch.flat, n)
 
-    # the levels' kernel timed inside the path's runs
-    kernel = []
-    run = _path_launch.LevelLaunches.run
+    # the kernels timed inside the calls: every launch (the levels' and the others), and
+    # the levels' launches of the whole path's calls
+    kernel, launches = [], [0.0]
+    run, launch = _path_launch.LevelLaunches.run, launch_module._launch
 
     def timed_run(self, *a, **k):
         t0 = time.perf_counter()
         try:
             return run(self, *a, **k)
         finally:
-            kernel[-1] += time.perf_counter() - t0
+            t = time.perf_counter() - t0
+            launches[0] += t
+            if in_path:
+                kernel[-1] += t
+
+    def timed_launch(*a, **k):
+        t0 = time.perf_counter()
+        try:
+            return launch(*a, **k)
+        finally:
+            launches[0] += time.perf_counter() - t0
+
+    in_path = False
 
     def whole_path():
+        nonlocal in_path
         kernel.append(0.0)
-        screwkit.analyze(pm, path, path=True, force=F, torque=T, workers=w)
+        in_path = True
+        try:
+            screwkit.analyze(pm, path, path=True, force=F, torque=T, workers=w)
+        finally:
+            in_path = False
 
     variants = {
         "path": whole_path,
@@ -113,37 +140,48 @@ def main(argv=None):
             lambda: run_poses(ch.flat, Z, P6o, X=Xo, F=F, T=T, workers=w, out=(buf, order)),
         "given unknowns, in order":
             lambda: run_poses(ch.flat, Z, P6, X=X, F=F, T=T, workers=w, out=(buf, 0)),
+        "closures alone, the path's levels": lambda: solve_path(pm, path, workers=w),
     }
     times = {k: [] for k in variants}
+    inside = {k: [] for k in variants}
     _path_launch.LevelLaunches.run = timed_run
+    launch_module._launch = timed_launch
     try:
         for f in variants.values():             # (loaded and warm before the rounds)
             f()
         kernel.clear()
         for _ in range(args.repeat):
             for key, f in variants.items():
+                launches[0] = 0.0
                 t0 = time.perf_counter()
                 f()
                 times[key].append(time.perf_counter() - t0)
+                inside[key].append(launches[0])
     finally:
         _path_launch.LevelLaunches.run = run
+        launch_module._launch = launch
     levels = _per_level(lambda: screwkit.analyze(pm, path, path=True, force=F, torque=T,
                                                  workers=w), args.repeat) if args.levels else []
     best = {k: min(v) for k, v in times.items()}
+    # (the launches' time of the round whose call was the best)
+    best_in = {k: inside[k][int(np.argmin(times[k]))] for k in variants}
     i = int(np.argmin(times["path"]))
-    rows = [("path", best["path"]), ("path's levels kernel", kernel[i]),
-            ("the rest: Python, the anchors' launches", best["path"] - kernel[i])]
-    rows += [(k, best[k]) for k in list(variants)[1:]]
+    rows = [("path", best["path"], best_in["path"]), ("path's levels kernel", kernel[i], None),
+            ("the rest: Python, the anchors' launches", best["path"] - kernel[i], None)]
+    rows += [(k, best[k], best_in[k]) for k in list(variants)[1:]]
     if args.json:
         print(json.dumps({"n": n, "workers": w, "repeat": args.repeat,
-                          "seconds": {k: v for k, v in rows},
+                          "seconds": {k: v for k, v, _ in rows},
+                          "kernels_seconds": {k: v for k, _, v in rows if v is not None},
                           "levels": [dict(zip(("samples", "wall", "cpu"), x))
                                      for x in levels]}, indent=1))
         return
     print(f"3RRPRR, {n} path samples, paper workload, {w} threads, best of {args.repeat} "
           f"(variants alternated)")
-    for key, t in rows:
-        print(f"  {key:48s} {t * 1e3:7.1f} ms  {n / t / 1e3:7.0f}k samples/s")
+    print(f"  {'':48s} {'whole call':>10s} {'':16s} {'its launches':>12s}")
+    for key, t, k in rows:
+        launched = "" if k is None else f"{k * 1e3:9.1f} ms"
+        print(f"  {key:48s} {t * 1e3:7.1f} ms  {n / t / 1e3:7.0f}k samples/s {launched}")
     if levels:
         print("each level in a launch of its own (its start included):")
         for k, (g, wall, cpu) in enumerate(levels):
