@@ -71,3 +71,34 @@ def test_model_option_takes_file_hash_name(tmp_path, capsys):
     assert "unknown PM 'C'" in capsys.readouterr().err
     assert main(["analyze", "A", "--model", f"{f}#B", *PAPER_ARGS]) == 2
     assert "already names its PM" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, what", [([], "screwkit"), (["model"], "screwkit model")])
+def test_no_command_lists_them_and_exits_2(argv, what, capsys):
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert "usage:" in out
+    assert err.count("\n") == 1 and err.startswith(f"{what}: error: ")
+
+
+@pytest.mark.parametrize("argv", [
+    ["trajectory", "3RRPRR", "--expr", "alpha=t", "--expr", "beta=1", "--expr", "Zo=80",
+     "--samples", "3", "--plot", "FIG.txt"],
+    ["draw", "3RRPRR", "-o", "FIG"],
+    ["leg", "RRPRR", "--draw", "FIG.csv"],
+])
+def test_a_figure_name_matplotlib_cannot_write_is_refused_before_any_work(argv, tmp_path,
+                                                                           capsys):
+    argv = [a.replace("FIG", str(tmp_path / "fig")) for a in argv]
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and "a figure's file name ends in" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_view_with_no_reachable_pose_is_refused(tmp_path, capsys):
+    page = tmp_path / "v.html"
+    assert main(["view", "3RRPRR", "--html", str(page), "--pose", "alpha=90"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "none of the 729 poses of the view is reachable" in err
+    assert not page.exists()

@@ -260,3 +260,13 @@ def test_bad_inputs(models):
         dynamics(pm, _motion(pm, 5), params={"legs": {"piston": {"mass": -1, "length": 3}}})
     with pytest.raises(screwkit.InputError, match="gravity"):
         dynamics(pm, _motion(pm, 5), params=MASS, gravity=[0, 0])
+
+
+def test_a_given_gravity_is_the_one_the_notes_name(models):
+    pm = models["3RRPRR"]
+    default = dynamics(pm, _motion(pm, 3), params=MASS)
+    assert any(n.startswith("gravity: standard gravity") for n in default.params.notes)
+    none = dynamics(pm, _motion(pm, 3), params=MASS, gravity=[0, 0, 0])
+    said = [n for n in none.params.notes if n.startswith("gravity")]
+    assert said == ["gravity: (0, 0, 0) model length/s^2 in the base frame, as given"]
+    assert np.array_equal(none.params.gravity, [0, 0, 0])

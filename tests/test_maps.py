@@ -105,6 +105,10 @@ def test_files_round_trip(rrprr, tmp_path):
     i, j, k = np.unravel_index(37, (25, 17, 2))
     assert row["F_a1 [kN]"] == pytest.approx(float(ds["F_a1"][i, j, k]), rel=1e-14)
     assert row["level"] in screwkit.maps.LEVEL_CODES
+    # the workload the map's statics are of, on every row (the paper's, declared by 3RRPRR)
+    load = df[["workload_Fx [kN]", "workload_Fy [kN]", "workload_Fz [kN]",
+               "workload_Tx [kN.cm]", "workload_Ty [kN.cm]", "workload_Tz [kN.cm]"]]
+    assert (load.to_numpy() == [-20.0, -30.0, -60.0, -30.0, -30.0, 100.0]).all()
     with pytest.raises(screwkit.InputError, match="must end in"):
         screwkit.maps.write(ds, tmp_path / "m.txt")
 

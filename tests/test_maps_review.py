@@ -305,3 +305,18 @@ def test_cli_fk_refuses_impossible_actuator_values():
     import json
     ext = json.loads(r.stdout)["solutions"][0]["extensions"]
     np.testing.assert_allclose(ext, [80, 85, 90], rtol=1e-12)
+
+
+def test_workloads_files_name_only_loads_once_each(tmp_path):
+    from screwkit.maps._sizing import read_workloads
+    extra = tmp_path / "extra.csv"
+    extra.write_text("Fx,Fy,Fz,Tx,Ty,Tz,Fzz\n1,0,0,0,0,0,3\n")
+    with pytest.raises(screwkit.InputError, match="unknown column.*'Fzz'"):
+        read_workloads(extra)
+    twice = tmp_path / "twice.csv"
+    twice.write_text("Fx,Fy,Fz,Tx,Ty,Tz,name\n1,0,0,0,0,0,a\n2,0,0,0,0,0,a\n")
+    with pytest.raises(screwkit.InputError, match="line 3: workload name 'a' is given twice"):
+        read_workloads(twice)
+    good = tmp_path / "good.csv"
+    good.write_text("name,Fx,Fy,Fz,Tx,Ty,Tz\na,1,0,0,0,0,0\nb,2,0,0,0,0,0\n")
+    assert [n for n, _, _ in read_workloads(good)] == ["a", "b"]

@@ -175,6 +175,11 @@ def test_cli_export_mjcf_needs_masses(tmp_path, capsys):
     assert "--mass FILE" in err and "--massless" in err
     rc = main(["export", "3RRPRR", "--pose", "alpha=5", "--urdf", str(tmp_path / "pm.urdf")])
     assert rc == 2 and "options of --mjcf" in capsys.readouterr().err
+    # both asked for, the MJCF failing: nothing written (not a URDF without its MJCF)
+    rc = main(["export", "3RRPRR", "--urdf", str(tmp_path / "both.urdf"), "--mjcf",
+               str(tmp_path / "both.xml")])
+    assert rc == 2 and "--massless" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
 
 
 from tricept import TRICEPT  # noqa: E402

@@ -88,6 +88,23 @@ def test_rigid_rows_do_not_deflect():
     assert np.allclose(Jo[:3] @ d, -Fr[:3] / 2e3, rtol=1e-9)             # springs: dr = -F/k
 
 
+@pytest.mark.parametrize("soft, stiff", [(2e3, 5e4), (1e-10, 1e10), (1e-20, 1e20)])
+def test_the_deflection_keeps_its_soft_rows_whatever_the_spread(soft, stiff):
+    # every row of a square J compliant: dX = J_o^-1 diag(1/k) J_o^-T W exactly, however far
+    # apart the stiffnesses (a spread of 1e40 once gave no deflection at all)
+    st = stiffness("3RRPRR", actuator=soft, force_stiffness=stiff,
+                   **PAPER_LOAD)
+    a = st.analysis
+    Jo = _rows_about_o(a.jacobian.J, a.solution.position)
+    k = np.r_[np.full(3, soft), np.full(3, stiff)]
+    Ji = np.linalg.inv(Jo)
+    W = np.r_[PAPER_LOAD["force"], PAPER_LOAD["torque"]]
+    expected = Ji @ np.diag(1.0 / k) @ Ji.T @ W
+    np.testing.assert_allclose(st.deflection[0], expected, rtol=1e-7,
+                               atol=1e-12 * np.abs(expected).max())
+    assert np.abs(st.deflection[0]).max() > 1e-3 / soft            # the soft rows give
+
+
 def _spring_equilibrium(pm, F, T, k, start=None):
     """Forward kinematics (Newton through the engine) of the Stewart platform whose legs are
     springs: leg lengths r0 - F_a(X) / k (r0 at the default pose, unloaded) with F_a the

@@ -275,9 +275,14 @@ def test_csv_has_the_columns_and_values(runs):
     assert head[18:22] == ["T_r1", "T_r2", "T_r3", "T_r4"]
     assert head[22:46] == [f"res{i}_{q}" for i in range(1, 5)       # the legs' resultants
                            for q in ("fx", "fy", "fz", "mx", "my", "mz")]
-    assert head[46:] == ["condition_number", "closure_residual", "equilibrium_residual",
-                         "conditioning", "message"]
+    assert head[46:49] == ["condition_number", "closure_residual", "equilibrium_residual"]
+    # the workload the statics are of, at o, on every row (the table says which it used)
+    assert units[49:55] == ["workload_Fx [kN]", "workload_Fy [kN]", "workload_Fz [kN]",
+                            "workload_Tx [kN.cm]", "workload_Ty [kN.cm]", "workload_Tz [kN.cm]"]
+    assert head[55:] == ["conditioning", "message"]
     assert len(rows) == len(path) + 1
+    for row in rows[1:]:
+        assert [float(x) for x in row[49:55]] == [*PAPER_LOAD["force"], *PAPER_LOAD["torque"]]
     k = 7
     vals = dict(zip(head, rows[k + 1]))
     assert vals["status"] == "ok"

@@ -160,3 +160,20 @@ def test_cli_trajectory_plot_in_si(tmp_path, capsys):
     assert main(argv) == 0 and (tmp_path / "t.png").stat().st_size > 0
     assert main(argv + ["--length-unit", "mm"]) == 2
     assert "not with --units SI" in capsys.readouterr().err
+
+
+def test_cli_unit_labels_name_units_they_do_not_convert(tmp_path, capsys):
+    # --length-unit / --force-unit label the plot of a model that declares no units: a unit
+    # screwkit knows, and never another than a declared one (the values are not converted)
+    pytest.importorskip("matplotlib")
+    from screwkit.cli import main
+    draw = ["draw", "3RRPRR", "-o", str(tmp_path / "d.png")]
+    assert main(draw + ["--length-unit", "furlong"]) == 2
+    assert "not a unit screwkit knows" in capsys.readouterr().err
+    assert main(draw + ["--force-unit", "lbf"]) == 2          # 3RRPRR declares kN
+    assert "declares its units (kN)" in capsys.readouterr().err
+    assert main(draw + ["--length-unit", "cm", "--force-unit", "kN"]) == 0
+    traj = ["trajectory", "3RRPRR", "--expr", "alpha=3*t", "--expr", "beta=1", "--expr",
+            "Zo=80", "--samples", "3", "-q", "--out", str(tmp_path / "t.csv")]
+    assert main(traj + ["--length-unit", "mm"]) == 2
+    assert "declares its units (cm)" in capsys.readouterr().err

@@ -57,9 +57,11 @@ def main(argv=None) -> int:
     except UsageError as exc:                  # one line, exit status 2
         print(exc.line, file=sys.stderr)
         return 2
-    if not getattr(args, "func", None):
+    if not getattr(args, "func", None):       # no command (or action): what there is, exit 2
         parser.print_help()
-        return 1
+        what = f"screwkit {args.command}" if getattr(args, "command", None) else "screwkit"
+        print(f"{what}: error: a command is needed (listed above)", file=sys.stderr)
+        return 2
     try:
         return int(args.func(args) or 0)
     except ScrewkitError as exc:

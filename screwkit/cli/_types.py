@@ -78,6 +78,25 @@ scheduler = argtype(_scheduler, "address")
 #: A file to write: a :data:`path` that is not an existing directory.
 output = argtype(_output, "output")
 
+#: The figure formats matplotlib writes (its ``savefig``), by the file's suffix.
+FIGURE_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff",
+                  "webp", "gif", "pgf", "raw", "rgba", "avif")
+
+
+def _figure(text):
+    s = _output(text)
+    suffix = os.path.splitext(s)[1].lower().lstrip(".")
+    if suffix not in FIGURE_FORMATS:
+        raise InputError(f"{shorten(s)}: a figure's file name ends in one of "
+                         f".{', .'.join(FIGURE_FORMATS[:4])}... (not "
+                         f"{'.' + suffix if suffix else 'no suffix'})")
+    return s
+
+
+#: A figure to write: an :data:`output` whose suffix names a format matplotlib writes (checked
+#: before any work, not after it).
+figure = argtype(_figure, "figure")
+
 
 class UsageError(Exception):
     """A command-line usage error: ``line`` is its one-line message (exit status 2)."""

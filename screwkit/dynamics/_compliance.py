@@ -116,6 +116,15 @@ def _held_compliance(Ah, c, Vh):
                 continue
             idx = sel[g]
             N = Vr[g][:, rho:, :].transpose(0, 2, 1)      # (k, p, p - rho)
+            if int((~rig).sum()) == p - rho:
+                # as many compliant rows as held directions across the rigid rows: the
+                # compliance is M^-1 diag(c) M^-T exactly (M = A_c N, as well conditioned
+                # as J there), whatever the spread of the stiffnesses; the singular values
+                # of B below would lose the soft rows' below 1e-16 of the stiff ones'
+                Mi = np.linalg.inv(Ah[idx][:, ~rig] @ N)             # (k, q, q)
+                P = Vh[idx] @ N @ Mi                              # (k, 6, q)
+                out[idx] = np.einsum("nik,nk,njk->nij", P, c[idx][:, ~rig], P)
+                continue
             B = (Ah[idx][:, ~rig] / np.sqrt(c[idx][:, ~rig])[..., None]) @ N
             _, sb, Wt = np.linalg.svd(B, full_matrices=False)
             keep = sb > 1e-14 * sb[:, :1]                 # below: no resolvable stiffness

@@ -150,10 +150,9 @@ class PMAnalysis:
 
     @property
     def ok(self):
-        """Reachable, converged, regular, rows formed, and the statics balance the load."""
-        r = self.solution.closures.residual
-        from ._kernels._layout import CONVERGED
-        good = (r <= CONVERGED) & ~self.jacobian.singular_mask & np.atleast_1d(self.rows_ok)
+        """Reachable, converged, not singular, rows formed, the load balanced (api.md)."""
+        good = self.solution.closures.solved & ~self.jacobian.singular_mask & \
+            np.atleast_1d(self.rows_ok)
         if self.statics is None:
             good &= False
         elif self.has_workload:                          # (no load: the kinematics decide)
@@ -357,7 +356,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                    compliance=compliance, mapper=mapper if path else None, twists=bool(twists),
                    lines=bool(lines))
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
-                        invalid)
+                        invalid, (comp.diagnostics or {}).get("reversed_legs"))
     cond = comp.conditioning
     unreach = None
     if single:

@@ -205,8 +205,11 @@ def _start_state(model, ch, guess, N):
         if not isinstance(guess, dict):
             raise InputError(f"{model.name}: guess must be a pose (dict of the independent "
                              "parameters, radians) or a PoseSolution")
-        sol = solve(model, {k: np.atleast_1d(np.asarray(v, float)) for k, v in guess.items()},
-                    raise_unreachable=True)
+        try:
+            sol = solve(model, {k: np.atleast_1d(np.asarray(v, float))
+                                for k, v in guess.items()}, raise_unreachable=True)
+        except InputError as e:
+            raise InputError(f"the guess: {e}") from None
     c = sol.closures
     if not np.all(c.residual <= CONVERGED):
         raise InputError(f"{model.name}: the guess does not assemble")

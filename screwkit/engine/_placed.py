@@ -45,6 +45,14 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
     -------
     JacobianResult
         Never raises at a singular pose (see :meth:`JacobianResult.check`).
+
+    Notes
+    -----
+    The members of a constraint system of two or more (two forces in a plane, two
+    couples...) are picked by reference directions, here the world's axes (a model's are
+    its base and platform axes, which move with it): rotating the legs alone can pick
+    other members, which changes the normalised condition number a little and can flip the
+    sign of a single member's value.  Translations and a change of units change neither.
     """
     from ..legs import Leg
     InputError = _errors()

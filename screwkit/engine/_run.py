@@ -9,6 +9,7 @@ poses and filled in place; only compact arrays are kept.
 
 from __future__ import annotations
 
+import dataclasses
 from functools import partial
 from typing import NamedTuple
 
@@ -16,11 +17,13 @@ import numpy as np
 
 from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
+from ._kernels._layout import ACCEPTED
 from ._launch import output_buffers, run_poses
 from ._path_launch import LevelLaunches
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
 from ._path import solve_path
+from ._reversal import actuator_lines, resolve, reversed_legs
 from ._solve import Closures, predictor_of
 
 __all__ = ["CHUNK", "Computed", "compute", "load_block_kernel", "row_points"]
@@ -210,7 +213,75 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     computes ``[fn(x) for x in items]`` elsewhere, e.g. on a Dask cluster; the path's
     closures are solved here, the rows and statics of its chunks by the mapper.  ``lines``
     (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
-    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`)."""
+    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`).
+
+    A pose whose solution runs a leg's linear actuator to a negative length
+    (:mod:`._reversal`) is solved again (its reversed legs from home, else by continuation
+    from home), and is unreachable (``closures.reversed``; ``diagnostics["reversed_legs"]
+    (N, n)`` saying which legs) where that finds no other assembly."""
+    comp = _compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
+                    rows=rows, F=F, T=T, chunk=chunk, workers=workers, progress=progress,
+                    compliance=compliance, mapper=mapper, twists=twists, lines=lines)
+    return _unreversed(model, comp, side, rows, F, T, compliance, workers, twists, lines)
+
+
+def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, twists,
+                lines) -> Computed:
+    """``comp`` with its poses whose solution reverses a leg's actuator (:mod:`._reversal`)
+    solved again (:func:`._reversal.resolve`; their outputs put in their rows, ``how`` 1),
+    and those still reversed unreachable (``closures.reversed``), their legs in
+    ``diagnostics["reversed_legs"]``."""
+    lines_ = actuator_lines(model)
+    if not lines_.legs.size:
+        return comp
+    c = comp.closures
+    if len(c.residual) == 1 and not lines_.any_reversed(c.X[:, 0]):
+        return comp                     # (one pose: the common case without numpy's calls)
+    some = lines_.reversed(c.X).any(axis=1)
+    if not some.any():
+        return comp
+    rev = reversed_legs(model, c.X)
+    bad = np.flatnonzero(some & (np.asarray(c.residual) <= ACCEPTED))
+    if not bad.size:
+        return comp
+    ch = c.chains
+    fx = {k: v[bad] for k, v in c.fixed.items()}
+    sub_side = None if side is None else np.asarray(side)[bad]
+    X, its, done = resolve(model, fx, c.X[:, bad], sub_side, workers)
+    idx = bad[done]
+    if idx.size:
+        templates = templates_of(model) if rows else None
+        sub = _one_launch(ch, templates, {k: v[done] for k, v in fx.items()}, idx.size,
+                          X[:, done], None if sub_side is None else sub_side[done], rows, F,
+                          T, _per_pose(compliance, len(c.residual), idx), workers, None,
+                          twists, lines)
+        sc = sub.closures
+        c.X[:, idx] = sc.X
+        for name in ("residual", "singular_beta"):
+            getattr(c, name)[idx] = getattr(sc, name)
+        c.iterations[idx] = its[done] + sc.iterations
+        c.how[idx] = 1
+        for name, value in zip(Computed._fields[3:], sub[3:]):
+            whole = getattr(comp, name)
+            if isinstance(value, np.ndarray) and whole is not None and len(whole):
+                whole[idx] = value
+        if comp.conditioning is not None:
+            for f in dataclasses.fields(comp.conditioning):
+                getattr(comp.conditioning, f.name)[idx] = getattr(sub.conditioning, f.name)
+    still = bad[~done]
+    if not still.size:
+        return comp
+    diag = dict(comp.diagnostics or {})
+    flagged = np.zeros_like(rev)
+    flagged[still] = rev[still]
+    diag["reversed_legs"] = flagged
+    return comp._replace(closures=dataclasses.replace(c, reversed=flagged.any(axis=1)),
+                         diagnostics=diag)
+
+
+def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, chunk,
+             workers, progress, compliance, mapper, twists, lines) -> Computed:
+    """:func:`compute` by its routes (one launch, chunks, a path), as the kernels solve."""
     compile_analysis()                  # (a first run: the kernels compiled on two processes)
     ch = chains_of(model)
     flat = ch.flat

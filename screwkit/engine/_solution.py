@@ -175,22 +175,25 @@ class PoseSolution:
 
     @property
     def reachable_mask(self) -> np.ndarray:
-        return self.closures.residual <= ACCEPTED
+        return self.closures.reachable
 
     @property
     def success(self):
-        """Residual at most :data:`CONVERGED`."""
-        s = self.closures.residual <= CONVERGED
+        """Residual at most :data:`CONVERGED` (and no actuator reversed, :mod:`._reversal`)."""
+        s = self.closures.solved
         return bool(s[0]) if self.single else s
 
     @property
     def status(self):
         """``ok``, ``not converged`` (residual above CONVERGED, below ACCEPTED) or
-        ``unreachable``, per pose."""
+        ``unreachable`` (also where the only solution found reverses an actuator,
+        :mod:`._reversal`), per pose; ``invalid input`` (not solved)."""
         r = self.closures.residual
         s = np.where(r <= CONVERGED, "ok", np.where(r <= ACCEPTED, "not converged",
                                                     np.where(np.isfinite(r), "unreachable",
                                                              "invalid input")))
+        if self.closures.reversed is not None:
+            s = np.where(self.closures.reversed, "unreachable", s)
         return str(s[0]) if self.single else s
 
     @property
@@ -298,7 +301,7 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     single = one if single is None else single
     comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
-                        invalid)
+                        invalid, (comp.diagnostics or {}).get("reversed_legs"))
     if (single if raise_unreachable is None else raise_unreachable):
         check_reachable(sol)
     return sol
@@ -316,12 +319,18 @@ def mark_invalid(closures: Closures, invalid: dict) -> Closures:
 
 
 def make_solution(model, closures: Closures, single, notes, side=None,
-                  invalid=None) -> PoseSolution:
-    """The :class:`PoseSolution` of solved closures, with the notes of each pose."""
+                  invalid=None, reversed_legs=None) -> PoseSolution:
+    """The :class:`PoseSolution` of solved closures, with the notes of each pose
+    (``reversed_legs (N, n)``: the legs whose actuator the only solution found runs to a
+    negative length, :mod:`._reversal`)."""
     ch = closures.chains
     pose_notes: dict[int, tuple[str, ...]] = {
         int(i): (f"invalid input, not solved: {'; '.join(why)}",)
         for i, why in (invalid or {}).items()}
+    if reversed_legs is not None:
+        from ._reversal import reversed_note
+        for j in np.flatnonzero(np.asarray(reversed_legs).any(axis=1)).tolist():
+            pose_notes.setdefault(j, (reversed_note(reversed_legs[j]),))
     fixed = closures.fixed
     sb = closures.singular_beta
     for i in ((0,) if sb[0] else ()) if len(sb) == 1 else np.flatnonzero(sb):
@@ -359,12 +368,21 @@ def _structure_notes(model, sol):
 def check_reachable(sol: PoseSolution):
     """Raise :class:`UnreachablePoseError` for the first unreachable pose."""
     r = sol.closures.residual
-    if (r[0] <= ACCEPTED) if len(r) == 1 else sol.reachable_mask.all():
+    rev = sol.closures.reversed
+    if ((r[0] <= ACCEPTED) if len(r) == 1 else sol.reachable_mask.all()) and (
+            rev is None or not rev.any()):
         return
     from .. import errors as err
     i = int(np.flatnonzero(~sol.reachable_mask)[0])
     f = float(sol.closures.residual[i])
     given = ", ".join(f"{k}={_fmt(k, sol.closures.fixed[k][i])}" for k in sol.model.independent)
+    bad_input = [n for n in sol.pose_notes.get(i, ()) if n.startswith("invalid input")]
+    if bad_input:                     # (not solved at all: say why, not a residual)
+        raise err.InputError(f"{sol.model.name}: pose {i}: {bad_input[0]}")
+    why = [n for n in sol.pose_notes.get(i, ()) if n.startswith("unreachable: ")]
+    if why:
+        raise err.UnreachablePoseError(
+            f"{sol.model.name}: pose {given} is {why[0]}", residual=f)
     raise err.UnreachablePoseError(
         f"{sol.model.name}: pose {given} is unreachable from the home assembly: the loop "
         f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g}); a solution "

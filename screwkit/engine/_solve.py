@@ -36,7 +36,7 @@ import weakref
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, Chains, chains_of
-from ._kernels._layout import CONVERGED
+from ._kernels._layout import ACCEPTED, CONVERGED
 
 __all__ = ["Closure", "Closures", "solve_closures", "predictor_of", "is_representation_singular"]
 
@@ -65,7 +65,9 @@ class Closure:
 class Closures:
     """The solver's arrays for N poses: ``X (n_unknowns, N)``, ``fixed`` (the independent
     parameters, ``(N,)`` each), ``residual``, ``iterations``, ``how`` (0: Newton from the
-    start, 1: continuation, 2: not solved), ``singular_beta``."""
+    start, 1: continuation, 2: not solved), ``singular_beta``; ``reversed`` (None: none)
+    the poses whose only solution found runs a leg's linear actuator to a negative length
+    (:mod:`._reversal`): closed, but unreachable (no real actuator assembles so)."""
 
     chains: Chains
     X: np.ndarray
@@ -74,11 +76,25 @@ class Closures:
     iterations: np.ndarray
     how: np.ndarray
     singular_beta: np.ndarray
+    reversed: np.ndarray = None
 
     def take(self, sl) -> "Closures":
         return Closures(self.chains, self.X[:, sl], {k: v[sl] for k, v in self.fixed.items()},
                         self.residual[sl], self.iterations[sl], self.how[sl],
-                        self.singular_beta[sl])
+                        self.singular_beta[sl],
+                        None if self.reversed is None else self.reversed[sl])
+
+    @property
+    def reachable(self) -> np.ndarray:
+        """``(N,)``: closed (residual at most ``ACCEPTED``) and not reversed."""
+        ok = self.residual <= ACCEPTED
+        return ok if self.reversed is None else ok & ~self.reversed
+
+    @property
+    def solved(self) -> np.ndarray:
+        """``(N,)``: converged (residual at most ``CONVERGED``) and not reversed."""
+        ok = self.residual <= CONVERGED
+        return ok if self.reversed is None else ok & ~self.reversed
 
     def params(self, sl=slice(None)) -> np.ndarray:
         """``P6 (N, 6)`` of the poses ``sl``: the given parameters (the others 0)."""

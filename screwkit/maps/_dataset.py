@@ -99,7 +99,7 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "reachable": var(a["reachable"], "1",
                          "the loop closures are solved from the home assembly"),
         "converged": var(a["converged"], "1", "closure residual <= 1e-10"),
-        "ok": var(a["ok"], "1", "reachable, converged, regular, statics balanced"),
+        "ok": var(a["ok"], "1", "reachable, converged, not singular, statics balanced"),
         "residual": var(a["residual"], "1", "length-normalised loop-closure residual"),
         "condition_number": var(a["condition_number"], "1",
                                 "normalised condition number of J = [J_a; J_c]"),
@@ -246,7 +246,8 @@ CSV_ROWS = 32768
 def to_csv(ds, out=None):
     """The map in long format: one row per cell (``NAME [UNIT]`` headers; flags by name;
     floats as ``%.15g``, NaN empty, booleans ``True``/``False``: pandas' ``to_csv``
-    layout).  Written to ``out`` (a path) :data:`CSV_ROWS` rows at a time, or returned as
+    layout; the workload at ``o`` last, ``workload_F<x|y|z>``, ``workload_T<x|y|z>``, where
+    the map has one).  Written to ``out`` (a path) :data:`CSV_ROWS` rows at a time, or returned as
     text without ``out``."""
     heads, columns = _csv_columns(ds)
     n = len(columns[0][1]) if columns else 0
@@ -296,6 +297,13 @@ def _csv_columns(ds) -> tuple:
         if "flag_meanings" in v.attrs:                  # flags by name (chunk by chunk)
             names = np.array([_csv_field(x) for x in str(v.attrs["flag_meanings"]).split()])
         cols[_head(ds, k)] = (v.values.reshape(-1), names)
+    force, torque = ds.attrs.get("force"), ds.attrs.get("torque")
+    if force is not None and np.all(np.isfinite(force)):      # the workload, on every row
+        n = int(np.prod(shape))
+        for name, v, unit in (("F", force, ds.attrs["units_force"]),
+                              ("T", torque, ds.attrs["units_torque"])):
+            for j, x in enumerate("xyz"):
+                cols[f"workload_{name}{x} [{unit}]"] = np.full(n, float(v[j]))
     return list(cols), [(_csv_format(a) if names is None else "%s", a, names)
                         for a, names in (c if isinstance(c, tuple) else (c, None)
                                          for c in cols.values())]

@@ -194,7 +194,11 @@ def read_workloads(path) -> list:
             else ""
         raise InputError(f"{path}: missing column(s) {', '.join(missing)} (need "
                          f"{', '.join(_COLS)}, optionally name{sep})")
-    out = []
+    extra = [h for h in head if h not in _COLS and h != "name"]
+    if extra:                        # (a misspelt column would be a load silently left out)
+        raise InputError(f"{path}, line 1: unknown column(s) {', '.join(map(repr, extra))} "
+                         f"(the columns are {', '.join(_COLS)} and optionally name)")
+    out, names = [], set()
     for k, (line, r) in enumerate(rows, 1):
         if None in r or any(v is None for v in r.values()):
             n = sum(v is not None for a, v in r.items() if a is not None) + \
@@ -204,7 +208,12 @@ def read_workloads(path) -> list:
         r = {str(a).strip(): b for a, b in r.items()}
         v = np.array([parse_number(r[c], f"{path}, line {line}, column {c}", bound=MAX_LOAD)
                       for c in _COLS])
-        out.append((str(r.get("name") or f"workload {k}").strip(), v[:3], v[3:]))
+        name = str(r.get("name") or f"workload {k}").strip()
+        if name in names:
+            raise InputError(f"{path}, line {line}: workload name {name!r} is given twice "
+                             "(the results are named by it)")
+        names.add(name)
+        out.append((name, v[:3], v[3:]))
     return out
 
 

@@ -209,6 +209,12 @@ class TrajectoryResult:
         cols += [("condition_number", self.condition_number, ""),
                  ("closure_residual", self.closure_residual, ""),
                  ("equilibrium_residual", self.equilibrium_residual, "")]
+        # the workload the statics are of (at o, the same every sample): the table says it
+        N = len(self.t)
+        cols += [(f"workload_F{x}", np.full(N, float(self.force[j]) * kf), ub["force"])
+                 for j, x in enumerate("xyz")]
+        cols += [(f"workload_T{x}", np.full(N, float(self.torque[j]) * kt), ub["torque"])
+                 for j, x in enumerate("xyz")]
         return cols
 
     def to_csv(self, out=None, units=None) -> str | None:
@@ -216,7 +222,8 @@ class TrajectoryResult:
         condition number, residuals, ``conditioning`` and ``message``): ``t, status``, the
         pose (angles in degrees), ``r_i``, ``F_ai``, the constraint columns, ``T_ri``, each
         leg's constraint resultant ``res<i>_f<x|y|z>`` and its moment about ``A_i``
-        ``res<i>_m<x|y|z>``, the condition number and residuals, the conditioning class,
+        ``res<i>_m<x|y|z>``, the condition number and residuals, the workload at ``o``
+        (``workload_F<x|y|z>``, ``workload_T<x|y|z>``), the conditioning class,
         ``message``.  In the
         model's units, or in SI with ``units="SI"``.  NaN is written ``nan``.  Returns the
         text when ``out`` is None, else writes to ``out`` (a path or a text file object).

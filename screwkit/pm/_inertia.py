@@ -239,9 +239,13 @@ class DynamicsParameters:
         return any(lg.stiffness.given for lg in self.legs)
 
     def with_gravity(self, gravity) -> "DynamicsParameters":
-        """The same parameters under another gravity (base frame, model units)."""
+        """The same parameters under another gravity (base frame, model units); its note
+        replaces the one of the gravity they had."""
         g = np.asarray(gravity, float).reshape(3)
-        return DynamicsParameters(self.platform, self.legs, g, self.mass_unit, self.notes)
+        notes = tuple(n for n in self.notes if not n.startswith("gravity")) + (
+            f"gravity: ({', '.join(f'{x:.6g}' for x in g)}) model length/s^2 in the base "
+            "frame, as given",)
+        return DynamicsParameters(self.platform, self.legs, g, self.mass_unit, notes)
 
     def total_mass(self) -> float:
         return self.platform.mass + sum(b.mass for lg in self.legs for _, b in lg.links) + \

@@ -143,3 +143,23 @@ def emit_table(out, text: str) -> None:
         print(f"wrote {out}", file=sys.stderr)
     else:
         sys.stdout.write(text)
+
+
+def check_unit_labels(model, length_unit, force_unit) -> None:
+    """``--length-unit`` / ``--force-unit`` name the units of a model that declares none (a
+    label, not a conversion): one of the known units, and, where the model declares its
+    units, the same as those (``--units SI`` converts)."""
+    from ...errors import InputError
+    from ...pm._units import FORCE_UNITS, LENGTH_UNITS
+    u = model.units
+    for opt, given, known, declared in (("--length-unit", length_unit, LENGTH_UNITS, u.length),
+                                        ("--force-unit", force_unit, FORCE_UNITS, u.force)):
+        if given is None:
+            continue
+        if given not in known:
+            raise InputError(f"{opt} {given!r}: not a unit screwkit knows (one of "
+                             f"{', '.join(known)})")
+        if u.declared and given != declared:
+            raise InputError(f"{opt} {given}: {model.name} declares its units ({declared}); "
+                             f"{opt} names the units of a model that declares none, it does not "
+                             "convert")

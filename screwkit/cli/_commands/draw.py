@@ -7,7 +7,8 @@ import sys
 import numpy as np
 
 from ...legs._guards import MAX_ANGLE_DEG, parse_number, shorten
-from .._types import integer, label, output
+from .._types import figure, integer, label
+from ._common import check_unit_labels
 from ...errors import InputError
 from .analyze import (add_load_arguments, add_pm_arguments, load_source, parse_assignments,
                       require_load,
@@ -28,14 +29,16 @@ def register(sub):
                        description=HELP)
     add_pm_arguments(p)
     add_load_arguments(p)
-    p.add_argument("-o", "--out", metavar="PNG", required=True, type=output, help="output image (PNG)")
+    p.add_argument("-o", "--out", metavar="PNG", required=True, type=figure, help="output image (PNG)")
     p.add_argument("--view", metavar="ELEV,AZIM",
                    help="camera elevation and azimuth in degrees (default: chosen so that no "
                         "A_i, a_i or o hides behind a leg)")
     p.add_argument("--joint-labels", action="store_true", help="label every joint")
     p.add_argument("--title", type=label(), help="figure title (default: PM, pose and workload)")
-    p.add_argument("--length-unit", type=label(40), help="length unit printed (default: the model's)")
-    p.add_argument("--force-unit", type=label(40), help="force unit printed (default: the model's)")
+    p.add_argument("--length-unit", type=label(40),
+                   help="length unit printed, for a model that declares none (default: the model's)")
+    p.add_argument("--force-unit", type=label(40),
+                   help="force unit printed, for a model that declares none (default: the model's)")
     p.add_argument("--dpi", type=integer(20, 1200), default=150, help="resolution (default 150)")
     p.set_defaults(func=run)
 
@@ -87,6 +90,7 @@ def run(args) -> int:
     sol = res.solution
     singular = res.jacobian.singular
     rows, skipped = wrench_rows(res)
+    check_unit_labels(model, args.length_unit, args.force_unit)
     fu = args.force_unit or model.units.force
     lu = args.length_unit or model.units.length
     title = args.title or _title(res, fu, lu, singular)

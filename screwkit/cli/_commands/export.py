@@ -43,6 +43,8 @@ def register(sub):
 
 
 def run(args) -> int:
+    from pathlib import Path
+
     from ...interop import closures, write_mjcf, write_urdf
     from ...interop._si import si_bodies
     from .analyze import resolve_model
@@ -62,34 +64,43 @@ def run(args) -> int:
         from ...pm import dynamics_for
         params = dynamics_for(pm, args.mass)
     out, lines = {"pm": pm.name}, []
-    if args.urdf:
-        urdf, side = write_urdf(pm, args.urdf, params)
-        loops = closures(pm)
-        bodies, note = si_bodies(pm, params)
-        n = sum(len(lg.joints) for lg in pm.home_legs)
-        out.update({"urdf": urdf, "closures": side, "joints": n,
-                    "constraints": len(loops["constraints"]),
-                    "actuated_joints": loops["actuated_joints"], "length_unit": "m",
-                    "mass_unit": "kg", "massive_links": [b.name for b in bodies],
-                    "inertias": note})
-        n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
-        lines.append(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths "
-                     f"in m, masses in kg) and {side} ({len(loops['constraints'])} loop "
-                     f"closures, {loops['contact_type']}"
-                     + (f"; {n3} of them parallelogram loops, CONTACT_3D" if n3 else "") + ")")
-        lines.append(f"  inertias: {note}" + (f" ({len(bodies)} massive links)" if bodies
-                                              else ""))
+    # the MJCF first (it is the one with more to check: masses, motors), so that a failure
+    # writes nothing; a URDF failing after it takes the MJCF written away again
     if args.mjcf:
         info = write_mjcf(pm, args.mjcf, pose=pose or None, degrees=True,
                           params=params if params is not None else None,
                           massless=args.massless)
         out["mjcf"] = info
         shown = ", ".join(f"{k}={info['pose'][k]:.6g}" for k in pm.independent)
-        lines.append(f"wrote {info['path']} ({pm.name}: {info['joints']} joints, "
+        mjcf_line = (f"wrote {info['path']} ({pm.name}: {info['joints']} joints, "
                      f"{info['loops']} loop welds, {info['actuators']} motors; SI units; "
                      f"keyframe 0 at {shown}; masses: "
                      + ("none (--massless)" if args.massless else
                         f"{args.mass}" if args.mass else "the model's dynamics: block") + ")")
+    try:
+        if args.urdf:
+            urdf, side = write_urdf(pm, args.urdf, params)
+            loops = closures(pm)
+            bodies, note = si_bodies(pm, params)
+            n = sum(len(lg.joints) for lg in pm.home_legs)
+            out.update({"urdf": urdf, "closures": side, "joints": n,
+                        "constraints": len(loops["constraints"]),
+                        "actuated_joints": loops["actuated_joints"], "length_unit": "m",
+                        "mass_unit": "kg", "massive_links": [b.name for b in bodies],
+                        "inertias": note})
+            n3 = sum(c.get("contact_type") == "CONTACT_3D" for c in loops["constraints"])
+            lines.append(f"wrote {urdf} ({pm.name}: {len(pm.home_legs)} legs, {n} joints, lengths "
+                         f"in m, masses in kg) and {side} ({len(loops['constraints'])} loop "
+                         f"closures, {loops['contact_type']}"
+                         + (f"; {n3} of them parallelogram loops, CONTACT_3D" if n3 else "") + ")")
+            lines.append(f"  inertias: {note}" + (f" ({len(bodies)} massive links)" if bodies
+                                                  else ""))
+    except Exception:
+        if args.mjcf:
+            Path(args.mjcf).unlink(missing_ok=True)
+        raise
+    if args.mjcf:
+        lines.append(mjcf_line)
     if args.json:
         print(dump_json(out))
         return 0
@@ -99,7 +110,7 @@ def run(args) -> int:
 
 
 def _distinct_outputs(urdf, mjcf) -> None:
-    """The MJCF must not overwrite the URDF or its closures sidecar (written first)."""
+    """The MJCF must not overwrite the URDF or its closures sidecar."""
     from pathlib import Path
 
     u = Path(urdf).resolve()

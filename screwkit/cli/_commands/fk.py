@@ -32,7 +32,7 @@ def register(sub):
                        description=HELP, epilog=EPILOG,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     add_pm_arguments(p, pose=False)
-    p.add_argument("--actuators", metavar="q1=V,q2=V,...", required=True,
+    p.add_argument("--actuators", metavar="q1=V,q2=V,...", required=True, action="append",
                    help="actuated joint values from home (q<i>) or leg extensions (r<i>), "
                         "comma-separated or repeated")
     p.add_argument("--guess", metavar="NAME=VALUE", action="append", default=[],
@@ -55,7 +55,7 @@ def run(args) -> int:
 
     from ...api import assembly_modes, forward
     model = resolve_model(args)
-    act = actuators_of([args.actuators])
+    act = actuators_of(args.actuators)
     if args.seeds is not None and not args.all:
         raise InputError("--seeds is the number of starts of --all: add --all")
     if args.all:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...legs._guards import MAX_SEED
-from .._types import integer, output, path
+from .._types import figure, integer, path
 from ._common import dump_json, fmt_num, fmt_vec
 
 HELP = """Analyse one leg: a catalog variant by name (UPU/couple, RRPRR) or a bare leg
@@ -18,7 +18,7 @@ def register(sub):
     p.add_argument("--seed", type=integer(0, MAX_SEED), default=0,
                    help="seed of the generic geometry of a bare string (default 0)")
     p.add_argument("--model", type=path, help="a YAML file with extra leg types (same schema as the catalog)")
-    p.add_argument("--draw", metavar="FILE", type=output,
+    p.add_argument("--draw", metavar="FILE", type=figure,
                    help="also save a 3D drawing of the leg and its wrenches (PNG; needs "
                         "matplotlib)")
     p.set_defaults(func=run)

@@ -8,7 +8,7 @@ import sys
 from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
 from ._common import dump_json, fmt_num
-from .._types import integer, output, scheduler
+from .._types import figure, integer, output, scheduler
 from .analyze import (add_load_arguments, add_pm_arguments, parse_assignments, parse_load,
                       require_load)
 
@@ -106,7 +106,7 @@ def register(sub):
     add_map_arguments(p)
     p.add_argument("--out", metavar="FILE", type=output,
                    help="write the map: .nc (NetCDF), .zarr, .csv")
-    p.add_argument("--plot", metavar="PNG", type=output, help="draw heatmaps of --quantity")
+    p.add_argument("--plot", metavar="PNG", type=figure, help="draw heatmaps of --quantity")
     p.add_argument("--quantity", action="append", default=[],
                    help="what --plot draws: a variable (F_a1, T_r2, r1, condition_number, ...), "
                         "forces, constraints, conditioning or transmission (iti, oti, lti, "

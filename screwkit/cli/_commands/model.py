@@ -41,7 +41,9 @@ def register(sub):
     add_pm_arguments(w, pose=False)
     w.add_argument("--out", type=output, help="write it to this file instead of printing it")
     w.set_defaults(func=run_write)
-    p.set_defaults(func=lambda args: (p.print_help(), 1)[1])
+    p.set_defaults(func=lambda args: (p.print_help(), print(
+        "screwkit model: error: an action is needed (check, schema or write: listed above)",
+        file=sys.stderr), 2)[2])
 
 
 def run_write(args) -> int:

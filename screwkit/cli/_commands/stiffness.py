@@ -114,13 +114,19 @@ def run(args) -> int:
     else:
         _print(d, hint)
     cls = d["conditioning"]["class"]
-    if cls in ("near-singular", "singular") and not missing:
+    warned = cls in ("near-singular", "singular") and not missing
+    if warned:
         print(f"screwkit stiffness: warning: {cls} pose (normalised condition number "
               f"{d['conditioning']['condition_number']:.3g})" + (
                   ": unrestrained along " + "; ".join(x["description"] for x in
                                                       d["unrestrained"])
                   if d["unrestrained"] else ": the deflection is large and sensitive"),
               file=sys.stderr)
+    # the pose's own warnings, as analyze prints them (the efforts' trust level, the
+    # assembly mode, the side of the base), but the class said just above
+    for w in res.analysis.warnings:
+        if not (warned and w.startswith(f"{cls} pose:")):
+            print(f"screwkit stiffness: warning: {w}", file=sys.stderr)
     if missing:
         print(f"screwkit stiffness: error: {missing}", file=sys.stderr)
         return 2
@@ -135,7 +141,7 @@ def _print(d, hint) -> None:
     print(f"conditioning: {c['class']} (normalised condition number "
           f"{c['condition_number']:.3g}, as analyze)")
     print("row stiffnesses: " + ", ".join(
-        f"{r['label']} " + ("rigid" if r["rigid"] else f"{fmt_num(r['stiffness'])} {r['unit']}")
+        f"{r['label']} " + ("rigid" if r["rigid"] else f"{r['stiffness']:.6g} {r['unit']}")
         for r in d["rows"]))
     for n in d["notes"]:
         print(f"  note: {n}")
@@ -166,6 +172,6 @@ def _print(d, hint) -> None:
     for which, key, un in (("translational", "directions", u["principal"]["translational"]),
                            ("rotational", "axes", u["principal"]["rotational"])):
         p = d["principal"][which]
-        parts = [f"{fmt_num(k) if np.isfinite(k) else 'rigid'} along {fmt_vec(v, 4)}"
+        parts = [f"{format(k, '.6g') if np.isfinite(k) else 'rigid'} along {fmt_vec(v, 4)}"
                  for k, v in zip(p["stiffness"], np.asarray(p[key]))]
         print(f"principal {which} stiffness [{un}]: " + "; ".join(parts))

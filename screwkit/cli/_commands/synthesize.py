@@ -35,7 +35,8 @@ run on 2 local processes by default (--jobs), or on a Dask cluster with --worker
 --scheduler ADDRESS (for wider searches, --wide); the result equals the serial one. --write
 DIR writes each listed PM as a model YAML (a passive leg declared {leg: NAME, passive:
 true}), with the definitions of the leg types it uses that the packaged catalog lacks,
-that 'screwkit analyze DIR/FILE.yaml' reads."""
+that 'screwkit analyze DIR/FILE.yaml --force FX,FY,FZ --torque TX,TY,TZ' reads (a written
+model declares no workload: give the one to analyse, or add a 'workload:' block)."""
 
 EPILOG = """examples:
   screwkit synthesize 3T --limit 5

@@ -5,9 +5,9 @@ from __future__ import annotations
 import sys
 
 from ...errors import InputError
-from .._types import integer, label, output, scheduler
+from .._types import figure, integer, label, output, scheduler
 from .._progress import add_quiet_argument, progress_bar
-from ._common import dask_mapper, dump_json, emit_table
+from ._common import check_unit_labels, dask_mapper, dump_json, emit_table
 from .analyze import (add_load_arguments, add_pm_arguments, load_source, require_load,
                       resolve_model, workload_note)
 
@@ -48,10 +48,12 @@ def register(sub):
     p.add_argument("--units", choices=["model", "SI"], default="model",
                    help="units of the table (CSV header 'name [unit]', JSON units) and of "
                         "the plot: the model's (default) or SI (m, N, N.m; needs pint)")
-    p.add_argument("--plot", metavar="PNG", type=output, help="also draw the panels of the paper's Fig. 5")
+    p.add_argument("--plot", metavar="PNG", type=figure, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
-    p.add_argument("--length-unit", type=label(40), help="length unit printed on the plot (default: the model's)")
-    p.add_argument("--force-unit", type=label(40), help="force unit printed on the plot (default: the model's)")
+    p.add_argument("--length-unit", type=label(40),
+                   help="length unit printed on the plot, for a model that declares none (default: the model's)")
+    p.add_argument("--force-unit", type=label(40),
+                   help="force unit printed on the plot, for a model that declares none (default: the model's)")
     p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="form the rows and statics of the path's chunks on a local Dask cluster "
                         "of N worker processes (127.0.0.1; needs screwkit[dask]); the closures "
@@ -102,6 +104,7 @@ def run(args) -> int:
                              "not with --units SI")
         from ...engine._report import output_scales
         output_scales(model, table_units)         # fail before a long run, not after it
+    check_unit_labels(model, args.length_unit, args.force_unit)
     if getattr(args, "dynamics", False):
         from ._dynamics_args import run_dynamics
         with progress_bar(args, "dynamics", "step") as progress:

@@ -104,8 +104,12 @@ def run(args) -> int:
             v = view(model, pose or None, grid=_grid(args.grid, model.independent),
                      steps=args.steps, force=force, torque=torque, degrees=True,
                      title=args.title, progress=progress)
-    written = v.write_html(args.html)
     sc = v.scene
+    if all(s.level == "unreachable" for s in sc.states):     # (a page with nothing drawn)
+        raise InputError(f"none of the {len(sc.states)} poses of the view is reachable: centre "
+                         "it on a reachable pose (--pose, or a path that passes through "
+                         "reachable poses)")
+    written = v.write_html(args.html)
     shot = None
     if args.png:
         from ...scene import screenshot
