@@ -3,7 +3,15 @@ runs the tutorial), and say what they wrote."""
 
 from __future__ import annotations
 
+import os
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
 import pytest
+
+import screwkit
 
 from screwkit.cli import COMMANDS, main
 
@@ -102,3 +110,16 @@ def test_a_view_with_no_reachable_pose_is_refused(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "none of the 729 poses of the view is reachable" in err
     assert not page.exists()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+@pytest.mark.parametrize("redirect", ["> /dev/full", ">&-"])
+def test_an_output_that_cannot_be_written_is_one_line_exit_2(redirect):
+    # a full disk or a closed standard output: the system's error, said in one line (not an
+    # internal error, exit 3, nor a traceback)
+    cmd = f"{shlex.quote(sys.executable)} -m screwkit catalog {redirect}"
+    proc = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": str(Path(screwkit.__file__).parents[1])})
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("screwkit")
+    assert "Traceback" not in proc.stderr and "internal error" not in proc.stderr

@@ -49,6 +49,13 @@ def test_catalog_and_models_validate(path):
     assert not errors, "\n".join(errors)
 
 
+def test_model_check_passes_the_packaged_catalog(capsys):
+    # its file-wide units apply to the PMs that declare none, as the loader applies them
+    assert check_model_file(catalog_path()) == []
+    assert main(["model", "check", str(catalog_path())]) == 0
+    assert "valid" in capsys.readouterr().out
+
+
 def test_docs_model_blocks_validate():
     """The YAML blocks of the docs that define legs or PMs are valid model files too."""
     v = _validator()

@@ -226,6 +226,34 @@ def test_singular_sample_is_flagged_and_the_run_continues():
     assert res.flagged.tolist() == [False, False, True, False, False]
 
 
+def test_samples_past_a_singular_surface_and_of_low_trust_say_so():
+    # the path of the previous test: the samples past the singularity have det J of the
+    # other sign than home's (numpy's determinant of each sample's J), and those whose
+    # efforts exceed five times the load (their amplification, recomputed here from F_a
+    # and the load) say their trust level
+    model = screwkit.load_pm("2SPS+2SPR")
+    s = brentq(lambda x: _paper_det_2sps2spr(model, x), 6.0, 10.0, xtol=1e-14, rtol=1e-15)
+    ang = np.radians([s - 1.0, s - 0.5, s - 0.05, s + 0.05, s + 0.5, s + 1.0])
+    path = PathSpec(np.arange(6.0), {"alpha": ang, "beta": np.zeros(6), "gamma": ang,
+                                     "Zo": np.full(6, 80.0)})
+    res = run_trajectory(model, path, **PAPER_LOAD)
+    home = screwkit.analyze(model, {"alpha": 0.0, "beta": 0.0, "gamma": 0.0, "Zo": 80.0},
+                            **PAPER_LOAD)
+    sign0 = np.sign(np.linalg.det(home.jacobian.matrix))
+    signs = np.sign(np.linalg.det(res.analysis.jacobian.matrix))
+    assert (signs != sign0).tolist() == [False, False, False, True, True, True]
+    for i in range(6):
+        assert ("beyond a singular surface" in res.message[i]) == bool(signs[i] != sign0)
+    F, T = np.array(PAPER_LOAD["force"]), np.array(PAPER_LOAD["torque"])
+    L = res.analysis.jacobian.conditioning.length
+    size = np.sqrt(F @ F + (T @ T) / L ** 2)
+    amp = np.max(np.abs(res.active), axis=1) / size
+    for i in range(6):
+        if res.status[i] == "ok" and amp[i] > 5.0:
+            assert "trust level near-singular" in res.message[i]
+    assert amp[2] > 5.0 and amp[3] > 5.0             # (the two nearest the singularity)
+
+
 def test_unreachable_samples_are_flagged_and_the_run_recovers(tmp_path):
     model = screwkit.load_pm("3RRPRR")
     f = tmp_path / "p.csv"

@@ -50,6 +50,10 @@ def _one_line(exc, limit: int = 2000) -> str:
 def main(argv=None) -> int:
     from ._types import UsageError
 
+    if sys.stdout is None:                  # (started with its output closed: ``>&-``)
+        if sys.stderr is not None:
+            print("screwkit: error: the standard output is closed", file=sys.stderr)
+        return 2
     words = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
     try:
@@ -77,6 +81,11 @@ def main(argv=None) -> int:
         return 2
     except BrokenPipeError:  # e.g. piped into head
         return 0
+    except OSError as exc:    # the system's, not a bug: a full disk, a closed output...
+        print(f"screwkit {args.command}: error: {exc.strerror or type(exc).__name__}"
+              + (f": {exc.filename}" if exc.filename else "")
+              + " (writing or reading a file or the output)", file=sys.stderr)
+        return 2
     except Exception as exc:  # a bug: still one line, but say so (SCREWKIT_DEBUG=1 re-raises)
         import os
         if os.environ.get("SCREWKIT_DEBUG"):
@@ -101,9 +110,18 @@ def run(argv=None):
     distributed client), the process ends at once."""
     code = main(argv)
     try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except (OSError, ValueError):
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:
+                stream.flush()
+    except OSError as exc:                   # (the output's last bytes could not be written)
+        if code == 0 and sys.stderr is not None:
+            try:
+                print(f"screwkit: error: {exc.strerror or exc} (writing the output)",
+                      file=sys.stderr)
+            except (OSError, ValueError):
+                pass
+        sys.exit(code or 2)
+    except ValueError:
         sys.exit(code)
     if _nothing_pending():
         os._exit(code)

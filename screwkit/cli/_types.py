@@ -98,6 +98,17 @@ def _figure(text):
 figure = argtype(_figure, "figure")
 
 
+def _png(text):
+    s = _output(text)
+    if not s.lower().endswith(".png"):
+        raise InputError(f"{shorten(s)}: a screenshot's file name ends in .png")
+    return s
+
+
+#: A PNG screenshot to write (checked before any work).
+png = argtype(_png, "png")
+
+
 class UsageError(Exception):
     """A command-line usage error: ``line`` is its one-line message (exit status 2)."""
 

@@ -255,7 +255,7 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
         raise InputError("give the workloads or force/torque, not both")
     if workloads is None:                  # given (one alone: the other zero), else declared
         F, T, source = workload(base, force, torque)
-        loads = [("force/torque" if source == "given" else source, F, T)]
+        loads = [(source, F, T)]
     else:
         loads = [(str(n),) + tuple(workload(base, f, t)[:2]) for n, f, t in workloads]
         if not 1 <= len(loads) <= 1000:

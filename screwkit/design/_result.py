@@ -45,7 +45,9 @@ def _task(prob) -> dict:
                           for k, v in g.coords.items()}}
     return {**cells, "fixed": dict(g.fixed), "units": unit, "cells": t.cells,
             "workloads": [{"name": n, "force": np.asarray(F).tolist(),
-                           "torque": np.asarray(T).tolist()} for n, F, T in t.loads],
+                           "torque": np.asarray(T).tolist(), "applied_at": "o",
+                           "force_unit": prob.base.units.force,
+                           "torque_unit": prob.base.units.torque} for n, F, T in t.loads],
             "max_level": ("ok", "ill-conditioned", "near-singular")[t.max_level],
             "lti_threshold": t.lti_threshold, "box_volume": t.box_volume}
 

@@ -189,14 +189,25 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
     message = []
     notes = [p.solution.notes if not p.solution.single else (p.solution.notes,) for p in parts]
     flat_notes = [x for group in notes for x in group]
+    # the trust level of the efforts and the assembly mode, as analyze warns of them
+    level = col(lambda p: np.atleast_1d(p.level))
+    amp = col(lambda p: np.atleast_1d(p.quality.amplification))
+    beyond = col(lambda p: np.atleast_1d(p.quality.beyond_singular_surface))
     for i in range(N):
         msg = []
         if not reach[i]:
-            msg.append(f"unreachable: closure residual {resid[i]:.3g}")
+            if resid[i] > CONVERGED:          # (else a note says why: a reversed actuator)
+                msg.append(f"unreachable: closure residual {resid[i]:.3g}")
         elif sing_mask[i]:
             msg.append(f"{kinds_arr[i]} singularity (condition number {cond[i]:.3g})")
         elif cls[i] == "near-singular":
             msg.append(describe_class("near-singular", cond[i]))
+        if reach[i] and not sing_mask[i] and level[i] != cls[i].replace("regular", "ok") \
+                and level[i] in ("ill-conditioned", "near-singular"):
+            msg.append(f"trust level {level[i]}: efforts up to {amp[i]:.3g} times the load")
+        if reach[i] and beyond[i]:
+            msg.append("beyond a singular surface from home (det J's sign opposite to home's: "
+                       "another assembly mode)")
         if reach[i] and resid[i] > CONVERGED:
             msg.append(f"not converged: closure residual {resid[i]:.3g}")
         msg += [t for t in flat_notes[i] if "taken from the default pose" not in t]

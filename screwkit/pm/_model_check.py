@@ -221,6 +221,9 @@ def check_model_file(path, load=None) -> list:
                                      d.get("expect")):
                 problems.append(_from_error(exc, text, "leg"))   # the other joints' rules
     pms = data.get("pms") if isinstance(data.get("pms"), dict) else {}
+    if data.get("units") is not None:    # the file's units, for each PM without its own
+        pms = {k: ({"units": data["units"], **v} if isinstance(v, dict) else v)
+               for k, v in pms.items()}
     if not pms and not legs and not problems:
         problems.append(Problem(None, None, None, "the file defines neither legs: nor pms:",
                                 "schema"))

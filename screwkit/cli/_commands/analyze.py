@@ -37,6 +37,9 @@ def parse_assignments(items, what: str, *, bound: float | None = None) -> dict:
                              "or row label such as L, alpha, F_a1)")
         if name in out:
             raise InputError(f"{what} {name} is given twice")
+        if "," in val and "=" in val:       # alpha=5,beta=2: a list where one is taken
+            raise InputError(f"{what} {shorten(item)}: one NAME=VALUE each; repeat {what} for "
+                             "each value")
         out[name] = parse_number(val, f"{what} {name}", bound=bound)
     return out
 

@@ -36,9 +36,11 @@ def register(sub):
     p.add_argument("--joint-labels", action="store_true", help="label every joint")
     p.add_argument("--title", type=label(), help="figure title (default: PM, pose and workload)")
     p.add_argument("--length-unit", type=label(40),
-                   help="length unit printed, for a model that declares none (default: the model's)")
+                   help="length unit printed, for a model that declares none (default: "
+                        "the model's)")
     p.add_argument("--force-unit", type=label(40),
-                   help="force unit printed, for a model that declares none (default: the model's)")
+                   help="force unit printed, for a model that declares none (default: "
+                        "the model's)")
     p.add_argument("--dpi", type=integer(20, 1200), default=150, help="resolution (default 150)")
     p.set_defaults(func=run)
 

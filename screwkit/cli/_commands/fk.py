@@ -65,7 +65,11 @@ def run(args) -> int:
         out = res.to_dict()
         sols = res.solutions
     else:
+        from ...legs._guards import MAX_ANGLE_DEG
         guess = parse_assignments(args.guess, "--guess") or None
+        for k, v in (guess or {}).items():       # (said in degrees, as given)
+            if k in ("alpha", "beta", "gamma") and abs(v) > MAX_ANGLE_DEG:
+                raise InputError(f"--guess {k} = {v:g} deg is beyond +-{MAX_ANGLE_DEG:g} deg")
         if guess:
             from ...engine import LENGTH_PARAMS
             guess = {k: (v if k in LENGTH_PARAMS else np.radians(v)) for k, v in guess.items()}

@@ -196,13 +196,13 @@ def run(args) -> int:
         raise InputError(f"--quantity {', '.join(quantities)}: {model.name} declares no "
                          "workload: give --force FX,FY,FZ and/or --torque TX,TY,TZ for its forces")
     ds = map_in_units(ds, units)
-    if args.out:
-        write(ds, args.out)
-        print(f"wrote {args.out}", file=sys.stderr)
-    if args.plot:
+    if args.plot:      # (first: a --quantity or --at it refuses leaves no --out file behind)
         plot_map(ds, args.plot, quantities,
                  at=parse_assignments(args.at, "--at"))
         print(f"wrote {args.plot}", file=sys.stderr)
+    if args.out:
+        write(ds, args.out)
+        print(f"wrote {args.out}", file=sys.stderr)
     s = summary(ds, args.lti_threshold)
     if args.json:
         print(dump_json(s))

@@ -10,8 +10,8 @@ import numpy as np
 
 from ...errors import InputError
 from .._progress import progress_bar
-from .._types import path
-from ._common import dump_json, fmt_num
+from .._types import figure, path
+from ._common import dump_json, fmt_num, fmt_vec
 from .map import add_map_arguments, grid_of, map_keywords
 
 HELP = """Dimensional synthesis: vary dimensions of a PM (--vary NAME=LOW:HIGH, model lengths,
@@ -65,7 +65,7 @@ def register(sub):
                    help="population per varied dimension (default 10)")
     p.add_argument("--no-polish", action="store_true",
                    help="one objective: skip the Nelder-Mead polish of the best design")
-    p.add_argument("--plot", metavar="PNG", help="draw the search (one objective) or the "
+    p.add_argument("--plot", metavar="PNG", type=figure, help="draw the search (one objective) or the "
                    "Pareto front (two or more: the first two)")
     p.add_argument("--write", metavar="FILE.yaml", help="write the best design as a model file")
     p.set_defaults(func=run)
@@ -146,6 +146,9 @@ def print_text(res) -> None:
     print(f"optimize {res.pm}: {senses}")
     print(f"  task: {t['cells']} cells ({where}" + (f"; fixed {fixed}" if fixed else "")
           + f"), {len(t['workloads'])} workload(s), cells of level {t['max_level']} or better")
+    for w in t["workloads"]:          # (which loads the forces below are of, in which units)
+        print(f"  workload {w['name']}: F = {fmt_vec(w['force'])} {w['force_unit']}, "
+              f"T = {fmt_vec(w['torque'])} {w['torque_unit']} at o")
     print("  varied: " + ", ".join(f"{k} in {lo:g}..{hi:g} {u['length']}"
                                    for k, (lo, hi) in res.vary.items())
           + ("; constraints " + ", ".join(f"{n}{op}{v:g}" for n, op, v in res.constraints)

@@ -71,6 +71,7 @@ def run(args) -> int:
         res = size(model, grid, workloads=loads, max_level=args.max_level, **kw)
     from ...maps import sizing_in_units
     res = sizing_in_units(res, units)
+    _warn_singular_surface(res)
     if args.json:
         print(dump_json(res.to_dict()))
         return 0
@@ -108,3 +109,22 @@ def run(args) -> int:
             continue
         print(f"  {r['name']:<6} {fmt_num(r['min']):>12} .. {fmt_num(r['max']):<12} {r['unit']}")
     return 0
+
+
+def _warn_singular_surface(res) -> None:
+    """Say so where the task's cells lie on both sides of a singular surface (det J of both
+    signs) or on it: the efforts between cells grow without bound there, and the maxima are
+    those of the cells only."""
+    import numpy as np
+    ds = res.dataset
+    if ds is None or "det_sign" not in ds:
+        return
+    det = np.asarray(ds["det_sign"].values).ravel()
+    sing = int(np.sum(np.asarray(ds["singular"].values))) if "singular" in ds else 0
+    home = int(ds.attrs.get("home_det_sign", 0))
+    other = int(np.sum((det != 0) & (det != home))) if home else 0
+    if other or sing:
+        print(f"screwkit size: warning: the task's cells include {other} beyond a singular "
+              f"surface from home (det J of the other sign) and {sing} singular: between "
+              "them the efforts grow without bound, and the maxima are the cells' only (see "
+              "screwkit map's singular locus)", file=sys.stderr)

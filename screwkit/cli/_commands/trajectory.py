@@ -51,9 +51,11 @@ def register(sub):
     p.add_argument("--plot", metavar="PNG", type=figure, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
     p.add_argument("--length-unit", type=label(40),
-                   help="length unit printed on the plot, for a model that declares none (default: the model's)")
+                   help="length unit printed on the plot, for a model that declares none "
+                        "(default: the model's)")
     p.add_argument("--force-unit", type=label(40),
-                   help="force unit printed on the plot, for a model that declares none (default: the model's)")
+                   help="force unit printed on the plot, for a model that declares none "
+                        "(default: the model's)")
     p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="form the rows and statics of the path's chunks on a local Dask cluster "
                         "of N worker processes (127.0.0.1; needs screwkit[dask]); the closures "
@@ -68,10 +70,17 @@ def register(sub):
 
 
 def _format(args) -> str:
+    """The table's format: ``--format``, else the ``--out`` suffix (.csv or .json), else
+    csv; another suffix without ``--format`` is an error (a .parquet is not written as CSV
+    silently)."""
     if args.format:
         return args.format
-    if args.out and args.out.lower().endswith(".json"):
-        return "json"
+    if args.out:
+        suffix = args.out.lower().rsplit(".", 1)[-1] if "." in args.out else ""
+        if suffix in ("json", "csv"):
+            return suffix
+        raise InputError(f"--out {args.out!r}: the table is written as .csv or .json (give "
+                         "--format csv or json for another file name)")
     return "csv"
 
 
@@ -136,6 +145,23 @@ def run(args) -> int:
     if c["near-singular"]:
         print(f"screwkit trajectory: {c['near-singular']} near-singular of {len(res)} samples "
               "(status column; efforts there are large and sensitive)", file=sys.stderr)
+    an = res.analysis
+    if an is not None:
+        import numpy as np
+        # the efforts' trust level and the assembly mode, as analyze warns of them (message
+        # column): a path can cross a singular surface between two regular samples
+        trust = int(np.sum((np.asarray(an.level) == "near-singular")
+                           & (np.asarray(an.conditioning) == "regular")))
+        beyond = int(np.sum(np.asarray(an.quality.beyond_singular_surface)))
+        if trust:
+            print(f"screwkit trajectory: {trust} of {len(res)} samples at trust level "
+                  "near-singular though regular (efforts over 5 times the load; message "
+                  "column)", file=sys.stderr)
+        if beyond:
+            print(f"screwkit trajectory: {beyond} of {len(res)} samples beyond a singular "
+                  "surface from home (det J's sign opposite to home's: the path crosses "
+                  "an actuation singularity; message column)",
+                  file=sys.stderr)
     if c["singular"] or c["unreachable"]:
         print(f"screwkit trajectory: {c['singular']} singular and {c['unreachable']} unreachable "
               f"of {len(res)} samples (status column; their statics are NaN)", file=sys.stderr)

@@ -8,7 +8,7 @@ import sys
 
 from ...errors import InputError
 from .._progress import add_quiet_argument, progress_bar
-from .._types import integer, label, output
+from .._types import integer, label, output, png
 from ._common import dump_json
 from .analyze import add_load_arguments, add_pm_arguments, parse_assignments, parse_load, \
     resolve_model
@@ -50,7 +50,7 @@ def register(sub):
     add_load_arguments(p)
     p.add_argument("--html", type=output, required=True, metavar="OUT.html",
                    help="the page to write")
-    p.add_argument("--png", type=output, metavar="OUT.png",
+    p.add_argument("--png", type=png, metavar="OUT.png",
                    help="also a screenshot of the page in headless Chromium (needs playwright "
                         "and a Chromium on the PATH)")
     p.add_argument("--frame", type=integer(0, 1 << 20), metavar="K",
