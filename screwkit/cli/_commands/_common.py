@@ -145,6 +145,16 @@ def emit_table(out, text: str) -> None:
         sys.stdout.write(text)
 
 
+def add_unit_label_arguments(p, where: str) -> None:
+    """``--length-unit`` and ``--force-unit``: the units printed ``where`` (a figure) for a
+    model that declares none (:func:`check_unit_labels`)."""
+    from .._types import label
+    for unit in ("length", "force"):
+        p.add_argument(f"--{unit}-unit", type=label(40),
+                       help=f"{unit} unit printed {where}, for a model that declares none "
+                            "(default: the model's)")
+
+
 def check_unit_labels(model, length_unit, force_unit) -> None:
     """``--length-unit`` / ``--force-unit`` name the units of a model that declares none (a
     label, not a conversion): one of the known units, and, where the model declares its

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...legs._guards import MAX_ANGLE_DEG, parse_number, shorten
 from .._types import figure, integer, label
-from ._common import check_unit_labels
+from ._common import add_unit_label_arguments, check_unit_labels
 from ...errors import InputError
 from .analyze import (add_load_arguments, add_pm_arguments, load_source, parse_assignments,
                       require_load,
@@ -35,12 +35,7 @@ def register(sub):
                         "A_i, a_i or o hides behind a leg)")
     p.add_argument("--joint-labels", action="store_true", help="label every joint")
     p.add_argument("--title", type=label(), help="figure title (default: PM, pose and workload)")
-    p.add_argument("--length-unit", type=label(40),
-                   help="length unit printed, for a model that declares none (default: "
-                        "the model's)")
-    p.add_argument("--force-unit", type=label(40),
-                   help="force unit printed, for a model that declares none (default: "
-                        "the model's)")
+    add_unit_label_arguments(p, "on the drawing")
     p.add_argument("--dpi", type=integer(20, 1200), default=150, help="resolution (default 150)")
     p.set_defaults(func=run)
 

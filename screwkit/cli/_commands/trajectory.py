@@ -7,7 +7,8 @@ import sys
 from ...errors import InputError
 from .._types import figure, integer, label, output, scheduler
 from .._progress import add_quiet_argument, progress_bar
-from ._common import check_unit_labels, dask_mapper, dump_json, emit_table
+from ._common import (add_unit_label_arguments, check_unit_labels, dask_mapper,
+                      dump_json, emit_table)
 from .analyze import (add_load_arguments, add_pm_arguments, load_source, require_load,
                       resolve_model, workload_note)
 
@@ -50,12 +51,7 @@ def register(sub):
                         "the plot: the model's (default) or SI (m, N, N.m; needs pint)")
     p.add_argument("--plot", metavar="PNG", type=figure, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
-    p.add_argument("--length-unit", type=label(40),
-                   help="length unit printed on the plot, for a model that declares none "
-                        "(default: the model's)")
-    p.add_argument("--force-unit", type=label(40),
-                   help="force unit printed on the plot, for a model that declares none "
-                        "(default: the model's)")
+    add_unit_label_arguments(p, "on the plot")
     p.add_argument("--workers", type=integer(1, 64), metavar="N",
                    help="form the rows and statics of the path's chunks on a local Dask cluster "
                         "of N worker processes (127.0.0.1; needs screwkit[dask]); the closures "
