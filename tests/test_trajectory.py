@@ -390,3 +390,26 @@ def test_bad_inputs_raise_input_errors(models, kwargs, piece):
     args = {"path": good, **kwargs}
     with pytest.raises(InputError, match=piece.replace("(", r"\(")):
         run_trajectory(models["3RRPRR"], args.pop("path"), **args)
+
+
+def test_an_indeterminate_pms_least_norm_values_are_marked():
+    # 4UPU: eight rows for six freedoms, J^T has a null space of two: a row is determined by
+    # statics exactly where no vector of that null space (numpy's SVD here) loads it; the
+    # others are the least-norm choice, and each sample's message names them
+    model = screwkit.load_pm("4UPU")
+    d = model.default_pose
+    t = np.linspace(0.0, 1.0, 4)
+    path = PathSpec(t, {k: d[k] + (0.02 * t if k == "gamma" else 0.0 * t)
+                        for k in model.independent})
+    res = run_trajectory(model, path, force=[0.0, 0.0, -1.0], torque=[0.1, 0.0, 0.0])
+    labels = [r.label for r in res.analysis.jacobian.info]
+    for i in range(len(t)):
+        J = res.analysis.jacobian.matrix[i]
+        _, sv, Vt = np.linalg.svd(J.T)
+        null = Vt[int(np.sum(sv > 1e-9 * sv[0])):]                 # (8 - rank, 8)
+        free = [lab for lab, v in zip(labels, np.abs(null).max(axis=0)) if v > 1e-9]
+        assert free and list(np.array(labels)[~res.determined[i]]) == free
+        assert res.message[i].endswith("not determined by statics (the least-norm "
+                                       f"choice): {', '.join(free)}")
+    d = json.loads(dump_json(res.to_dict()))
+    assert d["determined"]["constraint"][0] == res.determined[0, 4:].tolist()

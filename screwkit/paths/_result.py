@@ -285,6 +285,10 @@ class TrajectoryResult:
             "equilibrium_residual": self.equilibrium_residual,
             "message": self.message.tolist(),
         }
+        if self.determined is not None:     # False: the least-norm choice, not statics'
+            nact = len(self.actuated)
+            out["determined"] = {"active": np.asarray(self.determined)[:, :nact],
+                                 "constraint": np.asarray(self.determined)[:, nact:]}
         if self.resultant_force is not None:
             out["constraint_resultant"] = {
                 "force": self.resultant_force * kf, "moment": self.resultant_moment * kt,

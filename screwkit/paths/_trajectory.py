@@ -224,6 +224,12 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
     row_legs = np.array([r.leg for r in info])
     res_det = np.stack([det[:, cons_rows & (row_legs == i)].all(axis=1) for i in range(n)],
                        axis=1)
+    # a statically indeterminate PM's least-norm values: said per sample, as analyze marks them
+    row_labels = [r.label for r in info]
+    for i in np.flatnonzero(~det.all(axis=1)):
+        free = ", ".join(lab for lab, d in zip(row_labels, det[i]) if not d)
+        note = f"not determined by statics (the least-norm choice): {free}"
+        message[i] = f"{message[i]}; {note}" if message[i] else note
     res_f, res_m = constraint_resultants(conw, _base_points(parts[0], n))
     out = {
         "status": status.astype(str), "extensions": ext, "actuator_values": act_v,
