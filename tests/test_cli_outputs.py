@@ -123,3 +123,18 @@ def test_an_output_that_cannot_be_written_is_one_line_exit_2(redirect):
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("screwkit")
     assert "Traceback" not in proc.stderr and "internal error" not in proc.stderr
+
+
+@pytest.mark.parametrize("argv, piece", [
+    (["map", "3RRPRR", "--grid", "alpha=-10:10:1", "--grid", "Zo=70:90:3"],
+     "one value cannot span -10 to 10"),
+    (["map", "3RRPRR", "--grid", "alpha=-10:10:3", "--grid", "beta=-3:3:3", "--grid",
+      "Zo=70:90:3", "--plot", "PNG", "--at", "Zo=1000"], "--at Zo=1000: outside the map's Zo"),
+    (["synthesize", "3T", "--passive", "--no-passive"], "not allowed with argument --passive"),
+])
+def test_contradictory_or_out_of_range_choices_are_refused(argv, piece, tmp_path, capsys):
+    argv = [str(tmp_path / "m.png") if a == "PNG" else a for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and piece in err
+    assert list(tmp_path.iterdir()) == []

@@ -85,7 +85,13 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     if len(dims) == 3:
         d = next((d for d in dims if d in at), dims[-1])
         v = at.get(d, float(ds[d].values[len(ds[d]) // 2]))
-        k = int(np.argmin(np.abs(ds[d].values - v)))
+        grid = ds[d].values
+        step = float(np.max(np.abs(np.diff(grid)))) if len(grid) > 1 else 0.0
+        if d in at and not grid.min() - step / 2 <= v <= grid.max() + step / 2:
+            unit = ds[d].attrs.get("units", "")
+            raise InputError(f"--at {d}={v:g}: outside the map's {d} ({grid.min():g} .. "
+                             f"{grid.max():g}{' ' + unit if unit else ''})")
+        k = int(np.argmin(np.abs(grid - v)))
         sel[d] = k
         note.append(f"{d} = {float(ds[d].values[k]):.6g} {ds[d].attrs.get('units', '')}")
     sub = ds.isel(sel)

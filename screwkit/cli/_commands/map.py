@@ -78,6 +78,9 @@ def grid_of(args) -> dict:
         if args.samples is None and len(rng) != 3:
             raise InputError(f"--grid {g!r}: a grid needs START:STOP:COUNT (LOW:HIGH is a "
                              "--samples box)")
+        if args.samples is None and rng[2] == 1 and rng[0] != rng[1]:
+            raise InputError(f"--grid {g!r}: one value cannot span {rng[0]:g} to {rng[1]:g}: "
+                             f"give a COUNT of 2 or more, or --fix {name}=VALUE")
         if args.samples is not None and len(rng) != 2:
             raise InputError(f"--grid {g!r}: with --samples give the box NAME=LOW:HIGH")
         out[name] = rng

@@ -58,10 +58,11 @@ def register(sub):
                    help="list only the K best ranked")
     p.add_argument("--symmetric", action="store_true",
                    help="only symmetric PMs (all legs of one type)")
-    p.add_argument("--passive", action="store_true",
-                   help="also PMs with one passive constraining leg (the default)")
-    p.add_argument("--no-passive", action="store_true",
-                   help="no PMs with a passive leg (a central column or a catalog leg type)")
+    both = p.add_mutually_exclusive_group()      # (the one or the other: never both)
+    both.add_argument("--passive", action="store_true",
+                      help="also PMs with one passive constraining leg (the default)")
+    both.add_argument("--no-passive", action="store_true",
+                      help="no PMs with a passive leg (a central column or a catalog leg type)")
     p.add_argument("--model", type=path, default=None, metavar="FILE",
                    help="add the leg types of a model file (its 'legs:' list) to the pool")
     p.add_argument("--no-generate", action="store_true",
