@@ -240,10 +240,10 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
     some = lines_.reversed(c.X).any(axis=1)
     if not some.any():
         return comp
-    rev = reversed_legs(model, c.X)
     bad = np.flatnonzero(some & (np.asarray(c.residual) <= ACCEPTED))
     if not bad.size:
         return comp
+    rev = reversed_legs(model, c.X[:, bad])          # (the legs of those poses only)
     ch = c.chains
     fx = {k: v[bad] for k, v in c.fixed.items()}
     sub_side = None if side is None else np.asarray(side)[bad]
@@ -272,8 +272,8 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
     if not still.size:
         return comp
     diag = dict(comp.diagnostics or {})
-    flagged = np.zeros_like(rev)
-    flagged[still] = rev[still]
+    flagged = np.zeros((len(c.residual), rev.shape[1]), bool)
+    flagged[still] = rev[~done]
     diag["reversed_legs"] = flagged
     return comp._replace(closures=dataclasses.replace(c, reversed=flagged.any(axis=1)),
                          diagnostics=diag)
