@@ -138,3 +138,28 @@ def test_contradictory_or_out_of_range_choices_are_refused(argv, piece, tmp_path
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and piece in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_json_keeps_undefined_and_infinite_apart(capsys):
+    """docs/conventions.md: NaN is null, an infinity the string "inf"; never a bare NaN or
+    Infinity token.  3RPS with only its actuators compliant: its constraint rows are rigid,
+    so three principal stiffnesses are infinite (a 3RPS has three constraint forces)."""
+    import json
+
+    from screwkit.cli import main
+    from screwkit.cli._commands._common import to_jsonable
+    assert to_jsonable([float("nan"), float("inf"), -float("inf"), 1.5]) == [None, "inf", "-inf", 1.5]
+    assert main(["stiffness", "3RPS", "--k-actuator", "2000", "--force", "0,0,-1", "--json"]) == 0
+    text = capsys.readouterr().out
+
+    def refuse(token):
+        raise AssertionError(f"bare {token} in the JSON")
+
+    out = json.loads(text, parse_constant=refuse)
+    rows = out["rows"]
+    assert [r["label"] for r in rows if r["stiffness"] == "inf"] == \
+        [r["label"] for r in rows if r["rigid"]] == [r["label"] for r in rows[3:]]
+    assert all(r["stiffness"] == 2000 for r in rows[:3])
+    # a rigid row system leaves rigid directions: an infinite principal stiffness among them
+    p = out["principal"]
+    assert "inf" in p["translational"]["stiffness"] + p["rotational"]["stiffness"]

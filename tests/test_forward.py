@@ -205,3 +205,58 @@ def test_cli_fk(capsys):
     assert out["count"] >= 2 and {s["det_sign"] for s in out["solutions"]} == {-1, 1}
     assert main(["fk", "3RPS", "--actuators", "r1=60"]) == 2
     assert "no value for" in capsys.readouterr().err
+
+
+def test_fk_modes_at_a_representation_singularity_are_poses_or_say_why():
+    """3RRPRR at its home actuator values: every listed mode is confirmed by the analysis or,
+    at beta = 0 where no split of alpha + gamma is reached, said to close unconfirmed; such a
+    pose is checked here against home's geometry alone (each leg's actuated P joint carries
+    its length |a_i - A_i|, so at q = 0 every leg has its home extension)."""
+    pm = screwkit.load_pm("3RRPRR")
+    home = screwkit.solve(pm, {k: pm.home_pose[k] for k in pm.independent})
+    A, a0 = home.base_points, home._platform[2][0]
+    R0, o0 = home._platform[0][0], home._platform[1][0]
+    local = (a0 - o0) @ R0                       # the platform points in the platform frame
+    modes = screwkit.assembly_modes(pm, {"q1": 0.0, "q2": 0.0, "q3": 0.0}, seeds=1000)
+    sols = modes.solutions
+    assert np.all(sols.success | sols.unsplit)
+    L = pm.normalisation.length
+    for i in np.flatnonzero(sols.unsplit):
+        R, o = sols.rotation[i], sols.position[i]
+        a = local @ R.T + o
+        assert np.allclose(np.linalg.norm(a - A, axis=1), home.extensions, atol=1e-9 * L)
+        assert abs(R[0, 0] - 1.0) < 1e-12            # a turn about x: beta = 0 (XYX)
+        assert sols.to_dict(i)["closed_unconfirmed"]
+    # a guess a full turn away finds home itself, confirmed
+    fk = screwkit.forward(pm, [0.0, 0.0, 0.0], {"alpha": 2 * np.pi})
+    assert fk.success[0] and np.allclose(fk.rotation[0], np.eye(3), atol=1e-9)
+    assert np.allclose(fk.position[0], o0, atol=1e-9 * L)
+
+
+def test_cli_fk_all_lists_unconfirmed_modes_and_succeeds(capsys):
+    from screwkit.cli import main
+    assert main(["fk", "3RRPRR", "--actuators", "q1=0,q2=0,q3=0", "--all", "--seeds", "300"]) == 0
+    out = capsys.readouterr().out
+    assert "the working mode's sign pattern" in out
+    assert main(["fk", "3RRPRR", "--actuators", "q1=0,q2=0,q3=0", "--guess", "alpha=360"]) == 0
+
+
+def test_fk_all_says_when_singular_solutions_form_a_continuum(capsys):
+    """3SPR at its home actuator values: besides home and its mirror, the seeds land on a
+    continuum of singular poses (the platform turned about 90 deg, J rank-deficient): the
+    text lists a few and says what they are; --json keeps them all and counts them."""
+    import json
+
+    from screwkit.cli import main
+    from screwkit.cli._commands.fk import SINGULAR_SHOWN
+    args = ["fk", "3SPR", "--actuators", "q1=0,q2=0,q3=0", "--all", "--seeds", "400"]
+    assert main(args + ["--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    conds = [s["condition_number"] for s in out["solutions"]]
+    singular = sum(1 for c in conds if c > 1e12)    # J's own condition, not the label
+    assert singular > SINGULAR_SHOWN and out["singular_count"] == singular
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert f"{singular} of them singular" in text and "continuum" in text
+    assert text.count("(singular)") == SINGULAR_SHOWN
+    assert text.count("(regular)") == out["count"] - singular

@@ -320,3 +320,34 @@ def test_workloads_files_name_only_loads_once_each(tmp_path):
     good = tmp_path / "good.csv"
     good.write_text("name,Fx,Fy,Fz,Tx,Ty,Tz\na,1,0,0,0,0,0\nb,2,0,0,0,0,0\n")
     assert [n for n, _, _ in read_workloads(good)] == ["a", "b"]
+
+
+def test_map_marks_an_indeterminate_pms_least_norm_extremes(capsys):
+    """4UPU: eight rows for six freedoms.  A row's extreme is fixed by statics exactly where
+    no vector of the null space of J^T at its pose (numpy's SVD) loads it; `screwkit map`
+    marks the others (text *, JSON determined False), as `size` and `trajectory` do."""
+    import json
+
+    import screwkit
+    from screwkit.cli import main
+    args = ["map", "4UPU", "--grid", "gamma=-2:2:3", "--force", "0,0,-1", "--torque",
+            "0.1,0,0"]
+    assert main(args + ["--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    pm = screwkit.load_pm("4UPU")
+    rows = [r for r in out["extremes"]["rows"] if not r["name"].startswith("T_r")]
+    assert rows and all(r["determined"] is not None for r in rows)
+    for r in rows:
+        an = screwkit.analyze(pm, r["pose"], degrees=True, force=[0, 0, -1],
+                              torque=[0.1, 0, 0])
+        labels = list(an.jacobian.labels)
+        _, sv, Vt = np.linalg.svd(np.asarray(an.jacobian.matrix).reshape(-1, 6).T)
+        null = Vt[int(np.sum(sv > 1e-9 * sv[0])):]
+        loaded = np.abs(null[:, labels.index(r["name"])]).max(initial=0.0) > 1e-9
+        assert r["determined"] is (not loaded), r["name"]
+    assert any(r["determined"] is False for r in rows)
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    starred = [ln.split()[0] for ln in text.splitlines() if "*" in ln and "at " in ln]
+    assert starred == [r["name"] for r in out["extremes"]["rows"] if r["determined"] is False]
+    assert "least-norm value" in text

@@ -164,7 +164,7 @@ class StiffnessResult:
             "load_on_unrestrained": bool(self.load_on_free),
             "principal": {"translational": {"stiffness": kt, "directions": dt.T},
                           "rotational": {"stiffness": kr, "axes": dr.T}},
-            "rows": [{"label": ri.label, "stiffness": (None if not np.isfinite(k) else k),
+            "rows": [{"label": ri.label, "stiffness": k,       # ("inf" in JSON: rigid)
                       "rigid": not bool(np.isfinite(k)), "unit": un}
                      for ri, k, un in zip(jac.info, self.k[0], row_u)],
             "units": {"stiffness": {"f_per_v": f"{u.force}/{u.length}",

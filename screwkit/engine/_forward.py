@@ -24,7 +24,6 @@ the forward solution), which gives the conditioning and the sign of ``det J``.
 
 from __future__ import annotations
 
-import warnings
 import weakref
 from dataclasses import dataclass, field
 
@@ -34,9 +33,11 @@ from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 from ._kernels._layout import CONVERGED
 from ._fk_inputs import actuator_targets
 from ._fk_newton import STEP, continuation
+from ._pose_params import SPLIT_TOL, pose_params, split_singular, unsplit_notes
 
 __all__ = ["ForwardResult", "forward_kinematics", "actuator_targets", "reference", "finish",
-           "split_singular", "STEP"]
+           "split_singular", "STEP", "SPLIT_TOL"]
+
 
 
 
@@ -73,6 +74,10 @@ class ForwardResult:
     analysis : PMAnalysis
         The engine's analysis at the solved poses.
     notes : tuple of str
+    unsplit : ndarray (N,) of bool
+        Closed poses (every leg's closure holds) at a representation singularity whose split
+        of ``alpha`` and ``gamma`` was not found (:func:`split_singular`): ``success`` is
+        False for them, as the analysis does not confirm them, but they are poses of the PM.
     """
 
     model: object
@@ -91,6 +96,7 @@ class ForwardResult:
     notes: tuple = ()
     single: bool = False
     reference: str = "home"
+    unsplit: np.ndarray = None
 
     def __len__(self):
         return len(self.residual)
@@ -147,6 +153,7 @@ class ForwardResult:
         u = self.model.units
         return {"pose": self.pose(i), "units": u.as_dict(),
                 "residual": float(self.residual[i]), "success": bool(self.success[i]),
+                "closed_unconfirmed": bool(self.unsplit is not None and self.unsplit[i]),
                 "condition_number": float(self.condition_number[i]),
                 "det_sign": int(self.det_sign[i]),
                 "reference": self.reference, "reference_det_sign": int(self.reference_det_sign),
@@ -224,34 +231,6 @@ def _start_state(model, ch, guess, N):
     return (Rp, o, q), q[ch.actuator_slots]
 
 
-def pose_params(model, ch, R, o, reference):
-    """The six pose parameters of platform poses ``R (3, 3, N)``, ``o (3, N)``: Euler angles
-    of the model's order (moved by 2 pi towards ``reference``), and where the order is at
-    its representation singularity the model's split of the determined combination."""
-    from scipy.spatial.transform import Rotation
-    R0, p0 = ch.frame
-    Rb = np.einsum("ji,jkN->Nik", R0, R)
-    ob = (R0.T @ (o - p0[:, None]))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        ang = Rotation.from_matrix(Rb).as_euler(model.order).T
-    ref = np.array([reference[p] for p in ("alpha", "beta", "gamma")])
-    ref = ref[:, None] if ref.ndim == 1 else ref
-    # the two sets of angles of one rotation; the one nearer the reference (mod 2 pi)
-    proper = model.order[0].lower() == model.order[2].lower()
-    alt = np.stack([ang[0] + np.pi, -ang[1] if proper else np.pi - ang[1], ang[2] + np.pi])
-    sets = [a + 2 * np.pi * np.round((ref - a) / (2 * np.pi)) for a in (ang, alt)]
-    near = np.sum((sets[1] - ref) ** 2, axis=0) < np.sum((sets[0] - ref) ** 2, axis=0)
-    ang = np.where(near, sets[1], sets[0])
-    params = {"Xo": ob[0], "Yo": ob[1], "Zo": ob[2], "alpha": ang[0], "beta": ang[1],
-              "gamma": ang[2]}
-    from ._solve import is_representation_singular
-    sing = is_representation_singular(model.order, params["beta"], 1e-9)
-    if sing.any():
-        split_singular(model, params, np.flatnonzero(sing))
-    return params, sing
-
-
 def forward_kinematics(model, actuators, guess=None, *, degrees: bool = False):
     """Forward kinematics: the platform poses where the actuated joints take ``actuators``.
 
@@ -295,7 +274,7 @@ def finish(model, ch, R, o, q, res, its, how, target, single, ref, notes=()):
     from ._solution import make_solution
     from ._solve import Closures
     N = res.shape[0]
-    params, sing = pose_params(model, ch, R, o, ref)
+    params, sing, unsplit = pose_params(model, ch, R, o, ref, q)
     nu = len(ch.unknown)
     X = np.empty((ch.n_unknowns, N))
     for k, u in enumerate(ch.unknown):
@@ -309,6 +288,8 @@ def finish(model, ch, R, o, q, res, its, how, target, single, ref, notes=()):
     same = (np.max(np.abs(sol._platform[0] - R.transpose(2, 0, 1)), axis=(1, 2)) <= 1e-8) & \
         (np.max(np.abs(sol._platform[1] - o.T), axis=1) <= 1e-8 * ch.length)
     ok = (res <= CONVERGED) & sol.reachable_mask & same
+    unsplit_mask = np.zeros(N, bool)
+    unsplit_mask[unsplit] = res[unsplit] <= CONVERGED
     q_an = np.nan_to_num(np.asarray(sol.actuator_values), nan=np.inf)
     linear = np.array([model.home_legs[i].actuated_joint.kind == "P" for i in ch.active], bool)
     ok &= np.max(np.abs(q_an - target) / np.where(linear, ch.length, 1.0), axis=1) <= 1e-8
@@ -320,43 +301,6 @@ def finish(model, ch, R, o, q, res, its, how, target, single, ref, notes=()):
                         tuple(notes) + (("beta at a representation singularity of "
                                          f"{model.order}: the determined combination of alpha "
                                          "and gamma split as the model does",) if sing.any()
-                                        else ()), single, reference(model)[0])
+                                        else ()) + unsplit_notes(model, unsplit, res),
+                        single, reference(model)[0], unsplit_mask)
     return out
-
-
-def split_singular(model, params: dict, idx) -> None:
-    """Set the independent one of ``alpha``, ``gamma`` at the singular poses ``idx`` of
-    ``params`` (in place; see the module docstring)."""
-    from ..screws import angular_jacobian
-    from ._solution import solve
-    ind = model.independent
-    if ("alpha" in ind) == ("gamma" in ind):       # both given or both solved: any split
-        return
-    x_name, y_name = ("alpha", "gamma") if "alpha" in ind else ("gamma", "alpha")
-    k = np.asarray(idx)
-    E = angular_jacobian(model.order, 0.0, float(params["beta"][k[0]]), 0.0)
-    sgn = 1.0 if float(E[:, 0] @ E[:, 2]) > 0 else -1.0
-    s = params["alpha"][k] + sgn * params["gamma"][k]          # the determined combination
-    base = {p: params[p][k] for p in ind}
-
-    def f(x):
-        pose = dict(base, **{x_name: x})
-        sol = solve(model, pose, single=False, raise_unreachable=False)
-        y = np.asarray(sol._params[y_name])
-        a, g = (x, y) if x_name == "alpha" else (y, x)
-        return a + sgn * g - s
-
-    share = 0.5 if x_name == "alpha" else 0.5 * sgn
-    x0, x1 = share * s, share * s + 1e-3
-    f0 = f(x0)
-    for _ in range(6):
-        f1 = f(x1)
-        den = np.where(f1 != f0, f1 - f0, 1.0)
-        x2 = np.where(np.isfinite(f1) & (f1 != f0), x1 - f1 * (x1 - x0) / den, x1)
-        x0, f0, x1 = x1, f1, x2
-        if np.all(np.abs(f1) <= 1e-14):
-            break
-    if x_name == "alpha":
-        params["alpha"][k], params["gamma"][k] = x1, sgn * (s - x1)
-    else:
-        params["gamma"][k], params["alpha"][k] = x1, s - sgn * x1

@@ -52,10 +52,21 @@ class AssemblyModes:
     def __len__(self):
         return len(self.solutions)
 
+    @property
+    def singular(self) -> np.ndarray:
+        """``(len,)`` bool: confirmed solutions where ``J`` is rank-deficient.  Found in
+        numbers, they are points of a continuum of poses at these actuator values (a
+        self-motion), counted as often as the seeds land on it."""
+        s = self.solutions
+        return np.asarray(s.success) & (np.atleast_1d(s.analysis.conditioning) == "singular")
+
     def to_dict(self) -> dict:
         return {"pm": self.solutions.model.name, "seeds": self.seeds,
                 "converged": self.converged, "count": len(self),
-                "note": "a seed search: the count is a lower bound",
+                "singular_count": int(np.sum(self.singular)),
+                "note": "a seed search: the count is a lower bound; singular solutions found "
+                        "in numbers are points of a continuum (a self-motion), not isolated "
+                        "assembly modes",
                 "solutions": [self.solutions.to_dict(i) for i in range(len(self))]}
 
 

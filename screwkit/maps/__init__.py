@@ -24,7 +24,7 @@ from ._locus import LOCUS_KINDS, REFINE, locus_list
 from ._dataset import FORMATS, to_csv, write
 from ._map import map_pm
 from ._plot import plot_map, quantity_names
-from ._sizing import MAX_WORKLOADS, Sizing, extremes, read_workloads, size
+from ._sizing import MAX_WORKLOADS, Sizing, extremes, mark_determined, read_workloads, size
 from ._dask import client_for, run_tasks
 from ._units import map_in_units, sizing_in_units
 from ._workspace import GOOD_TRANSMISSION, Workspace, workspace
@@ -32,7 +32,7 @@ from ._workspace import GOOD_TRANSMISSION, Workspace, workspace
 __all__ = [
     "map_pm", "Grid", "make_grid", "parse_range", "MAX_CELLS", "MAX_GRID_DIMS", "BLOCK",
     "LEVEL_CODES", "CONDITIONING_CODES", "KIND_CODES", "LOCUS_KINDS", "REFINE", "locus_list", "write", "to_csv",
-    "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "read_workloads", "MAX_WORKLOADS",
+    "FORMATS", "plot_map", "quantity_names", "Sizing", "size", "extremes", "mark_determined", "read_workloads", "MAX_WORKLOADS",
     "client_for", "run_tasks", "map_in_units", "sizing_in_units", "Workspace", "workspace",
     "GOOD_TRANSMISSION",
 ]

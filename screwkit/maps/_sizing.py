@@ -24,7 +24,8 @@ import numpy as np
 from ..errors import InputError
 from ._compute import CONDITIONING_CODES, LEVEL_CODES
 
-__all__ = ["Sizing", "extremes", "size", "read_workloads", "MAX_WORKLOADS", "pose_at"]
+__all__ = ["Sizing", "extremes", "mark_determined", "size", "read_workloads", "MAX_WORKLOADS",
+           "pose_at"]
 
 #: Largest number of workloads of one sizing.
 MAX_WORKLOADS = 1000
@@ -296,6 +297,17 @@ def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, c
                   [{"name": n, "force": F.tolist(), "torque": T.tolist()} for n, F, T in loads],
                   best["usable_cells"], best["cells"], max_level,
                   dict(u.as_dict(), angle=first.attrs["units_angle"]), first)
+
+
+def mark_determined(model, rows, ds, stiffness=None) -> None:
+    """Set ``determined`` on the rows of :func:`extremes` of a map ``ds`` in the model's units
+    (not converted by ``map_in_units``), under the map's own workload: True where statics
+    alone fixes the value at its extreme's pose, False where it is the least-norm (or
+    compliance-weighted) choice of a statically indeterminate ``J``, None without an
+    extreme."""
+    F = np.nan_to_num(np.asarray(ds.attrs.get("force", [np.nan] * 3), float))
+    T = np.nan_to_num(np.asarray(ds.attrs.get("torque", [np.nan] * 3), float))
+    _mark_determined(model, rows, ds, stiffness, F, T)
 
 
 def _mark_determined(model, rows, ds, stiffness, F, T) -> None:

@@ -76,31 +76,60 @@ def run(args) -> int:
         sols = forward(model, act, guess, degrees=True)
         out = {"pm": model.name, "count": len(sols),
                "solutions": [sols.to_dict(i) for i in range(len(sols))]}
-    solved = bool(np.all(sols.success))
+    # --all lists what it found: it fails only where no solution is confirmed
+    solved = bool(np.any(sols.success) if args.all else np.all(sols.success))
     if args.json:
         print(dump_json(out))
     else:
         _print(model, sols, res if args.all else None)
     if not solved:
         bad = [i for i in range(len(sols)) if not sols.success[i]]
-        print(f"screwkit fk: error: no solution at these actuator values: closure residual "
-              f"{float(np.min(sols.residual[bad])):.3g} (length-normalised) after Newton and "
-              "continuation from the reference; try --guess NAME=VALUE or --all",
-              file=sys.stderr)
+        if sols.unsplit is not None and np.all(sols.unsplit[bad]):
+            print(f"screwkit fk: error: the solution closes (residual "
+                  f"{float(np.min(sols.residual[bad])):.3g}) at beta = 0, a representation "
+                  f"singularity of {model.order}, where the model's split of alpha and gamma "
+                  "was not found, so the analysis does not confirm it; try --all",
+                  file=sys.stderr)
+        else:
+            print(f"screwkit fk: error: no solution at these actuator values: closure "
+                  f"residual {float(np.min(sols.residual[bad])):.3g} (length-normalised) after "
+                  "Newton and continuation from the reference; try --guess NAME=VALUE or --all",
+                  file=sys.stderr)
         return 2
     return 0
 
 
+#: Singular solutions of --all listed in the text (the rest in --json): many of them are
+#: points of a continuum (a self-motion), counted as often as the seeds land on it.
+SINGULAR_SHOWN = 6
+
+
 def _print(model, sols, res) -> None:
+    import numpy as np
     u = model.units
+    singular = [] if res is None else [int(i) for i in np.flatnonzero(res.singular)]
     head = (f"{len(sols)} distinct real solutions from {res.seeds} seeds ({res.converged} "
             "converged; a lower bound), above the base first" if res is not None
             else "forward kinematics")
     print(f"{model.name}: {head}; lengths {u.length}, angles deg")
+    hidden = set(singular[SINGULAR_SHOWN:]) if res is not None else set()
+    if res is not None and len(singular) > SINGULAR_SHOWN:
+        print(f"  {len(singular)} of them singular (J rank-deficient): so many singular "
+              "solutions are points of a continuum of poses at these actuator values (a "
+              "self-motion), not isolated assembly modes, and their count grows with the "
+              f"seeds; the first {SINGULAR_SHOWN} shown, all with --json")
     for i in range(len(sols)):
+        if i in hidden:
+            continue
         d = sols.to_dict(i)
         pose = "  ".join(f"{k}={fmt_num(v, 9)}" for k, v in d["pose"].items())
         print(f"  {i + 1}. {pose}")
+        if d["closed_unconfirmed"]:
+            print(f"     closes every leg (residual {d['residual']:.2e}), not confirmed: beta = 0 "
+                  f"is a representation singularity of {model.order} and the model's split of "
+                  "alpha and gamma was not found (the angles shown are one split of the "
+                  "rotation); no analysis")
+            continue
         if not d["success"]:
             print(f"     not solved: residual {d['residual']:.2e} (the last iterate, not a pose of "
                   "the PM)")

@@ -198,6 +198,7 @@ def run(args) -> int:
             ("F_", "T_c", "T_a", "T_r")) for q in quantities):
         raise InputError(f"--quantity {', '.join(quantities)}: {model.name} declares no "
                          "workload: give --force FX,FY,FZ and/or --torque TX,TY,TZ for its forces")
+    marks = _determined(model, ds) if forces else {}
     ds = map_in_units(ds, units)
     if args.plot:      # (first: a --quantity or --at it refuses leaves no --out file behind)
         plot_map(ds, args.plot, quantities,
@@ -207,11 +208,22 @@ def run(args) -> int:
         write(ds, args.out)
         print(f"wrote {args.out}", file=sys.stderr)
     s = summary(ds, args.lti_threshold)
+    for r in s["extremes"]["rows"]:
+        r["determined"] = marks.get(r["name"])
     if args.json:
         print(dump_json(s))
         return 0
     print_summary(s)
     return 0
+
+
+def _determined(model, ds) -> dict:
+    """Whether statics alone fixes each row's extreme (:func:`screwkit.maps.mark_determined`),
+    by name, from the map in the model's units."""
+    from ...maps import extremes, mark_determined
+    rows = extremes(ds)["rows"]
+    mark_determined(model, rows, ds)
+    return {r["name"]: r["determined"] for r in rows}
 
 
 def print_summary(s) -> None:
@@ -262,12 +274,18 @@ def print_summary(s) -> None:
 def _print_extremes(ex, c) -> None:
     print(f"  largest |value| over the {ex['usable_cells']} usable cells (ok"
           + (", within the limits" if "outside_limits" in c else "") + "):")
+    undetermined = False
     for r in ex["rows"]:
         if r["max_abs"] is None:
             continue
-        print(f"    {r['name']:<6} {fmt_num(r['value']):>12} {r['unit']:<6} at "
+        star = "*" if r.get("determined") is False else " "
+        undetermined |= star == "*"
+        print(f"    {r['name']:<6} {fmt_num(r['value']):>12}{star} {r['unit']:<6} at "
               + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
               + f"  ({r['conditioning']}, trust {r['level']})")
+    if undetermined:
+        print("    * not fixed by statics alone: the PM is statically indeterminate there and "
+              "this is the least-norm value (screwkit.map(..., stiffness=...) weights it)")
 
 
 def print_workspace(w) -> None:
