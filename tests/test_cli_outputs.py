@@ -163,3 +163,19 @@ def test_json_keeps_undefined_and_infinite_apart(capsys):
     # a rigid row system leaves rigid directions: an infinite principal stiffness among them
     p = out["principal"]
     assert "inf" in p["translational"]["stiffness"] + p["rotational"]["stiffness"]
+
+
+@pytest.mark.parametrize("argv, what, hint", [
+    (["analyze", "3RRPRR", "--bogus"], "screwkit analyze", None),
+    (["analyze", "3RRPRR", "--forse", "1,2,3"], "screwkit analyze", "--force"),
+    (["map", "3RRPRR", "--grid", "alpha=-1:1:3", "--jsn"], "screwkit map", "--json"),
+    (["--bogus"], "screwkit", None),
+])
+def test_unknown_arguments_name_the_commands_help(capsys, argv, what, hint):
+    from screwkit.cli import main
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert err.startswith(f"{what}: error: unrecognized arguments: ")
+    assert err.endswith(f"(see '{what} --help')")
+    assert (f"did you mean {hint}?" in err) if hint else "did you mean" not in err

@@ -47,6 +47,24 @@ def _one_line(exc, limit: int = 2000) -> str:
     return msg if len(msg) <= limit else msg[: limit - 3] + "..."
 
 
+def _unrecognized(parser, command, extra) -> str:
+    """One line for arguments no option takes, with the closest option of ``command``."""
+    import difflib
+    what = f"screwkit {command}" if command else "screwkit"
+    options: list[str] = []
+    sub = next((a for a in parser._actions if isinstance(a, argparse._SubParsersAction)), None)
+    sp = sub.choices.get(command) if sub is not None and command else parser
+    for action in (sp or parser)._actions:
+        options += [o for o in action.option_strings if o.startswith("--")]
+    hint = ""
+    first = next((w for w in extra if w.startswith("-")), None)
+    if first:
+        close = difflib.get_close_matches(first.split("=")[0], options, n=1, cutoff=0.75)
+        hint = f"; did you mean {close[0]}?" if close else ""
+    return (f"{what}: error: unrecognized arguments: {' '.join(extra)}{hint} "
+            f"(see '{what} --help')")
+
+
 def main(argv=None) -> int:
     from ._types import UsageError
 
@@ -57,9 +75,12 @@ def main(argv=None) -> int:
     words = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
     try:
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
     except UsageError as exc:                  # one line, exit status 2
         print(exc.line, file=sys.stderr)
+        return 2
+    if extra:                                  # said by the command whose help lists its own
+        print(_unrecognized(parser, getattr(args, "command", None), extra), file=sys.stderr)
         return 2
     if not getattr(args, "func", None):       # no command (or action): what there is, exit 2
         parser.print_help()
