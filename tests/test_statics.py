@@ -301,3 +301,35 @@ def test_precomputed_analyses_are_used():
     np.testing.assert_allclose(r1.values, r2.values, rtol=1e-12)
     assert r1.jacobian.analyses[0] is an[0]
     assert "condition number" in r1.describe() and "actuation of P2" in r1.jacobian.describe()
+
+
+def test_placed_legs_moved_with_their_frame_give_the_same_rows_and_statics():
+    """3SPU+SP's legs at a regular pose, placed in Python: its SP leg's two constraint forces
+    are picked by reference directions.  Moved by a rigid motion x -> R x + p and given
+    ``frame=(R, p)``, every row is the original row moved as a wrench ([R f; R m + p x R f],
+    a second derivation of the same rows), and the condition number and the efforts under
+    the moved load are the same; without the frame the members change (documented)."""
+    from scipy.spatial.transform import Rotation
+
+    from screwkit.engine import solve_statics, unified_jacobian
+    pm = screwkit.load_pm("3SPU+SP")
+    sol = screwkit.analyze(pm, {k: pm.default_pose[k] for k in pm.independent}).solution
+    legs, o = sol.legs, np.asarray(sol.position, float).reshape(3)
+    R = Rotation.from_rotvec([0.3, -0.5, 0.7]).as_matrix()
+    p = np.array([10.0, -20.0, 5.0])
+    moved = [lg.moved(R, p) for lg in legs]
+    J0 = np.asarray(unified_jacobian(legs, o).J).reshape(-1, 6)
+    J1 = np.asarray(unified_jacobian(moved, R @ o + p, frame=(R, p)).J).reshape(-1, 6)
+    f = J0[:, :3] @ R.T
+    expect = np.hstack([f, J0[:, 3:] @ R.T + np.cross(p, f)])
+    assert np.max(np.abs(J1 - expect)) <= 1e-12 * np.max(np.abs(J0))
+    F, T = np.array([1.0, -2.0, -30.0]), np.array([5.0, 0.0, 2.0])
+    s0 = solve_statics(legs, o, F, T)
+    s1 = solve_statics(moved, R @ o + p, R @ F, R @ T, frame=(R, p))
+    assert np.allclose(np.asarray(s1.values), np.asarray(s0.values), rtol=1e-10, atol=1e-12)
+    c = [float(np.asarray(j.conditioning.condition_number).ravel()[0]) for j in
+         (unified_jacobian(legs, o), unified_jacobian(moved, R @ o + p, frame=(R, p)),
+          unified_jacobian(moved, R @ o + p))]
+    assert c[1] == pytest.approx(c[0], rel=1e-12) and abs(c[2] / c[0] - 1) > 1e-4
+    with pytest.raises(screwkit.InputError, match="rotation"):
+        unified_jacobian(legs, o, frame=(2 * R, p))

@@ -90,14 +90,16 @@ def reflatten(like, model) -> FlatModel:
     return out
 
 
-def flatten_legs(legs, templates, o, info, passive=()) -> FlatModel:
-    """Placed legs at one pose (the base frame is the world; the platform frame is the world
-    translated to ``o``) as a :class:`FlatModel` whose home is that pose (``passive``: the
-    indices of the legs without an actuator)."""
+def flatten_legs(legs, templates, o, info, passive=(), frame=None) -> FlatModel:
+    """Placed legs at one pose (the base frame ``frame = (R, p)`` in the world, default the
+    world's; the platform frame the base frame's axes at ``o``) as a :class:`FlatModel` whose
+    home is that pose (``passive``: the indices of the legs without an actuator)."""
     o = np.asarray(o, float)
-    return build(legs, templates, L=1.0, centre=o, frame=(np.eye(3), np.zeros(3)),
-                 platform_home=(np.eye(3), o), base_points=np.array([lg.A for lg in legs]),
-                 platform_points=np.array([np.asarray(lg.a, float) - o for lg in legs]),
+    R, p = (np.eye(3), np.zeros(3)) if frame is None else frame
+    return build(legs, templates, L=1.0, centre=o, frame=(R, p),
+                 platform_home=(R, o), base_points=np.array([lg.A for lg in legs]),
+                 platform_points=np.array([R.T @ (np.asarray(lg.a, float) - o)
+                                           for lg in legs]),
                  order="XYZ", independent=tuple(PARAMS),
-                 home_pose=dict(zip(PARAMS, [*o, 0.0, 0.0, 0.0])), info=info,
+                 home_pose=dict(zip(PARAMS, [*(R.T @ (o - p)), 0.0, 0.0, 0.0])), info=info,
                  passive=tuple(passive))

@@ -24,8 +24,8 @@ __all__ = ["unified_jacobian", "solve_statics"]
 
 def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
                      analyses: Sequence[LegAnalysis] | None = None, *,
-                     threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
-                     ) -> JacobianResult:
+                     threshold: float = COND_THRESHOLD, passive: Sequence[int] = (),
+                     frame: tuple | None = None) -> JacobianResult:
     """The unified Jacobian ``J = [J_a; J_c]`` of placed legs at one pose.
 
     Parameters
@@ -40,6 +40,10 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
         Normalised condition number above which the pose counts as singular.
     passive : sequence of int
         0-based indices of passive legs: no actuation row, their constraint rows only.
+    frame : (rotation (3, 3), origin (3,)), optional
+        The base frame whose axes are the reference directions (see Notes), in world
+        coordinates; default the world's.  Legs moved by ``x -> R x + p`` (:meth:`Leg.moved`)
+        and given ``frame=(R, p)`` give the same rows as before, in the moved world.
 
     Returns
     -------
@@ -49,10 +53,10 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
     Notes
     -----
     The members of a constraint system of two or more (two forces in a plane, two
-    couples...) are picked by reference directions, here the world's axes (a model's are
-    its base and platform axes, which move with it): rotating the legs alone can pick
-    other members, which changes the normalised condition number a little and can flip the
-    sign of a single member's value.  Translations and a change of units change neither.
+    couples...) are picked by reference directions: the axes of ``frame`` (a model's are its
+    base and platform axes, which move with it).  Rotating the legs without the frame can
+    pick other members, which changes the normalised condition number a little and can flip
+    the sign of a single member's value; translations and a change of units change neither.
     """
     from ..legs import Leg
     InputError = _errors()
@@ -79,12 +83,30 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
            for i in passive) or len(set(passive)) == len(legs):
         raise InputError(f"passive must list distinct 0-based leg indices below {len(legs)} "
                          f"(at least one leg actuated), got {passive!r:.60}")
-    J, info, n_act, scale, points, cond = _rows_of(legs, o, analyses, passive)
+    Rf, pf = _frame_of(frame)
+    J, info, n_act, scale, points, cond = _rows_of(legs, o, analyses, passive, Rf, pf)
     return JacobianResult(J, info, n_act, scale, points, o[None], cond, float(threshold), True,
                           lambda _: legs, analyses)
 
 
-def _rows_of(legs, o, analyses, passive=()):
+def _frame_of(frame):
+    """``(R, p)`` of a ``frame`` argument (the world's for None), checked."""
+    InputError = _errors()
+    if frame is None:
+        return np.eye(3), np.zeros(3)
+    try:
+        R, p = frame
+        R = np.asarray(R, float)
+    except (TypeError, ValueError):
+        raise InputError("frame must be (rotation (3, 3), origin (3,))") from None
+    p = as_vector3(p, "frame origin")
+    if R.shape != (3, 3) or not np.all(np.isfinite(R)) or \
+            not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise InputError("frame's rotation must be a proper rotation matrix (3, 3)")
+    return R, p
+
+
+def _rows_of(legs, o, analyses, passive=(), R=None, p=None):
     """The rows of placed legs at one pose by the kernels: ``(J (1, m, 6), info,
     n_actuated, scale, points (1, m, 3), Conditioning)``."""
     from ._flat import flatten_legs
@@ -93,12 +115,13 @@ def _rows_of(legs, o, analyses, passive=()):
     from ._pipeline import Conditioning
     from ._templates import make_labels
     from ._templates import RowTemplate
-    templates = tuple(RowTemplate(lg, an, np.eye(3), np.zeros(3), np.eye(3), o,
-                                  passive=i in passive)
+    R = np.eye(3) if R is None else R
+    p = np.zeros(3) if p is None else p
+    templates = tuple(RowTemplate(lg, an, R, p, R, o, passive=i in passive)
                       for i, (lg, an) in enumerate(zip(legs, analyses)))
     info = make_labels(templates)
-    flat = flatten_legs(legs, templates, o, info, passive)
-    P6 = np.concatenate([o, np.zeros(3)])[None]
+    flat = flatten_legs(legs, templates, o, info, passive, (R, p))
+    P6 = np.concatenate([R.T @ (o - p), np.zeros(3)])[None]     # (the base frame's)
     X = np.zeros((1, flat.nx))
     out = run_poses(flat, flat.Z, P6, X=X, statics=False)
     points = np.full(out["J"].shape[:2] + (3,), np.nan)
@@ -111,9 +134,11 @@ def _rows_of(legs, o, analyses, passive=()):
 
 def solve_statics(legs: Sequence[Leg], o: ArrayLike, F: ArrayLike, T: ArrayLike, *,
                   analyses: Sequence[LegAnalysis] | None = None, raise_on_singular: bool = True,
-                  threshold: float = COND_THRESHOLD, passive: Sequence[int] = ()
-                  ) -> StaticsResult:
+                  threshold: float = COND_THRESHOLD, passive: Sequence[int] = (),
+                  frame: tuple | None = None) -> StaticsResult:
     """Shortcut: :func:`statics` of :func:`unified_jacobian` ``(legs, o)`` with the load at
-    ``o`` (``passive``: the passive legs' indices)."""
-    jac = unified_jacobian(legs, o, analyses, threshold=threshold, passive=passive)
+    ``o`` (``passive``: the passive legs' indices; ``frame``: the reference directions'
+    base frame, as there)."""
+    jac = unified_jacobian(legs, o, analyses, threshold=threshold, passive=passive,
+                           frame=frame)
     return statics(jac, F, T, o, raise_on_singular=raise_on_singular)
