@@ -65,9 +65,18 @@ class ActuatorLines:
 
     def reversed(self, X) -> np.ndarray:
         """``(N, k)`` bool: which of these legs the unknowns ``X (n_unknowns, N)`` reverse
-        (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows: a gather of ``k`` values
-        a row, 0.5-2 ms for 100,000 poses, as much as their rows' lines cost to read)."""
-        return X.T[:, self.rows] * self.sign <= self.limit
+        (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows: ``k`` strided columns,
+        about 1 ms for 100,000 poses, as much as their rows' lines cost to read)."""
+        rows = X.T
+        out = np.empty((rows.shape[0], self.rows.size), bool)
+        # a column at a time, compared without a product (the same test: sign is +-1), where
+        # a fancy-indexed gather of the k columns took some three times as long
+        for k, (row, sign, limit) in enumerate(self._plain):
+            if sign > 0:
+                np.less_equal(rows[:, row], limit, out=out[:, k])
+            else:
+                np.greater_equal(rows[:, row], -limit, out=out[:, k])
+        return out
 
 
 _LINES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
