@@ -260,3 +260,17 @@ def test_fk_all_says_when_singular_solutions_form_a_continuum(capsys):
     assert f"{singular} of them singular" in text and "continuum" in text
     assert text.count("(singular)") == SINGULAR_SHOWN
     assert text.count("(regular)") == out["count"] - singular
+
+
+def test_fk_json_of_no_solution_claims_no_mode(capsys):
+    """An actuator far beyond reach: the last iterate is listed as not solved, with no
+    assembly mode, conditioning or sign pattern claimed for it."""
+    import json
+
+    from screwkit.cli import main
+    assert main(["fk", "3RRPRR", "--actuators", "q1=1e9,q2=0,q3=0", "--json"]) == 2
+    out = json.loads(capsys.readouterr().out)
+    s = out["solutions"][0]
+    assert out["solved"] == 0 and not s["success"]
+    assert s["working_mode"] is None and s["same_assembly_mode_as_reference"] is None
+    assert s["det_sign"] is None and s["mode"].startswith("not solved")

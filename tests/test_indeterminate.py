@@ -112,3 +112,29 @@ def test_the_self_stress_basis_is_canonical(upu):
     res_big = screwkit.analyze(big, pose, force=PAPER_LOAD["force"],
                                torque=np.array(PAPER_LOAD["torque"]) * k)
     np.testing.assert_allclose(res_big.statics.self_stress, S, rtol=1e-9, atol=1e-12)
+
+
+def test_stiffnesses_of_the_self_stressed_rows_are_all_or_none_and_unit_free():
+    """4UPU: its self-stresses load the four couples.  A stiffness for only some of them is
+    refused (beside the others' least-norm weights the answer took the units' choice: 9
+    times apart between cm and mm); stiffnesses for all four give, for the same PM in mm
+    (lengths, torques and couple stiffnesses x10), couples exactly 10 times the cm ones."""
+    pm = screwkit.load_pm("4UPU")
+    load = {"force": [0.0, 0.0, -1.0], "torque": [1.0, 2.0, 3.0]}
+    with pytest.raises(InputError, match="T_c2, T_c3, T_c4 carry self-stress"):
+        screwkit.analyze(pm, stiffness={"T_c1": 1e3}, **load)
+    k = {"T_c1": 1e3, "T_c2": 4e3, "T_c3": 2e3, "T_c4": 9e3}
+    cm = screwkit.analyze(pm, stiffness=k, **load)
+    import yaml
+    d = yaml.safe_load(pm.to_yaml())["pms"]["4UPU"]
+    d["units"] = {"length": "mm", "force": "kN"}
+    d["dimensions"] = {k: 10 * v for k, v in d["dimensions"].items()}
+    d["pose"] = dict(d["pose"], Xo=10 * d["pose"]["Xo"], Yo=10 * d["pose"]["Yo"])
+    mm_pm = screwkit.load_pm(d, name="4UPU")
+    mm = screwkit.analyze(mm_pm, stiffness={r: 10 * v for r, v in k.items()},
+                          force=[0.0, 0.0, -1.0], torque=[10.0, 20.0, 30.0])
+    assert mm.model.units.length == "mm"
+    np.testing.assert_allclose(np.asarray(mm.statics.constraint),
+                               10 * np.asarray(cm.statics.constraint), rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(mm.statics.active), np.asarray(cm.statics.active),
+                               rtol=1e-9)

@@ -278,3 +278,41 @@ def test_a_map_of_a_model_with_leg_stiffness_carries_the_stiffness_fields(stewar
     assert int(cell["stiffness_rank"]) == 6
     assert "k_translation_min" not in screwkit.map("3RRPRR", {"alpha": (0.0, 0.1, 2)},
                                                    fix={"beta": 0.0, "Zo": 80.0}).data_vars
+
+
+def test_a_buckling_tangent_stiffness_is_flagged_not_called_rigid(capsys):
+    """3RRPRR under a growing preload with the geometric term: once the symmetric part of the
+    tangent K + K_g (its printed matrix, numpy's eigenvalues) has a negative eigenvalue the
+    result says it is not stable and warns, and no principal stiffness reads as rigid where
+    K + K_g has full rank; under a small load it is stable and silent."""
+    from screwkit.cli import main
+    small = stiffness("3RRPRR", actuator=2000, force_stiffness=5000, geometric=True,
+                      force=[0, 0, -1], torque=[0, 0, 0])
+    assert small.stable and not small.warnings
+    for load in (2e3, 1e4):
+        r = stiffness("3RRPRR", actuator=20, force_stiffness=50, geometric=True,
+                      force=[0, 0, -load], torque=[0, 0, 0])
+        K = np.asarray(r.K)[0]
+        ev = np.linalg.eigvalsh(0.5 * (K + K.T))
+        assert ev[0] < 0 and not r.stable
+        assert any("not positive definite" in w for w in r.warnings)
+        kt, _ = r.principal("translational")
+        kr, _ = r.principal("rotational")
+        assert np.all(np.isfinite(kt)) and np.all(np.isfinite(kr))
+    assert main(["stiffness", "3RRPRR", "--k-actuator", "20", "--k-force", "50", "--geometric",
+                 "--force", "0,0,-1e4"]) == 0
+    err = capsys.readouterr().err
+    assert "not positive definite" in err and "not small beside the PM" in err
+
+
+def test_the_rank_of_K_is_its_rows_whatever_the_spread_of_stiffnesses():
+    """Six compliant rows of a regular 3RRPRR pose (numpy: J has rank 6) give K of rank 6,
+    with stiffnesses 1e23 apart as with equal ones; the deflection of the soft rows is then
+    large, and said to be beyond the linear model."""
+    r = stiffness("3RRPRR", actuator=2000, force_stiffness=1e-20, force=[0, 0, -1],
+                  torque=[0, 0, 0])
+    J = np.asarray(r.analysis.jacobian.matrix)[0]
+    assert np.linalg.matrix_rank(J) == 6 and r.rank == 6
+    assert any("not small beside the PM" in w for w in r.warnings)
+    assert stiffness("3RRPRR", actuator=2000, force_stiffness=2000, force=[0, 0, -1],
+                     torque=[0, 0, 0]).rank == 6

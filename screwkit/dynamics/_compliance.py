@@ -30,7 +30,7 @@ import numpy as np
 from ..screws import RANK_RTOL
 from ..screws._echelon import canonical_twist_sign
 
-__all__ = ["flexibility", "twist_text"]
+__all__ = ["flexibility", "twist_text", "rows_about_o"]
 
 
 def flexibility(Jo, k, L: float, singular, threshold: float) -> tuple:
@@ -166,3 +166,18 @@ def twist_text(t, length: str, digits: int = 4) -> str:
     if abs(pitch) > 1e-9 * max(float(np.linalg.norm(v)), 1.0):
         out += f", pitch {pitch:.{digits}g} {length}/rad"
     return out
+
+
+def _about_o(J, o):
+    """Rows ``[f; m - o x f]`` (N, m, 6) about ``o (N, 3)``."""
+    f = J[..., :3]
+    return np.concatenate([f, J[..., 3:] - np.cross(o[:, None, :], f)], axis=-1)
+
+
+def rows_about_o(an):
+    """The rows of an analysis about its platform centres ``(N, m, 6)`` (zero at an
+    unreachable pose: it has no rows of its own, only the last iterate's)."""
+    J = an.jacobian.matrix
+    o = an.solution._platform[1]
+    reach = np.asarray(an.solution.reachable_mask, bool)
+    return _about_o(np.where(reach[:, None, None], J, 0.0), np.where(reach[:, None], o, 0.0))

@@ -138,12 +138,6 @@ def _check_stiffness(v, what) -> float:
 
 
 
-def _about_o(J, o):
-    """Rows ``[f; m - o x f]`` (N, m, 6) about ``o (N, 3)``."""
-    f = J[..., :3]
-    return np.concatenate([f, J[..., 3:] - np.cross(o[:, None, :], f)], axis=-1)
-
-
 def stiffness(model, pose=None, *, params=None, actuator=None, force_stiffness=None,
               couple_stiffness=None, rows=None, force=None, torque=None,
               geometric: bool = False, degrees: bool = False, **kwargs) -> StiffnessResult:
@@ -197,20 +191,16 @@ def stiffness_of(an, params=None, *, actuator=None, force_stiffness=None,
                  couple_stiffness=None, rows=None, geometric: bool = False) -> StiffnessResult:
     """:func:`stiffness` of an existing :class:`~screwkit.engine.PMAnalysis` (its poses and
     workload), with ``params`` a resolved :class:`~screwkit.pm.DynamicsParameters` or None."""
-    from ._compliance import flexibility
+    from ._compliance import flexibility, rows_about_o
 
     model = an.model
     if geometric and not an.has_workload:
         an.statics.F_r                         # raises: the preload needs a workload
     k = row_stiffness(an, params, actuator=actuator, force=force_stiffness,
                       couple=couple_stiffness, rows=rows)
-    J = an.jacobian.matrix
-    N = len(J)
-    o = an.solution._platform[1]
     reach = np.asarray(an.solution.reachable_mask, bool)
     sing = an.jacobian.singular_mask & reach
-    # an unreachable pose has no J of its own: its rows are the last iterate's (flagged)
-    Jo = _about_o(np.where(reach[:, None, None], J, 0.0), np.where(reach[:, None], o, 0.0))
+    Jo = rows_about_o(an)
     kk = np.where(np.isfinite(k), k, 0.0)
     K = np.einsum("nri,nr,nrj->nij", Jo, kk, Jo)
     K = 0.5 * (K + K.transpose(0, 2, 1))

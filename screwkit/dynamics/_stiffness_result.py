@@ -98,29 +98,93 @@ class StiffnessResult:
 
     @cached_property
     def rank(self):
-        """Rank of ``K`` (length-normalised, :data:`~screwkit.screws.RANK_RTOL`)."""
+        """Rank of ``K`` (length-normalised, :data:`~screwkit.screws.RANK_RTOL`): of the
+        compliant rows themselves where ``K`` is theirs alone (``J_o^T diag(k) J_o`` has
+        their rank whatever the spread of the stiffnesses, which would hide it from an SVD
+        of ``K``: 2000 and 1e-20 side by side), of the tangent ``K + K_g`` otherwise."""
         L = float(self.analysis.model.normalisation.length)
-        S = np.diag([L, L, L, 1.0, 1.0, 1.0])
-        s = np.linalg.svd(S @ np.nan_to_num(self.K) @ S, compute_uv=False)
+        if self.geometric is None:
+            from ._compliance import rows_about_o
+            Jo = rows_about_o(self.analysis)                         # (N, m, 6)
+            Jn = Jo * np.array([1.0, 1.0, 1.0, 1 / L, 1 / L, 1 / L])   # [f; m / L]
+            Jn = Jn / np.maximum(np.linalg.norm(Jn, axis=2, keepdims=True), 1e-300)
+            soft = np.isfinite(self.k) & (self.k > 0)
+            M = np.where(soft[:, :, None], np.nan_to_num(Jn), 0.0)
+        else:
+            S = np.diag([L, L, L, 1.0, 1.0, 1.0])
+            M = S @ np.nan_to_num(self.K) @ S
+        s = np.linalg.svd(M, compute_uv=False)
         r = np.sum(s > RANK_RTOL * np.maximum(s[:, :1], 1e-300), axis=1)
         return int(r[0]) if self.single else r
 
     def principal(self, which: str = "translational"):
-        """Principal stiffnesses ``(N, 3)`` (ascending; ``inf`` along rigid directions) and
-        their unit directions ``(N, 3, 3)`` (columns) of the translational block (force at
-        ``o`` -> translation of ``o``) or the rotational block (couple -> rotation)."""
+        """Principal stiffnesses ``(N, 3)`` (ascending; ``inf`` along rigid directions,
+        negative along a direction the tangent stiffness of a loaded PM does not hold:
+        :attr:`stable`) and their unit directions ``(N, 3, 3)`` (columns) of the
+        translational block (force at ``o`` -> translation of ``o``) or the rotational
+        block (couple -> rotation)."""
         if which not in ("translational", "rotational"):
             raise InputError(f"which must be 'translational' or 'rotational', not {which!r}")
         sl = slice(0, 3) if which == "translational" else slice(3, 6)
         C = self.compliance[:, sl, sl]
         C = 0.5 * (C + C.transpose(0, 2, 1))
         ev, vec = np.linalg.eigh(C)
-        top = np.maximum(ev[:, -1:], 0.0)
-        soft = (ev > RANK_RTOL * top) & (ev > 0)
+        top = np.max(np.abs(ev), axis=1, keepdims=True)
+        held = np.abs(ev) > RANK_RTOL * top
         with np.errstate(divide="ignore"):
-            k = np.where(soft, 1.0 / np.where(soft, ev, 1.0), np.inf)[:, ::-1]
-        vec = vec[:, :, ::-1]
+            k = np.where(held, 1.0 / np.where(held, ev, 1.0), np.inf)
+        order = np.argsort(k, axis=1, kind="stable")
+        k = np.take_along_axis(k, order, axis=1)
+        vec = np.take_along_axis(vec, order[:, None, :], axis=2)
         return self._sq(k), self._sq(vec)
+
+    @cached_property
+    def _stable(self) -> np.ndarray:
+        # the compliance made unit-free (x_n = [dp / L; dtheta], w_n = [f; m / L]: a
+        # congruence diag(a) C diag(a), which keeps the signs of its eigenvalues): its
+        # symmetric part has a negative eigenvalue where the tangent stiffness has one;
+        # without a geometric term K = J^T diag(k) J is positive on the held directions
+        if self.geometric is None:
+            return np.ones(len(self.k), bool)
+        L = float(self.analysis.model.normalisation.length)
+        a = np.array([L ** -0.5] * 3 + [L ** 0.5] * 3)
+        Cn = self.compliance * a[None, :, None] * a[None, None, :]
+        Cn = 0.5 * (Cn + Cn.transpose(0, 2, 1))
+        ev = np.linalg.eigvalsh(np.nan_to_num(Cn))
+        top = np.max(np.abs(ev), axis=1)
+        return ~np.any(ev < -RANK_RTOL * np.maximum(top, 1e-300)[:, None], axis=1)
+
+    @property
+    def stable(self):
+        """True where the (tangent) stiffness holds every held direction with a positive
+        stiffness: False where a loaded PM's ``K + K_g`` has a negative one (it buckles under
+        the workload; its linear deflection means nothing there)."""
+        return bool(self._stable[0]) if self.single else self._stable
+
+    #: A deflection beyond this share of the PM's length, or this many radians, is not small:
+    #: the linear stiffness model does not hold (a warning).
+    LARGE_DEFLECTION = 0.1
+
+    @property
+    def warnings(self) -> list:
+        """The warnings of pose 0 (one pose): a tangent stiffness that is not positive
+        (:attr:`stable`), a deflection that is not small beside the PM."""
+        out = []
+        L = float(self.analysis.model.normalisation.length)
+        u = self.analysis.model.units
+        if not self._stable[0]:
+            out.append("the tangent stiffness K + K_g is not positive definite: under this "
+                       "workload the PM loses its stability (it buckles) and the linear "
+                       "deflection shown means nothing (a negative principal stiffness "
+                       "marks the direction)")
+        if self.deflection is not None:
+            dp = float(np.linalg.norm(self.deflection[0, :3]))
+            dt = float(np.linalg.norm(self.deflection[0, 3:]))
+            if dp > self.LARGE_DEFLECTION * L or dt > self.LARGE_DEFLECTION:
+                out.append(f"the deflection ({dp:.3g} {u.length}, {dt:.3g} rad) is not small "
+                           f"beside the PM (its length {L:.4g} {u.length}): the linear "
+                           "stiffness model does not hold there")
+        return out
 
     def to_dict(self) -> dict:
         """JSON of one pose: ``stiffness`` (6x6, [v; w] -> [f; m] about o, None when every
@@ -156,6 +220,8 @@ class StiffnessResult:
             **({} if self.geometric is None else {"elastic": self.elastic[0],
                                                   "geometric": self.geometric[0]}),
             "rank": self.rank,
+            "stable": self.stable,
+            "warnings": self.warnings,
             "compliance": self.compliance[0],
             "deflection": None if d is None else {"translation": d[:3], "rotation": d[3:]},
             "restrained": bool(self.restrained[0]),

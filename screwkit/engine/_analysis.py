@@ -37,8 +37,8 @@ from ._solution import PoseSolution, check_reachable, make_solution, mark_invali
 from ._statics import StaticsResult
 from ._analysis_options import check_options as _options
 from ._analysis_options import stiffness_of_poses as _stiffness_of_poses
-from ._workloads import (MissingStatics, _compliance, _mask, no_workload_message,
-                         resolve_workload)
+from ._workloads import (MissingStatics, _compliance, _mask, check_partial_stiffness,
+                         no_workload_message, resolve_workload)
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -329,7 +329,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
         ``path=True``: the closures of the path, then the rows and statics).
     stiffness : mapping, array_like (m,) or "model", optional
         Stiffness of each row of ``J`` (a mapping by row label, ``{"F_a1": 2e3, "T_c1": 5e6}``,
-        unnamed rows keeping the least-norm weight, or one value per row), in model units,
+        naming every row a self-stress loads, or one value per row), in model units,
         or ``"model"``: the ``actuator``, ``force`` and ``couple`` stiffnesses of the model's
         ``dynamics: stiffness:`` block.  A statically indeterminate PM then takes the
         compliance-weighted solution (:func:`~screwkit.engine.statics`).
@@ -374,6 +374,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                          lambda sl: row_points(model, sol.closures.take(sl), chunk),
                          lambda: sol._platform[1], cond,
                          float(threshold), bool(single), sol.legs_at)
+    check_partial_stiffness(model, stiffness, jac, sol.reachable_mask)
     # one pose: singular as jac.singular says, read once (a batch is never refused)
     singular = single and not cond.condition_number[0] <= jac.threshold
     if singular and raise_on_singular:

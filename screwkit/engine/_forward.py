@@ -151,6 +151,22 @@ class ForwardResult:
     def to_dict(self, i: int = 0) -> dict:
         """JSON-ready description of solution ``i`` (degrees, model units)."""
         u = self.model.units
+        if not self.success[i]:         # not a confirmed solution: no mode, no conditioning
+            closed = bool(self.unsplit is not None and self.unsplit[i])
+            return {"pose": self.pose(i), "units": u.as_dict(),
+                    "residual": float(self.residual[i]), "success": False,
+                    "closed_unconfirmed": closed,
+                    "mode": ("closes every leg at a representation singularity, not confirmed "
+                             "by the analysis" if closed else
+                             "not solved: the last iterate, not a pose of the PM"),
+                    "condition_number": None, "det_sign": None,
+                    "reference": self.reference,
+                    "reference_det_sign": int(self.reference_det_sign),
+                    "same_assembly_mode_as_reference": None, "side_of_base": None,
+                    "working_mode": None, "conditioning": "unreachable",
+                    "level": "unreachable", "extensions": None,
+                    "continuation_steps": int(self.steps[i]),
+                    "tracked": bool(self.tracked[i]), "iterations": int(self.iterations[i])}
         return {"pose": self.pose(i), "units": u.as_dict(),
                 "residual": float(self.residual[i]), "success": bool(self.success[i]),
                 "closed_unconfirmed": bool(self.unsplit is not None and self.unsplit[i]),

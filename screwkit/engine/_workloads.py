@@ -150,6 +150,44 @@ def _compliance(model, stiffness, N):
     return compliance_of(stiffness, len(labels), N)
 
 
+#: The poses of a batch whose self-stresses :func:`check_partial_stiffness` reads (spread over
+#: the batch: which rows a self-stress loads is the PM's structure, not the pose's).
+PARTIAL_SAMPLE = 64
+
+
+def check_partial_stiffness(model, stiffness, jac, reachable) -> None:
+    """Refuse row stiffnesses (a mapping by label, or the model's block) that leave out a
+    row a self-stress loads: its least-norm weight beside a stiffness would weight the
+    compliance-weighted solution by the units' choice (a 4UPU in cm and in mm gave couples 9
+    times apart).  Rows that statics alone fixes need none."""
+    from ..errors import InputError
+    from ._templates import labels_of, templates_of
+    if not isinstance(stiffness, (dict, str)):
+        return
+    info = labels_of(templates_of(model))
+    labels = [r.label for r in info]
+    named = set(_model_stiffness(model, info, stiffness) if isinstance(stiffness, str)
+                else stiffness)
+    if named >= set(labels):
+        return
+    Jn, _ = jac.normalised()
+    rank = np.atleast_1d(jac.conditioning.rank)
+    cand = np.flatnonzero(np.asarray(reachable, bool) & (Jn.shape[1] - rank > 0))
+    if not cand.size:
+        return
+    loaded = np.zeros(len(labels), bool)
+    for i in cand[np.linspace(0, cand.size - 1, min(PARTIAL_SAMPLE, cand.size)).astype(int)]:
+        S = np.linalg.svd(Jn[i].T, full_matrices=True)[2][int(rank[i]):]
+        loaded |= np.max(np.abs(S), axis=0) > 1e-9
+    missing = [lab for lab, ld in zip(labels, loaded) if ld and lab not in named]
+    if missing:
+        raise InputError(f"{model.name}: row(s) {', '.join(missing)} carry self-stress "
+                         "(statics alone does not fix them) and have no stiffness: give each of "
+                         f"{', '.join(lab for lab, ld in zip(labels, loaded) if ld)} a stiffness, "
+                         "or none for the least-norm choice (a stiffness weighed against "
+                         "another row's least-norm weight would depend on the units)")
+
+
 def _model_stiffness(model, info, what) -> dict:
     """Row stiffnesses by label from the model's ``dynamics: stiffness:`` block."""
     from ..errors import InputError

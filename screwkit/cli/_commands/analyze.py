@@ -143,7 +143,8 @@ def register(sub):
                    help="stiffness of a row of J by label (F_a1, T_c2 ...; force/length for "
                         "forces, torque/rad for couples), or 'model' for the model's "
                         "dynamics: stiffness: block; an indeterminate PM then takes the "
-                        "compliance-weighted solution (repeatable)")
+                        "compliance-weighted solution, every row its self-stresses load "
+                        "given one (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--units", choices=["model", "SI"], default="model",
                    help="units of the report (text and JSON): the model's (default) or SI "

@@ -74,7 +74,7 @@ def run(args) -> int:
             from ...engine import LENGTH_PARAMS
             guess = {k: (v if k in LENGTH_PARAMS else np.radians(v)) for k, v in guess.items()}
         sols = forward(model, act, guess, degrees=True)
-        out = {"pm": model.name, "count": len(sols),
+        out = {"pm": model.name, "count": len(sols), "solved": int(np.sum(sols.success)),
                "solutions": [sols.to_dict(i) for i in range(len(sols))]}
     # --all lists what it found: it fails only where no solution is confirmed
     solved = bool(np.any(sols.success) if args.all else np.all(sols.success))

@@ -127,6 +127,8 @@ def run(args) -> int:
     for w in res.analysis.warnings:
         if not (warned and w.startswith(f"{cls} pose:")):
             print(f"screwkit stiffness: warning: {w}", file=sys.stderr)
+    for w in d["warnings"]:                   # the stiffness's own: stability, large deflection
+        print(f"screwkit stiffness: warning: {w}", file=sys.stderr)
     if missing:
         print(f"screwkit stiffness: error: {missing}", file=sys.stderr)
         return 2
