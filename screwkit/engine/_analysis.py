@@ -37,6 +37,7 @@ from ._solution import PoseSolution, check_reachable, make_solution, mark_invali
 from ._statics import StaticsResult
 from ._analysis_options import check_options as _options
 from ._analysis_options import stiffness_of_poses as _stiffness_of_poses
+from ._limits import limits_warnings
 from ._workloads import (MissingStatics, _compliance, _mask, check_partial_stiffness,
                          no_workload_message, resolve_workload)
 
@@ -106,8 +107,7 @@ class PMAnalysis:
         return len(self.solution)
 
     def __getitem__(self, i) -> "PMAnalysis":
-        """Pose ``i`` as a one-pose analysis; a slice, integers or a boolean mask give a
-        batch of those poses (``res[res.ok]``)."""
+        """Pose ``i`` alone; a slice, integers or a boolean mask: those poses (``res[res.ok]``)."""
         if self.single:
             raise TypeError("a one-pose PMAnalysis cannot be indexed")
         i = pose_index(i, len(self))
@@ -232,7 +232,7 @@ class PMAnalysis:
             if not good:
                 out.append(f"leg {i + 1}: its constraint members do not have their home "
                            "structure here; the generic rule gave them")
-        return tuple(out)
+        return tuple(out + limits_warnings(self))
 
     @cached_property
     def mobility(self):

@@ -33,6 +33,7 @@ from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 from ._kernels._layout import CONVERGED
 from ._fk_inputs import actuator_targets
 from ._fk_newton import STEP, continuation
+from ._limits import within_limits
 from ._pose_params import SPLIT_TOL, pose_params, split_singular, unsplit_notes
 
 __all__ = ["ForwardResult", "forward_kinematics", "actuator_targets", "reference", "finish",
@@ -166,7 +167,8 @@ class ForwardResult:
                     "working_mode": None, "conditioning": "unreachable",
                     "level": "unreachable", "extensions": None,
                     "continuation_steps": int(self.steps[i]),
-                    "tracked": bool(self.tracked[i]), "iterations": int(self.iterations[i])}
+                    "tracked": bool(self.tracked[i]), "iterations": int(self.iterations[i]),
+                    "within_limits": None}
         return {"pose": self.pose(i), "units": u.as_dict(),
                 "residual": float(self.residual[i]), "success": bool(self.success[i]),
                 "closed_unconfirmed": bool(self.unsplit is not None and self.unsplit[i]),
@@ -181,7 +183,8 @@ class ForwardResult:
                 "level": str(np.atleast_1d(self.analysis.level)[i]),
                 "extensions": np.atleast_2d(self.analysis.solution.extensions)[i].tolist(),
                 "continuation_steps": int(self.steps[i]), "tracked": bool(self.tracked[i]),
-                "iterations": int(self.iterations[i])}
+                "iterations": int(self.iterations[i]),
+                "within_limits": bool(within_limits(self.analysis)[i])}
 
     def __repr__(self):
         return (f"ForwardResult({self.model.name}: {len(self)} poses, "

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ._limits import within_limits
 
 __all__ = ["report", "row_quantity", "constraint_resultants", "resultants_determined",
            "output_scales", "unit_row"]
@@ -209,6 +210,7 @@ def report(analysis, units=None) -> dict:
         "closure_residual": sol.residual,
         "notes": list(sol.notes),
         "warnings": list(analysis.warnings),
+        "within_limits": bool(within_limits(analysis)[0]),
         "legs": legs,
         "extensions": sol.extensions * kl,
         "jacobian": np.array([unit_row(row, row_quantity(r), k)

@@ -193,6 +193,8 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
     level = col(lambda p: np.atleast_1d(p.level))
     amp = col(lambda p: np.atleast_1d(p.quality.amplification))
     beyond = col(lambda p: np.atleast_1d(p.quality.beyond_singular_surface))
+    from ..engine._limits import within_limits
+    inside = col(within_limits)                 # the model's declared limits (all True: none)
     for i in range(N):
         msg = []
         if not reach[i]:
@@ -210,6 +212,8 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
                        "another assembly mode)")
         if reach[i] and resid[i] > CONVERGED:
             msg.append(f"not converged: closure residual {resid[i]:.3g}")
+        if reach[i] and not inside[i]:
+            msg.append("outside the model's declared limits")
         msg += [t for t in flat_notes[i] if "taken from the default pose" not in t]
         message.append("; ".join(msg))
     info = parts[0].jacobian.info

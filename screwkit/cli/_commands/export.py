@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ...errors import InputError
 from .._types import output, path
 from ._common import dump_json
@@ -52,7 +54,10 @@ def run(args) -> int:
     if not (args.urdf or args.mjcf):
         raise InputError("name what to write: --urdf OUT.urdf and/or --mjcf OUT.xml")
     if not args.mjcf and (args.pose or args.massless):
-        raise InputError("--pose and --massless are options of --mjcf")
+        given = " and ".join(o for o, v in (("--pose", args.pose), ("--massless", args.massless))
+                             if v)
+        raise InputError(f"{given} given: --pose and --massless are options of --mjcf (its "
+                         "keyframe and masses); the URDF has neither")
     if args.mass and args.massless:
         raise InputError("give either --mass FILE or --massless, not both")
     if args.urdf and args.mjcf:
@@ -71,6 +76,7 @@ def run(args) -> int:
                           params=params if params is not None else None,
                           massless=args.massless)
         out["mjcf"] = info
+        out["warnings"] = _keyframe_warnings(pm, info["pose"])
         shown = ", ".join(f"{k}={info['pose'][k]:.6g}" for k in pm.independent)
         mjcf_line = (f"wrote {info['path']} ({pm.name}: {info['joints']} joints, "
                      f"{info['loops']} loop welds, {info['actuators']} motors; SI units; "
@@ -101,12 +107,27 @@ def run(args) -> int:
         raise
     if args.mjcf:
         lines.append(mjcf_line)
+        for w in out["warnings"]:
+            print(f"screwkit export: warning: keyframe 0: {w}", file=sys.stderr)
     if args.json:
         print(dump_json(out))
         return 0
     for line in lines:
         print(line)
     return 0
+
+
+def _keyframe_warnings(pm, pose_deg) -> list:
+    """What ``analyze`` warns of at the MJCF's keyframe 0 (a singular pose, a mirror or
+    another assembly mode, a near-singular one, limits)."""
+    from ...engine import analyze
+    an = analyze(pm, {k: pose_deg[k] for k in pm.independent}, degrees=True,
+                 raise_on_singular=False)
+    out = list(an.warnings)
+    if an.singular and not any(w.startswith("singular") for w in out):
+        out.insert(0, f"singular pose (normalised condition number "
+                      f"{float(an.jacobian.condition_number):.3g})")
+    return out
 
 
 def _distinct_outputs(urdf, mjcf) -> None:

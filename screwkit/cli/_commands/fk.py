@@ -136,3 +136,6 @@ def _print(model, sols, res) -> None:
             continue
         print(f"     solved: residual {d['residual']:.2e}, condition "
               f"{d['condition_number']:.4g} ({d['conditioning']}); {d['mode']}")
+        if not d["within_limits"]:
+            from ...engine._limits import limits_warnings
+            print(f"     {limits_warnings(sols.analysis[i])[0]}")

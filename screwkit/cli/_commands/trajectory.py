@@ -158,6 +158,11 @@ def run(args) -> int:
                   "surface from home (det J's sign opposite to home's: the path crosses "
                   "an actuation singularity; message column)",
                   file=sys.stderr)
+        from ...engine._limits import within_limits
+        outside = int(np.sum(~within_limits(an) & np.asarray(an.solution.reachable_mask)))
+        if outside:
+            print(f"screwkit trajectory: {outside} of {len(res)} samples outside the model's "
+                  "declared limits (message column)", file=sys.stderr)
     if c["singular"] or c["unreachable"]:
         print(f"screwkit trajectory: {c['singular']} singular and {c['unreachable']} unreachable "
               f"of {len(res)} samples (status column; their statics are NaN)", file=sys.stderr)
