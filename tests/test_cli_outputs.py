@@ -179,3 +179,52 @@ def test_unknown_arguments_name_the_commands_help(capsys, argv, what, hint):
     assert err.startswith(f"{what}: error: unrecognized arguments: ")
     assert err.endswith(f"(see '{what} --help')")
     assert (f"did you mean {hint}?" in err) if hint else "did you mean" not in err
+
+
+@pytest.mark.parametrize("argv, piece", [
+    (["analyze", "3RRPRR", "--force=-1,-2,-3", "--force=1,2,3"], "--force given twice"),
+    (["stiffness", "3RRPRR", "--k-actuator", "5", "--k-actuator", "7"],
+     "--k-actuator given twice"),
+    (["optimize", "3RRPRR", "--grid", "alpha=-10:10:3", "--fix", "beta=0", "--fix", "Zo=80",
+      "--vary", "l=30:120", "--set", "l=50"], "--set l and --vary l"),
+    (["optimize", "3RRPRR", "--grid", "alpha=-10:10:3", "--vary", "l=30:120", "--objective",
+      "stroke", "--objective", "condition", "--no-polish"], "--no-polish"),
+    (["synthesize", "1T2R", "--symmetric", "--passive", "--no-generate"],
+     "--symmetric --passive"),
+    (["synthesize", "3T", "--no-generate", "--wide"], "--no-generate with --wide"),
+    (["synthesize", "3T", "--no-generate", "--variants", "3"], "--no-generate with --variants"),
+    (["synthesize", "3T", "--legs", "6"], "not in 3 .. 5"),
+    (["trajectory", "3RRPRR", "--expr", "alpha=t", "--expr", "beta=0", "--expr", "Zo=80",
+      "--samples", "3", "--dynamics", "--smoothing", "1"], "--smoothing smooths"),
+])
+def test_contradictory_or_repeated_options_are_refused(capsys, argv, piece):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert piece in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_a_workloads_csv_with_units_in_its_header_says_so(tmp_path, capsys):
+    f = tmp_path / "w.csv"
+    f.write_text("Fx [N],Fy [N],Fz [N],Tx [N.m],Ty [N.m],Tz [N.m]\n1,2,3,4,5,6\n",
+                 encoding="utf-8")
+    assert main(["size", "3RRPRR", "--grid", "alpha=-5:5:3", "--workloads", str(f)]) == 2
+    assert "a unit in the header is not read here" in capsys.readouterr().err
+
+
+def test_optimize_without_a_feasible_design_exits_2(capsys):
+    argv = ["optimize", "3RRPRR", "--grid", "alpha=-5:5:3", "--fix", "beta=0", "--fix", "Zo=80",
+            "--vary", "l=30:120", "--constraint", "stroke<=-5", "--maxiter", "2", "--popsize",
+            "3", "-q"]
+    assert main(argv) == 2
+    cap = capsys.readouterr()
+    assert "no feasible design" in cap.out and "error: no design in the bounds" in cap.err
+
+
+def test_map_at_is_read_in_the_model_units_whatever_units_shows(tmp_path, capsys):
+    png = str(tmp_path / "p.png")
+    argv = ["map", "3RRPRR", "--grid", "alpha=0:10:3", "--grid", "beta=-3:3:3", "--grid",
+            "Zo=70:90:3", "--units", "SI", "--plot", png, "-q"]
+    assert main(argv + ["--at", "Zo=80"]) == 0
+    out = capsys.readouterr().out
+    assert "Zo = 0.9 m" in out and "alpha = 10 deg" in out
+    assert main(argv + ["--at", "Zo=0.8"]) == 2        # 0.8 cm: outside the map

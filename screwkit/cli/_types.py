@@ -117,10 +117,28 @@ class UsageError(Exception):
         self.line = line
 
 
+class _Once(argparse._StoreAction):
+    """An option of one value given once: a second one is an error (argparse would keep
+    the last silently, as a second ``--force`` replaced the first)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in seen:
+            parser.error(f"{option_string} given twice: give it once")
+        seen.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class OneLineParser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose usage errors are one line, ``PROG: error: MESSAGE (see
     PROG --help)``, raised as :class:`UsageError` for :func:`screwkit.cli.main` to print and
-    return 2 (the usage itself is in ``--help``)."""
+    return 2 (the usage itself is in ``--help``).  Its options of one value are given once
+    (:class:`_Once`); repeatable ones say so (``action="append"``)."""
+
+    def add_argument(self, *args, **kwargs):
+        if args and str(args[0]).startswith("-") and kwargs.get("action") in (None, "store"):
+            kwargs["action"] = _Once
+        return super().add_argument(*args, **kwargs)
 
     def error(self, message):
         msg = " ".join(str(message).split())

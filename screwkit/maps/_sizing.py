@@ -189,6 +189,11 @@ def read_workloads(path) -> list:
             raise InputError(f"{path}, line 1: column {h!r} is given twice (csv would keep only "
                              "the last one)")
         seen.add(h)
+    united = [h for h in head if "[" in h and h.split("[")[0].strip() in (*_COLS, "name")]
+    if united:                       # (a trajectory's table carries units; loads are not read so)
+        raise InputError(f"{path}, line 1: column {united[0]!r}: a unit in the header is not "
+                         "read here: the loads are in the model's force and torque units, in "
+                         f"columns named {', '.join(_COLS)} (and optionally name)")
     missing = [c for c in _COLS if c not in head]
     if missing:
         sep = "; the columns must be separated by commas" if any(";" in h for h in head) \

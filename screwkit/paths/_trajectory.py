@@ -214,7 +214,9 @@ def _result(model, path, res, F, T, diag, source="given") -> TrajectoryResult:
             msg.append(f"not converged: closure residual {resid[i]:.3g}")
         if reach[i] and not inside[i]:
             msg.append("outside the model's declared limits")
-        msg += [t for t in flat_notes[i] if "taken from the default pose" not in t]
+        # (an unreachable sample's dependent angle is its last iterate's: not said)
+        msg += [t for t in flat_notes[i] if "taken from the default pose" not in t
+                and (reach[i] or "resolved by continuity" not in t)]
         message.append("; ".join(msg))
     info = parts[0].jacobian.info
     cons_info = [r for r in info if r.kind != "actuation"]

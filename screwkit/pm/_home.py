@@ -25,6 +25,8 @@ def _solve_home(model: "PMModel", start: dict, ctx: "_Ctx"):
     L = model.normalisation.length
     scale = np.array([L if p in LENGTH_PARAMS else 1.0 for p in dep])
 
+    why = []
+
     def residual(x):
         pose = dict(start)
         pose.update(zip(dep, x))
@@ -34,14 +36,18 @@ def _solve_home(model: "PMModel", start: dict, ctx: "_Ctx"):
             try:
                 leg = build_leg(r, pl, check_structure=False)
                 out.append(structure_vector(r, pl, leg))
-            except GeometryError:
+            except GeometryError as exc:
+                why[:] = [f"leg {i + 1}: {exc}"]
                 return None
         return np.concatenate(out) if out else np.zeros(0)
 
     x = np.array([start[p] for p in dep], float)
     f = residual(x)
     if f is None:
-        raise ctx.err("the legs cannot be built at the home guess (adjust 'guess' or 'home')", "guess")
+        # the home pose (with the guess of its dependent parameters, where given) and the
+        # dimensions place the legs: one of them is at fault, most often the home pose
+        raise ctx.err(f"the legs cannot be built at the home pose ({why[0]}): check 'home', "
+                      "'guess' where given, and the dimensions", "home")
     notes = []
     for it in range(100):
         if f.size == 0 or np.max(np.abs(f)) < 1e-14:

@@ -66,10 +66,12 @@ class Body:
 NO_BODY = Body(0.0, np.zeros(3), np.zeros((3, 3)), "massless")
 
 
-def check_inertia(I, mass: float, where: str = "inertia", rtol: float = 1e-9) -> np.ndarray:
+def check_inertia(I, mass: float, where: str = "inertia", rtol: float = 1e-9,
+                  shown: float = 1.0) -> np.ndarray:
     """Validate an inertia tensor about a centre of mass: symmetric, its principal moments
     non-negative and each at most the sum of the other two (a real mass distribution),
-    zero for a zero mass.  Returns it symmetrised."""
+    zero for a zero mass.  Returns it symmetrised.  Messages quote moments divided by
+    ``shown`` (the factor from the units they were written in)."""
     I = np.asarray(I, float)
     if I.shape != (3, 3) or not np.all(np.isfinite(I)):
         raise InputError(f"{where}: must be 3 principal moments or a 3x3 matrix of finite numbers")
@@ -79,9 +81,11 @@ def check_inertia(I, mass: float, where: str = "inertia", rtol: float = 1e-9) ->
     I = 0.5 * (I + I.T)
     ev = np.linalg.eigvalsh(I)
     if ev[0] < -rtol * scale:
-        raise InputError(f"{where}: a principal moment is negative ({ev[0]:.6g})")
+        raise InputError(f"{where}: a principal moment is negative ({ev[0] / shown:.6g}, in the "
+                         "units given)")
     if ev[2] > ev[0] + ev[1] + rtol * scale:
-        raise InputError(f"{where}: the principal moments {', '.join(f'{x:.6g}' for x in ev)} "
+        raise InputError(f"{where}: the principal moments "
+                         f"{', '.join(f'{x / shown:.6g}' for x in ev)} (in the units given) "
                          "violate the triangle inequality (I3 <= I1 + I2): no mass has them")
     if mass == 0 and scale > 1e-300 and I.any():
         raise InputError(f"{where}: a massless body cannot have an inertia")

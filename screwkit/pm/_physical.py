@@ -98,7 +98,8 @@ class _Reader:
             x = float("inf")
         if not np.isfinite(x) or (positive and x < 0):
             raise self.err(f"must be a finite{' non-negative' if positive else ''} number, "
-                           f"got {shorten(v, 40)}", fld)
+                           f"got {shorten(v, 40) if isinstance(v, str) else format(x, 'g')}",
+                           fld)
         if abs(x) > bound:
             raise self.err(f"{x:g} is beyond the limit +-{bound:g}", fld)
         fm, fl, ff = self.f
@@ -174,9 +175,15 @@ def _inertia(v, fld, r: _Reader, mass, axis=None, length_hint=None):
     else:
         raise r.err("must be 3 principal moments or a 3x3 matrix", fld)
     try:
-        return check_inertia(I, mass, "")
+        return check_inertia(I, mass, "", shown=self_factor(r))
     except InputError as exc:
         raise r.err(str(exc).lstrip(": "), fld) from None
+
+
+def self_factor(r: _Reader) -> float:
+    """The factor from an inertia as the block writes it to the model's units."""
+    fm, fl, _ = r.f
+    return fm * fl ** 2
 
 
 def _platform(v, r: _Reader) -> Body:

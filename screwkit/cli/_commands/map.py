@@ -115,7 +115,8 @@ def register(sub):
                         "forces, constraints, conditioning or transmission (iti, oti, lti, "
                         "cti) (repeatable; default: forces and conditioning)")
     p.add_argument("--at", metavar="NAME=VALUE", action="append", default=[],
-                   help="the slice of a 3-D map that --plot draws (default: the middle)")
+                   help="the slice of a 3-D map that --plot draws (default: the middle; in "
+                        "the model's units, as --grid, whatever --units)")
     p.add_argument("--lti-threshold", type=float, default=0.7, metavar="X",
                    help="the LTI bound of the good-transmission workspace (default 0.7)")
     p.set_defaults(func=run)
@@ -184,9 +185,10 @@ def run(args) -> int:
     from .analyze import resolve_model
     model = resolve_model(args)
     units = None if args.units == "model" else args.units
+    length_factor = 1.0
     if units is not None:
         from ...engine._report import output_scales
-        output_scales(model, units)              # fail before a long run, not after it
+        length_factor = output_scales(model, units)[1]["length"]   # (fails before a long run)
     grid = grid_of(args)
     with progress_bar(args, "map", "cell") as progress:
         ds = map_pm(model, grid, **map_keywords(args, model, progress))
@@ -201,8 +203,10 @@ def run(args) -> int:
     marks = _determined(model, ds) if forces else {}
     ds = map_in_units(ds, units)
     if args.plot:      # (first: a --quantity or --at it refuses leaves no --out file behind)
-        plot_map(ds, args.plot, quantities,
-                 at=parse_assignments(args.at, "--at"))
+        # --at is read as --grid and --fix are, in the model's units, whatever --units shows
+        at = {k: (v * length_factor if k in ("Xo", "Yo", "Zo") else v)
+              for k, v in parse_assignments(args.at, "--at").items()}
+        plot_map(ds, args.plot, quantities, at=at)
         print(f"wrote {args.plot}", file=sys.stderr)
     if args.out:
         write(ds, args.out)
@@ -231,7 +235,7 @@ def print_summary(s) -> None:
     c = s["counts"]
     grid = ", ".join(f"{d} {g['start']:g}..{g['stop']:g} {g['unit']} ({g['count']})"
                      for d, g in s["grid"].items()) or "random samples"
-    fixed = ", ".join(f"{k} = {fmt_num(v)}" for k, v in s["fixed"].items())
+    fixed = ", ".join(_with_unit(k, v, u) for k, v in s["fixed"].items())
     print(f"map of {s['pm']}: {grid}" + (f"; fixed {fixed}" if fixed else ""))
     print(f"  units: lengths {u['length']}, forces {u['force']}, torques {u['torque']}, "
           f"angles {u['angle']}")
@@ -259,7 +263,7 @@ def print_summary(s) -> None:
           f"{len(s['other_sign_changes'])} other det J sign changes"
           if s["locus"] == "refined" else f"  singular locus: {s['locus']}")
     for x in loc[:5]:
-        print("    " + ", ".join(f"{k} = {fmt_num(v, 9)}" for k, v in x["pose"].items())
+        print("    " + ", ".join(_with_unit(k, v, u, 9) for k, v in x["pose"].items())
               + f"  ({x['kind']}, condition {x['condition_number']:.3g})")
     if len(loc) > 5:
         print(f"    ... {len(loc) - 5} more (--json lists them)")
@@ -267,11 +271,16 @@ def print_summary(s) -> None:
     if not ex["rows"]:
         print("  no forces: no workload")
     else:
-        _print_extremes(ex, c)
+        _print_extremes(ex, c, u)
     print_workspace(s["workspace"])
 
 
-def _print_extremes(ex, c) -> None:
+def _with_unit(k, v, u, digits: int = 6) -> str:
+    """``Zo = 80 cm``: a pose value with its unit (the summary's units)."""
+    return f"{k} = {fmt_num(v, digits)} {u['length'] if k in ('Xo', 'Yo', 'Zo') else u['angle']}"
+
+
+def _print_extremes(ex, c, u) -> None:
     print(f"  largest |value| over the {ex['usable_cells']} usable cells (ok"
           + (", within the limits" if "outside_limits" in c else "") + "):")
     undetermined = False
@@ -281,7 +290,7 @@ def _print_extremes(ex, c) -> None:
         star = "*" if r.get("determined") is False else " "
         undetermined |= star == "*"
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12}{star} {r['unit']:<6} at "
-              + ", ".join(f"{k} = {fmt_num(v)}" for k, v in r["pose"].items())
+              + ", ".join(_with_unit(k, v, u) for k, v in r["pose"].items())
               + f"  ({r['conditioning']}, trust {r['level']})")
     if undetermined:
         print("    * not fixed by statics alone: the PM is statically indeterminate there and "

@@ -98,6 +98,14 @@ def run(args) -> int:
         raise InputError("--threads: optimize evaluates one candidate at a time per process; "
                          "use --workers N for parallel candidates")
     vary = _vary(args.vary)
+    fixed = {item.split("=", 1)[0].strip() for item in args.set}
+    both = sorted(fixed & set(vary))
+    if both:
+        raise InputError(f"--set {both[0]} and --vary {both[0]}: a varied dimension takes the "
+                         "optimiser's values (give its bounds with --vary, or fix it with --set)")
+    if args.no_polish and len(args.objective or []) > 1:
+        raise InputError("--no-polish: several objectives are searched by NSGA-II, which has "
+                         "no polish (it applies to one objective)")
     explicit = args.force is not None or args.torque is not None
     if args.workloads and explicit:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
@@ -127,10 +135,11 @@ def run(args) -> int:
         print(dump_json(res.to_dict()))
     else:
         print_text(res)
-    if res.best is None:
-        print("screwkit optimize: no design in the bounds makes the whole task usable "
+    if res.best is None:      # (the report above says what was searched: exit status 2)
+        print("screwkit optimize: error: no design in the bounds makes the whole task usable "
               "(reachable, within the limits, regular) and meets the constraints"
               + ("; nothing written" if args.write else ""), file=sys.stderr)
+        return 2
     return 0
 
 
@@ -176,6 +185,8 @@ def print_text(res) -> None:
               + ("; 10 of them, --json lists all" if len(shown) < len(res.front) else "")
               + "):")
         for f in shown:
-            print("    " + ", ".join(f"{k} = {fmt_num(v)}" for k, v in f["dimensions"].items())
+            print("    " + ", ".join(f"{k} = {fmt_num(v)} {u['length']}"
+                                   for k, v in f["dimensions"].items())
                   + ": " + ", ".join(f"{o} {fmt_num(f['objectives'][o])}"
+                                     + (f" {u[o]}" if u[o] not in ("1", None) else "")
                                      for o in res.objectives))

@@ -42,7 +42,9 @@ def register(sub):
     add_load_arguments(p)
     k = argtype(_stiffness_value, "stiffness")
     p.add_argument("--mass", metavar="FILE", type=path,
-                   help="a YAML file with a 'dynamics:' mapping whose 'stiffness:' gives the legs'")
+                   help="a YAML file with a 'dynamics:' mapping whose 'stiffness:' gives the legs' "
+                        "rows their stiffnesses (actuator, force, couple, or a beam; "
+                        "docs/dynamics.md)")
     p.add_argument("--k-actuator", type=k, metavar="K",
                    help="stiffness of every actuator (force/length; torque/rad if rotary)")
     p.add_argument("--k-force", type=k, metavar="K",

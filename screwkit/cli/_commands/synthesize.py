@@ -52,7 +52,7 @@ def register(sub):
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("motion", metavar="MOTION",
                    help="motion pattern: 3T, 3R, 1T2R (2R1T), 3T1R, 2T3R, 1T3R, 2T2R, 2T1R")
-    p.add_argument("--legs", type=integer(1, 6), default=None, metavar="N",
+    p.add_argument("--legs", type=integer(3, 5), default=None, metavar="N",
                    help="number of actuated legs (default: the DOF; 3, 4 or 5)")
     p.add_argument("--limit", type=integer(1, 10000), default=None, metavar="K",
                    help="list only the K best ranked")
@@ -99,6 +99,12 @@ def run(args) -> int:
     from ...design import VARIANTS, synthesize_motion
     from ...errors import InputError
 
+    if args.symmetric and args.passive:
+        raise InputError("--symmetric --passive: a symmetric PM has all its legs of one type, "
+                         "a passive leg makes it asymmetric (give one or the other)")
+    if args.no_generate and (args.wide or args.variants is not None):
+        raise InputError(f"--no-generate with {'--wide' if args.wide else '--variants'}: those "
+                         "choose the generated legs, which --no-generate leaves out")
     if args.write is not None and Path(args.write).exists() and not Path(args.write).is_dir():
         raise InputError(f"--write {args.write}: not a directory (give one for the models)")
     mapper = dask_mapper(args)

@@ -92,6 +92,9 @@ def run(args) -> int:
         if given:
             raise InputError(f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for "
                              "the dynamic columns: add --dynamics")
+    if args.smoothing is not None and not getattr(args, "path", None):
+        raise InputError("--smoothing smooths the spline through a CSV --path: expressions "
+                         "(--expr) have exact derivatives")
     force, torque = require_load(args, model)
     if args.plot:
         from ...viz import require_matplotlib
