@@ -182,7 +182,8 @@ def test_unknown_arguments_name_the_commands_help(capsys, argv, what, hint):
 
 
 @pytest.mark.parametrize("argv, piece", [
-    (["analyze", "3RRPRR", "--force=-1,-2,-3", "--force=1,2,3"], "--force given twice"),
+    (["analyze", "3RRPRR", "--force=-1,-2,-3", "--force=1,2,3"],
+     "--force given twice with different values"),
     (["stiffness", "3RRPRR", "--k-actuator", "5", "--k-actuator", "7"],
      "--k-actuator given twice"),
     (["optimize", "3RRPRR", "--grid", "alpha=-10:10:3", "--fix", "beta=0", "--fix", "Zo=80",

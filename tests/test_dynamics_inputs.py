@@ -176,3 +176,26 @@ def test_trajectory_dynamics_cli(tmp_path, capsys):
     assert d["columns"]["F_a1_dyn"]["unit"] == "kN" and d["units"]["time"] == "s"
     assert main(args[:-2]) == 2                       # no masses: one line, exit 2
     assert "declares no masses" in capsys.readouterr().err
+
+
+def test_the_dynamics_table_says_which_workload_it_carries(tmp_path, capsys):
+    """The --dynamics CSV ends with the workload at o (as the static table does), in the
+    model's units: the paper's declared load here, the given one with --force."""
+    import csv
+    import io
+
+    from screwkit.cli import main
+    mass = tmp_path / "mass.yaml"
+    mass.write_text("dynamics:\n  platform: {mass: 40}\n")
+    base = ["trajectory", "3RRPRR", "--expr", "alpha=8*sin(2*pi*t)", "--expr", "beta=8",
+            "--expr", "Zo=80", "--samples", "3", "--t-range", "0", "0.5", "--dynamics",
+            "--mass", str(mass)]
+    for extra, load in (([], [-20, -30, -60, -30, -30, 100]),
+                        (["--force", "0,0,-1"], [0, 0, -1, 0, 0, 0])):
+        assert main(base + extra) == 0
+        rows = list(csv.reader(io.StringIO(capsys.readouterr().out)))
+        names = [h.split(" [")[0] for h in rows[0]]
+        cols = [names.index(f"workload_{c}") for c in ("Fx", "Fy", "Fz", "Tx", "Ty", "Tz")]
+        assert rows[0][cols[0]] == "workload_Fx [kN]" and rows[0][cols[3]] == "workload_Tx [kN.cm]"
+        for r in rows[1:]:
+            assert [float(r[c]) for c in cols] == load

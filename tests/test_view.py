@@ -164,7 +164,9 @@ def test_cli_view_writes_the_page(tmp_path, capsys):
     assert rc == 0
     info = json.loads(capsys.readouterr().out)
     assert info["states"] == 3 and info["controls"] == "grid"
-    assert "F = [0, 0, -10] kN" in info["workload"] and "given" in info["workload"]
+    w = info["workload"]             # (structured, as the other commands' JSON; text beside)
+    assert "F = [0, 0, -10] kN" in w["text"] and w["source"] == "given"
+    assert w["force"] == [0.0, 0.0, -10.0] and w["force_unit"] == "kN"
     d = page_data(out.read_text())
     # the model's default pose (alpha = 5 deg) is the grid cell nearest it
     assert d["states"][d["start"]]["pose"]["alpha"] == pytest.approx(5.0, abs=1e-12)

@@ -118,13 +118,14 @@ class UsageError(Exception):
 
 
 class _Once(argparse._StoreAction):
-    """An option of one value given once: a second one is an error (argparse would keep
-    the last silently, as a second ``--force`` replaced the first)."""
+    """An option of one value: given again with another value it is an error (argparse
+    would keep the last silently, as a second ``--force`` replaced the first); the same
+    value twice is the same request."""
 
     def __call__(self, parser, namespace, values, option_string=None):
         seen = namespace.__dict__.setdefault("_given_once", set())
-        if self.dest in seen:
-            parser.error(f"{option_string} given twice: give it once")
+        if self.dest in seen and getattr(namespace, self.dest, None) != values:
+            parser.error(f"{option_string} given twice with different values: give it once")
         seen.add(self.dest)
         super().__call__(parser, namespace, values, option_string)
 

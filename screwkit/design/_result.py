@@ -137,7 +137,12 @@ class OptimizationResult:
                 "constraints": [f"{n}{op}{v:g}" for n, op, v in self.constraints],
                 "units": self.units, "task": self.task, "best": self.best,
                 "front": self.front, "evaluations": self.evaluations,
-                "history": self.history}
+                "history": self.history,
+                "not_computed": {o: "the transmission indices are computed only where an "
+                                    "objective or a constraint names one (they need the "
+                                    "joints' twists at every cell)"
+                                 for o, v in (self.best or {}).get("objectives", {}).items()
+                                 if v is None}}
 
     def write_model(self, path) -> str:
         """Write the best design as a model file (YAML) that :func:`screwkit.load_pm` reads."""

@@ -297,6 +297,13 @@ class DynamicsResult:
         cols += [("kinetic_energy", self.kinetic_energy, e),
                  ("potential_energy", self.potential_energy, e),
                  ("actuator_power", self.actuator_power, f"{e}/s")]
+        # the external workload at o the static columns (and the dynamic ones, beside the
+        # inertia and gravity) carry: a table says which load it is of
+        N = len(self.t)
+        F = np.zeros(3) if self.force is None else np.asarray(self.force, float)
+        T = np.zeros(3) if self.torque is None else np.asarray(self.torque, float)
+        cols += [(f"workload_F{x}", np.full(N, F[j]), u.force) for j, x in enumerate("xyz")]
+        cols += [(f"workload_T{x}", np.full(N, T[j]), u.torque) for j, x in enumerate("xyz")]
         return cols
 
     def to_csv(self, out=None):
@@ -324,7 +331,9 @@ class DynamicsResult:
                 "units": {**self.model.units.as_dict(), "time": "s",
                           "mass": self.params.mass_unit},
                 "workload": {"force": self.force, "torque": self.torque, "applied_at": "o",
-                             "source": self.workload_source},
+                             "source": self.workload_source,
+                             "force_unit": self.model.units.force,
+                             "torque_unit": self.model.units.torque},
                 "gravity": self.params.gravity, "motion": {"source": self.motion.source,
                                                            "derivatives": self.motion.method},
                 "notes": list(self.params.notes) + list(self.motion.notes),

@@ -14,7 +14,9 @@ def add_dynamics_arguments(p) -> None:
     g.add_argument("--dynamics", action="store_true",
                    help="also the inverse dynamics: the static and the dynamic (gravity, "
                         "inertia and friction of the platform and the legs) active forces and "
-                        "constraint values, actuator rates and accelerations, energy and power; "
+                        "constraint values, actuator rates and accelerations, energy and power, "
+                        "the workload (a table of its own: without the static table's T_r, "
+                        "resultants and residuals); "
                         "the masses are the model's 'dynamics:' block or --mass FILE")
     g.add_argument("--mass", metavar="FILE", type=path,
                    help="a YAML file with a 'dynamics:' mapping (masses, inertias, friction, "

@@ -261,7 +261,8 @@ def print_text(res, units=None) -> None:
     print(f"  conditioning: {describe_class(q['class'], q['condition_number'])}; trust level "
           f"{q['level']}" + (f", efforts up to {amp:.3g} times the load" if amp is not None
                              else "")
-          + f"; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
+          + (f"; det J sign {q['det_sign']:+d} ({q['det_reference']} {q['home_det_sign']:+d})"
+             if jac.n_rows == 6 else f"; J is {jac.n_rows}x6: no det J sign")
           + (f"  BEYOND A SINGULAR SURFACE FROM {q['det_reference'].upper()}"
              if q["beyond_singular_surface"] else ""))
     _print_transmission(res, kl, u.length)

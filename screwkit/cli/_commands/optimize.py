@@ -177,6 +177,10 @@ def print_text(res) -> None:
         unit = u[o] if u[o] not in ("1", None) else ""
         mark = "  (optimised)" if o in res.objectives else ""
         print(f"    {o:<21} {fmt_num(v):>12} {unit}{mark}")
+    skipped = [o for o, v in res.best["objectives"].items() if v is None]
+    if skipped:
+        print(f"    ({', '.join(skipped)}: not computed; the transmission indices are "
+              "computed only where an objective or a constraint names one)")
     if len(res.objectives) > 1:
         shown = res.front
         if len(shown) > 12:                     # ten spread along it, ends included

@@ -122,7 +122,12 @@ def run(args) -> int:
         print(dump_json({"html": written, "png": shot["png"] if shot else None, "pm": sc.pm,
                          "states": len(sc.states), "start": sc.start,
                          "controls": "grid" if hasattr(sc.controls, "params") else "time",
-                         "workload": sc.workload_text, "level": state.level,
+                         "workload": {"force": sc.force, "torque": sc.torque,
+                                      "applied_at": "o", "source": sc.workload_source,
+                                      "force_unit": sc.units.get("force"),
+                                      "torque_unit": sc.units.get("torque"),
+                                      "text": sc.workload_text},
+                         "level": state.level,
                          "levels": levels}))
         return 0
     n = len(sc.states)
