@@ -189,7 +189,10 @@ def _model(pm: PMLike, overrides: Mapping[str, float] | None = None,
            catalog: Catalog | None = None) -> PMModel:
     from .pm import PMModel
 
-    return pm if isinstance(pm, PMModel) else load_pm(pm, overrides, catalog=catalog)
+    if isinstance(pm, PMModel):           # (its dimensions changed: never the overrides dropped)
+        from .engine import load_assembled_pm
+        return load_assembled_pm(pm, overrides)
+    return load_pm(pm, overrides, catalog=catalog)
 
 
 def solve(pm: PMLike, independent: PoseLike | None = None,
@@ -234,7 +237,8 @@ def solve(pm: PMLike, independent: PoseLike | None = None,
     """
     from .engine import solve as _solve
 
-    return _solve(_model(pm), independent, guess, degrees, **kwargs)
+    return _solve(_model(pm, kwargs.pop("overrides", None)), independent, guess, degrees,
+                  **kwargs)
 
 
 def solve_path(pm: PMLike, poses: Sequence[Mapping[str, float]],

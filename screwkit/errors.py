@@ -16,6 +16,7 @@ __all__ = [
     "SingularityError",
     "UnreachablePoseError",
     "InputError",
+    "MisuseError",
 ]
 
 
@@ -25,6 +26,11 @@ class ScrewkitError(Exception):
 
 class InputError(ScrewkitError, ValueError):
     """A value given by the user is not acceptable (NaN, wrong shape, unknown name)."""
+
+
+class MisuseError(ScrewkitError, TypeError):
+    """An operation a value does not support: writing a constant (a model's poses), indexing
+    a one-pose result, a one-pose member read on a batch (also a ``TypeError``)."""
 
 
 class ParseError(ScrewkitError, ValueError):

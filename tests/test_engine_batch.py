@@ -277,3 +277,19 @@ def test_workloads_default_to_the_papers():
     a = screwkit.analyze(pm, **PAPER_LOAD)
     b = screwkit.analyze(pm, force=PAPER_FORCE, torque=PAPER_TORQUE)
     np.testing.assert_array_equal(a.statics.values, b.statics.values)
+
+
+def test_a_pose_whose_solve_diverges_is_unreachable_not_invalid_input():
+    """A batch pose far out (Zo = 1e5 cm: within the inputs' limits, beyond the legs'
+    reach) is unreachable with its given parameters kept and no stale note, as the same pose
+    alone raises UnreachablePoseError; a NaN given is invalid input."""
+    import screwkit
+    pm = screwkit.load_pm("3RRPRR")
+    sol = screwkit.solve(pm, {"alpha": [0.0, 0.0, np.nan], "beta": 0.0, "Zo": [80.0, 1e5, 80.0]})
+    assert sol.status.tolist() == ["ok", "unreachable", "invalid input"]
+    assert sol.params["Zo"][1] == 1e5 and np.isnan(sol.params["Zo"][2])
+    assert not any("resolved by continuity" in n for n in sol.notes[1])
+    with pytest.raises(screwkit.UnreachablePoseError):
+        screwkit.solve(pm, {"alpha": 0.0, "beta": 0.0, "Zo": 1e5})
+    with pytest.raises(screwkit.errors.MisuseError, match="takes no keyword 'force'"):
+        screwkit.solve(pm, {"alpha": 0.0, "beta": 0.0, "Zo": 80.0}, force=[0, 0, 1])

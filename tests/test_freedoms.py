@@ -146,3 +146,24 @@ def test_a_screw_along_a_translation_is_a_rotation_and_one_normal_to_it_stays_he
     # every classified twist is reciprocal to every wrench
     for f in res.freedoms:
         np.testing.assert_allclose(np.asarray(mixed, float) @ f.twist, 0, atol=1e-9)
+
+
+@pytest.mark.parametrize("forces", [
+    [([0, 0, 1], [0, 0, 0])],                        # one force along z through O
+    [([0, 0, 1], [1, 2, 0]), ([1, 0, 0], [0, 0, 3])],
+])
+def test_a_rotation_axis_moved_along_its_shift_is_still_a_freedom(forces):
+    """The line a rotation freedom may be moved along (``shift``): its twist moved by s,
+    [v + s x d; d], is reciprocal to every constraint force (f . v + m . w = 0), checked
+    with the forces' own wrenches [f; p x f]."""
+    from screwkit.screws import freedoms
+    W = [np.concatenate([np.asarray(f, float), np.cross(p, f)]) for f, p in forces]
+    res = freedoms(np.array(W))
+    moved = 0
+    for fr in res.freedoms:
+        for s in fr.shift:
+            v = fr.twist[:3] + np.cross(s, fr.direction)
+            for w in W:
+                assert abs(w[:3] @ v + w[3:] @ fr.twist[3:]) < 1e-12
+            moved += 1
+    assert moved

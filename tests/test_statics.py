@@ -333,3 +333,26 @@ def test_placed_legs_moved_with_their_frame_give_the_same_rows_and_statics():
     assert c[1] == pytest.approx(c[0], rel=1e-12) and abs(c[2] / c[0] - 1) > 1e-4
     with pytest.raises(screwkit.InputError, match="rotation"):
         unified_jacobian(legs, o, frame=(2 * R, p))
+
+
+def test_statics_refuses_leg_points_that_do_not_fit_its_legs():
+    """base_points / platform_points of the wrong count reached the compiled leg wrenches
+    (a heap corruption, the process killed); they, and workloads of mismatched shapes, are
+    input errors now."""
+    pm = screwkit.load_pm("3RPS")
+    sol = screwkit.analyze(pm).solution
+    legs, o = sol.legs, np.asarray(sol.position).reshape(3)
+    jac = unified_jacobian(legs, o)
+    A = np.array([lg.A for lg in legs])
+    a = np.array([lg.a for lg in legs])
+    F, T = [0.0, 0.0, -1.0], [0.0, 0.0, 0.0]
+    for kw, piece in (({"base_points": [[0, 0, 0]]}, "without platform_points"),
+                      ({"base_points": A[:2], "platform_points": a[None, :2]}, r"must be \(3, 3\)"),
+                      ({"base_points": A, "platform_points": a[:2]}, "platform_points must be"),
+                      ({"platform_points": a}, "without base_points")):
+        with pytest.raises(InputError, match=piece):
+            statics(jac, F, T, **kw)
+    with pytest.raises(InputError, match="as many torques as forces"):
+        statics(jac, np.zeros((2, 3)), np.zeros((3, 3)))
+    good = statics(jac, F, T, base_points=A, platform_points=a)
+    np.testing.assert_array_equal(np.asarray(good.T_r), np.asarray(statics(jac, F, T).T_r))

@@ -258,3 +258,63 @@ def test_a_path_file_may_name_its_units(tmp_path, capsys):
     assert main(["trajectory", "3RRPRR", "--path", str(f)]) == 2
     err = capsys.readouterr().err
     assert "Zo [m]" in err and "in cm" in err and err.count("\n") == 1
+
+
+def test_a_rotary_actuator_in_a_u_joint_is_a_torque(tmp_path):
+    """UP+2UPS/rotational (what `synthesize --write` gives): legs 2 and 3 are actuated at the
+    first R of their U (a revolute of the leg's R/P chain, though the joint is named U1a):
+    their efforts are torques, labelled T_a, in kN.cm, scaled by 10 into N.m (a force by
+    1000 into N); by virtual work against a finite difference of the actuated joints,
+    sum tau_i dq_i equals the workload's work on the platform's motion."""
+    text = """pms:
+  UP+2UPS/rotational:
+    string: UP+2UPS
+    dimensions: {R: 60, r: 30}
+    base: {shape: triangle, circumradius: R}
+    platform: {shape: triangle, circumradius: r}
+    euler: XYZ
+    legs: [UP, UPS/rotational, UPS/rotational]
+    independent: [alpha, beta, Zo]
+    home: {alpha: 0, beta: 0, Zo: R}
+    pose: {alpha: 0, beta: 0, Zo: R}
+    dof: 3
+    motion: 1T2R
+    units: {length: cm, force: kN}
+"""
+    import screwkit
+    path = tmp_path / "rot.yaml"
+    path.write_text(text, encoding="utf-8")
+    pm = screwkit.load_pm(str(path))
+    assert pm.home_legs[1].actuated_joint.kind == "R" and pm.home_legs[0].actuated_joint.kind == "P"
+    F, T = np.array([0.0, 0.0, -1.0]), np.array([0.5, 0.0, 0.0])
+    pose = {"alpha": 0.05, "beta": -0.03, "Zo": 62.0}
+    an = screwkit.analyze(pm, pose, force=F, torque=T)
+    assert [r.label for r in an.jacobian.info[:3]] == ["F_a1", "T_a2", "T_a3"]
+    d, s = an.to_dict(), an.to_dict(units="SI")
+    act, act_si = np.array(d["statics"]["active"]), np.array(s["statics"]["active"])
+    np.testing.assert_allclose(act_si, act * np.array([1000.0, 10.0, 10.0]), rtol=1e-12)
+    # virtual work: the actuated joints' efforts against the workload, by finite differences
+    h = 1e-6
+    for k in ("alpha", "beta", "Zo"):
+        sols = [screwkit.analyze(pm, dict(pose, **{k: pose[k] + e}), force=F, torque=T)
+                for e in (-h, h)]
+        dq = (np.asarray(sols[1].solution.actuator_values)
+              - np.asarray(sols[0].solution.actuator_values))
+        dp = np.asarray(sols[1].solution.position) - np.asarray(sols[0].solution.position)
+        R0, R1 = (np.asarray(x.solution.rotation) for x in sols)
+        S = R1 @ R0.T                  # a small rotation [dtheta]x + I (world axes)
+        w = np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]]) / 2
+        work = act @ dq + F @ dp + T @ w
+        assert abs(work) <= 1e-6 * (np.abs(act) @ np.abs(dq) + 1e-30), (k, work)
+
+
+def test_the_mobility_strings_of_the_json_are_in_its_units(capsys):
+    """analyze --units SI --json: the twist space's points and pitches in m (they were left
+    in cm while units.length said m); the directions unchanged."""
+    d = json.loads(_run(capsys, "analyze", "3RRPRR", "--json"))
+    s = json.loads(_run(capsys, "analyze", "3RRPRR", "--json", "--units", "SI"))
+    a, b = d["mobility"]["instantaneous"], s["mobility"]["instantaneous"]
+    assert "(cm/rad)" in a and "(m/rad)" in b
+    pa = [float(x) for x in re.findall(NUM, a.split("through", 1)[1].split("along")[0])]
+    pb = [float(x) for x in re.findall(NUM, b.split("through", 1)[1].split("along")[0])]
+    np.testing.assert_allclose(pb, np.array(pa) * L, rtol=1e-3)   # (4 digits printed)

@@ -111,8 +111,7 @@ def dynamics(model, motion, *, params=None, force=None, torque=None,
     """
     from ..engine import analyze, load_assembled_pm
 
-    if not isinstance(model, PMModel):
-        model = load_assembled_pm(model, overrides)
+    model = load_assembled_pm(model, overrides)
     params = resolve_parameters(model, params, gravity)
     motion = _motion(model, motion)
     from ..engine._workloads import no_workload_message, resolve_workload

@@ -175,11 +175,9 @@ def stiffness(model, pose=None, *, params=None, actuator=None, force_stiffness=N
     StiffnessResult
     """
     from ..engine import analyze, load_assembled_pm
-    from ..pm import PMModel
     from ._dynamics import resolve_parameters
 
-    if not isinstance(model, PMModel):
-        model = load_assembled_pm(model, kwargs.pop("overrides", None))
+    model = load_assembled_pm(model, kwargs.pop("overrides", None))
     if params is not None or model.dynamics is not None:
         params = resolve_parameters(model, params)
     an = analyze(model, pose, force=force, torque=torque, degrees=degrees, **kwargs)

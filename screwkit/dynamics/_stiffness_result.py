@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..screws import RANK_RTOL
+from ..errors import MisuseError
 
 __all__ = ["StiffnessResult"]
 
@@ -191,7 +192,7 @@ class StiffnessResult:
         row is rigid), ``deflection`` (None without a workload), ``compliance``, principal
         stiffnesses, row stiffnesses, ``conditioning``, ``unrestrained``, ``units``."""
         if not self.single:
-            raise TypeError("to_dict describes one pose")
+            raise MisuseError("to_dict describes one pose")
         from ._compliance import twist_text
         u = self.analysis.model.units
         kt, dt = self.principal("translational")
@@ -199,7 +200,7 @@ class StiffnessResult:
         jac = self.analysis.jacobian
         row_u = []
         for ri in jac.info:
-            rot = ri.kind == "couple" or (ri.kind == "actuation" and ri.joint and ri.joint[0] in "RH")
+            rot = ri.torque
             row_u.append(u.of("angular stiffness") if rot else u.of("stiffness"))
         p = self.analysis.solution.params_degrees()
         q = self.analysis.quality

@@ -35,11 +35,11 @@ from ._inputs import pose_index
 from ._path import check_path
 from ._solution import PoseSolution, check_reachable, make_solution, mark_invalid, prepare
 from ._statics import StaticsResult
-from ._analysis_options import check_options as _options
-from ._analysis_options import stiffness_of_poses as _stiffness_of_poses
+from ._analysis_options import check_options as _options, stiffness_of_poses as _stiffness_of_poses
 from ._limits import limits_warnings
 from ._workloads import (MissingStatics, _compliance, _mask, check_partial_stiffness,
                          no_workload_message, resolve_workload)
+from ..errors import MisuseError
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -109,7 +109,7 @@ class PMAnalysis:
     def __getitem__(self, i) -> "PMAnalysis":
         """Pose ``i`` alone; a slice, integers or a boolean mask: those poses (``res[res.ok]``)."""
         if self.single:
-            raise TypeError("a one-pose PMAnalysis cannot be indexed")
+            raise MisuseError("a one-pose PMAnalysis cannot be indexed")
         i = pose_index(i, len(self))
         st = self.statics[i] if self.statics is not None else None     # (MissingStatics too)
         diag = dict(self.diagnostics)
@@ -219,7 +219,7 @@ class PMAnalysis:
     def warnings(self) -> tuple:
         """One line per warning of the pose (one pose): level, assembly mode, rows."""
         if not self.single:
-            raise TypeError("warnings describe one pose: index the result first (res[i])")
+            raise MisuseError("warnings describe one pose: index the result first (res[i])")
         out = list(self.quality.warnings(0))
         if self.solution.status == "not converged":
             from ._kernels._layout import CONVERGED
@@ -238,7 +238,7 @@ class PMAnalysis:
     def mobility(self):
         """Instantaneous mobility at the pose (one pose): :func:`screwkit.pm.mobility`."""
         if not self.single:
-            raise TypeError("mobility is defined for one pose: index the result first (res[i])")
+            raise MisuseError("mobility is defined for one pose: index the result first (res[i])")
         from ..pm import mobility
         from ._motion import finite_motion
         return mobility(self.solution, finite=finite_motion(self.model))

@@ -243,9 +243,7 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
     for r, ri in enumerate(info):
         kind = {"actuation": lay.R_ACTUATION, "force": lay.R_FORCE, "couple": lay.R_COUPLE}.get(
             ri.kind, lay.R_SCREW)
-        torque = ri.member == "couple" or (ri.kind == "actuation" and ri.joint is not None
-                                           and ri.joint[0] in "RH")
-        rows[r] = (ri.leg, kind, row_pts[r], int(torque))
+        rows[r] = (ri.leg, kind, row_pts[r], int(ri.torque))
     M = tuple(np.ascontiguousarray(a) for a in geo) + (
         leg, plat, _order_code(order), np.ascontiguousarray(base_points, float),
         np.ascontiguousarray(platform_points, float), pts, dirs, grp, tpl, gref, rows)

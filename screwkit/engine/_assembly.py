@@ -76,8 +76,18 @@ def _share_engine(model, out) -> None:
             table.setdefault(out, hit)
 
 
-def load_assembled_pm(name_or_path, overrides: dict | None = None, catalog=None):
-    """:func:`screwkit.pm.load_pm` followed by :func:`check_default_pose`."""
+def load_assembled_pm(name_or_path, overrides=None, catalog=None):
+    """:func:`screwkit.pm.load_pm` followed by :func:`check_default_pose`; a model given
+    as it is, or with ``overrides`` its :meth:`~screwkit.pm.PMModel.with_dimensions` (never
+    the overrides left unused)."""
+    if isinstance(name_or_path, PMModel):
+        if not overrides:
+            return name_or_path
+        if not isinstance(overrides, dict):
+            from ..errors import InputError
+            raise InputError(f"overrides must be a mapping of dimensions to values, got "
+                             f"{overrides!r:.60}")
+        return check_default_pose(name_or_path.with_dimensions(dict(overrides)))
     return check_default_pose(load_pm(name_or_path, overrides, catalog))
 
 
@@ -137,6 +147,6 @@ def analyze_pm(pm, pose=None, *, force=None, torque=None,
                overrides: dict | None = None, degrees: bool = False, guess=None,
                raise_on_singular: bool = True, catalog=None, **kwargs):
     """:func:`analyze` of a PM given by name, YAML path or model (see :func:`screwkit.analyze`)."""
-    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, overrides, catalog)
+    model = load_assembled_pm(pm, overrides, catalog)
     return analyze(model, pose, force=force, torque=torque, degrees=degrees, guess=guess,
                    raise_on_singular=raise_on_singular, **kwargs)

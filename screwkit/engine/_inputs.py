@@ -12,7 +12,7 @@ from ..legs._guards import (MAX_ANGLE_DEG, MAX_BATCH, MAX_LENGTH_FACTOR, did_you
                             real_array, shorten)
 from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 
-__all__ = ["pose_arrays", "pose_index", "prepare"]
+__all__ = ["pose_arrays", "pose_index", "prepare", "check_keywords"]
 
 
 def pose_index(i, n: int):
@@ -254,3 +254,12 @@ def prepare(model, pose, guess, degrees):
             d = np.asarray(bside) - fixed["beta"]
             side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
     return fixed, N, one, notes, X0, side, invalid
+
+
+def check_keywords(what: str, kwargs: dict, allowed, named: str = "") -> None:
+    """A :class:`~screwkit.errors.MisuseError` for a keyword ``what`` does not take (a
+    bare ``TypeError`` named an internal function)."""
+    for k in sorted(set(kwargs) - set(allowed)):
+        from ..errors import MisuseError
+        raise MisuseError(f"{what} takes no keyword {k!r} (its keywords: {named}"
+                          f"{', '.join(allowed)})")

@@ -44,6 +44,7 @@ from ._inputs import pose_index
 from ._pipeline import COND_THRESHOLD, Conditioning
 from ._row import JacobianRow
 from ..screws import cross
+from ..errors import MisuseError
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
@@ -118,7 +119,7 @@ class JacobianResult:
     def __getitem__(self, i) -> "JacobianResult":
         """The Jacobian at pose ``i`` (a one-pose result)."""
         if self.single:
-            raise TypeError("a one-pose JacobianResult cannot be indexed")
+            raise MisuseError("a one-pose JacobianResult cannot be indexed")
         i = pose_index(i, len(self))
         if not isinstance(i, int):
             return self._subset(i)
@@ -247,7 +248,7 @@ class JacobianResult:
 
     def _one(self, what):
         if not self.single:
-            raise TypeError(f"{what} is defined for one pose: index the result first (res[i])")
+            raise MisuseError(f"{what} is defined for one pose: index the result first (res[i])")
 
     @property
     def legs(self) -> tuple:

@@ -24,9 +24,7 @@ COND_THRESHOLD = 1.0 / RANK_RTOL
 
 def torque_rows(info) -> np.ndarray:
     """1 for a row whose effort is a torque (a couple, a rotary actuator), else 0."""
-    return np.array([int(r.member == "couple" or (r.kind == "actuation" and r.joint is not None
-                                                 and r.joint[0] in "RH")) for r in info],
-                    np.int64)
+    return np.array([int(r.torque) for r in info], np.int64)
 
 
 @dataclass(frozen=True, eq=False)

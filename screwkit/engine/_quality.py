@@ -281,6 +281,10 @@ def quality(analysis, analyze) -> Quality:
     cls = classify(cond, jac.singular_mask, reach)
     side = base_side(analysis.model, analysis.solution._platform[1])
     side[unreach] = 1
+    if N > 1:                          # (a batch's arrays are constants, as _run.compute's)
+        for a in (amp, lev, det, beyond, cls, side):
+            if isinstance(a, np.ndarray):
+                a.setflags(write=False)
     return Quality(cond, amp, lev, det, home, beyond, ref, cls, side)
 
 

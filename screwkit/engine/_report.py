@@ -14,20 +14,17 @@ import numpy as np
 
 from ..errors import InputError
 from ._limits import within_limits
+from ..errors import MisuseError
 
 __all__ = ["report", "row_quantity", "constraint_resultants", "resultants_determined",
-           "output_scales", "unit_row"]
+           "output_scales", "unit_row", "twist_space"]
 
 _POSE = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
 
 
 def row_quantity(r) -> str:
     """``"torque"`` for a couple row or the effort of a rotary (R, H) actuator, else ``"force"``."""
-    if r.member == "couple":
-        return "torque"
-    if r.kind == "actuation" and r.joint is not None and r.joint[0] in "RH":
-        return "torque"
-    return "force"
+    return "torque" if r.torque else "force"
 
 
 def constraint_resultants(statics, A):
@@ -133,7 +130,7 @@ def row_units(quantity: str, length: str) -> str:
 def report(analysis, units=None) -> dict:
     """The JSON-ready report of a one-pose :class:`~screwkit.engine.PMAnalysis`."""
     if not analysis.single:
-        raise TypeError("to_dict describes one pose: index the result first (res[i])")
+        raise MisuseError("to_dict describes one pose: index the result first (res[i])")
     sol, jac, st, model = analysis.solution, analysis.jacobian, analysis.statics, analysis.model
     if not analysis.has_workload:
         st = None                            # no workload: kinematics and J only
@@ -201,6 +198,7 @@ def report(analysis, units=None) -> dict:
                 "force_determined": bool(res_det[i, 0]), "moment_determined": bool(res_det[i, 1])}
         legs.append(entry)
     m = analysis.mobility
+    twist = twist_space(m, kl, ublock["length"])        # (its lengths in the report's unit)
     out = {
         "pm": model.name,
         "units": ublock,
@@ -224,8 +222,8 @@ def report(analysis, units=None) -> dict:
         "singular": jac.singular,
         "singularity_kind": jac.singularity_kind,
         "mobility": {"dof": m.dof, "motion_type": m.motion_type, "finite": m.finite,
-                     "instantaneous_type": m.instantaneous_type,
-                     "instantaneous": m.instantaneous, "redundant": m.redundant,
+                     "instantaneous_type": twist[0], "instantaneous": twist[1],
+                     "redundant": m.redundant,
                      "common": m.common, "constraint_rank": m.constraint_rank,
                      "n_constraints": m.n_constraints, "gruebler": m.gruebler,
                      "stated_dof": model.stated_dof, "actuators": m.actuators,
@@ -283,3 +281,22 @@ def _transmission(analysis, kl, length) -> dict:
                        "wrench's entry point to the twist axis; null: not defined "
                        "(a translation, a redundant row); see docs/design.md")
     return d
+
+
+def twist_space(mob, kl: float, length: str):
+    """The twist-space label and description with their lengths (points, pitches) times
+    ``kl`` and labelled ``length``."""
+    from dataclasses import replace
+
+    from ..pm._mobility import describe_freedoms
+
+    label, text = mob.instantaneous_type, mob.instantaneous
+    if kl != 1.0:
+        hel = [f.pitch * kl for f in mob.freedoms if f.kind == "helical"]
+        if hel and "H(p=" in label:
+            label = label[:label.index("H(p=")] + f"H(p={','.join(f'{h:.4g}' for h in hel)})"
+        if mob.translations != 3:      # (3 translations: directions only, no lengths)
+            text = describe_freedoms([replace(f, point=None if f.point is None else
+                                              np.asarray(f.point) * kl, pitch=f.pitch * kl)
+                                      for f in mob.freedoms])
+    return label, text.replace("(length/rad)", f"({length}/rad)")

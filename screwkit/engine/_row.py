@@ -52,6 +52,11 @@ class JacobianRow:
     joint: str | None
     label: str = ""
 
+    @property
+    def torque(self) -> bool:
+        """The row's value is a torque (a couple, a rotary actuator's effort: its ``T``)."""
+        return self.label.startswith("T")
+
     def describe(self) -> str:
         """One line, e.g. ``leg 0 (RRPRR) force along (...) through Q (where R1 meets R5)``."""
         d = "(" + ", ".join(f"{x:.6g}" for x in np.where(np.abs(self.direction) < 5e-13, 0.0,

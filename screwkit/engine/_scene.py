@@ -86,7 +86,7 @@ def scene_rows(model, info):
     for k, r in enumerate(info):
         i = r.leg + 1
         if r.kind == "actuation":
-            rotary = r.joint is not None and r.joint[0] in "RH"
+            rotary = r.torque
             if r.member == "force":
                 # a rotary actuator's effort is a torque: its row is the force it transmits
                 out.append((k, SceneRow(f"T_a{i}" if rotary else f"F_a{i}", "actuation", r.leg,
@@ -112,8 +112,7 @@ def scene_rows(model, info):
 
 def _torque_rows(info):
     """Which rows' values are torques: couples and rotary actuators' efforts."""
-    return np.array([r.member == "couple" or (r.kind == "actuation" and r.joint is not None
-                                              and r.joint[0] in "RH") for r in info], bool)
+    return np.array([r.torque for r in info], bool)
 
 
 def _shown(analysis, values, info):

@@ -27,9 +27,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS
-from ._inputs import pose_index, prepare
+from ._inputs import check_keywords, pose_index, prepare
 from ._kernels._layout import ACCEPTED, CONVERGED
 from ._solve import Closures
+from ..errors import MisuseError
 
 if TYPE_CHECKING:
     from ..pm import PMModel
@@ -53,10 +54,8 @@ class PoseSolution:
     closures : Closures
         The solver's unknowns and residuals.
     single : bool
-    common_notes : tuple of str
-        Notes that hold for every pose (defaults used...).
-    pose_notes : dict int -> tuple of str
-        Notes of particular poses (a representation singularity resolved...).
+    common_notes : tuple of str ; pose_notes : dict int -> tuple of str
+        Notes of every pose (defaults used...) and of particular ones (``invalid input``...).
     """
 
     model: PMModel
@@ -72,11 +71,18 @@ class PoseSolution:
         return x[0] if self.single else x
 
     @cached_property
+    def _invalid(self) -> np.ndarray:   # (N,): given invalid inputs (a diverged pose: unreachable)
+        out = np.zeros(len(self.closures.residual), bool)
+        for i, notes in self.pose_notes.items():
+            out[i] = any(n.startswith("invalid input") for n in notes)
+        return out
+
+    @cached_property
     def _params(self) -> dict:
         c = self.closures
         ch = c.chains
         bad = ~self.reachable_mask
-        given_bad = ~np.isfinite(c.residual)            # invalid input: no value of its own
+        given_bad = self._invalid                       # invalid input: no value of its own
         out = {}
         for k in PARAMS:
             if k in c.fixed:
@@ -190,8 +196,8 @@ class PoseSolution:
         :mod:`._reversal`), per pose; ``invalid input`` (not solved)."""
         r = self.closures.residual
         s = np.where(r <= CONVERGED, "ok", np.where(r <= ACCEPTED, "not converged",
-                                                    np.where(np.isfinite(r), "unreachable",
-                                                             "invalid input")))
+                                                    np.where(self._invalid, "invalid input",
+                                                             "unreachable")))
         if self.closures.reversed is not None:
             s = np.where(self.closures.reversed, "unreachable", s)
         return str(s[0]) if self.single else s
@@ -233,13 +239,13 @@ class PoseSolution:
     def legs(self) -> tuple:
         """The placed legs (one pose; see :meth:`legs_at` for several)."""
         if not self.single:
-            raise TypeError("legs is defined for one pose: use legs_at(i) or sol[i]")
+            raise MisuseError("legs is defined for one pose: use legs_at(i) or sol[i]")
         return self.legs_at(0)
 
     def __getitem__(self, i) -> "PoseSolution":
         """Pose ``i`` as a one-pose solution; a slice, integers or a mask: a sub-batch."""
         if self.single:
-            raise TypeError("a one-pose PoseSolution cannot be indexed")
+            raise MisuseError("a one-pose PoseSolution cannot be indexed")
         i = pose_index(i, len(self))
         if isinstance(i, int):
             return PoseSolution(self.model, self.closures.take(slice(i, i + 1)), True,
@@ -282,11 +288,9 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     guess : PoseSolution or dict, optional
         Warm start (the previous pose along a path); default: home.
     path : bool
-        The poses are successive samples of a continuous path (warm starts from the
-        neighbours).
+        The poses are successive samples of a path (warm starts from the neighbours).
     raise_unreachable : bool, optional
-        Raise :class:`UnreachablePoseError` for an unreachable pose (default for one
-        pose); a batch flags it instead (``status``).
+        Raise :class:`UnreachablePoseError` (default: one pose; a batch flags, ``status``).
 
     Returns
     -------
@@ -295,6 +299,8 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
     from ._path import check_path
     from ._run import compute
 
+    check_keywords("solve", kwargs, ("chunk", "workers", "anchor_every", "progress"),
+                   "guess, degrees, path, single, raise_unreachable, ")
     fixed, N, one, notes, X0, side, invalid = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
@@ -334,8 +340,8 @@ def make_solution(model, closures: Closures, single, notes, side=None,
     fixed = closures.fixed
     sb = closures.singular_beta
     for i in ((0,) if sb[0] else ()) if len(sb) == 1 else np.flatnonzero(sb):
-        if int(i) in pose_notes:                 # invalid input: not solved, no more to say
-            continue
+        if int(i) in pose_notes or not closures.residual[i] <= ACCEPTED:
+            continue                    # (not solved: its dependent angle is no pose's)
         pair = [p for p in ("alpha", "gamma") if p in ch.unknown]
         b = np.degrees(fixed["beta"][i])
         how = ("the one-sided limit from the warm start's side" if side is not None and side[i]

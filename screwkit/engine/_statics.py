@@ -45,10 +45,12 @@ from numpy.typing import ArrayLike
 
 from ._inputs import pose_index
 from ._jacobian import JacobianResult
+from ._statics_inputs import _finite3, _leg_points
 from ._pipeline import (RANK_RTOL, leg_wrenches_of, statics_values, torque_rows,
                         workload_about_origin)
 from ..screws import as_vector3, cross
 from ..screws._echelon import reduced_echelon
+from ..errors import MisuseError
 
 __all__ = ["StaticsResult", "statics", "workload_wrench", "compliance_of"]
 
@@ -56,15 +58,6 @@ __all__ = ["StaticsResult", "statics", "workload_wrench", "compliance_of"]
 def _errors():
     from ..errors import InputError
     return InputError
-
-
-def _finite3(x, name) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    if a.ndim == 0 or a.shape[-1] != 3:
-        raise _errors()(f"{name} must have 3 components in its last axis, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise _errors()(f"{name} must be finite (no NaN or inf), got {a.tolist()}")
-    return a
 
 
 def workload_wrench(F, T, o) -> np.ndarray:
@@ -209,7 +202,7 @@ class StaticsResult:
 
     def __getitem__(self, i) -> "StaticsResult":
         if self.jacobian.single:
-            raise TypeError("a one-pose StaticsResult cannot be indexed")
+            raise MisuseError("a one-pose StaticsResult cannot be indexed")
         i = pose_index(i, len(self))
         sl = slice(i, i + 1) if isinstance(i, int) else i      # one pose, or a sub-batch
         return StaticsResult(self.jacobian[i], self.F_r[sl], self._W[sl], self.A, self._a[sl],
@@ -348,12 +341,22 @@ def statics(jacobian: JacobianResult, F: ArrayLike, T: ArrayLike, o: ArrayLike |
         if o.shape == (3,):
             o = as_vector3(o, "workload point o")
         o = np.broadcast_to(_finite3(o, "workload point o"), (N, 3))
+    if F.ndim > 2 or T.ndim > 2:
+        raise InputError(f"workload F {F.shape} and T {T.shape} must be (3,) or (K, 3)")
+    if F.ndim == 2 and T.ndim == 2 and F.shape != T.shape:
+        raise InputError(f"workload F {F.shape} and T {T.shape}: give as many torques as forces")
     if jacobian.single:
         F, T = np.broadcast_arrays(F, T)
         F, T = F[None], T[None]
     else:
+        for x, name in ((F, "F"), (T, "T")):
+            if x.ndim == 2 and x.shape[0] != N:
+                raise InputError(f"workload {name} of a batch is (3,) or ({N}, 3), one a pose, "
+                                 f"got {x.shape}")
         F = np.broadcast_to(F, (N, 3)) if F.ndim == 1 else F
         T = np.broadcast_to(T, (N, 3)) if T.ndim == 1 else T
+    if base_points is None and platform_points is not None:
+        raise InputError("platform_points without base_points: give both (T_r needs A_i and a_i)")
     if base_points is None:
         if not jacobian.single:
             raise InputError("statics of a batch of poses needs base_points (n, 3) and "
@@ -362,7 +365,7 @@ def statics(jacobian: JacobianResult, F: ArrayLike, T: ArrayLike, o: ArrayLike |
         A = np.array([lg.A for lg in legs])
         a = np.array([[lg.a for lg in legs]])
     else:
-        A, a = np.asarray(base_points, float), np.asarray(platform_points, float)
+        A, a = _leg_points(jacobian, base_points, platform_points, N)
     W = workload_about_origin(F, T, o)
     comp = None if stiffness is None else compliance_of(stiffness, jacobian.n_rows, N)
     values, eq, amp = statics_values(jacobian.matrix, jacobian.conditioning,

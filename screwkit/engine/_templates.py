@@ -247,6 +247,12 @@ class RowInfo:
     joint: str | None
     label: str
 
+    @property
+    def torque(self) -> bool:
+        """The row's value is a torque: a couple, or the effort of a rotary actuator (an R
+        or H joint of the leg's R/P chain, a U's or an S's too: its label's ``T``)."""
+        return self.label.startswith("T")
+
 
 _TEMPLATES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -289,7 +295,8 @@ def make_labels(templates):
         a = t.actuation
         if t.active:
             joint, member = t.names[t.actuated], a.member if a.kind != "none" else "none"
-            torque = member == "couple" or (joint is not None and joint[0] in "RH")  # rotary
+            # rotary: an R or H of the equivalent chain (U1a, S1b, C1r are R's: not the name)
+            torque = member == "couple" or t.kinds[t.actuated] in "RH"
             info_a.append(RowInfo(i, t.name, "actuation", member, a.names[0] if a.names
                                   else None, joint, f"{'T' if torque else 'F'}_a{i + 1}"))
         for kind, pname in t.member_kinds:

@@ -27,11 +27,6 @@ NO_WORKLOAD = ("none: the model declares no workload and none was given (no forc
 def resolve_model(pm, overrides=None):
     """A model from a :class:`~screwkit.pm.PMModel`, a catalog name or a YAML path."""
     from ..engine import load_assembled_pm
-    from ..pm import PMModel
-    if isinstance(pm, PMModel):
-        if overrides:
-            raise InputError("overrides apply to a PM given by name or path, not a model")
-        return pm
     return load_assembled_pm(pm, overrides)
 
 

@@ -103,10 +103,8 @@ def run_trajectory(model, path: PathSpec, force=None, torque=None,
     TrajectoryResult
     """
     from ..engine import analyze, load_assembled_pm
-    from ..pm import PMModel
 
-    if not isinstance(model, PMModel):
-        model = load_assembled_pm(model, overrides)
+    model = load_assembled_pm(model, overrides)
     load = resolve_workload(model, force, torque)
     if load is None:
         raise InputError(no_workload_message(model))

@@ -144,11 +144,10 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
     screwkit.scene.View
     """
     from ..engine import analyze, load_assembled_pm, scene_of
-    from ..pm import PMModel
     from ..scene import MAX_STATES, GridControls, TimeControls, View, require_plotly
 
     require_plotly()
-    model = pm if isinstance(pm, PMModel) else load_assembled_pm(pm, dict(overrides or {}))
+    model = load_assembled_pm(pm, dict(overrides or {}))
     if path is not None:
         if grid is not None or pose is not None:
             raise InputError("give either a path or a pose/grid, not both")

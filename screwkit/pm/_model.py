@@ -19,12 +19,32 @@ from ..legs import Placement, build_leg
 from ..screws import Normalisation, rotation_matrix
 from ._limits import NO_LIMITS, Limits
 from ._units import UNDECLARED, Units
+from ..errors import MisuseError
 
 __all__ = ["PMModel", "PARAMS", "LENGTH_PARAMS"]
 
 #: The six pose parameters of the platform, in this order.
 PARAMS = ("Xo", "Yo", "Zo", "alpha", "beta", "gamma")
 LENGTH_PARAMS = frozenset(("Xo", "Yo", "Zo"))
+
+
+class ConstantDict(dict):
+    """A ``dict`` that cannot be changed (a model's poses and dimensions): reading, copying
+    (``dict(d)``, ``d.copy()``), JSON and pickling work as for a dict."""
+
+    def _constant(self, *args, **kwargs):
+        raise MisuseError("a model's poses and dimensions are constants: copy them (dict(...)) "
+                        "to change them, and give the copy (load_pm overrides, "
+                        "PMModel.with_dimensions)")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _constant
+    __ior__ = _constant
+
+    def copy(self) -> dict:
+        return dict(self)
+
+    def __reduce__(self):
+        return (ConstantDict, (dict(self),))
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,6 +145,20 @@ class PMModel:
     passive: tuple = ()
     workload: object = None
     definition: object = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        # a constant description: its mappings read-only (a written default pose moved every
+        # later analysis while the definition said otherwise), its arrays too
+        for name in ("home_pose", "dimensions", "default_pose"):
+            value = getattr(self, name)
+            if isinstance(value, dict) and not isinstance(value, ConstantDict):
+                object.__setattr__(self, name, ConstantDict(value))
+        for name in ("base_points", "platform_points", "centre"):
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray) and value.flags.writeable:
+                value = value.copy()
+                value.setflags(write=False)
+                object.__setattr__(self, name, value)
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "

@@ -76,9 +76,10 @@ class Freedom:
         The unit twist ``[v; w]`` about the origin (``|w| = 1``, or ``|v| = 1`` for a
         translation).
     shift : ndarray (k, 3)
-        For a rotation or helical freedom: orthonormal directions normal to its axis along
-        which the freedoms also translate (k = 0, 1 or 2), so that the axis may be moved
-        along them: with k = 2 any parallel line is an axis too.
+        For a rotation or helical freedom: orthonormal directions ``s`` normal to its axis
+        along which the axis may be moved (k = 0, 1 or 2): the moved axis adds ``s x d`` to
+        the twist's velocity, a translation the freedoms hold; with k = 2 any parallel line
+        is an axis too.
     """
 
     kind: str
@@ -381,13 +382,16 @@ def classify_freedoms(Vn: np.ndarray, norm: Normalisation,
 
 
 def _normal_shifts(d, Q) -> np.ndarray:
-    """Orthonormal directions, normal to ``d``, spanned by the translations ``Q (3, t)``."""
+    """Orthonormal directions, normal to ``d``, along which the axis of a rotation about
+    ``d`` may be moved with the translations ``Q (3, t)``: moving the axis by ``s`` adds the
+    velocity ``s x d`` to its twist, a freedom where ``s x d`` is a translation ``t`` normal
+    to ``d``, that is ``s = d x t``."""
     if Q.shape[1] == 0:
         return np.zeros((0, 3))
     N = Q - np.outer(d, d @ Q)                        # the translations' parts normal to d
     U, s, _ = np.linalg.svd(N, full_matrices=False)
     k = int(np.sum(s > GEOMETRY_RTOL))
-    out = np.array([_signed(u) for u in U[:, :k].T]).reshape(k, 3)
+    out = np.array([_signed(cross(d, u)) for u in U[:, :k].T]).reshape(k, 3)
     out.setflags(write=False)
     return out
 

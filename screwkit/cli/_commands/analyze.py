@@ -194,25 +194,6 @@ def run(args) -> int:
     return 0
 
 
-def _twist_space(mob, kl: float, length: str):
-    """The twist-space label and description with their lengths (points, pitches) times
-    ``kl`` and labelled ``length``."""
-    from dataclasses import replace
-
-    from ...pm._mobility import describe_freedoms
-
-    label, text = mob.instantaneous_type, mob.instantaneous
-    if kl != 1.0:
-        hel = [f.pitch * kl for f in mob.freedoms if f.kind == "helical"]
-        if hel and "H(p=" in label:
-            label = label[:label.index("H(p=")] + f"H(p={','.join(f'{h:.4g}' for h in hel)})"
-        if mob.translations != 3:      # (3 translations: directions only, no lengths)
-            text = describe_freedoms([replace(f, point=None if f.point is None else
-                                              np.asarray(f.point) * kl, pitch=f.pitch * kl)
-                                      for f in mob.freedoms])
-    return label, text.replace("(length/rad)", f"({length}/rad)")
-
-
 def print_text(res, units=None) -> None:
     """The text report of one pose, in the model's units or (``units="SI"``) in SI: every
     length, force and torque printed times the factor of :func:`output_scales`."""
@@ -238,7 +219,8 @@ def print_text(res, units=None) -> None:
           f"Grubler-Kutzbach count {mob.gruebler}")
     if mob.finite:
         print(f"  finite motion type {mob.finite}")
-    label, text = _twist_space(mob, kl, u.length)
+    from ...engine._report import twist_space
+    label, text = twist_space(mob, kl, u.length)
     print(f"  twist space here ({label}): {text}")
     p = sol.params_degrees()
     print(f"units: lengths {u.length}, forces {u.force}, torques {u.torque}, angles deg"
