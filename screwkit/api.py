@@ -347,7 +347,8 @@ def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],
     >>> pm = screwkit.load_pm("3RRPRR")
     >>> sol = screwkit.solve(pm, {"alpha": 5, "beta": -3, "Zo": 80}, degrees=True)
     >>> fk = screwkit.forward(pm, sol.actuator_values)
-    >>> bool(fk.success[0]), round(fk.pose(0)["alpha"], 9), round(fk.pose(0)["Zo"], 9)
+    >>> p = fk.pose(0, degrees=True)
+    >>> bool(fk.success[0]), round(p["alpha"], 9), round(p["Zo"], 9)
     (True, 5.0, 80.0)
     """
     from .engine import forward_kinematics

@@ -293,3 +293,46 @@ def test_a_pose_whose_solve_diverges_is_unreachable_not_invalid_input():
         screwkit.solve(pm, {"alpha": 0.0, "beta": 0.0, "Zo": 1e5})
     with pytest.raises(screwkit.errors.MisuseError, match="takes no keyword 'force'"):
         screwkit.solve(pm, {"alpha": 0.0, "beta": 0.0, "Zo": 80.0}, force=[0, 0, 1])
+
+
+def test_rows_about_one_point_a_pose_is_each_poses_own():
+    """JacobianResult.rows_about with (N, 3) points: pose by pose as the one-pose results
+    give them (6 poses of a 6-row J broadcast the pose axis against the rows: 25 off)."""
+    pm = screwkit.load_pm("3RRPRR")
+    b = screwkit.analyze(pm, {"alpha": np.linspace(0, 0.1, 6), "beta": 0.02, "Zo": 80.0})
+    jac = b.jacobian
+    got = jac.rows_about(jac.origin)
+    for i in range(6):
+        o = np.asarray(b[i].jacobian.origin).reshape(3)
+        J = np.asarray(b[i].jacobian.J)
+        f = J[:, :3]
+        np.testing.assert_array_equal(got[i], np.hstack([f, J[:, 3:] - np.cross(o, f)]))
+    with pytest.raises(screwkit.InputError, match="point must be"):
+        jac.rows_about(np.zeros((5, 3)))
+
+
+def test_flags_are_true_or_false_not_truthy_strings():
+    """degrees="no" read as True (a truthy string): flags are refused unless booleans."""
+    from screwkit.dynamics import stiffness
+    from screwkit.engine import statics, unified_jacobian
+    pm = screwkit.load_pm("3RRPRR")
+    with pytest.raises(screwkit.InputError, match="degrees must be True or False"):
+        screwkit.map(pm, {"alpha": (-5, 5, 3)}, degrees="no")
+    with pytest.raises(screwkit.InputError, match="geometric must be True or False"):
+        stiffness(pm, actuator=2000, force=[0, 0, -1], torque=[0, 0, 0], geometric="no")
+    with pytest.raises(screwkit.InputError, match="degrees must be True or False"):
+        screwkit.forward(pm, [0.0, 0.0, 0.0], degrees="yes")
+    sol = screwkit.analyze(pm).solution
+    jac = unified_jacobian(sol.legs, np.asarray(sol.position).reshape(3))
+    with pytest.raises(screwkit.InputError, match="raise_on_singular must be True or False"):
+        statics(jac, [0, 0, -1.0], [0, 0, 0.0], raise_on_singular="no")
+
+
+def test_a_map_grid_tuple_is_start_stop_and_an_integer_count():
+    pm = screwkit.load_pm("3RRPRR")
+    for spec, piece in (((-5, 5, 3.0), "integer count"), ((5, 5, 3), "repeat one value"),
+                        ([1.0, 2.0, 1.0], "the values repeat")):
+        with pytest.raises(screwkit.InputError, match=piece):
+            screwkit.map(pm, {"alpha": spec}, degrees=True)
+    ds = screwkit.map(pm, {"alpha": (-5, 5, 3)}, degrees=True)
+    assert ds["alpha"].values.tolist() == [-5.0, 0.0, 5.0]

@@ -170,8 +170,9 @@ def test_forward_by_extensions_and_errors():
     sol = screwkit.solve(pm, {"alpha": 4, "beta": -2, "Zo": 85}, degrees=True)
     fk = screwkit.forward(pm, {f"r{i + 1}": r for i, r in enumerate(sol.extensions)})
     assert fk.success[0]
-    assert fk.pose(0)["alpha"] == pytest.approx(4.0, abs=1e-9)
-    assert fk.pose(0)["Zo"] == pytest.approx(85.0, abs=1e-9)
+    assert fk.pose(0, degrees=True)["alpha"] == pytest.approx(4.0, abs=1e-9)
+    assert fk.pose(0, degrees=True)["Zo"] == pytest.approx(85.0, abs=1e-9)
+    assert fk.pose(0)["alpha"] == pytest.approx(np.radians(4.0), abs=1e-11)   # (radians)
     with pytest.raises(screwkit.InputError, match="q3"):
         screwkit.forward(pm, {"q1": 0.0, "q2": 0.0})
     with pytest.raises(screwkit.InputError, match="3 finite"):
@@ -185,7 +186,7 @@ def test_fk_at_a_representation_singularity_uses_the_models_split():
     pm = screwkit.load_pm("3RRPRR")
     sol = screwkit.solve(pm, {"alpha": 6.0, "beta": 0.0, "Zo": 80.0}, degrees=True)
     fk = screwkit.forward(pm, sol.actuator_values)
-    p = fk.pose(0)
+    p = fk.pose(0, degrees=True)
     assert fk.success[0]
     assert p["alpha"] == pytest.approx(6.0, abs=1e-8) and p["gamma"] == pytest.approx(6.0, abs=1e-8)
 
@@ -274,3 +275,18 @@ def test_fk_json_of_no_solution_claims_no_mode(capsys):
     assert out["solved"] == 0 and not s["success"]
     assert s["working_mode"] is None and s["same_assembly_mode_as_reference"] is None
     assert s["det_sign"] is None and s["mode"].startswith("not solved")
+
+
+def test_a_guess_reads_its_angles_as_the_call_does():
+    """degrees=True: a guess dict's angles in degrees too (a guess of gamma = 5 read as 5
+    rad made the solution a whole turn away, gamma = 365 deg); in radians without it."""
+    pm = screwkit.load_pm("3RRPRR")
+    pose = {"alpha": 5, "beta": 0.5, "Zo": 80}
+    g = {"alpha": 5, "beta": 0.5, "Zo": 80, "gamma": 5}
+    sol = screwkit.solve(pm, pose, degrees=True, guess=g)
+    assert np.degrees(sol.params["gamma"]) == pytest.approx(5.0, abs=1e-6)   # gamma = alpha
+    rad = screwkit.solve(pm, {k: np.radians(v) if k != "Zo" else v for k, v in pose.items()},
+                         guess={k: np.radians(v) if k != "Zo" else v for k, v in g.items()})
+    assert rad.params["gamma"] == pytest.approx(sol.params["gamma"], abs=1e-12)
+    fk = screwkit.forward(pm, sol.actuator_values, {"alpha": 5.0}, degrees=True)
+    assert fk.success[0] and fk.pose(0, degrees=True)["alpha"] == pytest.approx(5.0, abs=1e-8)

@@ -234,7 +234,7 @@ def test_forward_kinematics_takes_the_actuated_legs_only(tricept):
     sol = screwkit.solve(tricept, pose)
     fk = screwkit.forward(tricept, sol.actuator_values)          # 3 values, legs 1-3
     assert bool(fk.success[0])
-    got = fk.pose(0)
+    got = fk.pose(0, degrees=True)
     for p, v in pose.items():
         want = np.degrees(v) if p in ("alpha", "beta") else v
         assert abs(got[p] - want) < 1e-8 * (1 if p in ("alpha", "beta") else 650)

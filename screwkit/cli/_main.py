@@ -47,14 +47,21 @@ def _one_line(exc, limit: int = 2000) -> str:
     return msg if len(msg) <= limit else msg[: limit - 3] + "..."
 
 
-def _unrecognized(parser, command, extra) -> str:
+def _unrecognized(parser, command, extra, args=None) -> str:
     """One line for arguments no option takes, with the closest option of ``command``."""
     import difflib
     what = f"screwkit {command}" if command else "screwkit"
     options: list[str] = []
-    sub = next((a for a in parser._actions if isinstance(a, argparse._SubParsersAction)), None)
-    sp = sub.choices.get(command) if sub is not None and command else parser
-    for action in (sp or parser)._actions:
+
+    def child(p, name):
+        sub = next((a for a in p._actions if isinstance(a, argparse._SubParsersAction)), None)
+        return sub.choices.get(name) if sub is not None and name else None
+
+    sp = child(parser, command) or parser
+    action_name = getattr(args, "model_command", None)      # (screwkit model ACTION ...)
+    if action_name and child(sp, action_name) is not None:
+        sp, what = child(sp, action_name), f"{what} {action_name}"
+    for action in sp._actions:
         options += [o for o in action.option_strings if o.startswith("--")]
     hint = ""
     first = next((w for w in extra if w.startswith("-")), None)
@@ -80,7 +87,8 @@ def main(argv=None) -> int:
         print(exc.line, file=sys.stderr)
         return 2
     if extra:                                  # said by the command whose help lists its own
-        print(_unrecognized(parser, getattr(args, "command", None), extra), file=sys.stderr)
+        print(_unrecognized(parser, getattr(args, "command", None), extra, args),
+              file=sys.stderr)
         return 2
     if not getattr(args, "func", None):       # no command (or action): what there is, exit 2
         parser.print_help()

@@ -51,7 +51,7 @@ def geometric_stiffness(model, an):
     sign = np.tile(np.tile([1.0, -1.0], d), N)
     for k, p in enumerate(ind):
         pose[p] = pose[p] + np.where(which == k, sign * steps[k], 0.0)
-    guess = dataclasses.replace(sol, closures=sol.closures.take(rep))
+    guess = dataclasses.replace(sol, closures=sol.closures.take(rep), pose_notes={})
     side = analyze(model, pose, guess=guess, force=an.force, torque=an.torque)
     F_r = np.asarray(an.statics.F_r, float)[rep]
     r = _residual(side.jacobian.matrix, F_r, side.solution._platform[1], an.force, an.torque)

@@ -50,7 +50,8 @@ def limit_rates(model, an, idx, bs, ctx, thd, thdd, chunk_dynamics, link_frames)
     params = an.solution._params
     pose = {p: np.asarray(params[p], float)[rep] for p in model.independent}
     pose["beta"] = np.repeat(bs, _NODES.size) + np.tile(_NODES * DELTA, k)
-    guess = dataclasses.replace(an.solution, closures=an.solution.closures.take(rep))
+    guess = dataclasses.replace(an.solution, closures=an.solution.closures.take(rep),
+                                pose_notes={})
     side = analyze(model, pose, guess=guess, force=ctx.F, torque=ctx.T)
     part = chunk_dynamics(ctx, link_frames(side.solution), side.jacobian.matrix, thd[rep],
                           thdd[rep])

@@ -180,6 +180,8 @@ def stiffness(model, pose=None, *, params=None, actuator=None, force_stiffness=N
     model = load_assembled_pm(model, kwargs.pop("overrides", None))
     if params is not None or model.dynamics is not None:
         params = resolve_parameters(model, params)
+    from ..legs._guards import flag
+    geometric = flag(geometric, "geometric")
     an = analyze(model, pose, force=force, torque=torque, degrees=degrees, **kwargs)
     return stiffness_of(an, params, actuator=actuator, force_stiffness=force_stiffness,
                         couple_stiffness=couple_stiffness, rows=rows, geometric=geometric)

@@ -144,8 +144,9 @@ class ForwardResult:
                 f"{self.reference_det_sign:+d})")
         return f"{side}, {sign}: {tail}"
 
-    def pose(self, i: int = 0, degrees: bool = True) -> dict:
-        """The six pose parameters of solution ``i`` (degrees for angles by default)."""
+    def pose(self, i: int = 0, degrees: bool = False) -> dict:
+        """The six pose parameters of solution ``i`` (radians, or degrees with ``degrees``;
+        model lengths)."""
         return {k: float(np.degrees(v[i]) if (degrees and k not in LENGTH_PARAMS) else v[i])
                 for k, v in self.params.items()}
 
@@ -154,7 +155,7 @@ class ForwardResult:
         u = self.model.units
         if not self.success[i]:         # not a confirmed solution: no mode, no conditioning
             closed = bool(self.unsplit is not None and self.unsplit[i])
-            return {"pose": self.pose(i), "units": u.as_dict(),
+            return {"pose": self.pose(i, degrees=True), "units": u.as_dict(),
                     "residual": float(self.residual[i]), "success": False,
                     "closed_unconfirmed": closed,
                     "mode": ("closes every leg at a representation singularity, not confirmed "
@@ -169,7 +170,7 @@ class ForwardResult:
                     "continuation_steps": int(self.steps[i]),
                     "tracked": bool(self.tracked[i]), "iterations": int(self.iterations[i]),
                     "within_limits": None}
-        return {"pose": self.pose(i), "units": u.as_dict(),
+        return {"pose": self.pose(i, degrees=True), "units": u.as_dict(),
                 "residual": float(self.residual[i]), "success": bool(self.success[i]),
                 "closed_unconfirmed": bool(self.unsplit is not None and self.unsplit[i]),
                 "condition_number": float(self.condition_number[i]),
@@ -261,12 +262,17 @@ def forward_kinematics(model, actuators, guess=None, *, degrees: bool = False):
         ``degrees``, model lengths for linear ones); a mapping ``q1..qn`` / ``r1..rn`` (leg
         extensions ``|a_i - A_i|`` where that is the actuator's value + a constant).
     guess : dict or PoseSolution, optional
-        Start (default: home), then continuation (module docstring).
+        Start (default: home), then continuation (module docstring); a dict's angles in
+        radians unless ``degrees``.
 
     Returns
     -------
     ForwardResult
     """
+    from ..legs._guards import flag
+    if flag(degrees, "degrees") and isinstance(guess, dict):
+        guess = {k: (v if k in LENGTH_PARAMS else np.radians(np.asarray(v, float)))
+                 for k, v in guess.items()}
     ch = chains_of(model)
     target, single = actuator_targets(model, actuators, degrees)
     N = target.shape[0]

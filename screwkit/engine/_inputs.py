@@ -203,8 +203,9 @@ def _pose_bound(model, k, a, degrees):
                                  f"+-{MAX_ANGLE_DEG:g} deg (ten turns)")
 
 
-def _start_of(model, guess, N):
-    """Warm starts ``(X (n_unknowns, N), side)`` from a guess, or ``(None, None)``."""
+def _start_of(model, guess, N, degrees=False):
+    """Warm starts ``(X (n_unknowns, N), side)`` from a guess (a dict's angles in degrees
+    with ``degrees``), or ``(None, None)``."""
     err = _errors()
     if guess is None:
         return None, None
@@ -234,6 +235,9 @@ def _start_of(model, guess, N):
                 raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}") from None
             if not np.all(np.isfinite(a)):
                 raise err.InputError(f"{model.name}: bad guess entry {k}={v!r}")
+            if degrees and k not in LENGTH_PARAMS:
+                a = np.radians(a)
+                guess = dict(guess, **{k: a})
             if k in ch.unknown:
                 X[ch.unknown.index(k)] = a / ch.x_scale[ch.unknown.index(k)]
         return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float), (N,))
@@ -244,7 +248,7 @@ def _start_of(model, guess, N):
 def prepare(model, pose, guess, degrees):
     """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side, invalid)``."""
     fixed, N, one, notes, invalid = pose_arrays(model, pose, degrees)
-    X0, bside = _start_of(model, guess, N)
+    X0, bside = _start_of(model, guess, N, degrees)
     side = None
     if bside is not None and "beta" in fixed:
         if N == 1:                       # (one pose: the same numbers without numpy's calls)

@@ -44,7 +44,7 @@ from ._inputs import pose_index
 from ._pipeline import COND_THRESHOLD, Conditioning
 from ._row import JacobianRow
 from ..screws import cross
-from ..errors import MisuseError
+from ..errors import InputError, MisuseError
 
 __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
@@ -378,10 +378,14 @@ class JacobianResult:
             kind=kind, condition_number=self.condition_number)
 
     def rows_about(self, point: ArrayLike) -> np.ndarray:
-        """``J`` with the moments about ``point``: rows ``[f; m - point x f]``."""
-        p = np.asarray(point, float)
-        J = self.J
-        return np.concatenate([J[..., :3], J[..., 3:] - cross(p, J[..., :3])], axis=-1)
+        """``J`` with the moments about ``point`` ``(3,)`` or ``(N, 3)``: ``[f; m - point x f]``."""
+        from ._statics_inputs import _finite3
+        p, J = _finite3(point, "point"), self.J
+        if p.ndim > 2 or (p.ndim == 2 and (self.single or p.shape[0] != len(self))):
+            raise InputError(f"point must be (3,) or ({len(self)}, 3), one a pose, got {p.shape}")
+        p = p[:, None, :] if p.ndim == 2 else p       # (N, 1, 3): against each pose's rows
+        return np.concatenate([J[..., :3], J[..., 3:] - cross(np.broadcast_to(p, J[..., :3].shape),
+                                                             J[..., :3])], axis=-1)
 
     def describe(self) -> str:
         self._one("describe")

@@ -329,7 +329,8 @@ def statics(jacobian: JacobianResult, F: ArrayLike, T: ArrayLike, o: ArrayLike |
     InputError = _errors()
     if not isinstance(jacobian, JacobianResult):
         raise InputError(f"statics needs a JacobianResult, got {type(jacobian).__name__}")
-    if raise_on_singular:
+    from ..legs._guards import flag
+    if flag(raise_on_singular, "raise_on_singular"):
         jacobian.check()
     N = len(jacobian)
     F = _finite3(F, "workload force F")

@@ -241,9 +241,12 @@ class Leg:
         return out
 
     def moved(self, rotation: ArrayLike, translation: ArrayLike, scale: float = 1.0) -> "Leg":
-        """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units)."""
-        R = np.asarray(rotation, float)
+        """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units):
+        ``R`` a rotation, ``scale`` positive (else :class:`~screwkit.errors.InputError`)."""
+        R = _rotation(rotation)
         p = as_vector3(translation, "translation")
+        if isinstance(scale, bool) or not (np.isfinite(scale) and scale > 0):
+            raise InputError(f"scale must be a positive finite number, got {scale!r}")
         return Leg(self.string, tuple(j.moved(R, p, scale) for j in self.joints),
                    R @ (scale * self.A) + p, R @ (scale * self.a) + p, self.name)
 
@@ -254,3 +257,16 @@ class Leg:
 
     def __repr__(self) -> str:
         return f"Leg({self.name!r}, {self.string.marked})"
+
+
+def _rotation(rotation) -> np.ndarray:
+    """A rotation matrix (3, 3), checked: orthonormal with determinant +1."""
+    try:
+        R = np.asarray(rotation, float)
+    except (TypeError, ValueError):
+        raise InputError(f"rotation must be a 3x3 matrix, got {rotation!r:.60}") from None
+    if R.shape != (3, 3) or not np.all(np.isfinite(R)) or \
+            not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise InputError("rotation must be a proper rotation matrix (3, 3): orthonormal, "
+                         "determinant +1")
+    return R

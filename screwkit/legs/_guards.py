@@ -34,7 +34,7 @@ __all__ = [
     "MAX_MODEL_BYTES", "MAX_CSV_BYTES", "MAX_YAML_NODES", "MAX_YAML_DEPTH", "MAX_ENTRIES",
     "MAX_STRUCTURE_CHECKS", "MAX_PATH_CHARS", "MAX_LABEL",
     "did_you_mean", "shorten", "parse_number", "parse_int", "real", "real_vector", "real_array",
-    "check_path_text", "read_limited", "decode_utf8", "argtype",
+    "check_path_text", "read_limited", "decode_utf8", "argtype", "flag",
 ]
 
 #: Characters of a leg string (``RR_PRR``) and of a PM string (``2SPS+2SPR``).
@@ -330,3 +330,10 @@ def argtype(convert, name: str):
     wrapped.__name__ = name
     return wrapped
 
+
+def flag(value, what: str, error=InputError) -> bool:
+    """``value`` as a flag: True or False (numpy's too); a string, a number or None is an
+    error (``"no"`` is truthy in Python: it read as True)."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise error(f"{what} must be True or False, got {value!r:.40}")

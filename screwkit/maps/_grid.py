@@ -142,12 +142,23 @@ def _values(name, spec, model, degrees):
         a, b = (real(x, f"{what} {w}") for x, w in ((a, "start"), (b, "stop")))
         if not 1 <= n <= MAX_CELLS:
             raise InputError(f"{what}: the count must be 1 to {MAX_CELLS}, got {n}")
+        if n > 1 and a == b:
+            raise InputError(f"{what}: {n} values from {a:g} to {b:g} repeat one value (give a "
+                             "count of 1, or a stop other than the start)")
         _within(model, name, np.array([a, b]), degrees, f"grid {name}")
         return np.linspace(a, b, int(n))
+    if isinstance(spec, tuple) and len(spec) == 3:
+        # a 3-tuple is (start, stop, count): a count that is not an integer is a mistake, not
+        # three values ((-5, 5, 3.0) read as the values -5, 5, 3, unsorted); a list is values
+        raise InputError(f"{model.name}: grid {name} {spec!r:.60}: a tuple is (start, stop, "
+                         "count) with an integer count; give values as a list or an array")
     v = real_array(spec, f"{model.name}: grid {name}", max_size=MAX_CELLS)
     if v.ndim != 1 or v.size == 0:
         raise InputError(f"{model.name}: grid {name}: the values must be a non-empty 1-D "
                          "array of finite numbers")
+    if v.size > 1 and np.unique(v).size != v.size:
+        raise InputError(f"{model.name}: grid {name}: the values repeat (a map's axis takes "
+                         "each value once)")
     _within(model, name, v, degrees, f"grid {name}")
     return v
 

@@ -105,6 +105,8 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
     from ._grid import make_grid
 
     xarray()                                        # fail before a long run, not after
+    from ..legs._guards import flag
+    degrees = flag(degrees, "degrees")
     model = resolve_model(pm, overrides)
     from ..engine._workloads import resolve_workload
     load = resolve_workload(model, force, torque)

@@ -23,6 +23,7 @@ Schema (``docs/catalog.md`` has the full reference)::
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -349,6 +350,7 @@ class Catalog:
         (``"UPU"`` -> ``"UPU/force"``) when no entry has exactly that name."""
         if name in self.legs:
             return self.legs[name]
+        name = re.sub("(Pa|[A-Za-z])\u0332", lambda m: "_" + m.group(1), name)  # (the paper's)
         for spec in self.legs.values():
             if spec.name.split("/")[0] == name or spec.string.marked == name:
                 return spec

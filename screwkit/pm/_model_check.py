@@ -210,6 +210,11 @@ def check_model_file(path, load=None) -> list:
         try:
             spec = leg_spec_from_mapping(d, source, i)
             good[spec.name] = spec
+            if spec.expect:               # what the type says it is, against the solver
+                for why in spec.check_expectation(spec.build().analyze()):
+                    problems.append(_from_error(CatalogError(
+                        f"the leg's analysis contradicts its 'expect': {why}", name,
+                        "expect", source), text, "leg"))
             continue
         except CatalogError as exc:
             problems.append(_from_error(exc, text, "leg"))

@@ -127,8 +127,20 @@ def units_from_mapping(raw, where: str = "", source=None, default: Units | None 
     if not isinstance(raw, dict) or set(raw) - {"length", "force"} or not raw:
         raise CatalogError("must be a mapping {length: UNIT, force: UNIT}", where, "units",
                            source)
-    length = raw.get("length", (default or Units()).length)
-    force = raw.get("force", (default or Units()).force)
+    length, force = raw.get("length"), raw.get("force")
+    if length is not None and length not in LENGTH_UNITS:
+        raise CatalogError(f"unknown length unit {length!r} (one of {', '.join(LENGTH_UNITS)})",
+                           where, "units.length", source)
+    if force is not None and force not in FORCE_UNITS:
+        raise CatalogError(f"unknown force unit {force!r} (one of {', '.join(FORCE_UNITS)})",
+                           where, "units.force", source)
+    if default is None and (length is None or force is None):
+        # (no silent default: a model in mm with its forces assumed in kN)
+        raise CatalogError(f"give both units, {{length: {length or 'UNIT'}, force: "
+                           f"{force or 'UNIT'}}}: the {'force' if force is None else 'length'} "
+                           "unit is not assumed", where, "units", source)
+    length = length if length is not None else default.length
+    force = force if force is not None else default.force
     if length not in LENGTH_UNITS:
         raise CatalogError(f"unknown length unit {length!r} (one of {', '.join(LENGTH_UNITS)})",
                            where, "units.length", source)

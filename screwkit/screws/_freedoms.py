@@ -17,8 +17,7 @@ The freedom space is then classified by its screws:
   :data:`~screwkit.screws.GEOMETRY_RTOL` times the characteristic length of zero is a
   **rotation** about a line, any other a **helical** freedom with that pitch
   (length per radian).  When every rotational twist is a rotation about a line through
-  one point (modulo the translations), the rotations are reported about lines through
-  that point.
+  one point (modulo the translations), the rotations are reported through that point.
 
 Examples
 --------
@@ -76,10 +75,9 @@ class Freedom:
         The unit twist ``[v; w]`` about the origin (``|w| = 1``, or ``|v| = 1`` for a
         translation).
     shift : ndarray (k, 3)
-        For a rotation or helical freedom: orthonormal directions ``s`` normal to its axis
-        along which the axis may be moved (k = 0, 1 or 2): the moved axis adds ``s x d`` to
-        the twist's velocity, a translation the freedoms hold; with k = 2 any parallel line
-        is an axis too.
+        For a rotation or helical freedom: orthonormal directions ``s`` the axis may move
+        along (k = 0, 1 or 2; the twist gains ``s x d``, a translation the freedoms hold);
+        with k = 2 any parallel line is an axis too.
     """
 
     kind: str
@@ -382,10 +380,8 @@ def classify_freedoms(Vn: np.ndarray, norm: Normalisation,
 
 
 def _normal_shifts(d, Q) -> np.ndarray:
-    """Orthonormal directions, normal to ``d``, along which the axis of a rotation about
-    ``d`` may be moved with the translations ``Q (3, t)``: moving the axis by ``s`` adds the
-    velocity ``s x d`` to its twist, a freedom where ``s x d`` is a translation ``t`` normal
-    to ``d``, that is ``s = d x t``."""
+    """Directions ``s = d x t`` (``t``: the translations ``Q (3, t)`` normal to ``d``) the
+    axis along ``d`` may move along: the twist gains ``s x d = t``, a translation held."""
     if Q.shape[1] == 0:
         return np.zeros((0, 3))
     N = Q - np.outer(d, d @ Q)                        # the translations' parts normal to d

@@ -180,6 +180,10 @@ def run(args) -> int:
     else:                                            # (an error is the one line on stderr)
         for w in res.warnings:                       # one line each, on stderr
             print(f"screwkit analyze: warning: {w}", file=sys.stderr)
+    if stiffness is not None and not res.jacobian.indeterminacy:
+        print("screwkit analyze: note: statically determinate here (no self-stress: statics "
+              "alone fixes every row): the row stiffnesses do not change the values",
+              file=sys.stderr)
     if args.json:
         d = res.to_dict(units)
         d["workload"]["source"] = load_source(res) or None

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from ...legs._guards import MAX_POSES, MAX_SEED
@@ -20,7 +22,7 @@ platform twist space from the closed-loop constraint Jacobian; no motion with th
 locked), statics (J^T w of each leg's wrench: 0 on passive joints, the actuator force on the
 actuated one; closed-loop virtual work). Exit status 1 when a check fails. --all checks
 every catalog PM at regular poses drawn around its default pose (angles +-8 deg, lengths
-+-8 %% of Zo; singular or unreachable draws skipped)."""
++-8 % of Zo; singular or unreachable draws skipped)."""
 
 
 def register(sub):
@@ -88,6 +90,8 @@ def run(args) -> int:
         F, T, note = check_load(model)
         if n is None:
             analyses = (analyze_pm(model, pose, degrees=True, force=F, torque=T),)
+            for w in analyses[0].warnings:           # the pose's, as analyze warns of them
+                print(f"screwkit check: warning: {w}", file=sys.stderr)
         else:
             centre = None
             if pose:

@@ -70,10 +70,7 @@ def run(args) -> int:
         for k, v in (guess or {}).items():       # (said in degrees, as given)
             if k in ("alpha", "beta", "gamma") and abs(v) > MAX_ANGLE_DEG:
                 raise InputError(f"--guess {k} = {v:g} deg is beyond +-{MAX_ANGLE_DEG:g} deg")
-        if guess:
-            from ...engine import LENGTH_PARAMS
-            guess = {k: (v if k in LENGTH_PARAMS else np.radians(v)) for k, v in guess.items()}
-        sols = forward(model, act, guess, degrees=True)
+        sols = forward(model, act, guess, degrees=True)      # (the guess in degrees too)
         out = {"pm": model.name, "count": len(sols), "solved": int(np.sum(sols.success)),
                "solutions": [sols.to_dict(i) for i in range(len(sols))]}
     # --all lists what it found: it fails only where no solution is confirmed

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ...legs._guards import MAX_SEED
 from .._types import figure, integer, path
 from ._common import dump_json, fmt_num, fmt_vec
@@ -105,8 +107,11 @@ def run(args) -> int:
         print(f"  {i}. {c.describe()}")
         for n in c.rules:
             print(f"       - {n}")
-    if spec and spec.expect.get("words"):
-        print(f"catalog expects: {spec.expect['words']}")
+    probs = []
+    if spec and spec.expect:           # (counts, lines, axes: words or not)
+        words = spec.expect.get("words") or ", ".join(
+            f"{spec.expect[k]} {k}" for k in ("forces", "couples", "screws") if k in spec.expect)
+        print(f"catalog expects: {words}")
         probs = spec.check_expectation(res)
         print("  expectation holds" if not probs else "  EXPECTATION FAILS: " + "; ".join(probs))
     act = res.actuation
@@ -119,4 +124,8 @@ def run(args) -> int:
             print(f"       - {n}")
     if figure:
         print(f"drawing saved to {figure}")
+    if probs:                          # (as check and validate: a disagreement is status 1)
+        print(f"screwkit leg: the leg type's expectation fails: {'; '.join(probs)}",
+              file=sys.stderr)
+        return 1
     return 0
