@@ -229,3 +229,31 @@ def test_map_at_is_read_in_the_model_units_whatever_units_shows(tmp_path, capsys
     out = capsys.readouterr().out
     assert "Zo = 0.9 m" in out and "alpha = 10 deg" in out
     assert main(argv + ["--at", "Zo=0.8"]) == 2        # 0.8 cm: outside the map
+
+
+@pytest.mark.parametrize("argv, piece", [
+    (["catalog", "--path", "3RRPRR"], "give no PM or --json"),
+    (["model", "schema", "--path", "--out", "s.json"], "screwkit model schema: error: --path"),
+    (["model", "check", "x.yaml", "--jsn"], "did you mean --json? (see 'screwkit model check --help')"),
+])
+def test_model_and_catalog_options_that_conflict(tmp_path, monkeypatch, capsys, argv, piece):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    assert piece in capsys.readouterr().err
+
+
+def test_validate_out_takes_its_format_from_the_suffix_and_leg_seed_is_said(tmp_path, capsys):
+    import json
+    out = tmp_path / "v.json"
+    assert main(["validate", "UPU", "-q", "--out", str(out)]) == 0
+    assert json.loads(out.read_text())["summary"].startswith("1 strings")
+    assert main(["leg", "RR_PRR", "--seed", "3"]) == 0
+    assert "--seed (generic geometry of a bare string) is not used" in capsys.readouterr().err
+
+
+def test_leg_and_assembly_modes_refuse_bad_arguments_as_input_errors():
+    for call in (lambda: screwkit.leg(None), lambda: screwkit.leg("RPS", {"A": 1}),
+                 lambda: screwkit.leg("RR_PRR", seed=-1), lambda: screwkit.leg("RPS", catalog="x"),
+                 lambda: screwkit.assembly_modes("3RPS", [0, 0, 0], seed=-1)):
+        with pytest.raises(screwkit.InputError):
+            call()

@@ -98,7 +98,8 @@ def main(argv=None) -> int:
     try:
         return int(args.func(args) or 0)
     except ScrewkitError as exc:
-        print(f"screwkit {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        what = " ".join(x for x in (args.command, getattr(args, "model_command", None)) if x)
+        print(f"screwkit {what}: error: {_one_line(exc)}", file=sys.stderr)
         if getattr(args, "json", False):       # --json always prints a JSON object
             import json
             err: dict[str, str | int | float] = {"type": type(exc).__name__, "message": str(exc)}

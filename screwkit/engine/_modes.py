@@ -109,8 +109,15 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
     from ._fk_inputs import actuator_targets
     from ._fk_newton import newton, seeds as make_seeds
     from ._forward import finish
-    if isinstance(seeds, bool) or int(seeds) != seeds or not 1 <= seeds <= MAX_SEEDS:
-        raise InputError(f"seeds must be an integer from 1 to {MAX_SEEDS}, got {seeds!r}")
+    import numbers
+
+    from ..legs._guards import MAX_SEED
+    if isinstance(seeds, bool) or not isinstance(seeds, numbers.Real) or int(seeds) != seeds \
+            or not 1 <= seeds <= MAX_SEEDS:
+        raise InputError(f"seeds must be an integer from 1 to {MAX_SEEDS}, got {seeds!r:.40}")
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or \
+            not 0 <= seed <= MAX_SEED:
+        raise InputError(f"seed must be an integer from 0 to {MAX_SEED}, got {seed!r:.40}")
     ch = chains_of(model)
     target, single = actuator_targets(model, actuators, degrees)
     if target.shape[0] != 1:

@@ -222,26 +222,7 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     comp = _compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
                     rows=rows, F=F, T=T, chunk=chunk, workers=workers, progress=progress,
                     compliance=compliance, mapper=mapper, twists=twists, lines=lines)
-    return _frozen(_unreversed(model, comp, side, rows, F, T, compliance, workers, twists,
-                               lines))
-
-
-def _frozen(comp: Computed) -> Computed:
-    """``comp`` with its arrays read-only where it holds a batch: a result's arrays and the
-    one-pose results taken from it (``res[i]``, views) are constants, never written through
-    one another.  (One pose: its arrays are its own; a warm pose's budget is some 90 us.)"""
-    c = comp.closures
-    if len(c.residual) <= 1:
-        return comp
-    arrays = [c.X, c.residual, c.iterations, c.how, c.singular_beta, *c.fixed.values()]
-    arrays += [getattr(comp, f) for f in Computed._fields[3:]]
-    if comp.conditioning is not None:
-        arrays += [getattr(comp.conditioning, f.name)
-                   for f in dataclasses.fields(comp.conditioning)]
-    for a in arrays:
-        if isinstance(a, np.ndarray):
-            a.setflags(write=False)
-    return comp
+    return _unreversed(model, comp, side, rows, F, T, compliance, workers, twists, lines)
 
 
 def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, twists,

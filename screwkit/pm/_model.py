@@ -148,17 +148,12 @@ class PMModel:
 
     def __post_init__(self) -> None:
         # a constant description: its mappings read-only (a written default pose moved every
-        # later analysis while the definition said otherwise), its arrays too
+        # later analysis while the definition said otherwise).  (Its arrays stay as they are:
+        # the kernels' model arrays are typed writable, a read-only one compiles them again.)
         for name in ("home_pose", "dimensions", "default_pose"):
             value = getattr(self, name)
             if isinstance(value, dict) and not isinstance(value, ConstantDict):
                 object.__setattr__(self, name, ConstantDict(value))
-        for name in ("base_points", "platform_points", "centre"):
-            value = getattr(self, name)
-            if isinstance(value, np.ndarray) and value.flags.writeable:
-                value = value.copy()
-                value.setflags(write=False)
-                object.__setattr__(self, name, value)
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "

@@ -22,6 +22,10 @@ def run(args) -> int:
     from ...pm import catalog_path, default_catalog
 
     if args.path:
+        if args.pm or args.json:
+            from ...errors import InputError
+            raise InputError("--path prints the catalog file's path: give no PM or --json "
+                             "with it")
         print(catalog_path())
         return 0
     if args.pm:

@@ -71,6 +71,10 @@ def run(args) -> int:
         extra = load_catalog(args.model)
         cat = Catalog({**cat.legs, **extra.legs}, cat.table1, cat.pms, cat.source)
     res = screwkit.leg(args.string, seed=args.seed, catalog=cat).analyze()
+    if args.seed and cat.find_leg(args.string) is not None:
+        print(f"screwkit leg: note: {args.string} is the catalog variant "
+              f"{cat.find_leg(args.string).name}: its geometry is the catalog's, --seed "
+              "(generic geometry of a bare string) is not used", file=sys.stderr)
     figure = None
     if getattr(args, "draw", None):
         from ...viz import draw_leg

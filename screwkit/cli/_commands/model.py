@@ -83,6 +83,10 @@ def run_schema(args) -> int:
     from ...pm import schema_path, schema_text
 
     if args.path:
+        if args.out:
+            from ...errors import InputError
+            raise InputError("--path prints the packaged schema's path: --out writes the "
+                             "schema; give one or the other")
         print(schema_path())
         return 0
     if args.out:

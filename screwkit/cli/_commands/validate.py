@@ -36,7 +36,8 @@ def register(sub):
     p.add_argument("strings", nargs="*", metavar="STRING",
                    help="leg strings to validate instead of Table I (e.g. UPU RR_PRR)")
     p.add_argument("--format", choices=("text", "markdown", "csv", "json"), default="text",
-                   help="output format (default text)")
+                   help="output format (default text; with --out, the file's suffix: .json, "
+                        ".md, .csv)")
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE (the summary line "
                    "still goes to standard output)")
     p.add_argument("--draws", type=integer(1, MAX_DRAWS), default=None,
@@ -176,6 +177,11 @@ def run(args) -> int:
                                  check_catalog=not args.no_catalog, progress=progress,
                                  mapper=mapper, catalog=catalog)
     rows, cat_rows = report_rows(report), catalog_rows(report)
+    fmt = args.format
+    if args.out and fmt == "text":           # (the file's suffix says which, as trajectory)
+        fmt = {".json": "json", ".md": "markdown", ".csv": "csv"}.get(
+            str(args.out).lower()[str(args.out).rfind("."):], "text")
+    args.format = fmt
     if args.format == "json":
         text = dump_json(report_json(report)) + "\n"
     elif args.format == "markdown":
