@@ -46,21 +46,13 @@ def leg(name: str, placement: Placement | None = None, *, seed: int = 0,
     catalog : Catalog, optional
         Default: the packaged ``legs_catalog.yaml``.
     """
-    from .errors import InputError
-    from .legs._guards import MAX_SEED
+    from .legs._rules import check_leg_request
     from .pm import Catalog, default_catalog
 
-    if not isinstance(name, str):
-        raise InputError(f"a leg is a catalog name or a leg string, got {name!r:.60}")
-    if placement is not None and not isinstance(placement, Placement):
-        raise InputError(f"placement must be a screwkit.legs.Placement (A, a, ...), got "
-                         f"{type(placement).__name__}")
+    seed = check_leg_request(name, placement, seed)
     if catalog is not None and not isinstance(catalog, Catalog):
+        from .errors import InputError
         raise InputError(f"catalog must be a screwkit Catalog, got {type(catalog).__name__}")
-    import numbers
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or \
-            not 0 <= seed <= MAX_SEED:
-        raise InputError(f"seed must be an integer from 0 to {MAX_SEED}, got {seed!r:.40}")
     cat = catalog if catalog is not None else default_catalog()
     spec = cat.find_leg(name)
     if spec is not None:

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import screwkit
@@ -255,5 +256,24 @@ def test_leg_and_assembly_modes_refuse_bad_arguments_as_input_errors():
     for call in (lambda: screwkit.leg(None), lambda: screwkit.leg("RPS", {"A": 1}),
                  lambda: screwkit.leg("RR_PRR", seed=-1), lambda: screwkit.leg("RPS", catalog="x"),
                  lambda: screwkit.assembly_modes("3RPS", [0, 0, 0], seed=-1)):
+        with pytest.raises(screwkit.InputError):
+            call()
+
+
+def test_api_values_of_the_wrong_kind_are_input_errors(tmp_path):
+    """Strings where numbers go, a directory to write a model to, a leg index beyond the
+    legs, a passive leg given twice: InputError (they were ValueError, IsADirectoryError, an
+    empty array, accepted)."""
+    from screwkit.engine import unified_jacobian
+    from screwkit.legs import Placement
+    pm = screwkit.load_pm("3RPS")
+    sol = screwkit.analyze(pm).solution
+    o = np.asarray(sol.position).reshape(3)
+    for call in (lambda: Placement(A="abc", a=[0, 0, 1]),
+                 lambda: unified_jacobian(sol.legs, "0,0,80"),
+                 lambda: screwkit.forward(pm, "1,2,3"),
+                 lambda: screwkit.analyze(pm).jacobian.leg_rows(3),
+                 lambda: unified_jacobian(sol.legs, o, passive=[0, 0]),
+                 lambda: pm.to_yaml(str(tmp_path))):
         with pytest.raises(screwkit.InputError):
             call()

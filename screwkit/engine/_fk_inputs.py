@@ -32,7 +32,11 @@ def actuator_targets(model, actuators, degrees=False):
                                  f"{', '.join('r' + x[1:] for x in names)} (leg extensions)"
                                  + (f"; leg{'s' * (len(passive) > 1)} {', '.join(passive)} "
                                     "passive (no actuator)" if passive else ""))
-            a = np.asarray(v, float)
+            try:
+                a = np.asarray(v, float)
+            except (TypeError, ValueError):
+                raise InputError(f"{model.name}: actuator {name} must be numbers, got "
+                                 f"{v!r:.40}") from None
             if a.ndim > 1 or not np.all(np.isfinite(a)):
                 raise InputError(f"{model.name}: actuator {name} must be finite numbers")
             single &= a.ndim == 0
@@ -57,7 +61,11 @@ def actuator_targets(model, actuators, degrees=False):
         N = shapes.pop()[0] if shapes else 1
         out = np.stack([np.broadcast_to(cols[i], (N,)) for i in range(n)], axis=1)
         return out.astype(float), single
-    a = np.asarray(actuators, float)
+    try:
+        a = np.asarray(actuators, float)
+    except (TypeError, ValueError):
+        raise InputError(f"{model.name}: the actuator values must be numbers (an array (n,) or "
+                         f"(N, n), or a mapping q1.. / r1..), got {actuators!r:.40}") from None
     if a.shape[-1:] != (n,) or a.ndim > 2 or not np.all(np.isfinite(a)):
         raise InputError(f"{model.name}: give {n} finite actuated joint values (one per "
                          f"actuated leg: {', '.join(names)}), shape (n,) or (N, n); got shape "

@@ -184,7 +184,11 @@ class JacobianResult:
         return np.array([r.leg for r in self.info], dtype=int)
 
     def leg_rows(self, i: int) -> np.ndarray:
-        """Indices of the rows of leg ``i`` (its actuation row first)."""
+        """Indices of the rows of leg ``i`` (0-based; its actuation row first)."""
+        n = 1 + int(np.max(self.leg_of_row)) if len(self.leg_of_row) else 0
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) or \
+                not 0 <= i < n:
+            raise InputError(f"leg index must be an integer from 0 to {n - 1}, got {i!r:.40}")
         return np.flatnonzero(self.leg_of_row == i)
 
     @cached_property

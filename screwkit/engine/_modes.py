@@ -111,13 +111,11 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
     from ._forward import finish
     import numbers
 
-    from ..legs._guards import MAX_SEED
+    from ..legs._guards import check_seed
     if isinstance(seeds, bool) or not isinstance(seeds, numbers.Real) or int(seeds) != seeds \
             or not 1 <= seeds <= MAX_SEEDS:
         raise InputError(f"seeds must be an integer from 1 to {MAX_SEEDS}, got {seeds!r:.40}")
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or \
-            not 0 <= seed <= MAX_SEED:
-        raise InputError(f"seed must be an integer from 0 to {MAX_SEED}, got {seed!r:.40}")
+    seed = check_seed(seed)
     ch = chains_of(model)
     target, single = actuator_targets(model, actuators, degrees)
     if target.shape[0] != 1:

@@ -80,7 +80,7 @@ def unified_jacobian(legs: Sequence[Leg], o: ArrayLike,
                 raise InputError(f"analyses[{i}] is not the analysis of legs[{i}] ({leg.name})")
     passive = tuple(passive)
     if any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < len(legs)
-           for i in passive) or len(set(passive)) == len(legs):
+           for i in passive) or len(set(passive)) == len(legs) or len(set(passive)) != len(passive):
         raise InputError(f"passive must list distinct 0-based leg indices below {len(legs)} "
                          f"(at least one leg actuated), got {passive!r:.60}")
     Rf, pf = _frame_of(frame)

@@ -34,7 +34,7 @@ __all__ = [
     "MAX_MODEL_BYTES", "MAX_CSV_BYTES", "MAX_YAML_NODES", "MAX_YAML_DEPTH", "MAX_ENTRIES",
     "MAX_STRUCTURE_CHECKS", "MAX_PATH_CHARS", "MAX_LABEL",
     "did_you_mean", "shorten", "parse_number", "parse_int", "real", "real_vector", "real_array",
-    "check_path_text", "read_limited", "decode_utf8", "argtype", "flag",
+    "check_path_text", "read_limited", "decode_utf8", "argtype", "flag", "check_seed",
 ]
 
 #: Characters of a leg string (``RR_PRR``) and of a PM string (``2SPS+2SPR``).
@@ -337,3 +337,11 @@ def flag(value, what: str, error=InputError) -> bool:
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise error(f"{what} must be True or False, got {value!r:.40}")
+
+
+def check_seed(seed, what: str = "seed") -> int:
+    """A random seed: an integer from 0 to :data:`MAX_SEED` (numpy's generators' range)."""
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, numbers.Integral) or \
+            not 0 <= seed <= MAX_SEED:
+        raise InputError(f"{what} must be an integer from 0 to {MAX_SEED}, got {seed!r:.40}")
+    return int(seed)

@@ -361,3 +361,16 @@ def generic_leg(string: str | LegString, placement: Placement | None = None, see
                 pitch = spec.pitch
             joints.append(Joint(spec, d, p, pitch))
     return Leg(ls, tuple(joints), pl.A, pl.a, ls.text)
+
+
+def check_leg_request(name, placement, seed) -> int:
+    """The arguments of :func:`screwkit.leg` checked (InputError naming the bad one); the
+    seed as an int."""
+    from ..errors import InputError
+    from ._guards import check_seed
+    if not isinstance(name, str):
+        raise InputError(f"a leg is a catalog name or a leg string, got {name!r:.60}")
+    if placement is not None and not isinstance(placement, Placement):
+        raise InputError(f"placement must be a screwkit.legs.Placement (A, a, ...), got "
+                         f"{type(placement).__name__}")
+    return check_seed(seed)

@@ -178,7 +178,11 @@ class PMModel:
         if path is None:
             return text
         from pathlib import Path
-        Path(path).write_text(text, encoding="utf-8")
+        try:
+            Path(path).write_text(text, encoding="utf-8")
+        except OSError as exc:
+            from ..errors import InputError
+            raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from None
         return None
 
     def same_as(self, other) -> bool:

@@ -39,7 +39,10 @@ _EPS = 1e-12
 
 def as_vector3(x, name: str = "vector") -> np.ndarray:
     """Return ``x`` as a finite float array of shape (3,), or raise :class:`InputError`."""
-    a = np.asarray(x, dtype=float)
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be 3 numbers, got {x!r:.60}") from None
     if a.shape != (3,):
         raise InputError(f"{name} must have 3 components, got shape {a.shape}")
     if not all(map(math.isfinite, a.tolist())):
