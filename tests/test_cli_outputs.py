@@ -277,3 +277,9 @@ def test_api_values_of_the_wrong_kind_are_input_errors(tmp_path):
                  lambda: pm.to_yaml(str(tmp_path))):
         with pytest.raises(screwkit.InputError):
             call()
+
+
+def test_validate_counts_one_leg_written_two_ways_once(capsys):
+    assert main(["validate", "UPU", "UPU", "U_PU", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("\nU_PU ") == 1 and "\n1 strings:" in out

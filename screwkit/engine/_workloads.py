@@ -160,10 +160,10 @@ def check_partial_stiffness(model, stiffness, jac, reachable) -> None:
     row a self-stress loads: its least-norm weight beside a stiffness would weight the
     compliance-weighted solution by the units' choice (a 4UPU in cm and in mm gave couples 9
     times apart).  Rows that statics alone fixes need none."""
+    if not isinstance(stiffness, (dict, str)):      # (first: a warm pose's path, ~1 us)
+        return
     from ..errors import InputError
     from ._templates import labels_of, templates_of
-    if not isinstance(stiffness, (dict, str)):
-        return
     info = labels_of(templates_of(model))
     labels = [r.label for r in info]
     named = set(_model_stiffness(model, info, stiffness) if isinstance(stiffness, str)

@@ -211,7 +211,7 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
 
     t0 = time.perf_counter()
     cat = catalog if catalog is not None else default_catalog()
-    todo = list(dict.fromkeys(strings)) if strings is not None else cat.table1_distinct()
+    todo = _distinct_legs(strings) if strings is not None else cat.table1_distinct()
     total = len(todo) + bool(check_catalog)
     done = []
     if mapper is not None:
@@ -228,3 +228,19 @@ def validate_table1(draws: int = DEFAULT_DRAWS, seed: int = 0, catalog=None,
     if progress is not None and check_catalog:
         progress(total, total)
     return ValidationReport(legs, checks, int(draws), int(seed), time.perf_counter() - t0)
+
+
+def _distinct_legs(strings) -> list:
+    """The strings without repetitions of one leg (``UPU`` and ``U_PU`` are one), in order;
+    a string that does not parse is kept as it is (its validation says why)."""
+    from ..errors import ScrewkitError
+    seen, out = set(), []
+    for s in strings:
+        try:
+            key = parse_leg(s).marked
+        except ScrewkitError:
+            key = s
+        if key not in seen:
+            seen.add(key)
+            out.append(s)
+    return out
