@@ -374,7 +374,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
                          lambda sl: row_points(model, sol.closures.take(sl), chunk),
                          lambda: sol._platform[1], cond,
                          float(threshold), bool(single), sol.legs_at)
-    check_partial_stiffness(model, stiffness, jac, sol.reachable_mask)
+    check_partial_stiffness(model, stiffness, jac, sol)
     # one pose: singular as jac.singular says, read once (a batch is never refused)
     singular = single and not cond.condition_number[0] <= jac.threshold
     if singular and raise_on_singular:

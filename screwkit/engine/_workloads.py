@@ -155,7 +155,7 @@ def _compliance(model, stiffness, N):
 PARTIAL_SAMPLE = 64
 
 
-def check_partial_stiffness(model, stiffness, jac, reachable) -> None:
+def check_partial_stiffness(model, stiffness, jac, sol) -> None:
     """Refuse row stiffnesses (a mapping by label, or the model's block) that leave out a
     row a self-stress loads: its least-norm weight beside a stiffness would weight the
     compliance-weighted solution by the units' choice (a 4UPU in cm and in mm gave couples 9
@@ -172,7 +172,7 @@ def check_partial_stiffness(model, stiffness, jac, reachable) -> None:
         return
     Jn, _ = jac.normalised()
     rank = np.atleast_1d(jac.conditioning.rank)
-    cand = np.flatnonzero(np.asarray(reachable, bool) & (Jn.shape[1] - rank > 0))
+    cand = np.flatnonzero(np.asarray(sol.reachable_mask, bool) & (Jn.shape[1] - rank > 0))
     if not cand.size:
         return
     loaded = np.zeros(len(labels), bool)
