@@ -283,3 +283,32 @@ def test_validate_counts_one_leg_written_two_ways_once(capsys):
     assert main(["validate", "UPU", "UPU", "U_PU", "-q"]) == 0
     out = capsys.readouterr().out
     assert out.count("\nU_PU ") == 1 and "\n1 strings:" in out
+
+
+def test_json_usage_errors_and_leg_expectations(tmp_path, capsys):
+    import json
+    assert main(["analyze", "3RRPRR", "--json", "--bogus"]) == 2
+    out = json.loads(capsys.readouterr().out)
+    assert out["error"]["type"] == "UsageError" and "--bogus" in out["error"]["message"]
+    f = tmp_path / "legs.yaml"
+    f.write_text("legs:\n  - name: PRS/wrong\n    string: _PRS\n    joints:\n"
+                 "      - {axis: base.Z}\n"
+                 "      - {axis: base.tangent, at: {offset: A, along: base.Z, fraction: 0.4}}\n"
+                 "      - {at: a}\n"
+                 "    expect: {forces: 2, couples: 0}\n", encoding="utf-8")
+    assert main(["leg", "PRS/wrong", "--model", str(f), "--json"]) == 1
+    d = json.loads(capsys.readouterr().out)
+    assert d["expectation"] == {"holds": False, "problems": ["expected 2 forces, found 1"]}
+    assert main(["model", "check", str(f)]) == 2
+    assert "contradicts its 'expect'" in capsys.readouterr().out
+    assert main(["leg", "RPS", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["expectation"]["holds"] is True
+
+
+def test_size_workloads_are_named_triples(capsys):
+    for w, piece in (([("a", None, None)], "its force and torque"),
+                     ([("a", [0, 0, 1], [0, 0, 0]), ("a", [0, 0, 2], [0, 0, 0])],
+                      "names must differ"),
+                     ([("a", [0, 0, 1])], "name, force")):
+        with pytest.raises(screwkit.InputError, match=piece):
+            screwkit.size("3RRPRR", {"alpha": (-2, 2, 3)}, workloads=w, degrees=True)

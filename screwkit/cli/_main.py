@@ -72,6 +72,15 @@ def _unrecognized(parser, command, extra, args=None) -> str:
             f"(see '{what} --help')")
 
 
+def _json_usage_error(words, line: str) -> None:
+    """With ``--json`` asked, a usage error is a JSON object on stdout too (as every other
+    error of a command that prints JSON), so that a script reads one."""
+    if "--json" in words:
+        import json
+        print(json.dumps({"error": {"type": "UsageError",
+                                    "message": line.split("error: ", 1)[-1]}}, indent=2))
+
+
 def main(argv=None) -> int:
     from ._types import UsageError
 
@@ -85,10 +94,12 @@ def main(argv=None) -> int:
         args, extra = parser.parse_known_args(argv)
     except UsageError as exc:                  # one line, exit status 2
         print(exc.line, file=sys.stderr)
+        _json_usage_error(words, exc.line)
         return 2
     if extra:                                  # said by the command whose help lists its own
-        print(_unrecognized(parser, getattr(args, "command", None), extra, args),
-              file=sys.stderr)
+        line = _unrecognized(parser, getattr(args, "command", None), extra, args)
+        print(line, file=sys.stderr)
+        _json_usage_error(words, line)
         return 2
     if not getattr(args, "func", None):       # no command (or action): what there is, exit 2
         parser.print_help()

@@ -253,9 +253,21 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
         loads = [(source, F, T)]
     else:
         loads = workloads
-    if not 1 <= len(loads) <= MAX_WORKLOADS:
-        raise InputError(f"1 to {MAX_WORKLOADS} workloads, got {len(loads)}")
-    loads = [(str(n),) + tuple(workload(model, F, T)[:2]) for n, F, T in loads]
+    try:
+        loads = [tuple(x) for x in loads]
+    except TypeError:
+        loads = [()]
+    if not 1 <= len(loads) <= MAX_WORKLOADS or any(len(x) != 3 for x in loads):
+        raise InputError(f"workloads: 1 to {MAX_WORKLOADS} entries (name, force (3,), torque "
+                         f"(3,)), got {workloads!r:.80}")
+    names = [str(n) for n, _, _ in loads]
+    if len(set(names)) != len(names):
+        raise InputError(f"workloads: the names must differ, got {names!r:.80}")
+    if workloads is not None and any(F is None or T is None for _, F, T in loads):
+        # (a None would take the model's declared load under the given name)
+        raise InputError("workloads: give each entry its force and torque (zeros where "
+                         "there is none)")
+    loads = [(n,) + tuple(workload(model, F, T)[:2]) for n, (_, F, T) in zip(names, loads)]
     cl = _cluster(cluster, scheduler)
     if cl is None:
         return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,

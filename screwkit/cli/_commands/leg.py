@@ -84,8 +84,12 @@ def run(args) -> int:
         report = leg_report(res)
         if figure:
             report["figure"] = figure
+        spec = cat.find_leg(args.string)
+        probs = spec.check_expectation(res) if spec and spec.expect else []
+        report["expectation"] = None if not (spec and spec.expect) else \
+            {"holds": not probs, "problems": list(probs)}
         print(dump_json(report))
-        return 0
+        return 1 if probs else 0
     leg = res.leg
     spec = cat.find_leg(args.string)
     origin = "catalog variant" if spec else "bare string, generic geometry (seed %d)" % args.seed
