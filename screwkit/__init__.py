@@ -5,8 +5,8 @@ moments about the base origin, reciprocal product ``f.v + m.w`` (see
 ``docs/conventions.md``).
 """
 
-from .errors import (CatalogError, GeometryError, InputError, ParseError, ScrewkitError,
-                     SingularityError, UnreachablePoseError)
+from .errors import (CatalogError, GeometryError, InputError, MisuseError, ParseError,
+                     ScrewkitError, SingularityError, UnreachablePoseError)
 from .screws import FreedomResult, Line, Twist, Wrench, freedoms
 from .legs import Joint, Leg, Placement, leg_from_joints, parse_leg, parse_pm
 from .api import analyze, define_leg, extend_catalog, leg, load_legs, load_pm, solve, solve_path
@@ -23,7 +23,7 @@ _ENGINE = ("PMAnalysis", "PoseSolution", "JacobianResult", "JacobianRow", "Stati
 __all__ = [
     # errors
     "ScrewkitError", "ParseError", "CatalogError", "GeometryError", "InputError",
-    "SingularityError", "UnreachablePoseError",
+    "SingularityError", "UnreachablePoseError", "MisuseError",
     # screws and legs
     "Line", "Twist", "Wrench", "freedoms", "FreedomResult", "parse_leg", "parse_pm", "Joint", "Leg", "Placement",
     "leg_from_joints", "leg", "define_leg", "load_legs", "extend_catalog",
