@@ -312,3 +312,15 @@ def test_size_workloads_are_named_triples(capsys):
                      ([("a", [0, 0, 1])], "name, force")):
         with pytest.raises(screwkit.InputError, match=piece):
             screwkit.size("3RRPRR", {"alpha": (-2, 2, 3)}, workloads=w, degrees=True)
+
+
+def test_a_model_file_whose_name_holds_a_hash(tmp_path, monkeypatch, capsys):
+    """`h#x.yaml` is a file, not the PM `x.yaml` of a file `h` (model check rejected it,
+    `--model` read it as a catalog name); `file.yaml#NAME` still picks a PM."""
+    monkeypatch.chdir(tmp_path)
+    text = screwkit.load_pm("3RPS").to_yaml()
+    (tmp_path / "h#x.yaml").write_text(text, encoding="utf-8")
+    assert main(["model", "check", "h#x.yaml"]) == 0
+    assert main(["analyze", "--model", "h#x.yaml", "--force", "0,0,-1"]) == 0
+    assert capsys.readouterr().out.count("PM 3RPS") == 1
+    assert main(["analyze", "--model", "h#x.yaml#3RPS", "--force", "0,0,-1"]) == 0

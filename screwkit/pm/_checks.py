@@ -14,16 +14,24 @@ __all__ = ["split_path", "listing", "find_pm", "unknown_keys", "text_fields", "d
 
 
 def split_path(name_or_path: str):
-    """``(path, pick)`` of ``path.yaml#NAME`` (or an existing file), else ``(None, None)``."""
+    """``(path, pick)`` of ``path.yaml#NAME`` (or an existing file, whose name may hold a
+    ``#``), else ``(None, None)``."""
     s = str(name_or_path)
-    base, _, pm = s.partition("#")
-    if base.endswith((".yaml", ".yml")):
+    if _is_file(s):
+        return s, None
+    base, sep, pm = s.rpartition("#")
+    if sep and (base.endswith((".yaml", ".yml")) or _is_file(base)):
         return base, (pm or None)
+    if s.endswith((".yaml", ".yml")):        # a model file that is not there: the loader says so
+        return s, None
+    return None, None
+
+
+def _is_file(text: str) -> bool:
     try:                       # a name such as 3RRPRR, or an over-long / odd string: no file
-        is_file = "\x00" not in base and len(base) <= MAX_PATH_CHARS and Path(base).is_file()
+        return "\x00" not in text and len(text) <= MAX_PATH_CHARS and Path(text).is_file()
     except (OSError, ValueError):
-        is_file = False
-    return (base, (pm or None)) if is_file else (None, None)
+        return False
 
 
 def listing(names, limit: int = 12) -> str:
