@@ -29,7 +29,7 @@ import numpy as np
 
 from ..engine import PARAMS, link_frames, statics
 from ..errors import InputError
-from ..pm import DynamicsParameters, PMModel, dynamics_for
+from ..pm import DynamicsParameters, dynamics_for
 from ..paths import PathSpec
 from ._kinematics import KIN_COND, Context, chunk_dynamics
 from ._legs import setup_legs

@@ -32,9 +32,9 @@ def check_options(threshold, chunk, workers, degrees, path, progress, anchor_eve
         whole(workers, "workers", 1, 64)
     if anchor_every is not None:
         whole(anchor_every, "anchor_every", 1)
-    for name, flag in (("degrees", degrees), ("path", path)):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise InputError(f"{name} must be True or False, got {flag!r:.40}")
+    from ..legs._guards import flag
+    flag(degrees, "degrees")
+    flag(path, "path")
     if progress is not None and not callable(progress):
         raise InputError(f"progress must be a function progress(done, total), got "
                          f"{type(progress).__name__}")

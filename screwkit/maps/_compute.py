@@ -162,14 +162,11 @@ def arrays_of(model, res) -> dict:
             out[f"stiff.{name}"] = np.asarray(v)
     for p in model.dependent:
         out[f"dep.{p}"] = np.asarray(sol._params[p], float)
-    lim = model.limits
-    if lim.declared:
-        per_leg = np.full(out["extensions"].shape, np.nan)         # NaN: a passive leg
-        per_leg[:, list(model.active)] = out["actuators"]
-        chk = lim.check(sol.joint_values, per_leg, out["extensions"],
-                        sol.base_points, sol._platform[2])
+    from ..engine._limits import limits_check     # (the analysis' own: one pose says it too)
+    chk = limits_check(res)
+    if chk is not None:
         out["within_limits"] = chk["within"]
-        if lim.min_leg_distance is not None:
+        if model.limits.min_leg_distance is not None:
             out["min_leg_distance"] = chk["min_leg_distance"]
     return out
 

@@ -5,8 +5,6 @@ from __future__ import annotations
 import os
 import sys
 
-import numpy as np
-
 from ...legs._guards import (MAX_LOAD, MAX_NAME, MAX_STIFFNESS, MIN_STIFFNESS, parse_number,
                              shorten)
 from ...errors import InputError
