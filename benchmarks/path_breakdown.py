@@ -198,10 +198,10 @@ def _per_level(analyze, repeat):
     log = []
 
     def one_level(self, budget, workers=None):
-        before = int(self.solved.sum())
+        before = int(np.count_nonzero(self.solved))
         t0, c0 = time.perf_counter(), time.process_time()
         G = run(self, 1, workers)
-        log.append((int(self.solved.sum()) - before, time.perf_counter() - t0,
+        log.append((int(np.count_nonzero(self.solved)) - before, time.perf_counter() - t0,
                     time.process_time() - c0))
         return G
 

@@ -89,7 +89,9 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
     first from ``start`` or home, with continuation where Newton fails); the samples
     between two solved ones are then solved level by level, halving the spacing, from the
     cubic through their two solved neighbours on each side (the linear interpolation where
-    those are not all available), all of a level at once, the whole level loop in launches
+    those are not all available), all of a level at once; once a level is smooth and the
+    gaps narrow, every sample left from that cubic at its place, in order (the *fill*,
+    :mod:`._kernels._path_loop`); the whole level loop in launches
     of the compiled kernels (:mod:`._kernels._path_loop`: no Python between the levels;
     a large level's samples on ``workers`` threads, default 2: each sample's arithmetic is
     the same whatever thread holds it).  A sample whose solution is not close to that
@@ -228,10 +230,12 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
                 XT[t], res[t], its[t], how[t], sing[t] = c1.X.T[take], c1.residual[take], \
                     c1.iterations[take], c1.how[take], c1.singular_beta[take]
                 L.kept[t] = 0                   # (their rows formed again at the end)
-            solved[mid] = 1
+            # (a sample of the fill is marked 2: the fill's grid stays the samples marked 1)
+            solved[mid] = 2 if L.filling else 1
         if progress:
-            progress(int(solved.sum()), N)
-    diag = {"anchors": len(anchors), "batched": N, "retried": retried}
+            progress(int(np.count_nonzero(solved)), N)
+    diag = {"anchors": len(anchors), "batched": N, "retried": retried,
+            "filled": int(np.count_nonzero(solved == 2))}
     # X: a view of the samples' rows XT (the engine's driver keeps them as they are)
     return Closure(ch, X, None, res.copy(), its.copy(), how.copy(), sing.astype(bool), diag)
 

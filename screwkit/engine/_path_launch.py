@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import kernels
-from ._kernels._layout import LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LH_TEAM, LV_IDX, LV_ROWS
+from ._kernels._layout import (LH_BUDGET, LH_FILL, LH_N, LH_RETRY, LH_SIZE, LH_TEAM, LV_IDX,
+                               LV_ROWS)
 from ._launch import BLOCKS_ALONE, BLOCKS_LOADING, _launch, _plan, run_poses
 from ._memory import recycled_empty
 
@@ -85,6 +86,11 @@ class LevelLaunches:
                       workers=workers, out=(self.buffers, idx))
         return (o["X"][idx].T, o["residual"][idx], o["iterations"][idx], o["how"][idx],
                 o["singular_beta"][idx].astype(bool))
+
+    @property
+    def filling(self) -> bool:
+        """Whether the levels have come to the fill (``_kernels._path_loop``)."""
+        return bool(self.Li[LH_FILL])
 
     def run(self, budget: int, workers=None) -> int:
         """Solve levels until every sample is solved, or to the end of the level that

@@ -44,7 +44,7 @@ class ActuatorLines:
     (s^home + q) <= tol``, that is where ``sign X[row] <= limit = (tol - |s^home|) /
     scale`` (``sign``, ``limit (k,)``): one comparison a leg and pose."""
 
-    __slots__ = ("legs", "rows", "scale", "home", "tol", "sign", "limit", "_plain")
+    __slots__ = ("legs", "rows", "scale", "home", "tol", "sign", "limit", "_plain", "_arrays")
 
     def __init__(self, legs, rows, scale, home, tol):
         self.legs, self.rows, self.scale, self.home = legs, rows, scale, home
@@ -54,6 +54,9 @@ class ActuatorLines:
         # (one pose's test in plain Python: numpy's calls on arrays of a few values cost
         # more than the arithmetic, some 10 us of a one-pose analysis's 70)
         self._plain = tuple(zip(rows.tolist(), self.sign.tolist(), self.limit.tolist()))
+        # (the batch test's arrays, as its kernel takes them)
+        self._arrays = (np.asarray(rows, np.int64), np.asarray(self.sign, float),
+                        np.asarray(self.limit, float))
 
     def any_reversed(self, x) -> bool:
         """Whether the unknowns ``x (n_unknowns,)`` of one pose reverse a leg (NaN: no)."""
@@ -65,18 +68,25 @@ class ActuatorLines:
 
     def reversed(self, X) -> np.ndarray:
         """``(N, k)`` bool: which of these legs the unknowns ``X (n_unknowns, N)`` reverse
-        (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows: ``k`` strided columns,
-        about 1 ms for 100,000 poses, as much as their rows' lines cost to read)."""
-        rows = X.T
-        out = np.empty((rows.shape[0], self.rows.size), bool)
-        # a column at a time, compared without a product (the same test: sign is +-1), where
-        # a fancy-indexed gather of the k columns took some three times as long
-        for k, (row, sign, limit) in enumerate(self._plain):
-            if sign > 0:
-                np.less_equal(rows[:, row], limit, out=out[:, k])
-            else:
-                np.greater_equal(rows[:, row], -limit, out=out[:, k])
-        return out
+        (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows; NaN: none)."""
+        return self._test(X, True)[0]
+
+    def any_reversed_rows(self, X) -> np.ndarray:
+        """``(N,)`` bool: whether the unknowns ``X (n_unknowns, N)`` reverse any of these
+        legs (:meth:`reversed`'s rows reduced)."""
+        return self._test(X, False)[1]
+
+    def _test(self, X, each):
+        from ._kernels import kernels
+        rows = np.ascontiguousarray(np.asarray(X, float).T)   # (a view of the engine's rows)
+        N, k = rows.shape[0], self.rows.size
+        legs = np.empty((N if each else 0, k), bool)
+        some = np.empty(N, bool)
+        if k:
+            kernels().reversed_rows(rows, *self._arrays, legs, some)
+        else:
+            some[:] = False
+        return legs, some
 
 
 _LINES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

@@ -237,7 +237,7 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
     c = comp.closures
     if len(c.residual) == 1 and not lines_.any_reversed(c.X[:, 0]):
         return comp                     # (one pose: the common case without numpy's calls)
-    some = lines_.reversed(c.X).any(axis=1)
+    some = lines_.any_reversed_rows(c.X)
     if not some.any():
         return comp
     bad = np.flatnonzero(some & (np.asarray(c.residual) <= ACCEPTED))

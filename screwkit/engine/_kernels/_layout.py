@@ -139,19 +139,31 @@ SK_LEFT, SK_RIGHT, SK_LINEAR, SK_CUBIC = 0, 1, 2, 3
 #: the samples, the samples to solve before the launch returns (at the end of the level
 #: that reaches them), the samples of the level left for Python's retries (0: none),
 #: whether the threads may wait for each other between levels (numba's workqueue layer,
-#: which runs each of a launch's ranges on a thread of its own); then
-#: its arrays of ``N`` each (``LV_*``): solved, iterations, how, singular beta, kept (the
+#: which runs each of a launch's ranges on a thread of its own), the fill (0: none begun;
+#: else one more than the gap of the fill's grid it goes on from, ``_path_loop``), whether
+#: the last level was smooth (``_path_loop.take_level``; kept from launch to launch, so
+#: that the levels are the same whatever the budgets); then
+#: its arrays of ``N`` each (``LV_*``): solved (1: an anchor or a level's sample, 2: a
+#: sample of the fill), iterations, how, singular beta, kept (the
 #: rows formed in the level's launch stay), and the loop's scratch (the solved samples in
 #: order, twice, the gaps of a level, whether each sample converged).  The float state: the
 #: given parameters ``(N, 6)`` of every sample, then the residuals ``(N,)``, then the
 #: samples' compliances ``(N, rows)`` where each sample has its own.
-LH_N, LH_BUDGET, LH_RETRY, LH_TEAM = range(4)
-LH_SIZE = 4
+LH_N, LH_BUDGET, LH_RETRY, LH_TEAM, LH_FILL, LH_SMOOTH = range(6)
+LH_SIZE = 6
 #: The shared words of a path's levels run by a team of threads (``_driver.team_levels``,
 #: with ``LH_TEAM`` set): the levels released by the lead thread, the threads arrived at the
 #: end of a level (all levels counted), the pieces taken of the level, its samples, the
 #: solved samples, which of the two lists holds them, the samples solved in the launch.
 SY_READY, SY_ARRIVED, SY_TAKEN, SY_G, SY_N, SY_WHICH, SY_DONE = range(7)
 SY_SIZE = 8
+#: The fill of a path (``_path_loop.fill_level``): once a level is smooth (at most half its
+#: samples took a Newton step, one in ``FILL_SHARE`` more than one or did not converge)
+#: and no gap between the solved samples is wider than ``FILL_GAP``, every sample left is
+#: started from the cubic through the solved samples around its gap, in the path's order
+#: (levels of at least ``FILL_PORTION`` samples, or the launch's budget).
+FILL_GAP = 32
+FILL_SHARE = 64
+FILL_PORTION = 4096
 LV_SOLVED, LV_ITS, LV_HOW, LV_SING, LV_KEPT, LV_IDX, LV_IDX2, LV_GAPS, LV_GOOD = range(9)
 LV_ROWS = 9

@@ -4,9 +4,11 @@ solved samples around it, and the check of its solutions against them.
 :func:`screwkit.engine._path.solve_path` solves a path's samples level by level, halving the
 spacing: the sample in the middle of each gap between two solved ones starts from the cubic
 through the two solved samples on each side (where all four converged), else from the linear
-interpolation of its two neighbours, or the one that converged.  After the level's solve, a
-sample whose solution moved from its start by more than half its neighbours' difference has
-jumped to another branch.
+interpolation of its two neighbours, or the one that converged; once the levels are smooth
+and the gaps narrow, the *fill* starts every sample left in a gap from the same cubic at its
+own place (:mod:`._path_loop`).  After the level's solve, a sample whose solution moved from
+its start by more than half its neighbours' difference (the ends of its gap) has jumped to
+another branch.
 
 A level's starts are described by a *stencil* a sample (:func:`level_stencil`, formed from
 the solved samples' indices alone): its kind, the four weights and the four rows of the
@@ -15,10 +17,9 @@ level (:func:`stencil_start`, into the sample's start), and forms the sample's *
 there (:func:`moved_beyond`: how much more than half its neighbours' difference its
 solution moved from its start, :func:`allowance`; a jump where positive), each sample's rows read while its
 pose is at hand; a path solved without the driver's rows applies the same functions here
-(:func:`level_starts`, :func:`level_check`).  The starts' operations are those the numpy
-code made, element by element and in the same order (the cubic's sum from ``0.0``, the
-Lagrange weights as products left to right, of node differences exact as integers): the
-same bits.
+(:func:`level_starts`, :func:`level_check`).  The cubic's weights are Lagrange's, each the
+product of the sample's differences from the other nodes over that of the node's, both
+exact as integers (gaps below some 200,000 samples), divided once: correctly rounded.
 """
 
 import math
@@ -31,27 +32,38 @@ from ._layout import SK_CUBIC, SK_LEFT, SK_LINEAR, SK_RIGHT, ST_KIND, ST_ROW, ST
 
 @entry
 def level_stencil(idx, k, good, mid, S):
-    """The stencils of a level's samples (:func:`stencils`)."""
+    """The stencils ``S (G, STENCIL_WIDTH)`` of a level's samples ``mid (G,)`` (written: the
+    middle of each gap ``idx[k[g]]``..``idx[k[g] + 1]``; :func:`stencils`)."""
+    for g in range(k.shape[0]):
+        mid[g] = (idx[k[g]] + idx[k[g] + 1]) // 2
+    stencils(idx, k, good, mid, S)
+
+
+@entry
+def gap_stencils(idx, k, good, mid, S):
+    """The stencils ``S (G, STENCIL_WIDTH)`` of the samples ``mid (G,)`` (given: a fill's,
+    anywhere in their gaps ``idx[k[g]]``..``idx[k[g] + 1]``; :func:`stencils`)."""
     stencils(idx, k, good, mid, S)
 
 
 @borrowing
 def stencils(idx, k, good, mid, S):
-    """The stencils ``S (G, STENCIL_WIDTH)`` of the samples ``mid (G,)`` (written) in the
-    middle of the gaps ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the
-    solved samples in order, ``good (N,)`` those converged): the cubic through the two
-    solved samples on each side where all four converged, else the linear interpolation
-    of the two neighbours, or the one that converged (the right one where neither did).
-    (The cubic's weights depend only on the spacing of its nodes, the same for most gaps of
-    a level: formed again only where it changes.)"""
+    """The stencils ``S (G, STENCIL_WIDTH)`` of the samples ``mid (G,)``, each in the gap
+    ``idx[k[g]]``..``idx[k[g] + 1]`` between solved samples (``idx`` the solved samples in
+    order, ``good (N,)`` those converged): the cubic through the two solved samples on each
+    side where all four converged, else the linear interpolation of the two neighbours, or
+    the one that converged (the right one where neither did).  (The cubic's weights depend
+    only on the spacing of its nodes and the sample's place among them, the same for most
+    gaps of a level: formed again only where they change; the denominators only where the
+    nodes' spacing does.)"""
     last = idx.shape[0] - 1
     w0 = w1 = w2 = w3 = 0.0
+    d0 = d1 = d2 = d3 = 1.0
     s0 = s1 = s2 = s3 = -1
     for g in range(k.shape[0]):
         kg = k[g]
         left, right = idx[kg], idx[kg + 1]
-        m = (left + right) // 2
-        mid[g] = m
+        m = mid[g]
         k0, k3 = max(kg - 1, 0), min(kg + 2, last)
         p0, p3 = idx[k0], idx[k3]
         gl, gr = good[left], good[right]
@@ -60,15 +72,15 @@ def stencils(idx, k, good, mid, S):
         S[g, ST_ROW + 2] = right
         S[g, ST_ROW + 3] = p3
         if k0 < kg and k3 > kg + 1 and gl and gr and good[p0] and good[p3]:
-            if left - p0 != s0 or right - left != s1 or p3 - right != s2 or m - left != s3:
-                s0, s1, s2, s3 = left - p0, right - left, p3 - right, m - left
-                # (the nodes relative to the left one: the same weights for every gap of
-                # this spacing, and exact as integers)
-                t0, t2, t3, t = float(-s0), float(s1), float(s1 + s2), float(s3)
-                w0 = _lagrange(t0, 0.0, t2, t3, 0, t)
-                w1 = _lagrange(t0, 0.0, t2, t3, 1, t)
-                w2 = _lagrange(t0, 0.0, t2, t3, 2, t)
-                w3 = _lagrange(t0, 0.0, t2, t3, 3, t)
+            if left - p0 != s0 or right - left != s1 or p3 - right != s2:
+                s0, s1, s2, s3 = left - p0, right - left, p3 - right, -1
+                # (the nodes relative to the left one, exact as integers: so are the
+                # products of their differences)
+                d0, d1, d2, d3 = _denominators(float(-s0), float(s1), float(s1 + s2))
+            if m - left != s3:
+                s3 = m - left
+                w0, w1, w2, w3 = _weights(float(-s0), float(s1), float(s1 + s2), float(s3),
+                                          d0, d1, d2, d3)
             S[g, ST_KIND] = SK_CUBIC
             S[g, ST_W] = w0
             S[g, ST_W + 1] = w1
@@ -81,12 +93,17 @@ def stencils(idx, k, good, mid, S):
 
 
 @borrowing
-def stencil_start(S, g, XT, X0, p, allow, q):
+def stencil_start(S, g, XT, X0, p, allow, q, g0, q0):
     """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
     into ``X0[p]``, and the move it allows (:func:`allowance`) into ``allow[q]``, the
     neighbours' rows at hand: NaN both where the stencil names a row ``XT`` does not
-    have."""
-    allow[q] = allowance(S, g, XT)
+    have.  The allowance is ``allow[q0]`` where sample ``g0`` (``>= 0``, formed before)
+    has the same neighbours (the samples of a fill's gap: one allowance a gap)."""
+    if g0 >= 0 and S[g0, ST_ROW + 1] == S[g, ST_ROW + 1] and \
+            S[g0, ST_ROW + 2] == S[g, ST_ROW + 2]:
+        allow[q] = allow[q0]
+    else:
+        allow[q] = allowance(S, g, XT)
     if not _rows_in(S, g, XT.shape[0]):
         for x in range(XT.shape[1]):
             X0[p, x] = math.nan
@@ -163,7 +180,7 @@ def level_starts(S, XT, Xs):
     to the unknowns ``XT (N, nx)`` (:func:`stencil_start`)."""
     allow = np.empty(S.shape[0])
     for g in range(S.shape[0]):
-        stencil_start(S, g, XT, Xs, g, allow, g)
+        stencil_start(S, g, XT, Xs, g, allow, g, -1, -1)
 
 
 @entry
@@ -175,14 +192,20 @@ def level_check(S, XT, mid, Xs, excess):
 
 
 @inner
-def _lagrange(t0, t1, t2, t3, j, t):
-    """The weight of node ``j`` of the cubic through the nodes ``t0..t3`` at ``t``."""
-    ts = (t0, t1, t2, t3)
-    w = 1.0
-    for i in range(4):
-        if i != j:
-            w = w * (t - ts[i]) / (ts[j] - ts[i])
-    return w
+def _denominators(t0, t2, t3):
+    """The denominators of the Lagrange weights of the cubic through the nodes ``t0, 0, t2,
+    t3`` (integers as floats: the products exact below some 2e5 apart)."""
+    return ((t0 - 0.0) * (t0 - t2) * (t0 - t3), (0.0 - t0) * (0.0 - t2) * (0.0 - t3),
+            (t2 - t0) * (t2 - 0.0) * (t2 - t3), (t3 - t0) * (t3 - 0.0) * (t3 - t2))
+
+
+@inner
+def _weights(t0, t2, t3, t, d0, d1, d2, d3):
+    """The Lagrange weights at ``t`` of the cubic through the nodes ``t0, 0, t2, t3``
+    (denominators ``d0..d3``, :func:`_denominators`): each a product of integers (exact
+    below some 2e5 apart) divided once, so correctly rounded."""
+    a, b, c, e = t - t0, t - 0.0, t - t2, t - t3
+    return b * c * e / d0, a * c * e / d1, a * b * e / d2, a * b * c / d3
 
 
 @borrowing

@@ -16,16 +16,29 @@ two arrays (``_layout.LH_*``, ``LV_*``; :func:`path_state`):
 * the launch also returns at the end of the level that reaches ``LH_BUDGET`` samples (the
   progress of a long path).
 
+The bisection gives way to the *fill* once a level is smooth (at most half its samples took
+a Newton step from their starts, and one in :data:`._layout.FILL_SHARE` more than one or
+did not converge: on a smooth path the cubic's error falls sixteenfold as its spacing
+halves, so the fill's starts, on the finer grid, then close almost all) and no gap
+between the solved samples is wider than :data:`._layout.FILL_GAP`: every sample left is
+then started from the cubic through the solved samples around its gap (the fill's grid,
+which its samples do not join), in the path's order.  Its samples are the path's rows one
+after the other (the bisection's last levels wrote every other row, their neighbours long
+out of the caches) and read the few grid rows around them: the same solve of each sample
+for about a sixth less time a sample.  Each sample's start depends on the grid alone, so the
+fill's levels (the budget's portions) do not change a bit.
+
 Each level is the same computation as the numpy loop made of it: the same samples, the
 same stencils (:func:`._levels.level_stencil`), each pose solved alone in its lane, so the
 bits are those of a level launched from Python.
 """
 
 from ._jit import borrowed, borrowing_inlined, inlined, inner
-from ._layout import (ACCEPTED, CONVERGED, LH_BUDGET, LH_N, LH_RETRY, LH_SIZE, LV_GAPS,
-                      LV_GOOD, LV_HOW, LV_IDX, LV_IDX2, LV_ITS, LV_KEPT, LV_ROWS, LV_SING,
-                      LV_SOLVED, OUT_EXCESS, OUT_HOW, OUT_ITS, OUT_RES, OUT_SING, OUT_X, ST_ROW,
-                      SY_DONE, SY_G, SY_N, SY_READY, SY_TAKEN, SY_WHICH)
+from ._layout import (ACCEPTED, CONVERGED, FILL_GAP, FILL_PORTION, FILL_SHARE, LH_BUDGET,
+                      LH_FILL, LH_N, LH_RETRY, LH_SIZE, LH_SMOOTH, LV_GAPS, LV_GOOD, LV_HOW,
+                      LV_IDX, LV_IDX2, LV_ITS, LV_KEPT, LV_ROWS, LV_SING, LV_SOLVED, OUT_EXCESS,
+                      OUT_HOW, OUT_ITS, OUT_RES, OUT_SING, OUT_X, ST_ROW, SY_DONE, SY_G, SY_N,
+                      SY_READY, SY_TAKEN, SY_WHICH)
 from ._levels import moved_beyond, stencil_start, stencils
 from ._pack import out_row
 from ._threads import write_release
@@ -48,27 +61,56 @@ def path_state(Lf, Li):
 @inner
 def begin_levels(V, res, idx, good):
     """The solved samples ``idx`` in order (their count returned) and ``good`` (1 where a
-    sample converged) from the state at the launch's start."""
+    sample converged) from the state at the launch's start: the anchors and the levels'
+    samples (a fill's stay out of ``idx``, the grid it interpolates)."""
     n = 0
     for i in range(res.shape[0]):
         good[i] = 1 if res[i] <= ACCEPTED else 0
-        if V[LV_SOLVED, i]:
+        if V[LV_SOLVED, i] == 1:
             idx[n] = i
             n += 1
     return n
 
 
 @inner
-def form_level(idx, n, gaps):
+def form_level(idx, n, gaps, mid):
     """The gaps between the solved samples ``idx[:n]`` (their indices in ``idx``) into
-    ``gaps``: the next level has a sample in the middle of each.  Returns their count (0:
-    every sample solved)."""
+    ``gaps``, and the sample in the middle of each into ``mid``: the next level.  Returns
+    their count (0: every sample solved)."""
     G = 0
     for j in range(n - 1):
         if idx[j + 1] - idx[j] > 1:
             gaps[G] = j
+            mid[G] = (idx[j] + idx[j + 1]) // 2
             G += 1
     return G
+
+
+@inner
+def fill_level(idx, n, gaps, mid, solved, fill, cap):
+    """The next level of a fill (:data:`._layout.FILL_GAP`): the samples not yet solved in
+    the gaps of the grid ``idx[:n]`` from gap ``fill - 1`` on, in order, at most ``cap``,
+    into ``mid`` (each one's gap into ``gaps``).  Returns their count and the fill's place
+    to go on from (:data:`._layout.LH_FILL`)."""
+    G = 0
+    for j in range(fill - 1, n - 1):
+        for q in range(idx[j] + 1, idx[j + 1]):
+            if solved[q] == 0:
+                if G == cap:
+                    return G, j + 1
+                gaps[G] = j
+                mid[G] = q
+                G += 1
+    return G, max(n, 1)
+
+
+@inner
+def widest_gap(idx, n):
+    """The widest gap between the solved samples ``idx[:n]`` (samples apart)."""
+    widest = 0
+    for j in range(n - 1):
+        widest = max(widest, idx[j + 1] - idx[j])
+    return widest
 
 
 @inlined
@@ -139,14 +181,30 @@ def level_of(H, V, P6, res, comp, sync, G):
 
 @inner
 def take_level(H, V, res, I, G, idx, n, idx2, gaps, good):
-    """A solved level of ``G`` samples (:func:`take_block` done): where some sample is to
-    be solved again, the level is left to Python (``H[LH_RETRY] = G``) and -1 returned;
-    otherwise its samples are marked solved and merged into ``idx`` (written to ``idx2``,
-    the count returned)."""
+    """A solved level of ``G`` samples (:func:`take_block` done): whether it was smooth
+    (``H[LH_SMOOTH]``: at most half its samples took a Newton step from their starts, and
+    one in :data:`._layout.FILL_SHARE` more than one or did not converge); where some sample is to be solved
+    again, the level is left to Python (``H[LH_RETRY] = G``) and -1 returned; otherwise
+    its samples are marked solved and, a level of the bisection, merged into ``idx``
+    (written to ``idx2``) and the count returned; a level of the fill (``H[LH_FILL]``) is
+    marked so (2) and left out of ``idx``, its grid (``n`` returned)."""
+    mid = I[7]
+    stepped, rough = 0, 0
+    for g in range(G):
+        q = mid[g]
+        its = V[LV_ITS, q]
+        stepped += 1 if its > 0 else 0
+        rough += 1 if (its > 1 or V[LV_HOW, q] != 0 or not res[q] <= CONVERGED) else 0
+    H[LH_SMOOTH] = 1 if 2 * stepped <= G and rough * FILL_SHARE <= G else 0
     if H[LH_RETRY]:
         H[LH_RETRY] = G
         return -1
-    mid = I[7]
+    if H[LH_FILL]:
+        for g in range(G):
+            q = mid[g]
+            V[LV_SOLVED, q] = 2
+            good[q] = 1 if res[q] <= ACCEPTED else 0
+        return n
     # the level's samples among the solved ones, in order
     g, m = 0, 0
     for j in range(n):
@@ -182,11 +240,12 @@ def path_starts(I, O, p0, nb):
     """A path level's launch (a stencil a pose): the starts of the poses ``p0..p0+nb-1``
     into their rows of ``X0``, from the solved samples' unknowns (rows of ``O[OUT_X]`` no
     pose of the launch writes), and the move each may make into its row of
-    ``O[OUT_EXCESS]`` (:func:`._levels.stencil_start`)."""
+    ``O[OUT_EXCESS]`` (:func:`._levels.stencil_start`; one allowance a gap of a fill)."""
     S = I[8]
     if S.shape[0]:
         for p in range(p0, p0 + nb):
-            stencil_start(S, p, O[OUT_X], I[1], p, O[OUT_EXCESS], out_row(I, p))
+            stencil_start(S, p, O[OUT_X], I[1], p, O[OUT_EXCESS], out_row(I, p),
+                          p - 1 if p > p0 else -1, out_row(I, p - 1) if p > p0 else -1)
 
 
 @inlined
@@ -210,23 +269,34 @@ def lead_level(H, V, res, I, P6, comp, sync, level):
     the one thread of a launch's level loop otherwise): the first
     level formed (``level`` 0), or the last one's results merged and the next one formed
     (:func:`take_level`, :func:`form_level`; none where it has retries or the budget is
-    spent); its samples, the solved ones and which list holds them published in ``sync``,
+    spent): once a level is smooth and no gap is wider than :data:`._layout.FILL_GAP`, the
+    fill (:func:`fill_level`, in levels of the launch's budget left, at least
+    :data:`._layout.FILL_PORTION`: each sample's start is the same whatever the levels);
+    its samples, the solved ones and which list holds them published in ``sync``,
     the pieces' counter reset, and the level released to the team.  Returns its samples (0:
     the launch ends)."""
     which = sync[SY_WHICH]
     idx, idx2 = (V[LV_IDX], V[LV_IDX2]) if which == 0 else (V[LV_IDX2], V[LV_IDX])
-    gaps, good = V[LV_GAPS], V[LV_GOOD]
+    gaps, good, mid = V[LV_GAPS], V[LV_GOOD], I[7]
+    go = True
     if level == 0:
         n = begin_levels(V, res, idx, good)
-        G = form_level(idx, n, gaps)
     else:
         last, n = sync[SY_G], sync[SY_N]
         m = take_level(H, V, res, I, last, idx, n, idx2, gaps, good)
         sync[SY_DONE] += last
-        G = 0
-        if m >= 0 and not over_budget(H, sync[SY_DONE]):
+        go = m >= 0 and not over_budget(H, sync[SY_DONE])
+        if go and not H[LH_FILL]:
             which, idx, n = 1 - which, idx2, m
-            G = form_level(idx, n, gaps)
+    G = 0
+    if go:
+        if not H[LH_FILL] and H[LH_SMOOTH] and widest_gap(idx, n) <= FILL_GAP:
+            H[LH_FILL] = 1
+        if H[LH_FILL]:
+            cap = max(FILL_PORTION, H[LH_BUDGET] - sync[SY_DONE])
+            G, H[LH_FILL] = fill_level(idx, n, gaps, mid, V[LV_SOLVED], H[LH_FILL], cap)
+        else:
+            G = form_level(idx, n, gaps, mid)
     sync[SY_G] = G
     sync[SY_N] = n
     sync[SY_WHICH] = which
