@@ -69,8 +69,10 @@ G_COUPLE, G_FORCE = 0, 1
 R_ACTUATION, R_FORCE, R_COUPLE, R_SCREW = 0, 1, 2, 3
 
 #: Poses a thread solves together (the lanes of a block: :mod:`._block`).  64 rather than 32
-#: (2-6 % less CPU a pose of the whole analysis, measured 2026-12-05) or 128 (slower than 64
-#: again, by as much).
+#: (2-6 % less CPU a pose of the whole analysis, measured 2026-12-05; on the AMD EPYC of
+#: 2026-12-06, 32 took the path from 1.67-1.89M to 1.22-1.55M samples a second and random
+#: poses from 1.12M to 0.9M) or 128 (slower than 64 again, by as much; on the EPYC within
+#: the noise, and a warm pose's workspaces larger).
 BLOCK = 64
 #: The parallel kernel's threads and pieces (``_threads.piece_of``): the fewest poses a
 #: thread worth a launch on it; a launch's poses cut into about ``PIECES_PER_THREAD``

@@ -15,8 +15,8 @@ the solved samples' indices alone): its kind, the four weights and the four rows
 unknowns it reads (``ST_*``).  The engine's driver applies it in the launch that solves the
 level (:func:`stencil_start`, into the sample's start), and forms the sample's *excess*
 there (:func:`moved_beyond`: how much more than half its neighbours' difference its
-solution moved from its start, :func:`allowance`; a jump where positive), each sample's rows read while its
-pose is at hand; a path solved without the driver's rows applies the same functions here
+solution moved from its start, :func:`allowance`; a jump where positive), each sample's
+rows read while its pose is at hand; the tests apply the same functions to arrays
 (:func:`level_starts`, :func:`level_check`).  The cubic's weights are Lagrange's, each the
 product of the sample's differences from the other nodes over that of the node's, both
 exact as integers (gaps below some 200,000 samples), divided once: correctly rounded.

@@ -148,8 +148,8 @@ def take_block(L, I, O, p0, nb):
     how and singular flag into the path's state, and whether its rows stay (converged from
     its start by Newton); ``H[LH_RETRY]`` set where one is to be solved again (its solution
     jumped to another branch, or Newton did not converge; a solved neighbour to start
-    from).  The samples read (their neighbours') are none of the level's, which the
-    threads write."""
+    from); a fill's samples marked solved (2).  The samples read (their neighbours') are
+    none of the level's, which the threads write."""
     good, V, res, H = L[2], L[5], L[6], L[7]
     mid, S = I[7], I[8]
     for p in range(p0, p0 + nb):
@@ -160,6 +160,10 @@ def take_block(L, I, O, p0, nb):
         V[LV_HOW, q] = hm
         V[LV_SING, q] = O[OUT_SING][q]
         V[LV_KEPT, q] = 1 if (rm <= CONVERGED and hm == 0) else 0
+        if H[LH_FILL]:
+            # (a fill's sample is marked solved here, by its thread: no pass of the lead's)
+            V[LV_SOLVED, q] = 2
+            good[q] = 1 if rm <= ACCEPTED else 0
         left, right = int(S[p, ST_ROW + 1]), int(S[p, ST_ROW + 2])
         jump = O[OUT_EXCESS][q] > 0 and good[left] == 1 and good[right] == 1 and hm == 0
         if jump or not rm <= CONVERGED:
@@ -183,11 +187,17 @@ def level_of(H, V, P6, res, comp, sync, G):
 def take_level(H, V, res, I, G, idx, n, idx2, gaps, good):
     """A solved level of ``G`` samples (:func:`take_block` done): whether it was smooth
     (``H[LH_SMOOTH]``: at most half its samples took a Newton step from their starts, and
-    one in :data:`._layout.FILL_SHARE` more than one or did not converge); where some sample is to be solved
-    again, the level is left to Python (``H[LH_RETRY] = G``) and -1 returned; otherwise
-    its samples are marked solved and, a level of the bisection, merged into ``idx``
-    (written to ``idx2``) and the count returned; a level of the fill (``H[LH_FILL]``) is
-    marked so (2) and left out of ``idx``, its grid (``n`` returned)."""
+    one in :data:`._layout.FILL_SHARE` more than one or did not converge); where some
+    sample is to be solved again, the level is left to Python (``H[LH_RETRY] = G``) and -1
+    returned; otherwise
+    its samples are marked solved and merged into ``idx`` (written to ``idx2``) and the
+    count returned; a level of the fill (``H[LH_FILL]``: no smoothness, its samples marked
+    solved 2 by :func:`take_block`) is left out of ``idx``, its grid (``n`` returned)."""
+    if H[LH_FILL]:                      # (its samples marked by take_block)
+        if H[LH_RETRY]:
+            H[LH_RETRY] = G
+            return -1
+        return n
     mid = I[7]
     stepped, rough = 0, 0
     for g in range(G):
@@ -199,12 +209,6 @@ def take_level(H, V, res, I, G, idx, n, idx2, gaps, good):
     if H[LH_RETRY]:
         H[LH_RETRY] = G
         return -1
-    if H[LH_FILL]:
-        for g in range(G):
-            q = mid[g]
-            V[LV_SOLVED, q] = 2
-            good[q] = 1 if res[q] <= ACCEPTED else 0
-        return n
     # the level's samples among the solved ones, in order
     g, m = 0, 0
     for j in range(n):
