@@ -259,6 +259,9 @@ def solve_path(pm: PMLike, poses: Sequence[Mapping[str, float]],
 
     Raises
     ------
+    InputError
+        No samples (an empty sequence), a sample that is not a mapping, an unknown or a
+        missing parameter.
     UnreachablePoseError
         Naming the first sample that cannot be assembled.
     """

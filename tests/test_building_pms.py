@@ -151,6 +151,20 @@ def test_written_back_and_read_again_is_identical(built, tmp_path):
         assert screwkit.load_pm(pm.to_mapping(), name=pm.name).same_as(pm)
 
 
+def test_a_model_written_with_other_dimensions_says_so_in_its_source():
+    """The catalog's source text describes its own dimensions (``L = 120``): written with
+    ``L = 150`` the file's source says which dimension changed and from what; with the same
+    dimensions the source is the catalog's word for word."""
+    base = screwkit.load_pm("3RRPRR").to_mapping()["source"]
+    assert "L = 120" in base
+    moved = screwkit.load_pm("3RRPRR", {"L": 150})
+    src = moved.to_mapping()["source"]
+    assert src.startswith(base) and "L = 150 (the source's 120)" in src
+    assert "l =" not in src[len(base):]                        # l unchanged: not named
+    assert screwkit.load_pm("3RRPRR", {"L": 120}).to_mapping()["source"] == base
+    assert screwkit.load_pm(moved.to_mapping(), name=moved.name).same_as(moved)
+
+
 def test_a_user_leg_type_is_written_inline(tmp_path):
     from pathlib import Path
     src = Path(__file__).parent / "data" / "user_pm.yaml"

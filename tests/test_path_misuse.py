@@ -41,3 +41,13 @@ def test_a_fine_raster_and_a_noisy_constant_are_paths():
         res = screwkit.analyze(pm, pose, path=True)
         assert not any("far apart" in n for n in res.solution.common_notes)
         assert res.diagnostics["anchors"] > 0 and res.ok.all()
+
+
+def test_an_empty_path_is_refused_as_empty_arrays_are():
+    import pytest
+    from screwkit.errors import InputError
+    pm = screwkit.load_pm("3RRPRR")
+    with pytest.raises(InputError, match="no path samples"):
+        screwkit.solve_path(pm, [])
+    with pytest.raises(InputError, match="no poses"):
+        screwkit.analyze(pm, {k: np.array([]) for k in ("alpha", "beta", "Zo")}, path=True)

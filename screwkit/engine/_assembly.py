@@ -110,12 +110,15 @@ def solve_path(model, poses, guess=None, degrees: bool = False) -> tuple:
 
     Raises
     ------
+    InputError
+        No samples, a sample that is not a mapping, an unknown or a missing parameter.
     UnreachablePoseError
         ``path sample k: ...`` for the first unreachable sample.
     """
     poses = list(poses)
     if not poses:
-        return ()
+        # (as solve and analyze refuse empty arrays: an empty path is a mistake upstream)
+        raise InputError(f"{model.name}: no path samples given (an empty sequence)")
     for k, p in enumerate(poses):
         if not isinstance(p, dict):
             raise InputError(f"{model.name}: path sample {k} must be a mapping of the "

@@ -261,7 +261,9 @@ class PMBuilder:
         order : str
             Euler order (scipy's convention: ``"XYZ"`` intrinsic, ``"xyz"`` extrinsic).
         motion : str
-            The stated motion type (``"1T2R"``), checked against the model.
+            The stated motion type (``"1T2R"``), checked against the finite motion computed
+            from home when the model is loaded (``screwkit.load_pm(builder)``, which also
+            assembles the default pose; :meth:`build` alone checks neither).
         centre : array_like (3,), optional
             The base-fixed point ``C`` of the leg rules.
         """

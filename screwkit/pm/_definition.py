@@ -100,5 +100,20 @@ def definition_of(d: dict, specs, dims=None) -> dict:
         legs.append(e["leg"] if list(e) == ["leg"] and isinstance(e["leg"], str) else e)
     out["legs"] = legs
     if dims is not None:
+        old = out.get("dimensions") if isinstance(out.get("dimensions"), Mapping) else {}
         out["dimensions"] = {k: float(v) for k, v in dims.items()}
+        changed = [k for k, v in out["dimensions"].items() if not _same_number(old.get(k), v)]
+        if changed and out.get("source"):
+            # (the source's words describe its own dimensions: the file says which differ)
+            said = ", ".join(f"{k} = {out['dimensions'][k]:g}"
+                             + (f" (the source's {old[k]})" if k in old else "")
+                             for k in changed)
+            out["source"] = f"{out['source']}; dimensions changed since: {said}"
     return out
+
+
+def _same_number(a, b: float) -> bool:
+    try:
+        return a is not None and float(a) == b
+    except (TypeError, ValueError):
+        return False
