@@ -251,17 +251,12 @@ def solve_path(pm: PMLike, poses: Sequence[Mapping[str, float]],
                degrees: bool = False) -> tuple[PoseSolution, ...]:
     """:func:`solve` at each of a sequence of independent-parameter dicts, as successive
     samples of a path (``path=True``: each warm-started from its solved neighbours;
-    ``guess`` warm-starts the first).
-
-    Returns
-    -------
-    tuple of screwkit.engine.PoseSolution
+    ``guess`` warm-starts the first).  Returns a tuple of ``screwkit.engine.PoseSolution``.
 
     Raises
     ------
     InputError
-        No samples (an empty sequence), a sample that is not a mapping, an unknown or a
-        missing parameter.
+        No samples, a sample that is not a mapping, an unknown or a missing parameter.
     UnreachablePoseError
         Naming the first sample that cannot be assembled.
     """
