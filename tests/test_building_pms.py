@@ -246,3 +246,20 @@ def test_placed_legs_with_their_attachments():
     np.testing.assert_allclose(x.jacobian.J_a, y.jacobian.J_a, atol=1e-9)
     np.testing.assert_allclose(x.statics.active, y.statics.active, rtol=1e-8)
     assert screwkit.load_pm(pm.to_mapping(), name=pm.name).same_as(pm)
+
+
+def test_an_override_of_a_dimension_nothing_uses_is_refused(tmp_path):
+    """A dimension declared but named by no expression (``H`` here): ``--set H=...`` would
+    change nothing, so it is refused naming it; the dimensions the expressions use take
+    their overrides (the base's radius follows ``R``)."""
+    d = yaml.safe_load(YAML_3RPS)["pms"]["my3RPS"]
+    d["dimensions"]["H"] = 5.0
+    p = tmp_path / "h.yaml"
+    p.write_text(yaml.safe_dump({"pms": {"my3RPS": d}}))
+    assert screwkit.load_pm(str(p)).dimensions["H"] == 5.0     # declared: loads as it is
+    with pytest.raises(InputError, match="override H: no expression .* uses the dimension H"):
+        screwkit.load_pm(str(p), {"H": 6.0})
+    with pytest.raises(InputError, match="override H"):
+        screwkit.load_pm(d, {"H": 6.0}, name="my3RPS")
+    moved = screwkit.load_pm(str(p), {"R": 2 * R_BASE})
+    np.testing.assert_allclose(np.linalg.norm(moved.base_points, axis=1), 2 * R_BASE)

@@ -10,7 +10,7 @@ from ..legs._guards import (MAX_MAGNITUDE, MAX_NAME, MAX_PATH_CHARS, did_you_mea
                             real, shorten)
 
 __all__ = ["split_path", "listing", "find_pm", "unknown_keys", "text_fields", "dimensions",
-           "pm_string"]
+           "check_overrides_used", "pm_string"]
 
 
 def split_path(name_or_path: str):
@@ -113,6 +113,31 @@ def dimensions(dims_raw: dict, overrides, name, src) -> dict:
             raise bad(f"{k} = {x:g} must be a positive length")
         dims[k] = x
     return dims
+
+
+def check_overrides_used(d: dict, overrides, name) -> None:
+    """Refuse an override of a dimension no expression of the definition ``d`` names (its
+    fields other than ``dimensions:``): it would change nothing, silently."""
+    if not overrides:
+        return
+    import re
+    texts = []
+
+    def walk(v):
+        if isinstance(v, str):
+            texts.append(v)
+        elif isinstance(v, dict):
+            for x in v.values():
+                walk(x)
+        elif isinstance(v, (list, tuple)):
+            for x in v:
+                walk(x)
+    walk({k: v for k, v in d.items() if k != "dimensions"})
+    text = "\n".join(texts)
+    for k in overrides:
+        if not re.search(rf"(?<![\w.]){re.escape(str(k))}(?!\w)", text):
+            raise InputError(f"{name}: override {k}: no expression of the model uses the "
+                             f"dimension {k}, so changing it changes nothing")
 
 
 def pm_string(d, name, rules, ctx, passive=()):

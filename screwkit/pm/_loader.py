@@ -35,8 +35,8 @@ from ..legs._guards import MAX_ANGLE_DEG, MAX_MAGNITUDE, MAX_NAME, did_you_mean,
 from ..errors import CatalogError, GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
 from ..screws import Normalisation, check_order
-from ._checks import (dimensions, find_pm, listing, pm_string, split_path, text_fields,
-                      unknown_keys)
+from ._checks import (check_overrides_used, dimensions, find_pm, listing, pm_string,
+                      split_path, text_fields, unknown_keys)
 from ._home import _solve_home
 from ._units import units_from_mapping
 from ._limits import limits_from_mapping
@@ -267,6 +267,7 @@ def _build(name: str, d, cat, overrides: dict) -> PMModel:
     if not isinstance(dims_raw, dict):
         raise CatalogError("must be a mapping name -> length", name, "dimensions", src)
     dims = dimensions(dims_raw, overrides, name, src)
+    check_overrides_used(d, overrides, name)
     ctx = _Ctx(name, src, dims)
     base = _vertices(d["base"], ctx, "base")
     plat = _vertices(d["platform"], ctx, "platform")

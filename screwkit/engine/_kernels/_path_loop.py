@@ -28,9 +28,9 @@ out of the caches) and read the few grid rows around them: the same solve of eac
 for about a sixth less time a sample.  Each sample's start depends on the grid alone, so the
 fill's levels (the budget's portions) do not change a bit.
 
-Each level is the same computation as the numpy loop made of it: the same samples, the
-same stencils (:func:`._levels.level_stencil`), each pose solved alone in its lane, so the
-bits are those of a level launched from Python.
+Each level is the same computation whatever launch holds it: the same samples, the same
+stencils (:func:`._levels.stencils`), each pose solved alone in its lane, so the bits are
+those of a launch a level (the tests' reference).
 """
 
 from ._jit import borrowed, borrowing_inlined, inlined, inner
@@ -189,10 +189,10 @@ def take_level(H, V, res, I, G, idx, n, idx2, gaps, good):
     (``H[LH_SMOOTH]``: at most half its samples took a Newton step from their starts, and
     one in :data:`._layout.FILL_SHARE` more than one or did not converge); where some
     sample is to be solved again, the level is left to Python (``H[LH_RETRY] = G``) and -1
-    returned; otherwise
-    its samples are marked solved and merged into ``idx`` (written to ``idx2``) and the
-    count returned; a level of the fill (``H[LH_FILL]``: no smoothness, its samples marked
-    solved 2 by :func:`take_block`) is left out of ``idx``, its grid (``n`` returned)."""
+    returned; otherwise its samples are marked solved and merged into ``idx`` (written to
+    ``idx2``) and the count returned; a level of the fill (``H[LH_FILL]``: no smoothness,
+    its samples marked solved 2 by :func:`take_block`) is left out of ``idx``, its grid
+    (``n`` returned)."""
     if H[LH_FILL]:                      # (its samples marked by take_block)
         if H[LH_RETRY]:
             H[LH_RETRY] = G
