@@ -17,14 +17,9 @@ from scipy.spatial.transform import Rotation
 import screwkit
 from screwkit.engine import _path_launch
 from screwkit.engine._run import chunk_after_path
+from path_samples import PAPER_PATH_LOAD, check_starts, smooth_path
 
-LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
-
-
-def _smooth(n):
-    s = np.linspace(0, 1, n)
-    return {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
-            "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
+LOAD = PAPER_PATH_LOAD
 
 
 def _levels_logged(monkeypatch):
@@ -47,7 +42,7 @@ def test_a_smooth_path_is_filled_every_sample_on_the_closed_forms():
     split of alpha + gamma is not the engine's limit.)"""
     pm = screwkit.load_pm("3RRPRR")
     n = 20_000
-    pose = _smooth(n)
+    pose = smooth_path(n)
     pose["beta"] = np.radians(10 + 5 * np.cos(2 * np.pi * np.linspace(0, 1, n)))
     res = screwkit.analyze(pm, pose, path=True, **LOAD)
     # 32 anchors and the levels down to a smooth one; the rest (most of the path) filled
@@ -149,19 +144,5 @@ def test_fill_starts_are_the_cubic_through_the_grid_at_each_sample(seed):
     K.gap_stencils(idx, k, good, mid, S)
     Xs = np.empty((len(k), nx))
     K.level_starts(S, XT, Xs)
-    kinds = set()
-    for g, (kg, q) in enumerate(zip(k, mid)):
-        left, right = idx[kg], idx[kg + 1]
-        nodes = idx[max(kg - 1, 0):kg + 3]
-        if len(nodes) == 4 and kg >= 1 and good[nodes].all():
-            want = [np.polyval(np.polyfit(nodes, XT[nodes, x], 3), q) for x in range(nx)]
-            np.testing.assert_allclose(Xs[g], want, rtol=1e-9, atol=1e-9)
-            kinds.add("cubic")
-        elif good[left] and good[right]:
-            w = (q - left) / (right - left)
-            np.testing.assert_allclose(Xs[g], (1 - w) * XT[left] + w * XT[right], rtol=1e-14)
-            kinds.add("linear")
-        else:
-            np.testing.assert_array_equal(Xs[g], XT[left] if good[left] else XT[right])
-            kinds.add("one")
+    kinds = check_starts(idx, k, mid, good, XT, Xs)
     assert kinds == {"cubic", "linear", "one"}

@@ -16,14 +16,9 @@ import pytest
 import screwkit
 from screwkit.engine import _path, _path_launch
 from screwkit.engine._run import chunk_after_path
+from path_samples import PAPER_PATH_LOAD, smooth_path
 
-LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
-
-
-def _smooth(n):
-    s = np.linspace(0, 1, n)
-    return {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
-            "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
+LOAD = PAPER_PATH_LOAD
 
 
 def _walk(n):
@@ -51,7 +46,7 @@ def _one_level_a_launch(monkeypatch):
 @pytest.mark.parametrize("kind", ["smooth", "walk"])
 def test_all_levels_in_one_launch_equal_a_launch_a_level(kind, monkeypatch):
     pm = screwkit.load_pm("3RRPRR")
-    pose = (_smooth if kind == "smooth" else _walk)(3000)
+    pose = (smooth_path if kind == "smooth" else _walk)(3000)
     whole = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
     log = _one_level_a_launch(monkeypatch)
     apart = screwkit.analyze(pm, pose, path=True, raise_on_singular=False, **LOAD)
@@ -71,7 +66,7 @@ def test_each_sample_solved_once_and_its_rows_those_of_its_unknowns():
     """Every sample of a path is solved (no sample left with the state's initial values)
     and its rows, conditioning and statics are those formed again from its unknowns."""
     pm = screwkit.load_pm("3RRPRR")
-    pose = _smooth(5001)
+    pose = smooth_path(5001)
     res = screwkit.analyze(pm, pose, path=True, **LOAD)
     c = res.solution.closures
     assert np.all(c.residual <= 1e-10) and np.all(c.how == 0)
@@ -116,12 +111,12 @@ def test_progress_is_told_between_launches_up_to_the_total(monkeypatch):
     monkeypatch.setattr(_path, "PROGRESS_SAMPLES", 500)
     pm = screwkit.load_pm("3RRPRR")
     seen = []
-    res = screwkit.analyze(pm, _smooth(8000), path=True, progress=lambda d, t: seen.append((d, t)),
+    res = screwkit.analyze(pm, smooth_path(8000), path=True, progress=lambda d, t: seen.append((d, t)),
                            **LOAD)
     done = [d for d, _ in seen]
     assert {t for _, t in seen} == {16000}            # the closures, then the rows
     assert done == sorted(done) and done[-1] == 16000 and len(seen) >= 4
-    quiet = screwkit.analyze(pm, _smooth(8000), path=True, **LOAD)
+    quiet = screwkit.analyze(pm, smooth_path(8000), path=True, **LOAD)
     np.testing.assert_array_equal(res.solution.closures.X, quiet.solution.closures.X)
 
 
@@ -133,7 +128,7 @@ def test_a_team_of_threads_equals_a_launch_of_threads_a_level(kind, monkeypatch)
     from screwkit.engine._kernels import kernels
     from screwkit.engine._kernels._layout import LH_TEAM
     pm = screwkit.load_pm("3RRPRR")
-    pose = (_smooth if kind == "smooth" else _walk)(6000)
+    pose = (smooth_path if kind == "smooth" else _walk)(6000)
     init = _path_launch.LevelLaunches.__init__
     teams = []
 

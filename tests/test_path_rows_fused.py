@@ -14,6 +14,7 @@ import pytest
 
 import screwkit
 from screwkit.engine._run import chunk_after_path
+from path_samples import check_starts
 
 LOAD = {"force": (-20.0, -30.0, -60.0), "torque": (-30.0, -30.0, 100.0)}
 
@@ -116,22 +117,8 @@ def test_level_stencils_are_the_interpolations_of_the_neighbours():
     K.level_stencil(idx, k, good, mid, S)
     Xs = np.empty((G, nx))
     K.level_starts(S, XT, Xs)
-    kinds = set()
-    for g, kg in enumerate(k):
-        left, right = idx[kg], idx[kg + 1]
-        assert mid[g] == (left + right) // 2
-        nodes = idx[max(kg - 1, 0):kg + 3]
-        if len(nodes) == 4 and kg >= 1 and good[nodes].all():
-            want = [np.polyval(np.polyfit(nodes, XT[nodes, x], 3), mid[g]) for x in range(nx)]
-            np.testing.assert_allclose(Xs[g], want, rtol=1e-9, atol=1e-9)
-            kinds.add("cubic")
-        elif good[left] and good[right]:
-            w = (mid[g] - left) / (right - left)
-            np.testing.assert_allclose(Xs[g], (1 - w) * XT[left] + w * XT[right], rtol=1e-14)
-            kinds.add("linear")
-        else:
-            np.testing.assert_array_equal(Xs[g], XT[left] if good[left] else XT[right])
-            kinds.add("one")
+    np.testing.assert_array_equal(mid, (idx[k] + idx[k + 1]) // 2)
+    kinds = check_starts(idx, k, mid, good, XT, Xs)
     assert kinds == {"cubic", "linear", "one"}
     XT[mid] = Xs + rng.normal(scale=0.3, size=Xs.shape)        # the level's "solutions"
     XT[mid[3], 2] = np.nan
