@@ -121,3 +121,45 @@ def test_the_test_applies_to_legs_whose_actuator_carries_their_length():
     X[lines.rows[2], 2] = -0.5 * lines.home[2] / lines.scale[2]
     rev = reversed_legs(pm, X)
     assert rev.tolist() == [[False] * 6, [False, False, True, False, False, False], [False] * 6]
+
+
+@pytest.mark.parametrize("name", ["6SPS", "2UPS+2SPR", "3RPS"])
+def test_every_launch_returns_the_legs_its_poses_reverse(name):
+    # the analysis kernel's bit mask of each pose's reversed legs (``reversed_mask``),
+    # against the signed length of each leg from the legs' frames at the given unknowns (the
+    # forward pass): (p - A_i) . u_i, u_i the actuated P joint's axis as the joints before it
+    # turned it, p the point of the joint after it (its home point a_i, carried along the
+    # axis by the P joint), compared with its sign at home
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._launch import frames, run_poses
+    from screwkit.engine._solve import predictor_of
+    pm = screwkit.load_pm(name)
+    ch = chains_of(pm)
+    lines = actuator_lines(pm)
+    rng = np.random.default_rng(5)
+    N = 200
+    X = ch.home_vector(N) + rng.normal(0.0, 0.05, (ch.n_unknowns, N))
+    turned = rng.random((N, lines.legs.size)) < 0.3        # some legs turned through A_i
+    for c in range(lines.legs.size):
+        X[lines.rows[c], turned[:, c]] = -2.0 * lines.home[c] / lines.scale[c] \
+            * rng.uniform(0.9, 1.1, turned[:, c].sum())
+    P6 = ch.full_params({p: np.full(N, ch.home[p]) for p in ch.fixed}, N)
+    Z = predictor_of(ch)
+    mask = run_poses(ch.flat, Z, P6, X=X.T, rows=False)["reversed_mask"]
+    axes_points = frames(ch.flat, Z, P6, np.ascontiguousarray(X.T))["axes_points"]
+    expect = np.zeros(N, np.int64)
+    for i, lg in enumerate(pm.home_legs):
+        k = lg.actuated_index
+        if i not in lines.legs:
+            continue
+        A = np.asarray(lg.A, float)
+        assert np.allclose(lg.joints[k + 1].point, lg.a)
+        u = axes_points[:, i, k, :3] / np.linalg.norm(axes_points[:, i, k, :3], axis=1)[:, None]
+        s = np.einsum("ni,ni->n", axes_points[:, i, k + 1, 3:] - A, u)
+        u0 = np.asarray(lg.joints[k].direction, float)
+        s_home = float((np.asarray(lg.a) - A) @ u0 / np.linalg.norm(u0))
+        expect |= (np.sign(s_home) * s <= 1e-7 * pm.normalisation.length).astype(np.int64) << i
+    assert turned.any() and (mask != 0).any() and (mask == 0).any()
+    np.testing.assert_array_equal(mask, expect)
+    # the batch test of unknowns given from Python: the same
+    np.testing.assert_array_equal(lines.mask(X), expect)

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
+from ..screws import GEOMETRY_RTOL
 from ._kernels import _layout as lay
 
 __all__ = ["FlatModel", "build", "joint_arrays", "platform_array", "encode_direction",
@@ -244,10 +245,11 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
         kind = {"actuation": lay.R_ACTUATION, "force": lay.R_FORCE, "couple": lay.R_COUPLE}.get(
             ri.kind, lay.R_SCREW)
         rows[r] = (ri.leg, kind, row_pts[r], int(ri.torque))
+    unknown = tuple(p for p in PARAMS if p not in independent)
+    rev = line_table(legs, passive, len(unknown), m, geo[lay.QS], L)
     M = tuple(np.ascontiguousarray(a) for a in geo) + (
         leg, plat, _order_code(order), np.ascontiguousarray(base_points, float),
-        np.ascontiguousarray(platform_points, float), pts, dirs, grp, tpl, gref, rows)
-    unknown = tuple(p for p in PARAMS if p not in independent)
+        np.ascontiguousarray(platform_points, float), pts, dirs, grp, tpl, gref, rows, rev)
     fixed = tuple(independent)
     unk = np.array([PARAMS.index(p) for p in unknown], np.int64)
     xs = np.array([L if p in LENGTH_PARAMS else 1.0 for p in unknown])
@@ -260,6 +262,43 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
          np.zeros(0), np.zeros(0), np.array([0]))
     return FlatModel(M, n, m, len(info), int(sum(active)), unknown, fixed, Z,
                      rows[:, 3].copy(), rows[:, 0].copy())
+
+
+def _off_line(x, point, direction) -> float:
+    """The distance of the point ``x`` from the line through ``point`` along ``direction``."""
+    d = np.asarray(direction, float)
+    return float(np.linalg.norm(np.cross(np.asarray(x, float) - point, d)) / np.linalg.norm(d))
+
+
+def line_table(legs, passive, nu: int, m: int, q_scale, L: float) -> np.ndarray:
+    """The flattened model's ``REV (k, 6)`` table (:mod:`._kernels._layout`) of the placed
+    legs ``legs`` at home: one row ``(leg, row, sign, limit, s^home, scale)`` for each leg
+    (not in ``passive``) whose actuated joint is a P joint carrying the leg's whole length
+    (:mod:`._reversal`): ``row = nu + i m + k`` its unknown in ``X``, ``s^home`` its signed
+    home length, ``scale = q_scale[i, k]`` and ``limit = (tol - |s^home|) / scale`` (``tol =
+    GEOMETRY_RTOL L``): the leg is reversed where ``sign X[row] <= limit``, that is where
+    ``sign (s^home) (s^home + q) <= tol``."""
+    tol = GEOMETRY_RTOL * float(L)
+    table = []
+    for i, lg in enumerate(legs):
+        k = lg.actuated_index
+        if i in passive or k is None or lg.joints[k].kind != "P":
+            continue
+        A, a = np.asarray(lg.A, float), np.asarray(lg.a, float)
+        P = lg.joints[k]
+        u = np.asarray(P.direction, float)
+        u = u / np.linalg.norm(u)
+        on_line = (_off_line(A, P.point, u) <= tol and _off_line(a, P.point, u) <= tol
+                   and all(j.kind == "R" and _off_line(A, j.point, j.direction) <= tol
+                           for j in lg.joints[:k])
+                   and all(j.kind == "R" and _off_line(a, j.point, j.direction) <= tol
+                           for j in lg.joints[k + 1:]))
+        s = float((a - A) @ u)
+        if not on_line or abs(s) <= tol:
+            continue
+        scale = float(q_scale[i, k])
+        table.append((i, nu + i * m + k, np.sign(s), (tol - abs(s)) / scale, s, scale))
+    return np.array(table, float).reshape(-1, 6)
 
 
 def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candidates):
@@ -291,7 +330,7 @@ def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candida
     M = tuple(np.ascontiguousarray(a) for a in geo) + (
         leg_row, plat, _order_code("XYZ"), np.array([leg.A], float), ap[None], pts,
         _pad([table], 4), empty, np.zeros((1, 8), np.int64), np.zeros((1, 6, 2), np.int64),
-        np.zeros((0, 4), np.int64))
+        np.zeros((0, 4), np.int64), np.zeros((0, 4)))
     fp = np.zeros(27)
     fp[6:15], fp[15:18] = Rh.ravel(), oh
     return (M, fp), ok, np.array(idx, np.int64), points

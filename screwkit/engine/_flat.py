@@ -20,7 +20,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
-from ._arrays import FlatModel, build, joint_arrays, platform_array
+from ._arrays import FlatModel, build, joint_arrays, line_table, platform_array
 from ._kernels import _layout as lay
 
 __all__ = ["FlatModel", "flatten", "reflatten", "flatten_legs"]
@@ -80,6 +80,8 @@ def reflatten(like, model) -> FlatModel:
     M[lay.PLAT] = plat
     M[lay.A] = np.ascontiguousarray(model.world_base_points, float)
     M[lay.AP] = np.ascontiguousarray(model.platform_points, float)
+    M[lay.REV] = line_table(model.home_legs, tuple(getattr(model, "passive", ())),
+                            len(flat.unknown), flat.m, M[lay.QS], L)
     xs = np.array([L if p in LENGTH_PARAMS else 1.0 for p in flat.unknown])
     keep = [k for k, p in enumerate(flat.unknown) if p not in ("alpha", "gamma")]
     p6home = np.array([float(model.home_pose[p]) for p in PARAMS])

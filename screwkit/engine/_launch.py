@@ -45,14 +45,15 @@ PARALLEL_COMPILE = "one to four minutes, depending on the machine"
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
            "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
            "constraint_rank", "constraint_condition_number", "values", "equilibrium",
-           "amplification", "det_sign", "twists", "lines", "platform", "excess")
+           "amplification", "det_sign", "twists", "lines", "platform", "excess",
+           "reversed_mask")
 
 
 _CORES = min(2, os.cpu_count() or 1)
 #: ``on``: this Python thread's launches run on it alone (:func:`on_this_thread`).
 _HERE_ONLY = threading.local()
 _OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
-              "f", "f", "f", "f", "f", "f", "f", "f")
+              "f", "f", "f", "f", "f", "f", "f", "f", "i")
 
 
 def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
@@ -149,7 +150,7 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
                   (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
                   (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6),
                   (N if lines else 0, n, LINE_WIDTH), (N if lines else 0, 27),
-                  (N if excess else 0,)], _OUT_KINDS)
+                  (N if excess else 0,), (N,)], _OUT_KINDS)
     plan.out_d, plan.out_nf, plan.out_ni = out.d, out.f.size, out.i.size
     plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
                      for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
@@ -299,7 +300,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
 def _views(f, i, layout, convert):
     """The outputs by name (:data:`OUTPUTS`): views of the float and integer buffers ``f``,
     ``i`` as ``layout`` places them (the booleans converted where ``convert``: copies).  (A
-    loop, not a function a view: one pose's analysis takes 24 of them.)"""
+    loop, not a function a view: one pose's analysis takes 25 of them.)"""
     out = {}
     for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, layout):
         v = i[o0:o1] if is_int else f[o0:o1]

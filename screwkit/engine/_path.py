@@ -167,6 +167,17 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
                 j += r
                 continue
         i = anchors[j]
+        if j == 0 and prev is None and batch is not None:
+            # the first anchor from home: the batch solved it so (the same values; its rows
+            # with it)
+            X[:, i], res[i], its[i], how[i], sing[i] = batch.X[:, 0], batch.residual[0], \
+                batch.iterations[0], batch.how[0], batch.singular_beta[0]
+            taken.append(anchors[:1])
+            if res[i] <= ACCEPTED:
+                prev = batch.X[:, :1]
+                last = [(i, prev)]
+            j += 1
+            continue
         fx = {p: v[i:i + 1] for p, v in fixed.items()}
         X0 = prev
         if len(last) == 2:

@@ -22,13 +22,12 @@ joints started from home, else by continuation from home;
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
 
-from ..screws import GEOMETRY_RTOL
+from ._kernels._layout import REV, RV_HOME, RV_LEG, RV_LIMIT, RV_ROW, RV_SCALE, RV_SIGN
 
-__all__ = ["ActuatorLines", "actuator_lines", "reversed_legs", "resolve", "reversed_note"]
+__all__ = ["ActuatorLines", "actuator_lines", "legs_of", "reversed_legs", "resolve",
+           "reversed_note"]
 
 #: How many continuation steps from home a reversed pose is solved again with, finer ones
 #: after a track lost on the way (the kernels' rescue tries 4, 16, 64).
@@ -36,115 +35,55 @@ CONTINUATION_STEPS = (16, 64)
 
 
 class ActuatorLines:
-    """The legs of a model whose actuator carries the leg's length (module docstring):
-    ``legs (k,)`` their indices, ``rows (k,)`` the rows of their actuated joints' unknowns
-    in the solver's ``X``, ``scale (k,)`` the unknown's scale (``q = X[row] scale``),
-    ``home (k,)`` the signed lengths ``s^home`` (model lengths), ``tol`` the length below
-    which a leg counts as passed through zero.  A leg is reversed where ``sign (s^home)
-    (s^home + q) <= tol``, that is where ``sign X[row] <= limit = (tol - |s^home|) /
-    scale`` (``sign``, ``limit (k,)``): one comparison a leg and pose."""
+    """The legs of a model whose actuator carries the leg's length (module docstring), from
+    its flattened table ``REV`` (:func:`._arrays.line_table`): ``legs (k,)`` their indices, ``rows
+    (k,)`` the rows of their actuated joints' unknowns in the solver's ``X``, ``scale (k,)``
+    the unknown's scale (``q = X[row] scale``), ``home (k,)`` the signed lengths ``s^home``
+    (model lengths), ``sign``, ``limit (k,)`` the test's (a leg is reversed where ``sign
+    X[row] <= limit``).  The test itself is the kernels' (:mod:`._kernels._reversed`): every
+    analysis returns its poses' reversed legs (``reversed_mask``); :meth:`mask` tests
+    unknowns given here."""
 
-    __slots__ = ("legs", "rows", "scale", "home", "tol", "sign", "limit", "_plain", "_arrays")
+    __slots__ = ("table", "legs", "rows", "scale", "home", "sign", "limit")
 
-    def __init__(self, legs, rows, scale, home, tol):
-        self.legs, self.rows, self.scale, self.home = legs, rows, scale, home
-        self.tol = tol
-        self.sign = np.sign(home)
-        self.limit = (tol - np.abs(home)) / scale if legs.size else np.zeros(0)
-        # (one pose's test in plain Python: numpy's calls on arrays of a few values cost
-        # more than the arithmetic, some 10 us of a one-pose analysis's 70)
-        self._plain = tuple(zip(rows.tolist(), self.sign.tolist(), self.limit.tolist()))
-        # (the batch test's arrays, as its kernel takes them)
-        self._arrays = (np.asarray(rows, np.int64), np.asarray(self.sign, float),
-                        np.asarray(self.limit, float))
+    def __init__(self, table):
+        self.table = table
+        self.legs = table[:, RV_LEG].astype(int)
+        self.rows = table[:, RV_ROW].astype(int)
+        self.sign, self.limit = table[:, RV_SIGN], table[:, RV_LIMIT]
+        self.home, self.scale = table[:, RV_HOME], table[:, RV_SCALE]
 
-    def any_reversed(self, x) -> bool:
-        """Whether the unknowns ``x (n_unknowns,)`` of one pose reverse a leg (NaN: no)."""
-        v = x.tolist()
-        for row, sign, limit in self._plain:
-            if v[row] * sign <= limit:
-                return True
-        return False
-
-    def reversed(self, X) -> np.ndarray:
-        """``(N, k)`` bool: which of these legs the unknowns ``X (n_unknowns, N)`` reverse
-        (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows; NaN: none)."""
-        return self._test(X, True)[0]
-
-    def any_reversed_rows(self, X) -> np.ndarray:
-        """``(N,)`` bool: whether the unknowns ``X (n_unknowns, N)`` reverse any of these
-        legs (:meth:`reversed`'s rows reduced)."""
-        return self._test(X, False)[1]
-
-    def _test(self, X, each):
+    def mask(self, X) -> np.ndarray:
+        """``(N,)`` int: the legs (bit ``i`` for leg ``i``) the unknowns ``X (n_unknowns,
+        N)`` reverse (read as ``X.T``, the engine's ``(N, n_unknowns)`` rows; NaN: none)."""
         from ._kernels import kernels
         rows = np.ascontiguousarray(np.asarray(X, float).T)   # (a view of the engine's rows)
-        N, k = rows.shape[0], self.rows.size
-        legs = np.empty((N if each else 0, k), bool)
-        some = np.empty(N, bool)
-        if k:
-            kernels().reversed_rows(rows, *self._arrays, legs, some)
-        else:
-            some[:] = False
-        return legs, some
-
-
-_LINES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-
-
-def _off_line(x, point, direction) -> float:
-    """The distance of the point ``x`` from the line through ``point`` along ``direction``."""
-    d = np.asarray(direction, float)
-    return float(np.linalg.norm(np.cross(np.asarray(x, float) - point, d)) / np.linalg.norm(d))
+        out = np.zeros(rows.shape[0], np.int64)
+        if self.legs.size:
+            kernels().reversed_rows(rows, self.table, out)
+        return out
 
 
 def actuator_lines(model) -> ActuatorLines:
-    """The :class:`ActuatorLines` of a model (built once, kept with the model)."""
-    lines = _LINES.get(model)
-    if lines is not None:
-        return lines
-    from ._chains import chains_of
-    ch = chains_of(model)
-    L = float(model.normalisation.length)
-    tol = GEOMETRY_RTOL * L
-    nu = len(ch.unknown)
-    legs, rows, scale, home = [], [], [], []
-    for i, lg in enumerate(model.home_legs):
-        k = lg.actuated_index
-        if i in ch.passive or k is None or lg.joints[k].kind != "P":
-            continue
-        A, a = np.asarray(lg.A, float), np.asarray(lg.a, float)
-        P = lg.joints[k]
-        u = np.asarray(P.direction, float)
-        u = u / np.linalg.norm(u)
-        on_line = (_off_line(A, P.point, u) <= tol and _off_line(a, P.point, u) <= tol
-                   and all(j.kind == "R" and _off_line(A, j.point, j.direction) <= tol
-                           for j in lg.joints[:k])
-                   and all(j.kind == "R" and _off_line(a, j.point, j.direction) <= tol
-                           for j in lg.joints[k + 1:]))
-        s = float((a - A) @ u)
-        if not on_line or abs(s) <= tol:
-            continue
-        legs.append(i)
-        rows.append(nu + i * ch.m + k)
-        scale.append(float(ch.q_scale[i, k]))
-        home.append(s)
-    lines = ActuatorLines(np.array(legs, int), np.array(rows, int), np.array(scale, float),
-                          np.array(home, float), tol)
-    _LINES[model] = lines
+    """The :class:`ActuatorLines` of a model (its flattened table, :func:`line_table`)."""
+    from ._flat import flatten
+    flat = flatten(model)
+    lines = flat.packed.get("lines")
+    if lines is None:
+        lines = flat.packed["lines"] = ActuatorLines(flat.M[REV])
     return lines
+
+
+def legs_of(mask, n: int) -> np.ndarray:
+    """``(N, n)`` bool: the legs of the masks ``mask (N,)`` (bit ``i`` for leg ``i``)."""
+    return (np.asarray(mask, np.int64)[:, None] >> np.arange(n)) & 1 == 1
 
 
 def reversed_legs(model, X) -> np.ndarray:
     """``(N, n)`` bool: the legs whose actuator the unknowns ``X (n_unknowns, N)`` run to a
     negative length, or to zero within ``GEOMETRY_RTOL`` of the model's length (module
     docstring).  False for the legs the test does not apply to."""
-    lines = actuator_lines(model)
-    X = np.asarray(X, float)
-    out = np.zeros((X.shape[1], model.n_legs), bool)
-    if lines.legs.size:
-        out[:, lines.legs] = lines.reversed(X)
-    return out
+    return legs_of(actuator_lines(model).mask(X), model.n_legs)
 
 
 def resolve(model, fixed: dict, X, side=None, workers=None) -> tuple:
@@ -176,7 +115,7 @@ def resolve(model, fixed: dict, X, side=None, workers=None) -> tuple:
                   workers=workers)
     Xs = np.array(o["X"].T)
     its = np.asarray(o["iterations"], int).copy()
-    done = (np.asarray(o["residual"]) <= CONVERGED) & ~reversed_legs(model, Xs).any(axis=1)
+    done = (np.asarray(o["residual"]) <= CONVERGED) & (o["reversed_mask"] == 0)
     X[:, done] = Xs[:, done]
     home = ch.full_params({p: np.full(k, ch.home[p]) for p in fixed}, k)
     for steps in CONTINUATION_STEPS:
@@ -192,7 +131,7 @@ def resolve(model, fixed: dict, X, side=None, workers=None) -> tuple:
             n_its = n_its + np.asarray(o["iterations"], int)
             res = np.asarray(o["residual"], float)
             alive &= res <= (CONVERGED if step == steps else 1e-4)
-        good = alive & ~reversed_legs(model, Xs).any(axis=1)
+        good = alive & (o["reversed_mask"] == 0)
         X[:, todo[good]] = Xs[:, good]
         its[todo[good]] += n_its[good]
         done[todo[good]] = True

@@ -23,7 +23,7 @@ from ._path_launch import LevelLaunches
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
 from ._path import solve_path
-from ._reversal import actuator_lines, resolve, reversed_legs
+from ._reversal import actuator_lines, legs_of, resolve
 from ._solve import Closures, predictor_of
 
 __all__ = ["CHUNK", "Computed", "compute", "load_block_kernel", "row_points"]
@@ -58,6 +58,7 @@ class Computed(NamedTuple):
     twists: np.ndarray = None
     lines: np.ndarray = None
     platform: np.ndarray = None
+    reversed_mask: np.ndarray = None
 
 
 def load_block_kernel(model) -> None:
@@ -92,7 +93,8 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
 
 _KEYS = ("J", "scale", "rows_ok", "structure_ok", "centre", "length", "singular_values", "rank",
          "condition_number", "constraint_rank", "constraint_condition_number", "values",
-         "equilibrium", "amplification", "det_sign", "twists", "lines", "platform")
+         "equilibrium", "amplification", "det_sign", "twists", "lines", "platform",
+         "reversed_mask")
 
 
 def _per_pose(compliance, N, idx):
@@ -191,7 +193,8 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     closures = Closures(ch, o["X"].T, fixed, o["residual"], o["iterations"], o["how"],
                         o["singular_beta"])
     if not rows:
-        return Computed(closures, (), flat.n_act, diagnostics={})
+        return Computed(closures, (), flat.n_act, diagnostics={},
+                        reversed_mask=o["reversed_mask"])
     out = {key: o[key] for key in _KEYS if o[key].shape[0]}
     cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
                         out["condition_number"], out["constraint_rank"],
@@ -200,7 +203,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), {}, out.get("amplification"),
                     out.get("det_sign"), out.get("twists"), out.get("lines"),
-                    out.get("platform"))
+                    out.get("platform"), out.get("reversed_mask"))
 
 
 def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
@@ -231,19 +234,19 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
     solved again (:func:`._reversal.resolve`; their outputs put in their rows, ``how`` 1),
     and those still reversed unreachable (``closures.reversed``), their legs in
     ``diagnostics["reversed_legs"]``."""
-    lines_ = actuator_lines(model)
-    if not lines_.legs.size:
-        return comp
     c = comp.closures
-    if len(c.residual) == 1 and not lines_.any_reversed(c.X[:, 0]):
-        return comp                     # (one pose: the common case without numpy's calls)
-    some = lines_.any_reversed_rows(c.X)
-    if not some.any():
+    mask = comp.reversed_mask
+    if mask is None:                    # (a route whose launches did not return them)
+        mask = actuator_lines(model).mask(c.X)
+    if len(mask) == 1:
+        if not mask[0]:
+            return comp                 # (one pose: the common case without numpy's calls)
+    elif not mask.any():
         return comp
-    bad = np.flatnonzero(some & (np.asarray(c.residual) <= ACCEPTED))
+    bad = np.flatnonzero((mask != 0) & (np.asarray(c.residual) <= ACCEPTED))
     if not bad.size:
         return comp
-    rev = reversed_legs(model, c.X[:, bad])          # (the legs of those poses only)
+    rev = legs_of(mask[bad], model.n_legs)          # (the legs of those poses only)
     ch = c.chains
     fx = {k: v[bad] for k, v in c.fixed.items()}
     sub_side = None if side is None else np.asarray(side)[bad]
@@ -367,10 +370,12 @@ def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, ch
             o = buffers.arrays()
             X, res = o["X"], o["residual"]
             its, how, sing = o["iterations"], o["how"], o["singular_beta"]
-            out = {key: o[key] for key in _KEYS if o[key].shape[0]} if rows else {}
+            out = {key: o[key] for key in _KEYS if o[key].shape[0]} if rows else \
+                {"reversed_mask": o["reversed_mask"]}
     closures = Closures(ch, X.T, fixed, res, its, how, sing)
     if not rows:
-        return Computed(closures, (), flat.n_act, diagnostics=diag)
+        return Computed(closures, (), flat.n_act, diagnostics=diag,
+                        reversed_mask=out.get("reversed_mask"))
     cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
                         out["condition_number"], out["constraint_rank"],
                         out["constraint_condition_number"])
@@ -378,4 +383,4 @@ def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, ch
                     out["rows_ok"], out["structure_ok"], out.get("values"),
                     out.get("equilibrium"), diag, out.get("amplification"),
                     out.get("det_sign"), out.get("twists"), out.get("lines"),
-                    out.get("platform"))
+                    out.get("platform"), out.get("reversed_mask"))

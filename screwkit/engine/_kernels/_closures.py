@@ -335,6 +335,18 @@ def whole_turns(M, unk, X, X0, warm):
     are then formed again).  Inlined by LLVM into its callers: called, it took every array
     of the model tuple as arguments on the stack (some 220 words), every pose (a profile of
     a path: 4 % of the samples in those pushes, twice the function's own)."""
+    # as a rule no unknown is half a turn from its reference (a path's sample from its
+    # start, a pose from home): one pass over all of them settles it, branch-free (the
+    # test below reads the joints' kinds, an unknown at a time; NaN: not far, as there)
+    far = False
+    if warm:
+        for k in range(X.shape[0]):
+            far = far | (abs(X[k] - X0[k]) > math.pi)
+    else:
+        for k in range(X.shape[0]):
+            far = far | (abs(X[k]) > math.pi)
+    if not far:
+        return False
     changed = False
     nu = unk.shape[0]
     for k in range(nu):

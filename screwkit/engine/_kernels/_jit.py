@@ -17,7 +17,7 @@ map from the serial map).  Strict IEEE arithmetic makes every result a function 
 inputs alone, however and wherever the kernel was compiled.
 
 :func:`borrowed` gives views without a reference count. numba counts references to an
-array's buffer atomically, and every kernel call taking the model tuple (21 arrays) or a
+array's buffer atomically, and every kernel call taking the model tuple (22 arrays) or a
 workspace tuple takes and drops one per array (16 % of the samples of a profile of the
 analysis kernel), and, since the views of a packed tuple share one count, a cache line
 bounced between the threads. The kernels never keep or return these views, and their owners

@@ -38,6 +38,11 @@ idx   name      dtype, shape   holds
                                / 1 couple, direction)
 20    ROWS      i8 (r, 4)      per row of J: leg, kind (0 actuation, 1 force, 2 couple,
                                3 screw), named point (-1 none), torque effort (1/0)
+21    REV       f8 (k, 6)      the legs whose linear actuator carries the leg's length
+                               (``screwkit.engine._reversal``): leg, row of its
+                               unknown in ``X``, sign of its home length, the limit at
+                               or beyond which it is reversed (``sign X[row] <=
+                               limit``), the home length, the unknown's scale
 ====  ========  =============  ======================================================
 
 The pose parametrisation travels beside it (a representation singularity solves with other
@@ -47,7 +52,7 @@ leg-major: slot ``j`` of leg ``i`` is ``X[nu + i m + j]``.
 """
 
 D, P, ROT, TRA, QS, TRN, BAR, HINGE, BLEN, KIND, LEG, PLAT, ORDER, A, AP = range(15)
-PTS, DIRS, GRP, TPL, GREF, ROWS = range(15, 21)
+PTS, DIRS, GRP, TPL, GREF, ROWS, REV = range(15, 22)
 
 # joint kinds
 K_R, K_P, K_H, K_PA = 0, 1, 2, 3
@@ -122,10 +127,14 @@ RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP 
 #: The outputs of the analysis kernel (``_driver``), in its order (``_launch``), and its
 #: flags: solve, rows, statics, continuation, actuated twists, the lines of the transmission
 #: indices' joints and the platform (1/0 each).  ``OUT_EXCESS``: a path level's samples'
-#: excess (``_levels.moved_beyond``; no rows otherwise).
+#: excess (``_levels.moved_beyond``; no rows otherwise).  ``OUT_REVERSED``: each pose's legs
+#: whose actuator its unknowns run through zero length (bit ``i`` for leg ``i``, ``REV``).
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
  OUT_CENTRE, OUT_LENGTH, OUT_SV, OUT_RANK, OUT_COND, OUT_CRANK, OUT_CCOND, OUT_VALUES,
- OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM, OUT_EXCESS) = range(24)
+ OUT_EQ, OUT_AMP, OUT_DET, OUT_TWISTS, OUT_LINES, OUT_PLATFORM, OUT_EXCESS,
+ OUT_REVERSED) = range(25)
+#: ``REV``'s columns.
+RV_LEG, RV_ROW, RV_SIGN, RV_LIMIT, RV_HOME, RV_SCALE = range(6)
 F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
 
 #: A path level's stencils (``_levels.level_stencil``), a sample's start: the columns, its

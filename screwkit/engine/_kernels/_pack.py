@@ -1,6 +1,6 @@
 """The tuples of arrays the kernels take, packed into three arrays each (private).
 
-A kernel called from Python pays for every argument it unboxes; a model tuple of 21 arrays
+A kernel called from Python pays for every argument it unboxes; a model tuple of 22 arrays
 and the inputs and outputs of a pose would cost tens of microseconds a call.  Each tuple is
 therefore handed over as one float64 array, one int64 array and a descriptor ``d (k, 5)``:
 ``d[j] = (int, offset, n0, n1, n2)`` (booleans travel as integers), and unpacked here into
@@ -36,7 +36,7 @@ def model(F, I, d):
     return (f3(F, d, 0), f3(F, d, 1), f2(F, d, 2), f2(F, d, 3), f2(F, d, 4), f2(F, d, 5),
             f3(F, d, 6), f3(F, d, 7), f2(F, d, 8), f2(I, d, 9), f2(I, d, 10), f1(F, d, 11),
             f1(I, d, 12), f2(F, d, 13), f2(F, d, 14), f3(I, d, 15), f3(I, d, 16),
-            f3(I, d, 17), f2(I, d, 18), f3(I, d, 19), f2(I, d, 20))
+            f3(I, d, 17), f2(I, d, 18), f3(I, d, 19), f2(I, d, 20), f2(F, d, 21))
 
 
 @inner
@@ -68,7 +68,7 @@ def outputs(F, I, d):
             f2(F, d, 6), f1(I, d, 7), f2(I, d, 8), f2(F, d, 9), f1(F, d, 10), f2(F, d, 11),
             f1(I, d, 12), f1(F, d, 13), f1(I, d, 14), f1(F, d, 15), f2(F, d, 16),
             f1(F, d, 17), f1(F, d, 18), f1(F, d, 19), f3(F, d, 20), f3(F, d, 21),
-            f2(F, d, 22), f1(F, d, 23))
+            f2(F, d, 22), f1(F, d, 23), f1(I, d, 24))
 
 
 @borrowing_inlined
@@ -114,3 +114,4 @@ def prefetch_outputs(I, O, p):
     _row_ahead(O[21], q)
     _row_ahead(O[22], q)
     _row_ahead(O[23], q)
+    _row_ahead(O[24], q)

@@ -1,30 +1,35 @@
-"""Linear actuators turned inside out, compiled (private): the batch test of
-:class:`screwkit.engine._reversal.ActuatorLines`.
+"""Linear actuators turned inside out, compiled (private): the test of
+:mod:`screwkit.engine._reversal`.
 
 A leg is reversed where ``sign X[row] <= limit`` (its actuator's unknown ``X[row]``, the sign
-of its home length and the limit of :class:`~screwkit.engine._reversal.ActuatorLines`): one
-comparison a leg and pose, all of a pose's legs read in one pass over the engine's rows of
-the unknowns (numpy compared a strided column at a time, a pass over the rows for each
-leg, some 2 ms for 100,000 poses).
+of its home length and the limit: the model's ``REV`` table, :mod:`._layout`): one
+comparison a leg and pose.  :func:`reversed_mask` is the test; the analysis kernel takes it
+for every pose it solves, into ``OUT_REVERSED`` (the pose's unknowns at hand, in the cache:
+a pass of its own over 100,000 poses' unknowns read 14 MB again), and
+:func:`reversed_rows` for unknowns given from Python.
 """
 
-from ._jit import entry
+from ._jit import entry, inner
+from ._layout import RV_LEG, RV_LIMIT, RV_ROW, RV_SIGN
+
+
+@inner
+def reversed_mask(REV, x):
+    """The legs of ``REV (k, 4)`` the unknowns ``x (n_unknowns,)`` of one pose reverse: bit
+    ``i`` set for leg ``i`` (a PM has at most six legs).  NaN reverses none."""
+    mask = 0
+    for c in range(REV.shape[0]):
+        v = x[int(REV[c, RV_ROW])]
+        limit = REV[c, RV_LIMIT]
+        r = v <= limit if REV[c, RV_SIGN] > 0 else v >= -limit
+        if r:
+            mask |= 1 << int(REV[c, RV_LEG])
+    return mask
 
 
 @entry
-def reversed_rows(XT, rows, sign, limit, legs, some):
-    """Poses ``XT (N, n_unknowns)`` (the engine's rows): which of the ``k`` legs at the
-    unknowns ``rows (k,)`` (signs and limits ``sign, limit (k,)``) each reverses into
-    ``legs (N, k)`` (bool; or ``(0, k)``: not written), and whether it reverses any into
-    ``some (N,)`` (bool).  NaN reverses none."""
-    k = rows.shape[0]
-    write = legs.shape[0] > 0
+def reversed_rows(XT, REV, out):
+    """:func:`reversed_mask` of each of the poses ``XT (N, n_unknowns)`` (the engine's rows)
+    into ``out (N,)``."""
     for p in range(XT.shape[0]):
-        hit = False
-        for c in range(k):
-            v = XT[p, rows[c]]
-            r = v <= limit[c] if sign[c] > 0 else v >= -limit[c]
-            hit = hit | r
-            if write:
-                legs[p, c] = r
-        some[p] = hit
+        out[p] = reversed_mask(REV, XT[p])

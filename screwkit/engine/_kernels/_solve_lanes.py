@@ -75,8 +75,13 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
     for l in range(nb):
         p = p0 + l
         X = O[OUT_X][out_row(I, p)]
-        for k in range(X.shape[0]):
-            X[k] = Xb[k, l]
+        if X0.shape[0]:               # (the row as it is: no strided read of the lanes)
+            x0 = X0[p]
+            for k in range(X.shape[0]):
+                X[k] = x0[k]
+        else:
+            for k in range(X.shape[0]):
+                X[k] = Xb[k, l]
         p6fix = P6[p]
         TOL[l] = tolerance(order, unk, xs, p6fix, X)
         ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
@@ -97,10 +102,11 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
     p6fix = I[0][p]
     q = out_row(I, p)
     X = O[OUT_X][q]
-    Xb = K[K_X]
-    for k in range(X.shape[0]):
-        X[k] = Xb[k, l]
     res, its = K[K_F][l], K[K_ITS][l]
+    if its:                           # (else its unknowns are the start solve_block wrote)
+        Xb = K[K_X]
+        for k in range(X.shape[0]):
+            X[k] = Xb[k, l]
     how = 0
     sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
     # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
