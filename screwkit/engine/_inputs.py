@@ -167,7 +167,11 @@ def _flag(model, k, a, degrees, invalid) -> np.ndarray | None:
     else:
         lim = MAX_ANGLE_DEG if degrees else np.radians(MAX_ANGLE_DEG)
         unit = " deg" if degrees else " rad"
-    # (NaN and the infinities are not within the limit either: one test)
+    # (NaN and the infinities are not within the limit either: two reductions settle the
+    # common case, all within, without an array of the test)
+    lo, hi = (float(np.min(a)), float(np.max(a))) if a.size else (0.0, 0.0)
+    if -lim <= lo and hi <= lim:
+        return None
     with np.errstate(invalid="ignore"):
         within = np.abs(a) <= lim
     if within.all():

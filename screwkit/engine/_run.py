@@ -328,7 +328,8 @@ def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, ch
     if fused:
         # the rows came with the levels' solves; the stale samples' now
         o = levels.finish(fixed, X, workers)
-        res = np.where(np.isfinite(path_res), o["residual"], np.inf)
+        res = o["residual"]                     # (the buffers' own: written in place)
+        res[~np.isfinite(path_res)] = np.inf
         for key in _KEYS:
             if key in o:
                 out[key] = o[key]
