@@ -263,3 +263,22 @@ def test_an_override_of_a_dimension_nothing_uses_is_refused(tmp_path):
         screwkit.load_pm(d, {"H": 6.0}, name="my3RPS")
     moved = screwkit.load_pm(str(p), {"R": 2 * R_BASE})
     np.testing.assert_allclose(np.linalg.norm(moved.base_points, axis=1), 2 * R_BASE)
+
+
+def test_model_check_reports_a_dimension_nothing_uses(tmp_path):
+    """``model check`` reports a declared dimension no expression names (it loads, and
+    changes nothing) as a problem of the PM at its line; without it the file is valid."""
+    from screwkit.pm import check_model_file
+    d = yaml.safe_load(YAML_3RPS)["pms"]["my3RPS"]
+    d["dimensions"]["H"] = 5.0
+    p = tmp_path / "h.yaml"
+    p.write_text(yaml.safe_dump({"pms": {"my3RPS": d}}))
+    problems = check_model_file(p)
+    assert [(x.entry, x.field, x.check) for x in problems] == \
+        [("my3RPS", "dimensions.H", "pm")], [str(x) for x in problems]
+    assert "dimension H is declared but no expression of the PM uses it" in problems[0].message
+    assert problems[0].line == p.read_text().splitlines().index(
+        next(t for t in p.read_text().splitlines() if t.strip().startswith("H:"))) + 1
+    del d["dimensions"]["H"]
+    p.write_text(yaml.safe_dump({"pms": {"my3RPS": d}}))
+    assert check_model_file(p) == []

@@ -115,12 +115,13 @@ def dimensions(dims_raw: dict, overrides, name, src) -> dict:
     return dims
 
 
-def check_overrides_used(d: dict, overrides, name) -> None:
-    """Refuse an override of a dimension no expression of the definition ``d`` names (its
-    fields other than ``dimensions:``): it would change nothing, silently."""
-    if not overrides:
-        return
+def unused_dimensions(d: dict) -> list:
+    """The dimensions the definition ``d`` declares (``dimensions:``) that no expression of
+    its other fields names: they change nothing."""
     import re
+    raw = d.get("dimensions") if isinstance(d, dict) else None
+    if not isinstance(raw, dict):
+        return []
     texts = []
 
     def walk(v):
@@ -134,8 +135,18 @@ def check_overrides_used(d: dict, overrides, name) -> None:
                 walk(x)
     walk({k: v for k, v in d.items() if k != "dimensions"})
     text = "\n".join(texts)
+    return [k for k in raw if isinstance(k, str)
+            and not re.search(rf"(?<![\w.]){re.escape(k)}(?!\w)", text)]
+
+
+def check_overrides_used(d: dict, overrides, name) -> None:
+    """Refuse an override of a dimension no expression of the definition ``d`` names (its
+    fields other than ``dimensions:``): it would change nothing, silently."""
+    if not overrides:
+        return
+    unused = unused_dimensions(d)
     for k in overrides:
-        if not re.search(rf"(?<![\w.]){re.escape(str(k))}(?!\w)", text):
+        if k in unused:
             raise InputError(f"{name}: override {k}: no expression of the model uses the "
                              f"dimension {k}, so changing it changes nothing")
 

@@ -29,7 +29,7 @@ def pm_problems(name: str, d, cat, build) -> list:
     """The problems of the PM ``name`` defined by ``d`` in catalog ``cat`` (list of
     :class:`CatalogError`), ``build()`` loading it whole once its fields are sound."""
     from ..legs._guards import did_you_mean, shorten
-    from ._checks import dimensions, pm_string, text_fields
+    from ._checks import dimensions, pm_string, text_fields, unused_dimensions
     from ._loader import _PM_KEYS, _Ctx, _override, _pose_values, _vertices
     from ._model import PARAMS
 
@@ -64,6 +64,11 @@ def pm_problems(name: str, d, cat, build) -> list:
         dims = {k: 1.0 for k in (raw if isinstance(raw, dict) else {})
                 if isinstance(k, str) and k.isidentifier()}
     ctx = _Ctx(name, src, dims)
+    if ok:
+        for k in unused_dimensions(d):
+            out.append(CatalogError(f"dimension {k} is declared but no expression of the PM "
+                                    "uses it, so it changes nothing: use it, or remove it",
+                                    name, f"dimensions.{k}", src))
     verts = {}
     for part in ("base", "platform"):
         if part in d:
