@@ -72,6 +72,8 @@ class PMCheckReport(_RowLookup):
         Every per-leg row and the measured values (DOF, ranks...).
     error : str
         Why the check could not run (empty when it ran).
+    length_unit : str
+        The PM's length unit (empty where it declares none: its own).
     """
 
     pm: str
@@ -79,6 +81,7 @@ class PMCheckReport(_RowLookup):
     rows: tuple
     detail: object = None
     error: str = ""
+    length_unit: str = ""
 
     @property
     def passed(self) -> bool:
@@ -86,10 +89,12 @@ class PMCheckReport(_RowLookup):
 
     @property
     def pose_label(self) -> str:
+        """The pose (angles in degrees, lengths in :attr:`length_unit`)."""
         return ",".join(f"{k}={v:.4g}" for k, v in self.pose.items()) or "-"
 
     def as_dict(self) -> dict:
         out = {"pm": self.pm, "pose": dict(self.pose), "passed": self.passed,
+               "units": {"angle": "deg", "length": self.length_unit or None},
                "rows": [{"check": r.name, "deviation": r.deviation, "tolerance": r.tolerance,
                          "passed": r.passed} for r in self.rows]}
         if self.detail is not None:
@@ -132,7 +137,10 @@ def check_analysis(analysis, checker=None, *, rtol: float = CHECK_RTOL) -> PMChe
         raise InputError(f"check_analysis needs a PMAnalysis, got {type(analysis).__name__}")
     detail = check_pm(analysis, checker=checker, rtol=rtol)
     sol = analysis.solution
-    return PMCheckReport(str(getattr(analysis.model, "name", "")), _pose_of(sol), summarize(detail), detail)
+    units = getattr(analysis.model, "units", None)
+    return PMCheckReport(str(getattr(analysis.model, "name", "")), _pose_of(sol),
+                         summarize(detail), detail,
+                         length_unit=units.length if units is not None and units.declared else "")
 
 
 def check_load(model) -> tuple:

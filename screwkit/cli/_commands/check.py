@@ -128,6 +128,9 @@ def print_table(reports, note: str = "") -> None:
                + ("all passed" if not bad else f"{len(bad)} pose(s) FAILED"))
     if worst is not None:
         summary += f"; largest relative deviation {worst[0]:.2e} ({worst[1]}, {worst[2]})"
+    units = sorted({r.length_unit or "the model's own" for r in reports if not r.error})
+    if units:                        # (the poses' units: angles in degrees, lengths the PM's)
+        summary += f"; poses in deg and {', '.join(units)}"
     if note:
         summary += f"; statics under {note}"
     print(summary)

@@ -52,6 +52,9 @@ def leg_report(res) -> dict:
                     **({"bar": j.bar, "hinge": j.hinge} if j.bar is not None else {})}
                    for j in leg.joints],
         "end_points": {"A": leg.A, "a": leg.a},
+        # (a leg alone declares no length unit: its lengths are the leg's own; placed in a
+        # PM, the PM's)
+        "length_unit": None,
         "connectivity": res.connectivity,
         "dependent_joints": list(res.dependent_joints),
         "singular_values": res.system.singular_values,
@@ -96,7 +99,8 @@ def run(args) -> int:
     print(f"leg {leg.name}  [{leg.string.marked}]  ({origin})")
     if spec and spec.summary:
         print(f"  {spec.summary}")
-    print(f"  A = {fmt_vec(leg.A)}   a = {fmt_vec(leg.a)}")
+    print(f"  A = {fmt_vec(leg.A)}   a = {fmt_vec(leg.a)}   (lengths in the leg's own unit: "
+          "a leg alone declares none; placed in a PM, the PM's)")
     print("equivalent chain:")
     for j in leg.joints:
         src = "" if j.spec.origin == j.kind else f"  (part of {j.spec.origin}{j.spec.position})"
