@@ -193,14 +193,12 @@ def solve_path(model, fixed: dict, start=None, *, anchor_every=None, progress=No
                 cand.append(guess)
             cand = np.concatenate(cand, axis=1)
             X0 = cand[:, int(np.argmin(residuals(fx, cand)))][:, None]
-        # (its rows with it, into the path's outputs: kept as the batch's are)
-        cX, cres, cits, chow, csing = L.solve_at(np.array([i]), workers, X0)
-        X[:, i], res[i], its[i], how[i], sing[i] = cX[:, 0], cres[0], cits[0], chow[0], \
-            csing[0]
-        taken.append(np.array([i]))
-        if cres[0] <= ACCEPTED:
-            prev = cX
-            last = (last + [(i, cX)])[-2:]
+        c = solve_closures(model, fx, X0)
+        X[:, i], res[i], its[i], how[i], sing[i] = c.X[:, 0], c.residual[0], c.iterations[0], \
+            c.how[0], c.singular_beta[0]
+        if c.residual[0] <= ACCEPTED:
+            prev = c.X
+            last = (last + [(i, c.X)])[-2:]
         j += 1
     if taken:
         # the anchors taken from the batch keep the rows formed with them, where Newton

@@ -73,17 +73,15 @@ class LevelLaunches:
         V[:LV_IDX] = 0                          # (the loop's scratch: written before read)
         self.solved, self.iterations, self.how, self.singular, self.kept = V[:LV_IDX]
 
-    def solve_at(self, idx, workers=None, X0=None) -> tuple:
-        """The samples ``idx`` solved from home (the predictor; from ``X0 (nx, K)`` where
-        given), their rows formed as the levels' launches form theirs, into their rows of
-        the outputs.  Returns their ``(X (nx, K), residual, iterations, how, singular)``
-        (copies)."""
+    def solve_at(self, idx, workers=None) -> tuple:
+        """The samples ``idx`` solved from home (the predictor), their rows formed as the
+        levels' launches form theirs, into their rows of the outputs.  Returns their
+        ``(X (nx, K), residual, iterations, how, singular)`` (copies)."""
         comp = self.compliance
         if comp is not None and comp.shape[0] == self.N and self.N > 1:
             comp = comp[idx]
         rows, statics, twists, lines, _ = self.kind
-        o = run_poses(self.flat, self.Z, self.P6[idx], X0=None if X0 is None else X0.T,
-                      F=self.F, T=self.T, compliance=comp,
+        o = run_poses(self.flat, self.Z, self.P6[idx], F=self.F, T=self.T, compliance=comp,
                       rows=rows, statics=statics, twists=twists, lines=lines,
                       workers=workers, out=(self.buffers, idx))
         return (o["X"][idx].T, o["residual"][idx], o["iterations"][idx], o["how"][idx],
