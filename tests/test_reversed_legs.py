@@ -163,3 +163,32 @@ def test_every_launch_returns_the_legs_its_poses_reverse(name):
     np.testing.assert_array_equal(mask, expect)
     # the batch test of unknowns given from Python: the same
     np.testing.assert_array_equal(lines.mask(X), expect)
+
+
+def test_a_model_with_other_dimensions_tests_its_own_lengths():
+    # an optimiser's candidate (reflatten: the first model's arrays, the candidate's
+    # geometry) carries the candidate's home lengths and limits, as the candidate loaded
+    # afresh does; an actuator moved by q = -0.6 of the first model's home length runs the
+    # candidate's leg, of less than half that length, through zero, not the first model's
+    from screwkit.engine import reflatten
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._kernels._layout import REV
+    pm = screwkit.load_pm("3RPS")
+    cand = pm.with_dimensions({"R": 30.0, "r": 15.0})
+    fresh = screwkit.load_pm("3RPS", {"R": 30.0, "r": 15.0})
+    flat = reflatten(pm, cand)
+    from screwkit.engine._flat import flatten
+    np.testing.assert_allclose(flat.M[REV], flatten(fresh).M[REV], rtol=1e-12)
+    home = np.array([np.linalg.norm(np.asarray(lg.a) - np.asarray(lg.A))
+                     for lg in cand.home_legs])
+    lines = actuator_lines(cand)
+    np.testing.assert_allclose(np.abs(lines.home), home, rtol=1e-12)
+    first = actuator_lines(pm)
+    assert np.abs(first.home[0]) > 1.9 * np.abs(lines.home[0])
+    q = -0.6 * first.home[0]                       # (model lengths; the unknown is q / scale)
+    X = chains_of(cand).home_vector(2)
+    X[lines.rows[0], 1] = q / lines.scale[0]
+    assert reversed_legs(cand, X).tolist() == [[False] * 3, [True, False, False]]
+    X = chains_of(pm).home_vector(2)
+    X[first.rows[0], 1] = q / first.scale[0]
+    assert not reversed_legs(pm, X).any()
