@@ -36,8 +36,8 @@ CONTINUATION_STEPS = (16, 64)
 
 class ActuatorLines:
     """The legs of a model whose actuator carries the leg's length (module docstring), from
-    its flattened table ``REV`` (:func:`._arrays.line_table`): ``legs (k,)`` their indices, ``rows
-    (k,)`` the rows of their actuated joints' unknowns in the solver's ``X``, ``scale (k,)``
+    its flattened table ``REV`` (:func:`._arrays.line_table`): ``legs (k,)`` their indices,
+    ``rows (k,)`` the rows of their actuated joints' unknowns in the solver's ``X``, ``scale (k,)``
     the unknown's scale (``q = X[row] scale``), ``home (k,)`` the signed lengths ``s^home``
     (model lengths), ``sign``, ``limit (k,)`` the test's (a leg is reversed where ``sign
     X[row] <= limit``).  The test itself is the kernels' (:mod:`._kernels._reversed`): every
@@ -65,7 +65,8 @@ class ActuatorLines:
 
 
 def actuator_lines(model) -> ActuatorLines:
-    """The :class:`ActuatorLines` of a model (its flattened table, :func:`line_table`)."""
+    """The :class:`ActuatorLines` of a model (its flattened table,
+    :func:`._arrays.line_table`)."""
     from ._flat import flatten
     flat = flatten(model)
     lines = flat.packed.get("lines")
