@@ -39,12 +39,12 @@ from ._block import (K_F, K_FA, K_FP, K_SAME, K_STATE, LANE_ALONE, block_lines, 
                      template_rows_block)
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
-from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM,
-                      OUT_REVERSED, OUT_X, PTS, REV, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED,
-                      SY_G, SY_READY, SY_SIZE, SY_TAKEN)
+from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM, OUT_X,
+                      PTS, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED, SY_G, SY_READY, SY_SIZE,
+                      SY_TAKEN)
 from ._levels import prefetch_stencil
-from ._pack import inputs, model, out_row, outputs, params, prefetch_outputs
-from ._reversed import reversed_mask
+from ._pack import inputs, model, outputs, params, prefetch_outputs
+from ._reversed import reversed_block
 from ._newton import make_work
 from ._rows import make_rows_work
 from ._solve_lanes import finish_lane, solve_alone, solve_block, start
@@ -87,10 +87,7 @@ def run_poses(M, Z, I, O, flags, first, stop, L):
                 res, b = solve_alone(M, Z, I, O, flags, p, W)
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True, RL, -1)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-        # the legs each pose's solution reverses, its unknowns at hand (_reversed)
-        for l in range(nb):
-            q = out_row(I, p0 + l)
-            O[OUT_REVERSED][q] = reversed_mask(M[REV], O[OUT_X][q])
+        reversed_block(M, I, O, p0, nb)      # (the unknowns at hand: _reversed)
         path_excess(L, I, O, p0, nb)
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + RLo[0].size
@@ -186,10 +183,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL, L):
             block_lines(M, Z[0], Z[1], I, O[OUT_X], O[OUT_LINES], O[OUT_PLATFORM], p0, nb,
                         W, K, kb)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
-        # the legs each pose's solution reverses, its unknowns at hand (_reversed)
-        for l in range(nb):
-            q = out_row(I, p0 + l)
-            O[OUT_REVERSED][q] = reversed_mask(M[REV], O[OUT_X][q])
+        reversed_block(M, I, O, p0, nb)      # (the unknowns at hand: _reversed)
         path_excess(L, I, O, p0, nb)
 
 

@@ -9,8 +9,9 @@ a pass of its own over 100,000 poses' unknowns read 14 MB again), and
 :func:`reversed_rows` for unknowns given from Python.
 """
 
-from ._jit import entry, inner
-from ._layout import RV_LEG, RV_LIMIT, RV_ROW, RV_SIGN
+from ._jit import entry, inlined, inner
+from ._layout import OUT_REVERSED, OUT_X, REV, RV_LEG, RV_LIMIT, RV_ROW, RV_SIGN
+from ._pack import out_row
 
 
 @inner
@@ -25,6 +26,15 @@ def reversed_mask(REV, x):
         if r:
             mask |= 1 << int(REV[c, RV_LEG])
     return mask
+
+
+@inlined
+def reversed_block(M, I, O, p0, nb):
+    """The legs each of the poses ``p0..p0+nb-1`` reverses (their solved unknowns, in their
+    rows of the outputs, :func:`._pack.out_row`) into their rows of ``O[OUT_REVERSED]``."""
+    for l in range(nb):
+        q = out_row(I, p0 + l)
+        O[OUT_REVERSED][q] = reversed_mask(M[REV], O[OUT_X][q])
 
 
 @entry
