@@ -164,8 +164,6 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
     for l in range(nb):
         ITS[l] = 0
         K[K_ACC][l] = 0
-        for k in range(nx):
-            Xn[k, l] = X[k, l]
     first = True
     for _ in range(max_iter):
         active = 0
@@ -180,6 +178,10 @@ def block_newton(M, unk, xs, K, nb, max_iter, W):
                 active += 1
         if active * ALONE_SHARE <= nb:       # none, or a few: they finish alone
             break
+        if first:                       # (the trial unknowns, once the lanes iterate)
+            for k in range(nx):
+                for l in range(nb):
+                    Xn[k, l] = X[k, l]
         new = 1 - cur
         # every lane's step at once (the stopped lanes' too: masked, not read)
         Pt = K[K_PT]

@@ -24,7 +24,7 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inlined, lanes
 
 from ._kin import forward
-from ._layout import ACCEPTED, CONVERGED, KIND, K_R, LEG, L_SIZE, ORDER
+from ._layout import ACCEPTED, CONVERGED, KIND, K_R, LEG, L_SIZE, ORDER, STOP
 from ._newton import (W_FA, W_FE, W_FL, W_FP, W_P6, W_P6S, W_S, W_XB, W_XC, W_XR,
                       gauss_newton, home_vector, newton_iterate, tolerance)
 from ._trig import trig_exceeds
@@ -200,6 +200,24 @@ def rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W, res, its, cur):
     return res, its, how, cur
 
 
+@borrowing_inlined
+def pose_checks(order, unk, xs, p6fix, X0):
+    """A pose's stopping residual from its start ``X0`` (:func:`._newton.tolerance`) and
+    whether it is near the representation singularity, to be solved alone, and singular
+    (:func:`near_singular` at :data:`NEAR_TOL` and :data:`SING_TOL`): ``(tol, near,
+    sing)``.  For a ``beta`` given more than 1e-2 from the singularity (nearly every pose)
+    one test settles all three (each function's own first test, at tolerances of 1e-2 and
+    below): one scan of the unknowns and one distance a pose, not three."""
+    pair, given = False, True
+    for k in range(unk.shape[0]):
+        pair = pair | (unk[k] == 3) | (unk[k] == 5)
+        given = given & (unk[k] != 4)
+    if not pair or (given and trig_exceeds(p6fix[4], order[4] == 1, 1e-2)):
+        return STOP, False, False
+    return (tolerance(order, unk, xs, p6fix, X0), near_singular(order, unk, p6fix, NEAR_TOL),
+            near_singular(order, unk, p6fix, SING_TOL))
+
+
 @borrowing
 def near_singular(order, unk, p6fix, tol):
     """``beta`` given within ``tol`` (on its sine or cosine) of the representation
@@ -296,8 +314,7 @@ def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continu
     iterations, how, singular_beta, buffer)``: the frames of the final ``X`` are in that
     buffer of the workspace."""
     order = M[ORDER]
-    sing = near_singular(order, unk, p6fix, SING_TOL)
-    near = near_singular(order, unk, p6fix, NEAR_TOL)
+    tol, near, sing = pose_checks(order, unk, xs, p6fix, X)
     if near:
         res, its, how = resolve_singular(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix,
                                          fix2, W)
@@ -305,8 +322,7 @@ def solve_pose(M, unk, xs, unk2, xs2, p6fix, X, side, p6home, fix, fix2, continu
     else:
         # newton_continued written out and the Newton run inlined: a pose solved by its
         # first Newton run (the common case) passes the model and the workspace down no call
-        res, its, _, cur = newton_iterate(M, unk, xs, p6fix, X,
-                                          tolerance(order, unk, xs, p6fix, X), 30, W)
+        res, its, _, cur = newton_iterate(M, unk, xs, p6fix, X, tol, 30, W)
         how = 0
         if not res <= CONVERGED:
             res, its, how, cur = rescue(M, unk, xs, p6fix, X, p6home, fix, continuation, W,

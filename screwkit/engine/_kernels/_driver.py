@@ -75,9 +75,9 @@ def run_poses(M, Z, I, O, flags, first, stop, L):
     path's level (:func:`._path_loop.level_of`; empty otherwise)."""
     Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, 0)    # (no block: no rows of a block)
     W, RW, SW, CW, RL = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(RLo)
-    path_level(L, I, first, stop)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
+        path_level(L, I, p0 if p0 == first else p0 + BLOCK, min(p0 + 2 * BLOCK, stop))
         path_starts(I, O, p0, nb)
         for l in range(nb):
             p = p0 + l
@@ -88,7 +88,7 @@ def run_poses(M, Z, I, O, flags, first, stop, L):
             pose_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, True, RL, -1)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
         reversed_block(M, I, O, p0, nb)      # (the unknowns at hand: _reversed)
-        path_excess(L, I, O, p0, nb)
+        path_excess(L, I, O, p0, nb, I[7][:0])
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + RLo[0].size
 
@@ -136,10 +136,13 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL, L):
     # pass too, the lanes at once (the bits of one pose's pass: see _kin)
     given = not flags[F_SOLVE] and stop - first > 1
     inblock = blocked or given
-    path_level(L, I, first, stop)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
         kb = 0
+        # a path level's samples formed a block ahead (the next block's prefetches read
+        # them), still in the caches when their block reads them: the first two blocks at
+        # the first, then the next one
+        path_level(L, I, p0 if p0 == first else p0 + BLOCK, min(p0 + 2 * BLOCK, stop))
         path_starts(I, O, p0, nb)
         if blocked:
             kb = solve_block(M, Z, I, O, p0, nb, W, K)
@@ -184,7 +187,7 @@ def block_poses(M, Z, I, O, flags, first, stop, W, RW, SW, CW, K, RL, L):
                         W, K, kb)
         finish_block(M, I, O, flags, p0, nb, SW, CW)
         reversed_block(M, I, O, p0, nb)      # (the unknowns at hand: _reversed)
-        path_excess(L, I, O, p0, nb)
+        path_excess(L, I, O, p0, nb, K[K_SAME] if blocked else K[K_SAME][:0])
 
 
 @entry

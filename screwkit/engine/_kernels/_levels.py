@@ -133,7 +133,12 @@ def stencil_start(S, g, XT, X0, p, allow, q, g0, q0):
 @borrowing_inlined
 def prefetch_stencil(S, g, XT):
     """Ask for the cache lines of the rows of ``XT (N, nx)`` stencil ``S[g]`` reads (those
-    of ``XT``'s rows: every line of each, a row of 18 values spanning three)."""
+    of ``XT``'s rows: every line of each, a row of 18 values spanning three); none where
+    sample ``g - 1`` reads the same rows (the samples of a fill's gap: asked for once)."""
+    if g > 0 and S[g, ST_ROW + 1] == S[g - 1, ST_ROW + 1] and \
+            S[g, ST_ROW + 2] == S[g - 1, ST_ROW + 2] and S[g, ST_ROW] == S[g - 1, ST_ROW] and \
+            S[g, ST_ROW + 3] == S[g - 1, ST_ROW + 3]:
+        return
     nx = XT.shape[1]
     for j in range(4):
         r = int(S[g, ST_ROW + j])

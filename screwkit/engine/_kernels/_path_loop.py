@@ -234,7 +234,8 @@ def over_budget(H, done):
 def path_level(L, I, first, stop):
     """A path's level (``L``: :func:`level_of`, empty otherwise): the samples,
     stencils and given parameters of the poses ``first..stop-1`` (formed by the thread
-    that solves them, ahead of their blocks: the prefetches read them)."""
+    that solves them, a block ahead of theirs: the prefetches read them; nothing where
+    ``stop <= first``)."""
     if L[0].shape[0] and stop > first:
         level_block(L, I, first, stop - first)
 
@@ -253,16 +254,23 @@ def path_starts(I, O, p0, nb):
 
 
 @inlined
-def path_excess(L, I, O, p0, nb):
+def path_excess(L, I, O, p0, nb, same):
     """A path level's launch: each pose's excess (:func:`._levels.moved_beyond`: the move
     beyond the one allowed, :func:`path_starts`) into its row of ``O[OUT_EXCESS]``, its
     solution and start at hand; with a path's level ``L``, the poses' results into the
-    path's state (:func:`take_block`)."""
+    path's state (:func:`take_block`).  ``same (nb,)``: 1 for a pose of a block whose
+    unknowns are the start its block wrote (no Newton step, no rescue, no turn: its
+    frames the block's, ``_block.K_SAME``, and no iteration), which moved by 0 (as
+    ``moved_beyond`` finds: the fill's samples, nearly all), empty otherwise."""
     S = I[8]
     if S.shape[0]:
+        its = O[OUT_ITS]
         for p in range(p0, p0 + nb):
             q = out_row(I, p)
-            O[OUT_EXCESS][q] = moved_beyond(O[OUT_X], q, I[1], p, O[OUT_EXCESS][q])
+            if same.shape[0] and same[p - p0] == 1 and its[q] == 0:
+                O[OUT_EXCESS][q] = 0.0 - O[OUT_EXCESS][q]
+            else:
+                O[OUT_EXCESS][q] = moved_beyond(O[OUT_X], q, I[1], p, O[OUT_EXCESS][q])
         if L[0].shape[0]:
             take_block(L, I, O, p0, nb)
 

@@ -7,11 +7,10 @@ from ._jit import inlined, one_lane
 
 from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
                      block_newton, lane_frames)
-from ._closures import (NEAR_TOL, SING_TOL, near_singular, predict, rescue, solve_pose,
-                        whole_turns)
+from ._closures import pose_checks, predict, rescue, solve_pose, whole_turns
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, F_CONTINUATION, OUT_HOW, OUT_ITS, OUT_SING,
                       OUT_X, ORDER)
-from ._newton import W_PZ, W_XB, home_vector, newton_from, tolerance
+from ._newton import W_PZ, W_XB, home_vector, newton_from
 from ._pack import out_row
 
 
@@ -74,7 +73,8 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, Xb, K[K_PZ], nb, BLOCK)
     for l in range(nb):
         p = p0 + l
-        X = O[OUT_X][out_row(I, p)]
+        q = out_row(I, p)
+        X = O[OUT_X][q]
         if X0.shape[0]:               # (the row as it is: no strided read of the lanes)
             x0 = X0[p]
             for k in range(X.shape[0]):
@@ -82,9 +82,12 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         else:
             for k in range(X.shape[0]):
                 X[k] = Xb[k, l]
-        p6fix = P6[p]
-        TOL[l] = tolerance(order, unk, xs, p6fix, X)
-        ST[l] = LANE_ALONE if near_singular(order, unk, p6fix, NEAR_TOL) else LANE_ACTIVE
+        tol, near, sing = pose_checks(order, unk, xs, P6[p], X)
+        TOL[l] = tol
+        ST[l] = LANE_ALONE if near else LANE_ACTIVE
+        # (its singular flag here, at hand: finish_lane leaves it; a lane left to be solved
+        # alone writes its own)
+        O[OUT_SING][q] = sing
     return block_newton(M, unk, xs, K, nb, 30, W)
 
 
@@ -108,7 +111,6 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
         for k in range(X.shape[0]):
             X[k] = Xb[k, l]
     how = 0
-    sing = near_singular(M[ORDER], unk, p6fix, SING_TOL)
     # the lane's frames (at its unknowns) into buffer 0 (its closure errors only for the
     # rest of a Newton run: nothing after the solve reads them); after any Newton run of
     # its rescue b < 0: they are formed again at the unknowns the rescue returns
@@ -126,11 +128,11 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
     if not same:
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
-    if _turned(Z, I, O, p, M, res):
+    # (a lane with no step from its warm start holds that start: no whole turn from it)
+    if not (same and its == 0 and I[1].shape[0]) and _turned(Z, I, O, p, M, res):
         b, same = -1, False
     O[OUT_ITS][q] = its
     O[OUT_HOW][q] = how
-    O[OUT_SING][q] = sing
     return res, b, same
 
 
