@@ -40,7 +40,8 @@ from ._block import (K_F, K_FA, K_FP, K_SAME, K_STATE, LANE_ALONE, block_lines, 
 from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
 from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM, OUT_X,
-                      PTS, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED, SY_G, SY_READY, SY_SIZE,
+                      MIN_PER_THREAD, PTS, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED, SY_G, SY_READY,
+                      SY_SIZE,
                       SY_TAKEN)
 from ._levels import prefetch_stencil
 from ._pack import inputs, model, outputs, params, prefetch_outputs
@@ -239,8 +240,7 @@ def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
         if G > 0:
             Iv = level_inputs(I, G, own)
             L = level_of(H, V, P6, res, comp, sync, G)
-            nw = threads_for(G, nt)
-            piece = piece_of(G, nw)
+            nw, piece = team_pieces(G, nt)
             taken = sync[SY_TAKEN:SY_TAKEN + 1]
             a, b = piece_span(claim(taken), G, piece, nw)
             while a < G:
@@ -255,6 +255,21 @@ def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
     # the owners are used here, so they live (and keep the buffers) until the loop is done
     return Wo[0].shape[0] + RWo[0].shape[0] + SWo[0].shape[0] + CWo[0].shape[0] + \
         Ko[0].shape[0] + RLo[0].shape[0]
+
+
+@inner
+def team_pieces(G, nt):
+    """``(threads, piece)`` of a path's level of ``G`` samples on a team of ``nt``
+    (:func:`team_levels`): a launch's (:func:`._threads.threads_for`,
+    :func:`._threads.piece_of`), except for a level below ``2 MIN_PER_THREAD`` samples,
+    which those leave to one thread (the cost of waking another for it): the team's
+    threads are awake, so such a level (the bisection's first) is shared in pieces of
+    about a quarter of it a thread, whole vectors of lanes (each pose's bits are its own
+    whatever piece holds it)."""
+    if nt > 1 and G < 2 * MIN_PER_THREAD:
+        return nt, max(8, -(-G // (4 * nt * 8)) * 8)
+    nw = threads_for(G, nt)
+    return nw, piece_of(G, nw)
 
 
 @parallel

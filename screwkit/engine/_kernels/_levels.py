@@ -92,7 +92,7 @@ def stencils(idx, k, good, mid, S):
             S[g, ST_W + 1] = S[g, ST_W + 2] = S[g, ST_W + 3] = 0.0
 
 
-@borrowing
+@borrowing_inlined
 def stencil_start(S, g, XT, X0, p, allow, q, g0, q0):
     """Sample ``g``'s start (stencil ``S[g]``, of the rows of the unknowns ``XT (N, nx)``)
     into ``X0[p]``, and the move it allows (:func:`allowance`) into ``allow[q]``, the

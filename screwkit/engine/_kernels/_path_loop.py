@@ -64,9 +64,12 @@ def begin_levels(V, res, idx, good):
     sample converged) from the state at the launch's start: the anchors and the levels'
     samples (a fill's stay out of ``idx``, the grid it interpolates)."""
     n = 0
+    solved = V[LV_SOLVED]
     for i in range(res.shape[0]):
-        good[i] = 1 if res[i] <= ACCEPTED else 0
-        if V[LV_SOLVED, i] == 1:
+        if solved[i] == 1:
+            # (``good`` is read of solved samples only, each set when it is solved: the
+            # others' are left; the lead's pass, which the team waits for, reads no more)
+            good[i] = 1 if res[i] <= ACCEPTED else 0
             idx[n] = i
             n += 1
     return n
