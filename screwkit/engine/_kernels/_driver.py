@@ -41,8 +41,7 @@ from ._finish import finish_block, pose_rows, reads_frames
 from ._geometry import legs_frames_block
 from ._layout import (BLOCK, D, DIRS, F_LINES, F_ROWS, F_SOLVE, OUT_LINES, OUT_PLATFORM, OUT_X,
                       MIN_PER_THREAD, PTS, RL_J, RL_SP, ROWS, LH_TEAM, SY_ARRIVED, SY_G, SY_READY,
-                      SY_SIZE,
-                      SY_TAKEN)
+                      SY_SIZE, SY_TAKEN)
 from ._levels import prefetch_stencil
 from ._pack import inputs, model, outputs, params, prefetch_outputs
 from ._reversed import reversed_block
@@ -264,7 +263,7 @@ def team_pieces(G, nt):
     :func:`._threads.piece_of`), except for a level below ``2 MIN_PER_THREAD`` samples,
     which those leave to one thread (the cost of waking another for it): the team's
     threads are awake, so such a level (the bisection's first) is shared in pieces of
-    about a quarter of it a thread, whole vectors of lanes (each pose's bits are its own
+    about ``1 / (4 nt)`` of it, whole vectors of lanes (each pose's bits are its own
     whatever piece holds it)."""
     if nt > 1 and G < 2 * MIN_PER_THREAD:
         return nt, max(8, -(-G // (4 * nt * 8)) * 8)

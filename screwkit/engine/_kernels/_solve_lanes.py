@@ -129,7 +129,7 @@ def finish_lane(M, Z, I, O, flags, p, W, K, l, kb, reads):
         res, its, how, b = rescue(M, unk, xs, p6fix, X, p6home, fix,
                                   flags[F_CONTINUATION] == 1, W, res, its, b)
     # (a lane with no step from its warm start holds that start: no whole turn from it)
-    if not (same and its == 0 and I[1].shape[0]) and _turned(Z, I, O, p, M, res):
+    if not (same and its == 0 and I[1].shape[0] > 0) and _turned(Z, I, O, p, M, res):
         b, same = -1, False
     O[OUT_ITS][q] = its
     O[OUT_HOW][q] = how
