@@ -31,6 +31,13 @@ PACKAGE = "screwkit.engine._kernels."
 CLOSURE = "solve_pose"
 #: The pose kernel's own functions (compiled last, once the closure is in the cache).
 POSE = ("run_range",)  # (its loop, `run_poses`, is typed into it)
+#: The pose kernel's callees the child compiles after the closure (and everything compiled
+#: under them), group ``handed``: this process's share is otherwise the longer (its callees,
+#: then the pose kernel itself, some 20 s, while the child's entry points were done some
+#: 12 s before: a first run 47-48 s, against 44-45 s so), and these come last in its list
+#: (the home predictor, a row template's members, a leg's rows by the general rules), by
+#: which time the child has them in the cache.
+HANDED = ("template_one", "predict", "leg_rows")
 
 
 #: This process's kernels that call no kinematics (compiled first, while the child
@@ -80,6 +87,8 @@ def _write(command) -> None:
             continue                      # numba's own (compiled with their callers)
         if CLOSURE in under:
             group = "closure"
+        elif under[0] == POSE[0] and any(h in under for h in HANDED):
+            group = "handed"
         elif name in POSE:
             group = "pose"
         elif under[0] == POSE[0]:
@@ -90,7 +99,7 @@ def _write(command) -> None:
     # a kernel with other argument types in each process would have two processes add
     # entries to its cache index at once (each naming its entry the same file): the child's
     # entry points that compile it are compiled here
-    child = {(r[1], r[2]) for r in rows if r[0] in ("closure", "other")}
+    child = {(r[1], r[2]) for r in rows if r[0] in ("closure", "handed", "other")}
     parent = {(r[1], r[2]) for r in rows if r[0] in ("main", "pose")}
     roots = {r[4] for r in rows if (r[1], r[2]) in child & parent and r[0] == "other"}
     for r in rows:

@@ -126,6 +126,40 @@ def test_the_lock_is_reentrant_and_released(tmp_path):
         _compile_lock._STATE.update(saved)
 
 
+def test_a_wait_for_the_first_compiles_own_child_is_not_announced(tmp_path, capsys):
+    """The first compile's process waits for kernels its child compiles (``_warm``) without
+    the note (its own says what is done); outside, a wait is told once."""
+    import fcntl
+    import threading
+    import time
+    folder = str(tmp_path / "cache")
+    saved = dict(_compile_lock._STATE)
+
+    def wait_for_another():
+        other = os.open(os.path.join(folder, _compile_lock.LOCKS, "a.f.lock"),
+                        os.O_RDWR | os.O_CREAT)
+        fcntl.flock(other, fcntl.LOCK_EX)             # (another open file: another owner)
+        threading.Timer(0.3, os.close, (other,)).start()
+        t0 = time.monotonic()
+        fd = _compile_lock._acquire(folder, "a.f")
+        os.close(fd)
+        return time.monotonic() - t0
+
+    try:
+        _compile_lock._STATE.update(folder=folder, said=False, quiet=False)
+        os.makedirs(os.path.join(folder, _compile_lock.LOCKS))
+        with _compile_lock.unannounced():
+            assert wait_for_another() >= 0.2
+        assert capsys.readouterr().err == ""
+        assert not _compile_lock._STATE["quiet"]
+        assert wait_for_another() >= 0.2
+        assert capsys.readouterr().err.startswith(
+            "screwkit: waiting for another process compiling the engine's kernels into ")
+    finally:
+        _compile_lock._STATE.clear()
+        _compile_lock._STATE.update(saved)
+
+
 def test_the_kernels_compile_under_their_locks():
     from numba.core.dispatcher import Dispatcher
 

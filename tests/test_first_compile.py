@@ -15,7 +15,7 @@ from numba.core.dispatcher import Dispatcher
 
 from screwkit.engine._kernels import _warm
 
-GROUPS = {"closure", "main", "pose", "other"}
+GROUPS = {"closure", "handed", "main", "pose", "other"}
 
 
 def _lines():
@@ -36,12 +36,13 @@ def test_the_list_names_kernels_whose_argument_types_numba_rebuilds():
     # entry to its cache index at once, naming it the same file
     side = {}
     for group, module, function, _ in sigs:
-        side.setdefault((module, function), set()).add(group in ("closure", "other"))
+        side.setdefault((module, function), set()).add(group in ("closure", "handed", "other"))
     assert all(len(s) == 1 for s in side.values()), [k for k, s in side.items() if len(s) > 1]
     where = {(m, f): g for g, m, f, _ in sigs}
     assert where[("_closures", "solve_pose")] == "closure"
     assert where[("_driver", "run_range")] == "pose"
     assert where[("_probe", "home_groups")] == "other"
+    assert where[("_members", "template_one")] == "handed"
 
 
 def test_the_listed_entry_points_are_those_an_analysis_calls(capsys):

@@ -19,7 +19,8 @@ process at a time (a kernel typed again within its own compile holds it already)
 where a call finds no code in the process: a call of a kernel already loaded never comes
 here.  A kernel's compile holds the locks of the kernels it compiles under it, in the order
 of its calls: no two processes can wait for each other (a cycle of waits would be a cycle
-of calls).  A process that has to wait says so on stderr, once.  Where the folder cannot
+of calls).  A process that has to wait says so on stderr, once (not the first compile's
+process waiting for its own child: :func:`unannounced`).  Where the folder cannot
 hold the lock files (read-only) or there is no ``fcntl`` (Windows), nothing is locked: as
 numba is.
 """
@@ -30,12 +31,12 @@ import os
 import sys
 from contextlib import contextmanager
 
-__all__ = ["install", "install_all", "holding", "folder", "LOCKS"]
+__all__ = ["install", "install_all", "holding", "folder", "unannounced", "LOCKS"]
 
 #: The lock files' folder in the cache's folder.
 LOCKS = "locks"
 
-_STATE = {"folder": None, "said": False}
+_STATE = {"folder": None, "said": False, "quiet": False}
 #: The locks this process holds: name -> [descriptor or None, depth].
 _HELD: dict = {}
 
@@ -61,7 +62,7 @@ def _acquire(folder: str, name: str):
     except OSError:                         # (a file system without locks)
         os.close(fd)
         return None
-    if not _STATE["said"]:
+    if not _STATE["said"] and not _STATE["quiet"]:
         _STATE["said"] = True
         print(f"screwkit: waiting for another process compiling the engine's kernels into "
               f"{folder} (then loading them from there)", file=sys.stderr, flush=True)
@@ -95,6 +96,18 @@ def holding(name: str):
                 del _HELD[name]
                 if held[0] is not None:
                     os.close(held[0])       # (closing the descriptor releases the lock)
+
+
+@contextmanager
+def unannounced():
+    """Within: a wait for another process's lock is not told on stderr (the first compile's
+    process waiting for its own child, :mod:`._warm`, whose note says what is done)."""
+    before = _STATE["quiet"]
+    _STATE["quiet"] = True
+    try:
+        yield
+    finally:
+        _STATE["quiet"] = before
 
 
 def folder() -> str | None:

@@ -7,8 +7,12 @@ On a machine with a second core, that compile is split between this process and 
 process that compiles into the same disk cache:
 
 * the child compiles the pose's loop closure (``_closures.solve_pose``, with the forward
-  kinematics and Newton under it), then the entry points the analysis calls besides the
-  pose kernel (the row templates' probes at home, the transmission indices, the frames...);
+  kinematics and Newton under it), then a few of the pose kernel's callees this process
+  reaches last in its list (group ``handed``: the home predictor, a row template's
+  members, a leg's rows by the general rules; without them this process's share was the
+  longer, the child idle for its last 12 s), then the
+  entry points the analysis calls besides the pose kernel (the row templates' probes at
+  home, the transmission indices, the frames...);
 * meanwhile this process compiles the rest of the pose kernel's callees (rows,
   conditioning, statics...), waits for the child's closure, loads it from the cache (numba
   links a cached callee's bitcode into its callers as it links a callee compiled in the
@@ -167,10 +171,13 @@ def compile_first(path: str = SIGNATURES) -> bool:
         child = _start_child(path)
     except OSError:
         return False
+    from ._compile_lock import unannounced
     try:
-        _compile(lines, "main")
-        _wait_ready(child, _CHILD_TIMEOUT)
-        _compile(lines, "pose")
+        # (this process waits for kernels its child compiles: the first run's note says so)
+        with unannounced():
+            _compile(lines, "main")
+            _wait_ready(child, _CHILD_TIMEOUT)
+            _compile(lines, "pose")
         child.wait(timeout=_CHILD_TIMEOUT)
     except subprocess.TimeoutExpired:       # (its kernels compile on demand)
         pass
@@ -184,7 +191,7 @@ def compile_first(path: str = SIGNATURES) -> bool:
 
 def _child() -> None:
     """The child's work (numba configured as this package does): the closure kernel (then
-    ``closure`` on stdout), the others."""
+    ``closure`` on stdout), the pose kernel's callees handed to it, the others."""
     lines = signatures(sys.argv[1])
     # (the kernels' locks, as in the parent: a callee both compile is compiled by one and
     # loaded by the other, :mod:`._compile_lock`)
@@ -195,4 +202,5 @@ def _child() -> None:
         install_all(_PACKAGE, sys.argv[2])
     _compile(lines, "closure")
     print(_READY, flush=True)
+    _compile(lines, "handed")
     _compile(lines, "other")
