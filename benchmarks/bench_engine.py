@@ -231,6 +231,10 @@ def main(argv=None):
     ap.add_argument("--first", action="store_true", help="also time a first run (compile)")
     ap.add_argument("--memory-child", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if not 1 <= args.repeat <= 100:
+        ap.error(f"--repeat must be 1 to 100 rounds, got {args.repeat}")
+    if not 10 <= args.n <= 10_000_000:
+        ap.error(f"--n must be 10 to 10,000,000 poses, got {args.n}")
     rng = np.random.default_rng(0)
     pm = screwkit.load_pm("3RRPRR")
     if args.memory_child:
