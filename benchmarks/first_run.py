@@ -43,7 +43,7 @@ HANDED = ("template_one", "predict", "leg_rows")
 #: This process's kernels that call no kinematics (compiled first, while the child
 #: compiles the kinematics under the closure: the rows' calls of them then load from the
 #: cache rather than compile them a second time).
-FIRST = ("_pack", "_statics", "_small", "_eigen", "_driver")
+FIRST = ("_pack", "_statics", "_small", "_eigen", "_tridiagonal", "_driver")
 
 
 def ordered(lines):

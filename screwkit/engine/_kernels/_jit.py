@@ -7,6 +7,8 @@ one LLVM always inlines into its callers, ``entry`` for the ones Python calls, `
 for the ``prange`` drivers (both without the GIL), ``inlined`` for a function inlined into its
 one caller.
 Division follows numpy's error model (no Python exception branch on every division).
+:func:`choose` is ``a if c else b`` as one ``select``: numba makes branches of a conditional
+expression, and some lane loops with them stayed scalar.
 
 No fast-math flag, not even ``contract``: with it LLVM may fuse a multiply and an add into
 one FMA (one rounding instead of two), and which pairs it fuses depends on the IR it is
@@ -235,3 +237,25 @@ def _prefetch(write, name):
 #: before computes, they do not wait.
 prefetch_read = intrinsic(_prefetch(0, "prefetch_read"))
 prefetch_write = intrinsic(_prefetch(1, "prefetch_write"))
+
+
+@intrinsic
+def choose(typingctx, cond, a, b):
+    """``a if cond else b`` as one LLVM ``select``: the same value, without the branches
+    numba makes of a conditional expression.  In a lane loop those branches kept LLVM from
+    vectorising some loops (it would not make a select of them where a store depends on
+    them: one scalar, branchy lane at a time); a ``select`` it vectorises as a blend."""
+    if not isinstance(cond, types.Boolean):
+        return None
+    numbers = (types.Float, types.Integer)
+    if not (isinstance(a, numbers) and isinstance(b, numbers)):
+        return None
+    ty = typingctx.unify_types(a, b)
+    if ty is None:
+        return None
+
+    def codegen(context, builder, sig, args):
+        x = context.cast(builder, args[1], sig.args[1], ty)
+        y = context.cast(builder, args[2], sig.args[2], ty)
+        return builder.select(args[0], x, y)
+    return ty(cond, a, b), codegen

@@ -31,7 +31,7 @@ from ._layout import (AP, BAR, BLEN, BLOCK, D, HINGE, LEG, L_SIZE, ORDER, P, PLA
                       P_PH, P_RH, QS, ROT, TRA)
 from ._platform import platform_block, platform_lanes
 from ._small import rodrigues, rotation_vector
-from ._trig import SMALL_ANGLE, angle_over_sine, sin_cos, sin_cos_fix
+from ._trig import SMALL_ANGLE, angle_over_sine, beyond_sin_cos, sin_cos, sin_cos_fix
 
 
 @borrowing
@@ -92,9 +92,13 @@ def chain(M, i, X, off, fa, RT, nb, ls, slots, Rs, E, CS):
             # in a loop of their own (vectorised), libm's beyond sin_cos's range after it
             for k in range(nb):
                 cf[S0 + k], cf[C0 + k] = sin_cos(ro * (xf[xj + k] * g))
+            far = 0
             for k in range(nb):
-                a = ro * (xf[xj + k] * g)
-                cf[S0 + k], cf[C0 + k] = sin_cos_fix(a, cf[S0 + k], cf[C0 + k])
+                far += beyond_sin_cos(ro * (xf[xj + k] * g))
+            if far:
+                for k in range(nb):
+                    a = ro * (xf[xj + k] * g)
+                    cf[S0 + k], cf[C0 + k] = sin_cos_fix(a, cf[S0 + k], cf[C0 + k])
             for k in range(nb):
                 q = xf[xj + k] * g
                 c, s = cf[C0 + k], cf[S0 + k]

@@ -9,20 +9,21 @@ into every kernel of the forward pass doubled the first run's compile); within e
 stride is a constant, so that LLVM folds the one-pose loops and vectorises the block's.
 """
 
-from ._jit import borrowing, borrowing_inlined, inlined, lanes
+from ._jit import borrowing, borrowing_inlined, choose, inlined, lanes
 from ._layout import BLOCK, P_P0, P_R0
-from ._trig import sin_cos, sin_cos_fix
+from ._trig import beyond_sin_cos, sin_cos, sin_cos_fix
 
 
 @borrowing_inlined
 def axis_entries(ax, c, s):
     """The rotation by the angle of cosine ``c`` and sine ``s`` about the base axis ``ax``
-    (0, 1, 2), row-major (a select per entry in a lane loop: ``ax`` is the model's)."""
-    if ax == 0:
-        return 1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c
-    if ax == 1:
-        return c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c
-    return c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0
+    (0, 1, 2), row-major: a select per entry (:func:`~._jit.choose`), so that a lane loop
+    over it vectorises (``ax`` is the model's; returned from branches, the tuple kept the
+    platform's lane loop scalar)."""
+    x, y, z = ax == 0, ax == 1, ax == 2
+    return (choose(x, 1.0, c), choose(z, -s, 0.0), choose(y, s, 0.0),
+            choose(z, s, 0.0), choose(y, 1.0, c), choose(x, -s, 0.0),
+            choose(y, -s, 0.0), choose(x, s, 0.0), choose(z, 1.0, c))
 
 
 @borrowing_inlined
@@ -37,18 +38,16 @@ def mul3(A, B):
 
 @borrowing_inlined
 def column(A, a):
-    """Column ``a`` of the row-major 3x3 tuple ``A``."""
-    if a == 0:
-        return A[0], A[3], A[6]
-    if a == 1:
-        return A[1], A[4], A[7]
-    return A[2], A[5], A[8]
+    """Column ``a`` of the row-major 3x3 tuple ``A`` (selects, as :func:`axis_entries`)."""
+    x, y = a == 0, a == 1
+    return (choose(x, A[0], choose(y, A[1], A[2])), choose(x, A[3], choose(y, A[4], A[5])),
+            choose(x, A[6], choose(y, A[7], A[8])))
 
 
 @borrowing_inlined
 def unit(a):
     """The base vector ``e_a``."""
-    return 1.0 if a == 0 else 0.0, 1.0 if a == 1 else 0.0, 1.0 if a == 2 else 0.0
+    return choose(a == 0, 1.0, 0.0), choose(a == 1, 1.0, 0.0), choose(a == 2, 1.0, 0.0)
 
 
 @borrowing_inlined
@@ -89,10 +88,14 @@ def platform_lanes(order, plat, FPb, nb, ls):
     for q in range(3):
         for k in range(nb):
             fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k] = sin_cos(fp[(3 + q) * ls + k])
+        far = 0
         for k in range(nb):
-            x = fp[(3 + q) * ls + k]
-            fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k] = sin_cos_fix(
-                x, fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k])
+            far += beyond_sin_cos(fp[(3 + q) * ls + k])
+        if far:
+            for k in range(nb):
+                x = fp[(3 + q) * ls + k]
+                fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k] = sin_cos_fix(
+                    x, fp[(19 + 2 * q) * ls + k], fp[(18 + 2 * q) * ls + k])
     if order[3] == 1:              # intrinsic: R = R1(alpha) R2(beta) R3(gamma)
         for k in range(nb):
             R1 = axis_entries(a0, fp[18 * ls + k], fp[19 * ls + k])

@@ -14,7 +14,7 @@ without a call of the C library for nearly every pose.
 
 import math
 
-from ._jit import borrowing_inlined, inlined
+from ._jit import borrowing_inlined, choose, inlined
 
 #: The largest angle (radians) :func:`sin_cos` reduces itself (its three-part Cody-Waite
 #: reduction is exact for multiples of pi/2 below 2**20); beyond, and for a non-finite angle,
@@ -66,10 +66,19 @@ def sin_cos(x):
 @inlined
 def sin_cos_fix(x, s, c):
     """``(s, c)`` from :func:`sin_cos`, or libm's where ``x`` is beyond its range (a loop of
-    these after the vectorised one: rarely taken)."""
+    these after the vectorised one, where :func:`beyond_sin_cos` counts a lane)."""
     if abs(x) <= SIN_COS_MAX:
         return s, c
     return math.sin(x), math.cos(x)
+
+
+@inlined
+def beyond_sin_cos(x):
+    """1 where :func:`sin_cos` does not hold for ``x`` (beyond :data:`SIN_COS_MAX`, or not
+    finite), else 0: summed over a block's lanes in a loop of its own (vectorised), it tells
+    whether the loop of :func:`sin_cos_fix` is needed at all (that loop is scalar, a lane
+    and a branch at a time, and almost never changes a lane)."""
+    return choose(abs(x) <= SIN_COS_MAX, 0, 1)
 
 
 #: Below this angle (rad) :func:`angle_over_sine` holds: the next term of its series, ``35
