@@ -235,6 +235,22 @@ def _last_pair(e, d, lo, nb, ls):
 
 
 @borrowing_inlined
+def _rotation(p, c, gamma, sigma, bb, alpha):
+    """One lane's rotation of a QL step at a row (root-free: ``p``, ``c`` and ``gamma`` of the
+    step so far, the shift ``sigma``, the row's squared off-diagonal ``bb`` and diagonal
+    ``alpha``): ``(r, gamma', c', s', p')``, ``r`` the new squared off-diagonal over ``s``
+    (:func:`symmetric_eigenvalues_lanes`)."""
+    r = p + bb
+    gt = p * (alpha - sigma) - bb * gamma         # the new gamma times r
+    rp = r * p
+    inv = 1.0 / rp
+    ir = p * inv                                  # 1 / r
+    nz = rp != 0.0                                # else c = 0
+    return (r, choose(nz, gt * ir, -gamma), choose(nz, p * ir, 0.0), choose(nz, bb * ir, 1.0),
+            choose(nz, gt * gt * inv, c * bb))    # (p' = gamma'^2 / c)
+
+
+@borrowing_inlined
 def _rotation_row(S, e, d, i, m, k0, k1, ls):
     """Row ``i`` of a QL step's rotations (the step from row ``m`` up), across the lanes
     ``0..nb-1`` (through :func:`~._jit.lanes`): a lane taking the step (``S``'s row ``_ON``)
@@ -246,31 +262,15 @@ def _rotation_row(S, e, d, i, m, k0, k1, ls):
     SIG, GAM, P, C, SS, ON = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls, _ON * ls
     for k in range(k0, k1):
         on = sc[ON + k] != 0.0
-        p = sc[P + k]
-        s = sc[SS + k]
-        c = sc[C + k]
-        gamma = sc[GAM + k]
-        sigma = sc[SIG + k]
-        bb = ee[i * ls + k]
-        r = p + bb
-        up = ee[(i + 1) * ls + k]
-        ee[(i + 1) * ls + k] = choose(on & (i != m - 1), s * r, up)
+        p, s, c, gamma = sc[P + k], sc[SS + k], sc[C + k], sc[GAM + k]
         alpha = dd[i * ls + k]
-        gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
-        rp = r * p
-        inv = 1.0 / rp
-        ir = p * inv                              # 1 / r
-        nz = rp != 0.0                            # else c = 0
-        c1 = p * ir if nz else 0.0
-        s1 = bb * ir if nz else 1.0
-        ng = gt * ir if nz else -gamma
-        p1 = gt * gt * inv if nz else c * bb      # gamma^2 / c
-        dn = dd[(i + 1) * ls + k]
-        dd[(i + 1) * ls + k] = choose(on, gamma + (alpha - ng), dn)
-        sc[C + k] = c1 if on else c
-        sc[SS + k] = s1 if on else s
-        sc[P + k] = p1 if on else p
-        sc[GAM + k] = ng if on else gamma
+        r, ng, c1, s1, p1 = _rotation(p, c, gamma, sc[SIG + k], ee[i * ls + k], alpha)
+        ee[(i + 1) * ls + k] = choose(on & (i != m - 1), s * r, ee[(i + 1) * ls + k])
+        dd[(i + 1) * ls + k] = choose(on, gamma + (alpha - ng), dd[(i + 1) * ls + k])
+        sc[C + k] = choose(on, c1, c)
+        sc[SS + k] = choose(on, s1, s)
+        sc[P + k] = choose(on, p1, p)
+        sc[GAM + k] = choose(on, ng, gamma)
 
 
 @borrowing_inlined
@@ -285,31 +285,20 @@ def _step_end_all(S, e, d, t, nb, ls):
 
 @borrowing_inlined
 def _rotation_row_all(S, e, d, i, m, nb, ls):
-    """:func:`_rotation_row` where every lane ``0..nb-1`` takes the step: the same arithmetic
+    """:func:`_rotation_row` where every lane ``0..nb-1`` takes the step: the same rotations
     without the selects between a lane's new and old values (each would become a masked
     store: module docstring)."""
     sc, ee, dd = lanes(S), lanes(e), lanes(d)
     SIG, GAM, P, C, SS = _SIG * ls, _GAM * ls, _P * ls, _C * ls, _SS * ls
-    first = i == m - 1                          # (e[m] is left as it is)
+    first = i == m - 1                            # (e[m] is left as it is)
     for k in range(nb):
-        p = sc[P + k]
-        s = sc[SS + k]
-        c = sc[C + k]
-        gamma = sc[GAM + k]
-        sigma = sc[SIG + k]
-        bb = ee[i * ls + k]
-        r = p + bb
+        gamma, alpha = sc[GAM + k], dd[i * ls + k]
+        r, ng, c1, s1, p1 = _rotation(sc[P + k], sc[C + k], gamma, sc[SIG + k],
+                                      ee[i * ls + k], alpha)
         if not first:
-            ee[(i + 1) * ls + k] = s * r
-        alpha = dd[i * ls + k]
-        gt = p * (alpha - sigma) - bb * gamma     # the new gamma times r
-        rp = r * p
-        inv = 1.0 / rp
-        ir = p * inv                              # 1 / r
-        nz = rp != 0.0                            # else c = 0
-        ng = choose(nz, gt * ir, -gamma)
+            ee[(i + 1) * ls + k] = sc[SS + k] * r
         dd[(i + 1) * ls + k] = gamma + (alpha - ng)
-        sc[C + k] = choose(nz, p * ir, 0.0)
-        sc[SS + k] = choose(nz, bb * ir, 1.0)
-        sc[P + k] = choose(nz, gt * gt * inv, c * bb)   # gamma^2 / c
+        sc[C + k] = c1
+        sc[SS + k] = s1
+        sc[P + k] = p1
         sc[GAM + k] = ng
