@@ -178,3 +178,13 @@ FILL_SHARE = 64
 FILL_PORTION = 4096
 LV_SOLVED, LV_ITS, LV_HOW, LV_SING, LV_KEPT, LV_IDX, LV_IDX2, LV_GAPS, LV_GOOD = range(9)
 LV_ROWS = 9
+#: Rows of the template members' scratch ``SC (NSC, ls)`` (``_members``): the null space's
+#: flag, the groups' flag (1 or 0), the basis' smallest remainder, the longest row, a
+#: largest residual, a reference's projection and remainder, the actuation's scale and flag
+#: (1: defined, not dependent), the template's status; then the pair search's two sets of
+#: ``PAIR_ROWS`` rows from ``SC_PAIR`` on (``_members._pair_lanes``: the best pair's squared
+#: cross product, its rows' squared norms, its cross product).
+(SC_NULL, SC_GROUPS, SC_WORST, SC_BIG, SC_RES, SC_P0, SC_P1, SC_P2, SC_REM, SC_SCALE, SC_ACT,
+ SC_STATUS, SC_PAIR) = range(13)
+PAIR_ROWS = 6
+NSC = SC_PAIR + 2 * PAIR_ROWS

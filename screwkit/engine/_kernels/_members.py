@@ -21,20 +21,14 @@ Arrays: a leg's frames ``FA (m, 6, ls)`` (axis, point), twists ``TW (m, 6, ls)``
 
 import math
 
-from ._jit import borrowing, inlined, lanes
-
+from ._jit import borrowing, borrowing_inlined, choose, inlined, lanes
 from ._geometry import is_prismatic
 from ._small import cross
-from ._layout import (A_NONE, GRP, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE, REF_FLAG,
-                      TPL, T_AKIND, T_AP1, T_AP2, T_CROW, T_K, T_NG, ZERO)
+from ._layout import (A_NONE, GRP, G_COUPLE, KIND, LEG, L_ACT, L_AROW, L_SIZE, NSC, PAIR_ROWS,
+                      REF_FLAG, SC_ACT, SC_BIG, SC_GROUPS, SC_NULL, SC_P0, SC_P1, SC_P2, SC_PAIR,
+                      SC_REM, SC_RES, SC_STATUS, SC_WORST, TPL, T_AKIND, T_AP1, T_AP2, T_CROW,
+                      T_K, T_NG, ZERO)
 
-#: Rows of the scratch ``SC``: the null space's flag, the groups' flag (1 or 0), the basis'
-#: smallest remainder, the best pair's squared cross product and squared row norms, the
-#: longest row, a largest residual, a reference's projection and remainder, the actuation's
-#: scale and flag (1: defined, not dependent), the template's status.
-(SC_NULL, SC_GROUPS, SC_WORST, SC_BEST2, SC_NA2, SC_NB2, SC_BIG, SC_RES, SC_P0, SC_P1,
- SC_P2, SC_REM, SC_SCALE, SC_ACT, SC_STATUS) = range(15)
-NSC = 15
 #: ``SC[SC_STATUS]`` of :func:`template_lanes`: the structure of home does not hold (the
 #: general rules decide); the rows are done; done, but not well defined.
 NOT_DONE, DONE, DONE_FLAGGED = 0.0, 1.0, 2.0
@@ -70,6 +64,25 @@ def group_rows_lanes(kind, size, couple, PV, xp, FA, TW, CTX, R, nb, ls):
                 r[o + 2 * ls + k] = (t2 - (x0 * t4 - x1 * t3)) * f
         cnt += 1
     return cnt
+
+
+@borrowing_inlined
+def _pair_lanes(R, SC, oa, ob, src, dst, nb, ls):
+    """``R``'s rows at ``oa``, ``ob`` against the best pair so far (``SC``'s rows from ``src``),
+    the better into those from ``dst`` (not in place: that select would be a masked store)."""
+    rw, sc = lanes(R), lanes(SC)
+    for k in range(nb):
+        a0, a1, a2 = rw[oa + k], rw[oa + ls + k], rw[oa + 2 * ls + k]
+        b0, b1, b2 = rw[ob + k], rw[ob + ls + k], rw[ob + 2 * ls + k]
+        x0, x1, x2 = cross(a0, a1, a2, b0, b1, b2)
+        size2 = x0 * x0 + x1 * x1 + x2 * x2
+        take = size2 > sc[src + k]
+        sc[dst + k] = choose(take, size2, sc[src + k])
+        sc[dst + ls + k] = choose(take, a0 ** 2 + a1 ** 2 + a2 ** 2, sc[src + ls + k])
+        sc[dst + 2 * ls + k] = choose(take, b0 ** 2 + b1 ** 2 + b2 ** 2, sc[src + 2 * ls + k])
+        sc[dst + 3 * ls + k] = choose(take, x0, sc[src + 3 * ls + k])
+        sc[dst + 4 * ls + k] = choose(take, x1, sc[src + 4 * ls + k])
+        sc[dst + 5 * ls + k] = choose(take, x2, sc[src + 5 * ls + k])
 
 
 @inlined
@@ -117,37 +130,35 @@ def null_space_lanes(R, r, g, V, SC, nb, ls):
             v[k], v[ls + k], v[2 * ls + k] = math.nan, math.nan, math.nan
             sc[NUL + k] = 0.0
         return
-    # the largest cross product of two rows (they are dimensionless), compared by its
-    # square: the square roots only for the pair chosen
-    B2, NA, NB = SC_BEST2 * ls, SC_NA2 * ls, SC_NB2 * ls
+    # the largest cross product of two rows (dimensionless) by its square, the best so far
+    # in one set of rows, each pair's verdict into the other (_pair_lanes), in turn
+    S0, S1 = SC_PAIR * ls, (SC_PAIR + PAIR_ROWS) * ls
     for k in range(nb):
-        sc[B2 + k] = -1.0
-        v[k], v[ls + k], v[2 * ls + k] = 0.0, 0.0, 0.0
+        sc[S0 + k] = -1.0
+        sc[S0 + 3 * ls + k], sc[S0 + 4 * ls + k], sc[S0 + 5 * ls + k] = 0.0, 0.0, 0.0
+    j = 0
     for a in range(r - 1):
         for b in range(a + 1, r):
-            oa, ob = 3 * a * ls, 3 * b * ls
+            if j % 2 == 0:
+                _pair_lanes(R, SC, 3 * a * ls, 3 * b * ls, S0, S1, nb, ls)
+            else:
+                _pair_lanes(R, SC, 3 * a * ls, 3 * b * ls, S1, S0, nb, ls)
+            j += 1
+    if j % 2 == 1:
+        for q in range(PAIR_ROWS):
             for k in range(nb):
-                a0, a1, a2 = rw[oa + k], rw[oa + ls + k], rw[oa + 2 * ls + k]
-                b0, b1, b2 = rw[ob + k], rw[ob + ls + k], rw[ob + 2 * ls + k]
-                x0, x1, x2 = cross(a0, a1, a2, b0, b1, b2)
-                size2 = x0 * x0 + x1 * x1 + x2 * x2
-                take = size2 > sc[B2 + k]
-                sc[B2 + k] = size2 if take else sc[B2 + k]
-                v[k] = x0 if take else v[k]
-                v[ls + k] = x1 if take else v[ls + k]
-                v[2 * ls + k] = x2 if take else v[2 * ls + k]
-                sc[NA + k] = (a0 ** 2 + a1 ** 2 + a2 ** 2) if take else sc[NA + k]
-                sc[NB + k] = (b0 ** 2 + b1 ** 2 + b2 ** 2) if take else sc[NB + k]
+                sc[S0 + q * ls + k] = sc[S1 + q * ls + k]
     for k in range(nb):
         # (no pair compared, non-finite rows: -1 and 0; selects, no branch, so that the
         # loop vectorises: short-circuit `and` and branches in a lane loop keep it scalar)
-        pair = sc[B2 + k] >= 0.0
-        root = math.sqrt(sc[B2 + k])
+        pair = sc[S0 + k] >= 0.0
+        root = math.sqrt(sc[S0 + k])
         best = root if pair else -1.0
-        rel = root / max(math.sqrt(sc[NA + k]) * math.sqrt(sc[NB + k]), 1e-300)
+        rel = root / max(math.sqrt(sc[S0 + ls + k]) * math.sqrt(sc[S0 + 2 * ls + k]), 1e-300)
         brel = rel if pair else 0.0
         nv = max(best, 1e-300)
-        v[k], v[ls + k], v[2 * ls + k] = v[k] / nv, v[ls + k] / nv, v[2 * ls + k] / nv
+        v[k], v[ls + k] = sc[S0 + 3 * ls + k] / nv, sc[S0 + 4 * ls + k] / nv
+        v[2 * ls + k] = sc[S0 + 5 * ls + k] / nv
         sc[NUL + k] = brel                # (the flag below, once the residual is known)
         sc[RES + k] = 0.0
     for q in range(r):
