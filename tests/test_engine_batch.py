@@ -336,3 +336,33 @@ def test_a_map_grid_tuple_is_start_stop_and_an_integer_count():
             screwkit.map(pm, {"alpha": spec}, degrees=True)
     ds = screwkit.map(pm, {"alpha": (-5, 5, 3)}, degrees=True)
     assert ds["alpha"].values.tolist() == [-5.0, 0.0, 5.0]
+
+
+@pytest.mark.parametrize("name", ["3RRPRR", "2SPS+2SPR"])
+@pytest.mark.parametrize("rows, extras", [(True, True), (True, False), (False, False)])
+def test_a_launch_of_one_pose_gives_the_outputs_of_a_batch_row(name, rows, extras):
+    # one pose's outputs are fields of records over its buffers (_outputs.OnePose), a batch's
+    # slices of them: every output of a one-pose launch has the name, dtype, shape and bits
+    # of that pose's row of a batch launch (workers=1: the serial kernel, each pose alone),
+    # is writable, and shares no memory with another launch's
+    from screwkit.engine._chains import chains_of
+    from screwkit.engine._launch import OUTPUTS, run_poses
+    from screwkit.engine._solve import predictor_of
+    pm = screwkit.load_pm(name)
+    ch = chains_of(pm)
+    P6 = ch.full_params(_random_pose(pm, 3, 5), 3)
+    kw = dict(F=np.array([-20.0, -30.0, -60.0]), T=np.array([-30.0, -30.0, 100.0]), rows=rows,
+              twists=extras, lines=extras, workers=1)
+    Z = predictor_of(ch)
+    batch = run_poses(ch.flat, Z, P6, **kw)
+    for j in range(3):
+        one = run_poses(ch.flat, Z, P6[j:j + 1], **kw)
+        again = run_poses(ch.flat, Z, P6[j:j + 1], **kw)
+        assert list(one) == list(OUTPUTS)
+        for key in OUTPUTS:
+            v, w = one[key], batch[key][j:j + 1]
+            assert v.dtype == w.dtype and v.shape == w.shape, key
+            np.testing.assert_array_equal(v, w, err_msg=key)
+            if v.size:
+                assert v.flags.writeable and v.flags.c_contiguous, key
+                assert not np.shares_memory(v, again[key]), key

@@ -18,6 +18,7 @@ from ._arrays import Packed
 from ._kernels import LAUNCH_LOCK, kernels, note_first_compile, set_threads
 from ._kernels._layout import LINE_WIDTH, MIN_PER_THREAD, STENCIL_WIDTH
 from ._memory import recycled_empty
+from ._outputs import OUT_KINDS, OUTPUTS, OnePose, OutputBuffers, rows_of, views_of
 
 __all__ = ["threads", "on_this_thread", "run_poses", "OUTPUTS", "OutputBuffers",
            "output_buffers", "frames",
@@ -41,19 +42,9 @@ _NO_PATH_F, _NO_PATH_I = np.empty(0), np.empty(0, np.int64)
 #: How long the first compile of a parallel kernel takes (the note on stderr).
 PARALLEL_COMPILE = "one to four minutes, depending on the machine"
 
-#: The outputs of the analysis kernel, in its order (``_kernels._layout.OUT_*``).
-OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
-           "structure_ok", "centre", "length", "singular_values", "rank", "condition_number",
-           "constraint_rank", "constraint_condition_number", "values", "equilibrium",
-           "amplification", "det_sign", "twists", "lines", "platform", "excess",
-           "reversed_mask")
-
-
 _CORES = min(2, os.cpu_count() or 1)
 #: ``on``: this Python thread's launches run on it alone (:func:`on_this_thread`).
 _HERE_ONLY = threading.local()
-_OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
-              "f", "f", "f", "f", "f", "f", "f", "f", "i")
 
 
 def threads(N: int, workers=None, per_thread: int = MIN_PER_THREAD) -> int:
@@ -122,7 +113,7 @@ class _Plan:
     not change between calls (the torque rows, in the integer buffer)."""
 
     __slots__ = ("in_d", "in_nf", "in_f", "in_i", "in_rows", "in_stencil", "out", "out_d",
-                 "out_nf", "out_ni", "flags")
+                 "out_nf", "out_ni", "flags", "one")
 
 
 def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
@@ -150,33 +141,18 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
                   (rn, 3), (rn,), (rn, min(mr, 6)), (rn,), (rn,), (rn,), (rn,), (sn, mr),
                   (sn,), (sn,), (sn,), (N if twists else 0, flat.n_act, 6),
                   (N if lines else 0, n, LINE_WIDTH), (N if lines else 0, 27),
-                  (N if excess else 0,), (N,)], _OUT_KINDS)
+                  (N if excess else 0,), (N,)], OUT_KINDS)
     plan.out_d, plan.out_nf, plan.out_ni = out.d, out.f.size, out.i.size
     plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
                      for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
     plan.flags = np.array([int(solve), int(rows), int(rows and statics), int(continuation),
                            int(twists), int(lines)], np.int64)
+    plan.one = OnePose(plan.out, plan.out_nf, plan.out_ni) if N == 1 else None
     if len(flat.packed) > 64:              # (maps launch many sizes: keep the cache small)
         for k in [k for k in list(flat.packed) if k[0] == "plan"]:
             flat.packed.pop(k, None)
     flat.packed[key] = plan
     return plan
-
-
-class OutputBuffers:
-    """The analysis kernel's packed outputs of ``N`` poses (:func:`output_buffers`), filled
-    by launches on consecutive ranges of the poses (``run_poses(..., out=(buffers, at))``),
-    each writing its rows in place: a chunked analysis copies nothing and touches every
-    output byte once.  The buffers are recycled memory (:class:`._memory.Recycler`): fresh
-    memory costs a page fault a page, on a virtual machine that hands freed memory back to
-    its host as much as the kernels' own work on it."""
-
-    __slots__ = ("f", "i", "d", "layout", "N", "kind")
-
-    def arrays(self, convert: bool = True) -> dict:
-        """The outputs of all ``N`` poses by name (:data:`OUTPUTS`), views of the buffers
-        (the booleans converted: copies; without ``convert``, views of their integers)."""
-        return _views(self.f, self.i, self.layout, convert)
 
 
 def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
@@ -191,26 +167,6 @@ def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
     b.d, b.layout, b.N = plan.out_d, plan.out, N
     b.kind = (bool(rows), bool(rows and statics), bool(twists), bool(lines), bool(excess))
     return b
-
-
-def _rows_of(buffers: OutputBuffers, at: int, n: int):
-    """The descriptor and layout of rows ``at..at+n`` of ``buffers``' outputs (the arrays of
-    no rows left as they are)."""
-    d = buffers.d.copy()
-    full = d[:, 2] == buffers.N
-    per = d[:, 3] * d[:, 4]
-    d[full, 1] += at * per[full]
-    d[full, 2] = n
-    layout = []
-    for (is_int, is_bool, o0, o1, sh), f, q in zip(buffers.layout, full, per):
-        if f:
-            o0, o1 = o0 + at * int(q), o0 + (at + n) * int(q)
-            sh = None if sh is None else (n,) + sh[1:]
-        layout.append((is_int, is_bool, o0, o1, sh))
-    # (read-only as every packed descriptor: numba types a read-only array apart, and a
-    # writable one here compiled a second version of each analysis kernel, about a minute)
-    d.setflags(write=False)
-    return d, layout
 
 
 def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
@@ -260,7 +216,10 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
         If[c0:c1].reshape(csh)[...] = comp
     Ii = plan.in_i
     if out is None:
-        Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
+        if plan.one is not None:            # (small: numpy's memory, as recycled_empty gives)
+            Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
+        else:
+            Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
         out_d, layout = plan.out_d, plan.out
     else:
         buffers, at = out
@@ -278,7 +237,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
             if buffers.kind != kind or not 0 <= at <= buffers.N - N:
                 raise ValueError(f"output buffers of {buffers.N} poses {buffers.kind} do not "
                                  f"take rows {at}..{at + N} of this launch's outputs")
-            out_d, layout = _rows_of(buffers, at, N)
+            out_d, layout = rows_of(buffers, at, N)
         Of, Oi = buffers.f, buffers.i
     if X is not None:
         _, _, o0, o1, sh = layout[0]
@@ -294,20 +253,9 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     if scattered:                   # (views of the whole buffers: no boolean copied)
         return buffers.arrays(convert=False)
-    return _views(Of, Oi, layout, True)
-
-
-def _views(f, i, layout, convert):
-    """The outputs by name (:data:`OUTPUTS`): views of the float and integer buffers ``f``,
-    ``i`` as ``layout`` places them (the booleans converted where ``convert``: copies).  (A
-    loop, not a function a view: one pose's analysis takes 25 of them.)"""
-    out = {}
-    for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, layout):
-        v = i[o0:o1] if is_int else f[o0:o1]
-        if sh is not None:
-            v = v.reshape(sh)
-        out[name] = v.astype(bool) if is_bool and convert else v
-    return out
+    if out is None and plan.one is not None:
+        return plan.one.views(Of, Oi)
+    return views_of(Of, Oi, layout, True)
 
 
 def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=None) -> dict:
