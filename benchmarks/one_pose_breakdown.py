@@ -1,8 +1,8 @@
 """Where the time of one warm pose goes: ``screwkit.analyze`` at one pose, warm-started
 from a neighbour, beside the parts of it, in the same run.
 
-* ``analyze``: ``screwkit.analyze(pm, near, guess=previous.solution)`` (the paper's load
-  for the 3RRPRR, the model's own for the others), all of it;
+* ``analyze``: ``screwkit.analyze(pm, near, guess=previous.solution)`` under the model's
+  declared workload (the paper's for its two PMs), else a stated one, all of it;
 * ``kernel, one pose``: the analysis kernel's call that ``analyze`` makes (captured from a
   call of it, then called again with the same arguments: the same warm start, the same
   work), numba's dispatch included;
@@ -64,12 +64,13 @@ def main(argv=None) -> int:
         ap.error("--repeat must be 1 to 100 and --calls 1 to 100000")
     import numba
     import screwkit
-    from screwkit.engine import PAPER_FORCE, PAPER_TORQUE, _outputs
+    from screwkit.engine import _outputs
     pm = screwkit.load_pm(args.pm)
-    load = {} if pm.workload is not None or args.pm != "3RRPRR" else dict(
-        force=PAPER_FORCE, torque=PAPER_TORQUE)
-    if pm.workload is None and not load:
-        load = dict(force=np.array([0.0, 0.0, -100.0]), torque=np.zeros(3))
+    # the model's declared workload (the paper's for its two PMs), else this one, said below
+    load = {} if pm.workload is not None else dict(force=np.array([0.0, 0.0, -100.0]),
+                                                   torque=np.zeros(3))
+    source = ("the model's declared workload" if not load else
+              "F = (0, 0, -100), T = (0, 0, 0) at o, model units (the model declares none)")
     one = dict(pm.default_pose)
     near = {p: v + (0.002 if p in ("alpha", "beta", "gamma") else 0.001 * pm.normalisation.length)
             for p, v in one.items()}
@@ -103,11 +104,11 @@ def main(argv=None) -> int:
                 fn()
             best[name] = min(best[name], (time.perf_counter() - t) / args.calls * 1e6)
     if args.json:
-        json.dump({"pm": args.pm, "us": best}, sys.stdout, indent=1)
+        json.dump({"pm": args.pm, "workload": source, "us": best}, sys.stdout, indent=1)
         print()
         return 0
     print(f"one warm pose of the {args.pm} (best of {args.repeat} rounds of {args.calls} "
-          f"calls, microseconds a call)")
+          f"calls, microseconds a call; workload: {source})")
     for name, us in best.items():
         print(f"  {name:40s} {us:9.2f}")
     print(f"  {'Python around the kernel':40s} {best['analyze'] - best['kernel, one pose']:9.2f}")
