@@ -65,6 +65,7 @@ def main(argv=None) -> int:
     import numba
     import screwkit
     from screwkit.engine import _outputs
+    from screwkit.engine._chains import chains_of
     pm = screwkit.load_pm(args.pm)
     # the model's declared workload (the paper's for its two PMs), else this one, said below
     load = {} if pm.workload is not None else dict(force=np.array([0.0, 0.0, -100.0]),
@@ -78,7 +79,8 @@ def main(argv=None) -> int:
     got = _capture(pm, near, prev, load)
     serial, kargs, path = got["call"]
     plan, f, i = got["one"]
-    layout = next(p.out for k, p in screwkit.engine._chains.chains_of(pm).flat.packed.items()
+    # (the launch plan whose one-pose records these are: its layout, for the batch's views)
+    layout = next(p.out for k, p in chains_of(pm).flat.packed.items()
                   if k[0] == "plan" and p.one is plan)
 
     @numba.njit

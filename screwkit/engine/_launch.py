@@ -216,10 +216,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
         If[c0:c1].reshape(csh)[...] = comp
     Ii = plan.in_i
     if out is None:
-        if plan.one is not None:            # (small: numpy's memory, as recycled_empty gives)
-            Of, Oi = np.empty(plan.out_nf), np.empty(plan.out_ni, np.int64)
-        else:
-            Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
+        Of, Oi = recycled_empty(plan.out_nf), recycled_empty(plan.out_ni, np.int64)
         out_d, layout = plan.out_d, plan.out
     else:
         buffers, at = out
@@ -253,7 +250,7 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
                 bool(k.run_parallel.overloads) or (blocks and N >= BLOCKS_LOADING)))
     if scattered:                   # (views of the whole buffers: no boolean copied)
         return buffers.arrays(convert=False)
-    if out is None and plan.one is not None:
+    if out is None and plan.one is not None:       # (one pose: records, see _outputs)
         return plan.one.views(Of, Oi)
     return views_of(Of, Oi, layout, True)
 
