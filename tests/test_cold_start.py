@@ -243,6 +243,65 @@ def test_a_warm_cold_leg_imports_no_yaml_nor_the_engine():
     assert "catalog expects" in out and imported == "[]"
 
 
+def test_a_warm_cold_analyze_makes_no_callee_dispatcher():
+    """The kernels Python never calls get their numba dispatchers on first use
+    (``_jit._Deferred``): a process that loads its entry points from the cache makes none."""
+    import subprocess
+    import sys
+    code = ("import gc, sys\nfrom screwkit.cli import main\nmain(['analyze', '3RRPRR'])\n"
+            "from numba.core.dispatcher import Dispatcher\n"
+            "from screwkit.engine._kernels._jit import is_deferred\n"
+            "ds = [d for d in gc.get_objects() if isinstance(d, Dispatcher)\n"
+            "      and d.py_func.__module__.startswith('screwkit.engine._kernels.')]\n"
+            "made = [d.py_func.__qualname__ for d in ds if not is_deferred(d)\n"
+            "        and d.targetoptions.get('no_cpython_wrapper')]\n"
+            "print(len(ds), sum(map(is_deferred, ds)), made, file=sys.stderr)\n")
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           timeout=900) for _ in range(2)]       # (the first warms the caches)
+    assert runs[1].returncode == 0, runs[1].stderr
+    total, deferred, made = runs[1].stderr.strip().splitlines()[-1].split(" ", 2)
+    assert made == "[]" and int(deferred) >= 150 and int(total) > int(deferred)
+
+
+def test_a_deferred_kernel_is_made_once_on_first_use_as_numba_makes_it():
+    import threading
+
+    import numba
+    from numba.core.dispatcher import Dispatcher
+    from screwkit.engine._kernels import _jit
+
+    def twice(x):
+        return 2.0 * x
+
+    options = dict(no_cpython_wrapper=True, no_cfunc_wrapper=True, error_model="numpy")
+    d = _jit._deferred(twice, _jit._Inner, options)
+    made = []
+    _jit.when_made(d, made.append)
+    # what the loaders read of every dispatcher, before it is made
+    assert isinstance(d, Dispatcher) and d.py_func is twice and d.__name__ == "twice"
+    assert _jit.is_deferred(d) and made == []
+    # threads reading it at once: made once, by one of them, the others waiting for it
+    seen = []
+    threads = [threading.Thread(target=lambda: seen.append(dict(d.targetoptions)))
+               for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert made == [d] and len(seen) == 4 and not _jit.is_deferred(d)
+    assert type(d) is _jit._Inner
+    assert seen[0] == numba.njit(**options)(twice).targetoptions
+    later = []
+    _jit.when_made(d, later.append)          # (made already: at once)
+    assert later == [d]
+
+    @numba.njit
+    def caller(x):
+        return d(x) + 1.0
+
+    assert caller(1.5) == 4.0
+
+
 def test_a_warm_cold_analyze_imports_none_of_numbas_array_implementations():
     _quick()
     out, imported = _imports_of(["analyze", "3RRPRR", "--json"], ("numba.np.arrayobj",))

@@ -27,8 +27,12 @@ bounced between the threads. The kernels never keep or return these views, and t
 needed.
 """
 
-from numba import njit, types
+import functools
+import threading
+
+from numba import config, njit, types
 from numba.core import cgutils, errors
+from numba.core.caching import FunctionCache
 from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
 
@@ -54,15 +58,105 @@ class _Inner(CPUDispatcher):
         return super().get_call_template(args, kws)
 
 
+class _Deferred:
+    """A kernel's dispatcher whose numba state is made on its first use: a dispatcher (an
+    instance of its class, its ``py_func`` and name set) that runs numba's ``__init__`` on
+    itself the first time an attribute it lacks is read (a compile, a cache lookup, numba's
+    typing of a call to it), then becomes an instance of the class it stands for.
+
+    Making a dispatcher costs numba some 0.4 ms (the function's signature read twice, its
+    cache located and the cache folder tested for writing with a temporary file), and the
+    kernel modules hold some 200 that Python never calls (``inner``, ``borrowing``,
+    ``borrowing_inlined``, ``inlined``): a process that loads its entry points from the cache
+    never needs them (nothing is compiled against them), and a cold command made them all
+    (about 70 ms).  ``spec``: the plain class, the key of the template dispatcher whose
+    options it takes (:func:`_template`), and the hooks to call on the made dispatcher
+    (:func:`when_made`)."""
+
+    def __getattr__(self, name):
+        # (only for attributes the object lacks: while its numba state is unmade, most)
+        with _MAKING:
+            spec = self.__dict__.pop("_deferred", None)
+            if spec is not None:
+                _make(self, *spec)
+        return object.__getattribute__(self, name)
+
+
+class _DeferredInner(_Deferred, _Inner):
+    pass
+
+
+class _DeferredCPU(_Deferred, CPUDispatcher):
+    pass
+
+
+#: Held while a deferred dispatcher is made (another thread's first read waits for it).
+_MAKING = threading.RLock()
+#: One real dispatcher per set of options, made on first need: the options numba gives
+#: the dispatchers of ``njit(**options)`` (:func:`_template`).
+_TEMPLATES: dict = {}
+
+
+def _template_function():       # (a function of this file: numba caches its dispatcher)
+    pass
+
+
+def _template(key):
+    """A dispatcher numba makes for ``njit(**dict(key))``: its target options, locals and
+    compiler pipeline are those of every kernel decorated with the same options."""
+    t = _TEMPLATES.get(key)
+    if t is None:
+        t = _TEMPLATES[key] = njit(**dict(key))(_template_function)
+    return t
+
+
+def _make(d, cls, key, hooks):
+    """Make the deferred dispatcher ``d`` what ``njit(**dict(key))(d.py_func)`` makes, of
+    class ``cls``, then call ``hooks`` on it."""
+    t = _template(key)
+    CPUDispatcher.__init__(d, d.py_func, locals=dict(t.locals),
+                           targetoptions=dict(t.targetoptions),
+                           pipeline_class=t._compiler.pipeline_class)
+    if isinstance(t._cache, FunctionCache):
+        d.enable_caching()
+    d.__class__ = cls
+    for hook in hooks:
+        hook(d)
+
+
+def _deferred(fn, cls, options):
+    """``njit(**options)(fn)`` as a dispatcher of class ``cls``, made on first use."""
+    if config.DISABLE_JIT:                      # (numba's own: the Python function)
+        return njit(**options)(fn)
+    kind = _DeferredInner if cls is _Inner else _DeferredCPU
+    d = kind.__new__(kind)
+    functools.update_wrapper(d, fn)
+    d.py_func = fn
+    d._deferred = (cls, tuple(sorted(options.items())), [])
+    return d
+
+
+def is_deferred(d) -> bool:
+    """Whether ``d`` is a deferred dispatcher whose numba state is not made yet."""
+    return "_deferred" in getattr(d, "__dict__", {})
+
+
+def when_made(d, hook) -> None:
+    """``hook(d)`` once the dispatcher ``d`` has its numba state: now, or when it is made."""
+    with _MAKING:
+        spec = d.__dict__.get("_deferred")
+        if spec is not None:
+            spec[2].append(hook)
+            return
+    hook(d)
+
+
 def _inner(fn, nrt=True, always_inline=False):
     # both flags given explicitly: numba otherwise lets a callee compiled for the first time
     # inside a caller inherit the caller's, and the code of a kernel would depend on which
     # caller happened to compile it first
-    d = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=nrt,
-             forceinline=always_inline, **_OPTIONS)(fn)
-    if type(d) is CPUDispatcher:
-        d.__class__ = _Inner
-    return d
+    return _deferred(fn, _Inner, dict(no_cpython_wrapper=True, no_cfunc_wrapper=True,
+                                      _nrt=nrt, forceinline=always_inline, **_OPTIONS))
 
 
 inner = _inner
@@ -105,7 +199,9 @@ parallel = njit(parallel=True, nogil=True, **_OPTIONS)
 #: typed into their callers: a first run 72 s of CPU instead of 80-90 s, the parallel kernel
 #: 100 s instead of 126 s).  A function with several callers stays ``inner`` or ``borrowing``
 #: (compiled once, called), else every call site would type and optimise it again.
-inlined = njit(inline="always", no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
+def inlined(fn):
+    return _deferred(fn, CPUDispatcher, dict(inline="always", no_cpython_wrapper=True,
+                                             no_cfunc_wrapper=True, **_OPTIONS))
 
 
 def _unowned(context, builder, ty, value):

@@ -217,6 +217,10 @@ def install(dispatchers, symbol_folder: str) -> None:
             if kept and getattr(data, "library", None) is not None:
                 _keep_saved(symbol_folder, data.library, kept[0])
 
-    for d in dispatchers:
+    def quick(d):
         if type(getattr(d, "_cache", None)) is FunctionCache:
             d._cache.__class__ = _QuickCache
+
+    from ._jit import when_made
+    for d in dispatchers:           # (a deferred dispatcher when numba's state is made)
+        when_made(d, quick)
