@@ -70,15 +70,10 @@ class FlatModel:
         key = ("Z", id(Z))
         hit = self.packed.get(key)
         if hit is None or hit[0] is not Z:
+            if "M" not in self.packed:
+                self.packed["M"] = Packed.of(self.M)
             hit = self.packed[key] = (Z, Packed.of(Z))
-        return self.model_packed(), hit[1]
-
-    def model_packed(self) -> "Packed":
-        """The model tuple ``M`` packed for the kernels' entries (once)."""
-        got = self.packed.get("M")
-        if got is None:
-            got = self.packed["M"] = Packed.of(self.M)
-        return got
+        return self.packed["M"], hit[1]
 
     def with_predictor(self, C, home, span, degree) -> tuple:
         """``Z`` with the home predictor's coefficients."""
@@ -308,8 +303,7 @@ def line_table(legs, passive, nu: int, m: int, q_scale, L: float) -> np.ndarray:
 
 def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candidates):
     """A one-leg model at its reference geometry for the home decisions of a row template
-    (:mod:`screwkit.engine._kernels._probe`): ``((Mf, Mi, Md, fp), candidates, indices,
-    points)``, the model tuple ``M`` packed (:class:`Packed`):
+    (:mod:`screwkit.engine._kernels._probe`): ``((M, fp), candidates, indices, points)``:
     the candidate reference directions that exist for this leg and their rows in ``DIRS``,
     and the named points in ``PTS`` order."""
     R0 = np.asarray(base_rotation, float)
@@ -339,7 +333,7 @@ def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candida
         np.zeros((0, 4), np.int64), np.zeros((0, 4)))
     fp = np.zeros(27)
     fp[6:15], fp[15:18] = Rh.ravel(), oh
-    return Packed.of(M).args + (fp,), ok, np.array(idx, np.int64), points
+    return (M, fp), ok, np.array(idx, np.int64), points
 
 
 class Packed:

@@ -269,8 +269,7 @@ def frames(flat, Z, P6, X, *, slots=False, bars=False, twists=False, workers=Non
     out = (np.zeros((N, n, m, 6)), np.empty((N, 27)), np.zeros((ns, n, m, 3, 3)),
            np.zeros((ns, n, m, 3)), np.zeros((N if bars else 0, n, m, 3)),
            np.zeros((N if twists else 0, n, m, 6)), np.empty(N))
-    _launch(k.frames_range, k.frames_parallel,
-            flat.model_packed().args + (Z[0], Z[1], P6, X) + out, N, workers)
+    _launch(k.frames_range, k.frames_parallel, (flat.M, Z[0], Z[1], P6, X) + out, N, workers)
     return {"axes_points": out[0], "platform": out[1], "R": out[2], "t": out[3],
             "bars": out[4], "twists": out[5], "residual": out[6]}
 

@@ -125,8 +125,7 @@ def _rows_of(legs, o, analyses, passive=(), R=None, p=None):
     X = np.zeros((1, flat.nx))
     out = run_poses(flat, flat.Z, P6, X=X, statics=False)
     points = np.full(out["J"].shape[:2] + (3,), np.nan)
-    kernels().row_points_range(*flat.model_packed().args, flat.Z[0], flat.Z[1], P6, X,
-                               out["J"], points, 0, 1)
+    kernels().row_points_range(flat.M, flat.Z[0], flat.Z[1], P6, X, out["J"], points, 0, 1)
     cond = Conditioning(out["centre"], out["length"], out["singular_values"], out["rank"],
                         out["condition_number"], out["constraint_rank"],
                         out["constraint_condition_number"])

@@ -86,9 +86,8 @@ def row_points(model, closures: Closures, chunk: int = CHUNK) -> np.ndarray:
     flat = ch.flat
     J = run_poses(flat, flat.Z, closures.params(), X=closures.X.T, statics=False)["J"]
     out = np.full(J.shape[:2] + (3,), np.nan)
-    kernels().row_points_range(*flat.model_packed().args, flat.Z[0], flat.Z[1],
-                               closures.params(), np.ascontiguousarray(closures.X.T), J, out,
-                               0, J.shape[0])
+    kernels().row_points_range(flat.M, flat.Z[0], flat.Z[1], closures.params(),
+                               np.ascontiguousarray(closures.X.T), J, out, 0, J.shape[0])
     return out
 
 

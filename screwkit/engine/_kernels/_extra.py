@@ -20,7 +20,6 @@ from ._kin import chain, closure_one, joint_twist, platform
 from ._geometry import eval_points, leg_setup
 from ._layout import BLEN, BLOCK, D, DIRS, HINGE, LEG, L_SIZE, ORDER, PLAT, PTS, ROWS
 from ._newton import home_vector
-from ._pack import model
 from ._rows import RW_CTX, RW_PV, RW_TW, make_rows_work
 from ._small import lu_block, lu_sign
 
@@ -105,14 +104,13 @@ def leg_wrenches_parallel(J, values, row_leg, n_act, A, a, con_w, leg_w, t_r, nc
 
 
 @entry
-def frames_range(Mf, Mi, Md, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, stop):
+def frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, start, stop):
     """The frames of the unknowns ``X (N, nx)``: every joint's current axis and point
     ``FAo (N, n, m, 6)``, the platform ``FPo (N, 27)``, the closure residual ``res``; with
     ``Rso``/``tso`` of N rows the displacement after each slot (padded slots: the leg's end),
     with ``bars`` of N rows the parallelograms' current bars ``|b| d x R_j h`` (the hinge
     turned with the link), with ``tw`` of N rows every joint's unit twist ``[v; w]`` about
     O (zero in padded slots)."""
-    M = model(Mf, Mi, Md)
     n, m = M[D].shape[0], M[D].shape[1]
     nu = unk.shape[0]
     S = np.zeros((6, 3, 3))
@@ -172,11 +170,11 @@ def frames_range(Mf, Mi, Md, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, 
 
 
 @parallel
-def frames_parallel(Mf, Mi, Md, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, nchunks):
+def frames_parallel(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, nchunks):
     N = P6.shape[0]
     for c in prange(nchunks):
-        frames_range(Mf, Mi, Md, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res,
-                     c * N // nchunks, (c + 1) * N // nchunks)
+        frames_range(M, unk, xs, P6, X, FAo, FPo, Rso, tso, bars, tw, res, c * N // nchunks,
+                     (c + 1) * N // nchunks)
 
 
 @entry
@@ -200,11 +198,10 @@ def amplification_batch(values, torque, W, o, L, out):
 
 
 @entry
-def row_points_range(Mf, Mi, Md, unk, xs, P6, X, J, out, start, stop):
+def row_points_range(M, unk, xs, P6, X, J, out, start, stop):
     """A point of each row's line ``out (N, mr, 3)`` (left NaN where there is none): the
     row's named point, or for a force without one the point of its line nearest the leg's
     centroid (``ROWS[:, 2]`` says which)."""
-    M = model(Mf, Mi, Md)
     n, m = M[D].shape[0], M[D].shape[1]
     nu = unk.shape[0]
     rows = M[ROWS]

@@ -22,7 +22,6 @@ from ._geometry import eval_directions, eval_points, leg_setup
 from ._jit import entry, inner, one_lane
 from ._kin import chain
 from ._layout import D, DIRS, GREF, KIND, LEG, L_SIZE, PTS, REF_MIN, TPL, T_K
-from ._pack import model
 from ._members import (SC_NULL, SC_P0, SC_P1, SC_P2, SC_REM, home_null_space,
                        home_remainder)
 from ._rows import (RW_CTX, RW_DV, RW_NR, RW_PV, RW_REM, RW_SC, RW_TW, RW_VEC,
@@ -47,13 +46,10 @@ def _home(M, fp):
 
 
 @entry
-def home_groups(Mf, Mi, Md, fp, gkind, gpoint, gdim, cand, ok, chosen):
+def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
     """Per group: ``ok[g]`` its null space has dimension ``gdim[g]`` at home;
     ``chosen[g, :dim]`` the first candidates (rows of ``DIRS``) of a clear basis (-1: none).
-    The rows' own functions (``_members``) on a block of one.  (The one-leg model packed,
-    ``Mf, Mi, Md``, as every entry takes it: numba types a tuple argument in Python, and
-    the first such typing of a process imported ``numpy.ma``.)"""
-    M = model(Mf, Mi, Md)
+    The rows' own functions (``_members``) on a block of one."""
     fa, RW = _home(M, fp)
     rows, vec, dv, SC = RW[RW_NR], RW[RW_VEC], RW[RW_DV], RW[RW_SC]
     basis = np.zeros((3, 3, 1))    # (with its lane axis: owned here, see one_lane)
@@ -83,12 +79,10 @@ def home_groups(Mf, Mi, Md, fp, gkind, gpoint, gdim, cand, ok, chosen):
 
 
 @entry
-def home_generic(Mf, Mi, Md, fp, k, cand, out):
+def home_generic(M, fp, k, cand, out):
     """The generic rule's ``k`` reference wrenches: ``out[r] = (0 force through A / 1
     couple, row of DIRS)``, forces first, each the first candidate whose projection on the
-    constraint system keeps a remainder of at least ``REF_MIN`` (-1: none found).  (The
-    one-leg model packed, as :func:`home_groups`; ``Mi`` is written: the rule's count.)"""
-    M = model(Mf, Mi, Md)
+    constraint system keeps a remainder of at least ``REF_MIN`` (-1: none found)."""
     fa, RW = _home(M, fp)
     tpl, gref = M[TPL][0], M[GREF][0]
     tpl[T_K] = k
@@ -118,9 +112,8 @@ def _generic_remainder(M, RW, count, cons):
 
 
 @entry
-def home_least_norm(Mf, Mi, Md, fp, member):
+def home_least_norm(M, fp, member):
     """The least-norm actuation member of the leg at home (``member (6,)``); returns
-    whether it is defined.  (The one-leg model packed, as :func:`home_groups`.)"""
-    M = model(Mf, Mi, Md)
+    whether it is defined."""
     _, RW = _home(M, fp)
     return least_norm_member(M, 0, RW, member)

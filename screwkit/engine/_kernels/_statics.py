@@ -19,7 +19,7 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inner, lanes
 
 from ._kin import platform_point
-from ._layout import A, AP, BLOCK, D, LEG, L_SIZE, RANK_RTOL, REFINE
+from ._layout import A, AP, D, LEG, L_SIZE, RANK_RTOL, REFINE
 from ._eigen import jacobi_rows, singular_values_lanes
 from ._small import lu_factor, lu_apply
 
@@ -150,16 +150,13 @@ def make_conditioning_work(mr, B):
     (:func:`._driver.statics_block`): the LU factors ``(6, 6, B)`` and their interchanges
     ``(6, B)`` (int), the weighted rows ``(mr, 6, B)`` and weights ``(mr, B)``, the
     right-hand sides ``(6, B)``, the efforts ``(mr, B)``, the workloads ``(6, B)`` and the
-    compliances ``(mr, B)``.  The LU factors, their interchanges and right-hand sides have
-    ``BLOCK`` lanes whatever ``B`` (:func:`._small.lu_block` is compiled for that stride);
-    the rest ``B``: a launch of one pose zeroes some 26 kB, not 104 (3RRPRR), and the Python
-    that reads its outputs finds more of its own data in the caches."""
+    compliances ``(mr, B)``."""
     r = max(mr, 1)
     return (np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((3, B)),
             np.zeros((6, B)), np.zeros((6, B)), np.zeros((2, B), np.int64), np.zeros((2, B)),
             np.zeros((6, 6, B)), np.zeros((6, B)), np.zeros((6, B)), np.zeros((4, B), np.int64),
-            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, BLOCK)), np.zeros((6, BLOCK), np.int64),
-            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, BLOCK)), np.zeros((r, B)),
+            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, B)), np.zeros((6, B), np.int64),
+            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, B)), np.zeros((r, B)),
             np.zeros((6, B)), np.zeros((r, B)))
 
 
