@@ -5,7 +5,7 @@ another machine (random 3RRPRR poses 63k-109k/s, a path 89k-129k samples/s, one 
 3.96-4.42 ms) and names them "10x faster in batches and 40x for one pose".  This script
 measures that engine here: the last commit before the compiled core (``OLD_ENGINE``,
 extracted from this checkout's history with ``git archive`` into a temporary directory)
-and the installed screwkit run as two processes on the same workloads, alternated round by
+and this checkout's screwkit run as two processes on the same workloads, alternated round by
 round (the machines are noisy: read the ratios), and prints each speed-up beside the one
 the issue's target makes over its figures:
 
@@ -178,20 +178,18 @@ def main(argv=None) -> int:
             with open(spec, "w") as f:
                 json.dump({"poses": poses, "catalog": cat, "cases": cases, "force": F_LOAD,
                            "torque": T_LOAD, "warm_calls": WARM_CALLS}, f)
-            env = dict(os.environ)
-            if path:
-                env["PYTHONPATH"] = path
-            else:
-                env.pop("PYTHONPATH", None)
+            # (the old engine's extracted package; the new: this checkout's)
+            env = dict(os.environ, PYTHONPATH=path or ROOT)
             # (in the temporary directory: "-c" puts the working directory first on the
             # path, where a checkout's own screwkit would come before the old one)
             procs[name] = subprocess.Popen([sys.executable, "-c", SERVER, spec], env=env,
                                            cwd=tmp, stdin=subprocess.PIPE,
                                            stdout=subprocess.PIPE, text=True)
         said = {name: json.loads(p.stdout.readline()) for name, p in procs.items()}
-        if os.path.dirname(said["old"]["file"]) != os.path.join(old, "screwkit"):
-            sys.exit(f"bench_old_engine: the old engine's process imported "
-                     f"{said['old']['file']}, not the extracted {OLD_ENGINE}")
+        for name, where in (("old", old), ("new", ROOT)):
+            if os.path.dirname(said[name]["file"]) != os.path.join(where, "screwkit"):
+                sys.exit(f"bench_old_engine: the {name} engine's process imported "
+                         f"{said[name]['file']}, not {os.path.join(where, 'screwkit')}")
         checks = {name: s["forces"] for name, s in said.items()}
         for pm, forces in checks["old"].items():
             dev = np.max(np.abs(np.subtract(forces, checks["new"][pm])))
