@@ -140,6 +140,45 @@ def test_a_child_compiles_into_the_user_cache_and_its_kernels_load_there(tmp_pat
     np.testing.assert_array_equal(got["D"], D)
 
 
+_CHEAP = ("_pack", "_small", "_tridiagonal")
+
+
+@pytest.mark.parametrize("locks", [False, True])
+def test_the_lists_callees_compile_in_a_fresh_process(tmp_path, locks):
+    """The list's kernels Python never calls (``inner``, ``borrowing``...: made on first
+    use, ``_jit._Deferred``) compile from their lines in a fresh process, as the first run's
+    two processes compile them (the child with the kernels' locks): none fails, each is
+    made and holds the version of its line.  (A deferred dispatcher's ``compile`` once read
+    numba's C state before it was made, "compilation disabled": every such line failed, and
+    the first run's two processes compiled the analysis one after the other.)  The list's
+    cheap modules only, in an empty cache."""
+    code = textwrap.dedent(f"""\
+        import importlib
+        from screwkit.engine import _kernels
+        from screwkit.engine._kernels import _jit, _warm
+        _kernels.kernels()
+        lines = [ln for ln in _warm.signatures() if ln[1] in {_CHEAP!r}]
+        fns = [getattr(importlib.import_module("screwkit.engine._kernels." + ln[1]), ln[2])
+               for ln in lines]
+        deferred = sum(_jit.is_deferred(f) for f in fns)
+        if {locks!r}:
+            from screwkit.engine._kernels._compile_lock import install_all
+            install_all("screwkit.engine._kernels", {str(tmp_path / "nc")!r})
+        failed = [f for g in ("main", "closure", "handed", "other")
+                  for f in _warm._compile(lines, g)]
+        made = all(not _jit.is_deferred(f) and ln[3] in f.signatures
+                   for ln, f in zip(lines, fns))
+        print(len(lines), deferred, len(failed), made, failed[:1])
+        """)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "nc"))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600, env=env)
+    assert out.returncode == 0, out.stderr
+    n, deferred, failed, made = out.stdout.split()[:4]
+    assert int(n) >= 10 and int(deferred) >= 10, out.stdout
+    assert failed == "0" and made == "True", out.stdout
+
+
 def test_an_interrupted_first_compile_leaves_no_child(tmp_path, monkeypatch):
     path = tmp_path / "kernels.txt"
     path.write_text(_SMALL)

@@ -41,8 +41,8 @@ _ANALYSIS_READY = False
 _PINNED: dict = {}
 _HERE = os.path.dirname(os.path.abspath(__file__))
 #: This folder's files that hold no kernel (left out of the kernels' source stamp).
-_LOADER = ("__init__.py", "_compile_lock.py", "_inlining.py", "_linking.py", "_loading.py",
-           "_patching.py", "_warm.py")
+_LOADER = ("__init__.py", "_compile_lock.py", "_flags.py", "_inlining.py", "_linking.py",
+           "_loading.py", "_patching.py", "_warm.py")
 
 
 def _writable(path: str) -> bool:
@@ -115,8 +115,11 @@ def _configure():
         numba.config.THREADING_LAYER = "workqueue"
     # (numba's IR inlining without its quadratic copies, from the first compilation on:
     # a quarter of a first compile)
-    from . import _inlining, _linking
+    from . import _flags, _inlining, _linking
     _inlining.install_on_first_compile()
+    # (numba's compile flags compared without building two dicts of 50 options, at each
+    # lookup of an overloaded function's implementation: 5 % of a first compile)
+    _flags.install_on_first_compile()
     # (the libraries of the parallel kernels' prange loops optimised and compiled only in
     # the kernel that links them in: half of the parallel kernel's first compile)
     _linking.install_on_first_compile()

@@ -75,11 +75,18 @@ class _Deferred:
 
     def __getattr__(self, name):
         # (only for attributes the object lacks: while its numba state is unmade, most)
-        with _MAKING:
-            spec = self.__dict__.pop("_deferred", None)
-            if spec is not None:
-                _make(self, *spec)
-        return object.__getattribute__(self, name)
+        return object.__getattribute__(made(self), name)
+
+    # numba's ``compile`` and a call from Python read the C dispatcher's state first, which
+    # its class gives before the dispatcher is made (``_can_compile`` False: "compilation
+    # disabled"), so no attribute is missed: both make it first.  (The class's own method
+    # then, not the attribute: the kernels' locks wrap a dispatcher's bound ``compile`` in
+    # an attribute of its own, this one where it was still unmade.)
+    def compile(self, sig):
+        return type(made(self)).compile(self, sig)
+
+    def __call__(self, *args, **kws):
+        return type(made(self)).__call__(self, *args, **kws)
 
 
 class _DeferredInner(_Deferred, _Inner):
@@ -133,6 +140,16 @@ def _deferred(fn, cls, options):
     functools.update_wrapper(d, fn)
     d.py_func = fn
     d._deferred = (cls, tuple(sorted(options.items())), [])
+    return d
+
+
+def made(d):
+    """``d``, a deferred dispatcher made now if it was not yet (any other dispatcher as it
+    is)."""
+    with _MAKING:
+        spec = getattr(d, "__dict__", {}).pop("_deferred", None)
+        if spec is not None:
+            _make(d, *spec)
     return d
 
 
