@@ -127,3 +127,70 @@ def test_install_is_made_once_and_never_over_a_numba_it_does_not_know(tmp_path):
     r = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True,
                        env=env, timeout=600)
     assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
+
+
+_CALLEE = textwrap.dedent("""
+    import json, sys
+    import numpy as np
+    from screwkit.engine._kernels import _configure
+    _configure()
+    from numba import njit, prange
+    from screwkit.engine._kernels import _linking, _small
+
+    @njit
+    def turned(d, a):
+        R = np.empty((3, 3))
+        _small.rodrigues(d[0], d[1], d[2], a, R)
+        return R
+
+    @njit(parallel=True)
+    def turned_all(D, A):
+        out = np.empty((D.shape[0], 3, 3))
+        for i in prange(D.shape[0]):
+            _small.rodrigues(D[i, 0], D[i, 1], D[i, 2], A[i], out[i])
+        return out
+
+    D = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.48, 0.6, 0.64]])
+    A = np.array([0.3, -1.2, 2.5])
+    one = turned(D[0], A[0])
+    lib = next(iter(_small.rodrigues.overloads.values())).library
+    got = {"loaded": sum(_small.rodrigues._cache_hits.values()),
+           "deferred": _linking.deferred(lib), "one": one.tolist()}
+    if sys.argv[1] == "parallel":
+        got["all"] = turned_all(D, A).tolist()
+        got["deferred_after"] = _linking.deferred(lib)
+    got["counts"] = _linking.counts()
+    print(json.dumps(got))
+""")
+
+
+def _callee_run(tmp_path, what):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    r = subprocess.run([sys.executable, "-c", _CALLEE, what], capture_output=True,
+                       text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def test_a_kernels_callee_makes_no_machine_code_and_is_cached_for_linking(tmp_path):
+    """A kernel only other code calls (``_small.rodrigues``) is optimised but makes no
+    machine code, and is cached as its module's bitcode: a process compiling a function
+    against it then loads it so, and links it in; a parallel kernel links it after its
+    machine code is made (numba's own order), in the process that compiled it and in one
+    that loads it.  The results equal scipy's rotation matrices."""
+    from scipy.spatial.transform import Rotation
+    D = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.48, 0.6, 0.64]])
+    A = np.array([0.3, -1.2, 2.5])
+    want = Rotation.from_rotvec(D * A[:, None]).as_matrix()
+    first = _callee_run(tmp_path, "parallel")          # (compiled here, an empty cache)
+    assert first["loaded"] == 0 and first["deferred"] is True
+    assert first["deferred_after"] is False and first["counts"]["made"] >= 1
+    np.testing.assert_allclose(first["one"], want[0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(first["all"], want, rtol=0, atol=1e-15)
+    later = _callee_run(tmp_path, "serial")            # (loaded from the cache: bitcode)
+    assert later["loaded"] == 1 and later["deferred"] is True
+    assert later["counts"]["made"] == 0 and later["one"] == first["one"]
+    again = _callee_run(tmp_path, "parallel")          # (loaded, then made for the kernel)
+    assert again["loaded"] == 1 and again["deferred"] is True
+    assert again["deferred_after"] is False and again["counts"]["made"] >= 1
+    assert again["one"] == first["one"] and again["all"] == first["all"]

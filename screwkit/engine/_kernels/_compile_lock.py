@@ -121,8 +121,12 @@ def _name(dispatcher) -> str:
 
 
 def _locked(compile_, name):
+    from ._jit import made
+
     def compile(sig):
         with holding(name):
+            # (a kernel's callee is made on first use: before numba's compile reads it)
+            made(compile_.__self__)
             return compile_(sig)
     compile.__wrapped__ = compile_
     return compile
@@ -134,7 +138,11 @@ def install(dispatchers, folder: str) -> None:
     _STATE["folder"] = folder
     for d in dispatchers:
         if "compile" not in vars(d):        # (else installed already)
-            d.compile = _locked(d.compile, _name(d))
+            # (a callee not made yet, _jit._Deferred: the compile of the class it will be,
+            # made first by _locked)
+            spec = vars(d).get("_deferred")
+            compile_ = d.compile if spec is None else spec[0].compile.__get__(d)
+            d.compile = _locked(compile_, _name(d))
 
 
 def install_all(package: str, folder: str) -> None:

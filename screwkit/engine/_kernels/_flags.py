@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import threading
 
-from ._patching import on_first_compile, switch
+from ._patching import first_compile_installer, switched
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 
@@ -39,11 +39,8 @@ _INSTALLED = False
 _HASHES: dict = {}
 
 
-def enabled() -> bool:
-    """Whether ``SCREWKIT_NUMBA_FLAGS`` (unset: on) lets :func:`install` change numba.
-    Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,
-    off/on, false/true."""
-    return switch("SCREWKIT_NUMBA_FLAGS")
+#: Whether ``SCREWKIT_NUMBA_FLAGS`` (unset: on) lets :func:`install` change numba.
+enabled = switched("SCREWKIT_NUMBA_FLAGS")
 
 
 def installed() -> bool:
@@ -109,8 +106,5 @@ def install() -> bool:
         return True
 
 
-def install_on_first_compile() -> None:
-    """:func:`install` when numba starts compiling a function in this process (its
-    ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
-    if enabled():
-        on_first_compile(install, installed)
+#: :func:`install` at the first compile of the process (:mod:`._patching`).
+install_on_first_compile = first_compile_installer(install, installed, enabled)

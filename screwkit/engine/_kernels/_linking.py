@@ -1,4 +1,5 @@
-"""The libraries of numba's ``prange`` loops optimised and compiled once, in the kernel (private).
+"""The libraries of numba's ``prange`` loops optimised and compiled once, in the kernel, and
+the kernels' callees without machine code (private).
 
 numba compiles a ``prange`` loop of a parallel kernel (``_driver.run_parallel``) into three
 libraries of LLVM code besides the kernel's own: the loop's body (a gufunc), its gufunc
@@ -37,6 +38,23 @@ paths and maps are the same bit for bit as the kernels compiled without the chan
 (``benchmarks/compare_outputs.py``, ``benchmarks/compare_paths_maps.py``); the batches as
 fast (alternated runs).
 
+The kernels' callees (``_jit.inner`` and the others: a library defining a kernel's function
+and no wrapper Python or C code calls; :func:`_kernel_callee`) make no machine code either:
+numba optimises such a library with everything it calls linked in, then makes its machine
+code, which nothing runs (its callers link its module in and make their own), for the
+on-disk cache's object code.  The library is optimised as numba does, keeps its module
+without machine code, and is cached as that module's bitcode (numba's own ``bitcode`` kind
+of cached library, which a later compile links in as it would the object kind's bitcode);
+a first run (``screwkit analyze 3RRPRR``, empty cache, one process) took 106-110 s of CPU
+against 123-129 s.  numba's machine code changed the module in place (its code-generation
+passes) before the callers linked it in, and the code LLVM makes of a caller depends on it:
+the parallel kernels, whose speed was measured against that (a 6-SPS batch ran 5 % slower
+linking the modules as optimised), are compiled as before: a callee a parallel kernel links
+makes its machine code first, and one compiled or loaded while a parallel kernel compiles
+is not deferred (``_PARALLEL``, set by a listener of numba's ``numba:compile`` event).  The
+serial kernels link the optimised modules: their code differs (not their arithmetic), the
+same bits (``compare_outputs.py``), as fast (alternated runs).
+
 Only with the numba releases this was tested with (:data:`._loading.TESTED`) and where
 their code libraries and parfor lowering's ``_create_gufunc_for_parfor_body`` are as
 expected; once per process, from the first
@@ -50,12 +68,15 @@ from __future__ import annotations
 import threading
 import weakref
 
-from ._patching import on_first_compile, switch
+from ._patching import first_compile_installer, switched
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed", "deferred",
            "counts"]
 
 _LOCK = threading.Lock()
+#: ``depth``: the parallel kernels this thread is compiling (their callees are compiled, and
+#: those loaded from the cache made, as numba does: see _callee).
+_PARALLEL = threading.local()
 #: How many libraries of this process had their machine code deferred, and how many of
 #: them were then asked for it (made).
 _COUNTS = {"deferred": 0, "made": 0}
@@ -70,13 +91,14 @@ _INSTALLED = False
 _BODY = "__numba_parfor_gufunc_"
 _GUFUNC_WRAPPER = "<numba.np.ufunc.wrappers._GufuncWrapper object at "
 _LAUNCHER = "parallelgufuncwrapper"
+#: The mangled names of screwkit's kernels, and of the wrappers numba makes for a function
+#: Python (``cpython.``) or C (``cfunc.``) calls.
+_KERNEL = "_ZN8screwkit6engine8_kernels"
+_WRAPPERS = ("_ZN7cpython", "cfunc.")
 
 
-def enabled() -> bool:
-    """Whether ``SCREWKIT_NUMBA_LINKING`` (unset: on) lets :func:`install` change numba.
-    Raises :class:`~screwkit.errors.InputError` for a value other than 0/1, no/yes,
-    off/on, false/true."""
-    return switch("SCREWKIT_NUMBA_LINKING")
+#: Whether ``SCREWKIT_NUMBA_LINKING`` (unset: on) lets :func:`install` change numba.
+enabled = switched("SCREWKIT_NUMBA_LINKING")
 
 
 def installed() -> bool:
@@ -101,9 +123,24 @@ def _linked_only(library) -> bool:
     return name == _LAUNCHER or name.startswith((_GUFUNC_WRAPPER, _BODY))
 
 
+def _kernel_callee(library) -> bool:
+    """Whether ``library`` is one of screwkit's kernels that only other kernels call: it
+    defines a kernel's function and no wrapper Python or C code calls it through
+    (``_jit.inner`` and the others are compiled without them)."""
+    kernel = False
+    for fn in library._final_module.functions:
+        if fn.is_declaration:
+            continue
+        name = fn.name
+        if name.startswith(_WRAPPERS):
+            return False
+        kernel = kernel or name.startswith(_KERNEL)
+    return kernel
+
+
 def install() -> bool:
-    """Defer the optimisation and machine code of the libraries of numba's ``prange`` loops
-    until asked for (module docstring).  Returns whether the change is (now or before) in
+    """Defer the optimisation and machine code of the libraries of numba's ``prange`` loops,
+    and the machine code of the kernels' callees, until asked for (module docstring).  Returns whether the change is (now or before) in
     place: False where numba is not as expected or ``SCREWKIT_NUMBA_LINKING=0``."""
     global _INSTALLED
     if not enabled():
@@ -120,6 +157,7 @@ def install() -> bool:
             library_class, jit_codegen = codegen.JITCodeLibrary, codegen.JITCPUCodegen
             finish = codegen.CPUCodeLibrary._finalize_final_module
             optimise = codegen.CPUCodeLibrary._optimize_final_module
+            link_module = codegen.CPUCodeLibrary._get_module_for_linking
             steps = (codegen.CPUCodeLibrary._finalize_dynamic_globals,
                      codegen.CPUCodeLibrary._verify_declare_only_symbols)
             pointer = library_class.get_pointer_to_function
@@ -130,17 +168,30 @@ def install() -> bool:
             body = parfor_lowering._create_gufunc_for_parfor_body
         except (ImportError, AttributeError):
             return False
-        if not all(callable(f) for f in (finish, optimise, *steps, pointer, serialise,
-                                         compiled_object, specific, set_env, body)):
+        if not all(callable(f) for f in (finish, optimise, link_module, *steps, pointer,
+                                         serialise, compiled_object, specific, set_env,
+                                         body)):
             return False
         mangled = "_CPUCodeLibrary__library"       # numba's ``module.__library``
 
+        def _callee(self):
+            # (once a library: its functions are those it was finalised with; none while a
+            # parallel kernel compiles, see _PARALLEL)
+            verdict = self.__dict__.get("_screwkit_callee")
+            if verdict is None:
+                verdict = self._screwkit_callee = (
+                    isinstance(self, library_class) and not getattr(_PARALLEL, "depth", 0)
+                    and _kernel_callee(self))
+            return verdict
+
         def _deferring(self):
-            return type(self) is library_class and _linked_only(self) and \
-                not (config.DUMP_OPTIMIZED or config.DUMP_ASSEMBLY)
+            if config.DUMP_OPTIMIZED or config.DUMP_ASSEMBLY:
+                return False
+            return (type(self) is library_class and _linked_only(self)) or _callee(self)
 
         def _optimize_final_module(self):
-            if not _deferring(self):
+            if not (_deferring(self) and _linked_only(self)):
+                # (a kernel's callee is optimised as numba does: its callers link it in so)
                 return optimise(self)
             # the module stays as linked (its functions optimised one by one); the kernel
             # linking it in optimises it with all the rest
@@ -184,8 +235,21 @@ def install() -> bool:
                 _make_machine_code(self)
             return pointer(self, name)
 
+        def _get_module_for_linking(self):
+            if getattr(_PARALLEL, "depth", 0) and deferred(self) and _callee(self):
+                # a parallel kernel links its callees as numba hands them on, after their
+                # machine code (whose passes change the module in place: the code LLVM
+                # makes of the kernel depends on it; a 6-SPS batch ran 5 % slower without)
+                _make_machine_code(self)
+                self._shared_module = None
+            return link_module(self)
+
         def serialize_using_object_code(self):
             self._ensure_finalized()
+            if deferred(self) and _callee(self):
+                # a kernel's callee is cached as its optimised module's bitcode, all its
+                # callers link in (numba's own kind for it; its machine code never runs)
+                return (self.name, "bitcode", self._final_module.as_bitcode())
             _make_machine_code(self)
             return serialise(self)
 
@@ -224,8 +288,21 @@ def install() -> bool:
                          (_create_gufunc_for_parfor_body, body)):
             new.__doc__ = old.__doc__
             new.__wrapped__ = old
+        from numba.core import event
+
+        class _ParallelCompiles(event.Listener):
+            def on_start(self, ev):
+                if ev.data["dispatcher"].targetoptions.get("parallel"):
+                    _PARALLEL.depth = getattr(_PARALLEL, "depth", 0) + 1
+
+            def on_end(self, ev):
+                if ev.data["dispatcher"].targetoptions.get("parallel"):
+                    _PARALLEL.depth -= 1
+
+        event.register("numba:compile", _ParallelCompiles())
         codegen.CPUCodeLibrary._finalize_final_module = _finalize_final_module
         codegen.CPUCodeLibrary._optimize_final_module = _optimize_final_module
+        codegen.CPUCodeLibrary._get_module_for_linking = _get_module_for_linking
         library_class.get_pointer_to_function = get_pointer_to_function
         library_class.serialize_using_object_code = serialize_using_object_code
         library_class._get_compiled_object = _get_compiled_object
@@ -236,8 +313,5 @@ def install() -> bool:
         return True
 
 
-def install_on_first_compile() -> None:
-    """:func:`install` when numba starts compiling a function in this process (its
-    ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
-    if enabled():
-        on_first_compile(install, installed)
+#: :func:`install` at the first compile of the process (:mod:`._patching`).
+install_on_first_compile = first_compile_installer(install, installed, enabled)

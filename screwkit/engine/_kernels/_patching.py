@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import threading
 
-__all__ = ["switch", "on_first_compile"]
+__all__ = ["switch", "switched", "on_first_compile", "first_compile_installer"]
 
 _ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
 _LOCK = threading.Lock()
@@ -31,6 +31,27 @@ def switch(name: str) -> bool:
         return False
     from ...errors import InputError
     raise InputError(f"{name} must be 0 or 1 (no/yes, off/on, false/true), got {value!r}")
+
+
+def switched(name: str):
+    """The ``enabled()`` of a change switched by the environment variable ``name``."""
+    def enabled() -> bool:
+        return switch(name)
+    enabled.__doc__ = (f"Whether ``{name}`` (unset: on) lets :func:`install` change numba. "
+                       "Raises :class:`~screwkit.errors.InputError` for a value other than "
+                       "0/1, no/yes, off/on, false/true.")
+    return enabled
+
+
+def first_compile_installer(install, installed, enabled):
+    """The ``install_on_first_compile()`` of a change: its ``install()`` when numba starts
+    compiling a function in this process (:func:`on_first_compile`), where ``enabled()``."""
+    def install_on_first_compile() -> None:
+        """:func:`install` when numba starts compiling a function in this process (its
+        ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
+        if enabled():
+            on_first_compile(install, installed)
+    return install_on_first_compile
 
 
 def on_first_compile(install, installed) -> None:
