@@ -117,8 +117,8 @@ def _configure():
     # a quarter of a first compile)
     from . import _flags, _inlining, _linking
     _inlining.install_on_first_compile()
-    # (numba's compile flags compared without building two dicts of 50 options, at each
-    # lookup of an overloaded function's implementation: 5 % of a first compile)
+    # (numba's compile flags compared without building two dicts of their 22 options, at
+    # each lookup of an overloaded function's implementation: 5 % of a first compile)
     _flags.install_on_first_compile()
     # (the libraries of the parallel kernels' prange loops optimised and compiled only in
     # the kernel that links them in: half of the parallel kernel's first compile)

@@ -5,10 +5,11 @@ numba keys its cache of an overloaded function's implementations
 makes of a numpy function, an array method, a math function, every time it is typed) by
 the argument types and the flags of the compile (a ``numba.core.targetconfig.TargetConfig``).
 ``TargetConfig.__eq__`` builds the dict of every option's value on both sides (the 22
-options of numba's ``Flags``, each read through a property), and its ``__hash__`` (the hash of the sorted option
-names, the same for every config of a class) sorts them, at every lookup: a first run of
-``screwkit analyze 3RRPRR`` (empty cache, one process) compares flags some 450,000 times and
-hashes them some 100,000 times, about 5 % of its CPU.
+options of numba's ``Flags``, each read through a property), and its ``__hash__`` (the
+hash of the sorted option names, the same for every config of a class) sorts them, at
+every lookup: a first run of ``screwkit analyze 3RRPRR`` (empty cache, one process)
+compares flags some 450,000 times and hashes them some 100,000 times, about 5 % of its
+CPU.
 
 :func:`install` gives ``TargetConfig`` the same comparison made on the options either side
 set (an option neither sets is its default on both sides; configs of two classes are

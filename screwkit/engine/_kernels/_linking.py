@@ -140,8 +140,9 @@ def _kernel_callee(library) -> bool:
 
 def install() -> bool:
     """Defer the optimisation and machine code of the libraries of numba's ``prange`` loops,
-    and the machine code of the kernels' callees, until asked for (module docstring).  Returns whether the change is (now or before) in
-    place: False where numba is not as expected or ``SCREWKIT_NUMBA_LINKING=0``."""
+    and the machine code of the kernels' callees, until asked for (module docstring).
+    Returns whether the change is (now or before) in place: False where numba is not as
+    expected or ``SCREWKIT_NUMBA_LINKING=0``."""
     global _INSTALLED
     if not enabled():
         return _INSTALLED
