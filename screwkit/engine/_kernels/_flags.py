@@ -28,84 +28,68 @@ numba as it is (a value other than 0/1, no/yes, off/on, false/true is a one-line
 
 from __future__ import annotations
 
-import threading
-
-from ._patching import first_compile_installer, switched
+from ._patching import CompilerChange
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 
-_LOCK = threading.Lock()
-_INSTALLED = False
 #: ``{config class: hash}``: numba's hash of a config depends on its class alone.
 _HASHES: dict = {}
 
 
-#: Whether ``SCREWKIT_NUMBA_FLAGS`` (unset: on) lets :func:`install` change numba.
-enabled = switched("SCREWKIT_NUMBA_FLAGS")
-
-
-def installed() -> bool:
-    """Whether :func:`install` changed numba's flags in this process."""
-    return _INSTALLED
-
-
-def install() -> bool:
+def _apply() -> bool:
     """Compare and hash numba's configs without building their dicts (module docstring).
-    Returns whether the change is (now or before) in place: False where numba's
-    ``TargetConfig`` is not as expected or ``SCREWKIT_NUMBA_FLAGS=0``."""
-    global _INSTALLED
-    if not enabled():
-        return _INSTALLED
-    with _LOCK:
-        if _INSTALLED:
+    Returns whether it could: False where numba's ``TargetConfig`` is not as expected
+    (numba left as it is)."""
+    try:
+        from numba.core.compiler import Flags
+        from numba.core.targetconfig import TargetConfig
+        equal, hashed = TargetConfig.__eq__, TargetConfig.__hash__
+        probe = Flags()
+        as_expected = (isinstance(probe._values, dict) and "nrt" in Flags.options
+                       and hasattr(Flags.options["nrt"], "default")
+                       and probe.values() == {k: o.default
+                                              for k, o in Flags.options.items()})
+    except (ImportError, AttributeError, TypeError):
+        return False
+    if not as_expected:
+        return False
+
+    def __eq__(self, other):
+        if not isinstance(other, TargetConfig):
+            return NotImplemented
+        if self is other:
             return True
-        try:
-            from numba.core.compiler import Flags
-            from numba.core.targetconfig import TargetConfig
-            equal, hashed = TargetConfig.__eq__, TargetConfig.__hash__
-            probe = Flags()
-            as_expected = (isinstance(probe._values, dict) and "nrt" in Flags.options
-                           and hasattr(Flags.options["nrt"], "default")
-                           and probe.values() == {k: o.default
-                                                  for k, o in Flags.options.items()})
-        except (ImportError, AttributeError, TypeError):
-            return False
-        if not as_expected:
-            return False
-
-        def __eq__(self, other):
-            if not isinstance(other, TargetConfig):
-                return NotImplemented
-            if self is other:
-                return True
-            if type(self) is not type(other):
-                return equal(self, other)
-            a, b = self._values, other._values
-            if a == b:
-                return True
-            options = type(self).options
-            for name in a.keys() | b.keys():
-                default = options[name].default
-                x, y = a.get(name, default), b.get(name, default)
-                # (as a dict's comparison of two values: the same object, else ==)
-                if x is not y and not x == y:
-                    return False
+        if type(self) is not type(other):
+            return equal(self, other)
+        a, b = self._values, other._values
+        if a == b:
             return True
-
-        def __hash__(self):
-            cls = type(self)
-            h = _HASHES.get(cls)
-            if h is None:
-                h = _HASHES[cls] = hashed(self)
-            return h
-
-        __eq__.__doc__, __eq__.__wrapped__ = equal.__doc__, equal
-        __hash__.__doc__, __hash__.__wrapped__ = hashed.__doc__, hashed
-        TargetConfig.__eq__ = __eq__
-        TargetConfig.__hash__ = __hash__
-        _INSTALLED = True
+        options = type(self).options
+        for name in a.keys() | b.keys():
+            default = options[name].default
+            x, y = a.get(name, default), b.get(name, default)
+            # (as a dict's comparison of two values: the same object, else ==)
+            if x is not y and not x == y:
+                return False
         return True
 
+    def __hash__(self):
+        cls = type(self)
+        h = _HASHES.get(cls)
+        if h is None:
+            h = _HASHES[cls] = hashed(self)
+        return h
 
-#: :func:`install` at the first compile of the process (:mod:`._patching`).
-install_on_first_compile = first_compile_installer(install, installed, enabled)
+    __eq__.__doc__, __eq__.__wrapped__ = equal.__doc__, equal
+    __hash__.__doc__, __hash__.__wrapped__ = hashed.__doc__, hashed
+    TargetConfig.__eq__ = __eq__
+    TargetConfig.__hash__ = __hash__
+    return True
+
+
+#: The change to numba's flags (:class:`._patching.CompilerChange`): ``enabled()``
+#: (``SCREWKIT_NUMBA_FLAGS``, unset: on), ``install()`` (:func:`_apply` once), ``installed()``,
+#: ``install_on_first_compile()``.
+_CHANGE = CompilerChange("SCREWKIT_NUMBA_FLAGS", _apply)
+enabled, install, installed = _CHANGE.enabled, _CHANGE.install, _CHANGE.installed
+install_on_first_compile = _CHANGE.install_on_first_compile

@@ -36,15 +36,13 @@ from __future__ import annotations
 import copy
 import threading
 
-from ._patching import first_compile_installer, switched
+from ._patching import CompilerChange
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed"]
 
 #: The memos of the running ``inline_ir`` call of this thread (``{id(scope): memo}``), or
 #: None outside one.
 _STATE = threading.local()
-_LOCK = threading.Lock()
-_INSTALLED = False
 
 
 class _SharedScopeCopies:
@@ -65,48 +63,36 @@ class _SharedScopeCopies:
         return copy.deepcopy(x, memo, *args)
 
 
-#: Whether ``SCREWKIT_NUMBA_INLINING`` (unset: on) lets :func:`install` change numba.
-enabled = switched("SCREWKIT_NUMBA_INLINING")
-
-
-def installed() -> bool:
-    """Whether :func:`install` changed numba's inlining in this process."""
-    return _INSTALLED
-
-
-def install() -> bool:
+def _apply() -> bool:
     """Make numba's IR inlining copy a callee's scope once per copy (module docstring).
-    Returns whether it is (now or before) in place: False where numba's module is not as
-    expected or ``SCREWKIT_NUMBA_INLINING=0``."""
-    global _INSTALLED
-    if not enabled():
-        return _INSTALLED
-    with _LOCK:
-        if _INSTALLED:
-            return True
+    Returns whether it could: False where numba's module is not as expected (numba left as
+    it is)."""
+    try:
+        from numba.core import inline_closurecall as ic, ir
+        original = ic.InlineWorker.inline_ir
+    except (ImportError, AttributeError):
+        return False
+    if getattr(ic, "copy", None) is not copy or not callable(original):
+        return False
+
+    def inline_ir(self, *args, **kwargs):
+        outer = getattr(_STATE, "memos", None)
+        _STATE.memos = {}
         try:
-            from numba.core import inline_closurecall as ic, ir
-            original = ic.InlineWorker.inline_ir
-        except (ImportError, AttributeError):
-            return False
-        if getattr(ic, "copy", None) is not copy or not callable(original):
-            return False
+            return original(self, *args, **kwargs)
+        finally:
+            _STATE.memos = outer
 
-        def inline_ir(self, *args, **kwargs):
-            outer = getattr(_STATE, "memos", None)
-            _STATE.memos = {}
-            try:
-                return original(self, *args, **kwargs)
-            finally:
-                _STATE.memos = outer
-
-        inline_ir.__doc__ = original.__doc__
-        inline_ir.__wrapped__ = original
-        ic.InlineWorker.inline_ir = inline_ir
-        ic.copy = _SharedScopeCopies(ir.Block)
-        _INSTALLED = True
-        return True
+    inline_ir.__doc__ = original.__doc__
+    inline_ir.__wrapped__ = original
+    ic.InlineWorker.inline_ir = inline_ir
+    ic.copy = _SharedScopeCopies(ir.Block)
+    return True
 
 
-#: :func:`install` at the first compile of the process (:mod:`._patching`).
-install_on_first_compile = first_compile_installer(install, installed, enabled)
+#: The change to numba's inlining (:class:`._patching.CompilerChange`): ``enabled()``
+#: (``SCREWKIT_NUMBA_INLINING``, unset: on), ``install()`` (:func:`_apply` once), ``installed()``,
+#: ``install_on_first_compile()``.
+_CHANGE = CompilerChange("SCREWKIT_NUMBA_INLINING", _apply)
+enabled, install, installed = _CHANGE.enabled, _CHANGE.install, _CHANGE.installed
+install_on_first_compile = _CHANGE.install_on_first_compile

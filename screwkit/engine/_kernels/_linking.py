@@ -68,12 +68,11 @@ from __future__ import annotations
 import threading
 import weakref
 
-from ._patching import first_compile_installer, switched
+from ._patching import CompilerChange
 
 __all__ = ["enabled", "install", "install_on_first_compile", "installed", "deferred",
            "counts"]
 
-_LOCK = threading.Lock()
 #: ``depth``: the parallel kernels this thread is compiling (their callees are compiled, and
 #: those loaded from the cache made, as numba does: see _callee).
 _PARALLEL = threading.local()
@@ -83,7 +82,6 @@ _COUNTS = {"deferred": 0, "made": 0}
 #: ``{name: environment}``: the environments numba set before any module in its engine
 #: defined their global (a deferred library's); set once one does (numba's ``set_env``).
 _PENDING_ENVS: dict = {}
-_INSTALLED = False
 #: The names of the libraries whose optimisation and machine code are deferred: the body of
 #: a ``prange`` loop (compiled without the Python and C wrappers nothing calls), its gufunc
 #: wrapper (``str`` of numba's ``_GufuncWrapper``; a ``guvectorize`` gufunc's wrapper, which
@@ -95,15 +93,6 @@ _LAUNCHER = "parallelgufuncwrapper"
 #: Python (``cpython.``) or C (``cfunc.``) calls.
 _KERNEL = "_ZN8screwkit6engine8_kernels"
 _WRAPPERS = ("_ZN7cpython", "cfunc.")
-
-
-#: Whether ``SCREWKIT_NUMBA_LINKING`` (unset: on) lets :func:`install` change numba.
-enabled = switched("SCREWKIT_NUMBA_LINKING")
-
-
-def installed() -> bool:
-    """Whether :func:`install` changed numba's libraries in this process."""
-    return _INSTALLED
 
 
 def deferred(library) -> bool:
@@ -138,181 +127,178 @@ def _kernel_callee(library) -> bool:
     return kernel
 
 
-def install() -> bool:
+def _apply() -> bool:
     """Defer the optimisation and machine code of the libraries of numba's ``prange`` loops,
     and the machine code of the kernels' callees, until asked for (module docstring).
-    Returns whether the change is (now or before) in place: False where numba is not as
-    expected or ``SCREWKIT_NUMBA_LINKING=0``."""
-    global _INSTALLED
-    if not enabled():
-        return _INSTALLED
-    with _LOCK:
-        if _INSTALLED:
-            return True
-        from ._loading import supported
-        if not supported():           # (numba's internals as in the releases tested)
+    Returns whether it could: False where numba is not as expected (numba left as it
+    is)."""
+    from ._loading import supported
+    if not supported():           # (numba's internals as in the releases tested)
+        return False
+    try:
+        from numba.core import codegen, config
+        from numba.parfors import parfor_lowering
+        library_class, jit_codegen = codegen.JITCodeLibrary, codegen.JITCPUCodegen
+        finish = codegen.CPUCodeLibrary._finalize_final_module
+        optimise = codegen.CPUCodeLibrary._optimize_final_module
+        link_module = codegen.CPUCodeLibrary._get_module_for_linking
+        steps = (codegen.CPUCodeLibrary._finalize_dynamic_globals,
+                 codegen.CPUCodeLibrary._verify_declare_only_symbols)
+        pointer = library_class.get_pointer_to_function
+        serialise = library_class.serialize_using_object_code
+        compiled_object = library_class._get_compiled_object
+        specific = library_class._finalize_specific
+        set_env = jit_codegen.set_env
+        body = parfor_lowering._create_gufunc_for_parfor_body
+    except (ImportError, AttributeError):
+        return False
+    if not all(callable(f) for f in (finish, optimise, link_module, *steps, pointer,
+                                     serialise, compiled_object, specific, set_env,
+                                     body)):
+        return False
+    mangled = "_CPUCodeLibrary__library"       # numba's ``module.__library``
+
+    def _callee(self):
+        # (once a library: its functions are those it was finalised with; none while a
+        # parallel kernel compiles, see _PARALLEL)
+        verdict = self.__dict__.get("_screwkit_callee")
+        if verdict is None:
+            verdict = self._screwkit_callee = (
+                isinstance(self, library_class) and not getattr(_PARALLEL, "depth", 0)
+                and _kernel_callee(self))
+        return verdict
+
+    def _deferring(self):
+        if config.DUMP_OPTIMIZED or config.DUMP_ASSEMBLY:
             return False
+        return (type(self) is library_class and _linked_only(self)) or _callee(self)
+
+    def _optimize_final_module(self):
+        if not (_deferring(self) and _linked_only(self)):
+            # (a kernel's callee is optimised as numba does: its callers link it in so)
+            return optimise(self)
+        # the module stays as linked (its functions optimised one by one); the kernel
+        # linking it in optimises it with all the rest
+        self._screwkit_unoptimised = True
+        return None
+
+    def _finalize_final_module(self):
+        if not _deferring(self):
+            return finish(self)
+        # numba's steps up to the engine (finalize() linked the module in before): the
+        # symbols checked and the module kept as it is
+        self._finalize_dynamic_globals()
+        self._verify_declare_only_symbols()
+        setattr(self._final_module, mangled, weakref.proxy(self))
+        self._screwkit_deferred = True
+        self._finalized = True
+        _COUNTS["deferred"] += 1
+
+    def _make_machine_code(self):
+        # the rest of numba's finalize, once, when first needed
+        if self.__dict__.pop("_screwkit_deferred", False):
+            if self.__dict__.pop("_screwkit_unoptimised", False):
+                optimise(self)
+            cleanup = self._codegen._add_module(self._final_module)
+            if cleanup:
+                weakref.finalize(self, cleanup)
+            self._finalize_specific()
+            _COUNTS["made"] += 1
+
+    def _defines(self, name):
         try:
-            from numba.core import codegen, config
-            from numba.parfors import parfor_lowering
-            library_class, jit_codegen = codegen.JITCodeLibrary, codegen.JITCPUCodegen
-            finish = codegen.CPUCodeLibrary._finalize_final_module
-            optimise = codegen.CPUCodeLibrary._optimize_final_module
-            link_module = codegen.CPUCodeLibrary._get_module_for_linking
-            steps = (codegen.CPUCodeLibrary._finalize_dynamic_globals,
-                     codegen.CPUCodeLibrary._verify_declare_only_symbols)
-            pointer = library_class.get_pointer_to_function
-            serialise = library_class.serialize_using_object_code
-            compiled_object = library_class._get_compiled_object
-            specific = library_class._finalize_specific
-            set_env = jit_codegen.set_env
-            body = parfor_lowering._create_gufunc_for_parfor_body
-        except (ImportError, AttributeError):
+            return not self._final_module.get_function(name).is_declaration
+        except NameError:
             return False
-        if not all(callable(f) for f in (finish, optimise, link_module, *steps, pointer,
-                                         serialise, compiled_object, specific, set_env,
-                                         body)):
-            return False
-        mangled = "_CPUCodeLibrary__library"       # numba's ``module.__library``
 
-        def _callee(self):
-            # (once a library: its functions are those it was finalised with; none while a
-            # parallel kernel compiles, see _PARALLEL)
-            verdict = self.__dict__.get("_screwkit_callee")
-            if verdict is None:
-                verdict = self._screwkit_callee = (
-                    isinstance(self, library_class) and not getattr(_PARALLEL, "depth", 0)
-                    and _kernel_callee(self))
-            return verdict
-
-        def _deferring(self):
-            if config.DUMP_OPTIMIZED or config.DUMP_ASSEMBLY:
-                return False
-            return (type(self) is library_class and _linked_only(self)) or _callee(self)
-
-        def _optimize_final_module(self):
-            if not (_deferring(self) and _linked_only(self)):
-                # (a kernel's callee is optimised as numba does: its callers link it in so)
-                return optimise(self)
-            # the module stays as linked (its functions optimised one by one); the kernel
-            # linking it in optimises it with all the rest
-            self._screwkit_unoptimised = True
-            return None
-
-        def _finalize_final_module(self):
-            if not _deferring(self):
-                return finish(self)
-            # numba's steps up to the engine (finalize() linked the module in before): the
-            # symbols checked and the module kept as it is
-            self._finalize_dynamic_globals()
-            self._verify_declare_only_symbols()
-            setattr(self._final_module, mangled, weakref.proxy(self))
-            self._screwkit_deferred = True
-            self._finalized = True
-            _COUNTS["deferred"] += 1
-
-        def _make_machine_code(self):
-            # the rest of numba's finalize, once, when first needed
-            if self.__dict__.pop("_screwkit_deferred", False):
-                if self.__dict__.pop("_screwkit_unoptimised", False):
-                    optimise(self)
-                cleanup = self._codegen._add_module(self._final_module)
-                if cleanup:
-                    weakref.finalize(self, cleanup)
-                self._finalize_specific()
-                _COUNTS["made"] += 1
-
-        def _defines(self, name):
-            try:
-                return not self._final_module.get_function(name).is_declaration
-            except NameError:
-                return False
-
-        def get_pointer_to_function(self, name):
-            self._ensure_finalized()
-            # a name the library does not define (a function compiled without its Python
-            # wrapper is asked for it all the same: null) needs none of its machine code
-            if deferred(self) and _defines(self, name):
-                _make_machine_code(self)
-            return pointer(self, name)
-
-        def _get_module_for_linking(self):
-            if getattr(_PARALLEL, "depth", 0) and deferred(self) and _callee(self):
-                # a parallel kernel links its callees as numba hands them on, after their
-                # machine code (whose passes change the module in place: the code LLVM
-                # makes of the kernel depends on it; a 6-SPS batch ran 5 % slower without)
-                _make_machine_code(self)
-                self._shared_module = None
-            return link_module(self)
-
-        def serialize_using_object_code(self):
-            self._ensure_finalized()
-            if deferred(self) and _callee(self):
-                # a kernel's callee is cached as its optimised module's bitcode, all its
-                # callers link in (numba's own kind for it; its machine code never runs)
-                return (self.name, "bitcode", self._final_module.as_bitcode())
+    def get_pointer_to_function(self, name):
+        self._ensure_finalized()
+        # a name the library does not define (a function compiled without its Python
+        # wrapper is asked for it all the same: null) needs none of its machine code
+        if deferred(self) and _defines(self, name):
             _make_machine_code(self)
-            return serialise(self)
+        return pointer(self, name)
 
-        def _get_compiled_object(self):
+    def _get_module_for_linking(self):
+        if getattr(_PARALLEL, "depth", 0) and deferred(self) and _callee(self):
+            # a parallel kernel links its callees as numba hands them on, after their
+            # machine code (whose passes change the module in place: the code LLVM
+            # makes of the kernel depends on it; a 6-SPS batch ran 5 % slower without)
             _make_machine_code(self)
-            return compiled_object(self)
+            self._shared_module = None
+        return link_module(self)
 
-        def _finalize_specific(self):
-            specific(self)
-            # environments numba set while no module of the engine defined their global
-            # (a deferred library's): set where the engine now finds one
-            engine = self._codegen._engine
-            for name in [n for n in _PENDING_ENVS if engine.is_symbol_defined(n)]:
-                set_env(self._codegen, name, _PENDING_ENVS.pop(name))
+    def serialize_using_object_code(self):
+        self._ensure_finalized()
+        if deferred(self) and _callee(self):
+            # a kernel's callee is cached as its optimised module's bitcode, all its
+            # callers link in (numba's own kind for it; its machine code never runs)
+            return (self.name, "bitcode", self._final_module.as_bitcode())
+        _make_machine_code(self)
+        return serialise(self)
 
-        def _set_env(self, env_name, env):
-            if self._engine.is_symbol_defined(env_name):
-                return set_env(self, env_name, env)
-            _PENDING_ENVS[env_name] = env
-            return None
+    def _get_compiled_object(self):
+        _make_machine_code(self)
+        return compiled_object(self)
 
-        def _create_gufunc_for_parfor_body(lowerer, parfor, typemap, typingctx, targetctx,
-                                           flags, *args, **kwargs):
-            # the loop's body is called by its gufunc wrapper alone: no Python or C wrapper
-            # (numba would ask for a pointer to the Python one, and so for machine code)
-            flags = flags.copy()
-            flags.no_cpython_wrapper = True
-            flags.no_cfunc_wrapper = True
-            return body(lowerer, parfor, typemap, typingctx, targetctx, flags, *args,
-                        **kwargs)
+    def _finalize_specific(self):
+        specific(self)
+        # environments numba set while no module of the engine defined their global
+        # (a deferred library's): set where the engine now finds one
+        engine = self._codegen._engine
+        for name in [n for n in _PENDING_ENVS if engine.is_symbol_defined(n)]:
+            set_env(self._codegen, name, _PENDING_ENVS.pop(name))
 
-        for new, old in ((get_pointer_to_function, pointer),
-                         (serialize_using_object_code, serialise),
-                         (_get_compiled_object, compiled_object),
-                         (_finalize_specific, specific), (_set_env, set_env),
-                         (_create_gufunc_for_parfor_body, body)):
-            new.__doc__ = old.__doc__
-            new.__wrapped__ = old
-        from numba.core import event
+    def _set_env(self, env_name, env):
+        if self._engine.is_symbol_defined(env_name):
+            return set_env(self, env_name, env)
+        _PENDING_ENVS[env_name] = env
+        return None
 
-        class _ParallelCompiles(event.Listener):
-            def on_start(self, ev):
-                if ev.data["dispatcher"].targetoptions.get("parallel"):
-                    _PARALLEL.depth = getattr(_PARALLEL, "depth", 0) + 1
+    def _create_gufunc_for_parfor_body(lowerer, parfor, typemap, typingctx, targetctx,
+                                       flags, *args, **kwargs):
+        # the loop's body is called by its gufunc wrapper alone: no Python or C wrapper
+        # (numba would ask for a pointer to the Python one, and so for machine code)
+        flags = flags.copy()
+        flags.no_cpython_wrapper = True
+        flags.no_cfunc_wrapper = True
+        return body(lowerer, parfor, typemap, typingctx, targetctx, flags, *args,
+                    **kwargs)
 
-            def on_end(self, ev):
-                if ev.data["dispatcher"].targetoptions.get("parallel"):
-                    _PARALLEL.depth -= 1
+    for new, old in ((get_pointer_to_function, pointer),
+                     (serialize_using_object_code, serialise),
+                     (_get_compiled_object, compiled_object),
+                     (_finalize_specific, specific), (_set_env, set_env),
+                     (_create_gufunc_for_parfor_body, body)):
+        new.__doc__ = old.__doc__
+        new.__wrapped__ = old
+    from numba.core import event
 
-        event.register("numba:compile", _ParallelCompiles())
-        codegen.CPUCodeLibrary._finalize_final_module = _finalize_final_module
-        codegen.CPUCodeLibrary._optimize_final_module = _optimize_final_module
-        codegen.CPUCodeLibrary._get_module_for_linking = _get_module_for_linking
-        library_class.get_pointer_to_function = get_pointer_to_function
-        library_class.serialize_using_object_code = serialize_using_object_code
-        library_class._get_compiled_object = _get_compiled_object
-        library_class._finalize_specific = _finalize_specific
-        jit_codegen.set_env = _set_env
-        parfor_lowering._create_gufunc_for_parfor_body = _create_gufunc_for_parfor_body
-        _INSTALLED = True
-        return True
+    class _ParallelCompiles(event.Listener):
+        def on_start(self, ev):
+            if ev.data["dispatcher"].targetoptions.get("parallel"):
+                _PARALLEL.depth = getattr(_PARALLEL, "depth", 0) + 1
+
+        def on_end(self, ev):
+            if ev.data["dispatcher"].targetoptions.get("parallel"):
+                _PARALLEL.depth -= 1
+
+    event.register("numba:compile", _ParallelCompiles())
+    codegen.CPUCodeLibrary._finalize_final_module = _finalize_final_module
+    codegen.CPUCodeLibrary._optimize_final_module = _optimize_final_module
+    codegen.CPUCodeLibrary._get_module_for_linking = _get_module_for_linking
+    library_class.get_pointer_to_function = get_pointer_to_function
+    library_class.serialize_using_object_code = serialize_using_object_code
+    library_class._get_compiled_object = _get_compiled_object
+    library_class._finalize_specific = _finalize_specific
+    jit_codegen.set_env = _set_env
+    parfor_lowering._create_gufunc_for_parfor_body = _create_gufunc_for_parfor_body
+    return True
 
 
-#: :func:`install` at the first compile of the process (:mod:`._patching`).
-install_on_first_compile = first_compile_installer(install, installed, enabled)
+#: The change to numba's libraries (:class:`._patching.CompilerChange`): ``enabled()``
+#: (``SCREWKIT_NUMBA_LINKING``, unset: on), ``install()`` (:func:`_apply` once), ``installed()``,
+#: ``install_on_first_compile()``.
+_CHANGE = CompilerChange("SCREWKIT_NUMBA_LINKING", _apply)
+enabled, install, installed = _CHANGE.enabled, _CHANGE.install, _CHANGE.installed
+install_on_first_compile = _CHANGE.install_on_first_compile

@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import threading
 
-__all__ = ["switch", "switched", "on_first_compile", "first_compile_installer"]
+__all__ = ["switch", "switched", "on_first_compile", "CompilerChange"]
 
 _ON, _OFF = ("1", "yes", "on", "true"), ("0", "no", "off", "false")
 _LOCK = threading.Lock()
@@ -43,15 +43,39 @@ def switched(name: str):
     return enabled
 
 
-def first_compile_installer(install, installed, enabled):
-    """The ``install_on_first_compile()`` of a change: its ``install()`` when numba starts
-    compiling a function in this process (:func:`on_first_compile`), where ``enabled()``."""
-    def install_on_first_compile() -> None:
-        """:func:`install` when numba starts compiling a function in this process (its
-        ``numba:compile`` event: a cache miss), before that compilation; nothing before."""
-        if enabled():
-            on_first_compile(install, installed)
-    return install_on_first_compile
+class CompilerChange:
+    """One of screwkit's changes to numba's compiler: its environment switch ``name``
+    (``enabled()``), its installation once a process (``install()``: under a lock, ``apply()``
+    makes the change and returns whether it could, False leaving numba as it was), whether
+    it is in place (``installed()``), and its installation at the process's first compile
+    (``install_on_first_compile()``, :func:`on_first_compile`)."""
+
+    def __init__(self, name: str, apply):
+        self.enabled = switched(name)
+        self._apply = apply
+        self._lock = threading.Lock()
+        self._installed = False
+
+    def installed(self) -> bool:
+        """Whether :meth:`install` made the change in this process."""
+        return self._installed
+
+    def install(self) -> bool:
+        """Make the change, once (later calls return True); where switched off, nothing
+        (returns whether it was made before).  Returns whether it is in place."""
+        if not self.enabled():
+            return self._installed
+        with self._lock:
+            if not self._installed:
+                self._installed = bool(self._apply())
+            return self._installed
+
+    def install_on_first_compile(self) -> None:
+        """:meth:`install` when numba starts compiling a function in this process (its
+        ``numba:compile`` event: a cache miss), before that compilation; nothing before, or
+        where switched off."""
+        if self.enabled():
+            on_first_compile(self.install, self.installed)
 
 
 def on_first_compile(install, installed) -> None:
