@@ -347,11 +347,11 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
     load = resolve_workload(model, force, torque)
     F, T, source = load if load is not None else (np.zeros(3), np.zeros(3), "")
-    fixed, N, single, notes, X0, side, invalid = prepare(model, pose, guess, degrees)
+    fixed, N, single, notes, (X0, G6), side, invalid = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     compliance = None if stiffness is None else _compliance(model, stiffness, N)
-    comp = compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
+    comp = compute(model, fixed, X0=X0, G6=G6, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
                    compliance=compliance, mapper=mapper if path else None, twists=bool(twists),
                    lines=bool(lines))

@@ -23,7 +23,7 @@ from ..pm import LENGTH_PARAMS, PARAMS
 from ._arrays import FlatModel, build, joint_arrays, line_table, platform_array
 from ._kernels import _layout as lay
 
-__all__ = ["FlatModel", "flatten", "reflatten", "flatten_legs"]
+__all__ = ["FlatModel", "flatten", "reflatten", "flatten_legs", "base_points_of"]
 
 
 _FLAT: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -105,3 +105,13 @@ def flatten_legs(legs, templates, o, info, passive=(), frame=None) -> FlatModel:
                  order="XYZ", independent=tuple(PARAMS),
                  home_pose=dict(zip(PARAMS, [*(R.T @ (o - p)), 0.0, 0.0, 0.0])), info=info,
                  passive=tuple(passive))
+
+
+def base_points_of(flat) -> np.ndarray:
+    """The world base points ``A_i (n, 3)`` of a flattened model, read-only (one copy per
+    model, not one per solution)."""
+    A = flat.packed.get("A")
+    if A is None:
+        A = flat.packed["A"] = np.array(flat.M[lay.A], float)
+        A.setflags(write=False)
+    return A

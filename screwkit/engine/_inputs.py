@@ -208,11 +208,13 @@ def _pose_bound(model, k, a, degrees):
 
 
 def _start_of(model, guess, N, degrees=False):
-    """Warm starts ``(X (n_unknowns, N), side)`` from a guess (a dict's angles in degrees
-    with ``degrees``), or ``(None, None)``."""
+    """Warm starts ``(X (n_unknowns, N), side, G6)`` from a guess (a dict's angles in degrees
+    with ``degrees``), or ``(None, None, None)``.  ``G6 (N, 6)``: the pose parameters of a
+    solution given as the guess (NaN where it has none), by which the kernels move each start
+    (``run_poses``); a dict's guess has none (``None``)."""
     err = _errors()
     if guess is None:
-        return None, None
+        return None, None, None
     ch = chains_of(model)
     if not hasattr(guess, "closures") and hasattr(guess, "solution") and \
             hasattr(guess, "statics"):                              # a PMAnalysis: its poses
@@ -222,12 +224,12 @@ def _start_of(model, guess, N, degrees=False):
                 [len(lg.joints) for lg in model.home_legs]:
             raise err.InputError(f"{model.name}: the guess is a solution of another PM")
         X = guess.closures.X
-        b = guess._params["beta"]
+        b, G6 = guess._params["beta"], guess._pose6
         if X.shape[1] == 1 and N > 1:
-            X, b = np.repeat(X, N, axis=1), np.repeat(b, N)
+            X, b, G6 = np.repeat(X, N, axis=1), np.repeat(b, N), np.repeat(G6, N, axis=0)
         if X.shape[1] != N:
             raise err.InputError(f"{model.name}: the guess has {X.shape[1]} poses for {N}")
-        return X.copy(), b
+        return X.copy(), b, G6
     if isinstance(guess, dict):
         X = ch.home_vector(N)
         for k, v in guess.items():
@@ -244,15 +246,17 @@ def _start_of(model, guess, N, degrees=False):
                 guess = dict(guess, **{k: a})
             if k in ch.unknown:
                 X[ch.unknown.index(k)] = a / ch.x_scale[ch.unknown.index(k)]
-        return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float), (N,))
+        return X, np.broadcast_to(np.asarray(guess.get("beta", ch.home["beta"]), float),
+                                  (N,)), None
     raise err.InputError(f"{model.name}: guess must be a PoseSolution, a PMAnalysis or a dict of pose "
                          "parameters")
 
 
 def prepare(model, pose, guess, degrees):
-    """Validated inputs of a solve: ``(fixed, N, single, notes, X0, side, invalid)``."""
+    """Validated inputs of a solve: ``(fixed, N, single, notes, (X0, G6), side, invalid)``
+    (the warm starts and the poses they solve: :func:`_start_of`)."""
     fixed, N, one, notes, invalid = pose_arrays(model, pose, degrees)
-    X0, bside = _start_of(model, guess, N, degrees)
+    X0, bside, G6 = _start_of(model, guess, N, degrees)
     side = None
     if bside is not None and "beta" in fixed:
         if N == 1:                       # (one pose: the same numbers without numpy's calls)
@@ -261,7 +265,7 @@ def prepare(model, pose, guess, degrees):
         else:
             d = np.asarray(bside) - fixed["beta"]
             side = np.where(np.abs(d) > 1e-4, np.sign(d), 0.0)
-    return fixed, N, one, notes, X0, side, invalid
+    return fixed, N, one, notes, (X0, G6), side, invalid
 
 
 def check_keywords(what: str, kwargs: dict, allowed, named: str = "") -> None:

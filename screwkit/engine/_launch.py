@@ -117,9 +117,9 @@ class _Plan:
 
 
 def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
-          lines=False, nrows=0, nstencil=0, excess=False) -> _Plan:
+          lines=False, nrows=0, nstencil=0, excess=False, nguess=0) -> _Plan:
     key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines,
-           nrows, nstencil, excess)
+           nrows, nstencil, excess, nguess)
     plan = flat.packed.get(key)
     if plan is not None:
         return plan
@@ -127,8 +127,9 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     rn = N if rows else 0
     sn = N if (rows and statics) else 0
     plan = _Plan()
-    ins = [(N, 6), (nx0, nx), (nside,), (3,), (3,), (ncomp, mr), (mr,), (nrows,),
-           (nstencil, STENCIL_WIDTH)]
+    # (the warm starts' rows: the unknowns, then the pose each solves where it is given)
+    ins = [(N, 6), (nx0, nx + (6 if nguess else 0)), (nside,), (3,), (3,), (ncomp, mr), (mr,),
+           (nrows,), (nstencil, STENCIL_WIDTH)]
     inp = Packed(ins, ("f",) * 6 + ("i", "i", "f"))
     plan.in_d, plan.in_nf = inp.d, inp.f.size
     plan.in_f = [(o, o + size, sh) for (o, size), sh in zip(inp.offsets[:6], ins)]
@@ -169,13 +170,16 @@ def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
     return b
 
 
-def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compliance=None,
-              solve=True, rows=True, statics=True, continuation=True, twists=False,
-              lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
+def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=None,
+              compliance=None, solve=True, rows=True, statics=True, continuation=True,
+              twists=False, lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
               blocks: bool | None = True, out=None) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
-    dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` or the home
-    predictor (``solve``), or the frames of the given unknowns ``X (N, nx)``; then the rows,
+    dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` (with ``G6 (N,
+    6)``, the parameters of the poses they solve: each moved by the home predictor's change
+    from there, where it lies on the predictor's branch, ``_kernels/_solve_lanes.
+    moved_starts``) or the home predictor (``solve``), or the frames of the given unknowns
+    ``X (N, nx)``; then the rows,
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
     outputs by name (:data:`OUTPUTS`); with ``lines`` also ``lines (N, n, LINE_WIDTH)``, the
     joints the transmission indices read (``_kernels/_indices.pose_lines``), and the platform
@@ -200,14 +204,19 @@ def run_poses(flat, Z, P6, *, X0=None, X=None, side=None, F=None, T=None, compli
                  0 if side is None else len(side),
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
                  bool(statics), bool(continuation), bool(twists), bool(lines),
-                 N if scattered else 0, 0, out is not None and out[0].kind[-1])
+                 N if scattered else 0, 0, out is not None and out[0].kind[-1],
+                 N if G6 is not None and X0 is not None else 0)
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \
         (c0, c1, csh) = plan.in_f
     If[p0:p1].reshape(psh)[...] = P6
     if X0 is not None:
-        If[x0:x1].reshape(xsh)[...] = X0
+        if G6 is None:
+            If[x0:x1].reshape(xsh)[...] = X0
+        else:
+            rows = If[x0:x1].reshape(xsh)
+            rows[:, :-6], rows[:, -6:] = X0, G6
     if side is not None:
         If[s0:s1] = side
     If[f0:f1] = 0.0 if F is None else F

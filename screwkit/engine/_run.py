@@ -173,7 +173,7 @@ def _chunk_task(model, rows, F, T, compliance, item):
 
 
 def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, workers,
-                progress, twists, lines=False) -> Computed:
+                progress, twists, lines=False, G6=None) -> Computed:
     """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
     they are, without the chunks' copies."""
     flat = ch.flat
@@ -185,7 +185,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     else:
         P6 = ch.full_params(fixed, N)
     o = run_poses(flat, predictor_of(ch), P6,
-                  X0=None if X0 is None else X0.T, side=side, F=F, T=T,
+                  X0=None if X0 is None else X0.T, G6=G6, side=side, F=F, T=T,
                   compliance=compliance, rows=rows, statics=F is not None, twists=twists,
                   lines=lines, workers=workers)
     if progress:
@@ -206,9 +206,10 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
                     out.get("platform"), out.get("reversed_mask"))
 
 
-def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=None,
-            rows=True, F=None, T=None, chunk=CHUNK, workers=None, progress=None,
-            compliance=None, mapper=None, twists=False, lines=False) -> Computed:
+def compute(model, fixed: dict, *, X0=None, G6=None, side=None, path=False,
+            anchor_every=None, rows=True, F=None, T=None, chunk=CHUNK, workers=None,
+            progress=None, compliance=None, mapper=None, twists=False,
+            lines=False) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
     ``progress(done, total)``: ``total = N``, or ``2 N`` for a path with rows (its closures
@@ -216,15 +217,18 @@ def compute(model, fixed: dict, *, X0=None, side=None, path=False, anchor_every=
     computes ``[fn(x) for x in items]`` elsewhere, e.g. on a Dask cluster; the path's
     closures are solved here, the rows and statics of its chunks by the mapper.  ``lines``
     (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
-    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`).
+    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`).  ``G6 (N,
+    6)`` (with ``X0``, not a path): the parameters of the poses the warm starts solve, by
+    which the kernels move each start (:func:`~screwkit.engine._launch.run_poses`).
 
     A pose whose solution runs a leg's linear actuator to a negative length
     (:mod:`._reversal`) is solved again (its reversed legs from home, else by continuation
     from home), and is unreachable (``closures.reversed``; ``diagnostics["reversed_legs"]
     (N, n)`` saying which legs) where that finds no other assembly."""
-    comp = _compute(model, fixed, X0=X0, side=side, path=path, anchor_every=anchor_every,
-                    rows=rows, F=F, T=T, chunk=chunk, workers=workers, progress=progress,
-                    compliance=compliance, mapper=mapper, twists=twists, lines=lines)
+    comp = _compute(model, fixed, X0=X0, G6=G6, side=side, path=path,
+                    anchor_every=anchor_every, rows=rows, F=F, T=T, chunk=chunk,
+                    workers=workers, progress=progress, compliance=compliance,
+                    mapper=mapper, twists=twists, lines=lines)
     return _unreversed(model, comp, side, rows, F, T, compliance, workers, twists, lines)
 
 
@@ -282,7 +286,7 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
                          diagnostics=diag)
 
 
-def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, chunk,
+def _compute(model, fixed: dict, *, X0, G6, side, path, anchor_every, rows, F, T, chunk,
              workers, progress, compliance, mapper, twists, lines) -> Computed:
     """:func:`compute` by its routes (one launch, chunks, a path), as the kernels solve."""
     compile_analysis()                  # (a first run: the kernels compiled on two processes)
@@ -293,7 +297,7 @@ def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, ch
     templates = templates_of(model) if rows else None
     if not path and N <= chunk:
         return _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
-                           workers, progress, twists, lines)
+                           workers, progress, twists, lines, G6)
     diag = {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))
@@ -359,7 +363,7 @@ def _compute(model, fixed: dict, *, X0, side, path, anchor_every, rows, F, T, ch
             comp = compliance if compliance is None or np.ndim(compliance) < 2 or \
                 np.shape(compliance)[0] != N else compliance[sl]
             o = run_poses(flat, Z, P6, X0=None if X0 is None else X0[:, sl].T,
-                          X=X[sl] if path else None,
+                          G6=None if G6 is None or path else G6[sl], X=X[sl] if path else None,
                           side=None if side is None else side[sl], F=F, T=T, compliance=comp,
                           rows=rows, statics=statics, twists=twists, lines=lines,
                           workers=workers, out=None if path else (buffers, sl.start))

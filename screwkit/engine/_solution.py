@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._chains import LENGTH_PARAMS, PARAMS
+from ._flat import base_points_of
 from ._inputs import check_keywords, pose_index, prepare
 from ._kernels._layout import ACCEPTED, CONVERGED
 from ._solve import Closures
@@ -94,6 +95,16 @@ class PoseSolution:
                 v[bad] = np.nan
             v.setflags(write=False)
             out[k] = v
+        return out
+
+    @cached_property
+    def _pose6(self) -> np.ndarray:
+        """:attr:`_params` as ``(N, 6)`` in :data:`PARAMS`' order, read-only: a warm start's
+        poses, by which the kernels move the start (``_inputs._start_of``)."""
+        P = self._params
+        out = np.array([[P[k].item() for k in PARAMS]]) if len(P["Zo"]) == 1 else \
+            np.stack([P[k] for k in PARAMS], axis=1)      # (one pose: without numpy's stack)
+        out.setflags(write=False)
         return out
 
     @property
@@ -264,17 +275,6 @@ class PoseSolution:
                 f"{'ok' if self.success else 'NOT converged'})")
 
 
-def base_points_of(flat) -> np.ndarray:
-    """The world base points ``A_i (n, 3)`` of a flattened model, read-only (one copy per
-    model, not one per solution)."""
-    A = flat.packed.get("A")
-    if A is None:
-        from ._kernels._layout import A as _A
-        A = flat.packed["A"] = np.array(flat.M[_A], float)
-        A.setflags(write=False)
-    return A
-
-
 def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = False,
           single=None, raise_unreachable=None, **kwargs) -> PoseSolution:
     """Unified inverse displacement at N poses (see the module docstring).
@@ -301,11 +301,11 @@ def solve(model, pose=None, guess=None, degrees: bool = False, *, path: bool = F
 
     check_keywords("solve", kwargs, ("chunk", "workers", "anchor_every", "progress"),
                    "guess, degrees, path, single, raise_unreachable, ")
-    fixed, N, one, notes, X0, side, invalid = prepare(model, pose, guess, degrees)
+    fixed, N, one, notes, (X0, G6), side, invalid = prepare(model, pose, guess, degrees)
     path, path_notes = check_path(fixed, path, float(model.normalisation.length))
     notes = tuple(notes) + path_notes
     single = one if single is None else single
-    comp = compute(model, fixed, X0=X0, side=side, path=path, rows=False, **kwargs)
+    comp = compute(model, fixed, X0=X0, G6=G6, side=side, path=path, rows=False, **kwargs)
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
                         invalid, (comp.diagnostics or {}).get("reversed_legs"))
     if (single if raise_unreachable is None else raise_unreachable):

@@ -17,8 +17,10 @@ Arguments (tuples of arrays, see :mod:`screwkit.engine._flat`):
   singularity), ``fix, fix2`` (the given ones), ``p6home``, the predictor's ``C``, ``fhome``,
   ``fspan`` and ``degree`` (an array of one integer);
 * ``I`` the inputs: ``P6 (N, 6)`` the given parameters (the dependent ones are ignored),
-  ``X0 (N or 0, nx)`` warm starts, ``side (N or 0,)``, ``F (3,)``, ``T (3,)``, ``comp (N or 1
-  or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``, ``rows (N
+  ``X0 (N or 0, nx or nx + 6)`` warm starts (with six more columns, the parameters of the
+  pose each solves: the start moved by the home predictor's change from there,
+  :func:`._solve_lanes.moved_starts`), ``side (N or 0,)``, ``F (3,)``, ``T (3,)``,
+  ``comp (N or 1 or 0, rows)`` compliances (0 rows: the least-norm default), ``torque (rows,)``, ``rows (N
   or 0,)`` the row of the outputs each pose writes (0: its own, :func:`._pack.out_row`),
   ``stencil (N or 0, _layout.STENCIL_WIDTH)`` a path level's starts (the rows of ``X0``
   formed in the launch from the solved samples' unknowns, rows of ``O``'s, and each

@@ -3,27 +3,52 @@ lane of a block of ``BLOCK`` poses and then finished alone (the rest of a Newton
 rescue), as :mod:`._driver`'s loops call them; every lane is the pose alone, the same bits.
 """
 
-from ._jit import inlined, one_lane
+import math
 
-from ._block import (K_F, K_ITS, K_P6, K_PZ, K_STATE, K_TOL, K_X, LANE_ACTIVE, LANE_ALONE,
+from ._jit import inlined, lanes, one_lane
+
+from ._block import (K_F, K_ITS, K_P6, K_PT, K_PZ, K_STATE, K_STEP, K_TOL, K_X, K_XN,
+                     LANE_ACTIVE, LANE_ALONE,
                      block_newton, lane_frames)
 from ._closures import pose_checks, predict, rescue, solve_pose, whole_turns
 from ._layout import (ACCEPTED, BLOCK, CONVERGED, F_CONTINUATION, OUT_HOW, OUT_ITS, OUT_SING,
                       OUT_X, ORDER)
-from ._newton import W_PZ, W_XB, home_vector, newton_from
+from ._newton import W_P6S, W_PZ, W_XB, W_XR, home_vector, newton_from
 from ._pack import out_row
+
+
+#: Largest difference (radians, lengths over ``L``) between a warm start and the home
+#: predictor at the warm start's own pose for the start to be moved by the predictor's change
+#: (:func:`moved_starts`): the predictor's error within two half-widths of its fit is some
+#: 2e-3 (a 3RRPRR), and a warm start of another branch of the closures differs by far more.
+SAME_BRANCH = 1e-2
 
 
 @inlined
 def start(Z, I, O, p, W):
-    """Pose ``p``'s start into its row of ``O[OUT_X]``: its warm start, else the home
-    predictor's."""
+    """Pose ``p``'s start into its row of ``O[OUT_X]``: its warm start (moved by the home
+    predictor's change from the warm start's pose, where the row of ``X0`` holds that pose
+    after the unknowns: :func:`moved_starts`), else the home predictor's."""
     unk, xs, fix, p6home = Z[0], Z[1], Z[4], Z[6]
     P6, X0 = I[0], I[1]
     X = O[OUT_X][out_row(I, p)]
+    nx = X.shape[0]
     if X0.shape[0]:
-        for k in range(X.shape[0]):
+        for k in range(nx):
             X[k] = X0[p, k]
+        if X0.shape[1] > nx:
+            # the predictor at the pose (row 0 of the singularity's scratch, which the solve
+            # writes before it reads) and at the guess's pose (row 1; the pose itself in the
+            # continuation's), as the block's lanes
+            Xh, g6, A, B = W[W_XB], W[W_P6S][0], W[W_XR][0], W[W_XR][1]
+            home_vector(unk, xs, p6home, Xh)
+            for k in range(6):
+                g6[k] = X0[p, nx + k]
+            predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(P6[p]), Xh, one_lane(A),
+                    W[W_PZ], 1, 1)
+            predict(Z[7], fix, Z[8], Z[9], Z[10][0], one_lane(g6), Xh, one_lane(B), W[W_PZ],
+                    1, 1)
+            moved_starts(one_lane(X), one_lane(A), one_lane(B), 1, 1)
     else:
         Xh = W[W_XB]                  # (scratch: the home vector, read only here)
         home_vector(unk, xs, p6home, Xh)
@@ -63,10 +88,22 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
     for l in range(nb):
         for k in range(6):
             P6b[k, l] = P6[p0 + l, k]
+    nx = Xb.shape[0]
     if X0.shape[0]:                   # the warm starts
         for l in range(nb):
-            for k in range(Xb.shape[0]):
+            for k in range(nx):
                 Xb[k, l] = X0[p0 + l, k]
+        if X0.shape[1] > nx:          # moved by the predictor's change, as start does
+            # (scratch until the Newton run: its trial unknowns, its step, its platform
+            # columns, each written before it is read)
+            Xh, A, B, G6b = W[W_XB], K[K_XN], K[K_STEP], K[K_PT][0]
+            home_vector(unk, xs, Z[6], Xh)
+            for l in range(nb):
+                for k in range(6):
+                    G6b[k, l] = X0[p0 + l, nx + k]
+            predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], P6b, Xh, A, K[K_PZ], nb, BLOCK)
+            predict(Z[7], Z[4], Z[8], Z[9], Z[10][0], G6b, Xh, B, K[K_PZ], nb, BLOCK)
+            moved_starts(Xb, A, B, nb, BLOCK)
     else:                             # the home predictor's, the lanes at once
         Xh = W[W_XB]
         home_vector(unk, xs, Z[6], Xh)
@@ -75,7 +112,7 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         p = p0 + l
         q = out_row(I, p)
         X = O[OUT_X][q]
-        if X0.shape[0]:               # (the row as it is: no strided read of the lanes)
+        if X0.shape[0] and X0.shape[1] == X.shape[0]:   # (the row as it is: no strided read)
             x0 = X0[p]
             for k in range(X.shape[0]):
                 X[k] = x0[k]
@@ -89,6 +126,27 @@ def solve_block(M, Z, I, O, p0, nb, W, K):
         # alone writes its own)
         O[OUT_SING][q] = sing
     return block_newton(M, unk, xs, K, nb, 30, W)
+
+
+@inlined
+def moved_starts(X, A, B, nb, ls):
+    """The warm starts ``X (nx, ls)`` of the lanes ``0..nb-1`` moved by the home predictor's
+    change ``A - B`` (``A`` at the poses to solve, ``B`` at the poses the warm starts solve),
+    where the warm start lies within :data:`SAME_BRANCH` of ``B`` (the predictor's branch).
+    A warm start from a neighbouring pose is off by the pose's first-order change, which the
+    predictor's change gives to within its derivative's error: one Newton step fewer from a
+    neighbour (three to two for the benchmarks' warm poses)."""
+    nx = X.shape[0]
+    xf, af, bf = lanes(X), lanes(A), lanes(B)
+    for l in range(nb):
+        near = True
+        for k in range(nx):
+            near = near and abs(xf[k * ls + l] - bf[k * ls + l]) <= SAME_BRANCH  # (not NaN)
+        for k in range(nx):
+            near = near and math.isfinite(af[k * ls + l])
+        if near:
+            for k in range(nx):
+                xf[k * ls + l] = xf[k * ls + l] + (af[k * ls + l] - bf[k * ls + l])
 
 
 @inlined
