@@ -9,8 +9,9 @@ this process: linux perf's map of JIT code), so that ``perf report`` names them:
     perf report -i perf.data --stdio --sort sym
 
 Workloads (3RRPRR, ``bench_engine.py``'s poses): ``path`` (the 100,000-sample path),
-``random`` (100,000 random poses, closures from the home predictor), ``given`` (50,000 random
-poses' rows, conditioning and statics from their solved unknowns, on one thread).  Each
+``random`` (100,000 random poses, closures from the home predictor), ``warm`` (1,000 calls
+of ``screwkit.analyze`` at one pose warm-started from a neighbour), ``given`` (50,000
+random poses' rows, conditioning and statics from their solved unknowns, on one thread).  Each
 function's size in the map runs to the next one's start: a function's samples are exact,
 the last one's may take in code after it.  Functions LLVM inlined are part of their callers
 (``_jit.borrowing_inlined``); ``_jit.borrowing`` ones are functions of their own, as a rule.
@@ -53,6 +54,11 @@ def workload(kind: str):
         pose = {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
                 "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
         return lambda: screwkit.analyze(pm, pose, path=True, **load)
+    if kind == "warm":
+        one = {"alpha": np.radians(5.0), "beta": np.radians(-3.0), "Zo": 80.0}
+        near = {"alpha": np.radians(5.1), "beta": np.radians(-3.0), "Zo": 80.2}
+        prev = screwkit.analyze(pm, one, **load).solution
+        return lambda: [screwkit.analyze(pm, near, guess=prev, **load) for _ in range(1000)]
     rng = np.random.default_rng(1)
     n = 100_000 if kind == "random" else 50_000
     pose = {"alpha": np.radians(rng.uniform(-10, 10, n)),
@@ -60,7 +66,7 @@ def workload(kind: str):
     if kind == "random":
         return lambda: screwkit.analyze(pm, pose, **load)
     if kind != "given":
-        raise SystemExit(f"unknown workload {kind!r}: path, random or given")
+        raise SystemExit(f"unknown workload {kind!r}: path, random, given or warm")
     X = np.ascontiguousarray(screwkit.analyze(pm, pose).solution.closures.X.T)
     ch = chains_of(pm)
     Z, P6 = predictor_of(ch), ch.full_params(pose, n)

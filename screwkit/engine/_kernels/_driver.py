@@ -58,13 +58,13 @@ from ._statics import (CW_D, CW_JN, make_conditioning_work, make_statics_work, n
 
 
 @inlined
-def _workspaces(M, O, B):
+def _workspaces(M, O, B, C):
     """A thread's one-pose workspace, rows workspace, statics workspace, conditioning
-    workspace and rows workspace of blocks of ``B`` lanes (their owners: the caller keeps
-    them alive while it uses borrowed views of them)."""
+    workspace of blocks of up to ``C`` lanes and rows workspace of blocks of ``B`` lanes
+    (their owners: the caller keeps them alive while it uses borrowed views of them)."""
     n, m, npts, ndirs = M[D].shape[0], M[D].shape[1], M[PTS].shape[1], M[DIRS].shape[1]
     return (make_work(n, m, O[OUT_X].shape[1]), make_rows_work(m, npts, ndirs),
-            make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], BLOCK),
+            make_statics_work(M[ROWS].shape[0]), make_conditioning_work(M[ROWS].shape[0], C),
             make_rows_lanes(n, m, M[ROWS].shape[0], npts, ndirs, B))
 
 
@@ -75,7 +75,8 @@ def run_poses(M, Z, I, O, flags, first, stop, L):
     The serial kernel's loop (:func:`run_range`: one pose, a launch on one thread): it
     links no block kernel, so that a one-pose command does not compile them.  ``L``: a
     path's level (:func:`._path_loop.level_of`; empty otherwise)."""
-    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, 0)    # (no block: no rows of a block)
+    # (no block: no rows of a block; the conditioning's lanes, as many as a block has poses)
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, 0, max(1, min(BLOCK, stop - first)))
     W, RW, SW, CW, RL = borrowed(Wo), borrowed(RWo), borrowed(SWo), borrowed(CWo), borrowed(RLo)
     for p0 in range(first, stop, BLOCK):
         nb = min(BLOCK, stop - p0)
@@ -108,7 +109,7 @@ def run_blocks(M, Z, I, O, flags, piece, nw, taken, L):
     nx = O[OUT_X].shape[1]
     N = I[0].shape[0]
     B = BLOCK if N > 1 else 0
-    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, B)
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, B, BLOCK)
     Ko = make_block(n, m, nx, B)
     a, b = piece_span(claim(taken), N, piece, nw)
     while a < N:
@@ -226,7 +227,7 @@ def team_levels(M, Z, I, O, flags, t, nt, sync, H, V, P6, res, comp):
     typed into the ``prange`` body: numba hoists out of a ``prange`` loop the reads of an
     array its body writes only through calls, and ``sync`` is such an array.)"""
     n_legs, m = M[D].shape[0], M[D].shape[1]
-    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, BLOCK)
+    Wo, RWo, SWo, CWo, RLo = _workspaces(M, O, BLOCK, BLOCK)
     Ko = make_block(n_legs, m, O[OUT_X].shape[1], BLOCK)
     own = comp.shape[0] > 0
     level = 0

@@ -19,7 +19,7 @@ import numpy as np
 from ._jit import borrowing, borrowing_inlined, inner, lanes
 
 from ._kin import platform_point
-from ._layout import A, AP, D, LEG, L_SIZE, RANK_RTOL, REFINE
+from ._layout import A, AP, BLOCK, D, LEG, L_SIZE, RANK_RTOL, REFINE
 from ._eigen import jacobi_rows, singular_values_lanes
 from ._small import lu_factor, lu_apply
 
@@ -142,21 +142,23 @@ def normalise_rows(J, mr, c, L, SW):
 
 @inner
 def make_conditioning_work(mr, B):
-    """A thread's conditioning workspace for blocks of ``B`` lanes of ``mr`` rows: the lanes'
-    normalised rows ``Jn (mr, 6, B)``, their norms ``d (mr, B)``, the platforms' origins
-    ``o (3, B)``, the singular values of all rows and of the constraint rows ``(6, B)`` each,
-    ranks ``(2, B)`` (int) and conditions ``(2, B)``, and the scratch of
+    """A thread's conditioning workspace for blocks of up to ``B`` lanes of ``mr`` rows: the
+    lanes' normalised rows ``Jn (mr, 6, B)``, their norms ``d (mr, B)``, the platforms'
+    origins ``o (3, B)``, the singular values of all rows and of the constraint rows ``(6,
+    B)`` each, ranks ``(2, B)`` (int) and conditions ``(2, B)``, and the scratch of
     :func:`._eigen.singular_values_lanes`; then the statics of the lanes
-    (:func:`._driver.statics_block`): the LU factors ``(6, 6, B)`` and their interchanges
-    ``(6, B)`` (int), the weighted rows ``(mr, 6, B)`` and weights ``(mr, B)``, the
-    right-hand sides ``(6, B)``, the efforts ``(mr, B)``, the workloads ``(6, B)`` and the
-    compliances ``(mr, B)``."""
+    (:func:`._driver.statics_block`): the LU factors ``(6, 6, BLOCK)``, their interchanges
+    ``(6, BLOCK)`` (int) and the right-hand sides ``(6, BLOCK)`` (the lane stride
+    :func:`._small.lu_block` is compiled for, whatever ``B``), the weighted rows ``(mr, 6,
+    B)`` and weights ``(mr, B)``, the efforts ``(mr, B)``, the workloads ``(6, B)`` and the
+    compliances ``(mr, B)``.  (A launch of one pose takes ``B`` 1: a workspace of some 20 kB
+    instead of 110 kB, zeroed each launch.)"""
     r = max(mr, 1)
     return (np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((3, B)),
             np.zeros((6, B)), np.zeros((6, B)), np.zeros((2, B), np.int64), np.zeros((2, B)),
             np.zeros((6, 6, B)), np.zeros((6, B)), np.zeros((6, B)), np.zeros((4, B), np.int64),
-            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, B)), np.zeros((6, B), np.int64),
-            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, B)), np.zeros((r, B)),
+            np.zeros((max(mr, 6), 6)), np.zeros((6, 6, BLOCK)), np.zeros((6, BLOCK), np.int64),
+            np.zeros((r, 6, B)), np.zeros((r, B)), np.zeros((6, BLOCK)), np.zeros((r, B)),
             np.zeros((6, B)), np.zeros((r, B)))
 
 
