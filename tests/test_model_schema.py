@@ -146,6 +146,24 @@ def test_model_check_reports_every_problem_at_once(tmp_path, capsys):
     assert capsys.readouterr().out.strip() == f"{good}: valid"
 
 
+def test_model_check_reads_every_part_of_a_dynamics_block(tmp_path, capsys):
+    """A ``dynamics:`` block with a bad gravity and a bad platform mass in an otherwise sound
+    model: both named, at their lines, and exit 2 (the gravity's check once raised a
+    TypeError inside ``model check``: exit 3)."""
+    text = "units: {length: m, force: N}\n" + GOOD + (
+        "    dynamics:\n      gravity: [0, 0, grav]\n      platform: {mass: -2}\n")
+    f = tmp_path / "dyn.yaml"
+    f.write_text(text, encoding="utf-8")
+    problems = check_model_file(f)
+    fields = {p.field for p in problems}
+    assert {"dynamics.gravity[2]", "dynamics.platform.mass"} <= fields, [str(p) for p in problems]
+    lines = {p.field: p.line for p in problems}
+    assert lines["dynamics.gravity[2]"] == _line_of(text, "gravity: [0, 0, grav]")
+    assert main(["model", "check", str(f), "--json"]) == 2
+    js = json.loads(capsys.readouterr().out)
+    assert js["valid"] is False and len(js["problems"]) == len(problems)
+
+
 def test_model_schema_command(tmp_path, capsys):
     assert main(["model", "schema"]) == 0
     assert json.loads(capsys.readouterr().out) == model_schema()

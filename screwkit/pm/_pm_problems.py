@@ -196,9 +196,9 @@ def _dynamics_problems(d, name, src, cat) -> list:
     r = _Reader(name, src, model.dimensions, (1.0, 1.0, 1.0))
     out = []
 
-    def attempt(fn, *args):
+    def attempt(fn, *args, **kwargs):
         try:
-            return fn(*args)
+            return fn(*args, **kwargs)
         except CatalogError as exc:
             out.append(exc)
         except InputError as exc:
