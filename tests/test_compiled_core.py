@@ -43,6 +43,39 @@ def test_commands_that_compute_nothing_never_import_numba(argv):
     assert _fresh(code) == "False"
 
 
+_HOME_MODEL = """\
+units: {length: cm, force: N}
+pms:
+  H3SPR:
+    dimensions: {R: 80, r: 30}
+    base: {shape: triangle, circumradius: R}
+    platform: {shape: triangle, circumradius: r}
+    legs: [SPR, SPR, SPR]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    pose: {alpha: 0, beta: 0, Zo: R}
+    dof: 3
+    motion: 1T2R
+"""
+
+
+def test_a_model_file_checked_again_does_not_import_numba(tmp_path):
+    """``model check`` of a file computes what it must (here the finite motion, which it
+    keeps on disk: numba imported) and nothing more: checked again in a fresh process (the
+    default pose is home, the motion is kept), numba is never imported."""
+    if os.environ.get("SCREWKIT_DISK_CACHE", "1").strip().lower() in ("0", "no", "off"):
+        pytest.skip("the disk cache is off")
+    f = tmp_path / "home.yaml"
+    f.write_text(_HOME_MODEL, encoding="utf-8")
+    code = ("import sys, contextlib, io\nfrom screwkit.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+            f"    rc = main(['model', 'check', {str(f)!r}])\n"
+            "print(rc, 'valid' in out.getvalue(), 'numba' in sys.modules)")
+    first = _fresh(code)
+    assert first.split()[:2] == ["0", "True"], first
+    assert _fresh(code) == "0 True False"
+
+
 def test_numba_is_imported_only_inside_the_engine():
     import ast
     from pathlib import Path

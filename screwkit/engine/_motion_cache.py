@@ -102,11 +102,8 @@ def _code_stamp() -> str:
     """A digest of the sources and library versions the computation runs through."""
     if not _CODE:
         import scipy
-
-        from ._kernels import _configure
-        numba = _configure()            # numba as the kernels import it (their cache set)
         h = hashlib.sha256(_FORMAT.encode())
-        h.update(f"{sys.version};{np.__version__};{numba.__version__};"
+        h.update(f"{sys.version};{np.__version__};{_numba_version()};"
                  f"{scipy.__version__}".encode())
         root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         files = [os.path.join(root, "errors.py")]
@@ -119,6 +116,18 @@ def _code_stamp() -> str:
                 h.update(os.path.relpath(path, root).encode() + b"\0" + f.read())
         _CODE.append(h.hexdigest())
     return _CODE[0]
+
+
+def _numba_version() -> str:
+    """numba's version from its installed metadata, without importing it: a command whose
+    finite motion is kept (``model check`` of a file, say) then never imports numba, some
+    0.2 s of a cold start, unless it computes."""
+    from importlib import metadata
+    try:
+        return metadata.version("numba")
+    except metadata.PackageNotFoundError:       # (no metadata: numba as the kernels import it)
+        from ._kernels import _configure
+        return _configure().__version__
 
 
 def model_digest(model, constants) -> str | None:
