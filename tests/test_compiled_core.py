@@ -70,10 +70,24 @@ def test_a_model_file_checked_again_does_not_import_numba(tmp_path):
     code = ("import sys, contextlib, io\nfrom screwkit.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
             f"    rc = main(['model', 'check', {str(f)!r}])\n"
-            "print(rc, 'valid' in out.getvalue(), 'numba' in sys.modules)")
+            "print(rc, 'valid' in out.getvalue(), 'numba' in sys.modules, "
+            "'scipy' in sys.modules)")
     first = _fresh(code)
     assert first.split()[:2] == ["0", "True"], first
-    assert _fresh(code) == "0 True False"
+    assert _fresh(code) == "0 True False False"
+
+
+def test_the_motion_caches_versions_are_the_packages_own():
+    """The finite motion's disk cache names numba's and scipy's versions without importing
+    them (the name of the installed ``.dist-info`` folder): the versions the packages give
+    once imported."""
+    import numba
+    import scipy
+
+    from screwkit.engine._motion_cache import installed_version
+    assert installed_version("numba") == numba.__version__
+    assert installed_version("scipy") == scipy.__version__
+    assert installed_version("numpy") == np.__version__
 
 
 def test_numba_is_imported_only_inside_the_engine():
