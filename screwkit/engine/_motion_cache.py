@@ -122,9 +122,9 @@ def _code_stamp() -> str:
 def installed_version(name: str) -> str:
     """The installed version of the package ``name`` without importing it: from the name of
     its one ``.dist-info`` folder beside it, else from its metadata (``importlib.metadata``,
-    some 30 ms), else from the package.  A command whose finite motion is kept (``model
-    check`` of a file, ``analyze``) then imports neither scipy (some 30 ms) nor, unless it
-    computes, numba (some 0.2 s)."""
+    some 30 ms), else from the package.  A command that loads a model whose finite motion is
+    kept and computes nothing (``model check`` of a file whose default pose is home) then
+    imports neither numba (some 0.2 s) nor scipy."""
     spec = importlib.util.find_spec(name)
     if spec is not None and spec.origin:
         root, prefix = os.path.dirname(os.path.dirname(spec.origin)), name + "-"
