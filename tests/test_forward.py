@@ -191,6 +191,32 @@ def test_fk_at_a_representation_singularity_uses_the_models_split():
     assert p["alpha"] == pytest.approx(6.0, abs=1e-8) and p["gamma"] == pytest.approx(6.0, abs=1e-8)
 
 
+@pytest.mark.parametrize("beta", [3e-9, 2e-8, 6e-8])
+def test_fk_next_to_a_representation_singularity_gives_the_given_angle(beta):
+    """3RRPRR a hair off beta = 0 (inside the inverse displacement's band, 1e-7): the
+    forward kinematics gives back the alpha the pose was solved from and succeeds.  (Between
+    1e-9 and 1e-7 it used to report scipy's split, alpha + gamma and 0, as a failure.)"""
+    pm = screwkit.load_pm("3RRPRR")
+    sol = screwkit.solve(pm, {"alpha": 0.3, "beta": beta, "Zo": 80.0})
+    fk = screwkit.forward(pm, sol.actuator_values)
+    assert fk.success[0]
+    assert fk.params["alpha"][0] == pytest.approx(0.3, abs=1e-8)
+    assert fk.params["alpha"][0] + fk.params["gamma"][0] == pytest.approx(
+        0.3 + float(sol._params["gamma"][0]), abs=1e-8)
+
+
+def test_scipy_splits_euler_angles_only_outside_the_band_the_fk_splits_itself():
+    """The forward kinematics splits alpha and gamma itself where |sin beta| <= 1e-7 (proper
+    orders; |cos beta| for Tait-Bryan ones) and takes scipy's angles elsewhere: scipy's own
+    split (third angle 0) must stay inside that band."""
+    from scipy.spatial.transform import Rotation
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for order, b0 in (("XYX", 0.0), ("xyz", np.pi / 2)):
+            outside = Rotation.from_euler(order, [0.3, b0 + 1.2e-7, 0.3]).as_euler(order)
+            assert abs(outside[2]) > 0.1, order          # two angles of their own
+
 def test_cli_fk(capsys):
     import json
 
