@@ -316,3 +316,43 @@ def test_the_rank_of_K_is_its_rows_whatever_the_spread_of_stiffnesses():
     assert any("not small beside the PM" in w for w in r.warnings)
     assert stiffness("3RRPRR", actuator=2000, force_stiffness=2000, force=[0, 0, -1],
                      torque=[0, 0, 0]).rank == 6
+
+
+def test_stiffness_rank_is_the_analysis_rank_next_to_a_singularity():
+    """The 6-SPS along Zo across a singular pose (found here by bisection on the sign of
+    det J): at every pose, compliant legs all, the stiffness's rank is 6 exactly where the
+    analysis calls the pose regular and the legs restrain it (the rank, the singular flag and
+    ``restrained`` are one decision; an SVD of its own normalisation, about ``o``, once gave
+    rank 5 beside ``restrained`` and a condition number of 1e8 less a few per cent)."""
+    from screwkit.dynamics import stiffness_fields, stiffness_of
+    pm = screwkit.load_pm("6SPS")
+    home = pm.default_pose
+
+    def at(zo):
+        zo = np.atleast_1d(np.asarray(zo, float))
+        pose = {p: np.full(zo.size, home[p]) for p in pm.independent}
+        pose["Zo"] = zo
+        return screwkit.analyze(pm, pose, raise_on_singular=False, force=[0, 0, -100],
+                                torque=[0, 0, 0])
+
+    zs = home["Zo"] + np.linspace(-1.0, 1.0, 201) * float(pm.normalisation.length)
+    a = at(zs)
+    ok = np.asarray(a.solution.reachable_mask)
+    det = np.sign(np.linalg.det(a.jacobian.matrix))
+    k = np.flatnonzero(ok[:-1] & ok[1:] & (det[:-1] * det[1:] < 0))[0]
+    lo, hi = zs[k], zs[k + 1]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        s = np.sign(np.linalg.det(at(mid).jacobian.matrix[0]))
+        lo, hi = (mid, hi) if s == det[k] else (lo, mid)
+    offsets = np.concatenate([-np.logspace(-12, -3, 120), np.logspace(-12, -3, 120)])
+    a = at(lo + offsets * float(pm.normalisation.length))
+    reach = np.asarray(a.solution.reachable_mask)
+    st = stiffness_of(a, actuator=2000.0)
+    regular = ~np.asarray(a.jacobian.singular_mask)
+    assert regular[reach].any() and (~regular[reach]).any()         # both sides of the flag
+    rank = np.asarray(st.rank)
+    assert np.array_equal((rank == 6)[reach], regular[reach])
+    assert np.array_equal(np.asarray(st.restrained)[reach], regular[reach])
+    fields = stiffness_fields(a, actuator=2000.0)
+    assert np.array_equal(fields["stiffness_rank"][0][reach & regular], rank[reach & regular])

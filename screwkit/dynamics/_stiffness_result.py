@@ -102,20 +102,28 @@ class StiffnessResult:
         """Rank of ``K`` (length-normalised, :data:`~screwkit.screws.RANK_RTOL`): of the
         compliant rows themselves where ``K`` is theirs alone (``J_o^T diag(k) J_o`` has
         their rank whatever the spread of the stiffnesses, which would hide it from an SVD
-        of ``K``: 2000 and 1e-20 side by side), of the tangent ``K + K_g`` otherwise."""
-        L = float(self.analysis.model.normalisation.length)
-        if self.geometric is None:
-            from ._compliance import rows_about_o
-            Jo = rows_about_o(self.analysis)                         # (N, m, 6)
-            Jn = Jo * np.array([1.0, 1.0, 1.0, 1 / L, 1 / L, 1 / L])   # [f; m / L]
-            Jn = Jn / np.maximum(np.linalg.norm(Jn, axis=2, keepdims=True), 1e-300)
-            soft = np.isfinite(self.k) & (self.k > 0)
-            M = np.where(soft[:, :, None], np.nan_to_num(Jn), 0.0)
-        else:
+        of ``K``: 2000 and 1e-20 side by side), of the tangent ``K + K_g`` otherwise.  Where
+        every row is compliant that is the rank of ``J`` the analysis gives (its
+        normalisation, its singular values: the rank beside its condition number and its
+        singular flag, never another decision near the threshold); where some are not, the
+        compliant rows' rank in the same normalisation.  0 at an unreachable pose."""
+        if self.geometric is not None:
+            L = float(self.analysis.model.normalisation.length)
             S = np.diag([L, L, L, 1.0, 1.0, 1.0])
-            M = S @ np.nan_to_num(self.K) @ S
-        s = np.linalg.svd(M, compute_uv=False)
-        r = np.sum(s > RANK_RTOL * np.maximum(s[:, :1], 1e-300), axis=1)
+            s = np.linalg.svd(S @ np.nan_to_num(self.K) @ S, compute_uv=False)
+            r = np.sum(s > RANK_RTOL * np.maximum(s[:, :1], 1e-300), axis=1)
+            return int(r[0]) if self.single else r
+        jac = self.analysis.jacobian
+        reach = np.asarray(self.analysis.solution.reachable_mask, bool).reshape(-1)
+        soft = np.isfinite(self.k) & (self.k > 0)
+        whole = soft.all(axis=1)
+        r = np.where(reach & whole, np.asarray(jac.conditioning.rank).reshape(-1), 0)
+        part = np.flatnonzero(reach & ~whole)
+        if part.size:
+            Jn, _ = jac.normalised()                                  # (N, m, 6)
+            M = np.where(soft[part, :, None], np.nan_to_num(Jn[part]), 0.0)
+            s = np.linalg.svd(M, compute_uv=False)
+            r[part] = np.sum(s > RANK_RTOL * np.maximum(s[:, :1], 1e-300), axis=1)
         return int(r[0]) if self.single else r
 
     def principal(self, which: str = "translational"):
