@@ -318,3 +318,18 @@ def test_the_mobility_strings_of_the_json_are_in_its_units(capsys):
     pa = [float(x) for x in re.findall(NUM, a.split("through", 1)[1].split("along")[0])]
     pb = [float(x) for x in re.findall(NUM, b.split("through", 1)[1].split("along")[0])]
     np.testing.assert_allclose(pb, np.array(pa) * L, rtol=1e-3)   # (4 digits printed)
+
+
+def test_the_joint_values_of_the_json_are_in_its_units(capsys):
+    """analyze --units SI --json: each P joint's value in m (it was left in cm while
+    units.length said m), each R joint's in rad as it is; the leg's P joint and its
+    actuator value one number."""
+    d = json.loads(_run(capsys, "analyze", "3RRPRR", "--json"))
+    s = json.loads(_run(capsys, "analyze", "3RRPRR", "--json", "--units", "SI"))
+    for a, b in zip(d["legs"], s["legs"]):
+        assert a["joint_value_units"] == ["rad", "rad", "cm", "rad", "rad"]    # R R P R R
+        assert b["joint_value_units"] == ["rad", "rad", "m", "rad", "rad"]
+        factor = np.array([1.0, 1.0, L, 1.0, 1.0])
+        np.testing.assert_allclose(b["joint_values"], np.array(a["joint_values"]) * factor,
+                                   rtol=1e-12, atol=1e-15)
+        assert b["joint_values"][2] == pytest.approx(b["actuator_value"], rel=1e-12)

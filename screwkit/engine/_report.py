@@ -167,7 +167,11 @@ def report(analysis, units=None) -> dict:
             "index": i + 1, "leg": leg.name, "string": leg.string.marked,
             "passive": i in model.passive,
             "A": leg.A * kl, "a": leg.a * kl, "extension": sol.extensions[i] * kl,
-            "joint_values": sol.joint_values[i],
+            # (a P joint's value, a Pa's arc included, is a length; the others radians)
+            "joint_values": sol.joint_values[i] * np.array(
+                [kl if j.kind == "P" else 1.0 for j in model.home_legs[i].joints]),
+            "joint_value_units": [ublock["length"] if j.kind == "P" else "rad"
+                                  for j in model.home_legs[i].joints],
             "constraints": cons,
         }
         if i not in model.passive:       # a passive leg has no actuator
