@@ -125,6 +125,24 @@ def test_an_output_that_cannot_be_written_is_one_line_exit_2(redirect):
     assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("screwkit")
     assert "Traceback" not in proc.stderr and "internal error" not in proc.stderr
 
+@pytest.mark.parametrize("argv", [["--set", "L=nan"], ["--bogus"]])
+def test_a_json_error_into_a_closed_pipe_is_one_line_exit_2(argv):
+    """--json prints an error's JSON object on stdout too; where the reader has closed the
+    pipe (its read end closed before the command starts: every write fails) the error's
+    line on stderr is all, exit 2 (it was a BrokenPipeError traceback, exit 1)."""
+    r, w = os.pipe()
+    os.close(r)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "screwkit", "analyze", "3RRPRR", "--json",
+                               *argv], stdout=w, stderr=subprocess.PIPE, text=True, timeout=120,
+                              env={**os.environ,
+                                   "PYTHONPATH": str(Path(screwkit.__file__).parents[1])})
+    finally:
+        os.close(w)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("screwkit analyze: error:")
+
+
 
 @pytest.mark.parametrize("argv, piece", [
     (["map", "3RRPRR", "--grid", "alpha=-10:10:1", "--grid", "Zo=70:90:3"],

@@ -76,9 +76,22 @@ def _json_usage_error(words, line: str) -> None:
     """With ``--json`` asked, a usage error is a JSON object on stdout too (as every other
     error of a command that prints JSON), so that a script reads one."""
     if "--json" in words:
-        import json
-        print(json.dumps({"error": {"type": "UsageError",
-                                    "message": line.split("error: ", 1)[-1]}}, indent=2))
+        _print_json({"error": {"type": "UsageError", "message": line.split("error: ", 1)[-1]}})
+
+
+def _print_json(obj) -> None:
+    """An error's JSON object on stdout; where its reader has gone (a closed pipe) the line
+    on stderr has said it: nothing more, the exit status stays the error's."""
+    import json
+    try:
+        print(json.dumps(obj, indent=2))
+        sys.stdout.flush()
+    except OSError:
+        try:                                 # (the buffered rest would fail again at exit)
+            import os
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
 
 
 def main(argv=None) -> int:
@@ -112,13 +125,12 @@ def main(argv=None) -> int:
         what = " ".join(x for x in (args.command, getattr(args, "model_command", None)) if x)
         print(f"screwkit {what}: error: {_one_line(exc)}", file=sys.stderr)
         if getattr(args, "json", False):       # --json always prints a JSON object
-            import json
             err: dict[str, str | int | float] = {"type": type(exc).__name__, "message": str(exc)}
             for k in ("kind", "condition_number", "residual"):
                 v = getattr(exc, k, None)
                 if isinstance(v, (int, float, str)) and v == v and v not in (float("inf"),):
                     err[k] = v
-            print(json.dumps({"error": err}, indent=2))
+            _print_json({"error": err})
         return 2
     except BrokenPipeError:  # e.g. piped into head
         return 0
