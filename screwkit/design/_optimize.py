@@ -249,6 +249,7 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
         Dimensions of ``pm`` (given by name) other than the model file's.
     """
     from ..maps._map import resolve_model, workload
+    from ..maps._sizing import workload_list
     from ._problem import problem
     base = resolve_model(pm, overrides)
     if workloads is not None and (force is not None or torque is not None):
@@ -257,9 +258,7 @@ def optimize(pm, vary, grid, fix=None, *, samples=None, seed: int = 0, degrees: 
         F, T, source = workload(base, force, torque)
         loads = [(source, F, T)]
     else:
-        loads = [(str(n),) + tuple(workload(base, f, t)[:2]) for n, f, t in workloads]
-        if not 1 <= len(loads) <= 1000:
-            raise InputError(f"1 to 1000 workloads, got {len(loads)}")
+        loads = workload_list(base, workloads)
     objectives = (objective,) if isinstance(objective, str) else tuple(objective)
     prob = problem(base, vary, grid, fix, samples=samples, seed=seed, degrees=degrees,
                    loads=loads, objectives=objectives, constraints=constraints,

@@ -142,8 +142,21 @@ def problem(base, vary, grid, fix=None, *, samples=None, seed=0, degrees=False, 
                              f"{', '.join(OBJECTIVES)})")
     if len(set(objectives)) != len(objectives):
         raise InputError("an objective is given twice")
+    if isinstance(constraints, str):             # (one constraint: not its letters)
+        constraints = (constraints,)
+    try:
+        given = list(constraints or ())
+    except TypeError:
+        raise InputError(f"constraints must be a list of texts such as 'stroke<=40', got "
+                         f"{str(constraints)[:40]}") from None
+    if len(given) > MAX_CONSTRAINTS:
+        raise InputError(f"at most {MAX_CONSTRAINTS} constraints, got {len(given)}")
+    for c in given:
+        if not isinstance(c, str) and not (isinstance(c, (tuple, list)) and len(c) == 3):
+            raise InputError(f"a constraint is a text such as 'stroke<=40' or a triple (name, "
+                             f"'<=' or '>=', value), got {str(c)[:40]}")
     cons = tuple(parse_constraint(c) if isinstance(c, str) else parse_constraint(
-        f"{c[0]}{c[1]}{c[2]}") for c in (constraints or ()))
+        f"{c[0]}{c[1]}{c[2]}") for c in given)
     if len(cons) > MAX_CONSTRAINTS:
         raise InputError(f"at most {MAX_CONSTRAINTS} constraints, got {len(cons)}")
     if max_level not in LEVEL_CODES[:3]:

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..errors import GeometryError, InputError, ScrewkitError
 from ..legs import build_leg
-from ..pm import load_pm, mobility_of_legs
+from ..pm import Catalog, load_pm, mobility_of_legs
 from ..synthesis import (CENTRAL_GEOMETRIES, GEOMETRIES, PAIR_GEOMETRIES, build_pool,
                          catalog_compositions, central_compositions, compositions_for,
                          geometries_for, motion_pattern, pair_compositions,
@@ -165,6 +165,12 @@ def synthesize_motion(motion, *, legs: int | None = None, limit: int | None = No
     ('3-PRRR', '3T')
     """
     m = motion_pattern(motion)
+    for name, fn in (("mapper", mapper), ("progress", progress)):
+        if fn is not None and not callable(fn):
+            raise InputError(f"{name} must be a function or None, got {str(fn)[:40]}")
+    if catalog is not None and not isinstance(catalog, Catalog):
+        raise InputError(f"catalog must be a screwkit Catalog (screwkit.extend_catalog) or "
+                         f"None, got {str(catalog)[:40]}")
     passive = bool(asymmetric) if passive is None else bool(passive)
     n = m.dof if legs is None else legs
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not m.dof <= n <= MAX_LEGS \

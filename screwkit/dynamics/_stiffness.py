@@ -175,8 +175,13 @@ def stiffness(model, pose=None, *, params=None, actuator=None, force_stiffness=N
     StiffnessResult
     """
     from ..engine import analyze, load_assembled_pm
+    from ..engine._inputs import check_forwarded
     from ._dynamics import resolve_parameters
 
+    check_forwarded("screwkit.dynamics.stiffness", analyze,
+                    {k: v for k, v in kwargs.items() if k != "overrides"},
+                    ("params", "actuator", "force_stiffness", "couple_stiffness", "rows",
+                     "geometric", "overrides"))
     model = load_assembled_pm(model, kwargs.pop("overrides", None))
     if params is not None or model.dynamics is not None:
         params = resolve_parameters(model, params)

@@ -344,7 +344,8 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     lines : bool
         Keep the joints :attr:`PMAnalysis.indices` reads and the platform from this run.
     """
-    _options(threshold, chunk, workers, degrees, path, progress, anchor_every)
+    _options(threshold, chunk, workers, degrees, path, progress, anchor_every,
+             raise_on_singular, twists, lines)
     load = resolve_workload(model, force, torque)
     F, T, source = load if load is not None else (np.zeros(3), np.zeros(3), "")
     fixed, N, single, notes, (X0, G6), side, invalid = prepare(model, pose, guess, degrees)

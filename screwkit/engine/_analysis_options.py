@@ -10,11 +10,13 @@ import numpy as np
 __all__ = ["check_options", "stiffness_of_poses"]
 
 
-def check_options(threshold, chunk, workers, degrees, path, progress, anchor_every):
+def check_options(threshold, chunk, workers, degrees, path, progress, anchor_every,
+                  raise_on_singular=True, twists=False, lines=False):
     """Check the keyword options of :func:`analyze` (InputError naming the one that is bad)."""
     if type(threshold) is float and 1.0 < threshold < math.inf and type(chunk) is int and \
             1 <= chunk <= 1 << 24 and workers is None and anchor_every is None and \
-            type(degrees) is bool and type(path) is bool and progress is None:
+            type(degrees) is bool and type(path) is bool and progress is None and \
+            type(raise_on_singular) is bool and type(twists) is bool and type(lines) is bool:
         return                                      # the defaults (the common case)
     from ..errors import InputError
 
@@ -33,8 +35,10 @@ def check_options(threshold, chunk, workers, degrees, path, progress, anchor_eve
     if anchor_every is not None:
         whole(anchor_every, "anchor_every", 1)
     from ..legs._guards import flag
-    flag(degrees, "degrees")
-    flag(path, "path")
+    for value, name in ((degrees, "degrees"), (path, "path"),
+                        (raise_on_singular, "raise_on_singular"), (twists, "twists"),
+                        (lines, "lines")):
+        flag(value, name)
     if progress is not None and not callable(progress):
         raise InputError(f"progress must be a function progress(done, total), got "
                          f"{type(progress).__name__}")

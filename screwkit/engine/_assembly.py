@@ -15,9 +15,11 @@ import dataclasses
 import numpy as np
 
 from ..errors import CatalogError, InputError, ScrewkitError, UnreachablePoseError
+from ..legs._guards import real
 from ..pm import PARAMS, PMModel, load_pm
 from ._analysis import analyze
 from ._solution import solve
+from ._inputs import check_forwarded
 
 __all__ = ["load_assembled_pm", "check_default_pose", "default_full_pose", "solve_pose",
            "solve_path", "analyze_pm"]
@@ -129,10 +131,12 @@ def solve_path(model, poses, guess=None, degrees: bool = False) -> tuple:
         if name not in PARAMS:
             raise InputError(f"{model.name}: unknown pose parameter {name!r} (one of "
                              f"{', '.join(PARAMS)})")
-        arrays[name] = np.array([p.get(name, np.nan) for p in poses], float)
-        if np.isnan(arrays[name]).any():
-            k = int(np.flatnonzero(np.isnan(arrays[name]))[0])
-            raise InputError(f"{model.name}: path sample {k} has no {name}")
+        values = []
+        for k, p in enumerate(poses):
+            if name not in p:
+                raise InputError(f"{model.name}: path sample {k} has no {name}")
+            values.append(real(p[name], f"{model.name}: path sample {k}: {name}"))
+        arrays[name] = np.array(values)
     sol = solve(model, arrays, guess, degrees, path=True, single=False)
     bad = ~sol.reachable_mask
     if bad.any():
@@ -150,6 +154,10 @@ def analyze_pm(pm, pose=None, *, force=None, torque=None,
                overrides: dict | None = None, degrees: bool = False, guess=None,
                raise_on_singular: bool = True, catalog=None, **kwargs):
     """:func:`analyze` of a PM given by name, YAML path or model (see :func:`screwkit.analyze`)."""
+    if kwargs:
+        check_forwarded("screwkit.analyze", analyze, kwargs,
+                        ("force", "torque", "overrides", "degrees", "guess",
+                         "raise_on_singular", "catalog"))
     model = load_assembled_pm(pm, overrides, catalog)
     return analyze(model, pose, force=force, torque=torque, degrees=degrees, guess=guess,
                    raise_on_singular=raise_on_singular, **kwargs)

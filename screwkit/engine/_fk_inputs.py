@@ -16,6 +16,8 @@ def actuator_targets(model, actuators, degrees=False):
     array's columns are theirs in leg order, and ``q<i>`` / ``r<i>`` name leg ``i``
     (1-based).  Returns ``(values (N, n_active), single)``."""
     from ..errors import InputError
+    from ..legs._guards import flag
+    degrees = flag(degrees, "degrees")
     active = tuple(model.active)
     n = len(active)
     names = [f"q{i + 1}" for i in active]
@@ -34,6 +36,8 @@ def actuator_targets(model, actuators, degrees=False):
                                     "passive (no actuator)" if passive else ""))
             try:
                 a = np.asarray(v, float)
+                if np.asarray(v).dtype.kind == "b":
+                    raise TypeError
             except (TypeError, ValueError):
                 raise InputError(f"{model.name}: actuator {name} must be numbers, got "
                                  f"{v!r:.40}") from None
@@ -63,6 +67,8 @@ def actuator_targets(model, actuators, degrees=False):
         return out.astype(float), single
     try:
         a = np.asarray(actuators, float)
+        if np.asarray(actuators).dtype.kind == "b":     # (True is not a joint value)
+            raise TypeError
     except (TypeError, ValueError):
         raise InputError(f"{model.name}: the actuator values must be numbers (an array (n,) or "
                          f"(N, n), or a mapping q1.. / r1..), got {actuators!r:.40}") from None

@@ -233,8 +233,9 @@ def _start_state(model, ch, guess, N):
             raise InputError(f"{model.name}: guess must be a pose (dict of the independent "
                              "parameters, radians) or a PoseSolution")
         try:
-            sol = solve(model, {k: np.atleast_1d(np.asarray(v, float))
-                                for k, v in guess.items()}, raise_unreachable=True)
+            # (the values as they are: the pose's checks say what is wrong with one)
+            sol = solve(model, {k: [v] if np.ndim(v) == 0 else v for k, v in guess.items()},
+                        raise_unreachable=True)
         except InputError as e:
             raise InputError(f"the guess: {e}") from None
     c = sol.closures

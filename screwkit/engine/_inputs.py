@@ -268,6 +268,27 @@ def prepare(model, pose, guess, degrees):
     return fixed, N, one, notes, (X0, G6), side, invalid
 
 
+_KEYWORDS: dict = {}
+
+
+def check_forwarded(what: str, fn, kwargs: dict, also=()) -> None:
+    """:func:`check_keywords` of the keywords a function forwards to ``fn``: those ``fn``
+    takes by keyword, and ``also`` (the forwarding function's own).  Without it a keyword
+    neither takes is a bare ``TypeError`` naming ``fn``, an internal function."""
+    if not kwargs:
+        return
+    names = _KEYWORDS.get(fn)
+    if names is None:
+        import inspect
+        names = frozenset(p.name for p in inspect.signature(fn).parameters.values()
+                          if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+        _KEYWORDS[fn] = names
+    if not names.issuperset(kwargs):
+        check_keywords(what, {k: v for k, v in kwargs.items() if k not in names},
+                       sorted(set(also) | {n for n in names if n not in ("pm", "model", "pose",
+                                                                        "grid", "fix", "vary")}))
+
+
 def check_keywords(what: str, kwargs: dict, allowed, named: str = "") -> None:
     """A :class:`~screwkit.errors.MisuseError` for a keyword ``what`` does not take (a
     bare ``TypeError`` named an internal function)."""

@@ -17,7 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..screws import Line, Twist, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+from ..screws import Line, Twist, as_rotation, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+from ._guards import MAX_MAGNITUDE
 from ._parsing import EquivalentJoint, LegString
 
 if TYPE_CHECKING:
@@ -57,9 +58,13 @@ class Joint:
         d = _unit3(self.direction)
         if d is None:                      # not a finite non-zero 3-vector: say so
             d = unit(self.direction, f"axis of {self.spec.name}")
-        p = np.array(self.point, dtype=float)
-        if p.shape != (3,) or not all(map(math.isfinite, p.tolist())):
-            p = as_vector3(self.point, f"point of {self.spec.name}").copy()
+        try:
+            p = np.array(self.point, dtype=float)
+            fine = p.shape == (3,) and all(abs(x) <= MAX_MAGNITUDE for x in p.tolist())
+        except (TypeError, ValueError, OverflowError):
+            fine = False                            # (NaN fails the comparison too)
+        if not fine:
+            p = as_vector3(self.point, f"point of {self.spec.name}", MAX_MAGNITUDE).copy()
         d.setflags(write=False)
         p.setflags(write=False)
         object.__setattr__(self, "direction", d)
@@ -67,7 +72,7 @@ class Joint:
         if self.bar is not None or self.spec.parallelogram:
             if self.bar is None:
                 raise InputError(f"{self.spec.name}: a parallelogram needs its bar vector")
-            b = as_vector3(self.bar, f"bar of {self.spec.name}").copy()
+            b = as_vector3(self.bar, f"bar of {self.spec.name}", MAX_MAGNITUDE).copy()
             n = float(np.linalg.norm(b))
             if not n > 0 or abs(float(b @ d)) > 1e-9 * n:
                 raise InputError(f"{self.spec.name}: the bar {b.tolist()} must be non-zero and "
@@ -175,7 +180,7 @@ class Leg:
             raise InputError(f"leg {self.string.text}: {len(self.joints)} joints given for an "
                              f"equivalent chain of {len(self.string.equivalent)}")
         for name in ("A", "a"):
-            v = as_vector3(getattr(self, name), name).copy()
+            v = as_vector3(getattr(self, name), name, MAX_MAGNITUDE).copy()
             v.setflags(write=False)
             object.__setattr__(self, name, v)
         if not self.name:
@@ -243,10 +248,13 @@ class Leg:
     def moved(self, rotation: ArrayLike, translation: ArrayLike, scale: float = 1.0) -> "Leg":
         """The leg after ``x -> R (scale x) + p`` (a change of base frame and/or of units):
         ``R`` a rotation, ``scale`` positive (else :class:`~screwkit.errors.InputError`)."""
-        R = _rotation(rotation)
-        p = as_vector3(translation, "translation")
-        if isinstance(scale, bool) or not (np.isfinite(scale) and scale > 0):
-            raise InputError(f"scale must be a positive finite number, got {scale!r}")
+        R = as_rotation(rotation)
+        p = as_vector3(translation, "translation", MAX_MAGNITUDE)
+        if isinstance(scale, bool) or not isinstance(scale, (int, float, np.integer,
+                                                             np.floating)) or \
+                not 1.0 / MAX_MAGNITUDE <= scale <= MAX_MAGNITUDE:
+            raise InputError(f"scale must be a positive number from {1 / MAX_MAGNITUDE:g} to "
+                             f"{MAX_MAGNITUDE:g}, got {scale!r}")
         return Leg(self.string, tuple(j.moved(R, p, scale) for j in self.joints),
                    R @ (scale * self.A) + p, R @ (scale * self.a) + p, self.name)
 
@@ -257,16 +265,3 @@ class Leg:
 
     def __repr__(self) -> str:
         return f"Leg({self.name!r}, {self.string.marked})"
-
-
-def _rotation(rotation) -> np.ndarray:
-    """A rotation matrix (3, 3), checked: orthonormal with determinant +1."""
-    try:
-        R = np.asarray(rotation, float)
-    except (TypeError, ValueError):
-        raise InputError(f"rotation must be a 3x3 matrix, got {rotation!r:.60}") from None
-    if R.shape != (3, 3) or not np.all(np.isfinite(R)) or \
-            not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
-        raise InputError("rotation must be a proper rotation matrix (3, 3): orthonormal, "
-                         "determinant +1")
-    return R

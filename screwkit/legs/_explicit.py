@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..screws import as_vector3
 from ._chain import Joint, Leg
+from ._guards import MAX_MAGNITUDE
 from ._parsing import parse_leg
 
 __all__ = ["leg_from_joints", "MAX_JOINTS"]
@@ -137,7 +138,7 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
         try:
             if kind == "Pa":
                 hinge = np.asarray(axis, float)
-                bar = as_vector3(pitch, "bar")
+                bar = as_vector3(pitch, "bar", MAX_MAGNITUDE)
                 if abs(float(hinge @ bar)) > 1e-9 * np.linalg.norm(hinge) * np.linalg.norm(bar):
                     raise InputError("the bar of a parallelogram is normal to its hinges")
                 out.append(Joint(spec, np.cross(hinge, bar), point, 0.0, bar))
@@ -145,6 +146,6 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
             out.append(Joint(spec, axis, point, pitch))
         except Exception as exc:          # GeometryError / InputError from the value checks
             raise InputError(f"joints[{k}]: {exc}") from None
-    A_ = out[0].point if A is None else as_vector3(A, "A")
-    a_ = out[-1].point if a is None else as_vector3(a, "a")
+    A_ = out[0].point if A is None else as_vector3(A, "A", MAX_MAGNITUDE)
+    a_ = out[-1].point if a is None else as_vector3(a, "a", MAX_MAGNITUDE)
     return Leg(ls, tuple(out), A_, a_, name or ls.marked)

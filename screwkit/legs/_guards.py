@@ -237,6 +237,8 @@ def real_array(value, what: str, error=InputError, *, max_size: int | None = Non
         raise error(f"{what} must be a number, not a boolean ({value})")
     if isinstance(value, (str, bytes)):
         raise error(f"{what} must be a number, not a string ({shorten(value)})")
+    if isinstance(value, np.ma.MaskedArray) and np.ma.getmaskarray(value).any():
+        raise error(f"{what} has masked values (fill them, or leave those poses out)")
     if isinstance(value, (list, tuple)):
         for x in value:
             if isinstance(x, (bool, np.bool_, str, bytes)):

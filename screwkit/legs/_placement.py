@@ -15,18 +15,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import GeometryError, InputError
-from ..screws import as_vector3
+from ..screws import as_rotation, as_vector3
+from ._guards import MAX_MAGNITUDE
 
 __all__ = ["Placement", "default_placement"]
-
-
-def _as_rotation(R, name):
-    R = np.asarray(R, dtype=float)
-    if R.shape != (3, 3) or not np.all(np.isfinite(R)):
-        raise InputError(f"{name} must be a finite 3x3 rotation matrix")
-    if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
-        raise InputError(f"{name} is not a proper rotation matrix")
-    return R
 
 
 @dataclass(frozen=True)
@@ -60,20 +52,20 @@ class Placement:
     C: np.ndarray | None = None
 
     def __post_init__(self):
-        A = as_vector3(self.A, "A")
-        a = as_vector3(self.a, "a")
-        O = as_vector3(self.O, "O")
+        A = as_vector3(self.A, "A", MAX_MAGNITUDE)
+        a = as_vector3(self.a, "a", MAX_MAGNITUDE)
+        O = as_vector3(self.O, "O", MAX_MAGNITUDE)
         if self.o is None:
             o = O + np.array([0.0, 0.0, float(np.dot(a - O, self.base_rotation @ [0, 0, 1]))])
         else:
-            o = as_vector3(self.o, "o")
-        C = O + 0.5 * (o - O) if self.C is None else as_vector3(self.C, "C")
+            o = as_vector3(self.o, "o", MAX_MAGNITUDE)
+        C = O + 0.5 * (o - O) if self.C is None else as_vector3(self.C, "C", MAX_MAGNITUDE)
         object.__setattr__(self, "C", C)
         if np.linalg.norm(a - A) <= 1e-12 * max(1.0, np.linalg.norm(A)):
             raise GeometryError("the leg's end points A and a coincide")
         for name, val in (("A", A), ("a", a), ("O", O), ("o", o),
-                          ("base_rotation", _as_rotation(self.base_rotation, "base_rotation")),
-                          ("platform_rotation", _as_rotation(self.platform_rotation, "platform_rotation"))):
+                          ("base_rotation", as_rotation(self.base_rotation, "base_rotation")),
+                          ("platform_rotation", as_rotation(self.platform_rotation, "platform_rotation"))):
             val = np.array(val, dtype=float)
             val.setflags(write=False)
             object.__setattr__(self, name, val)
@@ -95,8 +87,8 @@ class Placement:
 
     def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Placement":
         """The placement moved rigidly by ``x -> R x + p``."""
-        R = np.asarray(rotation, float)
-        p = as_vector3(translation, "translation")
+        R = as_rotation(rotation, "rotation")
+        p = as_vector3(translation, "translation", MAX_MAGNITUDE)
         o, C = self._filled(self.o), self._filled(self.C)
         return Placement(R @ self.A + p, R @ self.a + p, R @ self.O + p, R @ o + p,
                          R @ self.base_rotation, R @ self.platform_rotation, R @ C + p)

@@ -106,7 +106,7 @@ def map_pm(pm, grid, fix=None, *, samples=None, seed: int = 0, degrees: bool = F
 
     xarray()                                        # fail before a long run, not after
     from ..legs._guards import flag
-    degrees = flag(degrees, "degrees")
+    degrees, locus = flag(degrees, "degrees"), flag(locus, "locus")
     model = resolve_model(pm, overrides)
     from ..engine._workloads import resolve_workload
     load = resolve_workload(model, force, torque)

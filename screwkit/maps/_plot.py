@@ -71,6 +71,9 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
     if dims == ("sample",):
         raise InputError("random samples have no grid to draw: plot a map made with --grid")
     names = [n for q in quantities for n in quantity_names(ds, q)]
+    if not names and "transmission" in quantities:
+        raise InputError("nothing to plot: the transmission indices are defined at no cell of "
+                         "the map (none reachable and regular)")
     sel, note = {}, []
     at = dict(at or {})
     for d in list(at):

@@ -252,22 +252,7 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
         F, T, source = workload(model)
         loads = [(source, F, T)]
     else:
-        loads = workloads
-    try:
-        loads = [tuple(x) for x in loads]
-    except TypeError:
-        loads = [()]
-    if not 1 <= len(loads) <= MAX_WORKLOADS or any(len(x) != 3 for x in loads):
-        raise InputError(f"workloads: 1 to {MAX_WORKLOADS} entries (name, force (3,), torque "
-                         f"(3,)), got {workloads!r:.80}")
-    names = [str(n) for n, _, _ in loads]
-    if len(set(names)) != len(names):
-        raise InputError(f"workloads: the names must differ, got {names!r:.80}")
-    if workloads is not None and any(F is None or T is None for _, F, T in loads):
-        # (a None would take the model's declared load under the given name)
-        raise InputError("workloads: give each entry its force and torque (zeros where "
-                         "there is none)")
-    loads = [(n,) + tuple(workload(model, F, T)[:2]) for n, (_, F, T) in zip(names, loads)]
+        loads = workload_list(model, workloads)
     cl = _cluster(cluster, scheduler)
     if cl is None:
         return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,
@@ -276,6 +261,31 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
     with client_for(cl) as client:              # one cluster for every workload
         return _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers,
                      client, progress, max_level)
+
+
+def workload_list(model, workloads) -> list:
+    """``[(name, F (3,), T (3,)), ...]`` of the given ``workloads`` (a list of ``(name,
+    force, torque)``, 1 to :data:`MAX_WORKLOADS` of them, their names distinct, each force
+    and torque three numbers in the model's units), checked."""
+    from ._map import workload
+    if isinstance(workloads, (str, bytes, dict)):
+        loads = [()]
+    else:
+        try:
+            loads = [tuple(x) if not isinstance(x, (str, bytes)) else () for x in workloads]
+        except TypeError:
+            loads = [()]
+    if not 1 <= len(loads) <= MAX_WORKLOADS or any(len(x) != 3 for x in loads):
+        raise InputError(f"workloads: 1 to {MAX_WORKLOADS} entries (name, force (3,), torque "
+                         f"(3,)), got {str(workloads)[:80]}")
+    names = [str(n) for n, _, _ in loads]
+    if len(set(names)) != len(names):
+        raise InputError(f"workloads: the names must differ, got {str(names)[:80]}")
+    if any(F is None or T is None for _, F, T in loads):
+        # (a None would take the model's declared load under the given name)
+        raise InputError("workloads: give each entry its force and torque (zeros where "
+                         "there is none)")
+    return [(n,) + tuple(workload(model, F, T)[:2]) for n, (_, F, T) in zip(names, loads)]
 
 
 def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, client,

@@ -147,6 +147,9 @@ def view(pm: "PMModel | str", pose: Mapping[str, float] | None = None, *,
     from ..scene import MAX_STATES, GridControls, TimeControls, View, require_plotly
 
     require_plotly()
+    from ..legs._guards import MAX_LABEL
+    if title is not None and (not isinstance(title, str) or len(title) > MAX_LABEL):
+        raise InputError(f"title must be a text of at most {MAX_LABEL} characters")
     model = load_assembled_pm(pm, dict(overrides or {}))
     if path is not None:
         if grid is not None or pose is not None:

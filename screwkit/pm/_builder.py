@@ -25,7 +25,6 @@ the Euler order; angles are radians unless ``degrees=True``.
 Examples
 --------
 >>> import numpy as np
-from numpy.typing import ArrayLike
 >>> import screwkit
 >>> b = screwkit.PMBuilder("my3RPS", units={"length": "mm", "force": "N"})
 >>> for t in np.radians([90, 210, 330]):
@@ -48,7 +47,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..legs import PASSIVE_SUFFIX, Leg, parse_leg
-from ..legs._guards import MAX_LEGS, MAX_NAME, shorten
+from ..legs._guards import MAX_LEGS, MAX_MAGNITUDE, MAX_NAME, real, shorten
 from ..screws import check_order, rotation_matrix
 from ._model import LENGTH_PARAMS, PARAMS, PMModel
 
@@ -56,10 +55,15 @@ __all__ = ["PMBuilder", "leg_type_of"]
 
 
 def _floats(v) -> list:
-    """A 3-vector as a list of Python floats (finite), or an InputError."""
-    a = np.asarray(v, dtype=float)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"expected 3 finite numbers, got {shorten(v)}")
+    """A 3-vector as a list of Python floats (finite, within the model files' bound), or an
+    InputError."""
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        a = None
+    if a is None or a.shape != (3,) or not np.all(np.abs(a) <= MAX_MAGNITUDE):
+        raise InputError(f"expected 3 finite numbers within +-{MAX_MAGNITUDE:g}, got "
+                         f"{shorten(v)}")
     return [float(x) for x in a]
 
 
@@ -149,6 +153,9 @@ class PMBuilder:
         self._legs: list[dict] = []
         self._fields: dict[str, Any] = {}
         if units is not None:
+            if not isinstance(units, Mapping):
+                raise InputError(f"units must be a mapping such as {{'length': 'mm', 'force': "
+                                 f"'N'}}, got {shorten(units)}")
             self._fields["units"] = dict(units)
         for k, v in (("summary", summary), ("source", source), ("note", note)):
             if v:
@@ -277,9 +284,7 @@ class PMBuilder:
             for k, v in dict(values or {}).items():
                 if k not in names:
                     raise InputError(f"{what}: {k!r} is not one of {', '.join(names)}")
-                x = float(v)
-                if not np.isfinite(x):
-                    raise InputError(f"{what}: {k} must be finite")
+                x = real(v, f"{what}: {k}", bound=MAX_MAGNITUDE)
                 out[k] = x if (k in LENGTH_PARAMS or degrees) else float(np.degrees(x))
             return out
 

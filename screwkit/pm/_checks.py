@@ -19,9 +19,14 @@ def split_path(name_or_path: str):
     s = str(name_or_path)
     if _is_file(s):
         return s, None
-    base, sep, pm = s.rpartition("#")
-    if sep and (base.endswith((".yaml", ".yml")) or _is_file(base)):
-        return base, (pm or None)
+    # the first '#' after the file's name: the PM's name may hold one too (a#b), as may a
+    # file's (my#arm.yaml#a#b)
+    at = s.find("#")
+    while at >= 0:
+        base, pm = s[:at], s[at + 1:]
+        if base.endswith((".yaml", ".yml")) or _is_file(base):
+            return base, (pm or None)
+        at = s.find("#", at + 1)
     if s.endswith((".yaml", ".yml")):        # a model file that is not there: the loader says so
         return s, None
     return None, None

@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..legs import Placement, build_leg
-from ..screws import Normalisation, rotation_matrix
+from ..legs._guards import MAX_MAGNITUDE
+from ..screws import Normalisation, as_rotation, as_vector3, rotation_matrix
 from ._limits import NO_LIMITS, Limits
 from ._units import UNDECLARED, Units
 from ..errors import MisuseError
@@ -262,8 +263,8 @@ class PMModel:
         Pose parameters stay relative to the base frame; every world quantity
         (legs, ``o``) moves with it.
         """
-        R = np.asarray(rotation, float)
-        p = np.asarray(translation, float).reshape(3)
+        R = as_rotation(rotation)
+        p = as_vector3(translation, "translation", MAX_MAGNITUDE)
         R0, p0 = self.frame
         frame = (R @ R0, R @ p0 + p)
         legs = tuple(lg.moved(R, p) for lg in self.home_legs)

@@ -118,7 +118,11 @@ class View:
         return page_html(self.scene)
 
     def write_html(self, path) -> str:
-        """Write the page to ``path``; returns the path written."""
+        """Write the page to ``path`` (a text or a path-like); returns the path written."""
+        import os
+        if not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"the page's path must be a text or a path, got "
+                             f"{type(path).__name__}")
         p = Path(path)
         try:
             p.parent.mkdir(parents=True, exist_ok=True)

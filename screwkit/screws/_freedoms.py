@@ -248,13 +248,16 @@ def freedoms(wrenches: ArrayLike | Sequence[Wrench], points: ArrayLike | None = 
     zero = [i for i, row in enumerate(W) if not np.any(row)]
     if zero:
         raise InputError(f"wrenches[{zero[0]}] is zero: a constraint needs a force or a couple")
+    # each row over its largest component: a constraint is a line of wrenches, whatever its
+    # magnitude (1e200 and 1 give one system; squared, 1e200 overflowed to a zero row)
+    Ws = W / np.abs(W).max(axis=1, keepdims=True) if len(W) else W
     if points is None:
-        f = W[:, :3]
+        f = Ws[:, :3]
         ff = np.sum(f * f, axis=1)
-        pts = [cross(f[i], W[i, 3:]) / ff[i] for i in range(len(W)) if ff[i] > 0]
+        pts = [cross(f[i], Ws[i, 3:]) / ff[i] for i in range(len(Ws)) if ff[i] > 0]
         points = np.array(pts) if pts else np.zeros((1, 3))
     norm = Normalisation.for_points(points, length)
-    Wn = _unit_rows(norm.wrenches(W)) if len(W) else np.zeros((0, 6))
+    Wn = _unit_rows(norm.wrenches(Ws)) if len(W) else np.zeros((0, 6))
     if len(Wn):
         _, s, Vt = svd_full(Wn)
         tol = rtol * max(1.0, float(s[0]))

@@ -31,22 +31,42 @@ import numpy as np
 from ..errors import GeometryError, InputError
 from ._vector import cross
 
-__all__ = ["as_vector3", "unit", "reciprocal_product", "transform_twists", "transform_wrenches",
+__all__ = ["as_vector3", "as_rotation", "unit", "reciprocal_product", "transform_twists", "transform_wrenches",
            "screw_pitch", "screw_axis_point"]
 
 _EPS = 1e-12
 
 
-def as_vector3(x, name: str = "vector") -> np.ndarray:
-    """Return ``x`` as a finite float array of shape (3,), or raise :class:`InputError`."""
+def as_vector3(x, name: str = "vector", bound: float | None = None) -> np.ndarray:
+    """Return ``x`` as a finite float array of shape (3,), or raise :class:`InputError`;
+    with ``bound``, each component at most ``bound`` in magnitude (a point or a
+    translation: beyond, the geometry's digits are lost to its distance from ``O``)."""
     try:
         a = np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be 3 numbers, got {x!r:.60}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be 3 numbers, got {str(x)[:60]}") from None
     if a.shape != (3,):
         raise InputError(f"{name} must have 3 components, got shape {a.shape}")
-    if not all(map(math.isfinite, a.tolist())):
-        raise InputError(f"{name} must be finite, got {a.tolist()}")
+    v = a.tolist()
+    if not all(map(math.isfinite, v)):
+        raise InputError(f"{name} must be finite, got {v}")
+    if bound is not None and max(map(abs, v)) > bound:
+        raise InputError(f"{name} must be within +-{bound:g}, got {v}")
+    return a
+
+
+def as_rotation(R, name: str = "rotation") -> np.ndarray:
+    """Return ``R`` as a rotation matrix (3, 3): finite, orthonormal to 1e-9, determinant
+    +1; else raise :class:`InputError`."""
+    try:
+        a = np.asarray(R, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be a 3x3 rotation matrix, got {str(R)[:60]}") from None
+    if a.shape != (3, 3) or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be a finite 3x3 rotation matrix, got shape {a.shape}")
+    if not np.allclose(a.T @ a, np.eye(3), atol=1e-9) or np.linalg.det(a) < 0:
+        raise InputError(f"{name} is not a proper rotation matrix (3, 3): orthonormal, "
+                         "determinant +1")
     return a
 
 

@@ -183,7 +183,11 @@ class ReciprocalSystem:
 
 
 def _check_matrix(T, name: str) -> np.ndarray:
-    T = np.asarray(T, dtype=float)
+    try:
+        T = np.asarray(T, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be an (m, 6) array of real numbers, got "
+                         f"{str(T)[:60]}") from None
     if T.ndim == 1 and T.size == 0:
         T = T.reshape(0, 6)
     if T.ndim != 2 or T.shape[1] != 6:

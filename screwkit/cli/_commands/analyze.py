@@ -117,7 +117,8 @@ def resolve_model(args):
     overrides = parse_assignments(args.set, "--set")
     path = args.model
     if path and "#" in path and not os.path.isfile(path):
-        path = path.rsplit("#", 1)[0]           # FILE#NAME: one PM of a multi-PM file
+        from ...pm._checks import split_path        # FILE#NAME: one PM of a multi-PM file
+        path = split_path(path)[0] or path.split("#", 1)[0]
     if args.model and not os.path.isfile(path):
         why = "not a regular file" if os.path.exists(path) else "no such file"
         raise InputError(f"--model {shorten(args.model)}: {why}")

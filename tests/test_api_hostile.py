@@ -1,0 +1,116 @@
+"""Hostile input at the Python API: each mistake is a ScrewkitError naming what is wrong
+(never numpy's ValueError, a TypeError naming an internal function, or an AttributeError),
+and coordinates beyond the model files' bound (1e12) are refused where they would lose the
+geometry's digits (a leg moved 1e15 away read as two forces instead of one).
+
+The right answers beside the refusals are derived here from the geometry: a force along x
+removes the translation along x whatever its magnitude (5 freedoms), an RRPRR leg has one
+constraint force wherever it stands."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit.design import synthesize_motion
+from screwkit.dynamics import stiffness
+from screwkit.errors import InputError, MisuseError, ScrewkitError
+
+GRID = {"alpha": (-5.0, 5.0, 3)}
+FIX = {"beta": 0.0, "Zo": 80.0}
+
+
+@pytest.fixture(scope="module")
+def pm():
+    return screwkit.load_pm("3RRPRR")
+
+
+@pytest.mark.parametrize("call", [
+    lambda pm: screwkit.analyze(pm, bogus=1),
+    lambda pm: screwkit.map(pm, GRID, fix=FIX, bogus=1),
+    lambda pm: screwkit.size(pm, GRID, fix=FIX, bogus=1),
+    lambda pm: screwkit.optimize(pm, {"L": (60.0, 80.0)}, GRID, fix=FIX, bogus=1),
+    lambda pm: stiffness(pm, actuator=2e3, bogus=1),
+])
+def test_an_unknown_keyword_is_a_misuse_error_naming_it(pm, call):
+    with pytest.raises(MisuseError, match="no keyword 'bogus'"):
+        call(pm)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda pm: screwkit.forward(pm, [0.0, 0.0, 0.0], guess={"alpha": "x"}), "alpha"),
+    (lambda pm: screwkit.solve_path(pm, [{"alpha": "x", "beta": 0.0, "Zo": 80.0}]),
+     "path sample 0: alpha"),
+    (lambda pm: screwkit.solve_path(pm, [{"alpha": np.nan, "beta": 0.0, "Zo": 80.0}]),
+     "finite"),
+    (lambda pm: pm.moved("x", [0, 0, 0]), "rotation"),
+    (lambda pm: pm.moved(np.eye(3), [1e300, 0, 0]), "translation"),
+    (lambda pm: screwkit.load_pm("3RPS", [1, 2]), "overrides"),
+    (lambda pm: screwkit.freedoms("abc"), "wrenches"),
+    (lambda pm: screwkit.freedoms([[1j, 0, 0, 0, 0, 0]]), "wrenches"),
+    (lambda pm: screwkit.PMBuilder("b", units="mm"), "units"),
+    (lambda pm: screwkit.PMBuilder("b").add_leg("RPS", base=["a", 0, 0], platform=[1, 0, 0]),
+     "3 finite numbers"),
+    (lambda pm: screwkit.PMBuilder("b").add_leg("RPS", base=[70j, 0, 0], platform=[1, 0, 0]),
+     "3 finite numbers"),
+    (lambda pm: screwkit.PMBuilder("b").set_pose(["alpha", "beta", "Zo"],
+                                                  home={"alpha": "0", "beta": 0, "Zo": 60}),
+     "home: alpha"),
+    (lambda pm: screwkit.optimize(pm, {"L": (60.0, 80.0)}, GRID, fix=FIX,
+                                  workloads=[("a", [1, 2, 3])]), "workloads"),
+    (lambda pm: screwkit.optimize(pm, {"L": (60.0, 80.0)}, GRID, fix=FIX, workloads="abc"),
+     "workloads"),
+    (lambda pm: screwkit.optimize(pm, {"L": (60.0, 80.0)}, GRID, fix=FIX, constraints=5),
+     "constraints"),
+    (lambda pm: synthesize_motion("3T", mapper=5), "mapper"),
+    (lambda pm: synthesize_motion("3T", catalog="x"), "catalog"),
+    (lambda pm: screwkit.forward(pm, [True, False, False]), "numbers"),
+    (lambda pm: screwkit.assembly_modes(pm, [0.0, 0.0, 0.0], degrees="x"), "degrees"),
+    (lambda pm: screwkit.analyze(pm, raise_on_singular="no"), "raise_on_singular"),
+    (lambda pm: screwkit.analyze(pm, twists="yes"), "twists"),
+    (lambda pm: screwkit.map(pm, GRID, fix=FIX, locus="no"), "locus"),
+    (lambda pm: screwkit.analyze(pm, {"alpha": np.ma.array([0.0, 0.1], mask=[0, 1]),
+                                      "beta": np.zeros(2), "Zo": np.full(2, 80.0)}),
+     "masked"),
+    (lambda pm: screwkit.leg_from_joints([("R", [0, 0, 1], [1e200, 0, 0]),
+                                          ("R", [0, 1, 0], [0, 0, 0])]), "point of R1"),
+    (lambda pm: screwkit.leg("RRPRR").moved(np.eye(3), [1e15, 0, 0]), "translation"),
+    (lambda pm: screwkit.leg("RRPRR").moved(np.eye(3), [0, 0, 0], scale=1e-300), "scale"),
+])
+def test_a_bad_argument_is_a_screwkit_error_naming_it(pm, call, words):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # (no overflow warnings on the way either)
+        with pytest.raises(ScrewkitError, match=words):
+            call(pm)
+
+
+def test_the_view_refuses_a_title_beyond_a_label_and_a_page_path_that_is_not_one(pm):
+    pytest.importorskip("plotly")
+    with pytest.raises(InputError, match="title"):
+        screwkit.view(pm, title="x" * 10_000)
+    page = screwkit.view(pm, steps=2)
+    with pytest.raises(InputError, match="path"):
+        page.write_html(5)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-100, 1.0, 1e100, 1e200])
+def test_a_constraint_force_removes_its_translation_at_any_magnitude(scale):
+    """A force along x through O: the twists reciprocal to it are the five with no
+    velocity of O along x (translations along y and z, the three rotations about lines
+    through O... ), whatever the magnitude of the wrench (squared, 1e200 overflowed)."""
+    res = screwkit.freedoms([[scale, 0, 0, 0, 0, 0]])
+    T = np.asarray(res.twists)
+    assert T.shape == (5, 6)
+    assert np.allclose(T[:, 0], 0.0, atol=1e-12)       # f . v = 0 with f along x: no v_x
+    assert np.linalg.matrix_rank(T, tol=1e-9) == 5
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e6, 1e11])
+def test_a_moved_leg_within_the_bound_keeps_its_one_constraint_force(offset):
+    """An RRPRR leg (two pairs of parallel R axes about a P): one constraint force
+    wherever its frame stands within the bound."""
+    leg = screwkit.leg("RRPRR").moved(np.eye(3), [offset, 0.0, 0.0])
+    assert leg.analyze().summary() == "1 force"
