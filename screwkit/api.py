@@ -186,12 +186,8 @@ def load_pm(pm: str | os.PathLike | Mapping[str, Any] | PMBuilder,
     from .pm import load_pm as _load
 
     text = os.fspath(pm) if isinstance(pm, os.PathLike) else pm     # a pathlib.Path too
-    if overrides is not None and not isinstance(overrides, Mapping):
-        from .errors import InputError
-        raise InputError(f"overrides must be a mapping of dimension names to values, got "
-                         f"{str(overrides)[:60]}")
-    return check_default_pose(_load(text, None if overrides is None else dict(overrides), catalog,
-                                    name=name))
+    over = dict(overrides) if isinstance(overrides, Mapping) else overrides    # (else: said)
+    return check_default_pose(_load(text, over, catalog, name=name))
 
 
 def _model(pm: PMLike, overrides: Mapping[str, float] | None = None,
@@ -316,22 +312,20 @@ def map(pm: PMLike, grid: Mapping[str, Any], fix: Mapping[str, float] | None = N
     >>> ds["F_a1"].shape, bool(ds["ok"].all())
     ((3,), True)
     """
-    from .engine._inputs import check_forwarded
+    from .engine._inputs import forwarded
     from .maps import map_pm
 
-    check_forwarded("screwkit.map", map_pm, kwargs)
-    return map_pm(pm, grid, fix, **kwargs)
+    return forwarded("screwkit.map", map_pm, pm, grid, fix, **kwargs)
 
 
 def size(pm: PMLike, grid: Mapping[str, Any], fix: Mapping[str, float] | None = None,
          **kwargs: Any) -> Sizing:
     """The largest force of every actuator and constraint row (and ``T_r``) over a map and a
     list of workloads, with the pose where it occurs: :func:`screwkit.maps.size`."""
-    from .engine._inputs import check_forwarded
+    from .engine._inputs import forwarded
     from .maps import size as _size
 
-    check_forwarded("screwkit.size", _size, kwargs)
-    return _size(pm, grid, fix, **kwargs)
+    return forwarded("screwkit.size", _size, pm, grid, fix, **kwargs)
 
 
 def optimize(pm: PMLike, vary: Mapping[str, Any], grid: Mapping[str, Any],
@@ -340,10 +334,9 @@ def optimize(pm: PMLike, vary: Mapping[str, Any], grid: Mapping[str, Any],
     a PM that are best over a task (the cells and workloads of :func:`size`), the whole task
     usable: :func:`screwkit.design.optimize` (objectives, constraints, search options)."""
     from .design import optimize as _optimize
-    from .engine._inputs import check_forwarded
+    from .engine._inputs import forwarded
 
-    check_forwarded("screwkit.optimize", _optimize, kwargs)
-    return _optimize(pm, vary, grid, fix, **kwargs)
+    return forwarded("screwkit.optimize", _optimize, pm, vary, grid, fix, **kwargs)
 
 
 def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],

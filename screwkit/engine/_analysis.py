@@ -13,9 +13,8 @@ Examples
 (3, '1T2R')
 >>> bool(res.statics.equilibrium_residual < 1e-9)
 True
->>> many = screwkit.analyze("3RRPRR", pose={"alpha": [0, 5], "beta": [0, -3], "Zo": [80, 80]},
-...                         degrees=True)
->>> many.statics.active.shape, many.ok.tolist()
+>>> many = screwkit.analyze("3RRPRR", {"alpha": [0, 0.09], "beta": [0, -0.05], "Zo": [80, 80]})
+>>> many.statics.active.shape, many.ok.tolist()      # (radians, cm)
 ((2, 3), [True, True])
 """
 

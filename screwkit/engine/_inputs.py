@@ -289,6 +289,13 @@ def check_forwarded(what: str, fn, kwargs: dict, also=()) -> None:
                                                                         "grid", "fix", "vary")}))
 
 
+def forwarded(what: str, fn, *args, **kwargs):
+    """``fn(*args, **kwargs)``, a keyword ``fn`` does not take a :class:`MisuseError` naming
+    ``what`` (:func:`check_forwarded`)."""
+    check_forwarded(what, fn, kwargs)
+    return fn(*args, **kwargs)
+
+
 def check_keywords(what: str, kwargs: dict, allowed, named: str = "") -> None:
     """A :class:`~screwkit.errors.MisuseError` for a keyword ``what`` does not take (a
     bare ``TypeError`` named an internal function)."""

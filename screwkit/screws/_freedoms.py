@@ -239,18 +239,15 @@ def freedoms(wrenches: ArrayLike | Sequence[Wrench], points: ArrayLike | None = 
         Not an ``(m, 6)`` array of finite numbers, more than :data:`MAX_WRENCHES` rows, or
         a zero wrench.
     """
-    rows: object = wrenches
-    if not isinstance(wrenches, np.ndarray) and isinstance(wrenches, (list, tuple)):
-        rows = [getattr(w, "vector", w) for w in wrenches]         # Wrench objects too
+    rows = [getattr(w, "vector", w) for w in wrenches] if isinstance(  # (Wrench objects too)
+        wrenches, (list, tuple)) else wrenches
     W = _check_matrix(rows, "wrenches")
     if len(W) > MAX_WRENCHES:
         raise InputError(f"{len(W)} wrenches: at most {MAX_WRENCHES}")
     zero = [i for i, row in enumerate(W) if not np.any(row)]
     if zero:
         raise InputError(f"wrenches[{zero[0]}] is zero: a constraint needs a force or a couple")
-    # each row over its largest component: a constraint is a line of wrenches, whatever its
-    # magnitude (1e200 and 1 give one system; squared, 1e200 overflowed to a zero row)
-    Ws = W / np.abs(W).max(axis=1, keepdims=True) if len(W) else W
+    Ws = W / np.abs(W).max(axis=1, keepdims=True) if len(W) else W   # (magnitude-free: 1e200)
     if points is None:
         f = Ws[:, :3]
         ff = np.sum(f * f, axis=1)
