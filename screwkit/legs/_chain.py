@@ -17,7 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..screws import Line, Twist, as_rotation, as_vector3, helical_twist, prismatic_twist, revolute_twist, unit
+from ..screws import (Line, Twist, as_rotation, as_vector3, helical_twist, prismatic_twist,
+                      revolute_twist, unit)
 from ._guards import MAX_MAGNITUDE
 from ._parsing import EquivalentJoint, LegString
 

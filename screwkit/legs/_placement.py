@@ -65,7 +65,8 @@ class Placement:
             raise GeometryError("the leg's end points A and a coincide")
         for name, val in (("A", A), ("a", a), ("O", O), ("o", o),
                           ("base_rotation", as_rotation(self.base_rotation, "base_rotation")),
-                          ("platform_rotation", as_rotation(self.platform_rotation, "platform_rotation"))):
+                          ("platform_rotation",
+                           as_rotation(self.platform_rotation, "platform_rotation"))):
             val = np.array(val, dtype=float)
             val.setflags(write=False)
             object.__setattr__(self, name, val)

@@ -14,8 +14,8 @@ parallel manipulators.
 
 from ._tolerance import GEOMETRY_RTOL, RANK_RTOL, characteristic_length
 from ._vector import cross
-from ._primitives import (as_rotation, as_vector3, reciprocal_product, screw_axis_point, screw_pitch,
-                          transform_twists, transform_wrenches, unit)
+from ._primitives import (as_rotation, as_vector3, reciprocal_product, screw_axis_point,
+                          screw_pitch, transform_twists, transform_wrenches, unit)
 from ._line import Line
 from ._screw import (Twist, Wrench, couple_wrench, force_wrench, helical_twist, prismatic_twist,
                      revolute_twist)
@@ -28,9 +28,9 @@ from ._euler import (ORDERS, EulerAngles, angular_jacobian, axis_rotation, check
 __all__ = [
     "cross",
     # primitives
-    "Line", "Twist", "Wrench", "as_rotation", "as_vector3", "unit", "revolute_twist", "prismatic_twist",
-    "helical_twist", "force_wrench", "couple_wrench", "reciprocal_product", "transform_twists",
-    "transform_wrenches", "screw_pitch", "screw_axis_point",
+    "Line", "Twist", "Wrench", "as_rotation", "as_vector3", "unit", "revolute_twist",
+    "prismatic_twist", "helical_twist", "force_wrench", "couple_wrench", "reciprocal_product",
+    "transform_twists", "transform_wrenches", "screw_pitch", "screw_axis_point",
     # reciprocal screw systems
     "Normalisation", "ReciprocalSystem", "reciprocal_system", "independent_subset", "same_span",
     "span_contains", "compare_spans", "twist_rank",

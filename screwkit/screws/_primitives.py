@@ -31,8 +31,8 @@ import numpy as np
 from ..errors import GeometryError, InputError
 from ._vector import cross
 
-__all__ = ["as_vector3", "as_rotation", "unit", "reciprocal_product", "transform_twists", "transform_wrenches",
-           "screw_pitch", "screw_axis_point"]
+__all__ = ["as_vector3", "as_rotation", "unit", "reciprocal_product", "transform_twists",
+           "transform_wrenches", "screw_pitch", "screw_axis_point"]
 
 _EPS = 1e-12
 
