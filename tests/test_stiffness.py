@@ -356,3 +356,24 @@ def test_stiffness_rank_is_the_analysis_rank_next_to_a_singularity():
     assert np.array_equal(np.asarray(st.restrained)[reach], regular[reach])
     fields = stiffness_fields(a, actuator=2000.0)
     assert np.array_equal(fields["stiffness_rank"][0][reach & regular], rank[reach & regular])
+
+
+def test_the_principal_stiffnesses_are_the_compliance_blocks_inverse_eigenvalues(capsys):
+    """stiffness --json of a 6-SPS: each principal stiffness is 1 / an eigenvalue of the
+    translational (rotational) block of K^-1, inverted here from the printed K (the
+    stiffness under a force alone, not K's own block); the JSON says so, and gives the
+    workload's units."""
+    from screwkit.cli import main
+    assert main(["stiffness", "6SPS", "--k-actuator", "1000", "--force=1,2,-10",
+                 "--torque=5,-3,2", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    C = np.linalg.inv(np.array(d["stiffness"]))
+    for which, sl in (("translational", slice(0, 3)), ("rotational", slice(3, 6))):
+        block = 0.5 * (C[sl, sl] + C[sl, sl].T)
+        expect = np.sort(1.0 / np.linalg.eigvalsh(block))
+        np.testing.assert_allclose(np.sort(d["principal"][which]["stiffness"]), expect,
+                                   rtol=1e-9)
+        K_block = np.sort(np.linalg.eigvalsh(np.array(d["stiffness"])[sl, sl]))
+        assert not np.allclose(K_block, expect, rtol=1e-3)     # (the other definition)
+    assert "compliance's translational" in d["principal"]["definition"]
+    assert (d["workload"]["force_unit"], d["workload"]["torque_unit"]) == ("kN", "kN.cm")

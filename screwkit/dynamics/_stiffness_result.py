@@ -11,7 +11,13 @@ from ..errors import InputError
 from ..screws import RANK_RTOL
 from ..errors import MisuseError
 
-__all__ = ["StiffnessResult"]
+__all__ = ["StiffnessResult", "PRINCIPAL_DEFINITION"]
+
+#: What the principal stiffnesses are (the JSON and the text say it).
+PRINCIPAL_DEFINITION = ("1 / the eigenvalues of the compliance's translational (rotational) "
+                        "block: the stiffness of o under a force (a couple) alone, the "
+                        "platform free to turn (to move) as the legs let it; not the "
+                        "eigenvalues of K's own blocks, which hold the other three fixed")
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,6 +227,7 @@ class StiffnessResult:
             "o": self.analysis.solution.position,
             "workload": (None if self.force is None else
                          {"force": self.force, "torque": self.torque, "applied_at": "o",
+                          "force_unit": u.force, "torque_unit": u.torque,
                           "source": self.workload_source}),
             "conditioning": {"class": str(q.conditioning[0]),
                              "condition_number": float(q.condition_number[0])},
@@ -238,7 +245,8 @@ class StiffnessResult:
                              for t in free],
             "load_on_unrestrained": bool(self.load_on_free),
             "principal": {"translational": {"stiffness": kt, "directions": dt.T},
-                          "rotational": {"stiffness": kr, "axes": dr.T}},
+                          "rotational": {"stiffness": kr, "axes": dr.T},
+                          "definition": PRINCIPAL_DEFINITION},
             "rows": [{"label": ri.label, "stiffness": k,       # ("inf" in JSON: rigid)
                       "rigid": not bool(np.isfinite(k)), "unit": un}
                      for ri, k, un in zip(jac.info, self.k[0], row_u)],

@@ -276,8 +276,9 @@ class TrajectoryResult:
                            "values": self.constraint * np.array([kt if q == "torque" else kf
                                                                  for q in cu])},
             "T_r": [None if r else (self.T_r[:, i] * kt).tolist() for i, r in enumerate(rot)],
-            "T_r_name": "T_r: moment of each linear leg's constraint wrench about its axis "
-                        "(null for a rotary leg)",
+            "T_r_name": "T_r: moment of each linear leg's constraint wrench about its axis, "
+                        "leg by leg (legs x samples: each leg's series, null for a rotary "
+                        "leg; active and extensions are samples x legs)",
             "T_r_unit": ub["torque"],
             "condition_number": self.condition_number,
             "singularity": self.singularity.tolist(),

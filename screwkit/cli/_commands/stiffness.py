@@ -179,3 +179,4 @@ def _print(d, hint) -> None:
         parts = [f"{format(k, '.6g') if np.isfinite(k) else 'rigid'} along {fmt_vec(v, 4)}"
                  for k, v in zip(p["stiffness"], np.asarray(p[key]))]
         print(f"principal {which} stiffness [{un}]: " + "; ".join(parts))
+    print(f"  (principal stiffnesses: {d['principal']['definition']})")
