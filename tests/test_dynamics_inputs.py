@@ -199,3 +199,16 @@ def test_the_dynamics_table_says_which_workload_it_carries(tmp_path, capsys):
         assert rows[0][cols[0]] == "workload_Fx [kN]" and rows[0][cols[3]] == "workload_Tx [kN.cm]"
         for r in rows[1:]:
             assert [float(r[c]) for c in cols] == load
+
+
+def test_a_power_with_a_variable_exponent_has_its_value_where_only_a_rate_fails():
+    """``0**t`` at t = 0 is 1 (its rate is what is not finite there: the message says the
+    derivative, not the value); ``2**t`` has the rates ln 2 2^t and ln^2 2 2^t."""
+    from screwkit.errors import InputError
+    with pytest.raises(InputError, match="its first derivative is not finite at t = 0"):
+        derivatives(parse_expression("0**t"), np.array([0.0]))
+    t = np.array([0.0, 0.5, 1.0])
+    f, d1, d2 = derivatives(parse_expression("2**t"), t)
+    np.testing.assert_allclose(f, 2.0 ** t, rtol=1e-15)
+    np.testing.assert_allclose(d1, np.log(2.0) * 2.0 ** t, rtol=1e-14)
+    np.testing.assert_allclose(d2, np.log(2.0) ** 2 * 2.0 ** t, rtol=1e-14)

@@ -76,7 +76,9 @@ class Jet:
             g1 = np.where(c == 0, 0.0, c * x ** (c - 1.0))
             g2 = np.where((c == 0) | (c == 1), 0.0, c * (c - 1.0) * x ** (c - 2.0))
             return self.chain(x ** c, g1, g2)
-        return _unary("exp", o * _unary("log", self))    # u ** v = exp(v log u)
+        j = _unary("exp", o * _unary("log", self))       # u ** v = exp(v log u) ...
+        j.f = self.f ** o.f                  # (... but its value 0 ** 0 = 1, not exp(nan))
+        return j
 
 
 def _unary(name, u: Jet) -> Jet:
