@@ -117,3 +117,38 @@ def test_helical_motion_is_labelled_with_its_pitch():
     np.testing.assert_allclose(np.cross(m.twists[0][3:], [0, 0, 1]), 0, atol=1e-12)
     w, v = m.twists[0][3:], m.twists[0][:3]
     assert v @ w / (w @ w) == pytest.approx(2.5, rel=1e-9)
+
+
+def test_a_helical_columns_rows_are_the_members_their_labels_say_at_any_pose():
+    """Three UPS legs and a passive column P(x), P(y), H(z, pitch h) (the generic rule: its
+    system holds a screw). Its constraint rows, by hand: two couples normal to z and one
+    screw along z of pitch -h (a force along z with the moment -h z does no work on the H
+    twist [p x z + h z; z]); each row is reciprocal to the column's joint twists formed here,
+    and each is labelled as what it is (they were the analysis' members in its order, a
+    screw labelled a couple and a couple a screw, and off home the couples took a force)."""
+    h = 20.0
+    col = screwkit.leg_from_joints([("P", [1, 0, 0], [0, 0, 0]), ("P", [0, 1, 0], [0, 0, 0]),
+                                    ("H", [0, 0, 1], [0, 0, 500.0], h)], [0, 0, 0], [0, 0, 500.0])
+    b = screwkit.PMBuilder("hel", units={"length": "mm", "force": "N"})
+    for t in np.radians([0, 120, 240]):
+        u = np.array([np.cos(t), np.sin(t), 0.0])
+        b.add_leg("UPS", base=300 * u, platform=100 * u + [0, 0, 500])
+    b.add_leg(col, passive=True)
+    b.set_pose(["Xo", "Yo", "gamma"], home={"Xo": 0, "Yo": 0, "gamma": 0}, order="XYZ")
+    pm = b.build()
+    for pose in ({"Xo": 0.0, "Yo": 0.0, "gamma": 0.0}, {"Xo": 18.0, "Yo": -8.0, "gamma": 0.3}):
+        res = screwkit.analyze(pm, pose, force=[10, -5, -200], torque=[500, -300, 1000])
+        p = np.array([pose["Xo"], pose["Yo"], 0.0])          # the H axis: z through p
+        twists = [np.r_[1.0, 0, 0, 0, 0, 0], np.r_[0, 1.0, 0, 0, 0, 0],
+                  np.r_[np.cross(p, [0, 0, 1]) + h * np.array([0, 0, 1]), 0, 0, 1]]
+        rows = [(r, w) for r, w in zip(res.jacobian.info, res.jacobian.J) if r.leg == 3]
+        assert sorted(r.kind for r, _ in rows) == ["couple", "couple", "screw"]
+        for r, w in rows:
+            assert max(abs(w @ t) for t in twists) <= 1e-12 * np.abs(w).max()
+            if r.kind == "couple":
+                assert r.label.startswith("T_c") and np.abs(w[:3]).max() <= 1e-12
+                assert abs(w[5]) <= 1e-12                   # normal to z
+            else:
+                assert r.label.startswith("W_c")
+                np.testing.assert_allclose(w[:3] / np.linalg.norm(w[:3]), [0, 0, 1], atol=1e-12)
+                assert w[:3] @ w[3:] / (w[:3] @ w[:3]) == pytest.approx(-h, rel=1e-9)

@@ -145,14 +145,17 @@ class RowTemplate:
         self.groups = tuple(groups)
         self.generic_refs = ()
         if self.k:
-            out = np.full((self.k, 2), -1, np.int64)
+            out = np.full((self.k, 3), -1, np.int64)
             K.home_generic(*probe, self.k, cand_idx, out)
             if np.any(out[:, 0] < 0):
                 raise ValueError("no reference wrenches give a basis of the constraint system")
             self.generic_refs = tuple(("force" if kd == 0 else "couple", pick[c])
-                                      for kd, c in out)
+                                      for kd, c, _ in out)
         if self.generic:
-            self.member_kinds = tuple((c.kind, None) for c in cons)
+            # what each of the generic rule's rows is at home (its own, in its order: not
+            # the analysis' members, whose order and kinds its projections need not keep)
+            self.member_kinds = tuple((("force", "couple", "screw")[kd], None)
+                                      for kd in out[:, 2])
         else:
             self.member_kinds = tuple((g.kind, g.point) for g in self.groups for _ in range(g.dim))
         self.actuation = (Actuation("passive") if self.passive else

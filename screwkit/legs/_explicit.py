@@ -131,7 +131,9 @@ def leg_from_joints(joints: Sequence[Sequence[Any] | Mapping[str, Any]], A: Arra
             not 0 <= actuated < len(parsed):
         raise InputError(f"actuated must be a joint index from 0 to {len(parsed) - 1}, "
                          f"got {actuated!r}")
-    kinds = [p[0] for p in parsed]
+    # the string carries each H's pitch (H(20)), as a leg type's does: a model written from
+    # this leg (PMBuilder) reads its pitches there
+    kinds = [f"H({float(p[3])!r})" if p[0] == "H" else p[0] for p in parsed]
     ls = parse_leg("".join(kinds[:actuated]) + "_" + "".join(kinds[actuated:]))
     out = []
     for k, ((kind, axis, point, pitch), spec) in enumerate(zip(parsed, ls.equivalent)):

@@ -8,9 +8,10 @@ at any pose:
 * :func:`home_groups`: whether each group's rows leave a null space of its dimension, and
   the first candidate directions (in order) that give it a clear basis (each with a
   remainder of at least ``REF_MIN``);
-* :func:`home_generic`: the generic rule's reference wrenches: forces through ``A``, then
-  couples, along the first candidates that keep a clear projection on the constraint
-  system;
+* :func:`home_generic`: the generic rule's reference wrenches: couples, then forces
+  through ``A``, along the first candidates that keep a clear projection on the constraint
+  system, and what each of its rows is at home (a force, a couple or a screw: the rows'
+  labels);
 * :func:`home_least_norm`: the least-norm actuation member at home.
 """
 
@@ -80,23 +81,45 @@ def home_groups(M, fp, gkind, gpoint, gdim, cand, ok, chosen):
 
 @entry
 def home_generic(M, fp, k, cand, out):
-    """The generic rule's ``k`` reference wrenches: ``out[r] = (0 force through A / 1
-    couple, row of DIRS)``, forces first, each the first candidate whose projection on the
-    constraint system keeps a remainder of at least ``REF_MIN`` (-1: none found)."""
+    """The generic rule's ``k`` reference wrenches: ``out[r, :2] = (0 force through A / 1
+    couple, row of DIRS)``, couples first (a couple of the constraint system is then a row
+    of its own at every pose, as the analysis lists it, not mixed by the Gram-Schmidt into
+    the force rows before it), each the first candidate whose projection on the
+    constraint system keeps a remainder of at least ``REF_MIN`` (-1: none found); and
+    ``out[r, 2]`` what the generic rule's row ``r`` is at home (:func:`_member_kind`: 0 a
+    force, 1 a couple, 2 a finite-pitch screw), by which the row is labelled."""
     fa, RW = _home(M, fp)
     tpl, gref = M[TPL][0], M[GREF][0]
     tpl[T_K] = k
     cons = np.zeros((6, 6))
     n = 0
-    for kind in range(2):
+    for kind in (1, 0):
         for c in cand:
             if n == k:
-                return
+                break
             gref[n, 0], gref[n, 1] = kind, c
             worst = _generic_remainder(M, RW, n + 1, cons)
             if worst >= REF_MIN:
                 out[n, 0], out[n, 1] = kind, c
                 n += 1
+    if n == k:                      # (cons: the rows of the k references, the last pass)
+        L = RW[RW_CTX][3, 0]
+        for r in range(k):
+            out[r, 2] = _member_kind(cons[r], L)
+
+
+@inner
+def _member_kind(w, L):
+    """0 a force, 1 a couple, 2 a finite-pitch screw: the physical unit wrench ``w [f; m]``
+    (of the generic rule) with its force part at most 1e-9 of its length-normalised norm a
+    couple; else with its pitch ``f.m / |f|^2`` within ``GEOMETRY_RTOL`` of the length ``L``
+    a force (on a line), else a screw."""
+    ff = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    mm = (w[3] * w[3] + w[4] * w[4] + w[5] * w[5]) / (L * L)
+    if ff <= 1e-18 * (ff + mm):
+        return 1
+    h = (w[0] * w[3] + w[1] * w[4] + w[2] * w[5]) / ff
+    return 0 if abs(h) <= 1e-7 * L else 2
 
 
 @inner
