@@ -282,23 +282,3 @@ def test_model_check_reports_a_dimension_nothing_uses(tmp_path):
     del d["dimensions"]["H"]
     p.write_text(yaml.safe_dump({"pms": {"my3RPS": d}}))
     assert check_model_file(p) == []
-
-
-def test_a_joint_list_legs_helical_pitch_reaches_the_built_model():
-    """A passive column P, P, H (pitch h along z) from ``leg_from_joints`` beside three UPS
-    legs, built with PMBuilder: the H couples the platform's height to its turn, Zo = h *
-    gamma (home Zo = 0 at gamma = 0); the pitch was dropped (an R joint: Zo = 0)."""
-    h = 20.0
-    col = screwkit.leg_from_joints([("P", [1, 0, 0], [0, 0, 0]), ("P", [0, 1, 0], [0, 0, 0]),
-                                    ("H", [0, 0, 1], [0, 0, 500.0], h)], [0, 0, 0], [0, 0, 500.0])
-    assert col.string.marked == "_PPH(20)"
-    b = screwkit.PMBuilder("hel", units={"length": "mm", "force": "N"})
-    for t in np.radians([0, 120, 240]):
-        u = np.array([np.cos(t), np.sin(t), 0.0])
-        b.add_leg("UPS", base=300 * u, platform=100 * u + [0, 0, 500])
-    b.add_leg(col, passive=True)
-    b.set_pose(["Xo", "Yo", "gamma"], home={"Xo": 0, "Yo": 0, "gamma": 0}, order="XYZ")
-    pm = b.build()
-    assert pm.home_legs[3].joints[2].pitch == h
-    sol = screwkit.solve(pm, {"Xo": 30.0, "Yo": -20.0, "gamma": 0.3})
-    assert float(sol.params["Zo"]) == pytest.approx(h * 0.3, abs=1e-9)

@@ -125,7 +125,9 @@ def test_a_helical_columns_rows_are_the_members_their_labels_say_at_any_pose():
     screw along z of pitch -h (a force along z with the moment -h z does no work on the H
     twist [p x z + h z; z]); each row is reciprocal to the column's joint twists formed here,
     and each is labelled as what it is (they were the analysis' members in its order, a
-    screw labelled a couple and a couple a screw, and off home the couples took a force)."""
+    screw labelled a couple and a couple a screw, and off home the couples took a force).
+    The H couples the platform's height to its turn, Zo = h gamma (the builder dropped the
+    column's pitch: an R joint, Zo = 0)."""
     h = 20.0
     col = screwkit.leg_from_joints([("P", [1, 0, 0], [0, 0, 0]), ("P", [0, 1, 0], [0, 0, 0]),
                                     ("H", [0, 0, 1], [0, 0, 500.0], h)], [0, 0, 0], [0, 0, 500.0])
@@ -136,8 +138,10 @@ def test_a_helical_columns_rows_are_the_members_their_labels_say_at_any_pose():
     b.add_leg(col, passive=True)
     b.set_pose(["Xo", "Yo", "gamma"], home={"Xo": 0, "Yo": 0, "gamma": 0}, order="XYZ")
     pm = b.build()
+    assert col.string.marked == "_PPH(20)" and pm.home_legs[3].joints[2].pitch == h
     for pose in ({"Xo": 0.0, "Yo": 0.0, "gamma": 0.0}, {"Xo": 18.0, "Yo": -8.0, "gamma": 0.3}):
         res = screwkit.analyze(pm, pose, force=[10, -5, -200], torque=[500, -300, 1000])
+        assert float(res.solution.params["Zo"]) == pytest.approx(h * pose["gamma"], abs=1e-9)
         p = np.array([pose["Xo"], pose["Yo"], 0.0])          # the H axis: z through p
         twists = [np.r_[1.0, 0, 0, 0, 0, 0], np.r_[0, 1.0, 0, 0, 0, 0],
                   np.r_[np.cross(p, [0, 0, 1]) + h * np.array([0, 0, 1]), 0, 0, 1]]
