@@ -41,7 +41,9 @@ def test_every_catalog_leg_rebuilt_from_its_joints(name):
 def test_a_helical_joint_and_mappings():
     leg = leg_from_joints([{"kind": "H", "axis": [0, 0, 1], "point": [0, 0, 0], "pitch": 2.0},
                            {"kind": "P", "axis": [1, 0, 0]}], actuated=1)
-    assert leg.string.marked == "H_P"
+    # the string carries the H's pitch, as a leg type's does (a model written from the leg
+    # reads it there: "H_P" made it an R joint)
+    assert leg.string.marked == "H(2)_P"
     # the H twist is [p x d + h d; d] with h = 2
     np.testing.assert_allclose(leg.twists[0], [0, 0, 2.0, 0, 0, 1])
 
