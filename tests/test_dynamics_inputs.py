@@ -212,3 +212,15 @@ def test_a_power_with_a_variable_exponent_has_its_value_where_only_a_rate_fails(
     np.testing.assert_allclose(f, 2.0 ** t, rtol=1e-15)
     np.testing.assert_allclose(d1, np.log(2.0) * 2.0 ** t, rtol=1e-14)
     np.testing.assert_allclose(d2, np.log(2.0) ** 2 * 2.0 ** t, rtol=1e-14)
+
+
+def test_zero_to_a_positive_variable_power_is_zero_with_zero_rates():
+    """``0**t`` is identically 0 for t > 0 (so are its rates); ``0.5**(2*t)`` = 4^-t has the
+    rates -2 ln 2 4^-t and 4 ln^2 2 4^-t (by hand)."""
+    t = np.array([0.25, 1.0, 3.0])
+    for x in derivatives(parse_expression("0**t"), t):
+        assert np.array_equal(x, np.zeros(3))
+    f, d1, d2 = derivatives(parse_expression("0.5**(2*t)"), t)
+    np.testing.assert_allclose(f, 4.0 ** -t, rtol=1e-15)
+    np.testing.assert_allclose(d1, -2.0 * np.log(2.0) * 4.0 ** -t, rtol=1e-14)
+    np.testing.assert_allclose(d2, 4.0 * np.log(2.0) ** 2 * 4.0 ** -t, rtol=1e-14)

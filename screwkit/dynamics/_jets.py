@@ -76,6 +76,13 @@ class Jet:
             g1 = np.where(c == 0, 0.0, c * x ** (c - 1.0))
             g2 = np.where((c == 0) | (c == 1), 0.0, c * (c - 1.0) * x ** (c - 2.0))
             return self.chain(x ** c, g1, g2)
+        if not (np.any(self.d) or np.any(self.dd)):      # constant base: exp(v ln c)
+            c, h = self.f, self.f ** o.f
+            # 0 ** v is 0 for every v > 0 near the sample: its rates are 0, not 0 * inf
+            zero = (c == 0) & (o.f > 0)
+            ln = np.log(np.where(zero, 1.0, c))
+            return Jet(h, np.where(zero, 0.0, h * ln * o.d),
+                       np.where(zero, 0.0, h * (ln * o.dd + (ln * o.d) ** 2)))
         j = _unary("exp", o * _unary("log", self))       # u ** v = exp(v log u) ...
         j.f = self.f ** o.f                  # (... but its value 0 ** 0 = 1, not exp(nan))
         return j
