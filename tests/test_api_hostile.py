@@ -114,3 +114,9 @@ def test_a_moved_leg_within_the_bound_keeps_its_one_constraint_force(offset):
     wherever its frame stands within the bound."""
     leg = screwkit.leg("RRPRR").moved(np.eye(3), [offset, 0.0, 0.0])
     assert leg.analyze().summary() == "1 force"
+
+
+def test_mobility_of_something_that_is_not_a_solved_pose_is_an_input_error():
+    from screwkit.pm import mobility
+    with pytest.raises(InputError, match="mobility takes a solved pose.*not tuple"):
+        mobility((1, 2))

@@ -171,3 +171,33 @@ def test_freedoms_where_an_angular_part_is_just_above_the_rank_tolerance():
         u = t / np.linalg.norm(t)
         recip = W[:, :3] @ u[:3] + W[:, 3:] @ u[3:]
         assert np.abs(recip).max() <= 1e-6 * np.abs(W).max()
+
+
+@pytest.mark.parametrize("h", [20.0, -7.5])
+def test_a_screw_motion_is_labelled_helical_as_the_instantaneous_type_labels_it(h):
+    """Three UPS legs and a passive column P(x), P(y), H(z, pitch h): the platform's height
+    follows its turn, Zo = h gamma (by hand: an H joint of pitch h about z), so its finite
+    motion is two translations and a screw of pitch h about z, ``2T1H(p=h)``, the label the
+    twist space at home has too (it was ``2T1R`` with ``Zo`` parasitic beside the
+    instantaneous ``2T1H``); a declared ``2T1H`` loads."""
+    col = screwkit.leg_from_joints([("P", [1, 0, 0], [0, 0, 0]), ("P", [0, 1, 0], [0, 0, 0]),
+                                    ("H", [0, 0, 1], [0, 0, 500.0], h)], [0, 0, 0],
+                                   [0, 0, 500.0])
+    b = screwkit.PMBuilder("hel", units={"length": "mm", "force": "N"})
+    for t in np.radians([0, 120, 240]):
+        u = np.array([np.cos(t), np.sin(t), 0.0])
+        b.add_leg("UPS", base=300 * u, platform=100 * u + [0, 0, 500])
+    b.add_leg(col, passive=True)
+    b.set_pose(["Xo", "Yo", "gamma"], home={"Xo": 0, "Yo": 0, "gamma": 0}, order="XYZ",
+               motion="2T1H")
+    pm = b.build()
+    fm = finite_motion(pm)
+    assert (fm.translations, fm.rotations) == (2, 1)
+    assert fm.pitch == pytest.approx(h, rel=1e-9)
+    assert fm.label == f"2T1H(p={h:.4g})"
+    assert fm.parasitic == ("Zo",)
+    mob = screwkit.analyze(pm, {"Xo": 5.0, "Yo": -3.0, "gamma": 0.2},
+                           force=[0, 0, -100]).mobility
+    assert mob.motion_type == fm.label
+    home = {k: pm.home_pose[k] for k in pm.independent}
+    assert mobility(screwkit.solve(pm, home)).instantaneous_type == fm.label

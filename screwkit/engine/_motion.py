@@ -143,8 +143,11 @@ def _compute(model) -> FiniteMotion:
 
 
 def _counts(label: str):
-    """``(translations, rotations)`` of a label ``"1T2R"`` / ``"2R1T"`` / ``"3T"``, or None."""
+    """``(translations, rotations)`` of a label ``"1T2R"`` / ``"2R1T"`` / ``"3T"``, or None;
+    a helical freedom counts as a rotation (``"2T1H(p=20)"``, ``"2T1H"``: its pitch is not
+    compared)."""
     text = label.strip().upper().replace("-", "").replace(" ", "")
+    text = re.sub(r"(\d)H(\(P=[^)]*\))?", r"\1R", text)
     m = re.fullmatch(r"(?:(\d)T)?(?:(\d)R)?|(?:(\d)R)?(?:(\d)T)?", text)
     if not text or m is None:
         return None

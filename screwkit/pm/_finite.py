@@ -18,7 +18,8 @@ positions ``o (N, 3)`` and pose parameters, with no solver:
   orientation (``r = 0``); a base-fixed point (the least-squares centre of the
   displacements, as for a spherical motion); rotation axes that stay parallel to one
   base direction (``r = 1``: Schoenflies and planar motions), translations normal to it
-  (planar);
+  (planar), or translations along it proportional to the turn (a screw motion: an H
+  joint's platform, labelled ``"2T1H(p=20)"`` as the instantaneous type labels it);
 * the **parasitic** motions: dependent pose parameters that vary with the independent
   ones, where no fixed point explains them (the 3-RPS's ``Xo``, ``Yo``, ``gamma``).
 
@@ -53,7 +54,8 @@ class FiniteMotion:
     Attributes
     ----------
     label : str
-        ``"<t>T<r>R"``: ``"3T"``, ``"3R"``, ``"1T2R"`` (the literature's 2R1T), ``"3T1R"``.
+        ``"<t>T<r>R"``: ``"3T"``, ``"3R"``, ``"1T2R"`` (the literature's 2R1T), ``"3T1R"``;
+        a screw motion ``"<t>T1H(p=...)"`` (``pitch``).
     translations, rotations : int
     dof : int
         The number of independent parameters.
@@ -66,6 +68,11 @@ class FiniteMotion:
         The base-fixed point of a motion that has one.
     axis : ndarray (3,) or None
         The common direction of the rotation axes (``r = 1``).
+    pitch : float or None
+        A screw motion's pitch (``r = 1``; model lengths per radian): the translation along
+        the rotation axes proportional to the turn about them (an H joint's platform).  Its
+        label then names a helical freedom, ``"2T1H(p=20)"``, as the instantaneous type
+        does; it still counts as one rotation in ``rotations``.
     samples : int
         Poses solved.
     rotations_away : int
@@ -89,6 +96,7 @@ class FiniteMotion:
     deviation: float = 0.0
     rotations_away: int = 0
     notes: tuple = ()
+    pitch: float | None = None
 
     @property
     def text(self) -> str:
@@ -177,7 +185,7 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
                             notes)
     Q = R @ R[0].T
     invariants, dev = [], 0.0
-    centre = axis = None
+    centre = axis = pitch = None
     if r == 0:
         err = float(np.max(np.abs(R - R[0])))
         if err <= FINITE_RTOL:
@@ -206,10 +214,19 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
                 invariants.append("rotation axes parallel to (" + ", ".join(
                     f"{x:.6g}" for x in np.where(np.abs(u) < 1e-12, 0.0, u)) + ")")
                 dev = max(dev, err)
-                off = float(np.max(np.abs((o - o[0]) @ u))) / L
+                axial = (o - o[0]) @ u
+                off = float(np.max(np.abs(axial))) / L
                 if t == 2 and off <= FINITE_RTOL:
                     invariants.append("planar: translations normal to the rotation axes")
                     dev = max(dev, off)
+                elif off > FINITE_RTOL:
+                    screw, err = _helical_pitch(rv @ u, axial, L)
+                    if err <= FINITE_RTOL:
+                        pitch = screw
+                        invariants.append(f"helical: the turn about the axes carries a "
+                                          f"translation along them of pitch {pitch:.4g} "
+                                          "(length/rad)")
+                        dev = max(dev, err)
     parasitic = ()
     if centre is None:
         moves = []
@@ -219,8 +236,22 @@ def classify_finite_motion(independent, jacobians, R, o, dependent, length: floa
             if float(np.max(np.abs(v - v[0]))) > FINITE_RTOL * scale:
                 moves.append(name)
         parasitic = tuple(moves)
-    return FiniteMotion(_label(t, r), t, r, d, tuple(invariants), parasitic, ind, centre, axis,
-                        len(R), dev, max(ranks[1:], default=r), notes)
+    label = _label(t, r)
+    if pitch is not None:               # (the instantaneous type's label of an H freedom)
+        label = (_label(t, 0) if t else "") + f"1H(p={pitch:.4g})"
+    return FiniteMotion(label, t, r, d, tuple(invariants), parasitic, ind, centre, axis,
+                        len(R), dev, max(ranks[1:], default=r), notes, pitch)
+
+
+def _helical_pitch(angle, axial, length: float) -> tuple:
+    """``(p, err)``: the least-squares pitch of displacements ``axial (N,)`` along the
+    rotation axes proportional to the signed turns ``angle (N,)`` about them (a screw
+    motion: ``axial = p angle``), and the largest deviation from it over ``length``."""
+    aa = float(angle @ angle)
+    if aa <= 0.0:
+        return 0.0, np.inf
+    p = float(angle @ axial) / aa
+    return p, float(np.max(np.abs(axial - p * angle))) / length
 
 
 #: The finite motion of each model object the engine has classified

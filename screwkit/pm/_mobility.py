@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ._finite import registered_finite_motion
 from ..screws import Normalisation, RANK_RTOL, classify_freedoms, reciprocal_system
 
@@ -349,6 +350,9 @@ def mobility(solution, rtol: float = RANK_RTOL, finite=None) -> Mobility:
     the DOF differs from the definition's stated DOF (a singular pose or a geometry that
     cannot have the stated mobility).
     """
+    if not hasattr(solution, "legs"):
+        raise InputError(f"mobility takes a solved pose (a PoseSolution: screwkit.solve or "
+                         f"an analysis' .solution), not {type(solution).__name__}")
     res = mobility_of_legs(solution.legs, rtol)
     model = getattr(solution, "model", None)
     stated = getattr(model, "stated_dof", None)
