@@ -34,7 +34,7 @@ def _fresh(code):
 
 
 @pytest.mark.parametrize("argv", [["--help"], ["leg", "RRPRR"], ["catalog"],
-                                  ["model", "check", "3RRPRR"]])
+                                  ["model", "schema"]])
 def test_commands_that_compute_nothing_never_import_numba(argv):
     code = ("import sys, contextlib, io\nfrom screwkit.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
@@ -59,22 +59,52 @@ pms:
 """
 
 
-def test_a_model_file_checked_again_does_not_import_numba(tmp_path):
-    """``model check`` of a file computes what it must (here the finite motion, which it
-    keeps on disk: numba imported) and nothing more: checked again in a fresh process (the
-    default pose is home, the motion is kept), numba is never imported."""
+_RSR_MODEL = """\
+pms:
+  H3RSR:
+    units: {length: cm, force: kN}
+    dimensions: {R: 80, r: 20}
+    base: {shape: triangle, circumradius: R}
+    platform: {shape: triangle, circumradius: r}
+    legs: [RSR, RSR, RSR]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    home: {alpha: 0, beta: 0, Zo: R/2}
+    pose: {alpha: 0, beta: 0, Zo: R}
+    dof: 3
+    motion: 1T2R
+"""
+
+
+@pytest.mark.parametrize("model, pose, valid", [
+    (_HOME_MODEL, "{alpha: 0, beta: 0, Zo: R}", True),          # home
+    (_HOME_MODEL, "{alpha: 5, beta: -3, Zo: R}\n    home: {alpha: 0, beta: 0, Zo: R}",
+     True),                                                     # solved from home
+    (_RSR_MODEL, "{alpha: 0, beta: 0, Zo: R}", False)])         # RSR legs too short
+def test_a_model_file_checked_again_does_not_import_numba(tmp_path, model, pose, valid):
+    """``model check`` of a file computes what it must (the finite motion; the default pose,
+    where it is not home; both kept on disk: numba imported) and nothing more: checked again
+    in a fresh process, numba and scipy are never imported, and the verdict, the default
+    pose's notes and a pose out of reach's message are the same."""
     if os.environ.get("SCREWKIT_DISK_CACHE", "1").strip().lower() in ("0", "no", "off"):
         pytest.skip("the disk cache is off")
     f = tmp_path / "home.yaml"
-    f.write_text(_HOME_MODEL, encoding="utf-8")
+    f.write_text(model.replace("pose: {alpha: 0, beta: 0, Zo: R}", "pose: " + pose),
+                 encoding="utf-8")
     code = ("import sys, contextlib, io\nfrom screwkit.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
             f"    rc = main(['model', 'check', {str(f)!r}])\n"
-            "print(rc, 'valid' in out.getvalue(), 'numba' in sys.modules, "
-            "'scipy' in sys.modules)")
-    first = _fresh(code)
-    assert first.split()[:2] == ["0", "True"], first
-    assert _fresh(code) == "0 True False False"
+            "print(rc, 'numba' in sys.modules, 'scipy' in sys.modules)\n"
+            "print(out.getvalue().strip())")
+    first, again = _fresh(code).split("\n", 1), _fresh(code).split("\n", 1)
+    assert first[0].split()[0] == ("0" if valid else "2"), first
+    assert again[0] == ("0" if valid else "2") + " False False"
+    assert again[1] == first[1]
+    if not valid:
+        assert "the default pose cannot be assembled" in again[1]
+    if valid and "5" in pose:
+        notes = ("import screwkit\nprint(screwkit.load_pm(%r).notes)" % f"{f}#H3SPR")
+        assert _fresh(notes) == _fresh(notes)
 
 
 def test_the_motion_caches_versions_are_the_packages_own():

@@ -51,18 +51,33 @@ def check_default_pose(model, check_motion: bool = True):
     fm = check_declared_motion(model) if check_motion else None
     if _default_is_home(model):
         return model
-    try:
-        sol = solve_pose(model, dict(model.default_pose))
-    except ScrewkitError as exc:
-        raise CatalogError(f"the default pose cannot be assembled: {exc}", model.name, "pose",
-                           model.source) from None
+    notes = _default_pose_notes(model)
     out = dataclasses.replace(model, notes=model.notes + tuple(f"default pose: {t}"
-                                                               for t in sol.notes))
+                                                               for t in notes))
     _share_engine(model, out)
     if fm is not None:
         from ..pm import register_finite_motion
         register_finite_motion(out, fm)
     return out
+
+
+def _default_pose_notes(model) -> tuple:
+    """The notes of the default pose's solution, or the CatalogError saying why it cannot
+    be assembled: solved, or read where this model's verdict is kept on disk (a model file
+    checked again computes nothing, :mod:`._motion_cache`)."""
+    from . import _motion_cache
+    digest, kept = _motion_cache.load_record(model, ("default pose",))
+    if not (kept and (isinstance(kept.get("error"), str) or (
+            isinstance(kept.get("notes"), list) and "error" not in kept))):
+        try:
+            kept = {"notes": [str(t) for t in solve_pose(model, dict(model.default_pose)).notes]}
+        except ScrewkitError as exc:
+            kept = {"error": str(exc)}
+        _motion_cache.store_record(digest, kept)
+    if isinstance(kept.get("error"), str):
+        raise CatalogError(f"the default pose cannot be assembled: {kept['error']}", model.name,
+                           "pose", model.source) from None
+    return tuple(str(t) for t in kept.get("notes", ()))
 
 
 def _share_engine(model, out) -> None:

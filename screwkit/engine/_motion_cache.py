@@ -1,4 +1,5 @@
-"""The finite motion of a model, kept on disk beside the compiled kernels (private).
+"""What loading a model computes, kept on disk beside the compiled kernels (private): its
+finite motion, and whether its default pose assembles (with the notes of that solution).
 
 Classifying a model's finite motion solves its sampled poses and takes rotation vectors
 with scipy, whose import alone is a large part of a cold command.  The result is a function
@@ -17,7 +18,9 @@ file named by a digest of all of them:
 A model that cannot be walked (an object of a type not listed in :func:`_feed`) is never
 kept.  Files are JSON (no code runs when one is read), written atomically, in
 ``<kernels' cache>/motion/``; a file that cannot be read or does not decode to the same
-digest is ignored and recomputed.  ``SCREWKIT_DISK_CACHE=0`` turns the disk off.
+digest is ignored and recomputed.  ``SCREWKIT_DISK_CACHE=0`` turns the disk off.  A model
+file checked again (``screwkit model check``) then computes nothing: neither numba nor
+scipy is imported.
 """
 
 from __future__ import annotations
@@ -32,9 +35,9 @@ import sys
 
 import numpy as np
 
-__all__ = ["load", "store", "model_digest"]
+__all__ = ["load", "store", "load_record", "store_record", "model_digest"]
 
-_FORMAT = "screwkit-finite-motion-1"
+_FORMAT = "screwkit-model-record-2"
 _LAYERS = ("screws", "legs", "pm", "engine", os.path.join("engine", "_kernels"))
 _MAX_FILES = 512
 _CODE: list = []
@@ -204,8 +207,10 @@ def _same(a, b) -> bool:
     return True
 
 
-def load(model, constants):
-    """``(digest, FiniteMotion or None)``: the kept finite motion of ``model``, if any."""
+def load_record(model, constants):
+    """``(digest, record or None)``: the JSON record kept for ``model`` under ``constants``
+    (their first item names what it is), if any; ``(None, None)`` where nothing can be kept
+    (the disk cache off, a model that cannot be walked)."""
     if not _enabled():
         return None, None
     digest = model_digest(model, constants)
@@ -214,24 +219,43 @@ def load(model, constants):
     try:
         with open(os.path.join(_folder(), digest + ".json"), encoding="utf-8") as f:
             data = json.load(f)
-        if data.get("digest") != digest:
+        if data.get("digest") != digest or not isinstance(data.get("record"), dict):
             return digest, None
+        return digest, data["record"]
+    except (OSError, ValueError, TypeError, AttributeError):
+        return digest, None
+
+
+def store_record(digest, record: dict) -> None:
+    """Keep the JSON ``record`` under ``digest`` (nothing when the folder is not writable)."""
+    if digest is None or not _enabled():
+        return
+    try:
+        from ..pm._catalog_cache import keep_file
+        keep_file(_folder(), digest + ".json",
+                  json.dumps({"digest": digest, "record": record}).encode("utf-8"),
+                  _MAX_FILES)
+    except (OSError, TypeError, ValueError):
+        pass
+
+
+def load(model, constants):
+    """``(digest, FiniteMotion or None)``: the kept finite motion of ``model``, if any."""
+    digest, record = load_record(model, ("finite motion",) + tuple(constants))
+    if record is None:
+        return digest, None
+    try:
         from ..pm import FiniteMotion
-        return digest, _decode(FiniteMotion, data["motion"])
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return digest, _decode(FiniteMotion, record)
+    except (ValueError, KeyError, TypeError, AttributeError):
         return digest, None
 
 
 def store(digest, fm) -> None:
     """Keep ``fm`` under ``digest`` (nothing when the folder is not writable)."""
-    if digest is None or not _enabled():
-        return
     try:
         if not _same(_decode(type(fm), json.loads(json.dumps(_encode(fm)))), fm):
             return                      # a value JSON would not give back exactly
-        from ..pm._catalog_cache import keep_file
-        keep_file(_folder(), digest + ".json",
-                  json.dumps({"digest": digest, "motion": _encode(fm)}).encode("utf-8"),
-                  _MAX_FILES)
-    except (OSError, TypeError, ValueError):
-        pass
+    except (TypeError, ValueError):
+        return
+    store_record(digest, _encode(fm))
