@@ -196,3 +196,38 @@ def test_dask_evaluation_equals_serial():
     remote = screwkit.optimize("3RRPRR", {"l": (40, 110)}, TASK, FIX, cluster=1, **kw)
     assert remote.best == serial.best and remote.evaluations == serial.evaluations
     assert remote.history == serial.history
+
+
+def test_a_task_beyond_a_singular_surface_from_home_is_infeasible():
+    """A 3-RPS with r = 15 over alpha 0..30 deg (beta 10, Zo 20): det J (numpy's, of the
+    analysis' J) changes sign between the cells, so half the task lies beyond an actuation
+    singularity from home; the efforts between them grow without bound (here found by
+    bisection: above 100 times the cells' largest), so the design is infeasible, the cells
+    beyond not counted (it was feasible, its largest effort that of the cells only)."""
+    base = screwkit.load_pm("3RPS")
+    loads = [("w", np.array([0.0, 0.0, -10.0]), np.zeros(3))]
+    prob = problem(base, {"r": (15, 45)}, {"alpha": (0, 30, 4)},
+                   {"beta": 10, "Zo": 20}, degrees=True, loads=loads)
+    got = evaluate(base, {"r": 15.0}, prob.task)
+    model = base.with_dimensions({"r": 15.0})
+    res = screwkit.analyze(model, prob.task.poses, force=loads[0][1])
+    home = screwkit.analyze(model, {k: model.home_pose[k] for k in model.independent},
+                            force=loads[0][1])
+    home_sign = np.sign(np.linalg.det(np.reshape(home.jacobian.J, (6, 6))))
+    beyond = np.sign(np.linalg.det(res.jacobian.J)) != home_sign
+    assert beyond.any() and not beyond.all()
+    assert not got["feasible"] and got["usable"] == int((~beyond).sum())
+    assert got["violation"] == pytest.approx(beyond.mean())
+    # between the last cell on home's side and the first beyond it, det J passes through 0
+    k = int(np.flatnonzero(beyond)[0])
+    a0, a1 = prob.task.poses["alpha"][k - 1], prob.task.poses["alpha"][k]
+    for _ in range(40):
+        mid = 0.5 * (a0 + a1)
+        r = screwkit.analyze(model, {"alpha": mid, "beta": np.radians(10), "Zo": 20.0},
+                             force=loads[0][1], raise_on_singular=False)
+        s = np.sign(np.linalg.det(np.reshape(r.jacobian.J, (6, 6))))
+        a0, a1 = (mid, a1) if s == home_sign else (a0, mid)
+    near = screwkit.analyze(model, {"alpha": a0, "beta": np.radians(10), "Zo": 20.0},
+                            force=loads[0][1], raise_on_singular=False)
+    cells = np.abs(np.asarray(res.statics.F_r)[:, :3]).max()
+    assert near.statics is None or np.abs(near.statics.F_r).max() > 100 * cells

@@ -25,7 +25,11 @@ The objectives (:data:`OBJECTIVES`), over the cells that count:
   (model lengths; degrees for rotary actuators).
 
 A candidate is feasible when every cell counts under every workload: the whole task is
-reachable, regular at ``max_level`` and within the limits.  Its violation is the share of
+reachable, regular at ``max_level``, within the limits and on home's side of every singular
+surface (``det J`` of home's sign: a cell beyond one cannot be reached from home without
+crossing it, and the efforts between cells on both sides grow without bound, so their
+largest value over the cells would mean nothing; ``screwkit size`` counts such cells and
+warns).  Its violation is the share of
 (cell, workload) pairs that do not count (1 where the model cannot be built at all).
 """
 
@@ -160,6 +164,11 @@ def objectives_of(model, task: Task) -> dict:
                            np.asarray(sol._extensions, float), sol.base_points,
                            sol._platform[2])["within"]
     base_ok &= within
+    # a cell where det J has the other sign than at home lies beyond a singular surface: the
+    # task cannot be reached from home, nor crossed, without passing one (the efforts between
+    # the cells grow without bound there: their maxima would be the cells' only)
+    beyond = np.asarray(res.quality.beyond_singular_surface, bool) & reach
+    base_ok &= ~beyond
     codes = {name: k for k, name in enumerate(LEVEL_CODES)}
     passive = set(getattr(model, "passive", ()) or ())
     info = jac.info
@@ -216,6 +225,7 @@ def objectives_of(model, task: Task) -> dict:
     bad = N * len(task.loads) and 1.0 - float(np.sum(usable_all)) / N
     reason = "" if usable_all.all() else (
         f"{N - int(usable_all.sum())} of {N} cells do not count (unreachable, outside the "
-        f"limits, or worse than {LEVEL_CODES[task.max_level]} under a workload)")
+        f"limits, beyond a singular surface from home ({int(beyond.sum())}), or worse than "
+        f"{LEVEL_CODES[task.max_level]} under a workload)")
     return {"objectives": out, "feasible": bool(usable_all.all()), "violation": float(bad),
             "usable": int(usable_all.sum()), "reason": reason}
