@@ -231,3 +231,48 @@ def test_a_task_beyond_a_singular_surface_from_home_is_infeasible():
                             force=loads[0][1], raise_on_singular=False)
     cells = np.abs(np.asarray(res.statics.F_r)[:, :3]).max()
     assert near.statics is None or np.abs(near.statics.F_r).max() > 100 * cells
+
+
+def test_optimize_units_si_converts_every_value_by_hand_factors(tmp_path, capsys):
+    """``--units SI`` was accepted and ignored (kN and cm printed). The 3-RPS catalog model
+    is in cm and kN: by hand 1 cm = 0.01 m, 1 kN = 1000 N, 1 kN.cm = 10 N.m, a cm.deg volume
+    0.01 m.deg. The SI JSON is the model-unit JSON times those factors, value by value."""
+    base = ["optimize", "3RPS", "--grid", "alpha=-10:10:3", "--grid", "Zo=50:70:3",
+            "--fix", "beta=5", "--force=0,0,-10", "--torque=1,0,0", "--vary", "r=15:45",
+            "--objective", "max-actuator-force", "--objective", "gtw-volume",
+            "--constraint", "stroke<=40", "--maxiter", "2", "--popsize", "3", "--json", "-q"]
+    out = []
+    for extra in ([], ["--units", "SI"]):
+        assert main(base + extra) == 0
+        out.append(json.loads(capsys.readouterr().out))
+    m, si = out
+    assert m["units"]["max-actuator-force"] == "kN" and m["units"]["gtw-volume"] == "cm.deg"
+    assert si["units"] == {**m["units"], "max-actuator-force": "N", "max-constraint-force": "N",
+                           "stroke": "m", "gtw-volume": "m.deg", "length": "m"}
+    k = {"max-actuator-force": 1000.0, "max-constraint-force": 1000.0, "stroke": 0.01,
+         "gtw-volume": 0.01, "min-lti": 1.0, "condition": 1.0}
+    for a, b in zip(m["front"] + [m["best"]], si["front"] + [si["best"]]):
+        assert b["dimensions"]["r"] == pytest.approx(0.01 * a["dimensions"]["r"], rel=1e-12)
+        for o, v in a["objectives"].items():
+            assert (v is None and b["objectives"][o] is None) or \
+                b["objectives"][o] == pytest.approx(k[o] * v, rel=1e-12)
+    assert si["vary"]["r"] == pytest.approx([0.15, 0.45])
+    assert si["constraints"] == ["stroke<=0.4"]
+    assert si["task"]["grid"]["Zo"]["start"] == pytest.approx(0.5)
+    assert si["task"]["units"]["Zo"] == "m" and si["task"]["units"]["alpha"] == "deg"
+    assert si["task"]["grid"]["alpha"] == m["task"]["grid"]["alpha"]
+    w = si["task"]["workloads"][0]
+    assert (w["force"], w["torque"], w["force_unit"], w["torque_unit"]) == \
+        ([0, 0, -10000.0], [10.0, 0, 0], "N", "N.m")
+    assert si["task"]["box_volume"] == pytest.approx(0.01 * m["task"]["box_volume"])
+    for h, g in zip(m["history"], si["history"]):
+        assert g["best"] == pytest.approx(1000.0 * h["best"], rel=1e-12)
+
+
+def test_optimize_write_takes_a_model_file_name(capsys):
+    """``--write out.csv`` wrote YAML into a .csv (exit 0); the name is checked before any
+    work now, as a figure's is."""
+    assert main(["optimize", "3RPS", "--grid", "alpha=-10:10:3", "--fix", "beta=0", "--fix",
+                 "Zo=60", "--force=0,0,-10", "--vary", "r=15:45", "--write", "out.csv"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "ends in .yaml or .yml" in err[0]

@@ -98,6 +98,18 @@ def _figure(text):
 figure = argtype(_figure, "figure")
 
 
+def _model_file(text):
+    s = _output(text)
+    if not s.lower().endswith((".yaml", ".yml")):
+        raise InputError(f"{shorten(s)}: a model file's name ends in .yaml or .yml (the "
+                         "loaders read it by that suffix)")
+    return s
+
+
+#: A model file to write (YAML; checked before any work).
+model_file = argtype(_model_file, "model file")
+
+
 def _png(text):
     s = _output(text)
     if not s.lower().endswith(".png"):

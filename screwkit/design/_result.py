@@ -3,6 +3,7 @@ history of the search, the task it was sized for; JSON, a model file, a picture.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -52,6 +53,25 @@ def _task(prob) -> dict:
             "lti_threshold": t.lti_threshold, "box_volume": t.box_volume}
 
 
+def _task_in(task: dict, length: str, kl: float, kf: float, kt: float, kv: float) -> dict:
+    """The task of a result (:func:`_task`) with its lengths, loads and volume in SI."""
+    def scale(p):
+        return kl if p in ("Xo", "Yo", "Zo") else 1.0
+    units = task["units"]
+    out = dict(task, units={p: ("m" if units[p] == length else units[p]) for p in units},
+               fixed={p: v * scale(p) for p, v in task["fixed"].items()},
+               workloads=[dict(w, force=[x * kf for x in w["force"]],
+                               torque=[x * kt for x in w["torque"]], force_unit="N",
+                               torque_unit="N.m") for w in task["workloads"]],
+               box_volume=task["box_volume"] * kv)
+    if "grid" in task:
+        out["grid"] = {p: dict(g, start=g["start"] * scale(p), stop=g["stop"] * scale(p))
+                       for p, g in task["grid"].items()}
+    if task.get("box"):
+        out["box"] = {p: [x * scale(p) for x in v] for p, v in task["box"].items()}
+    return out
+
+
 @dataclass(frozen=True, eq=False)
 class OptimizationResult:
     """Dimensional synthesis of a PM (``screwkit.optimize``; ``docs/design.md``).
@@ -98,6 +118,7 @@ class OptimizationResult:
     task: dict
     model: object = field(default=None, repr=False)
     evaluated: list = field(default_factory=list, repr=False)
+    model_units: object = field(default=None, repr=False)
 
     @classmethod
     def build(cls, prob, ev, best, front, method, seed, history) -> "OptimizationResult":
@@ -127,7 +148,64 @@ class OptimizationResult:
                      for k in ev.order]
         return cls(prob.base.name, dict(prob.vary), tuple(prob.objectives),
                    tuple(prob.constraints), units, b, [entry(kr) for kr in front],
-                   len(ev.order), history, method, seed, _task(prob), model, evaluated)
+                   len(ev.order), history, method, seed, _task(prob), model, evaluated,
+                   prob.base.units)
+
+    def in_units(self, units=None) -> "OptimizationResult":
+        """This result in the model's units (``units`` None or ``"model"``: itself) or in SI
+        (``"SI"``: lengths in m, forces in N, torques in N.m; the dimensions and their
+        bounds, every objective and constraint, the history, the front, the task's cells
+        and workloads; angles and dimensionless objectives as they are).  The model
+        ``model`` (written by :meth:`write_model`) keeps its own declared units."""
+        if units is None or units == "model":
+            return self
+        from ..engine._report import output_scales
+        u = self.model_units
+        _, k = output_scales(u, units, self.pm)
+        kl, kf, kt = k["length"], k["force"], k["torque"]
+
+        def factor(unit):
+            """``(factor, SI unit)`` of an objective's unit (a volume: lengths and angles)."""
+            if unit is None or unit in ("1", "deg", "rad"):
+                return 1.0, unit
+            if unit == u.force:
+                return kf, "N"
+            if unit == u.torque:
+                return kt, "N.m"
+            f, parts = 1.0, []
+            for part in unit.split("."):
+                base, _, n = part.partition("^")
+                if base == u.length:
+                    f *= kl ** int(n or 1)
+                    parts.append("m" + (f"^{n}" if n else ""))
+                else:
+                    parts.append(part)
+            return f, ".".join(parts)
+        fo = {o: factor(self.units[o]) for o in OBJECTIVES}
+
+        def objs(d):
+            return {o: (None if v is None else v * fo[o][0]) for o, v in d.items()}
+
+        def dims(d):
+            return {n: v * kl for n, v in d.items()}
+
+        def entry(e):
+            out = dict(e, dimensions=dims(e["dimensions"]), objectives=objs(e["objectives"]))
+            if "objective" in e:
+                out["objective"] = out["objectives"][self.objectives[0]]
+            return out
+        f0 = fo[self.objectives[0]][0]
+        history = [dict(h, best=None if h["best"] is None else h["best"] * f0,
+                        median=None if h["median"] is None else h["median"] * f0)
+                   for h in self.history]
+        return dataclasses.replace(
+            self, vary={n: (lo * kl, hi * kl) for n, (lo, hi) in self.vary.items()},
+            constraints=tuple((n, op, v * fo[n][0]) for n, op, v in self.constraints),
+            units={**{o: fo[o][1] for o in OBJECTIVES}, "length": "m"},
+            best=None if self.best is None else entry(self.best),
+            front=[entry(e) for e in self.front], history=history,
+            task=_task_in(self.task, u.length, kl, kf, kt, fo["gtw-volume"][0]),
+            evaluated=[(dims(d), objs(o), ok) for d, o, ok in self.evaluated])
 
     def to_dict(self) -> dict:
         return {"pm": self.pm, "method": self.method, "seed": self.seed,
@@ -182,7 +260,8 @@ class OptimizationResult:
                      for f in self.front]
             return plot_front(out, pts, front, label(self.objectives[0]),
                               label(self.objectives[1]), title=title + f"\n{len(self.front)} "
-                              f"designs on the Pareto front of {self.evaluations} evaluated")
+                              f"design{'s' * (len(self.front) != 1)} on the Pareto front of "
+                              f"{self.evaluations} evaluated")
         h = self.history
         return plot_history(out, [e["generation"] for e in h], [e["best"] for e in h],
                             [e["median"] for e in h], label(self.objectives[0]),

@@ -27,6 +27,8 @@ def plot_history(out, generations, best, median, ylabel: str, *, title: str | No
         k = int(np.flatnonzero(fin)[-1])
         ax.annotate(f"{b[k]:.6g}", (g[k], b[k]), textcoords="offset points", xytext=(-6, 8),
                     ha="right", fontsize=9, color="#1f77b4")
+    from matplotlib.ticker import MaxNLocator
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))      # (generations are whole)
     ax.set_xlabel("generation (0: the initial population; the last: the local polish)")
     ax.set_ylabel(ylabel)
     ax.grid(True, color="0.9")
@@ -51,8 +53,9 @@ def plot_front(out, points, front, xlabel: str, ylabel: str, *, title: str | Non
     if len(F):
         ax.plot(F[:, 0], F[:, 1], marker="o", ms=5, color="#1f77b4", lw=1.2,
                 label=f"Pareto front ({len(F)})")
+        # (drawn under the front's markers' outline: a one-design front stays visible)
         ax.plot(F[:1, 0], F[:1, 1], ls="none", marker="*", ms=14, color="#d62728",
-                label="best in the first objective")
+                label="best in the first objective", zorder=1.5)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(True, color="0.9")

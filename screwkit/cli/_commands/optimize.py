@@ -10,7 +10,7 @@ import numpy as np
 
 from ...errors import InputError
 from .._progress import progress_bar
-from .._types import figure, path
+from .._types import figure, model_file, path
 from ._common import dump_json, fmt_num, fmt_vec
 from .map import add_map_arguments, grid_of, map_keywords
 
@@ -43,6 +43,8 @@ def register(sub):
                        "over a task", description=HELP, epilog=EPILOG,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     add_map_arguments(p)
+    seed = p._option_string_actions["--seed"]
+    seed.help = seed.help.replace("seed of --samples", "seed of --samples and of the optimiser")
     p.add_argument("--vary", metavar="NAME=LOW:HIGH", action="append", default=[],
                    help="a dimension to vary and its bounds (model lengths; repeatable)")
     p.add_argument("--objective", action="append", default=[], metavar="NAME",
@@ -67,7 +69,8 @@ def register(sub):
                    help="one objective: skip the Nelder-Mead polish of the best design")
     p.add_argument("--plot", metavar="PNG", type=figure, help="draw the search (one objective) or the "
                    "Pareto front (two or more: the first two)")
-    p.add_argument("--write", metavar="FILE.yaml", help="write the best design as a model file")
+    p.add_argument("--write", metavar="FILE.yaml", type=model_file,
+                   help="write the best design as a model file (.yaml or .yml)")
     p.set_defaults(func=run)
 
 
@@ -111,6 +114,10 @@ def run(args) -> int:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    if units is not None:
+        from ...engine._report import output_scales
+        output_scales(model, units)              # fail before a long run, not after it
     grid = grid_of(args)
     with progress_bar(args, "optimize", "generation") as progress:
         kw = map_keywords(args, model, progress,
@@ -126,8 +133,9 @@ def run(args) -> int:
                        lti_threshold=args.lti_threshold, maxiter=args.maxiter,
                        popsize=args.popsize, polish=not args.no_polish, **kw)
     if args.write and res.model is not None:
-        res.write_model(args.write)
+        res.write_model(args.write)             # (a model file: in the model's own units)
         print(f"wrote {args.write}", file=sys.stderr)
+    res = res.in_units(units)
     if args.plot:
         res.plot(args.plot)
         print(f"wrote {args.plot}", file=sys.stderr)
