@@ -309,3 +309,23 @@ def test_forces_of_one_kind_share_one_diverging_scale():
     assert hatches == {"xx"}
     assert any(t.startswith("near-singular") and "hatched, outlined" in t for t in legend)
     assert any("actuation singularity" in t for t in legend)
+
+
+def test_a_plot_without_a_workload_says_so_and_an_index_is_drawn_on_its_range():
+    """The title of a map without a workload read ``load F = [nan, nan, nan]``; it says that
+    there is none now.  A 1-D plot of the transmission indices auto-scaled ITI to 0.96..1.04
+    (ticks above 1 for an index bounded by 1): each is drawn on [0, 1] now."""
+    pytest.importorskip("matplotlib")
+    ds = screwkit.map("3RPS", {"alpha": (-20.0, 20.0, 5), "Zo": (40.0, 80.0, 3)},
+                      fix={"beta": 10.0}, degrees=True)
+    fig = screwkit.maps.plot_map(ds, None, ["conditioning"])
+    title = fig.get_suptitle() if hasattr(fig, "get_suptitle") else fig._suptitle.get_text()
+    assert "nan" not in title and "no workload" in title
+    ds = screwkit.map("3RRPRR", {"alpha": (-30.0, 30.0, 13)}, fix={"beta": 5.0, "Zo": 80.0},
+                      degrees=True, force=(0, 0, -10))
+    fig = screwkit.maps.plot_map(ds, None, ["transmission"])
+    axes = [ax for ax in fig.axes if ax.get_lines()]
+    assert len(axes) == 4
+    for ax in axes:
+        lo, hi = ax.get_ylim()
+        assert lo < 0 <= 1 < hi <= 1.05 and lo >= -0.05

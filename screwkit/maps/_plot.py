@@ -123,8 +123,9 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
                        title=pan["title"] + "\n" + ", ".join(f"{k} {m}" for k, m in codes),
                        limits_from=np.ones(pan["z"].shape, bool))
     masks = [(~sub["reachable"].transpose(*free).values, "unreachable")]
+    loaded = bool(np.all(np.isfinite(np.asarray(ds.attrs.get("force", [np.nan]), float))))
     masks.append(((lev == 2) | (lev == 3), "near-singular (efforts > 5x the load, or "
-                                           "condition > 1e3)"))
+                  "condition > 1e3)" if loaded else "near-singular (condition > 1e3)"))
     if "within_limits" in sub:
         masks.append(((~sub["within_limits"] & sub["reachable"]).transpose(*free).values,
                       "outside the limits"))
@@ -145,8 +146,9 @@ def plot_map(ds, out, quantities=("conditioning",), at=None, title=None):
         title = f"{ds.attrs.get('pm', '')}: " + ", ".join(fixed + note)
         F = np.asarray(ds.attrs.get("force", []), float).round(6).tolist()
         T = np.asarray(ds.attrs.get("torque", []), float).round(6).tolist()
-        title += f"\nload F = {F} {ds.attrs.get('units_force', '')}, T = {T} " \
-                 f"{ds.attrs.get('units_torque', '')} at o"
+        title += (f"\nload F = {F} {ds.attrs.get('units_force', '')}, T = {T} "
+                  f"{ds.attrs.get('units_torque', '')} at o" if loaded else
+                  "\nno workload (the conditioning and transmission do not depend on one)")
     return plot_heatmaps(out, x, y, panels, xlabel=_label(ds, free[0]),
                          ylabel=_label(ds, free[1]) if y is not None else "", masks=masks,
                          points=points, title=title)

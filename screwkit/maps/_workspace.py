@@ -14,7 +14,7 @@ estimate with its standard error ``sqrt(f (1 - f) / N)`` times the box volume).
   component that holds the cell nearest the home pose (a compiled flood fill from that
   cell, ``engine/_kernels/_extra.face_component``: ``scipy.ndimage.label`` gave the same
   cells, but its import took a quarter of a second of a ``map`` command).  Random samples
-  have no neighbours: there, every regular sample of the home assembly mode counts
+  have no neighbours: there, every non-singular sample of the home assembly mode counts
   (``method`` says which);
 * ``good_transmission``: the reachable cells with ``LTI >= threshold`` (0.7 by default, the
   usual bound of a good motion/force transmission).
@@ -142,7 +142,7 @@ def workspace(ds, threshold: float = GOOD_TRANSMISSION, home=None) -> Workspace:
     home = home if home is not None else _attr_home(ds)
     if samples:
         free = regular
-        method = "samples: every regular sample of home's assembly mode (det J sign)"
+        method = "samples: every non-singular sample of home's assembly mode (det J sign)"
     else:
         from ..engine._kernels import kernels
         seed, inside, on_slice = _home_cell(ds, home, dims)
@@ -153,7 +153,7 @@ def workspace(ds, threshold: float = GOOD_TRANSMISSION, home=None) -> Workspace:
         where = ("home lies in the box" if inside and on_slice else
                  "home lies outside the box or off its slice: the component of the node "
                  "nearest home")
-        method = (f"grid: the face-connected component of regular cells of home's det J sign "
+        method = (f"grid: the face-connected component of non-singular cells of home's det J sign "
                   f"that holds the node nearest home ({where})")
     lti = ds["lti"].values if "lti" in ds else np.full(reach.shape, np.nan)
     with np.errstate(invalid="ignore"):
@@ -163,7 +163,7 @@ def workspace(ds, threshold: float = GOOD_TRANSMISSION, home=None) -> Workspace:
     for name, mask, what in (
             ("reachable", reach, "assembled from home" + (", within the limits"
                                                           if "within_limits" in ds else "")),
-            ("singularity_free", free, "regular, connected to home"),
+            ("singularity_free", free, "not singular, connected to home"),
             ("good_transmission", good, f"reachable with LTI >= {float(threshold):g}")):
         c = int(np.sum(mask))
         f = c / n if n else 0.0

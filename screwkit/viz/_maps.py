@@ -17,6 +17,8 @@ and the grey of undefined cells has a legend entry.  matplotlib is optional.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from ..errors import InputError
@@ -128,6 +130,10 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
             ax.plot(x, z, color="#1f77b4", lw=1.5)
             if log:
                 ax.set_yscale("log")
+            if pan.get("limits") is not None:           # an index: its whole range [0, 1]
+                lo, hi = (float(v) for v in pan["limits"])
+                pad = 0.03 * (hi - lo)
+                ax.set_ylim(lo - pad, hi + pad)
             ax.set_ylabel(pan["label"])
             for j, (m, text) in enumerate(masks):
                 m = np.asarray(m, bool)
@@ -162,7 +168,9 @@ def plot_heatmaps(out, x, y, panels, *, xlabel: str, ylabel: str = "", masks=(),
             ax.set_xlim(x.min() - 0.5 * _step(x), x.max() + 0.5 * _step(x))
             ax.set_ylim(y.min() - 0.5 * _step(y), y.max() + 0.5 * _step(y))
         ax.set_xlabel(xlabel)
-        ax.set_title(pan.get("title", pan["label"]), fontsize=10)
+        # (long names wrapped: a panel's title stays within its column)
+        ax.set_title("\n".join(textwrap.fill(line, 58) for line in
+                               str(pan.get("title", pan["label"])).split("\n")), fontsize=10)
     for j, (m, text) in enumerate(masks):
         if np.asarray(m, bool).any():
             handles.append(Patch(facecolor="0.85", edgecolor=_MASK_EDGE[j % 4],
