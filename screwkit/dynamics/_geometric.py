@@ -30,7 +30,8 @@ STEP = 1e-5
 
 def _residual(J, F_r, o, F, T):
     """``J^T F_r + W`` about ``O``, ``(N, 6)``."""
-    W = np.concatenate([np.broadcast_to(F, o.shape), T + np.cross(o, F)], axis=1)
+    from ..engine._pipeline import workload_about_origin
+    W = workload_about_origin(np.broadcast_to(F, o.shape), np.broadcast_to(T, o.shape), o)
     return np.einsum("nra,nr->na", J, F_r) + W
 
 

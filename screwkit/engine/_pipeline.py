@@ -10,7 +10,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..screws import cross
 from ._kernels._layout import RANK_RTOL
 from ._templates import RowInfo, templates_of
 
@@ -81,10 +80,18 @@ def conditioning_of(J, n_actuated, centre, length) -> Conditioning:
 
 
 def workload_about_origin(F, T, o):
-    """``W = [F; T + o x F]`` for ``F, T (N, ..., 3)`` and ``o (N, 3)``: ``(N, ..., 6)``."""
+    """``W = [F; T + o x F]`` for ``F, T (N, ..., 3)`` and ``o (N, 3)``: ``(N, ..., 6)``
+    (the statics kernels' own arithmetic, ``_kernels._extra.workload_batch``: the same bits
+    as a workload given to the analysis)."""
+    from ._kernels import kernels
+    from ._launch import kernel_input
     F, T = np.broadcast_arrays(np.asarray(F, float), np.asarray(T, float))
-    osh = o.reshape((o.shape[0],) + (1,) * (F.ndim - 2) + (3,))
-    return np.concatenate([F, T + cross(osh, F)], axis=-1)
+    N, K = F.shape[0], int(np.prod(F.shape[1:-1], dtype=np.int64))
+    W = np.empty((N, K, 6))
+    # (read-only inputs whatever the caller's: one compiled version of the kernel)
+    kernels().workload_batch(kernel_input(F.reshape(N, K, 3)), kernel_input(T.reshape(N, K, 3)),
+                             kernel_input(np.reshape(o, (N, 3))), W)
+    return W.reshape(F.shape[:-1] + (6,))
 
 
 def statics_values(J, cond: Conditioning, torque, W, o, compliance=None, workers=None):

@@ -25,7 +25,8 @@ from ._small import lu_block, lu_sign
 
 from ._statics import (CW_COND, CW_JN, CW_RANK, CW_SV, SW_COMP, SW_D, SW_JN, amplification,
                        conditioning_lanes, equilibrium, make_conditioning_work, make_statics_work,
-                       normalise_lanes, normalise_rows, statics_apply, statics_prepare)
+                       normalise_lanes, normalise_rows, statics_apply, statics_prepare,
+                       workload_about_origin)
 
 
 @entry
@@ -267,6 +268,17 @@ def equilibrium_batch(J, values, W, centre, length, out):
         for k in range(values.shape[1]):
             out[p, k] = equilibrium(J[p], mr, values[p, k], W[p, k], centre[p], length[p],
                                     SW[SW_D])
+
+
+@entry
+def workload_batch(F, T, o, W):
+    """``W (N, K, 6) = [F; T + o x F]``, the workloads ``F, T (N, K, 3)`` at the platform
+    centres ``o (N, 3)`` about ``O``: :func:`._statics.workload_about_origin`, the statics
+    kernels' own (so that a workload given later gives the same bits as one given to the
+    analysis)."""
+    for p in range(F.shape[0]):
+        for k in range(F.shape[1]):
+            workload_about_origin(F[p, k], T[p, k], o[p], W[p, k])
 
 
 @entry
