@@ -4,6 +4,7 @@ the mass model of the ``dynamics:`` block (units, cylinder and piston, errors), 
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -224,3 +225,16 @@ def test_zero_to_a_positive_variable_power_is_zero_with_zero_rates():
     np.testing.assert_allclose(f, 4.0 ** -t, rtol=1e-15)
     np.testing.assert_allclose(d1, -2.0 * np.log(2.0) * 4.0 ** -t, rtol=1e-14)
     np.testing.assert_allclose(d2, 4.0 * np.log(2.0) ** 2 * 4.0 ** -t, rtol=1e-14)
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="no /dev/zero")
+def test_a_mass_file_is_read_bounded(tmp_path, capsys):
+    """``--mass /dev/zero`` read without limit (out of memory, or exit 3): a mass file is
+    read as a model file is, at most 1 MiB, one line and exit 2 beyond."""
+    from screwkit.cli import main
+    for cmd in (["export", "3RRPRR", "--mjcf", str(tmp_path / "a.xml")],
+                ["trajectory", "3RPS", "--dynamics", "--force", "0,0,0", "--expr", "alpha=t",
+                 "--expr", "beta=0", "--expr", "Zo=60", "--samples", "3"]):
+        assert main(cmd + ["--mass", "/dev/zero"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "larger than 1 MiB" in err[0]

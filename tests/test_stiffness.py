@@ -377,3 +377,48 @@ def test_the_principal_stiffnesses_are_the_compliance_blocks_inverse_eigenvalues
         assert not np.allclose(K_block, expect, rtol=1e-3)     # (the other definition)
     assert "compliance's translational" in d["principal"]["definition"]
     assert (d["workload"]["force_unit"], d["workload"]["torque_unit"]) == ("kN", "kN.cm")
+
+
+def test_the_tangent_compliance_keeps_soft_rows_whatever_the_stiffness_spread():
+    """With a geometric term the compliance was a pseudo-inverse of the reduced tangent
+    stiffness cut at 1e-13: actuators 1e17 times stiffer than the constraint rows (5000)
+    read as rigid everywhere (the deflection 4e-16 cm instead of 1.55e-3, rank 3).  By hand:
+    at actuator stiffness 1e6 the tangent compliance is ``inv(J_o^T diag(k) J_o + K_g)``
+    (well conditioned there, inverted in the test); from 1e12 to 1e17 the actuators are
+    rigid beside the force rows, so the deflection stops changing (its limit), and the
+    rank stays the rows' 6."""
+    pm = screwkit.load_pm("3RRPRR")
+    pose = dict(pm.default_pose)
+    r = stiffness(pm, pose, actuator=1e6, force_stiffness=5000.0, geometric=True)
+    from screwkit.dynamics._compliance import rows_about_o
+    Jo = rows_about_o(r.analysis)[0]
+    Kt = Jo.T @ np.diag(r.k[0]) @ Jo + np.asarray(r.geometric)[0]
+    np.testing.assert_allclose(np.asarray(r.compliance)[0], np.linalg.inv(Kt),
+                               rtol=1e-7, atol=1e-9 * np.abs(np.linalg.inv(Kt)).max())
+    X = [np.asarray(stiffness(pm, pose, actuator=ka, force_stiffness=5000.0,
+                              geometric=True).deflection).ravel() for ka in (1e12, 1e17)]
+    assert np.abs(X[0]).max() > 1e-4
+    np.testing.assert_allclose(X[1], X[0], rtol=1e-6, atol=1e-9 * np.abs(X[0]).max())
+    assert stiffness(pm, pose, actuator=1e17, force_stiffness=5000.0, geometric=True).rank == 6
+
+
+def test_the_geometric_term_at_a_singular_pose_is_a_clear_error(capsys):
+    """At a singular pose there are no efforts to preload with: ``--geometric`` ended in an
+    AttributeError (exit 3); it is a SingularityError naming the way out (exit 2), and the
+    elastic stiffness is still given without it."""
+    from screwkit.cli import main
+    from screwkit.errors import SingularityError
+    pm = screwkit.load_pm("3SPU+SP")
+    pose = dict(pm.default_pose, alpha=0.0374898304306222)          # det J changes sign
+    res = screwkit.analyze(pm, pose, force=[0, 0, -1], raise_on_singular=False)
+    assert res.singular
+    from screwkit.dynamics._stiffness import stiffness_of
+    with pytest.raises(SingularityError, match="drop the geometric term"):
+        stiffness_of(res, None, actuator=2000, force_stiffness=5000, geometric=True)
+    elastic = stiffness_of(res, None, actuator=2000, force_stiffness=5000)
+    assert elastic.unrestrained().shape[0] >= 1
+    assert main(["stiffness", "3RPS", "--pose", "alpha=-43.12884710315615", "--pose", "beta=0",
+                 "--pose", "Zo=60", "--k-actuator", "2000", "--force", "0,0,-1",
+                 "--geometric"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "singular" in err[0]

@@ -201,6 +201,12 @@ def stiffness_of(an, params=None, *, actuator=None, force_stiffness=None,
     model = an.model
     if geometric and not an.has_workload:
         an.statics.F_r                         # raises: the preload needs a workload
+    if geometric and an.statics is None:       # (one pose, singular: no efforts to preload)
+        from ..errors import SingularityError
+        raise SingularityError("the geometric stiffness needs the efforts under the workload "
+                               "(the preload), which a singular pose does not have: drop "
+                               "the geometric term (--geometric) to get the elastic stiffness "
+                               "and the unrestrained directions there")
     k = row_stiffness(an, params, actuator=actuator, force=force_stiffness,
                       couple=couple_stiffness, rows=rows)
     reach = np.asarray(an.solution.reachable_mask, bool)
@@ -219,7 +225,7 @@ def stiffness_of(an, params=None, *, actuator=None, force_stiffness=None,
         from ._geometric import geometric_stiffness
         Kg = np.nan_to_num(-geometric_stiffness(model, an))
         K = elastic + Kg
-        C = _tangent_compliance(Jo, k, K, free, n_free, L)
+        C = _tangent_compliance(C, Kg, Jo, k, free, n_free, L)
     C = np.where(reach[:, None, None], C, 0.0)
     n_free = np.where(reach, n_free, 0)
     X = None
@@ -252,12 +258,18 @@ def _notes(an, k, geometric, model) -> list:
     return notes
 
 
-def _tangent_compliance(Jo, k, K, free, n_free, L):
-    """The compliance of a tangent stiffness ``K`` (not symmetric with a geometric term) with
-    the rigid rows and the unrestrained directions held fixed: ``C = N (N^T K N)^+ N^T`` on
-    the null space ``N`` of the rigid rows and free twists (length-normalised)."""
+def _tangent_compliance(Ce, Kg, Jo, k, free, n_free, L):
+    """The compliance of the tangent stiffness ``K + K_g`` (not symmetric with a geometric
+    term) with the rigid rows and the unrestrained directions held fixed, from the elastic
+    compliance ``Ce`` (:func:`._compliance.flexibility`): on the null space ``B`` of the
+    rigid rows and free twists (length-normalised), ``C = B (B^T K_t B)^-1 B^T`` and
+    ``(B^T K_t B)^-1 = (I + B^T Ce K_g B)^-1 B^T Ce B``: the geometric term enters as the
+    perturbation it is, and the elastic compliance keeps its accuracy whatever the spread
+    of the row stiffnesses (a pseudo-inverse of ``B^T K_t B`` cut the soft directions of
+    rows 1e13 times stiffer than others: their compliance read 0)."""
     S = np.array([L, L, L, 1.0, 1.0, 1.0])
-    Kx = S[None, :, None] * K * S[None, None, :]
+    Kx = S[None, :, None] * Kg * S[None, None, :]
+    Cx = Ce / (S[None, :, None] * S[None, None, :])
     Jx = Jo * S
     Jx = Jx / np.maximum(np.linalg.norm(Jx, axis=-1, keepdims=True), 1e-300)
     Fx = free / S[None, :, None]
@@ -273,6 +285,10 @@ def _tangent_compliance(Jo, k, K, free, n_free, L):
             B = np.eye(6)
         if B.shape[1] == 0:
             continue
-        Kr = B.T @ Kx[n] @ B
-        C[n] = B @ np.linalg.pinv(Kr, rcond=1e-13) @ B.T
+        Er = B.T @ Cx[n] @ B                    # (B^T K_e B)^-1, the elastic part
+        M = np.eye(B.shape[1]) + Er @ (B.T @ Kx[n] @ B)
+        try:
+            C[n] = B @ np.linalg.solve(M, Er) @ B.T
+        except np.linalg.LinAlgError:           # (a buckling load: the tangent is singular)
+            C[n] = B @ np.linalg.pinv(M) @ Er @ B.T
     return S[None, :, None] * C * S[None, None, :]

@@ -106,19 +106,14 @@ class StiffnessResult:
     @cached_property
     def rank(self):
         """Rank of ``K`` (length-normalised, :data:`~screwkit.screws.RANK_RTOL`): of the
-        compliant rows themselves where ``K`` is theirs alone (``J_o^T diag(k) J_o`` has
-        their rank whatever the spread of the stiffnesses, which would hide it from an SVD
-        of ``K``: 2000 and 1e-20 side by side), of the tangent ``K + K_g`` otherwise.  Where
-        every row is compliant that is the rank of ``J`` the analysis gives (its
-        normalisation, its singular values: the rank beside its condition number and its
-        singular flag, never another decision near the threshold); where some are not, the
-        compliant rows' rank in the same normalisation.  0 at an unreachable pose."""
-        if self.geometric is not None:
-            L = float(self.analysis.model.normalisation.length)
-            S = np.diag([L, L, L, 1.0, 1.0, 1.0])
-            s = np.linalg.svd(S @ np.nan_to_num(self.K) @ S, compute_uv=False)
-            r = np.sum(s > RANK_RTOL * np.maximum(s[:, :1], 1e-300), axis=1)
-            return int(r[0]) if self.single else r
+        compliant rows themselves (``J_o^T diag(k) J_o`` has their rank whatever the spread
+        of the stiffnesses, which would hide it from an SVD of ``K``: 2000 and 1e-20 side
+        by side; a geometric term perturbs that stiffness, and where it makes the tangent
+        lose rank the PM buckles: :attr:`stable`).  Where every row is compliant that is
+        the rank of ``J`` the analysis gives (its normalisation, its singular values: the
+        rank beside its condition number and its singular flag, never another decision
+        near the threshold); where some are not, the compliant rows' rank in the same
+        normalisation.  0 at an unreachable pose."""
         jac = self.analysis.jacobian
         reach = np.asarray(self.analysis.solution.reachable_mask, bool).reshape(-1)
         soft = np.isfinite(self.k) & (self.k > 0)

@@ -364,16 +364,13 @@ def dynamics_for(model, raw) -> DynamicsParameters:
     from pathlib import Path
     source = model.source
     if isinstance(raw, (str, Path)):
-        import yaml
+        from ..legs._guards import MAX_MODEL_BYTES, decode_utf8, read_limited
+        from ._yaml import load_yaml_text
         source = str(raw)
-        try:
-            text = Path(raw).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"cannot read {source!r}: {exc}") from None
-        try:
-            doc = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            raise CatalogError(f"not valid YAML: {exc}", source=source) from None
+        what = f"the dynamics file {source[:200]!r}"
+        # (bounded like a model file: /dev/zero or a huge file is refused, not read whole)
+        text = decode_utf8(read_limited(source, MAX_MODEL_BYTES, what), what)
+        doc = load_yaml_text(text, source)
         if not (isinstance(doc, dict) and isinstance(doc.get("dynamics"), dict)):
             raise CatalogError("the file has no 'dynamics:' mapping", source=source)
         raw = doc["dynamics"]
