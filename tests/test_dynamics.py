@@ -270,3 +270,19 @@ def test_a_given_gravity_is_the_one_the_notes_name(models):
     said = [n for n in none.params.notes if n.startswith("gravity")]
     assert said == ["gravity: (0, 0, 0) model length/s^2 in the base frame, as given"]
     assert np.array_equal(none.params.gravity, [0, 0, 0])
+
+
+def test_an_interpolated_path_has_the_path_accelerations_at_its_ends(models):
+    """``--smoothing 0`` interpolated with a natural spline: its second derivative is 0 at
+    the first and last samples, whatever the path (beta = 10 sin(2 t) deg has -40 sin(2) deg/s^2
+    at t = 1, by hand). The not-a-knot spline through 41 exact samples has the closed form's
+    accelerations at the ends to 1 %."""
+    from screwkit.dynamics import motion_from_samples
+    t = np.linspace(0.0, 1.0, 41)
+    beta = np.radians(10.0 * np.sin(2.0 * t))
+    sp = motion_from_samples(t, {"beta": beta}, ["beta"], smoothing=0.0)
+    exact = np.radians(-40.0 * np.sin(2.0 * t))
+    for i in (0, -1):
+        assert sp.accelerations["beta"][i] == pytest.approx(exact[i], rel=1e-2, abs=1e-3)
+    smooth = motion_from_samples(t, {"beta": beta}, ["beta"], smoothing=1e-9)
+    assert "second derivative is 0 at the first and last samples" in " ".join(smooth.notes)

@@ -238,3 +238,25 @@ def test_a_mass_file_is_read_bounded(tmp_path, capsys):
         assert main(cmd + ["--mass", "/dev/zero"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "larger than 1 MiB" in err[0]
+
+
+def test_near_singular_samples_are_not_said_to_be_nan(tmp_path, capsys):
+    """A near-singular sample's dynamic efforts are computed (large): the note said their
+    values were NaN, as for singular or unreachable ones."""
+    import csv
+    import io
+
+    from screwkit.cli import main
+    mass = tmp_path / "m.yaml"
+    mass.write_text("dynamics:\n  platform: {mass: 2}\n", encoding="utf-8")
+    assert main(["trajectory", "3RPS", "--dynamics", "--force", "0,0,0", "--expr", "alpha=0",
+                 "--expr", "beta=0", "--expr", "Zo=60+1e6*t", "--samples", "5", "--mass",
+                 str(mass)]) == 0
+    out, err = capsys.readouterr()
+    rows = list(csv.reader(io.StringIO(out)))
+    status = [h.split(" [")[0] for h in rows[0]].index("status")
+    col = [h.split(" [")[0] for h in rows[0]].index("F_a1_dyn")
+    near = [r for r in rows[1:] if r[status] == "near-singular"]
+    assert near and all(np.isfinite(float(r[col])) for r in near)
+    line = [x for x in err.splitlines() if "near-singular" in x]
+    assert line and "NaN" not in line[0] and "large and sensitive" in line[0]

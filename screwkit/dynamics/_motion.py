@@ -143,12 +143,14 @@ def motion_from_samples(t, values, independent=None, *, smoothing=None, source="
     independent : sequence of str, optional
         The names expected (default: those of ``values``).
     smoothing : float or None
-        The spline's ``lam`` (:func:`scipy.interpolate.make_smoothing_spline`): None
-        chooses it by generalised cross-validation, 0 interpolates the samples.
+        The spline's ``lam`` (:func:`scipy.interpolate.make_smoothing_spline`, natural ends:
+        its second derivative is 0 at the first and last samples): None chooses it by
+        generalised cross-validation; 0 interpolates the samples with a not-a-knot cubic
+        spline (:class:`scipy.interpolate.CubicSpline`), whose ends are free.
     length_unit : str
         The model's length unit, for the notes.
     """
-    from scipy.interpolate import make_smoothing_spline
+    from scipy.interpolate import CubicSpline, make_smoothing_spline
 
     t = np.asarray(t, float).reshape(-1)
     names = tuple(independent) if independent is not None else tuple(values)
@@ -165,14 +167,27 @@ def motion_from_samples(t, values, independent=None, *, smoothing=None, source="
         y = np.asarray(values[k], float).reshape(-1)
         if y.shape != t.shape:
             raise InputError(f"{k} has {y.size} samples, t has {t.size}")
-        s = make_smoothing_spline(t, y, lam=smoothing)
+        if smoothing == 0:
+            # interpolation: not-a-knot ends (the natural spline's second derivative is 0 at
+            # the first and last samples: accelerations of 0 there, whatever the path)
+            s = CubicSpline(t, y, bc_type="not-a-knot")
+        else:
+            s = make_smoothing_spline(t, y, lam=smoothing)
         vals[k], rates[k], accs[k] = s(t), s.derivative(1)(t), s.derivative(2)(t)
         dev = float(np.max(np.abs(vals[k] - y)))
         unit = "deg" if k in ANGLE_PARAMETERS else length_unit
         worst.append(f"{k} {np.degrees(dev) if unit == 'deg' else dev:.3g} {unit}")
+    if smoothing == 0:
+        notes.append("smoothing spline (lam = 0: interpolating, not-a-knot ends); largest "
+                     "deviation from the samples: " + ", ".join(worst))
+        return Motion(t, vals, rates, accs, source,
+                      "cubic smoothing spline (lam = 0: interpolating, not-a-knot ends)",
+                      tuple(notes))
     how = "GCV" if smoothing is None else f"lam = {smoothing:g}"
     notes.append(f"smoothing spline ({how}); largest deviation from the samples: "
-                 + ", ".join(worst))
+                 + ", ".join(worst) + "; its second derivative is 0 at the first and last "
+                 "samples (natural ends): the accelerations there and near them are not the "
+                 "path's (--smoothing 0 interpolates with free ends)")
     return Motion(t, vals, rates, accs, source, f"cubic smoothing spline ({how})", tuple(notes))
 
 

@@ -58,7 +58,12 @@ def run_dynamics(args, model, fmt, progress, force=None, torque=None) -> int:
         res.plot(args.plot, title=args.title)
         print(f"wrote {args.plot}", file=sys.stderr)
     c = res.counts()
-    flagged = {k: v for k, v in c.items() if k != "ok" and v}
+    # (near-singular samples are computed; the others' dynamic values are NaN)
+    near = c.get("near-singular", 0)
+    flagged = {k: v for k, v in c.items() if k not in ("ok", "near-singular") and v}
+    if near:
+        print(f"screwkit trajectory: {near} near-singular of {len(res)} samples (status column; "
+              "their efforts are large and sensitive)", file=sys.stderr)
     if flagged:
         print("screwkit trajectory: " + ", ".join(f"{v} {k}" for k, v in flagged.items())
               + f" of {len(res)} samples (status column; their values are NaN)", file=sys.stderr)
