@@ -129,3 +129,18 @@ def test_to_frame_long_format_and_html():
     assert "<table>" in html and "19.3572" in html and "2 poses" in html
     html1 = res[0]._repr_html_()
     assert "F_a1" in html1 and "kN" in html1 and "19.3572" in html1
+
+
+def test_urdf_joints_allow_effort_and_motion(tmp_path):
+    """Every URDF joint had ``effort="0" velocity="0"``: Pinocchio read effort and velocity
+    limits of 0, no actuation allowed by any tool that applies them. The model has no such
+    limits: the URDF says so and writes 1e12."""
+    pin = pytest.importorskip("pinocchio")
+    from screwkit.interop import urdf_text
+    path = tmp_path / "m.urdf"
+    path.write_text(urdf_text(screwkit.load_pm("3RRPRR")), encoding="utf-8")
+    model = pin.buildModelFromUrdf(str(path))
+    assert model.nv > 0
+    assert np.all(np.asarray(model.effortLimit) >= 1e12)
+    assert np.all(np.asarray(model.velocityLimit) >= 1e12)
+    assert "effort and velocity limits are not part of the model" in path.read_text()

@@ -143,3 +143,22 @@ def test_a_view_without_workload_says_so():
     assert d["workload"]["force"] is None and d["workload"]["torque"] is None
     assert d["workload"]["text"].startswith("none (the model declares none): no efforts")
     assert "[0, 0, 0]" not in d["workload"]["text"]
+
+
+def test_a_central_columns_point_is_not_a_corner_of_the_plates():
+    """The Tricept's base and platform were drawn through the passive column's attachment
+    (A4 at the base centre, a4 at o) as a polygon vertex: a chevron and a boomerang. The
+    outline is the hull of the points now: the outer triangle, by hand, in the view's data
+    and in the drawing."""
+    pytest.importorskip("matplotlib")
+    from screwkit.scene import plate_outline
+    pm = screwkit.load_pm("3UPS+UP/passive")
+    base = np.asarray(pm.world_base_points, float)
+    assert np.allclose(plate_outline(base), base[:3])
+    from screwkit.viz import draw_pm
+    sol = screwkit.analyze(pm, dict(pm.default_pose), force=[0, 0, -100]).solution
+    fig = draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position)
+    fig.canvas.draw()
+    drawn = {c.get_gid(): [len(p.vertices) for p in c.get_paths()]
+             for c in fig.axes[0].collections if c.get_gid() in ("base", "platform")}
+    assert drawn == {"base": [4], "platform": [4]}         # a triangle each, closed

@@ -50,7 +50,11 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["urdf_text", "closures", "write_urdf", "to_pinocchio"]
+__all__ = ["urdf_text", "closures", "write_urdf", "to_pinocchio", "NO_LIMIT"]
+
+#: The joints' effort and velocity limits (SI): a model has none, and URDF requires them
+#: (0, as written before, reads as no effort and no motion allowed to tools that apply them).
+NO_LIMIT = 1e12
 
 
 def _f(x) -> str:
@@ -203,7 +207,8 @@ def urdf_text(pm, params=None) -> str:
     lines = [f'<?xml version="1.0"?>\n<robot name={quoteattr(pm.name)}>\n',
              f"  <!-- screwkit export of {pm.name} ({'+'.join(pm.legs)}), home pose; lengths "
              f"in m (the model's {pm.units.length} x {k:g}), masses in kg, angles in rad; "
-             f"{note}; loop closures in the .closures.json sidecar -->\n",
+             f"{note}; loop closures in the .closures.json sidecar; joint effort and velocity "
+             f"limits are not part of the model: {NO_LIMIT:g} (none) -->\n",
              '  <link name="base">\n',
              _disc(p0, R0, float(np.max(np.linalg.norm(base_pts - p0, axis=1))) * 1.05,
                    0.02 * scale, np.zeros(3)),
@@ -223,7 +228,8 @@ def urdf_text(pm, params=None) -> str:
                          f'    <parent link="{parent}"/><child link="{child}"/>\n'
                          f'    <origin xyz="{_vec(p - parent_point)}" rpy="0 0 0"/>'
                          f'<axis xyz="{_vec(d)}"/>\n'
-                         f'    <limit lower="{_f(lo)}" upper="{_f(hi)}" effort="0" velocity="0"/>\n'
+                         f'    <limit lower="{_f(lo)}" upper="{_f(hi)}" effort="{NO_LIMIT:g}" '
+                         f'velocity="{NO_LIMIT:g}"/>\n'
                          f"  </joint>\n")
             if name.endswith("_far"):                    # the far link translates
                 lines[-1] = lines[-1].replace("  </joint>", f'    <mimic joint="{name[:-4]}_bar" '
@@ -240,8 +246,9 @@ def urdf_text(pm, params=None) -> str:
             lines.append(f'  <joint name="{name}" type="revolute">\n'
                          f'    <parent link="{par}"/><child link="{name}_link"/>\n'
                          f'    <origin xyz="{_vec(p - par_pt)}" rpy="0 0 0"/><axis xyz="{_vec(h)}"/>\n'
-                         f'    <limit lower="{_f(-math.pi)}" upper="{_f(math.pi)}" effort="0" '
-                         f'velocity="0"/>\n    <mimic joint="{name[:-5]}_bar" multiplier="1" '
+                         f'    <limit lower="{_f(-math.pi)}" upper="{_f(math.pi)}" '
+                         f'effort="{NO_LIMIT:g}" velocity="{NO_LIMIT:g}"/>\n'
+                         f'    <mimic joint="{name[:-5]}_bar" multiplier="1" '
                          f'offset="0"/>\n  </joint>\n')
             lines.append(f'  <link name="{name}_link">\n{_cylinder(p, p + b, r_link, p)}'
                          f'  </link>\n')

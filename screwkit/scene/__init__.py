@@ -21,12 +21,13 @@ from ._palette import COLORS, LEG_COLORS, leg_color
 from ._arrows import FLOOR, arrow_fractions, scale_key
 from ._data import (MAX_STATES, GridControls, PoseState, Scene, SceneRow, TimeControls,
                     format_value)
+from ._geometry import plate_outline
 from ._page import View, page_html, require_plotly
 from ._browser import CHROMIUM_ARGS, browser, find_chromium, open_page, screenshot
 
 __all__ = [
     "LEG_COLORS", "COLORS", "leg_color", "FLOOR", "arrow_fractions", "scale_key",
     "Scene", "PoseState", "SceneRow", "GridControls", "TimeControls", "MAX_STATES",
-    "format_value", "View", "page_html", "require_plotly",
+    "format_value", "View", "page_html", "require_plotly", "plate_outline",
     "screenshot", "browser", "open_page", "find_chromium", "CHROMIUM_ARGS",
 ]

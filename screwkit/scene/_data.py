@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._arrows import FLOOR, arrow_fractions, scale_key
+from ._geometry import plate_outline
 from ._palette import COLORS, leg_color
 
 __all__ = ["SceneRow", "PoseState", "GridControls", "TimeControls", "Scene", "MAX_STATES",
@@ -249,7 +250,9 @@ class Scene:
                 "condition_number": _num(s.condition_number),
                 "notes": list(s.notes),
                 "legs": [leg_json(lg, size) for lg in s.legs] if drawn else [],
-                "base": _arr(s.base_points), "platform": _arr(s.platform_points) if drawn else [],
+                # (the plates' outlines: a central column's point is not a corner)
+                "base": _arr(plate_outline(s.base_points)),
+                "platform": _arr(plate_outline(s.platform_points)) if drawn else [],
                 "o": _arr(s.o) if drawn else None,
                 "values": _arr(s.values), "points": _arr(s.points),
                 "directions": _arr(s.directions),

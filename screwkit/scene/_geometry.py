@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["leg_json", "scene_size", "scene_box"]
+__all__ = ["leg_json", "scene_size", "scene_box", "plate_outline"]
 
 
 def _v(x) -> list:
@@ -82,3 +82,47 @@ def scene_box(states, size: float):
     lo, hi = P.min(axis=0), P.max(axis=0)
     pad = 0.45 * size
     return lo - pad, hi + pad
+
+
+def plate_outline(points) -> np.ndarray:
+    """The outline of a plate (the base or the platform) through its attachment points
+    ``(n, 3)``: the corners of their convex hull, in order around it from the first of them
+    that is a corner, so that a point inside (a central column's attachment) is not drawn
+    as a corner of a concave polygon.  Fewer than four points, or points on a line, are
+    returned as they are.
+
+    Examples
+    --------
+    >>> plate_outline([[2, 0, 0], [-1, 2, 0], [-1, -2, 0], [0, 0, 0]]).tolist()
+    [[2.0, 0.0, 0.0], [-1.0, 2.0, 0.0], [-1.0, -2.0, 0.0]]
+    """
+    P = np.asarray(points, float).reshape(-1, 3)
+    if len(P) < 4 or not np.all(np.isfinite(P)):
+        return P
+    c = P.mean(axis=0)
+    _, s, Vt = np.linalg.svd(P - c)
+    if s[1] <= 1e-9 * max(s[0], 1e-300):
+        return P
+    xy = (P - c) @ Vt[:2].T
+    tol = 1e-12 * max(float(np.abs(xy).max()), 1e-300) ** 2
+
+    def half(order):
+        out = []
+        for i in order:
+            while len(out) >= 2:
+                (ax, ay), (bx, by) = xy[out[-2]], xy[out[-1]]
+                if (bx - ax) * (xy[i][1] - ay) - (by - ay) * (xy[i][0] - ax) > tol:
+                    break
+                out.pop()
+            out.append(i)
+        return out
+    order = sorted(range(len(P)), key=lambda i: (xy[i][0], xy[i][1]))
+    hull = half(order)[:-1] + half(order[::-1])[:-1]          # counter-clockwise
+    if len(hull) < 3:
+        return P
+    k = hull.index(min(hull))
+    hull = hull[k:] + hull[:k]
+    # (the given turning sense where the points already go around: the same polygon)
+    if len(hull) >= 3 and hull[1] > hull[-1]:
+        hull = hull[:1] + hull[1:][::-1]
+    return P[hull]

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..scene import FLOOR, arrow_fractions
+from ..scene import FLOOR, arrow_fractions, plate_outline
 from ..scene import scale_key as _kind_key
 from ._artists import _Extent, _arrow, _clip_line, _double_head
 from ._axes import _check_3d_axes, _check_view, _finish_axes
@@ -121,7 +121,7 @@ def _three_digits(v: float) -> str:
 def _polygon(ax, pts, face, edge, alpha, ext, gid=None):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    P = np.asarray(pts, float)
+    P = plate_outline(pts)         # (a central column's point is not a corner)
     if len(P) >= 3:
         poly = Poly3DCollection([P], facecolors=face, edgecolors="none", alpha=alpha, zorder=0)
         poly.set_gid(gid)
