@@ -228,3 +228,21 @@ def test_mjcf_writes_the_bars_where_they_are(delta, tmp_path):
             assert body.mass[0] == pytest.approx(0.04, rel=1e-12)          # kg
             centre = (E - off * e + 0.5 * (C - E)) * 1e-3                  # m
             np.testing.assert_allclose(d.body(body.id).xipos, centre, atol=1e-12)
+
+
+def test_a_rotary_actuators_columns_are_its_angle_and_the_angles_rates():
+    """The Delta's CSV had ``r1 [mm]`` (the leg's extension |a - A|) beside ``rdot1
+    [rad/s]`` (the arm joint's rate): not one quantity's value and rate. A rotary actuator
+    has its angle ``q1 [deg]`` and its rates ``qdot1``, ``qddot1`` now; ``qdot1`` is the
+    time derivative of ``q1`` (checked here by central differences of the column)."""
+    import screwkit
+    from screwkit.dynamics import motion_from_expressions
+    pm = screwkit.load_pm("tests/data/delta_3rrpar.yaml")
+    m = motion_from_expressions(["Xo=10*t", "Yo=-5*t", "Zo=-150+20*t"], pm.independent,
+                                samples=401)
+    cols = {c: (v, u) for c, v, u in screwkit.dynamics(pm, m, force=[0, 0, 0]).columns()}
+    assert "rdot1" not in cols and cols["q1"][1] == "deg" and cols["qdot1"][1] == "rad/s"
+    t, q = cols["t"][0], np.radians(cols["q1"][0])
+    fd = (q[2:] - q[:-2]) / (t[2:] - t[:-2])
+    np.testing.assert_allclose(cols["qdot1"][0][1:-1], fd, rtol=1e-4,
+                               atol=1e-6 * np.abs(fd).max())

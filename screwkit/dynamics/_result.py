@@ -276,12 +276,18 @@ class DynamicsResult:
                          u.length if k in LENGTH_PARAMS else "deg"))
         ext = self._mask(sol._extensions)
         cols += [(f"r{i + 1}", ext[:, i], u.length) for i in range(n)]
+        # a rotary actuator's joint angle q_i (the extension r_i is not what it drives: its
+        # rates are the angle's, qdot_i, as screwkit.forward names the angle q_i)
+        qa = self._mask(np.asarray(sol.actuator_values, float).reshape(len(self), -1))
+        cols += [(f"q{i + 1}", np.degrees(qa[:, k]), "deg") for k, i in enumerate(act)
+                 if self.rotary[i]]
+        rv = ["q" if r else "r" for r in self.rotary]
         act_u = [u.torque if r else u.force for r in self.rotary]
         rate_u = [f"{'rad' if r else u.length}/s" for r in self.rotary]
-        cols += [(f"rdot{i + 1}", self.actuator_rates[:, k], rate_u[i])
+        cols += [(f"{rv[i]}dot{i + 1}", self.actuator_rates[:, k], rate_u[i])
                  for k, i in enumerate(act)]
         acc_u = [f"{'rad' if r else u.length}/s^2" for r in self.rotary]
-        cols += [(f"rddot{i + 1}", self.actuator_accelerations[:, k], acc_u[i])
+        cols += [(f"{rv[i]}ddot{i + 1}", self.actuator_accelerations[:, k], acc_u[i])
                  for k, i in enumerate(act)]
         fa = ["T_a" if r else "F_a" for r in self.rotary]         # a rotary actuator: torque
         cols += [(f"{fa[i]}{i + 1}", self.static_active[:, k], act_u[i])

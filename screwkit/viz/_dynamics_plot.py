@@ -26,6 +26,10 @@ _NAMES = {"Xo": "$X_o$", "Yo": "$Y_o$", "Zo": "$Z_o$", "alpha": r"$\alpha$", "be
           "gamma": r"$\gamma$"}
 
 
+#: The markers of a leg's constraint rows in panel (c), in row order.
+_ROW_MARKERS = ("o", "s", "^", "D", "v", "P")
+
+
 def _math(label):
     head, _, sub = label.partition("_")
     return f"${head}_{{{sub.replace('.', ',')}}}$" if sub else label
@@ -153,10 +157,13 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
     # (b) active forces
     ax = axes[1]
     act_legs = list(active_legs) if active_legs is not None else list(range(Fs.shape[1]))
+    rotary = list(active_rotary) if active_rotary is not None else [False] * len(act_legs)
     for k, i in enumerate(act_legs):
         c = leg_color(i)
-        ax.plot(t, masked(Fs[:, k]), color=c, ls="--", lw=1.2, label=f"$F_{{a{i + 1}}}$ static")
-        ax.plot(t, masked(Fd[:, k]), color=c, lw=2.0, label=f"$F_{{a{i + 1}}}$ dynamic")
+        sym = "T" if k < len(rotary) and rotary[k] else "F"     # (a rotary actuator: torque)
+        ax.plot(t, masked(Fs[:, k]), color=c, ls="--", lw=1.2,
+                label=f"${sym}_{{a{i + 1}}}$ static")
+        ax.plot(t, masked(Fd[:, k]), color=c, lw=2.0, label=f"${sym}_{{a{i + 1}}}$ dynamic")
     rot = set(bool(x) for x in (active_rotary if active_rotary is not None else [False]))
     what = {frozenset({False}): ("force", U["force"]), frozenset({True}): ("torque", U["torque"])
             }.get(frozenset(rot), ("effort", f"{U['force']} or {U['torque']}"))
@@ -176,15 +183,20 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         twin = any(couple) and not all(couple)
         axc = ax.twinx() if twin else ax
         hs = []
+        seen: dict = {}
         for j, lab in enumerate(constraint_labels):
             a = axc if couple[j] else ax
             c = leg_color(legs[j])
             side = " (right)" if twin and couple[j] else ""
-            hs += a.plot(t, masked(Cs[:, j]), color=c, ls="--", lw=1.2,
+            # (a leg's rows share its colour: each its own marker, so that they read apart)
+            nth = seen[legs[j]] = seen.get(legs[j], -1) + 1
+            mark = _ROW_MARKERS[nth % len(_ROW_MARKERS)]
+            hs += a.plot(t, masked(Cs[:, j]), color=c, ls="--", lw=1.2, marker=mark,
+                         markevery=max(1, N // 12), ms=3, mfc="none",
                          label=f"{_math(lab)} static{side}")
             hs += a.plot(t, masked(Cd[:, j]), color=c, lw=2.0,
                          label=f"{_math(lab)} dynamic{side}",
-                         marker="o" if couple[j] else None, markevery=max(1, N // 12), ms=3)
+                         marker=mark, markevery=max(1, N // 12), ms=3.5)
         if not all(couple):
             ax.set_ylabel(f"constraint force [{U['force']}]")
         if any(couple):
