@@ -162,3 +162,26 @@ def test_a_central_columns_point_is_not_a_corner_of_the_plates():
     drawn = {c.get_gid(): [len(p.vertices) for p in c.get_paths()]
              for c in fig.axes[0].collections if c.get_gid() in ("base", "platform")}
     assert drawn == {"base": [4], "platform": [4]}         # a triangle each, closed
+
+
+def test_view_and_export_errors_name_their_cause(tmp_path, capsys):
+    """``view --pose alpha=1e308`` said no pose of the view was reachable (the engine's
+    limit was the cause: +-3600 deg, as ``analyze`` says); ``view --grid alpha=1:2:0`` said
+    the count goes to 1e7 and ``1:2:100000`` that it goes to 101; an export under a file
+    said "File exists"."""
+    from screwkit.cli import main
+    page = str(tmp_path / "v.html")
+    cases = [(["view", "3RRPRR", "--pose", "alpha=1e308", "--html", page],
+              "beyond the limit +-3600 deg"),
+             (["view", "3RRPRR", "--grid", "alpha=1:2:0", "--html", page], "1 .. 101"),
+             (["view", "3RRPRR", "--grid", "alpha=1:2:100000", "--html", page], "1 .. 101")]
+    blocker = tmp_path / "afile"
+    blocker.write_text("x", encoding="utf-8")
+    cases += [(["export", "3RRPRR", "--mjcf", str(blocker / "a.xml"), "--massless"],
+               "is a file, not a folder"),
+              (["export", "3RRPRR", "--urdf", str(blocker / "b" / "a.urdf")],
+               "is a file, not a folder")]
+    for argv, said in cases:
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and said in err[0], (argv, err)

@@ -336,20 +336,14 @@ def write_mjcf(pm, path, *, pose=None, degrees: bool = False, params=None,
         ``path``, ``pose`` (the six pose parameters, degrees for angles), ``joints``,
         ``equalities``, ``actuators``, ``masses`` (``dynamics:`` or ``none``).
     """
-    from pathlib import Path
-
     from ..engine import solve_pose
 
     sol = solve_pose(pm, pose or {}, degrees=degrees)
     p = sol.params_degrees()
     note = "the pose " + ", ".join(f"{n}={float(p[n]):.6g}" for n in pm.independent)
     text = mjcf_text(pm, sol.joint_values, params=params, massless=massless, pose_note=note)
-    out = Path(path)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot write {str(out)!r}: {exc.strerror or exc}") from None
+    from ._files import write_text
+    out = write_text(path, text)
     ties = text.count('_tie"')
     return {"path": str(out), "pose": {n: float(v) for n, v in p.items()},
             "joints": text.count("<joint name=") - ties, "loops": text.count("<weld "),

@@ -308,17 +308,11 @@ def write_urdf(pm, path, params=None) -> tuple:
     ``dynamics:`` block) and ``<stem>.closures.json`` beside it; returns both paths."""
     from pathlib import Path
 
-    from ..errors import InputError as _Err
-
+    from ._files import write_text
     p = Path(path)
     side = p.with_name(p.stem + ".closures.json")
-    try:
-        p.parent.mkdir(parents=True, exist_ok=True)
-        text = urdf_text(pm, params)
-        p.write_text(text, encoding="utf-8")
-        side.write_text(json.dumps(closures(pm, p.name), indent=2) + "\n", encoding="utf-8")
-    except OSError as exc:
-        raise _Err(f"cannot write {str(p)!r}: {exc.strerror or exc}") from None
+    write_text(p, urdf_text(pm, params))
+    write_text(side, json.dumps(closures(pm, p.name), indent=2) + "\n")
     return str(p), str(side)
 
 

@@ -103,12 +103,13 @@ class Grid:
                          else v[0]) for k, v in p.items()}
 
 
-def parse_range(text: str, what: str = "--grid", *, pose: bool = True):
+def parse_range(text: str, what: str = "--grid", *, pose: bool = True,
+                max_count: int | None = None):
     """``"NAME=START:STOP:COUNT"`` -> ``(NAME, (start, stop, count))``; ``"NAME=LOW:HIGH"``
     -> ``(NAME, (low, high))`` (a sampling box).  With ``pose`` (a pose parameter given at
     the command line, angles in degrees) an angle beyond +-3600 deg is refused here with
     that limit; otherwise (a model dimension) numbers are bounded by the general
-    magnitude limit."""
+    magnitude limit.  ``max_count``: the largest COUNT (default the cells of a map)."""
     from ..legs._guards import (MAX_ANGLE_DEG, MAX_MAGNITUDE, MAX_NAME, parse_int,
                                 parse_number, shorten)
     name, sep, rng = str(text).partition("=")
@@ -129,7 +130,8 @@ def parse_range(text: str, what: str = "--grid", *, pose: bool = True):
             raise InputError(f"{what} {name} {w}: {x:g} deg is beyond the limit "
                              f"+-{MAX_ANGLE_DEG:g} deg")
     if len(parts) == 3:
-        nums.append(parse_int(parts[2], f"{what} {name} COUNT", 1, MAX_CELLS))
+        nums.append(parse_int(parts[2], f"{what} {name} COUNT", 1,
+                              MAX_CELLS if max_count is None else max_count))
     return name, tuple(nums)
 
 

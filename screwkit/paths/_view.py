@@ -43,6 +43,9 @@ def default_steps(k: int) -> int:
     return n
 
 
+#: The most values of one parameter in a view (its slider's stops).
+MAX_VIEW_STEPS = 101
+
 def _centre(model, pose, degrees):
     """The independent parameters of the pose shown first, in the API's units (radians)."""
     pose = dict(pose or {})
@@ -60,6 +63,10 @@ def _centre(model, pose, degrees):
         if not np.isfinite(v):
             raise InputError(f"pose {k}: must be finite")
         out[k] = np.radians(v) if degrees and k not in LENGTH_PARAMS and k in pose else v
+    from ..engine._inputs import pose_arrays
+    # (the engine's limits, named in the caller's units: +-3600 deg, 1e12 model sizes)
+    pose_arrays(model, {k: np.degrees(v) if degrees and k not in LENGTH_PARAMS else v
+                        for k, v in out.items()}, degrees=degrees)
     return out
 
 
@@ -71,8 +78,10 @@ def _axes(model, centre, grid, steps, degrees):
             raise InputError(f"{model.name}: grid {k!r} is not an independent pose parameter "
                              f"(the independent ones are {', '.join(model.independent)})")
     n = default_steps(len(model.independent)) if steps is None else steps
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 101:
-        raise InputError(f"steps must be an integer from 1 to 101, got {steps!r:.40}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or \
+            not 1 <= n <= MAX_VIEW_STEPS:
+        raise InputError(f"steps must be an integer from 1 to {MAX_VIEW_STEPS}, got "
+                         f"{steps!r:.40}")
     L = float(model.normalisation.length)
     api, shown = [], []
     for k in model.independent:
@@ -86,9 +95,9 @@ def _axes(model, centre, grid, steps, degrees):
             except (TypeError, ValueError):
                 raise InputError(f"grid {k}: give (start, stop, count), got {spec!r:.60}") \
                     from None
-            if not (np.isfinite(a) and np.isfinite(b)) or not 1 <= count <= 101:
+            if not (np.isfinite(a) and np.isfinite(b)) or not 1 <= count <= MAX_VIEW_STEPS:
                 raise InputError(f"grid {k}: start and stop must be finite and the count 1 to "
-                                 f"101, got {spec!r:.60}")
+                                 f"{MAX_VIEW_STEPS}, got {spec!r:.60}")
             v = np.linspace(a, b, count)
             if degrees and not length:
                 v = np.radians(v)

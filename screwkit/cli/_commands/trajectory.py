@@ -48,7 +48,8 @@ def register(sub):
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
     p.add_argument("--units", choices=["model", "SI"], default="model",
                    help="units of the table (CSV header 'name [unit]', JSON units) and of "
-                        "the plot: the model's (default) or SI (m, N, N.m; needs pint)")
+                        "the plot: the model's (default) or SI (m, N, N.m; needs pint; not "
+                        "with --dynamics, whose table names the model's units)")
     p.add_argument("--plot", metavar="PNG", type=figure, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
     add_unit_label_arguments(p, "on the plot")

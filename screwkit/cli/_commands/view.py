@@ -63,10 +63,11 @@ def register(sub):
 
 def _grid(items, independent):
     from ...maps import parse_range
+    from ...paths._view import MAX_VIEW_STEPS
 
     out = {}
     for text in items:
-        name, rng = parse_range(text, "--grid")
+        name, rng = parse_range(text, "--grid", max_count=MAX_VIEW_STEPS)
         if len(rng) != 3:
             raise InputError(f"--grid {name}: give START:STOP:COUNT")
         if name in out:
