@@ -260,3 +260,34 @@ def test_near_singular_samples_are_not_said_to_be_nan(tmp_path, capsys):
     assert near and all(np.isfinite(float(r[col])) for r in near)
     line = [x for x in err.splitlines() if "near-singular" in x]
     assert line and "NaN" not in line[0] and "large and sensitive" in line[0]
+
+
+def test_dynamics_table_in_si_by_hand_factors(tmp_path, capsys):
+    """``trajectory --dynamics --units SI`` was refused. The catalog's 3-RPS is in cm and kN:
+    by hand 1 cm = 0.01 m, 1 kN = 1000 N, 1 kN.cm = 10 N.m (an energy: J), 1 kN.s^2/cm =
+    1e5 kg; every column of the SI JSON is the model-unit one times its factor."""
+    from screwkit.cli import main
+    mass = tmp_path / "m.yaml"
+    mass.write_text("dynamics:\n  units: {mass: kg, length: cm, force: N}\n"
+                    "  platform: {mass: 3}\n", encoding="utf-8")
+    base = ["trajectory", "3RPS", "--dynamics", "--force", "0,0,-1", "--torque", "2,0,0",
+            "--expr", "alpha=5*t", "--expr", "beta=-3*t", "--expr", "Zo=60+10*t",
+            "--samples", "6", "--mass", str(mass), "--format", "json"]
+    out = []
+    for extra in ([], ["--units", "SI"]):
+        assert main(base + extra) == 0
+        out.append(json.loads(capsys.readouterr().out))
+    m, si = out
+    k = {"kN": (1000.0, "N"), "cm": (0.01, "m"), "kN.cm": (10.0, "N.m"),
+         "cm/s": (0.01, "m/s"), "cm/s^2": (0.01, "m/s^2"), "kN.cm/s": (10.0, "N.m/s"),
+         "s": (1.0, "s"), "deg": (1.0, "deg"), "rad/s": (1.0, "rad/s"),
+         "rad/s^2": (1.0, "rad/s^2")}
+    assert set(si["columns"]) == set(m["columns"])
+    for name, col in m["columns"].items():
+        f, unit = k[col["unit"]]
+        assert si["columns"][name]["unit"] == unit, name
+        a = np.array(col["values"], float)
+        b = np.array(si["columns"][name]["values"], float)
+        np.testing.assert_allclose(b, f * a, rtol=1e-12, atol=1e-300, err_msg=name)
+    assert m["units"]["mass"] == "kN.s^2/cm" and si["units"]["mass"] == "N.s^2/m"
+    assert si["workload"]["force"] == [0, 0, -1000.0] and si["workload"]["torque_unit"] == "N.m"

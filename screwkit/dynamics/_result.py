@@ -11,6 +11,9 @@ from functools import cached_property
 import numpy as np
 
 from ..engine import LENGTH_PARAMS, PARAMS
+from ._table import mass_in_kg as _kg
+from ._table import unit_converter as _converter
+from ._table import write_text as _write
 
 __all__ = ["DynamicsResult", "STATUSES"]
 
@@ -263,8 +266,13 @@ class DynamicsResult:
     def rotary(self) -> tuple:
         return tuple(lg.actuated_joint.kind != "P" for lg in self.model.home_legs)
 
-    def columns(self) -> list:
-        """``(name, (N,) array, unit)`` of the CSV (angles in degrees)."""
+    def columns(self, units=None) -> list:
+        """``(name, (N,) array, unit)`` of the CSV (angles in degrees), in the model's units
+        (``units`` None or ``"model"``) or in SI (``"SI"``: m, N, N.m, kg; angles and times
+        as they are)."""
+        if units is not None and units != "model":
+            conv = _converter(self.model, units)
+            return [(c, v * conv(un)[0], conv(un)[1]) for c, v, un in self.columns()]
         u = self.model.units
         n = self.model.n_legs
         act = self.model.active                        # the actuated legs
@@ -312,10 +320,10 @@ class DynamicsResult:
         cols += [(f"workload_T{x}", np.full(N, T[j]), u.torque) for j, x in enumerate("xyz")]
         return cols
 
-    def to_csv(self, out=None):
+    def to_csv(self, out=None, units=None):
         """CSV: a header row (``name [unit]``), ``status`` after ``t``, ``conditioning``
-        last; NaN as ``nan``."""
-        cols = self.columns()
+        last; NaN as ``nan``; ``units``: as :meth:`columns`."""
+        cols = self.columns(units)
         cls = self.conditioning
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
@@ -330,16 +338,26 @@ class DynamicsResult:
         _write(text, out)
         return None
 
-    def to_dict(self) -> dict:
-        """JSON-ready (column-oriented; angles in degrees, a unit for every column)."""
-        cols = self.columns()
+    def to_dict(self, units=None) -> dict:
+        """JSON-ready (column-oriented; angles in degrees, a unit for every column);
+        ``units``: as :meth:`columns`."""
+        cols = self.columns(units)
+        u = self.model.units
+        block = {**u.as_dict(), "time": "s", "mass": self.params.mass_unit}
+        F, T = self.force, self.torque
+        fu, tu = u.force, u.torque
+        if units is not None and units != "model":
+            conv = _converter(self.model, units)
+            block.update(length="m", force="N", torque="N.m", mass=conv(block["mass"])[1],
+                         converted_from=f"{u.length}, {u.force}")
+            F = None if F is None else np.asarray(F, float) * conv(u.force)[0]
+            T = None if T is None else np.asarray(T, float) * conv(u.torque)[0]
+            fu, tu = "N", "N.m"
         return {"pm": self.model.name, "n_samples": len(self), "counts": self.counts(),
-                "units": {**self.model.units.as_dict(), "time": "s",
-                          "mass": self.params.mass_unit},
-                "workload": {"force": self.force, "torque": self.torque, "applied_at": "o",
-                             "source": self.workload_source,
-                             "force_unit": self.model.units.force,
-                             "torque_unit": self.model.units.torque},
+                "units": block,
+                "workload": {"force": F, "torque": T, "applied_at": "o",
+                             "source": self.workload_source, "force_unit": fu,
+                             "torque_unit": tu},
                 "gravity": self.params.gravity, "motion": {"source": self.motion.source,
                                                            "derivatives": self.motion.method},
                 "notes": list(self.params.notes) + list(self.motion.notes),
@@ -348,49 +366,35 @@ class DynamicsResult:
                 "columns": {c: {"unit": un, "values": v} for c, v, un in cols},
                 "residuals": {k: v for k, v in self.residuals.items()}}
 
-    def plot(self, out=None, *, title=None, dpi: int = 150):
+    def plot(self, out=None, *, title=None, dpi: int = 150, units=None):
         """Fig. 5-style panels with the dynamic curves beside the static ones
-        (:func:`screwkit.viz.plot_dynamics`)."""
+        (:func:`screwkit.viz.plot_dynamics`); ``units``: as :meth:`columns`."""
         from ..viz import plot_dynamics
         u = self.model.units
+        si = units is not None and units != "model"
+        conv = _converter(self.model, units) if si else (lambda x: (1.0, x))
+        (kl, lu), (kf, fu), (kt, tu) = conv(u.length), conv(u.force), conv(u.torque)
         p = self.params_values
-        pose = {k: (p[k] if k in LENGTH_PARAMS else np.degrees(p[k]))
+        pose = {k: (p[k] * kl if k in LENGTH_PARAMS else np.degrees(p[k]))
                 for k in self.model.independent}
         n_a = len(self.model.active)
-        labels = [r.label for r in self.analysis.jacobian.info[n_a:]]
-        kinds = [r.kind for r in self.analysis.jacobian.info[n_a:]]
+        info = self.analysis.jacobian.info
+        labels = [r.label for r in info[n_a:]]
+        kinds = [r.kind for r in info[n_a:]]
+        ka = np.array([kt if self.rotary[i] else kf for i in self.model.active])
+        kc = np.array([kt if r.kind == "couple" else kf for r in info[n_a:]])
         if title is None:
             title = (f"{self.model.name}: static (dashed) and dynamic (solid); "
-                     f"F = [{', '.join(f'{x:g}' for x in self.force)}] {u.force}, "
-                     f"T = [{', '.join(f'{x:g}' for x in self.torque)}] {u.torque} at o, "
+                     f"F = [{', '.join(f'{x * kf:g}' for x in self.force)}] {fu}, "
+                     f"T = [{', '.join(f'{x * kt:g}' for x in self.torque)}] {tu} at o, "
                      f"platform mass {_kg(self.model.units, self.params.platform.mass)}")
-        return plot_dynamics(self.t, pose, self.static_active, self.dynamic_active,
-                             self.static_constraint, self.dynamic_constraint, labels, kinds,
-                             self.kinetic_energy + self.potential_energy, self.actuator_power,
-                             units={"length": u.length, "force": u.force, "torque": u.torque,
-                                    "energy": f"{u.force}·{u.length}"},
+        return plot_dynamics(self.t, pose, self.static_active * ka, self.dynamic_active * ka,
+                             self.static_constraint * kc, self.dynamic_constraint * kc,
+                             labels, kinds, (self.kinetic_energy + self.potential_energy) * kt,
+                             self.actuator_power * kt,
+                             units={"length": lu, "force": fu, "torque": tu,
+                                    "energy": tu.replace(".", "·")},
                              flags=~self.ok, out=out, title=title, dpi=dpi,
                              active_legs=self.model.active,
                              active_rotary=[self.rotary[i] for i in self.model.active],
                              constraint_legs=[r.leg for r in self.analysis.jacobian.info[n_a:]])
-
-
-def _write(text: str, out) -> None:
-    from pathlib import Path
-    from ..errors import InputError
-    if hasattr(out, "write"):
-        out.write(text)
-        return
-    try:
-        Path(out).parent.mkdir(parents=True, exist_ok=True)
-        Path(out).write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot write {str(out)!r}: {exc}") from None
-
-
-def _kg(units, mass) -> str:
-    """A mass in kg when the model's units convert (pint), else in the model's unit."""
-    try:
-        return f"{mass / units.factor('kg', 'mass'):.4g} kg"
-    except Exception:                       # no pint, or undeclared units
-        return f"{mass:.4g} {units.mass}"

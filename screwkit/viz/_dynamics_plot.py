@@ -220,6 +220,7 @@ def plot_dynamics(t, pose, active_static, active_dynamic, constraint_static=None
         hs += axp.plot(t, masked(np.asarray(power, float).reshape(N)), color="#b2182b", ls="--",
                        label="actuators' power (right)")
         axp.set_ylabel(f"power [{U['energy']}/s]")
+        axp.ticklabel_format(axis="y", useOffset=False)     # (values, not an offset)
     if hs:
         pending.append((axp if power is not None else ax, hs, dict(fontsize=8)))
     ax.set_title("(d) energy E and actuators' power P = dE/dt + power against load and friction",

@@ -48,14 +48,15 @@ def run_dynamics(args, model, fmt, progress, force=None, torque=None) -> int:
     said = [n for n in res.params.notes if n.startswith(("dynamics parameters", "gravity"))]
     if said:                      # the units and gravity taken, never silently
         print("screwkit trajectory: " + "; ".join(said), file=sys.stderr)
-    text = dump_json(res.to_dict()) + "\n" if fmt == "json" else res.to_csv()
+    units = None if getattr(args, "units", "model") == "model" else args.units
+    text = dump_json(res.to_dict(units)) + "\n" if fmt == "json" else res.to_csv(units=units)
     emit_table(args.out, text)
     from .analyze import workload_note
     if sys.stderr.isatty() and not getattr(args, "quiet", False):   # (JSON: workload.source)
         print(workload_note("trajectory", model, res.force, res.torque, res,
                             "external workload"), file=sys.stderr)
     if args.plot:
-        res.plot(args.plot, title=args.title)
+        res.plot(args.plot, title=args.title, units=units)
         print(f"wrote {args.plot}", file=sys.stderr)
     c = res.counts()
     # (near-singular samples are computed; the others' dynamic values are NaN)

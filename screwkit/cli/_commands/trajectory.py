@@ -48,8 +48,7 @@ def register(sub):
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
     p.add_argument("--units", choices=["model", "SI"], default="model",
                    help="units of the table (CSV header 'name [unit]', JSON units) and of "
-                        "the plot: the model's (default) or SI (m, N, N.m; needs pint; not "
-                        "with --dynamics, whose table names the model's units)")
+                        "the plot: the model's (default) or SI (m, N, N.m, kg; needs pint)")
     p.add_argument("--plot", metavar="PNG", type=figure, help="also draw the panels of the paper's Fig. 5")
     p.add_argument("--title", type=label(), help="title of the plot")
     add_unit_label_arguments(p, "on the plot")
@@ -105,9 +104,6 @@ def run(args) -> int:
         raise InputError("--workers and --scheduler do not apply to --dynamics")
     table_units = None if args.units == "model" else args.units
     if table_units is not None:
-        if getattr(args, "dynamics", False):
-            raise InputError("--units SI does not apply to --dynamics (its table is in the "
-                             "model's units, named in its header)")
         if args.length_unit or args.force_unit:
             raise InputError("--length-unit/--force-unit name the model's units on the plot: "
                              "not with --units SI")
