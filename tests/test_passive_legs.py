@@ -279,3 +279,56 @@ def test_dynamics_of_the_tricept_against_pinocchio(tricept):
     chk = check_dynamics(tricept, result=res)
     assert chk.passed(1e-9), chk.errors
     assert chk.residual < 1e-9
+
+
+def _stretched_column_pm(scale=1.0, units="mm"):
+    """Three UPS legs and a passive planar R-R-R column (axes along z) whose reach is 200 mm:
+    the column is singular where its three joints line up (stretched)."""
+    b = screwkit.PMBuilder("rrr-column", units={"length": units, "force": "N"})
+    zb = np.array([0.0, 0.0, -200.0])
+    for t in np.radians([90, 210, 330]):
+        u = np.array([np.cos(t), np.sin(t), 0.0])
+        A = 180 * np.array([np.cos(t + 0.7), np.sin(t + 0.7), 0.0]) + zb
+        b.add_leg("UPS", base=A * scale, platform=60 * u * scale)
+    P1, P2 = np.array([0, 0, -50.0]), np.array([100, 0, -50.0])
+    P3 = np.array([150, 86.60254037844386, 0.0])
+    col = screwkit.leg_from_joints([("R", [0, 0, 1], P1 * scale), ("R", [0, 0, 1], P2 * scale),
+                                    ("R", [0, 0, 1], P3 * scale)], P1 * scale, P3 * scale)
+    b.add_leg(col, base=P1 * scale, platform=P3 * scale, passive=True)
+    b.set_pose(["Xo", "Yo", "gamma"], home={"Xo": 0, "Yo": 0, "gamma": 0}, order="XYZ")
+    return b.build(), P3[:2]
+
+
+def test_a_passive_leg_near_its_own_singularity_is_said():
+    """A passive leg has no transmission index: where its twists lose rank (the R-R-R column
+    stretched, its joints on a line) the platform loses a freedom and the statics become
+    indeterminate, and nothing said so (condition of J 10.4, no warning). By hand: at a
+    distance eps short of the stretch the elbow stands off the line by about sqrt(2 a eps)
+    (a, b the links), so the twists' condition number grows as eps^-1/2: ten times for eps
+    a hundred times smaller. It is said beyond 1e3, the same in m as in mm."""
+    from screwkit.engine._passive import passive_leg_conditioning
+    F, T = [10.0, 5.0, -30.0], [100.0, -50.0, 20.0]
+    conds = {}
+    for units, scale in (("mm", 1.0), ("m", 1e-3)):
+        pm, p3 = _stretched_column_pm(scale, units)
+        d = p3 / np.linalg.norm(p3)
+        for eps in (5.0, 0.1, 1e-3):
+            s = (200 - np.linalg.norm(p3) - eps) * scale
+            res = screwkit.analyze(pm, {"Xo": s * d[0], "Yo": s * d[1], "gamma": 0.0},
+                                   force=F, torque=[t * scale for t in T])
+            conds[units, eps] = passive_leg_conditioning(res)[3]
+            said = [w for w in res.warnings if w.startswith("passive leg 4")]
+            assert bool(said) == (eps == 1e-3), (units, eps, res.warnings)
+    assert conds["mm", 1e-3] / conds["mm", 0.1] == pytest.approx(10.0, rel=0.05)
+    for eps in (5.0, 0.1, 1e-3):
+        assert conds["m", eps] == pytest.approx(conds["mm", eps], rel=1e-6)
+    # the catalog's passive columns are never said: a U-P column keeps its rank, and an S is
+    # a ball (its three R axes align where they lock, a representation, not the joint)
+    rng = np.random.default_rng(3)
+    for name in ("3UPS+UP/passive", "3UPS+S/passive"):
+        pm = screwkit.load_pm(name)
+        for _ in range(10):
+            pose = {k: v + rng.uniform(-0.5, 0.5) if k in ("alpha", "beta", "gamma") else v
+                    for k, v in pm.default_pose.items()}
+            res = screwkit.analyze(pm, pose, force=[0, 0, -1], raise_on_singular=False)
+            assert max(passive_leg_conditioning(res).values()) < 10.0

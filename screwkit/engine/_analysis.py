@@ -35,7 +35,7 @@ from ._path import check_path
 from ._solution import PoseSolution, check_reachable, make_solution, mark_invalid, prepare
 from ._statics import StaticsResult
 from ._analysis_options import check_options as _options, stiffness_of_poses as _stiffness_of_poses
-from ._limits import limits_warnings
+from ._passive import pose_warnings
 from ._workloads import (MissingStatics, _compliance, _mask, check_partial_stiffness,
                          no_workload_message, resolve_workload)
 from ..errors import MisuseError
@@ -231,7 +231,7 @@ class PMAnalysis:
             if not good:
                 out.append(f"leg {i + 1}: its constraint members do not have their home "
                            "structure here; the generic rule gave them")
-        return tuple(out + limits_warnings(self))
+        return tuple(out + pose_warnings(self))
 
     @cached_property
     def mobility(self):
