@@ -316,3 +316,26 @@ def test_a_guess_reads_its_angles_as_the_call_does():
     assert rad.params["gamma"] == pytest.approx(sol.params["gamma"], abs=1e-12)
     fk = screwkit.forward(pm, sol.actuator_values, {"alpha": 5.0}, degrees=True)
     assert fk.success[0] and fk.pose(0, degrees=True)["alpha"] == pytest.approx(5.0, abs=1e-8)
+
+
+def test_fk_says_one_solution_when_the_sign_pattern_is_shared(capsys):
+    """A 3-RSR's actuator values close two poses above the base with home's det J sign (the
+    two solved again here by the inverse displacement give the same actuator values): the
+    default output named its one pose "the working mode's sign pattern" as if unique; it
+    says it is one solution and that --all searches the others."""
+    import json as _json
+
+    from screwkit.cli import main
+    q = "q1=0.07373305330850823,q2=0.061272511366854174,q3=0.005332840203186904"
+    assert main(["fk", "3RSR", "--actuators", q, "--all", "--json"]) == 0
+    sols = _json.loads(capsys.readouterr().out)["solutions"]
+    working = [s["pose"] for s in sols if s["working_mode"]]
+    assert len(working) >= 2
+    pm = screwkit.load_pm("3RSR")
+    acts = [np.asarray(screwkit.solve(pm, {k: p[k] for k in pm.independent},
+                                      degrees=True).actuator_values, float).ravel()
+            for p in working[:2]]
+    np.testing.assert_allclose(acts[0], acts[1], atol=1e-7)
+    assert abs(working[0]["alpha"] - working[1]["alpha"]) > 1.0      # two distinct poses
+    assert main(["fk", "3RSR", "--actuators", q]) == 0
+    assert "one solution" in capsys.readouterr().out

@@ -115,6 +115,10 @@ def _print(model, sols, res) -> None:
               "solutions are points of a continuum of poses at these actuator values (a "
               "self-motion), not isolated assembly modes, and their count grows with the "
               f"seeds; the first {SINGULAR_SHOWN} shown, all with --json")
+    if res is None:
+        print("  one solution: the one Newton and continuation reach from their start; other "
+              "assembly modes may close at these values, with the same sign pattern too "
+              "(--all searches for them)")
     for i in range(len(sols)):
         if i in hidden:
             continue
@@ -131,8 +135,11 @@ def _print(model, sols, res) -> None:
             print(f"     not solved: residual {d['residual']:.2e} (the last iterate, not a pose of "
                   "the PM)")
             continue
+        level = d.get("level")
+        trust = f"; trust level {level}" if level and level != d["conditioning"] and \
+            not (level == "ok" and d["conditioning"] == "regular") else ""
         print(f"     solved: residual {d['residual']:.2e}, condition "
-              f"{d['condition_number']:.4g} ({d['conditioning']}); {d['mode']}")
+              f"{d['condition_number']:.4g} ({d['conditioning']}{trust}); {d['mode']}")
         if not d["within_limits"]:
             from ...engine._limits import limits_warnings
             print(f"     {limits_warnings(sols.analysis[i])[0]}")
