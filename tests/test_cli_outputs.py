@@ -342,3 +342,13 @@ def test_a_model_file_whose_name_holds_a_hash(tmp_path, monkeypatch, capsys):
     assert main(["analyze", "--model", "h#x.yaml", "--force", "0,0,-1"]) == 0
     assert capsys.readouterr().out.count("PM 3RPS") == 1
     assert main(["analyze", "--model", "h#x.yaml#3RPS", "--force", "0,0,-1"]) == 0
+
+
+def test_synthesize_write_folder_is_made_before_the_search(tmp_path, capsys):
+    """``synthesize --write DIR`` under a file ran the whole search, then failed to write;
+    the folder is made first now (one line, exit 2, before any verification)."""
+    blocker = tmp_path / "afile"
+    blocker.write_text("x", encoding="utf-8")
+    assert main(["synthesize", "3T", "--write", str(blocker / "models")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "cannot make the folder" in err[0]

@@ -73,7 +73,9 @@ def register(sub):
                    help="generate legs from every word (H joints, five-joint legs of four or "
                         "five letters): slower, for a Dask cluster")
     p.add_argument("--max-verified", type=integer(1, 10000), default=None, metavar="N",
-                   help="at most N engine verifications (default 400)")
+                   help="at most N engine verifications of the symmetric and mixed PMs "
+                        "(default 400); the pair compositions take at most min(N, 40) more and "
+                        "the passive-leg ones at most N more (docs/synthesis.md)")
     p.add_argument("--jobs", type=integer(1, 64), default=None, metavar="N",
                    help="local worker processes for the engine verifications (default: 2 on "
                         "Linux with 2 or more cores, else 1)")
@@ -107,6 +109,12 @@ def run(args) -> int:
                          "choose the generated legs, which --no-generate leaves out")
     if args.write is not None and Path(args.write).exists() and not Path(args.write).is_dir():
         raise InputError(f"--write {args.write}: not a directory (give one for the models)")
+    if args.write is not None and not Path(args.write).exists():
+        try:                        # (made before the search, not found wanting after it)
+            Path(args.write).mkdir(parents=True)
+        except OSError as exc:
+            raise InputError(f"--write {args.write}: cannot make the folder: "
+                             f"{exc.strerror or exc}") from None
     mapper = dask_mapper(args)
     if mapper is not None and args.jobs is not None:
         raise InputError("give either --jobs N (local processes) or a Dask cluster")
