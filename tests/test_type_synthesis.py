@@ -215,3 +215,29 @@ def test_motion_pattern_aliases():
         motion_pattern("")
     with pytest.raises(InputError):
         synthesize_motion("3T", legs=2)
+
+
+def test_the_delta_with_base_tangent_axes_is_listed(tmp_path):
+    """The classic Delta leg (R-R-Pa-R, every axis along the base tangent) was rejected: its
+    generic elbow, moved along the tangent (its own axes), stayed on the line A -> a seen
+    along them, so the leg was 0.7 cm from stretching at home and the verification's path
+    left the workspace. Its elbows move across the axes now; the verified PM keeps its
+    platform's orientation at poses 5 cm around home (every rotation vector 0, checked
+    here on the engine's solutions) with its three legs' arms bent (the elbow off the line
+    A -> a by more than a tenth of the leg)."""
+    res = synthesize_motion("3T", asymmetric=False, passive=False)
+    delta = [p for p in res.listed if p.variant == "3RRPaR/t.t.t.t"]
+    assert delta, [p.variant for p in res.listed]
+    pm, _ = _written_model(delta[0], tmp_path)
+    rng = np.random.default_rng(4)
+    L = float(pm.normalisation.length)
+    for _ in range(5):
+        pose = {k: v + rng.uniform(-0.1, 0.1) * L for k, v in pm.home_pose.items()
+                if k in pm.independent}
+        sol = screwkit.analyze(pm, pose, force=[0, 0, -1]).solution
+        assert np.allclose(np.asarray(sol.rotation).reshape(3, 3), np.eye(3), atol=1e-9)
+        for leg in sol.legs:
+            A, a = np.asarray(leg.A, float), np.asarray(leg.a, float)
+            E = np.asarray(leg.joints[1].point, float)
+            off = np.linalg.norm(np.cross(E - A, a - A)) / np.linalg.norm(a - A)
+            assert off > 0.1 * np.linalg.norm(a - A)

@@ -112,22 +112,26 @@ def located(chain: Chain) -> list:
     return out
 
 
-def elbow(k: int, m: int, central: bool = False) -> dict:
+def elbow(k: int, m: int, central: bool = False, tangent: bool = False) -> dict:
     """The ``k``-th of ``m`` elbow points (1-based): on ``A -> a`` at ``k / (m + 1)``, moved
     off the line along the base tangent (the base X axis for a central column; alternating
     sides) and the base normal, so that parallel axes through ``A``, the elbows and ``a``
-    are never coplanar."""
+    are never coplanar.  A chain whose axes all lie along the base tangent (a Delta leg)
+    moves its elbows across them instead, outwards along ``A -> O``'s opposite: moved along
+    its own axes an elbow stays on the line ``A -> a`` seen along them, and the leg is
+    stretched (singular) at home."""
     side = 0.3 if k % 2 else -0.25
     inner = {"offset": {"between": ["A", "a"], "t": round(k / (m + 1), 6)},
-             "along": "base.X" if central else "base.tangent", "fraction": side}
+             "along": "base.X" if central else ("base.AO" if tangent else "base.tangent"),
+             "fraction": -0.3 if tangent else side}
     return {"offset": inner, "along": "base.Z", "fraction": 0.15}
 
 
-def _point_ref(slot, central=False):
+def _point_ref(slot, central=False, tangent=False):
     if slot is None:
         return None
     if isinstance(slot, tuple):
-        return elbow(slot[1], slot[2], central)
+        return elbow(slot[1], slot[2], central, tangent)
     return slot
 
 
@@ -158,8 +162,9 @@ def rule_entries(chain: Chain) -> list:
             return {"perpendicular": [first[int(code[1:])], "leg"]}
         return DIRECTIONS[code]
 
+    tangent = bool(chain.classes) and all(c == "t" for c in chain.classes)
     for i, x in enumerate(chain.letters):
-        pt = _point_ref(slots[i], chain.central)
+        pt = _point_ref(slots[i], chain.central, tangent)
         e: dict = {}
         if x == "S":
             e["at"] = pt
@@ -168,9 +173,10 @@ def rule_entries(chain: Chain) -> list:
             e["axes"] = [direction(ax, pt, nm) for ax, nm in zip(chain.axes[i], names[i])]
         elif x == "Pa":
             c = chain.central
-            prev = next((_point_ref(slots[k], c) for k in range(i - 1, -1, -1) if slots[k]), "A")
-            nxt = next((_point_ref(slots[k], c) for k in range(i + 1, len(slots)) if slots[k]),
-                       "a")
+            prev = next((_point_ref(slots[k], c, tangent) for k in range(i - 1, -1, -1)
+                         if slots[k]), "A")
+            nxt = next((_point_ref(slots[k], c, tangent) for k in range(i + 1, len(slots))
+                        if slots[k]), "a")
             ax = chain.axes[i][0]
             ref = first[ax.index] if ax.index in first else DIRECTIONS[chain.classes[ax.index]]
             e = {"axis": {"perpendicular": [ref, {"toward": [prev, nxt]}]}, "at": prev, "to": nxt}

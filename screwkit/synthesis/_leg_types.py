@@ -138,6 +138,8 @@ def _vectors(pl: Placement, central: bool = False):
     for m in range(1, 4):
         for k in range(1, m + 1):
             pts[("E", k, m)] = tup(ctx.point(elbow(k, m, central)))
+            # (a chain with every axis along the base tangent moves its elbows across them)
+            pts[("Et", k, m)] = tup(ctx.point(elbow(k, m, central, tangent=True)))
     return dirs, pts, tup(pl.centre)
 
 
@@ -156,6 +158,8 @@ def _twists(chain: Chain, dirs, pts, C, slots) -> list | None:
     cls: dict = {}
     rows = []
     lg = dirs["l"]
+    if chain.classes and all(c == "t" for c in chain.classes):      # (as rule_entries)
+        slots = [("Et",) + s[1:] if isinstance(s, tuple) else s for s in slots]
 
     def vec(ax, p):
         k = ax.index
