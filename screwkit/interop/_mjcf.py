@@ -13,8 +13,7 @@ Joint names are the URDF's (``leg2_U1a``; an S is one ball ``leg1_S1``, the URDF
 ``leg1_S1a..c`` meeting at its centre).
 
 The loops: legs 2..n end in a site ``leg<k>_end`` that a ``weld`` ties to the site
-``platform_a<k>`` of the platform (both are the platform frame at ``a_k`` at home), stiff
-enough to hold the loops in a simulation (:data:`WELD_SOLREF`).  At
+``platform_a<k>`` of the platform (both are the platform frame at ``a_k`` at home).  At
 ``qpos0`` every joint is at home (screwkit's joint values 0); keyframe 0 (``pose``) is the
 exported pose solved by screwkit, so that the welds hold there too.  One ``motor`` per
 actuated joint (``F_a1``...: ctrl is the actuator's force in N or torque in N.m).
@@ -34,18 +33,11 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["mjcf_text", "write_mjcf", "si_factors", "BOUND_MASS", "BOUND_INERTIA",
-           "WELD_SOLREF"]
+__all__ = ["mjcf_text", "write_mjcf", "si_factors", "BOUND_MASS", "BOUND_INERTIA"]
 
 #: The smallest mass (kg) and inertia (kg.m^2) of a moving body (MuJoCo's compiler bounds).
 BOUND_MASS = 1e-6
 BOUND_INERTIA = 1e-9
-#: The loop welds' ``solref``: direct stiffness (1/s^2) and damping (1/s), negative as MuJoCo
-#: reads them.  A leg's end body carries the bound mass, and a weld of MuJoCo's default
-#: softness (time constant 0.02 s) on such a body does not hold its loop under load: in 0.5 s
-#: of ``mj_step`` under gravity the loops of a 6-SPS opened by 0.44 m, of a Delta by 0.15 m;
-#: with these, by 1e-5 m and 2e-13 m (``tests/test_mjcf.py``).
-WELD_SOLREF = "-1e9 -1e5"
 
 
 def si_factors(pm) -> dict:
@@ -300,8 +292,8 @@ def mjcf_text(pm, joint_values=None, *, params=None, massless: bool = False,
     # (massless: MuJoCo's default direction, standard gravity; a massless model feels none)
     g = (R0 @ params.gravity * k["length"]) if params is not None else np.array([0, 0, -9.80665])
     base_r = 1.05 * float(np.max(np.linalg.norm(base_pts - p0, axis=1))) * k["length"]
-    loops = [f'<weld name="loop{i + 1}" site1="leg{i + 1}_end" site2="platform_a{i + 1}" '
-             f'solref="{WELD_SOLREF}"/>' for i in range(1, pm.n_legs)]
+    loops = [f'<weld name="loop{i + 1}" site1="leg{i + 1}_end" site2="platform_a{i + 1}"/>'
+             for i in range(1, pm.n_legs)]
     motors = [f'<motor name="{"T" if kind in "RH" else "F"}_a{i + 1}" joint={quoteattr(jn)} '
               f'gear="1"/>' for i, jn, kind in w.motors]
     out = [f'<mujoco model={quoteattr(pm.name)}>',
