@@ -190,6 +190,17 @@ def least_norm_member(M, i, RW, member):
     for j in range(size):
         if j != act:
             _normalise_twist(tw[j], c, L, Tn[npas])
+            # each passive twist of unit norm: the span (and so the projection) is the same,
+            # but a translation's twist, v / L, no longer sits 1 / L^2 below the rotations
+            # in the Gram matrix, where the shift and the rounding made the row depend on
+            # the length unit (a Delta's Pa: 5e-9 between mm and m)
+            s = 0.0
+            for q in range(6):
+                s += Tn[npas, q] * Tn[npas, q]
+            if s > 0.0:
+                s = 1.0 / math.sqrt(s)
+                for q in range(6):
+                    Tn[npas, q] *= s
             npas += 1
     _normalise_twist(tw[act], c, L, vec)
     tr = 0.0
