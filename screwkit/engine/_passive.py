@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..screws import RANK_RTOL
 from ._quality import NEAR_SINGULAR_COND
 
 __all__ = ["passive_leg_conditioning", "passive_warnings", "pose_warnings", "SINGULAR_COND"]
@@ -57,7 +58,11 @@ def passive_leg_conditioning(analysis) -> dict:
     L = float(model.normalisation.length)
     out = {}
     for i in passive:
-        s = np.linalg.svd(_twists(analysis.solution.legs[i], L), compute_uv=False)
+        # (over the rank the leg has at home: an idle motion, the spin of an S-S link about
+        # its line, is the leg's at every pose, not a singularity)
+        h = np.linalg.svd(_twists(model.home_legs[i], L), compute_uv=False)
+        r = max(1, int(np.sum(h > RANK_RTOL * h[0])))
+        s = np.linalg.svd(_twists(analysis.solution.legs[i], L), compute_uv=False)[:r]
         out[i] = float(s[0] / s[-1]) if s[-1] > 0 else float("inf")
     return out
 
