@@ -234,6 +234,41 @@ def test_cli_fk(capsys):
     assert "no value for" in capsys.readouterr().err
 
 
+def test_cli_fk_units_si_converts_the_pose_and_extensions_not_the_angles(capsys):
+    """``fk --units SI`` of the 3RPS (a cm model): the pose solved from the default pose's
+    leg extensions, its lengths in m (1 cm = 0.01 m), its angles and conditioning as they
+    are; the --all search's solutions too."""
+    import json
+
+    from screwkit.cli import main
+    pm = screwkit.load_pm("3RPS")
+    assert pm.units.length == "cm"
+    ext = screwkit.solve(pm, dict(pm.default_pose)).extensions
+    arg = ",".join(f"r{i + 1}={e:.12f}" for i, e in enumerate(ext))
+    runs = {}
+    for units in ("model", "SI"):
+        assert main(["fk", "3RPS", "--actuators", arg, "--units", units, "--json"]) == 0
+        runs[units] = json.loads(capsys.readouterr().out)["solutions"][0]
+    cm, m = runs["model"], runs["SI"]
+    assert (cm["units"]["length"], m["units"]["length"]) == ("cm", "m")
+    assert m["pose"]["Zo"] == pytest.approx(pm.default_pose["Zo"] / 100, rel=1e-9)
+    for k in ("Xo", "Yo", "Zo"):
+        assert m["pose"][k] == pytest.approx(cm["pose"][k] / 100, rel=1e-12, abs=1e-15)
+    for k in ("alpha", "beta", "gamma"):
+        assert m["pose"][k] == cm["pose"][k]
+    assert np.allclose(m["extensions"], np.asarray(ext) / 100, rtol=1e-9)
+    assert m["condition_number"] == cm["condition_number"]
+    assert main(["fk", "3RPS", "--actuators", arg, "--units", "SI"]) == 0
+    text = capsys.readouterr().out
+    assert "lengths m, angles deg (converted from the model's cm)" in text
+    zo = float(text.split("Zo=")[1].split()[0])
+    assert zo == pytest.approx(pm.default_pose["Zo"] / 100, rel=1e-8)
+    assert main(["fk", "3RPS", "--actuators", arg, "--all", "--seeds", "200", "--units", "SI",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert all(s["units"]["length"] == "m" and abs(s["pose"]["Zo"]) < 2 for s in out["solutions"])
+
+
 def test_fk_modes_at_a_representation_singularity_are_poses_or_say_why():
     """3RRPRR at its home actuator values: every listed mode is confirmed by the analysis or,
     at beta = 0 where no split of alpha + gamma is reached, said to close unconfirmed; such a

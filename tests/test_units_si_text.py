@@ -333,3 +333,75 @@ def test_the_joint_values_of_the_json_are_in_its_units(capsys):
         np.testing.assert_allclose(b["joint_values"], np.array(a["joint_values"]) * factor,
                                    rtol=1e-12, atol=1e-15)
         assert b["joint_values"][2] == pytest.approx(b["actuator_value"], rel=1e-12)
+
+
+_TRICEPT = """\
+units: {{length: {unit}, force: N}}
+legs:
+  - name: UP/column
+    string: U_P
+    summary: the Tricept's passive column
+    joints:
+      - {{at: A, axes: [base.X, {{perpendicular: [U1a, leg]}}]}}
+      - {{axis: leg}}
+    structure:
+      - {{perpendicular: [U1b, leg]}}
+pms:
+  tricept:
+    string: 3UPS+UP/passive
+    dimensions: {{R: {R}, r: {r}, H: {H}}}
+    base: {{points: [[R, 0, 0], [-R/2, R*sqrt(3)/2, 0], [-R/2, -R*sqrt(3)/2, 0], [0, 0, 0]]}}
+    platform: {{points: [[r, 0, 0], [-r/2, r*sqrt(3)/2, 0], [-r/2, -r*sqrt(3)/2, 0], [0, 0, 0]]}}
+    legs: [UPS, UPS, UPS, {{leg: UP/column, passive: true}}]
+    euler: XYZ
+    independent: [alpha, beta, Zo]
+    home: {{alpha: 0, beta: 0, Zo: H}}
+    pose: {{alpha: 5, beta: -3, Zo: H}}
+    dof: 3
+    motion: 1T2R
+"""
+
+
+def test_stiffness_in_si_is_the_same_pm_written_in_metres(tmp_path, capsys):
+    """``stiffness --units SI`` of a Tricept written in mm equals the report of the same
+    Tricept written in m (every dimension / 1000, the stiffnesses and the load converted by
+    hand: N/mm -> N/m x 1000, N.mm/rad -> N.m/rad / 1000, N.mm -> N.m / 1000), which the
+    engine computes in metres from the start: stiffness, compliance, deflection, principal
+    stiffnesses, row stiffnesses, o."""
+    files = {}
+    for unit, k in (("mm", 1.0), ("m", 1e-3)):
+        files[unit] = tmp_path / f"tricept_{unit}.yaml"
+        files[unit].write_text(_TRICEPT.format(unit=unit, R=300 * k, r=110 * k, H=650 * k))
+    pose = ["--pose", "alpha=4", "--pose", "beta=-6"]
+    ka, kf, kc, torque = 2e4, 5e4, 3e9, (100.0, -200.0, 50.0)       # N/mm, N/mm, N.mm/rad
+    mm = json.loads(_run(capsys, "stiffness", "--model", str(files["mm"]), *pose,
+                         "--pose", "Zo=620", "--k-actuator", f"{ka}", "--k-force", f"{kf}",
+                         "--k-couple", f"{kc}", "--force=10,-20,-300",
+                         "--torque=" + ",".join(map(str, torque)), "--units", "SI", "--json"))
+    m = json.loads(_run(capsys, "stiffness", "--model", str(files["m"]), *pose,
+                        "--pose", "Zo=0.62", "--k-actuator", f"{ka * 1e3}", "--k-force",
+                        f"{kf * 1e3}", "--k-couple", f"{kc * 1e-3}", "--force=10,-20,-300",
+                        "--torque=" + ",".join(str(t * 1e-3) for t in torque), "--json"))
+    assert mm["units"]["length"] == "m" and mm["units"]["converted_from"]["length"] == "mm"
+    assert mm["units"]["stiffness"] == m["units"]["stiffness"]
+    K_si, K_m = np.array(mm["stiffness"]), np.array(m["stiffness"])
+    assert np.allclose(K_si, K_m, rtol=1e-8, atol=1e-10 * np.abs(K_m).max())
+    C_si, C_m = np.array(mm["compliance"]), np.array(m["compliance"])
+    assert np.allclose(C_si, C_m, rtol=1e-8, atol=1e-10 * np.abs(C_m).max())
+    for part in ("translation", "rotation"):
+        assert np.allclose(mm["deflection"][part], m["deflection"][part], rtol=1e-8,
+                           atol=1e-12 * np.abs(m["deflection"][part]).max())
+    for which in ("translational", "rotational"):
+        assert np.allclose(mm["principal"][which]["stiffness"],
+                           m["principal"][which]["stiffness"], rtol=1e-8)
+    assert [r["unit"] for r in mm["rows"]] == [r["unit"] for r in m["rows"]]
+    assert np.allclose([r["stiffness"] for r in mm["rows"]], [r["stiffness"] for r in m["rows"]],
+                       rtol=1e-12)
+    assert np.allclose(mm["o"], m["o"], rtol=1e-10, atol=1e-12)
+    assert mm["pose"]["Zo"] == pytest.approx(0.62, rel=1e-12)
+    assert np.allclose(mm["workload"]["torque"], np.array(torque) * 1e-3, rtol=1e-12)
+    text = _run(capsys, "stiffness", "--model", str(files["mm"]), *pose, "--pose", "Zo=620",
+                "--k-actuator", f"{ka}", "--k-force", f"{kf}", "--k-couple", f"{kc}",
+                "--force=10,-20,-300", "--units", "SI")
+    assert "(converted from the model's mm, N)" in text and "[N/m]" in text
+    assert "N.mm" not in text and "N/mm" not in text

@@ -196,12 +196,16 @@ class StiffnessResult:
                            "stiffness model does not hold there")
         return out
 
-    def to_dict(self) -> dict:
+    def to_dict(self, units=None) -> dict:
         """JSON of one pose: ``stiffness`` (6x6, [v; w] -> [f; m] about o, None when every
         row is rigid), ``deflection`` (None without a workload), ``compliance``, principal
-        stiffnesses, row stiffnesses, ``conditioning``, ``unrestrained``, ``units``."""
+        stiffnesses, row stiffnesses, ``conditioning``, ``unrestrained``, ``units`` (the
+        model's, or SI with ``units="SI"``: m, N, N.m)."""
         if not self.single:
             raise MisuseError("to_dict describes one pose")
+        if units is not None and units != "model":
+            from ._stiffness_units import in_units
+            return in_units(self.to_dict(), self.analysis.model, units)
         from ._compliance import twist_text
         u = self.analysis.model.units
         kt, dt = self.principal("translational")

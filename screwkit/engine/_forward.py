@@ -150,12 +150,16 @@ class ForwardResult:
         return {k: float(np.degrees(v[i]) if (degrees and k not in LENGTH_PARAMS) else v[i])
                 for k, v in self.params.items()}
 
-    def to_dict(self, i: int = 0) -> dict:
-        """JSON-ready description of solution ``i`` (degrees, model units)."""
-        u = self.model.units
+    def to_dict(self, i: int = 0, units=None) -> dict:
+        """JSON-ready description of solution ``i`` (degrees; lengths in the model's units,
+        or in m with ``units="SI"``)."""
+        from ._report import output_scales
+        u, k = output_scales(self.model, units)
+        pose = {p: v * k["length"] if p in LENGTH_PARAMS else v
+                for p, v in self.pose(i, degrees=True).items()}
         if not self.success[i]:         # not a confirmed solution: no mode, no conditioning
             closed = bool(self.unsplit is not None and self.unsplit[i])
-            return {"pose": self.pose(i, degrees=True), "units": u.as_dict(),
+            return {"pose": pose, "units": u,
                     "residual": float(self.residual[i]), "success": False,
                     "closed_unconfirmed": closed,
                     "mode": ("closes every leg at a representation singularity, not confirmed "
@@ -170,7 +174,7 @@ class ForwardResult:
                     "continuation_steps": int(self.steps[i]),
                     "tracked": bool(self.tracked[i]), "iterations": int(self.iterations[i]),
                     "within_limits": None}
-        return {"pose": self.pose(i, degrees=True), "units": u.as_dict(),
+        return {"pose": pose, "units": u,
                 "residual": float(self.residual[i]), "success": bool(self.success[i]),
                 "closed_unconfirmed": bool(self.unsplit is not None and self.unsplit[i]),
                 "condition_number": float(self.condition_number[i]),
@@ -182,7 +186,8 @@ class ForwardResult:
                 "working_mode": bool(self.working_mode[i]), "mode": self.mode_text(i),
                 "conditioning": str(np.atleast_1d(self.analysis.conditioning)[i]),
                 "level": str(np.atleast_1d(self.analysis.level)[i]),
-                "extensions": np.atleast_2d(self.analysis.solution.extensions)[i].tolist(),
+                "extensions": (np.atleast_2d(self.analysis.solution.extensions)[i]
+                               * k["length"]).tolist(),
                 "continuation_steps": int(self.steps[i]), "tracked": bool(self.tracked[i]),
                 "iterations": int(self.iterations[i]),
                 "within_limits": bool(within_limits(self.analysis)[i])}

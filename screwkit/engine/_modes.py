@@ -60,14 +60,16 @@ class AssemblyModes:
         s = self.solutions
         return np.asarray(s.success) & (np.atleast_1d(s.analysis.conditioning) == "singular")
 
-    def to_dict(self) -> dict:
+    def to_dict(self, units=None) -> dict:
+        """JSON-ready: every solution as :meth:`ForwardResult.to_dict` (``units``: the
+        model's, or ``"SI"``)."""
         return {"pm": self.solutions.model.name, "seeds": self.seeds,
                 "converged": self.converged, "count": len(self),
                 "singular_count": int(np.sum(self.singular)),
                 "note": "a seed search: the count is a lower bound; singular solutions found "
                         "in numbers are points of a continuum (a self-motion), not isolated "
                         "assembly modes",
-                "solutions": [self.solutions.to_dict(i) for i in range(len(self))]}
+                "solutions": [self.solutions.to_dict(i, units) for i in range(len(self))]}
 
 
 def _distinct(R, o, L):

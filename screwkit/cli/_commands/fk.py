@@ -41,6 +41,9 @@ def register(sub):
                    help="search many seeds and list every distinct real solution")
     p.add_argument("--seeds", type=integer(1, MAX_SEEDS), default=None,
                    help=f"seeds of --all (1 to {MAX_SEEDS}; default 1000)")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the printed pose (text and JSON): the model's (default) or "
+                        "SI (m); --actuators and --guess stay in the model's units")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.set_defaults(func=run)
 
@@ -54,7 +57,10 @@ def run(args) -> int:
     import numpy as np
 
     from ...api import assembly_modes, forward
+    from ...engine._report import output_scales
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    output_scales(model, units)             # (a model without units: refused before solving)
     act = actuators_of(args.actuators)
     if args.seeds is not None and not args.all:
         raise InputError("--seeds is the number of starts of --all: add --all")
@@ -62,7 +68,7 @@ def run(args) -> int:
         if args.guess:
             raise InputError("--all searches from seeds: it takes no --guess")
         res = assembly_modes(model, act, seeds=args.seeds or 1000, degrees=True)
-        out = res.to_dict()
+        out = res.to_dict(units)
         sols = res.solutions
     else:
         from ...legs._guards import MAX_ANGLE_DEG
@@ -72,13 +78,13 @@ def run(args) -> int:
                 raise InputError(f"--guess {k} = {v:g} deg is beyond +-{MAX_ANGLE_DEG:g} deg")
         sols = forward(model, act, guess, degrees=True)      # (the guess in degrees too)
         out = {"pm": model.name, "count": len(sols), "solved": int(np.sum(sols.success)),
-               "solutions": [sols.to_dict(i) for i in range(len(sols))]}
+               "solutions": [sols.to_dict(i, units) for i in range(len(sols))]}
     # --all lists what it found: it fails only where no solution is confirmed
     solved = bool(np.any(sols.success) if args.all else np.all(sols.success))
     if args.json:
         print(dump_json(out))
     else:
-        _print(model, sols, res if args.all else None)
+        _print(model, sols, res if args.all else None, units)
     if not solved:
         bad = [i for i in range(len(sols)) if not sols.success[i]]
         if sols.unsplit is not None and np.all(sols.unsplit[bad]):
@@ -101,14 +107,16 @@ def run(args) -> int:
 SINGULAR_SHOWN = 6
 
 
-def _print(model, sols, res) -> None:
+def _print(model, sols, res, units=None) -> None:
     import numpy as np
-    u = model.units
+    from ...engine._report import output_scales
+    u = output_scales(model, units)[0]
     singular = [] if res is None else [int(i) for i in np.flatnonzero(res.singular)]
     head = (f"{len(sols)} distinct real solutions from {res.seeds} seeds ({res.converged} "
             "converged; a lower bound), above the base first" if res is not None
             else "forward kinematics")
-    print(f"{model.name}: {head}; lengths {u.length}, angles deg")
+    print(f"{model.name}: {head}; lengths {u['length']}, angles deg"
+          + (f" (converted from the model's {model.units.length})" if units else ""))
     hidden = set(singular[SINGULAR_SHOWN:]) if res is not None else set()
     if res is not None and len(singular) > SINGULAR_SHOWN:
         print(f"  {len(singular)} of them singular (J rank-deficient): so many singular "
@@ -122,7 +130,7 @@ def _print(model, sols, res) -> None:
     for i in range(len(sols)):
         if i in hidden:
             continue
-        d = sols.to_dict(i)
+        d = sols.to_dict(i, units)
         pose = "  ".join(f"{k}={fmt_num(v, 9)}" for k, v in d["pose"].items())
         print(f"  {i + 1}. {pose}")
         if d["closed_unconfirmed"]:

@@ -56,6 +56,9 @@ def register(sub):
     p.add_argument("--geometric", action="store_true",
                    help="add the load-dependent (geometric) term of the workload as a preload: "
                         "the tangent stiffness")
+    p.add_argument("--units", choices=["model", "SI"], default="model",
+                   help="units of the report (text and JSON): the model's (default) or SI (m, "
+                        "N, N.m); the stiffnesses and the workload given stay in the model's")
     p.add_argument("--json", action="store_true",
                    help="print JSON (keys stiffness, compliance, deflection, principal, units)")
     p.set_defaults(func=run)
@@ -85,7 +88,10 @@ def _check_rows(model, args) -> None:
 def run(args) -> int:
     from ...dynamics import stiffness
 
+    from ...engine._report import output_scales
     model = resolve_model(args)
+    units = None if args.units == "model" else args.units
+    output_scales(model, units)             # (a model without units: refused before solving)
     _check_rows(model, args)
     force, torque = parse_load(args)
     if args.geometric and force is None and model.workload is None:
@@ -98,7 +104,7 @@ def run(args) -> int:
                     rows=parse_assignments(args.row, "--row", bound=MAX_STIFFNESS) or None,
                     force=force, torque=torque, geometric=args.geometric,
                     raise_on_singular=False)
-    d = res.to_dict()
+    d = res.to_dict(units)
     if d["workload"] is not None:
         d["workload"]["source"] = load_source(res)
     missing = None
@@ -140,7 +146,9 @@ def run(args) -> int:
 def _print(d, hint) -> None:
     u = d["units"]
     print(f"PM {d['pm']}: pose " + "  ".join(f"{k}={fmt_num(v)}" for k, v in d["pose"].items())
-          + f" (deg, {u['length']}); o = {fmt_vec(d['o'])} {u['length']}")
+          + f" (deg, {u['length']}); o = {fmt_vec(d['o'])} {u['length']}"
+          + (" (converted from the model's {length}, {force})".format(**u["converted_from"])
+             if "converted_from" in u else ""))
     c = d["conditioning"]
     print(f"conditioning: {c['class']} (normalised condition number "
           f"{c['condition_number']:.3g}, as analyze)")
