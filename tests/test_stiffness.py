@@ -422,3 +422,30 @@ def test_the_geometric_term_at_a_singular_pose_is_a_clear_error(capsys):
                  "--geometric"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "singular" in err[0]
+
+
+def test_the_geometric_term_at_a_singular_pose_of_a_batch_is_undefined_not_elastic():
+    """In a batch the singular pose has no efforts to preload with: its tangent stiffness,
+    compliance, deflection and principal stiffnesses are NaN (it was the elastic stiffness,
+    silently, and ``stable``), with a note naming the pose; the elastic part is
+    ``J_o^T diag(k) J_o`` formed here; the other poses are their one-pose runs."""
+    pm = screwkit.load_pm("3SPU+SP")
+    pose = {k: np.full(3, v) for k, v in pm.default_pose.items()}
+    pose["alpha"] = np.array([0.0, 0.0374898304306222, -0.05])      # det J changes sign at [1]
+    kw = dict(actuator=2000.0, force_stiffness=5000.0, force=[0, 0, -1], torque=[0, 0, 0],
+              geometric=True)
+    r = stiffness(pm, pose, **kw)
+    assert r.analysis.jacobian.singular_mask.tolist() == [False, True, False]
+    assert np.isnan(r.K[1]).all() and np.isnan(r.compliance[1]).all()
+    assert np.isnan(r.deflection[1]).all() and np.isnan(r.principal()[0][1]).all()
+    assert not r.stable[1]
+    Jo = _rows_about_o(r.analysis.jacobian.J[1], r.analysis.solution.position[1])
+    assert np.allclose(r.elastic[1], Jo.T @ np.diag(r.k[1]) @ Jo, rtol=1e-10,
+                       atol=1e-12 * np.abs(r.elastic[1]).max())
+    assert any("undefined at 1 singular pose(s) (index 1" in n for n in r.notes)
+    for i in (0, 2):
+        one = stiffness(pm, {k: float(v[i]) for k, v in pose.items()}, **kw)
+        assert np.allclose(r.K[i], one.K[0], rtol=1e-9, atol=1e-9 * np.abs(one.K[0]).max())
+        assert np.allclose(r.deflection[i], one.deflection[0], rtol=1e-8,
+                           atol=1e-10 * np.abs(one.deflection[0]).max())
+        assert r.stable[i] == one.stable

@@ -224,8 +224,13 @@ def stiffness_of(an, params=None, *, actuator=None, force_stiffness=None,
     if geometric:
         from ._geometric import geometric_stiffness
         Kg = np.nan_to_num(-geometric_stiffness(model, an))
-        K = elastic + Kg
         C = _tangent_compliance(C, Kg, Jo, k, free, n_free, L)
+        # a singular pose of a batch has no efforts to preload with: its tangent stiffness
+        # is undefined (NaN, flagged by the analysis' singular mask and a note), not the
+        # elastic one
+        Kg = np.where(sing[:, None, None], np.nan, Kg)
+        C = np.where(sing[:, None, None], np.nan, C)
+        K = elastic + Kg
     C = np.where(reach[:, None, None], C, 0.0)
     n_free = np.where(reach, n_free, 0)
     X = None
@@ -250,6 +255,13 @@ def _notes(an, k, geometric, model) -> list:
     elif np.any(np.isinf(k)):
         rig = sorted({an.jacobian.info[r].label for r in np.flatnonzero(np.isinf(k).any(axis=0))})
         notes.append(f"rigid rows (no stiffness): {', '.join(rig)}")
+    sing = np.flatnonzero(an.jacobian.singular_mask & np.asarray(an.solution.reachable_mask,
+                                                                  bool))
+    if geometric and sing.size:
+        shown = ", ".join(str(i) for i in sing[:10]) + (", ..." if sing.size > 10 else "")
+        notes.append(f"the tangent stiffness is undefined at {sing.size} singular pose(s) "
+                     f"(index {shown}: no efforts to preload with): K, the compliance and the "
+                     "deflection are NaN there, the elastic stiffness is in .elastic")
     if geometric and model.stated_dof < 6:
         notes.append("the geometric term covers the PM's own motion only (its constrained "
                      "directions move by the legs' deformation)")

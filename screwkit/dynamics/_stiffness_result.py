@@ -132,13 +132,14 @@ class StiffnessResult:
         negative along a direction the tangent stiffness of a loaded PM does not hold:
         :attr:`stable`) and their unit directions ``(N, 3, 3)`` (columns) of the
         translational block (force at ``o`` -> translation of ``o``) or the rotational
-        block (couple -> rotation)."""
+        block (couple -> rotation); NaN where the tangent stiffness is undefined."""
         if which not in ("translational", "rotational"):
             raise InputError(f"which must be 'translational' or 'rotational', not {which!r}")
         sl = slice(0, 3) if which == "translational" else slice(3, 6)
         C = self.compliance[:, sl, sl]
         C = 0.5 * (C + C.transpose(0, 2, 1))
-        ev, vec = np.linalg.eigh(C)
+        undefined = np.isnan(C).any(axis=(1, 2))      # (a singular pose of a batch, tangent)
+        ev, vec = np.linalg.eigh(np.where(undefined[:, None, None], 0.0, C))
         top = np.max(np.abs(ev), axis=1, keepdims=True)
         held = np.abs(ev) > RANK_RTOL * top
         with np.errstate(divide="ignore"):
@@ -146,6 +147,7 @@ class StiffnessResult:
         order = np.argsort(k, axis=1, kind="stable")
         k = np.take_along_axis(k, order, axis=1)
         vec = np.take_along_axis(vec, order[:, None, :], axis=2)
+        k[undefined], vec[undefined] = np.nan, np.nan
         return self._sq(k), self._sq(vec)
 
     @cached_property
@@ -162,13 +164,15 @@ class StiffnessResult:
         Cn = 0.5 * (Cn + Cn.transpose(0, 2, 1))
         ev = np.linalg.eigvalsh(np.nan_to_num(Cn))
         top = np.max(np.abs(ev), axis=1)
-        return ~np.any(ev < -RANK_RTOL * np.maximum(top, 1e-300)[:, None], axis=1)
+        defined = ~np.isnan(Cn).any(axis=(1, 2))       # (NaN: a singular pose of a batch)
+        return defined & ~np.any(ev < -RANK_RTOL * np.maximum(top, 1e-300)[:, None], axis=1)
 
     @property
     def stable(self):
         """True where the (tangent) stiffness holds every held direction with a positive
         stiffness: False where a loaded PM's ``K + K_g`` has a negative one (it buckles under
-        the workload; its linear deflection means nothing there)."""
+        the workload; its linear deflection means nothing there), or is undefined (a
+        singular pose of a batch: NaN)."""
         return bool(self._stable[0]) if self.single else self._stable
 
     #: A deflection beyond this share of the PM's length, or this many radians, is not small:
