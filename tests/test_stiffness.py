@@ -449,3 +449,33 @@ def test_the_geometric_term_at_a_singular_pose_of_a_batch_is_undefined_not_elast
         assert np.allclose(r.deflection[i], one.deflection[0], rtol=1e-8,
                            atol=1e-10 * np.abs(one.deflection[0]).max())
         assert r.stable[i] == one.stable
+
+
+@pytest.mark.parametrize("euler_deg,p", [((0, 0, 0), (0, 0, 100.0)),
+                                         ((30, 20, -15), (12.0, -7.0, 25.0))])
+def test_the_tangent_stiffness_does_not_move_with_the_base_frame(euler_deg, p):
+    """A 3-DOF PM (3RPS) with its base frame moved: the tangent stiffness about o, its load
+    term, compliance and deflection are the unmoved ones turned by the frame's rotation
+    (``K' = B K B^T``, ``B = diag(R, R)``; a translation changes nothing). The load term was
+    completed off the PM's motions in twists about O, so a base 100 cm higher changed it by
+    up to 80 %."""
+    from scipy.spatial.transform import Rotation
+    pm = screwkit.load_pm("3RPS")
+    R = Rotation.from_euler("zyx", euler_deg, degrees=True).as_matrix()
+    moved = pm.moved(R, p)
+    F, T = np.array([3.0, -2.0, -60.0]), np.array([10.0, -5.0, 8.0])
+    pose = dict(pm.default_pose, alpha=0.07, beta=-0.04)
+    kw = dict(actuator=2000.0, force_stiffness=5000.0, geometric=True)
+    a = stiffness(pm, pose, force=F, torque=T, **kw)
+    b = stiffness(moved, pose, force=R @ F, torque=R @ T, **kw)
+    B = np.zeros((6, 6))
+    B[:3, :3] = B[3:, 3:] = R
+    G = B @ np.asarray(a.geometric)[0] @ B.T
+    assert np.abs(G).max() > 1e-3 * np.abs(F).max()           # (a load term to speak of)
+    assert np.allclose(b.geometric[0], G, rtol=1e-6, atol=1e-6 * np.abs(G).max())
+    Kt = B @ a.K[0] @ B.T
+    assert np.allclose(b.K[0], Kt, rtol=1e-9, atol=1e-9 * np.abs(Kt).max())
+    C = B @ a.compliance[0] @ B.T
+    assert np.allclose(b.compliance[0], C, rtol=1e-7, atol=1e-9 * np.abs(C).max())
+    X = B @ a.deflection[0]
+    assert np.allclose(b.deflection[0], X, rtol=1e-7, atol=1e-9 * np.abs(X).max())

@@ -59,17 +59,19 @@ def geometric_stiffness(model, an):
     r = r.reshape(N, d, 2, 6)
     dr = (r[:, :, 0] - r[:, :, 1]) / (2.0 * steps[None, :, None])          # (N, d, 6)
     Xi = link_frames(sol).columns.transpose(2, 0, 1)[:, :, [PARAMS.index(p) for p in ind]]
-    D = np.array([1 / L, 1 / L, 1 / L, 1.0, 1.0, 1.0])   # length-normalised twists
-    G_O = np.einsum("nka,nkb->nab", dr, np.linalg.pinv(Xi * D[:, None])) * D   # G Xi = dr^T
     o = sol._platform[1]
     ox = np.zeros((N, 3, 3))
     ox[:, 0, 1], ox[:, 0, 2], ox[:, 1, 2] = -o[:, 2], o[:, 1], -o[:, 0]
     ox = ox - ox.transpose(0, 2, 1)
-    P = np.tile(np.eye(6), (N, 1, 1))
-    P[:, 3:, :3] = -ox                              # wrench about O -> about o
-    Q = np.tile(np.eye(6), (N, 1, 1))
-    Q[:, :3, 3:] = ox                               # twist about o -> about O
-    G = P @ G_O @ Q
+    Xi_o = Xi.copy()
+    Xi_o[:, :3] -= ox @ Xi[:, 3:]                   # the twists about o: v_o = v_O - o x w
+    dr_o = dr.copy()
+    dr_o[:, :, 3:] -= np.einsum("nab,nkb->nka", ox, dr[:, :, :3])    # wrenches about o
+    # G Xi_o = dr_o^T on the PM's own motions; with fewer than six the other directions
+    # are those orthogonal to them in the length-normalised twists about o (about O they
+    # would move with the origin: the result would depend on where the base frame is)
+    D = np.array([1 / L, 1 / L, 1 / L, 1.0, 1.0, 1.0])
+    G = np.einsum("nka,nkb->nab", dr_o, np.linalg.pinv(Xi_o * D[:, None])) * D
     bad = ~(side.solution.reachable_mask & ~side.jacobian.singular_mask).reshape(N, 2 * d).all(1)
     G[bad | ~an.solution.reachable_mask | an.jacobian.singular_mask] = np.nan
     return G
