@@ -73,13 +73,32 @@ def column_rates(Xi, thd, chain):
     return out
 
 
-def dependent_inverse(A):
+def _unit_scales(Jc, Xi, c, L):
+    """Row and column factors ``(N, mc)``, ``(N, nd)`` that make ``J_c Xi_dep`` scale as one
+    under a change of length unit: a constraint row by ``1 / |[f; m_c / L]|`` (a couple
+    row's entries are torques, a force row's forces or torques), a column by ``1 / |[v_c /
+    L; w]|`` (a translation's rate is a length's, an angle's is not); about the
+    normalisation centre ``c``, so that a move of the base frame changes neither."""
+    f, m = Jc[..., :3], Jc[..., 3:] - np.cross(c, Jc[..., :3])
+    rows = np.sqrt(np.sum(f * f, axis=-1) + np.sum(m * m, axis=-1) / L ** 2)
+    Xt = Xi.transpose(0, 2, 1)                          # (N, nd, 6)
+    v, w = Xt[..., :3] - np.cross(c, Xt[..., 3:]), Xt[..., 3:]
+    cols = np.sqrt(np.sum(v * v, axis=-1) / L ** 2 + np.sum(w * w, axis=-1))
+    return 1.0 / np.maximum(rows, 1e-300), 1.0 / np.maximum(cols, 1e-300)
+
+
+def dependent_inverse(A, scales=None):
     """The equilibrated pseudo-inverse ``(N, nd, mc)`` of ``A = J_c Xi_dep (N, mc, nd)`` and
     its condition number ``(N,)`` (``inf`` where the rates are not determined: a
-    representation singularity of the Euler angles, a constraint singularity)."""
-    r = 1.0 / np.maximum(np.linalg.norm(A, axis=2), 1e-300)
-    s = 1.0 / np.maximum(np.linalg.norm(A, axis=1), 1e-300)
-    An = A * r[:, :, None] * s[:, None, :]
+    representation singularity of the Euler angles, a constraint singularity).  ``scales``
+    (rows, columns: :func:`_unit_scales`) first make ``A`` free of the length unit; its
+    rows and columns are then equilibrated by their norms."""
+    r0, s0 = scales if scales is not None else (np.ones(A.shape[:2]),
+                                                 np.ones((A.shape[0], A.shape[2])))
+    A = A * r0[:, :, None] * s0[:, None, :]
+    r = r0 / np.maximum(np.linalg.norm(A, axis=2), 1e-300)
+    s = s0 / np.maximum(np.linalg.norm(A, axis=1), 1e-300)
+    An = A * (r / r0)[:, :, None] * (s / s0)[:, None, :]
     bad = ~np.all(np.isfinite(An), axis=(1, 2))
     An = np.where(bad[:, None, None], 0.0, An)
     U, S, Vt = np.linalg.svd(An, full_matrices=False)
@@ -143,7 +162,8 @@ def chunk_dynamics(ctx: Context, lf, J, thd_ind, thdd_ind, dependent=None) -> di
     if ctx.dep.size and dependent is not None:
         thd[:, ctx.dep], thdd[:, ctx.dep] = dependent
     elif ctx.dep.size:
-        P, cond = dependent_inverse(np.einsum("nra,nak->nrk", Jc, Xi[:, :, ctx.dep]))
+        P, cond = dependent_inverse(np.einsum("nra,nak->nrk", Jc, Xi[:, :, ctx.dep]),
+                                    _unit_scales(Jc, Xi[:, :, ctx.dep], ctx.c, ctx.L))
         rhs = -np.einsum("nra,nak,nk->nr", Jc, Xi[:, :, ctx.ind], thd_ind)
         thd[:, ctx.dep] = np.einsum("nkr,nr->nk", P, rhs)
     V = np.einsum("nak,nk->na", Xi, thd)

@@ -172,6 +172,7 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
         "defaults": ",".join(grid.defaults),
         "units_length": u.length, "units_force": u.force, "units_torque": u.torque,
         "units_angle": _angle_unit(grid), "units_declared": int(u.declared),
+        "normalisation_length": float(model.normalisation.length),
         "force": np.full(3, np.nan) if force is None else np.asarray(force, float),
         "torque": np.full(3, np.nan) if torque is None else np.asarray(torque, float),
         "workload_applied_at": "o",

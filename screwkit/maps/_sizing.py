@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._compute import CONDITIONING_CODES, LEVEL_CODES
+from ._round_off import zero_round_off
 
 __all__ = ["Sizing", "extremes", "mark_determined", "size", "read_workloads", "MAX_WORKLOADS",
            "pose_at"]
@@ -113,8 +114,10 @@ def extremes(ds, workload_name: str = "", max_level: str = "near-singular", *,
         else:
             e.update(min=None, max=None, pose_min=None, pose_max=None)
         ranges.append(e)
+    zero_round_off(rows, ds)
     return {"rows": rows, "ranges": ranges, "usable_cells": int(use.sum()),
             "cells": int(use.size), "max_level": max_level}
+
 
 
 @dataclass(frozen=True, eq=False)
@@ -318,6 +321,7 @@ def _size(model, grid, fix, loads, samples, seed, degrees, stiffness, workers, c
                            conditioning=CONDITIONING_CODES[int(
                                first["conditioning"].values.reshape(-1)[i])],
                            workload=loads[1 + k][0])
+    zero_round_off(best["rows"], first)
     _mark_determined(model, best["rows"], first, stiffness, F0, T0)
     u = model.units
     return Sizing(model.name, best["rows"], best["ranges"],

@@ -287,6 +287,9 @@ def _print_extremes(ex, c, u) -> None:
     for r in ex["rows"]:
         if r["max_abs"] is None:
             continue
+        if r.get("round_off"):
+            print(f"    {r['name']:<6} {0:>12}  {r['unit']:<6} at every usable cell (zero to round-off)")
+            continue
         star = "*" if r.get("determined") is False else " "
         undetermined |= star == "*"
         print(f"    {r['name']:<6} {fmt_num(r['value']):>12}{star} {r['unit']:<6} at "

@@ -94,6 +94,10 @@ def run(args) -> int:
     for r in res.rows:
         if r["max_abs"] is None:
             continue
+        if r.get("round_off"):
+            print(f"  {r['name']:<6} {0:>12}  {r['unit']:<6} {0:>12}  at every usable cell "
+                  "(zero to round-off)")
+            continue
         pose = ", ".join(f"{k}={fmt_num(v)}" for k, v in r["pose"].items())
         star = "*" if r.get("determined") is False else " "
         undetermined |= star == "*"
