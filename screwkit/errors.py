@@ -10,6 +10,7 @@ from __future__ import annotations
 
 __all__ = [
     "ScrewkitError",
+    "PoseIndexError",
     "ParseError",
     "CatalogError",
     "GeometryError",
@@ -26,6 +27,11 @@ class ScrewkitError(Exception):
 
 class InputError(ScrewkitError, ValueError):
     """A value given by the user is not acceptable (NaN, wrong shape, unknown name)."""
+
+
+class PoseIndexError(InputError, IndexError):
+    """A pose index that does not fit a batch (out of range, of no pose, of two axes): an
+    :class:`InputError` and an ``IndexError``, as numpy's ``AxisError`` is both."""
 
 
 class MisuseError(ScrewkitError, TypeError):

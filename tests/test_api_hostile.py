@@ -79,6 +79,30 @@ def test_an_unknown_keyword_is_a_misuse_error_naming_it(pm, call):
                                           ("R", [0, 1, 0], [0, 0, 0])]), "point of R1"),
     (lambda pm: screwkit.leg("RRPRR").moved(np.eye(3), [1e15, 0, 0]), "translation"),
     (lambda pm: screwkit.leg("RRPRR").moved(np.eye(3), [0, 0, 0], scale=1e-300), "scale"),
+    # (session 70's review: raw exceptions, silently wrong tolerances, screws mixed up)
+    (lambda pm: screwkit.Twist("abc"), "twist must be 6 numbers"),
+    (lambda pm: screwkit.Wrench([1, 2, 3, 4, 5, "x"]), "wrench must be 6 numbers"),
+    (lambda pm: screwkit.Twist([[1.0] * 6] * 2), "one 6-vector"),
+    (lambda pm: screwkit.Twist([10 ** 400] * 6), "6 numbers"),
+    (lambda pm: screwkit.Wrench(np.ones(6) * 1j), "complex"),
+    (lambda pm: screwkit.Twist(np.ones(6)).reciprocal(screwkit.Twist(np.ones(6))),
+     "taken with a Wrench"),
+    (lambda pm: screwkit.Wrench(np.ones(6)).reciprocal(np.ones(6)), "taken with a Twist"),
+    (lambda pm: screwkit.Twist(np.ones(6)).transformed(np.ones((3, 3)), [0, 0, 0]),
+     "proper rotation"),
+    (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], rtol=np.nan), "rtol"),
+    (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], rtol=-1), "rtol"),
+    (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], geometry_rtol=np.nan), "geometry_rtol"),
+    (lambda pm: screwkit.freedoms([screwkit.Twist(np.ones(6))]), "is a Twist"),
+    (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], points=[[1, 2]]), "points"),
+    (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], points=[[np.nan, 0, 0]]), "points"),
+    (lambda pm: screwkit.PMBuilder("b").set_limits("x"), "set_limits"),
+    (lambda pm: screwkit.PMBuilder("b").set_workload("x"), "set_workload"),
+    (lambda pm: screwkit.PMBuilder("b").add_leg("RPS", frame="x"), "frame"),
+    (lambda pm: screwkit.analyze(pm, {"alpha": [0.0, 0.1], "beta": [0.0, 0.0],
+                                      "Zo": [80.0, 80.0]}).solution.legs_at("a"), "index"),
+    (lambda pm: screwkit.analyze(pm, {"alpha": [0.0, 0.1], "beta": [0.0, 0.0],
+                                      "Zo": [80.0, 80.0]})[5], "does not fit"),
 ])
 def test_a_bad_argument_is_a_screwkit_error_naming_it(pm, call, words):
     with warnings.catch_warnings():
@@ -120,3 +144,59 @@ def test_mobility_of_something_that_is_not_a_solved_pose_is_an_input_error():
     from screwkit.pm import mobility
     with pytest.raises(InputError, match="mobility takes a solved pose.*not tuple"):
         mobility((1, 2))
+
+
+def test_twists_given_as_wrenches_are_refused_by_the_reciprocal_system():
+    from screwkit.errors import MisuseError
+    from screwkit.screws import reciprocal_system
+    with pytest.raises(MisuseError, match="is a Wrench"):
+        reciprocal_system([screwkit.Wrench(np.ones(6))])
+
+
+def test_a_builders_workload_is_the_models_declared_one():
+    """``PMBuilder.set_workload`` was dropped by ``to_mapping``: the built model declared no
+    workload. The built PM's analysis now uses it, as the same load given explicitly."""
+    b = screwkit.PMBuilder("w3rps", units={"length": "cm", "force": "kN"})
+    for t in np.radians([90.0, 210.0, 330.0]):
+        b.add_leg("RPS", base=[60 * np.cos(t), 60 * np.sin(t), 0.0],
+                  platform=[30 * np.cos(t), 30 * np.sin(t), 0.0])
+    b.set_pose(["alpha", "beta", "Zo"], home={"alpha": 0, "beta": 0, "Zo": 60})
+    b.set_workload({"force": [1.0, -2.0, -40.0], "torque": [3.0, 0.0, 5.0], "units": "model"})
+    pm = b.build()
+    assert pm.workload is not None
+    pose = {"alpha": 0.05, "beta": -0.03, "Zo": 62.0}
+    declared = screwkit.analyze(pm, pose)
+    given = screwkit.analyze(pm, pose, force=[1.0, -2.0, -40.0], torque=[3.0, 0.0, 5.0])
+    assert np.array_equal(declared.statics.values, given.statics.values)
+    assert "declared" in declared.workload_source
+
+
+def test_what_results_and_models_hold_is_read_only(pm):
+    """Written in place, a result's J, condition numbers or efforts, a row's direction, a
+    leg's constraint or a model's points changed what later calls computed and said
+    (``res.under`` gave NaN; a batch was reclassified 'singular'; a model analysed with
+    other points than its definition), silently. They are read-only views now, and a
+    later analysis of the same result is what it was."""
+    one = screwkit.analyze(pm, {"alpha": 0.05, "beta": -0.03, "Zo": 80.0})
+    many = screwkit.analyze(pm, {"alpha": [0.0, 0.1, 0.2], "beta": [0.0] * 3, "Zo": [80.0] * 3})
+    leg = screwkit.leg("RRPRR").analyze()
+    arrays = {
+        "J": one.jacobian.J, "matrix": one.jacobian.matrix,
+        "condition_number": many.jacobian.condition_number,
+        "singular_values": many.jacobian.singular_values, "values": many.statics.values,
+        "active": many.statics.active, "constraint": many.statics.constraint,
+        "row direction": one.jacobian.rows[3].direction,
+        "row point": one.jacobian.rows[3].point,
+        "leg constraint direction": leg.constraints[0].direction,
+        "leg constraint point": leg.constraints[0].point,
+        "leg system singular values": leg.system.singular_values,
+        "base_points": pm.base_points, "platform_points": pm.platform_points,
+        "centre": pm.centre, "frame rotation": pm.frame[0],
+        "normalisation centre": pm.normalisation.centre}
+    for name, a in arrays.items():
+        assert isinstance(a, np.ndarray) and not a.flags.writeable, name
+        with pytest.raises(ValueError):
+            a[...] = 0.0
+    before = one.under([0.0, 0.0, -10.0], [0.0, 0.0, 0.0]).statics.active
+    assert np.all(np.isfinite(before))
+    assert many.ok.tolist() == [True, True, True]

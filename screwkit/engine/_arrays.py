@@ -248,8 +248,8 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
     unknown = tuple(p for p in PARAMS if p not in independent)
     rev = line_table(legs, passive, len(unknown), m, geo[lay.QS], L)
     M = tuple(np.ascontiguousarray(a) for a in geo) + (
-        leg, plat, _order_code(order), np.ascontiguousarray(base_points, float),
-        np.ascontiguousarray(platform_points, float), pts, dirs, grp, tpl, gref, rows, rev)
+        leg, plat, _order_code(order), np.array(base_points, float, order="C"),
+        np.array(platform_points, float, order="C"), pts, dirs, grp, tpl, gref, rows, rev)
     fixed = tuple(independent)
     unk = np.array([PARAMS.index(p) for p in unknown], np.int64)
     xs = np.array([L if p in LENGTH_PARAMS else 1.0 for p in unknown])

@@ -78,8 +78,8 @@ def reflatten(like, model) -> FlatModel:
     for k, a in enumerate(geo):
         M[k] = np.ascontiguousarray(a)
     M[lay.PLAT] = plat
-    M[lay.A] = np.ascontiguousarray(model.world_base_points, float)
-    M[lay.AP] = np.ascontiguousarray(model.platform_points, float)
+    M[lay.A] = np.array(model.world_base_points, float, order="C")      # (own copies: the
+    M[lay.AP] = np.array(model.platform_points, float, order="C")       # model's are read-only)
     M[lay.REV] = line_table(model.home_legs, tuple(getattr(model, "passive", ())),
                             len(flat.unknown), flat.m, M[lay.QS], L)
     xs = np.array([L if p in LENGTH_PARAMS else 1.0 for p in flat.unknown])

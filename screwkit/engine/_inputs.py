@@ -15,7 +15,7 @@ from ._chains import LENGTH_PARAMS, PARAMS, chains_of
 __all__ = ["pose_arrays", "pose_index", "prepare", "check_keywords"]
 
 
-def pose_index(i, n: int):
+def pose_index(i, n: int, one: bool = False):
     """Poses ``i`` of a batch of ``n``: an ``int`` for one pose (negative counts from the
     end), or an integer array ``(k,)`` for a sub-batch (from a slice, a sequence of
     integers or a boolean mask of length ``n``), as numpy indexes the pose axis.
@@ -23,21 +23,24 @@ def pose_index(i, n: int):
     ``None``, ``True``/``False`` (numpy would add an axis) and nested sequences (a 2-D
     index) are an :class:`IndexError`, and so is a selection of no pose (``res[[]]``, an
     all-False mask, an empty slice): a batch holds at least one pose, as :func:`analyze`
-    requires."""
+    requires.  ``one``: only an ``int`` (one pose's index)."""
+    from ..errors import PoseIndexError
+    if one and (isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer))):
+        raise PoseIndexError(f"one pose's index is an int, got {i!r}")
     msg = "a batch has one pose axis: index it with an int, a slice, integers or a boolean mask"
     if isinstance(i, tuple) or i is None or isinstance(i, (bool, np.bool_)) or \
             (isinstance(i, np.ndarray) and i.dtype == bool and i.ndim == 0):
-        raise IndexError(f"{msg}, got {i!r}")
+        raise PoseIndexError(f"{msg}, got {i!r}")
     try:
         idx = np.arange(n)[i]
     except IndexError as exc:
-        raise IndexError(f"pose index {i!r} does not fit a batch of {n} poses ({exc})") from None
+        raise PoseIndexError(f"pose index {i!r} does not fit a batch of {n} poses ({exc})") from None
     if np.ndim(idx) == 0:
         return int(idx)
     if np.ndim(idx) != 1:
-        raise IndexError(f"{msg}, got an index of {np.ndim(idx)} dimensions")
+        raise PoseIndexError(f"{msg}, got an index of {np.ndim(idx)} dimensions")
     if idx.size == 0:
-        raise IndexError(f"pose index {i!r} selects none of the {n} poses (a sub-batch holds "
+        raise PoseIndexError(f"pose index {i!r} selects none of the {n} poses (a sub-batch holds "
                          "at least one pose: test the mask first, e.g. 'if res.ok.any()')")
     return idx
 

@@ -40,8 +40,10 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._frozen import freeze_fields
 from ._inputs import pose_index
 from ._pipeline import COND_THRESHOLD, Conditioning
+from ._subsets import _legs_of_pose, _legs_of_subset, _rows_of_pose, _rows_of_subset
 from ._row import JacobianRow
 from ..screws import cross
 from ..errors import InputError, MisuseError
@@ -51,26 +53,6 @@ __all__ = ["COND_THRESHOLD", "JacobianRow", "JacobianResult"]
 
 def _squeeze(x, single):
     return x[0] if single else x
-
-
-def _rows_of_pose(points: Callable[[slice], np.ndarray], pose: slice, rows: slice) -> np.ndarray:
-    """``points(pose)[rows]``: the lazily formed row points of one pose of a batch."""
-    return points(pose)[rows]
-
-
-def _rows_of_subset(points: Callable, idx: np.ndarray, poses) -> np.ndarray:
-    """The row points of the poses ``poses`` of a sub-batch ``idx`` of a batch."""
-    return points(idx[poses])
-
-
-def _legs_of_subset(legs: Callable[[int], tuple], idx: np.ndarray, pose: int) -> tuple:
-    """The placed legs of pose ``pose`` of a sub-batch ``idx`` of a batch."""
-    return legs(int(idx[pose]))
-
-
-def _legs_of_pose(legs: Callable[[int], tuple], pose: int, _index: int) -> tuple:
-    """``legs(pose)``: the placed legs of pose ``pose`` of a batch, for its one-pose result."""
-    return legs(pose)
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +90,12 @@ class JacobianResult:
     single: bool = True
     leg_provider: Callable[[int], tuple] | None = field(default=None, repr=False)
     given_analyses: tuple | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        # what it hands out is read-only: a written J or condition number changed later
+        # analyses of this result (res.under) and its classification, silently
+        freeze_fields(self, ("matrix", "scale"))
+        freeze_fields(self.conditioning, tuple(self.conditioning.__dataclass_fields__))
 
     def normalised(self) -> tuple[np.ndarray, np.ndarray]:
         """The normalised, row-equilibrated rows ``Jn (N, m, 6)`` and row norms ``d (N, m)``."""

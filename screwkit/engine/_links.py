@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._frozen import kernel_array
 from ._chains import LENGTH_PARAMS, PARAMS
 
 __all__ = ["LinkFrames", "link_frames"]
@@ -128,7 +129,7 @@ def platform_arrays(solution, fp=None, chunk: int = 32768) -> tuple:
         parts = [platform_of(flat, P6[s:s + chunk]) for s in range(0, max(len(P6), 1), chunk)]
         fp = parts[0] if len(parts) == 1 else np.concatenate(parts)
     from ._kernels import kernels
-    pts = np.ascontiguousarray(solution.model.platform_points, float)
+    pts = kernel_array(solution.model.platform_points)
     N = len(fp)
     R, o, a = np.empty((N, 3, 3)), np.empty((N, 3)), np.empty((N, len(pts), 3))
     kernels().platform_points(np.ascontiguousarray(fp, float), pts, R, o, a)

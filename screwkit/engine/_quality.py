@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ScrewkitError
+from ._frozen import kernel_array
 
 __all__ = ["CONDITIONING", "classify", "LEVELS", "det_reference", "base_side", "trust", "trust_of",
            "ILL_CONDITIONED_COND", "NEAR_SINGULAR_COND",
@@ -231,6 +232,9 @@ def trust_of(analysis) -> tuple:
 
 
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: The rows of ``J`` at the model's reference pose (:func:`det_reference`), against which
+#: :func:`det_signs` orients each leg's constraint rows.
+_REF_ROWS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 def det_reference(model, analyze) -> tuple:
@@ -256,6 +260,7 @@ def det_reference(model, analyze) -> tuple:
                 break
             if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
                 s = (int(_det_signs(res.jacobian)[0]), name)
+                _REF_ROWS[model] = np.array(J, float).reshape(6, 6)
                 break
         _HOME[model] = s
     return s
@@ -298,15 +303,48 @@ def det_signs(analysis, reach) -> np.ndarray:
         det = np.zeros(N, int)
     elif det is None:
         det = _det_signs(jac)
-    det = np.nan_to_num(np.asarray(det, float)).astype(int)
+    det = np.nan_to_num(np.asarray(det, float))
+    if jac.matrix.shape[1:] == (6, 6) and N:
+        det = _oriented(analysis, det)
+    det = det.astype(int)
     det[~np.asarray(reach, bool).reshape(N)] = 0
     return det
+
+
+def _oriented(analysis, det) -> np.ndarray:
+    """``det`` (raw signs of ``det J``) with each leg's constraint rows oriented as at the
+    model's reference pose (:mod:`._kernels._orient`): a reference direction that passes
+    through zero turns a row over, and with it the sign of ``det J``, where ``J`` is not
+    singular; against the reference pose's rows only a singularity changes it.  As it is
+    where the model has no reference pose."""
+    from ._analysis import analyze
+    from ._kernels import kernels
+    model = analysis.model
+    det_reference(model, analyze)
+    ref = _REF_ROWS.get(model)
+    if ref is None:
+        return det
+    jac = analysis.jacobian
+    legs = [ri.leg for ri in jac.info]
+    groups = []
+    for r in range(jac.n_actuated, len(legs)):
+        if groups and legs[r] == legs[groups[-1][0]]:
+            groups[-1][1] = r + 1
+        else:
+            groups.append([r, r + 1])
+    c = model.normalisation
+    out = np.empty(len(det))
+    kernels().oriented_signs(kernel_array(jac.matrix), ref,
+                             np.array(groups, np.int64).reshape(-1, 2),
+                             kernel_array(c.centre), float(c.length),
+                             np.ascontiguousarray(det, float), out)
+    return out
 
 
 def _det_signs(jac) -> np.ndarray:
     """The signs of ``det J`` of a square Jacobian (N poses), by the kernel's LU."""
     from ._kernels import kernels
-    J = np.ascontiguousarray(jac.matrix, float)
+    J = kernel_array(jac.matrix)
     out = np.empty(len(J))
     kernels().det_sign_batch(J, out)
     return out

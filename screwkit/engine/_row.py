@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..screws._frozen import freeze_fields
 from ..legs import point_label
 
 __all__ = ["JacobianRow"]
@@ -51,6 +52,9 @@ class JacobianRow:
     scale: float
     joint: str | None
     label: str = ""
+
+    def __post_init__(self):
+        freeze_fields(self, ("direction", "point"))
 
     @property
     def torque(self) -> bool:

@@ -233,6 +233,7 @@ class PoseSolution:
     def legs_at(self, i: int) -> tuple:
         """Every leg placed at pose ``i``: joints on their current axes, ``A``, ``a`` (world)."""
         from ..legs import Joint, Leg
+        i = pose_index(i, len(self), one=True)
         ch = self.closures.chains
         fr = self.closures.frames(slice(i, i + 1), bars=bool(ch.bars.any()))
         fa = fr["axes_points"][0]
@@ -387,8 +388,7 @@ def check_reachable(sol: PoseSolution):
         raise err.InputError(f"{sol.model.name}: pose {i}: {bad_input[0]}")
     why = [n for n in sol.pose_notes.get(i, ()) if n.startswith("unreachable: ")]
     if why:
-        raise err.UnreachablePoseError(
-            f"{sol.model.name}: pose {given} is {why[0]}", residual=f)
+        raise err.UnreachablePoseError(f"{sol.model.name}: pose {given} is {why[0]}", residual=f)
     raise err.UnreachablePoseError(
         f"{sol.model.name}: pose {given} is unreachable from the home assembly: the loop "
         f"closures stop at a length-normalised residual {f:.3g} (> {ACCEPTED:g}); a solution "

@@ -43,6 +43,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._frozen import freeze_fields, kernel_array
 from ._inputs import pose_index
 from ._jacobian import JacobianResult
 from ._statics_inputs import _finite3, _leg_points
@@ -110,6 +111,9 @@ class StaticsResult:
     eq: np.ndarray | None = field(default=None, repr=False)
     amp: np.ndarray | None = field(default=None, repr=False)
 
+    def __post_init__(self):
+        freeze_fields(self, ("F_r", "A", "valid", "eq", "amp"))       # (as the Jacobian's)
+
     @cached_property
     def _W(self):
         return self.W() if callable(self.W) else self.W
@@ -168,7 +172,7 @@ class StaticsResult:
         W = np.ascontiguousarray(np.broadcast_to(self._W, self.F_r.shape[:-1] + (6,)),
                                  float).reshape(N, -1, 6)
         out = np.empty(v.shape[:2])
-        kernels().equilibrium_batch(np.ascontiguousarray(jac.matrix, float), v, W,
+        kernels().equilibrium_batch(kernel_array(jac.matrix), v, W,
                                     np.ascontiguousarray(c.centre, float),
                                     np.ascontiguousarray(c.length, float), out)
         return out.reshape(self.F_r.shape[:-1])

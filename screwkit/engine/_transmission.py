@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._frozen import kernel_array
 from ._kernels._layout import (  # noqa: F401  (RANK_RTOL: named in the docstring)
     LEVERAGE_RTOL, LINE_WIDTH, LN_IN_D, LN_IN_Q, LN_OUT_D, LN_OUT_Q, LN_V, RANK_RTOL,
     TRANSLATION_RTOL)
@@ -151,7 +152,7 @@ def lines_indices(J, couple, act_rows, con_rows, lines, in_leg, row_leg, centre,
     ``lines[:, in_leg[r]]``."""
     from ._kernels import kernels
     from ._launch import _launch
-    J = _c(J)
+    J = kernel_array(J)                 # (a result's read-only J: the same kernel)
     N = J.shape[0]
     act, con = [int(k) for k in act_rows], [int(k) for k in con_rows]
     na, kc = len(act), len(con)
@@ -162,7 +163,8 @@ def lines_indices(J, couple, act_rows, con_rows, lines, in_leg, row_leg, centre,
     iti, oti, in_arm, out_arm, cti, c_arm, red = out
     k = kernels()
     args = (J, _c(couple, np.int64), _c(act + con, np.int64), na, _c(lines),
-            _c(in_leg, np.int64), _c(row_leg, np.int64), _c(centre), _c(length), crank, iti,
+            _c(in_leg, np.int64), _c(row_leg, np.int64), kernel_array(centre),
+            kernel_array(length), crank, iti,
             oti, in_arm, out_arm, cti, c_arm, red)
     _launch(k.indices_range, k.indices_parallel, args, N, workers)
     if not _all_finite(J):                  # (a sum is finite only if every term is)

@@ -22,6 +22,7 @@ from itertools import combinations
 
 import numpy as np
 
+from ..screws._frozen import freeze_fields
 from ..screws import GEOMETRY_RTOL, Line, Wrench, force_wrench
 from ..screws import cross
 
@@ -91,6 +92,9 @@ class ConstraintWrench:
     pitch: float
     rules: tuple
     reciprocity: float
+
+    def __post_init__(self):
+        freeze_fields(self, ("direction", "point"))
 
     @property
     def line(self) -> Line | None:

@@ -67,22 +67,37 @@ def _floats(v) -> list:
     return [float(x) for x in a]
 
 
+def _mapping(value, what: str) -> dict:
+    """``value`` as a dict (a mapping of a model file's ``what:`` block), else InputError."""
+    if not isinstance(value, Mapping):
+        raise InputError(f"set_{what}: expected a mapping (as a model file's '{what}:' block), "
+                         f"got {type(value).__name__}")
+    return dict(value)
+
+
 def _frame(frame):
     """``(R (3, 3), p (3,))`` of a placement: ``(R, p)``, a 4 x 4 matrix, or an object with
     ``rotation`` and ``translation`` (``pinocchio.SE3``)."""
     if frame is None:
         return np.eye(3), np.zeros(3)
-    if hasattr(frame, "rotation") and hasattr(frame, "translation"):
-        R, p = np.asarray(frame.rotation, float), np.asarray(frame.translation, float)
-    elif isinstance(frame, (tuple, list)) and len(frame) == 2:
-        R, p = np.asarray(frame[0], float), np.asarray(frame[1], float)
-    else:
-        M = np.asarray(frame, float)
-        if M.shape != (4, 4) or not np.allclose(M[3], [0, 0, 0, 1]):
-            raise InputError("frame must be (R, p), a 4 x 4 homogeneous matrix or an object "
-                             "with rotation and translation (pinocchio.SE3)")
-        R, p = M[:3, :3], M[:3, 3]
+    shape = ("frame must be (R, p), a 4 x 4 homogeneous matrix or an object with rotation "
+             "and translation (pinocchio.SE3)")
+    try:
+        if hasattr(frame, "rotation") and hasattr(frame, "translation"):
+            R, p = np.asarray(frame.rotation, float), np.asarray(frame.translation, float)
+        elif isinstance(frame, (tuple, list)) and len(frame) == 2:
+            R, p = np.asarray(frame[0], float), np.asarray(frame[1], float)
+        else:
+            M = np.asarray(frame, float)
+            if M.shape != (4, 4) or not np.allclose(M[3], [0, 0, 0, 1]):
+                raise InputError(shape)
+            R, p = M[:3, :3], M[:3, 3]
+    except InputError:
+        raise
+    except (TypeError, ValueError):
+        raise InputError(f"{shape}, of numbers; got {str(frame)[:60]!r}") from None
     if R.shape != (3, 3) or p.reshape(-1).shape != (3,) or not np.all(np.isfinite(R)) or \
+            not np.all(np.isfinite(p)) or \
             not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
         raise InputError("frame: the rotation must be a proper 3 x 3 rotation matrix and the "
                          "translation 3 finite numbers")
@@ -304,18 +319,18 @@ class PMBuilder:
 
     def set_limits(self, limits: Mapping[str, Any]) -> "PMBuilder":
         """The ``limits:`` block (joints, actuators, extensions, leg distances)."""
-        self._fields["limits"] = copy.deepcopy(dict(limits))
+        self._fields["limits"] = copy.deepcopy(_mapping(limits, "limits"))
         return self
 
     def set_dynamics(self, dynamics: Mapping[str, Any]) -> "PMBuilder":
         """The ``dynamics:`` block (masses, inertias, friction, gravity, stiffness)."""
-        self._fields["dynamics"] = copy.deepcopy(dict(dynamics))
+        self._fields["dynamics"] = copy.deepcopy(_mapping(dynamics, "dynamics"))
         return self
 
     def set_workload(self, workload: Mapping[str, Any]) -> "PMBuilder":
         """The ``workload:`` block: the default workload at ``o`` with its units
         (``{"force": [..], "torque": [..], "units": {"force": "N", "length": "m"}}``)."""
-        self._fields["workload"] = copy.deepcopy(dict(workload))
+        self._fields["workload"] = copy.deepcopy(_mapping(workload, "workload"))
         return self
 
     # -- output ---------------------------------------------------------------------------
@@ -352,7 +367,7 @@ class PMBuilder:
         out["legs"] = [lg["entry"]["leg"] if list(lg["entry"]) == ["leg"] and
                        isinstance(lg["entry"]["leg"], str) else lg["entry"] for lg in self._legs]
         for k in ("centre", "euler", "independent", "home", "pose", "guess", "dof", "motion",
-                  "limits", "dynamics"):
+                  "limits", "dynamics", "workload"):
             if k in self._fields:
                 out[k] = copy.deepcopy(self._fields[k])
         return copy.deepcopy(out)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..screws._frozen import read_only
 from ..legs import Placement, build_leg
 from ..legs._guards import MAX_MAGNITUDE
 from ..screws import Normalisation, as_rotation, as_vector3, rotation_matrix
@@ -155,6 +156,10 @@ class PMModel:
             value = getattr(self, name)
             if isinstance(value, dict) and not isinstance(value, ConstantDict):
                 object.__setattr__(self, name, ConstantDict(value))
+        # its arrays read-only views (the flattening copies them for the kernels)
+        for name in ("base_points", "platform_points", "centre"):
+            object.__setattr__(self, name, read_only(getattr(self, name)))
+        object.__setattr__(self, "frame", tuple(read_only(x) for x in self.frame))
 
     def __repr__(self) -> str:
         return (f"PMModel({self.name!r}, legs={'+'.join(self.legs)}, dof={self.stated_dof}, "
@@ -277,3 +282,4 @@ class PMModel:
 def _mapping(model):
     """The self-contained definition of ``model`` (None if it keeps none)."""
     return None if model.definition is None else model.definition.mapping
+

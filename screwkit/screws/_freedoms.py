@@ -42,10 +42,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ._reciprocal import Normalisation, _check_matrix, _unit_rows
+from ._matrix import _check_matrix
+from ._reciprocal import Normalisation, _unit_rows
 from ._screw import Wrench
 from ._svd import svd_full
-from ._tolerance import GEOMETRY_RTOL, RANK_RTOL
+from ._tolerance import GEOMETRY_RTOL, RANK_RTOL, check_rtol
 from ._vector import cross
 
 __all__ = ["Freedom", "FreedomResult", "freedoms", "classify_freedoms", "MAX_WRENCHES"]
@@ -239,9 +240,9 @@ def freedoms(wrenches: ArrayLike | Sequence[Wrench], points: ArrayLike | None = 
         Not an ``(m, 6)`` array of finite numbers, more than :data:`MAX_WRENCHES` rows, or
         a zero wrench.
     """
-    rows = [getattr(w, "vector", w) for w in wrenches] if isinstance(  # (Wrench objects too)
-        wrenches, (list, tuple)) else wrenches
-    W = _check_matrix(rows, "wrenches")
+    W = _check_matrix(wrenches, "wrenches")                   # (Wrench objects too)
+    rtol = check_rtol(rtol)
+    geometry_rtol = check_rtol(geometry_rtol, "geometry_rtol")
     if len(W) > MAX_WRENCHES:
         raise InputError(f"{len(W)} wrenches: at most {MAX_WRENCHES}")
     zero = [i for i, row in enumerate(W) if not np.any(row)]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._primitives import as_vector3, unit
+from ._primitives import as_rotation, as_vector3, unit
 from ._vector import cross
 
 __all__ = ["Line"]
@@ -67,10 +67,12 @@ class Line:
 
     def is_parallel(self, other: "Line", rtol: float = 1e-7) -> bool:
         """True when the directions are parallel or antiparallel (``|d1 x d2| <= rtol``)."""
+        other = _line(other)
         return float(np.linalg.norm(cross(self.direction, other.direction))) <= rtol
 
     def distance_to_line(self, other: "Line") -> float:
         """Shortest distance between two lines."""
+        other = _line(other)
         c = cross(self.direction, other.direction)
         n = float(np.linalg.norm(c))
         if n < 1e-12:
@@ -79,6 +81,7 @@ class Line:
 
     def closest_points(self, other: "Line") -> tuple[np.ndarray, np.ndarray]:
         """Closest points ``(x1 on self, x2 on other)``; for parallel lines ``x1`` is ``self.point``."""
+        other = _line(other)
         p1, d1 = self.point, self.direction
         p2, d2 = other.point, other.direction
         c = cross(d1, d2)
@@ -93,10 +96,18 @@ class Line:
 
     def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> "Line":
         """The line moved by ``x -> R x + p``."""
-        R = np.asarray(rotation, float)
+        R = as_rotation(rotation)
         return Line.through(R @ self.point + as_vector3(translation, "translation"), R @ self.direction)
 
     def __repr__(self) -> str:
         p = np.round(self.point, 6).tolist()
         d = np.round(self.direction, 6).tolist()
         return f"Line(point={p}, direction={d})"
+
+
+def _line(x):
+    """``x`` when it is a :class:`Line`, else a MisuseError."""
+    if not isinstance(x, Line):
+        from ..errors import MisuseError
+        raise MisuseError(f"expected a Line, got {type(x).__name__}")
+    return x

@@ -81,7 +81,12 @@ def unit(x, name: str = "direction") -> np.ndarray:
 
 
 def _as_screw6(x, name: str) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
+    if np.iscomplexobj(x):
+        raise InputError(f"{name} must be real numbers, got complex ones")
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be 6 numbers, got {str(x)[:60]}") from None
     if a.shape[-1:] != (6,):
         raise InputError(f"{name} must have 6 components in its last axis, got shape {a.shape}")
     if not np.all(np.isfinite(a)):
@@ -108,10 +113,20 @@ def reciprocal_product(wrenches, twists) -> np.ndarray:
 
 
 def _rotation_and_translation(rotation, translation):
-    R = np.asarray(rotation, dtype=float)
-    p = np.asarray(translation, dtype=float)
+    try:
+        R = np.asarray(rotation, dtype=float)
+        p = np.asarray(translation, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError("rotation must be (..., 3, 3) and translation (..., 3) numbers") \
+            from None
     if R.shape[-2:] != (3, 3) or p.shape[-1:] != (3,):
         raise InputError("rotation must be (..., 3, 3) and translation (..., 3)")
+    if not (np.all(np.isfinite(R)) and np.all(np.isfinite(p))):
+        raise InputError("rotation and translation must be finite")
+    Rt = np.swapaxes(R, -1, -2)
+    if not np.allclose(Rt @ R, np.eye(3), atol=1e-9) or np.any(np.linalg.det(R) < 0):
+        raise InputError("rotation is not a proper rotation matrix (3, 3): orthonormal, "
+                         "determinant +1")
     return R, p
 
 

@@ -26,7 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ._tolerance import RANK_RTOL, _centroid_and_length
+from ._frozen import freeze_fields
+from ._matrix import _check_matrix
+from ._tolerance import RANK_RTOL, _centroid_and_length, check_rtol
 from ._svd import small_rank, svd_full, svd_values
 from ._vector import cross
 
@@ -55,9 +57,22 @@ class Normalisation:
     centre: np.ndarray
     length: float
 
+    def __post_init__(self):
+        c = np.array(self.centre, float)            # (its own copy, read-only)
+        c.setflags(write=False)
+        object.__setattr__(self, "centre", c)
+
     @classmethod
     def for_points(cls, points, length: float | None = None) -> "Normalisation":
-        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        try:
+            p = np.asarray(points, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"points must be a (p, 3) array of numbers, got "
+                             f"{str(points)[:60]}") from None
+        if p.size % 3 or (p.ndim > 1 and p.shape[-1] != 3) or not np.all(np.isfinite(p)):
+            raise InputError(f"points must be a (p, 3) array of finite numbers, got shape "
+                             f"{p.shape}")
+        p = p.reshape(-1, 3)
         if length is not None:
             c, L = (p.mean(axis=0) if p.size else np.zeros(3)), float(length)
         elif p.size:
@@ -165,6 +180,9 @@ class ReciprocalSystem:
     normalisation: Normalisation
     residual: float
 
+    def __post_init__(self):
+        freeze_fields(self, ("wrenches", "singular_values"))
+
     @property
     def dimension(self) -> int:
         """Number of independent constraint wrenches, ``6 - rank``."""
@@ -180,21 +198,6 @@ class ReciprocalSystem:
         """Ratio of the largest to the smallest *retained* singular value of the twists."""
         s = self.singular_values[: self.rank]
         return float(s[0] / s[-1]) if self.rank else float("inf")
-
-
-def _check_matrix(T, name: str) -> np.ndarray:
-    try:
-        T = np.asarray(T, dtype=float)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{name} must be an (m, 6) array of real numbers, got "
-                         f"{str(T)[:60]}") from None
-    if T.ndim == 1 and T.size == 0:
-        T = T.reshape(0, 6)
-    if T.ndim != 2 or T.shape[1] != 6:
-        raise InputError(f"{name} must have shape (m, 6), got {T.shape}")
-    if not np.isfinite(T).all():
-        raise InputError(f"{name} contains NaN or infinite entries")
-    return T
 
 
 def _unit_rows(M) -> np.ndarray:
@@ -242,6 +245,7 @@ def reciprocal_system(twists, points=None, length: float | None = None,
     ReciprocalSystem
     """
     T = _check_matrix(twists, "twists")
+    rtol = check_rtol(rtol)
     if points is None:
         w = T[:, 3:]
         ww = np.sum(w * w, axis=1)
@@ -268,6 +272,7 @@ def reciprocal_system(twists, points=None, length: float | None = None,
 def twist_rank(twists, points=None, length: float | None = None, rtol: float = RANK_RTOL) -> int:
     """``reciprocal_system(twists, points, length, rtol).rank`` without the wrench basis."""
     T = _check_matrix(twists, "twists")
+    rtol = check_rtol(rtol)
     if points is None:
         return reciprocal_system(T, None, length, rtol).rank
     norm = Normalisation.for_points(points, length)
@@ -290,6 +295,7 @@ def independent_subset(twists, points=None, rtol: float = RANK_RTOL) -> tuple[li
     independent, dependent : list of int
     """
     T = _check_matrix(twists, "twists")
+    rtol = check_rtol(rtol)
     if points is None:
         points = np.zeros((1, 3))
     norm = Normalisation.for_points(points)

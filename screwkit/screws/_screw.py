@@ -28,7 +28,10 @@ class _Screw:
     _kind = "screw"
 
     def __post_init__(self):
-        v = _as_screw6(self.vector, self._kind).astype(float).reshape(6).copy()
+        v = _as_screw6(self.vector, self._kind)
+        if v.shape != (6,):
+            raise InputError(f"a {self._kind} is one 6-vector, got shape {v.shape}")
+        v = v.astype(float).copy()
         v.setflags(write=False)
         object.__setattr__(self, "vector", v)
 
@@ -90,7 +93,7 @@ class Twist(_Screw):
 
     def reciprocal(self, wrench: "Wrench") -> float:
         """Reciprocal product with a wrench."""
-        return float(reciprocal_product(wrench.vector, self.vector))
+        return float(reciprocal_product(_other(wrench, Wrench, self).vector, self.vector))
 
     def __repr__(self) -> str:
         return f"Twist({np.round(self.vector, 9).tolist()})"
@@ -138,10 +141,19 @@ class Wrench(_Screw):
 
     def reciprocal(self, twist: Twist) -> float:
         """Reciprocal product (virtual power) with a twist."""
-        return float(reciprocal_product(self.vector, twist.vector))
+        return float(reciprocal_product(self.vector, _other(twist, Twist, self).vector))
 
     def __repr__(self) -> str:
         return f"Wrench({np.round(self.vector, 9).tolist()})"
+
+
+def _other(x, kind, own):
+    """``x`` when it is a ``kind``: the reciprocal product pairs a twist with a wrench."""
+    if not isinstance(x, kind):
+        from ..errors import MisuseError
+        raise MisuseError(f"the reciprocal product of a {type(own).__name__} is taken with a "
+                          f"{kind.__name__}, got {type(x).__name__}")
+    return x
 
 
 # ---------------------------------------------------------------------------

@@ -14,6 +14,8 @@ import math
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = [
     "RANK_RTOL",
     "GEOMETRY_RTOL",
@@ -111,3 +113,14 @@ def _finish_length(spread: float, p: np.ndarray) -> float:
     if spread <= 1e-12 * biggest:
         spread = biggest
     return spread if spread > 0 else 1.0
+
+
+def check_rtol(x, name: str = "rtol") -> float:
+    """A relative tolerance: a finite number in (0, 1), else InputError."""
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number in (0, 1), got {str(x)[:40]}") from None
+    if not 0.0 < v < 1.0:
+        raise InputError(f"{name} must be a number in (0, 1), got {v!r}")
+    return v

@@ -210,8 +210,9 @@ def kernels() -> SimpleNamespace:
         if _K is None:
             numba = _configure()
             _check_stamp(numba)
-            from . import _driver, _extra, _fk, _indices, _levels, _probe, _reversed, _threads
-            _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _probe,
+            from . import (_driver, _extra, _fk, _indices, _levels, _orient, _probe,
+                           _reversed, _threads)
+            _quick_loading(numba, (_driver, _extra, _fk, _indices, _levels, _orient, _probe,
                                    _reversed, _threads))
             # (one process at a time compiles a kernel into the cache; the others wait for
             # it and load it)
@@ -221,7 +222,8 @@ def kernels() -> SimpleNamespace:
                 print(f"screwkit: compiling the engine's kernels (once, a minute or two; "
                       f"cached in {cache_dir()})", file=sys.stderr, flush=True)
             ns = SimpleNamespace(numba=numba)
-            for mod in (_driver, _extra, _fk, _indices, _levels, _probe, _reversed, _threads):
+            for mod in (_driver, _extra, _fk, _indices, _levels, _orient, _probe, _reversed,
+                        _threads):
                 for name in dir(mod):
                     if not name.startswith("_"):
                         setattr(ns, name, getattr(mod, name))

@@ -201,8 +201,8 @@ def _child() -> None:
     # (the kernels' locks, as in the parent: a callee both compile is compiled by one and
     # loaded by the other, :mod:`._compile_lock`)
     if len(sys.argv) > 2 and sys.argv[2]:
-        from . import (_driver, _extra, _fk, _indices, _levels, _probe,  # noqa: F401
-                       _reversed, _threads)
+        from . import (_driver, _extra, _fk, _indices, _levels, _orient,  # noqa: F401
+                       _probe, _reversed, _threads)
         from ._compile_lock import install_all
         install_all(_PACKAGE, sys.argv[2])
     _compile(lines, "closure")
