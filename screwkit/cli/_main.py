@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 
 from ..errors import ScrewkitError
@@ -94,6 +95,35 @@ def _print_json(obj) -> None:
             pass
 
 
+#: A value that starts with a minus sign: a negative number or a list of numbers.
+_NEGATIVE = re.compile(r"^-(\d|\.\d)[\d.,eE+:-]*$")
+
+
+def _negative_values(parser, words: list) -> list:
+    """``--force -20,-30,-60`` as ``--force=-20,-30,-60``: argparse takes a word that starts
+    with ``-`` and is not a plain negative number for an option, and the paper's own
+    workload is all negative.  Only for the options that take one value."""
+    import argparse
+    one = set()
+    todo = [parser]
+    while todo:
+        p = todo.pop()
+        for a in p._actions:
+            if isinstance(a, argparse._SubParsersAction):
+                todo.extend(a.choices.values())
+            elif a.option_strings and a.nargs is None and not isinstance(
+                    a, (argparse._StoreConstAction, argparse._CountAction,
+                        argparse._HelpAction, argparse._VersionAction)):
+                one.update(a.option_strings)
+    out = []
+    for w in words:
+        if out and out[-1] in one and isinstance(w, str) and _NEGATIVE.match(w):
+            out[-1] = f"{out[-1]}={w}"
+        else:
+            out.append(w)
+    return out
+
+
 def main(argv=None) -> int:
     from ._types import UsageError
 
@@ -103,8 +133,9 @@ def main(argv=None) -> int:
         return 2
     words = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
+    words = _negative_values(parser, words)
     try:
-        args, extra = parser.parse_known_args(argv)
+        args, extra = parser.parse_known_args(words)
     except UsageError as exc:                  # one line, exit status 2
         print(exc.line, file=sys.stderr)
         _json_usage_error(words, exc.line)

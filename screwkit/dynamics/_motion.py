@@ -212,9 +212,10 @@ def motion_from_args(args, independent, length_unit: str = "length") -> Motion:
     ``--smoothing``)."""
     if getattr(args, "path", None) and getattr(args, "expr", None):
         raise InputError("give either --path FILE or --expr NAME=EXPR, not both")
+    from ..paths._pathspec import expr_sampling
+    samples, t_range = expr_sampling(args)
     if getattr(args, "expr", None):
-        return motion_from_expressions(args.expr, independent, samples=args.samples,
-                                       t_range=tuple(args.t_range))
+        return motion_from_expressions(args.expr, independent, samples=samples, t_range=t_range)
     if getattr(args, "path", None):
         return motion_from_csv(args.path, independent, smoothing=getattr(args, "smoothing", None),
                                length_unit=length_unit)

@@ -194,16 +194,18 @@ def _pose_bound(model, k, a, degrees):
     """Refuse a pose value beyond the limits: angles +-3600 deg, lengths 1e12 model sizes."""
     err = _errors()
     m = float(np.max(np.abs(a))) if a.size else 0.0
+    if a.size and m > 0.0:              # (the value said as given: its sign too)
+        m = float(a.reshape(-1)[int(np.argmax(np.abs(a)))])
     if k in LENGTH_PARAMS:
         norm = getattr(model, "normalisation", None)
         size = float(getattr(norm, "length", 1.0) or 1.0)
         lim = MAX_LENGTH_FACTOR * size
-        if m > lim:
+        if abs(m) > lim:
             raise err.InputError(f"{model.name}: pose parameter {k} = {m:g} is beyond the limit "
                                  f"+-{lim:g} ({MAX_LENGTH_FACTOR:g} times the model's size "
                                  f"{size:.4g})")
     else:
-        deg = m if degrees else float(np.degrees(m))
+        deg = abs(m) if degrees else float(np.degrees(abs(m)))
         if deg > MAX_ANGLE_DEG:
             shown = f"{m:g} deg" if degrees else f"{m:g} rad"
             raise err.InputError(f"{model.name}: pose angle {k} = {shown} is beyond the limit "

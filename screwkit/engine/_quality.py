@@ -280,7 +280,7 @@ def quality(analysis, analyze) -> Quality:
     reach = np.asarray(analysis.solution.reachable_mask, bool).reshape(N)
     amp, lev = trust_of(analysis)
     unreach = ~reach
-    det = det_signs(analysis, reach)
+    det = det_signs(analysis, reach, analyze)
     home, ref = det_reference(analysis.model, analyze)
     beyond = (det != 0) & (home != 0) & (det != home) & ~jac.singular_mask
     cls = classify(cond, jac.singular_mask, reach)
@@ -293,9 +293,10 @@ def quality(analysis, analyze) -> Quality:
     return Quality(cond, amp, lev, det, home, beyond, ref, cls, side)
 
 
-def det_signs(analysis, reach) -> np.ndarray:
+def det_signs(analysis, reach, analyze) -> np.ndarray:
     """The sign of ``det J`` of every pose of an analysis (N poses; 0 where unreachable or
-    ``J`` is not square): the kernel's, from the statics, else by the kernel's LU."""
+    ``J`` is not square): the kernel's, from the statics, else by the kernel's LU, each leg's
+    constraint rows oriented as at the model's reference pose (:func:`_oriented`)."""
     jac = analysis.jacobian
     N = len(jac)
     det = analysis.diagnostics.get("det_sign")
@@ -305,19 +306,18 @@ def det_signs(analysis, reach) -> np.ndarray:
         det = _det_signs(jac)
     det = np.nan_to_num(np.asarray(det, float))
     if jac.matrix.shape[1:] == (6, 6) and N:
-        det = _oriented(analysis, det)
+        det = _oriented(analysis, det, analyze)
     det = det.astype(int)
     det[~np.asarray(reach, bool).reshape(N)] = 0
     return det
 
 
-def _oriented(analysis, det) -> np.ndarray:
+def _oriented(analysis, det, analyze) -> np.ndarray:
     """``det`` (raw signs of ``det J``) with each leg's constraint rows oriented as at the
     model's reference pose (:mod:`._kernels._orient`): a reference direction that passes
     through zero turns a row over, and with it the sign of ``det J``, where ``J`` is not
     singular; against the reference pose's rows only a singularity changes it.  As it is
-    where the model has no reference pose."""
-    from ._analysis import analyze
+    where the model has no reference pose (``analyze``: the engine's, to solve that pose)."""
     from ._kernels import kernels
     model = analysis.model
     det_reference(model, analyze)

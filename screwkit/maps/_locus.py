@@ -117,7 +117,7 @@ def refine(model, ds, threads=None):
         mid = 0.5 * (a + b)
         res = analyze(model, poses_at(mid), raise_on_singular=False, workers=threads)
         reach = res.solution.reachable_mask
-        s = det_signs(res, reach)                        # the kernels' (0: unreachable)
+        s = det_signs(res, reach, analyze)               # the kernels' (0: unreachable)
         gone |= ~reach
         same = (s == sign_lo) & reach & ~gone
         move = reach & ~gone

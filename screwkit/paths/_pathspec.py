@@ -38,7 +38,7 @@ from ..errors import InputError
 from ..pm import parse_expression
 
 __all__ = ["PathSpec", "POSE_PARAMETERS", "ANGLE_PARAMETERS", "path_from_csv",
-           "path_from_expressions", "parse_assignment", "add_path_arguments",
+           "path_from_expressions", "parse_assignment", "add_path_arguments", "expr_sampling",
            "path_from_args"]
 
 #: All pose parameters a path may name, in display order.
@@ -363,10 +363,22 @@ def add_path_arguments(parser) -> None:
     g.add_argument("--expr", action="append", metavar="NAME=EXPR", default=[],
                    help="a pose parameter as an expression in t, e.g. "
                         "'alpha=10*sin(2*pi*t)' (repeat for each parameter)")
-    g.add_argument("--samples", type=integer(1, MAX_SAMPLES), default=51,
-                   help=f"samples of t for --expr (default 51, at most {MAX_SAMPLES})")
-    g.add_argument("--t-range", type=number, nargs=2, default=(0.0, 1.0),
+    g.add_argument("--samples", type=integer(1, MAX_SAMPLES), default=None,
+                   help=f"samples of t for --expr (default 51, at most {MAX_SAMPLES}; a --path "
+                        "file's rows are its samples)")
+    g.add_argument("--t-range", type=number, nargs=2, default=None,
                    metavar=("T0", "T1"), help="range of t for --expr (default 0 1)")
+
+
+def expr_sampling(args) -> tuple:
+    """``(samples, t_range)`` of ``--expr`` (defaults 51, (0, 1)); with ``--path`` they are
+    an error: the file's rows are its samples, and silently ignored they would not be."""
+    samples, t_range = getattr(args, "samples", None), getattr(args, "t_range", None)
+    if getattr(args, "path", None) and (samples is not None or t_range is not None):
+        raise InputError("--samples and --t-range sample the --expr expressions; a --path "
+                         "file's rows are its samples: drop them")
+    return (51 if samples is None else samples,
+            (0.0, 1.0) if t_range is None else tuple(t_range))
 
 
 def path_from_args(args, independent, length_unit: str | None = None) -> PathSpec:
@@ -374,10 +386,10 @@ def path_from_args(args, independent, length_unit: str | None = None) -> PathSpe
     (``length_unit``: the model's, which a ``--path`` file's header may name)."""
     if getattr(args, "path", None) and getattr(args, "expr", None):
         raise InputError("give either --path FILE or --expr NAME=EXPR, not both")
+    samples, t_range = expr_sampling(args)
     if getattr(args, "path", None):
         return path_from_csv(args.path, independent, length_unit=length_unit)
     if getattr(args, "expr", None):
-        return path_from_expressions(args.expr, independent, samples=args.samples,
-                                     t_range=tuple(args.t_range))
+        return path_from_expressions(args.expr, independent, samples=samples, t_range=t_range)
     raise InputError(f"no path given: use --path FILE or --expr NAME=EXPR for each of "
                      f"{', '.join(independent)}")

@@ -140,8 +140,14 @@ def _load_entry(cat, name, overrides, path=None) -> PMModel:
             raise CatalogError(f"the geometry cannot be built: {exc}", key, None,
                                cat.source) from None
     except CatalogError as exc:           # name the line of the entry and field of the file
+        if overrides and exc.source == cat.source:
+            # (the entry is built with other dimensions than it says: say which)
+            given = ", ".join(f"{k}={v:g}" if isinstance(v, (int, float)) else f"{k}={v}"
+                              for k, v in overrides.items())
+            exc = CatalogError(f"{exc.detail} (with the overrides {given})", exc.entry,
+                               exc.field, exc.source, exc.line)
         if path is None or exc.source != cat.source:
-            raise
+            raise exc from None
         from ._locate import with_line_of_file
         raise with_line_of_file(exc, path) from None
 

@@ -241,8 +241,7 @@ def freedoms(wrenches: ArrayLike | Sequence[Wrench], points: ArrayLike | None = 
         a zero wrench.
     """
     W = _check_matrix(wrenches, "wrenches")                   # (Wrench objects too)
-    rtol = check_rtol(rtol)
-    geometry_rtol = check_rtol(geometry_rtol, "geometry_rtol")
+    rtol, geometry_rtol = check_rtol(rtol), check_rtol(geometry_rtol, "geometry_rtol")
     if len(W) > MAX_WRENCHES:
         raise InputError(f"{len(W)} wrenches: at most {MAX_WRENCHES}")
     zero = [i for i, row in enumerate(W) if not np.any(row)]

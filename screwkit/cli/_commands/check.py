@@ -33,7 +33,8 @@ def register(sub):
     p.add_argument("--poses", type=integer(1, MAX_POSES), metavar="N", default=None,
                    help="number of regular poses drawn per PM (default: 3 with --all; for one PM "
                         "the given or default pose only)")
-    p.add_argument("--seed", type=integer(0, MAX_SEED), default=0, help="seed of the pose draws (default 0)")
+    p.add_argument("--seed", type=integer(0, MAX_SEED), default=None,
+                   help="seed of the pose draws of --poses or --all (default 0)")
     p.add_argument("--rtol", type=number(lo=0.0, hi=1.0), default=None, metavar="TOL",
                    help="relative tolerance of every deviation (default 1e-9)")
     p.add_argument("--json", action="store_true", help="print JSON (a list of reports) instead of text")
@@ -80,11 +81,14 @@ def run(args) -> int:
                 if bar is not None:
                     bar(len(done), total)
 
-            reports = check_all(n, args.seed, rtol=rtol, progress=step)
+            reports = check_all(n, args.seed or 0, rtol=rtol, progress=step)
     else:
         model = resolve_model(args)
         pose = parse_assignments(args.pose, "--pose")
         n = _poses(args, None)
+        if n is None and args.seed is not None:
+            raise InputError("--seed seeds the poses --poses N draws: add --poses (one PM is "
+                             "checked at its --pose, else its default pose)")
         checker = PMChecker.for_model(model)
         from ...interop._check_catalog import check_load
         F, T, note = check_load(model)
@@ -96,7 +100,7 @@ def run(args) -> int:
             centre = None
             if pose:
                 centre = analyze_pm(model, pose, degrees=True).solution.params
-            analyses = regular_analyses(model, n, args.seed, centre=centre)
+            analyses = regular_analyses(model, n, args.seed or 0, centre=centre)
         reports = tuple(check_analysis(a, checker, rtol=rtol) for a in analyses)
     if args.json:
         print(dump_json([r.as_dict() for r in reports]))

@@ -59,8 +59,9 @@ def register(sub):
                    default="near-singular",
                    help="the worst trust level of a cell of the task (default: every regular "
                         "cell)")
-    p.add_argument("--lti-threshold", type=float, default=0.7, metavar="X",
-                   help="the LTI bound of gtw-volume (default 0.7)")
+    p.add_argument("--lti-threshold", type=float, default=None, metavar="X",
+                   help="the LTI bound of gtw-volume, as an objective or a constraint "
+                        "(default 0.7)")
     p.add_argument("--maxiter", type=int, default=40, metavar="G",
                    help="generations (default 40)")
     p.add_argument("--popsize", type=int, default=10, metavar="P",
@@ -113,6 +114,10 @@ def run(args) -> int:
     if args.workloads and explicit:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
+    if args.lti_threshold is not None and not any(
+            "gtw" in x for x in (args.objective or []) + list(args.constraint or [])):
+        raise InputError("--lti-threshold bounds the LTI of gtw-volume: add the objective "
+                         "gtw-volume or a constraint on it")
     model = resolve_model(args)
     units = None if args.units == "model" else args.units
     if units is not None:
@@ -130,7 +135,8 @@ def run(args) -> int:
             kw["force"], kw["torque"] = F, T
         res = optimize(model, vary, grid, objective=args.objective or "max-actuator-force",
                        constraints=args.constraint, max_level=args.max_level,
-                       lti_threshold=args.lti_threshold, maxiter=args.maxiter,
+                       lti_threshold=0.7 if args.lti_threshold is None else args.lti_threshold,
+                       maxiter=args.maxiter,
                        popsize=args.popsize, polish=not args.no_polish, **kw)
     if args.write and res.model is not None:
         res.write_model(args.write)             # (a model file: in the model's own units)

@@ -96,6 +96,11 @@ def run(args) -> int:
         raise InputError("--smoothing smooths the spline through a CSV --path: expressions "
                          "(--expr) have exact derivatives")
     force, torque = require_load(args, model)
+    labels = [o for o, v in (("--title", args.title), ("--length-unit", args.length_unit),
+                             ("--force-unit", args.force_unit)) if v]
+    if labels and not args.plot:
+        raise InputError(f"{', '.join(labels)} label{'s' if len(labels) == 1 else ''} the plot: "
+                         "add --plot FILE.png")
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
