@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Union
+from typing import TYPE_CHECKING, Any, Callable, Union
 
 from .legs import Leg, Placement, generic_leg
 
@@ -363,13 +363,14 @@ def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],
 
 
 def assembly_modes(pm: PMLike, actuators: ArrayLike | Mapping[str, float], *, seeds: int = 1000,
-                   seed: int = 0, degrees: bool = False,
-                   overrides: Mapping[str, float] | None = None) -> AssemblyModes:
-    """The distinct real forward-kinematics solutions found from ``seeds`` starts in one
-    batch, each with its ``det J`` sign: :func:`screwkit.engine.assembly_modes`."""
+                   seed: int = 0, degrees: bool = False, overrides: Mapping[str, float]
+                   | None = None, progress: Callable | None = None) -> AssemblyModes:
+    """The distinct real forward-kinematics solutions found from ``seeds`` starts, each with
+    its ``det J`` sign (``progress(done, total)`` as the seeds are solved):
+    :func:`screwkit.engine.assembly_modes`."""
     from .engine import assembly_modes as _modes
-
-    return _modes(_model(pm, overrides), actuators, seeds=seeds, seed=seed, degrees=degrees)
+    return _modes(_model(pm, overrides), actuators, seeds=seeds, seed=seed, degrees=degrees,
+                  progress=progress)
 
 
 def to_pinocchio(pm: PMLike, overrides: Mapping[str, float] | None = None, *,

@@ -242,7 +242,8 @@ def test_cli_leg_draw(tmp_path, capsys):
     assert out2.exists()
     (tmp_path / "no").write_text("a file, not a folder")
     assert main(["leg", "SPR", "--draw", str(tmp_path / "no" / "x.png")]) == 2
-    assert "cannot write figure" in capsys.readouterr().err
+    err = capsys.readouterr().err             # (said before any work: session 70)
+    assert "cannot write" in err and "is a file, not a folder" in err
 
 
 # ----------------------------------------------------------------------------- PM

@@ -112,3 +112,25 @@ def test_a_structurally_zero_t_r_reads_zero_in_every_unit(tmp_path, capsys):
     rows = {r["name"]: r for r in json.loads(capsys.readouterr().out)["extremes"]}
     assert not rows["T_r1"]["round_off"] and rows["T_r1"]["max_abs"] > 1.0
     assert rows["T_r1"]["pose"] is not None
+
+
+def test_a_path_file_naming_its_units_drives_the_dynamics_too(tmp_path, capsys):
+    """A path CSV whose header names the model's length unit (``Zo [cm]``) was read by
+    ``trajectory`` but refused with ``--dynamics`` ("lengths are in undeclared units"): the
+    dynamics' reader did not pass the model's unit on. Both headers now give the same
+    dynamics."""
+    model = _model(tmp_path, "cm", 1)
+    outs = []
+    for head in ("t,alpha,beta,Zo", "t,alpha [deg],beta [deg],Zo [cm]"):
+        p = tmp_path / f"p{len(outs)}.csv"
+        p.write_text(head + "\n0,0,0,55\n0.5,2,1,57\n1,4,2,59\n1.5,5,2,60\n2,5,3,61\n")
+        out = tmp_path / f"d{len(outs)}.json"
+        assert main(["trajectory", "--model", model, "--path", str(p), "--dynamics", "-q",
+                     "--format", "json", "--out", str(out)]) == 0, capsys.readouterr().err
+        outs.append(json.loads(out.read_text()))
+    capsys.readouterr()
+    a, b = (_find(d, "kinematic_condition") for d in outs)
+    assert a == b and len(a) == 5
+    texts = [json.dumps(d, sort_keys=True).replace(f"p{i}.csv", "p.csv")
+             for i, d in enumerate(outs)]
+    assert texts[0] == texts[1]

@@ -115,7 +115,7 @@ def _negative_values(parser, words: list) -> list:
                     a, (argparse._StoreConstAction, argparse._CountAction,
                         argparse._HelpAction, argparse._VersionAction)):
                 one.update(a.option_strings)
-    out = []
+    out: list = []
     for w in words:
         if out and out[-1] in one and isinstance(w, str) and _NEGATIVE.match(w):
             out[-1] = f"{out[-1]}={w}"

@@ -63,6 +63,15 @@ def _output(text):
     s = _path(text)
     if os.path.isdir(s) or s.endswith(("/", os.sep)):
         raise InputError(f"{shorten(s)} is a directory, not a file name")
+    # (before any work: a part of the path that is a file, a folder not writable)
+    parent = os.path.dirname(os.path.abspath(s))
+    while not os.path.exists(parent) and os.path.dirname(parent) != parent:
+        parent = os.path.dirname(parent)
+    if not os.path.isdir(parent):
+        raise InputError(f"cannot write {shorten(s)}: {shorten(parent)} is a file, not a folder")
+    if not os.access(parent, os.W_OK):
+        raise InputError(f"cannot write {shorten(s)}: the folder {shorten(parent)} is not "
+                         "writable")
     return s
 
 

@@ -73,6 +73,11 @@ class Problem:
 def parse_constraint(text) -> tuple:
     """``"stroke<=40"`` -> ``("stroke", "<=", 40.0)`` (InputError on anything else)."""
     m = re.fullmatch(r"\s*([a-z-]+)\s*(<=|>=)\s*(" + _NUM + r")\s*", str(text))
+    bound = re.fullmatch(r"\s*[a-z-]+\s*(<=|>=)\s*([-+]?(nan|inf|infinity))\s*", str(text),
+                         re.IGNORECASE)
+    if bound:
+        raise InputError(f"constraint {str(text)[:60]!r}: the bound must be a finite number, "
+                         f"not {bound.group(2)}")
     if not m:
         raise InputError(f"constraint {str(text)[:60]!r} must look like OBJECTIVE<=VALUE or "
                          f"OBJECTIVE>=VALUE (objectives: {', '.join(OBJECTIVES)})")

@@ -253,6 +253,13 @@ class OptimizationResult:
         if self.constraints:
             title += "; subject to " + ", ".join(f"{n} {op} {v:g}"
                                                  for n, op, v in self.constraints)
+        loads = self.task.get("workloads") or []
+        if loads:                       # (every figure says its load)
+            w = loads[0]
+            title += (f"\nF = [{', '.join(f'{x:g}' for x in w['force'])}] {w['force_unit']}, "
+                      f"T = [{', '.join(f'{x:g}' for x in w['torque'])}] {w['torque_unit']} "
+                      "at o" + (f" and {len(loads) - 1} more workloads" if len(loads) > 1
+                                else ""))
         if len(self.objectives) > 1:
             pts = [(e[1][self.objectives[0]], e[1][self.objectives[1]])
                    for e in self.evaluated if e[2]]

@@ -203,7 +203,10 @@ def motion_from_csv(path, independent, *, smoothing=None, angle_unit: str = "deg
                     length_unit: str = "length") -> Motion:
     """A motion through the samples of a CSV path file (:func:`~screwkit.paths.path_from_csv`;
     ``t`` in seconds, angles in degrees)."""
-    return motion_from_path(path_from_csv(path, independent, angle_unit=angle_unit),
+    # (a header's length unit is read against the model's, as the static path reads it)
+    declared = None if length_unit in ("length", "[L]") else length_unit
+    return motion_from_path(path_from_csv(path, independent, angle_unit=angle_unit,
+                                          length_unit=declared),
                             smoothing=smoothing, length_unit=length_unit)
 
 

@@ -30,7 +30,10 @@ def _state(ch, R, o, q):
     N = R.shape[-1]
     X = np.zeros((N, 6 + ch.n * ch.m))
     X[:, 6:] = (q / ch.q_scale[:, :, None]).reshape(ch.n * ch.m, N).T
-    return (np.ascontiguousarray(R.transpose(2, 0, 1)), np.ascontiguousarray(o.T), X)
+    # (copies: the kernels update the state in place, and a start taken from a result is
+    # read-only)
+    return (np.array(R.transpose(2, 0, 1), float, order="C"), np.array(o.T, float, order="C"),
+            X)
 
 
 def _back(ch, R, o, X):

@@ -185,18 +185,13 @@ def reached_platform(solution, fp) -> np.ndarray:
     return fp
 
 
-def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
-    """The :class:`LinkFrames` of the poses ``sl`` of a :class:`PoseSolution`.
-
-    Unreachable poses have NaN joint values, hence NaN screws.  Without ``slots`` the
-    links' displacements ``R``, ``t`` are not formed (empty arrays): the joint twists and
-    points alone, for the transmission indices.
-    """
+def _frames_of(solution, sl, slots: bool) -> tuple:
+    """``(params, q, frames)``: the pose parameters and joint values of the poses ``sl`` of a
+    solution (NaN where unreachable) and the frames kernel's outputs there, the joint
+    twists included (:func:`._launch.frames`)."""
     c = solution.closures
     ch = c.chains
     X = c.X[:, sl]
-    N = X.shape[-1]
-    nu, n, m = len(ch.unknown), ch.n, ch.m
     params = {k: np.asarray(v, float)[sl] for k, v in c.fixed.items()}
     for k, u in enumerate(ch.unknown):
         params[u] = X[k] * ch.x_scale[k]
@@ -207,7 +202,27 @@ def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
             params[u] = np.where(bad, np.nan, params[u])
     from ._launch import frames
     P6 = np.stack([np.asarray(params[k], float) for k in PARAMS], axis=1)
-    fr = frames(ch.flat, _GIVEN, P6, Xq, slots=slots, twists=True)
+    return params, q, frames(ch.flat, _GIVEN, P6, Xq, slots=slots, twists=True)
+
+
+def joint_twists(solution) -> tuple:
+    """``(twists, axes_points)``: every joint's unit twist ``[v; w]`` about ``O`` and its
+    axis and point, ``(N, n, m, 6)`` each (zero in padded slots, NaN where a pose is
+    unreachable)."""
+    fr = _frames_of(solution, slice(None), False)[2]
+    return fr["twists"], fr["axes_points"]
+
+
+def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
+    """The :class:`LinkFrames` of the poses ``sl`` of a :class:`PoseSolution`.
+
+    Unreachable poses have NaN joint values, hence NaN screws.  Without ``slots`` the
+    links' displacements ``R``, ``t`` are not formed (empty arrays): the joint twists and
+    points alone, for the transmission indices.
+    """
+    ch = solution.closures.chains
+    params, q, fr = _frames_of(solution, sl, slots)
+    N = len(fr["platform"])
     fa = fr["axes_points"]                                 # (N, n, m, 6)
     points = np.ascontiguousarray(fa[..., 3:].transpose(2, 3, 1, 0))
     twists = np.ascontiguousarray(fr["twists"].transpose(2, 3, 1, 0))

@@ -72,6 +72,10 @@ class AssemblyModes:
                 "solutions": [self.solutions.to_dict(i, units) for i in range(len(self))]}
 
 
+#: Seeds a Newton launch of :func:`assembly_modes` takes (the progress is said between them).
+_CHUNK = 4096
+
+
 def _distinct(R, o, L):
     """Indices of the distinct poses among ``R (3, 3, K)``, ``o (3, K)``."""
     keep = []
@@ -88,7 +92,7 @@ def _distinct(R, o, L):
 
 
 def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
-                   degrees: bool = False) -> AssemblyModes:
+                   degrees: bool = False, progress=None) -> AssemblyModes:
     """Search ``seeds`` starts in one batch for the real forward-kinematics solutions at one
     set of actuator values (see the module docstring).
 
@@ -101,6 +105,8 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
         At most :data:`MAX_SEEDS`.
     seed : int
         Of the random seeds (reproducible).
+    progress : callable(done, total), optional
+        Called as the seeds are solved (in chunks of 4096).
 
     Returns
     -------
@@ -125,7 +131,15 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
                          "values")
     K = int(seeds)
     R, o, q = make_seeds(model, ch, target, K, np.random.default_rng(seed))
-    R, o, q, res, its = newton(ch, R, o, q, max_iter=80)
+    # the seeds' Newton runs in chunks (each seed alone: the same bits), the progress
+    # said after each
+    parts = []
+    for k0 in range(0, K, _CHUNK):
+        sl = slice(k0, min(K, k0 + _CHUNK))
+        parts.append(newton(ch, R[..., sl], o[:, sl], q[..., sl], max_iter=80))
+        if progress is not None:
+            progress(sl.stop, K)
+    R, o, q, res, its = (np.concatenate([p[j] for p in parts], axis=-1) for j in range(5))
     good = np.flatnonzero(res <= CONVERGED)
     keep = good[_distinct(R[..., good], o[:, good], ch.length)]
     if keep.size == 0:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._frozen import kernel_array
 from ._kernels._layout import RANK_RTOL
 from ._templates import RowInfo, templates_of
 
@@ -56,10 +57,9 @@ class Conditioning:
 def normalise_rows(J, centre, length):
     """``(Jn (N, m, 6), d (N, m))`` by the kernel (see :class:`Conditioning`)."""
     from ._kernels import kernels
-    J = np.ascontiguousarray(J, float)
-    Jn, d = np.empty_like(J), np.empty(J.shape[:2])
-    kernels().normalise_batch(J, np.ascontiguousarray(centre, float),
-                              np.ascontiguousarray(length, float), Jn, d)
+    J = kernel_array(J)                 # (a result's read-only rows: the same kernel)
+    Jn, d = np.empty(J.shape), np.empty(J.shape[:2])
+    kernels().normalise_batch(J, kernel_array(centre), kernel_array(length), Jn, d)
     return Jn, d
 
 
@@ -67,14 +67,13 @@ def conditioning_of(J, n_actuated, centre, length) -> Conditioning:
     """The :class:`Conditioning` of given rows ``J (N, m, 6)`` (the first ``n_actuated``
     the actuation rows) with the normalisation ``centre (N, 3)``, ``length (N,)``."""
     from ._kernels import kernels
-    J = np.ascontiguousarray(J, float)
+    J = kernel_array(J)
     N, m = J.shape[:2]
     sv = np.empty((N, min(m, 6)))
     rank, crank = np.empty(N, np.int64), np.empty(N, np.int64)
     cond, ccond = np.empty(N), np.empty(N)
-    kernels().conditioning_batch(J, np.ascontiguousarray(centre, float),
-                                 np.ascontiguousarray(length, float), int(n_actuated), sv,
-                                 rank, cond, crank, ccond)
+    kernels().conditioning_batch(J, kernel_array(centre), kernel_array(length),
+                                 int(n_actuated), sv, rank, cond, crank, ccond)
     return Conditioning(np.asarray(centre, float), np.asarray(length, float), sv, rank, cond,
                         crank, ccond)
 

@@ -261,6 +261,8 @@ def det_reference(model, analyze) -> tuple:
             if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
                 s = (int(_det_signs(res.jacobian)[0]), name)
                 _REF_ROWS[model] = np.array(J, float).reshape(6, 6)
+                # (the legs' orientation there: det_sign is det J's own sign at the reference)
+                _REF_ROWS[model] = (_REF_ROWS[model], _orientation(res, _REF_ROWS[model])[0])
                 break
         _HOME[model] = s
     return s
@@ -313,31 +315,47 @@ def det_signs(analysis, reach, analyze) -> np.ndarray:
 
 
 def _oriented(analysis, det, analyze) -> np.ndarray:
-    """``det`` (raw signs of ``det J``) with each leg's constraint rows oriented as at the
-    model's reference pose (:mod:`._kernels._orient`): a reference direction that passes
-    through zero turns a row over, and with it the sign of ``det J``, where ``J`` is not
-    singular; against the reference pose's rows only a singularity changes it.  As it is
-    where the model has no reference pose (``analyze``: the engine's, to solve that pose)."""
+    """``det`` (the plain signs of ``det J``) with each leg's constraint rows oriented by its
+    own joint twists (:mod:`._kernels._orient`), relative to their orientation at the
+    model's reference pose (where the sign is then ``det J``'s own): a reference direction
+    that passes through zero turns a row over, and with it the sign of ``det J``, where
+    ``J`` is not singular; oriented so, only a singularity changes it.  (A leg with idle
+    motions: against its rows at the reference pose, ``analyze`` solving that pose.)"""
+    det_reference(analysis.model, analyze)
+    ref, at_ref = _REF_ROWS.get(analysis.model, (None, 1.0))
+    return np.asarray(det, float) * _orientation(analysis, ref) * at_ref
+
+
+def _orientation(analysis, ref) -> np.ndarray:
+    """``(N,)``: the product over the legs of their constraint rows' orientation (+-1; 0 where
+    one is not defined), by the kernel; ``ref`` the rows at the reference pose (None: not
+    solved yet, for the legs with idle motions)."""
     from ._kernels import kernels
+    from ._links import joint_twists
     model = analysis.model
-    det_reference(model, analyze)
-    ref = _REF_ROWS.get(model)
-    if ref is None:
-        return det
     jac = analysis.jacobian
+    N = len(jac)
     legs = [ri.leg for ri in jac.info]
-    groups = []
+    sizes = [len(lg.joints) for lg in model.home_legs]
+    ball = np.zeros((len(sizes), max(sizes)), np.int64)      # an S joint's parts: 1, 2, 3
+    for i, lg in enumerate(model.home_legs):
+        for j, jt in enumerate(lg.joints):
+            if getattr(jt.spec, "origin", "") == "S":
+                ball[i, j] = jt.spec.part + 1
+    groups: list = []
     for r in range(jac.n_actuated, len(legs)):
-        if groups and legs[r] == legs[groups[-1][0]]:
-            groups[-1][1] = r + 1
+        if groups and legs[r] == groups[-1][0]:
+            groups[-1][2] = r + 1
         else:
-            groups.append([r, r + 1])
+            groups.append([legs[r], r, r + 1, sizes[legs[r]]])
+    if not groups or not N:
+        return np.ones(N)
     c = model.normalisation
-    out = np.empty(len(det))
-    kernels().oriented_signs(kernel_array(jac.matrix), ref,
-                             np.array(groups, np.int64).reshape(-1, 2),
-                             kernel_array(c.centre), float(c.length),
-                             np.ascontiguousarray(det, float), out)
+    out = np.empty(N)
+    T, AP = joint_twists(analysis.solution)
+    kernels().oriented_signs(kernel_array(jac.matrix), T, AP, ball, np.array(groups, np.int64),
+                             np.zeros(jac.matrix.shape[1:]) if ref is None else ref,
+                             kernel_array(c.centre), float(c.length), np.ones(N), out)
     return out
 
 

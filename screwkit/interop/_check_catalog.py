@@ -82,6 +82,7 @@ class PMCheckReport(_RowLookup):
     detail: object = None
     error: str = ""
     length_unit: str = ""
+    workload: dict | None = None
 
     @property
     def passed(self) -> bool:
@@ -97,6 +98,7 @@ class PMCheckReport(_RowLookup):
                "units": {"angle": "deg", "length": self.length_unit or None},
                "rows": [{"check": r.name, "deviation": r.deviation, "tolerance": r.tolerance,
                          "passed": r.passed} for r in self.rows]}
+        out["workload"] = self.workload         # (the statics rows' load; None: no statics)
         if self.detail is not None:
             out["detail"] = self.detail.as_dict()
         if self.error:
@@ -138,9 +140,19 @@ def check_analysis(analysis, checker=None, *, rtol: float = CHECK_RTOL) -> PMChe
     detail = check_pm(analysis, checker=checker, rtol=rtol)
     sol = analysis.solution
     units = getattr(analysis.model, "units", None)
+    load = None
+    if analysis.statics is not None and analysis.has_workload:
+        F0, T0, note = check_load(analysis.model)
+        same = np.array_equal(analysis.force, F0) and np.array_equal(analysis.torque, T0)
+        load = {"force": [float(x) for x in analysis.force],
+                "torque": [float(x) for x in analysis.torque], "applied_at": "o",
+                "force_unit": units.force if units is not None else "",
+                "torque_unit": units.torque if units is not None else "",
+                "source": note if same else analysis.workload_source}
     return PMCheckReport(str(getattr(analysis.model, "name", "")), _pose_of(sol),
                          summarize(detail), detail,
-                         length_unit=units.length if units is not None and units.declared else "")
+                         length_unit=units.length if units is not None and units.declared else "",
+                         workload=load)
 
 
 def check_load(model) -> tuple:

@@ -193,6 +193,10 @@ def _letter_problem(ch: str, src: str) -> str:
     if ch == "A" and "PA" in src:
         return f"unknown joint letter 'A' (a parallelogram is written Pa: did you mean " \
                f"{src.replace('PA', 'Pa')!r}?)"
+    if ch == "/":
+        return ("'/' is not a joint letter: it names a catalog variant of a leg (such as "
+                "UPU/force; 'screwkit catalog' lists them) where a command takes one ('screwkit "
+                "leg', a model file's legs), and this is none of them")
     if ch in "0123456789":
         return (f"unknown joint letter {ch!r} (a leg count belongs to a PM string such as "
                 "'3RPS', not to a leg)")

@@ -35,7 +35,7 @@ LEVEL_CODES = ("ok", "ill-conditioned", "near-singular", "singular", "unreachabl
 #: (:func:`screwkit.engine.classify`), then unreachable.
 CONDITIONING_CODES = ("regular", "near-singular", "singular", "unreachable")
 #: ``singular_kind`` codes.
-KIND_CODES = ("regular", "actuation", "constraint")
+KIND_CODES = ("regular", "actuation", "constraint", "unreachable")
 #: The per-cell indices of :attr:`screwkit.engine.PMAnalysis.indices` a map keeps.
 INDEX_NAMES = ("iti", "oti", "lti", "cti", "sigma_min")
 
@@ -131,6 +131,7 @@ def arrays_of(model, res) -> dict:
     ka = jac.kind_array
     kind[(ka == "actuation") & reach] = 1
     kind[(ka == "constraint") & reach] = 2
+    kind[~reach] = 3                    # (no pose: no kind of singularity to say)
     nan_unreach = lambda x: np.where(reach, x, np.nan)            # noqa: E731
     out = {
         "residual": np.asarray(sol.closures.residual, float),

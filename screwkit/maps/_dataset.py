@@ -105,7 +105,9 @@ def build_dataset(model, grid, arrays: dict, meta, force, torque, *, workers=Non
                                 "normalised condition number of J = [J_a; J_c]"),
         "constraint_condition_number": var(a["constraint_condition_number"], "1",
                                            "normalised condition number of J_c"),
-        "det_sign": var(a["det_sign"], "1", "sign of det J (0: J not square or unreachable)",
+        "det_sign": var(a["det_sign"], "1", "assembly-mode sign of det J (each leg's "
+                        "constraint rows oriented by its joints; 0: J not square or "
+                        "unreachable)",
                         home_det_sign=int(meta.home_det_sign)),
         "singular": var(a["singular"], "1", "condition number above the threshold"),
         "singular_kind": var(a["singular_kind"], "1", "kind of singularity",

@@ -241,8 +241,8 @@ def size(pm, grid, fix=None, *, workloads=None, samples=None, seed=0, degrees=Fa
     progress : callable(done, total), optional
         Over all workloads' cells.
     max_level : str
-        The worst trust level of a counted cell: ``near-singular`` (every regular cell,
-        default), ``ill-conditioned`` or ``ok``.
+        The worst trust level of a counted cell: ``near-singular`` (every cell that is not
+        singular, near-singular ones included; default), ``ill-conditioned`` or ``ok``.
 
     Returns
     -------

@@ -123,11 +123,12 @@ def plot_trajectory(res, out=None, *, title=None, units=None, dpi: int = 150):
         labels["constraint_torques"] = tlabels
         legs["constraint_torques"] = tlegs
         determined["constraint_torques"] = np.column_stack(tdet)
-    if title is None:
-        u = plot_units
-        F, T = res.force, res.torque
-        title = (f"{res.pm}: F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
-                 f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")
+    u = plot_units
+    F, T = res.force, res.torque
+    load = (f"F = [{', '.join(f'{x:g}' for x in F)}] {u['force']}, "
+            f"T = [{', '.join(f'{x:g}' for x in T)}] {u['torque']} at o")
+    # (a title of the user's keeps the workload's line: every figure says its load)
+    title = f"{res.pm}: {load}" if title is None else f"{title}\n{load}"
     return plot_fig5(res.t, pose, res.extensions, res.active, Fc, Tc, labels=labels,
                      units=plot_units, flags=np.isin(res.status, ("singular", "unreachable")),
                      out=out, title=title, dpi=dpi,

@@ -40,7 +40,9 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def _title(res, force_unit, length_unit, singular) -> str:
+def _title(res, force_unit, length_unit, singular, given=None) -> str:
+    """The PM, its pose, the workload and the conditioning; ``given`` (--title) in place of
+    the PM and pose line (the workload's line is kept: every figure says its load)."""
     p = res.solution.params_degrees()
     scale = res.model.normalisation.length
 
@@ -53,7 +55,7 @@ def _title(res, force_unit, length_unit, singular) -> str:
         for k in ("Xo", "Yo", "Zo", "alpha", "beta", "gamma"))
     F = ", ".join(f"{x:g}" for x in res.force)
     T = ", ".join(f"{x:g}" for x in res.torque)
-    t = (f"{res.model.name} at {pose}\n"
+    t = (f"{given or res.model.name + ' at ' + pose}\n"
          f"F = [{F}] {force_unit}, T = [{T}] {force_unit}·{length_unit} at o "
          f"({load_source(res).split(' (')[0]}); "
          f"condition number {res.jacobian.condition_number:.3g}")
@@ -90,7 +92,7 @@ def run(args) -> int:
     check_unit_labels(model, args.length_unit, args.force_unit)
     fu = args.force_unit or model.units.force
     lu = args.length_unit or model.units.length
-    title = args.title or _title(res, fu, lu, singular)
+    title = _title(res, fu, lu, singular, args.title)
     how = "compliance-weighted" if getattr(res, "stiffness", None) is not None else "least-norm"
     draw_pm(sol.legs, sol.base_points, sol.platform_points, sol.position, rows, out=args.out,
             title=title, force_unit=fu, torque_unit=f"{fu}·{lu}", length_unit=lu,

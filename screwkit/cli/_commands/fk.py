@@ -7,6 +7,7 @@ import sys
 
 from ...engine._modes import MAX_SEEDS
 from ...errors import InputError
+from .._progress import add_quiet_argument, progress_bar
 from .._types import integer
 from ._common import dump_json, fmt_num
 from .analyze import add_pm_arguments, parse_assignments, resolve_model
@@ -45,6 +46,7 @@ def register(sub):
                    help="units of the printed pose (text and JSON): the model's (default) or "
                         "SI (m); --actuators and --guess stay in the model's units")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
@@ -67,7 +69,9 @@ def run(args) -> int:
     if args.all:
         if args.guess:
             raise InputError("--all searches from seeds: it takes no --guess")
-        res = assembly_modes(model, act, seeds=args.seeds or 1000, degrees=True)
+        K = args.seeds or 1000
+        with progress_bar(args, "fk --all", "seed", K) as progress:
+            res = assembly_modes(model, act, seeds=K, degrees=True, progress=progress)
         out = res.to_dict(units)
         sols = res.solutions
     else:

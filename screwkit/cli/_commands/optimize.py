@@ -57,8 +57,8 @@ def register(sub):
                         "else the model's declared workload")
     p.add_argument("--max-level", choices=("ok", "ill-conditioned", "near-singular"),
                    default="near-singular",
-                   help="the worst trust level of a cell of the task (default: every regular "
-                        "cell)")
+                   help="the worst trust level of a cell of the task (default near-singular: "
+                        "every cell that is not singular)")
     p.add_argument("--lti-threshold", type=float, default=None, metavar="X",
                    help="the LTI bound of gtw-volume, as an objective or a constraint "
                         "(default 0.7)")
@@ -114,6 +114,8 @@ def run(args) -> int:
     if args.workloads and explicit:
         raise InputError("--workloads FILE lists the loads: give it or --force/--torque, "
                          "not both")
+    if args.lti_threshold is not None and not 0.0 < args.lti_threshold <= 1.0:
+        raise InputError(f"the LTI threshold must be in (0, 1], got {args.lti_threshold!r:.40}")
     if args.lti_threshold is not None and not any(
             "gtw" in x for x in (args.objective or []) + list(args.constraint or [])):
         raise InputError("--lti-threshold bounds the LTI of gtw-volume: add the objective "

@@ -34,8 +34,9 @@ def register(sub):
     add_map_arguments(p)
     p.add_argument("--max-level", choices=("ok", "ill-conditioned", "near-singular"),
                    default="near-singular",
-                   help="count only cells of this trust level or better (default: every "
-                        "regular cell; near-singular cells need efforts > 5x the load)")
+                   help="count only cells of this trust level or better (default "
+                        "near-singular: every cell that is not singular, near-singular ones "
+                        "and those whose efforts exceed 5x the load included)")
     p.add_argument("--workloads", metavar="CSV", type=path,
                    help="workloads to size for (Fx,Fy,Fz,Tx,Ty,Tz[,name]); default: --force, "
                         "--torque")

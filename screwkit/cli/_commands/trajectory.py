@@ -45,6 +45,7 @@ def register(sub):
     add_load_arguments(p)
     p.add_argument("--format", choices=("csv", "json"),
                    help="output format (default: from the --out suffix, else csv)")
+    p.add_argument("--json", action="store_true", help="the same as --format json")
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE instead of stdout")
     p.add_argument("--units", choices=["model", "SI"], default="model",
                    help="units of the table (CSV header 'name [unit]', JSON units) and of "
@@ -83,6 +84,8 @@ def _format(args) -> str:
 def run(args) -> int:
     from ...paths import path_from_args
     from ...paths import run_trajectory
+    if args.json:                       # (--json: as every other command spells it)
+        args.format = "json"
 
     model = resolve_model(args)
     fmt = _format(args)
@@ -96,11 +99,6 @@ def run(args) -> int:
         raise InputError("--smoothing smooths the spline through a CSV --path: expressions "
                          "(--expr) have exact derivatives")
     force, torque = require_load(args, model)
-    labels = [o for o, v in (("--title", args.title), ("--length-unit", args.length_unit),
-                             ("--force-unit", args.force_unit)) if v]
-    if labels and not args.plot:
-        raise InputError(f"{', '.join(labels)} label{'s' if len(labels) == 1 else ''} the plot: "
-                         "add --plot FILE.png")
     if args.plot:
         from ...viz import require_matplotlib
         require_matplotlib()                     # fail before a long run, not after it
@@ -115,6 +113,11 @@ def run(args) -> int:
         from ...engine._report import output_scales
         output_scales(model, table_units)         # fail before a long run, not after it
     check_unit_labels(model, args.length_unit, args.force_unit)
+    labels = [o for o, v in (("--title", args.title), ("--length-unit", args.length_unit),
+                             ("--force-unit", args.force_unit)) if v]
+    if labels and not args.plot:
+        raise InputError(f"{', '.join(labels)} label{'s' if len(labels) == 1 else ''} the plot: "
+                         "add --plot FILE.png")
     if getattr(args, "dynamics", False):
         from ._dynamics_args import run_dynamics
         with progress_bar(args, "dynamics", "step") as progress:

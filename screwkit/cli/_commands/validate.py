@@ -38,6 +38,7 @@ def register(sub):
     p.add_argument("--format", choices=("text", "markdown", "csv", "json"), default="text",
                    help="output format (default text; with --out, the file's suffix: .json, "
                         ".md, .csv)")
+    p.add_argument("--json", action="store_true", help="the same as --format json")
     p.add_argument("--out", metavar="FILE", type=output, help="write the table to FILE (the summary line "
                    "still goes to standard output)")
     p.add_argument("--draws", type=integer(1, MAX_DRAWS), default=None,
@@ -150,6 +151,8 @@ def report_json(report) -> dict:
 def run(args) -> int:
     from ...errors import InputError
     from ...synthesis import DEFAULT_DRAWS, catalog_rows, report_rows, validate_table1
+    if args.json:                       # (--json: as every other command spells it)
+        args.format = "json"
 
     draws = DEFAULT_DRAWS if args.draws is None else args.draws
     if draws < 1:

@@ -1,12 +1,22 @@
-"""The assembly-mode sign of ``det J``: each leg's constraint rows oriented as at a reference
-pose (private).
+"""The assembly-mode sign of ``det J``: each leg's constraint rows oriented by the leg's own
+joint twists (private).
 
 The sign of a constraint row is a convention of the leg's geometry (a reference direction
 evaluated at the pose, ``docs/conventions.md``), and a reference direction can pass through
 zero inside the workspace (the RRPRR's ``OA x leg`` where the leg lies along ``OA``): the row
-then turns over, and ``det J`` changes sign, with no singularity.  Compared with the same
-leg's rows at the model's reference pose instead, a sign change of the product is a
-singularity of ``J`` or a turn of the rows by a right angle, which is reported as undefined.
+then turns over, and ``det J`` changes sign, with no singularity.  A leg whose ``m`` joint
+twists and ``k`` constraint rows make six spans the whole space with them (its rows are the
+twists' reciprocal complement: in the ``[v; w]``, ``[f; m]`` order the plain orthogonal
+complement), so ``det [t_1; ...; t_m; c_1; ...; c_k]`` is not zero while the leg's joints
+stay independent, and its sign, times the leg's rows, orients them continuously along any
+motion: ``det J`` times those signs changes sign at a singularity only.  The joint twists
+follow the joints' own axes (no convention), in chain order, but for an S joint: its three
+R axes are one representation of a ball, whose other branch (the same ball, the same link)
+turns some of them over, so its twists are the rotations about the world's X, Y and Z axes
+through its centre, whatever the branch.  A leg with idle motions (more
+joints than that) is oriented against its rows at the model's reference pose instead.  The
+rows are taken about the normalisation centre ``c``, moments and velocities over ``L``, at
+unit norm: a determinant whose sign a move of the base frame or a change of units keeps.
 """
 
 import math
@@ -14,44 +24,43 @@ import math
 import numpy as np
 
 from ._jit import entry, inner
+from ._small import lu_factor
 
 #: ``|det (C_p C_ref^T)|`` of a leg's unit, length-normalised constraint rows against its
-#: reference rows below which their orientation is not defined (the rows turned about a right
-#: angle from the reference pose's).
+#: reference rows below which their orientation is not defined (a leg with idle motions
+#: whose rows turned about a right angle from the reference pose's).
 ORIENT_MIN = 1e-3
 
 
 @entry
-def oriented_signs(J, ref, groups, centre, L, det, out):
-    """``out[p] = det[p]`` times the orientation of each leg's constraint rows of ``J[p]``
-    (``N, mr, 6``) against the same rows of ``ref (mr, 6)``: the sign of ``det (C_p
-    C_ref^T)`` over the unit rows ``[f; (m - c x f) / L]`` (``c = centre``), each leg's rows
-    ``groups[g, 0]:groups[g, 1]`` (at most three); 0 where one is not defined (below
-    :data:`ORIENT_MIN`) or ``det[p]`` is 0."""
+def oriented_signs(J, T, AP, ball, groups, ref, centre, L, det, out):
+    """``out[p] = det[p]`` times the orientation of each leg's constraint rows of ``J[p]
+    (N, mr, 6)``; ``groups[g] = (leg, first row, stop row, joints)``: with ``joints + rows ==
+    6`` the sign of ``det`` of the leg's joint twists ``T[p, leg, :joints] (N, n, m, 6)`` (an
+    S joint's part ``ball[leg, j] = 1, 2, 3``: the rotation about X, Y, Z through its point
+    ``AP[p, leg, j, 3:]``) over its rows, else the sign of ``det (C_p C_ref^T)`` against
+    ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where ``det[p]`` is 0."""
     N, mr = J.shape[0], J.shape[1]
     a, b = np.empty((mr, 6)), np.empty((mr, 6))
-    G = np.zeros((3, 3))
-    _unit_rows(ref, centre, L, b)
+    A, G = np.empty((6, 6)), np.zeros((3, 3))
+    piv = np.zeros(6, np.int64)
+    _unit_wrenches(ref, centre, L, b)
     for p in range(N):
         s = det[p]
         if s != 0.0:
-            _unit_rows(J[p], centre, L, a)
+            _unit_wrenches(J[p], centre, L, a)
             for g in range(groups.shape[0]):
-                r0, k = groups[g, 0], groups[g, 1] - groups[g, 0]
-                for i in range(k):
-                    for j in range(k):
-                        x = 0.0
+                leg, r0, r1, m = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
+                k = r1 - r0
+                if m + k == 6:
+                    _unit_twists(T[p, leg], AP[p, leg], ball[leg], m, centre, L, A)
+                    for i in range(k):
                         for q in range(6):
-                            x += a[r0 + i, q] * b[r0 + j, q]
-                        G[i, j] = x
-                d = G[0, 0]
-                if k == 2:
-                    d = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
-                elif k == 3:
-                    d = (G[0, 0] * (G[1, 1] * G[2, 2] - G[1, 2] * G[2, 1])
-                         - G[0, 1] * (G[1, 0] * G[2, 2] - G[1, 2] * G[2, 0])
-                         + G[0, 2] * (G[1, 0] * G[2, 1] - G[1, 1] * G[2, 0]))
-                if not abs(d) >= ORIENT_MIN:
+                            A[m + i, q] = a[r0 + i, q]
+                    d = lu_factor(A, 6, piv)
+                else:
+                    d = _against(a, b, r0, k, G)
+                if d == 0.0:
                     s = 0.0
                     break
                 if d < 0.0:
@@ -60,17 +69,70 @@ def oriented_signs(J, ref, groups, centre, L, det, out):
 
 
 @inner
-def _unit_rows(W, c, L, out):
-    """The rows ``W (mr, 6)`` about ``c``, moments over ``L``, at unit norm, into ``out``."""
+def _against(a, b, r0, k, G):
+    """The sign of ``det (C C_ref^T)`` of rows ``r0:r0+k`` (at most three) of ``a`` against
+    those of ``b``; 0 below :data:`ORIENT_MIN`."""
+    for i in range(k):
+        for j in range(k):
+            x = 0.0
+            for q in range(6):
+                x += a[r0 + i, q] * b[r0 + j, q]
+            G[i, j] = x
+    d = G[0, 0]
+    if k == 2:
+        d = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
+    elif k == 3:
+        d = (G[0, 0] * (G[1, 1] * G[2, 2] - G[1, 2] * G[2, 1])
+             - G[0, 1] * (G[1, 0] * G[2, 2] - G[1, 2] * G[2, 0])
+             + G[0, 2] * (G[1, 0] * G[2, 1] - G[1, 1] * G[2, 0]))
+    if not abs(d) >= ORIENT_MIN:
+        return 0.0
+    return 1.0 if d > 0.0 else -1.0
+
+
+@inner
+def _unit_wrenches(W, c, L, out):
+    """The wrenches ``W (mr, 6)`` about ``c``, moments over ``L``, at unit norm."""
     for r in range(W.shape[0]):
         f0, f1, f2 = W[r, 0], W[r, 1], W[r, 2]
         out[r, 0], out[r, 1], out[r, 2] = f0, f1, f2
         out[r, 3] = (W[r, 3] - (c[1] * f2 - c[2] * f1)) / L
         out[r, 4] = (W[r, 4] - (c[2] * f0 - c[0] * f2)) / L
         out[r, 5] = (W[r, 5] - (c[0] * f1 - c[1] * f0)) / L
-        n = 0.0
-        for q in range(6):
-            n += out[r, q] * out[r, q]
-        n = max(math.sqrt(n), 1e-300)
-        for q in range(6):
-            out[r, q] /= n
+        _unit(out, r)
+
+
+@inner
+def _unit_twists(T, AP, ball, m, c, L, out):
+    """The twists ``T[:m] (6,)`` (an S joint's parts: the rotations about X, Y, Z through its
+    point) about ``c``, velocities over ``L``, at unit norm, into the first ``m`` rows of
+    ``out``."""
+    for r in range(m):
+        if ball[r] > 0:               # [s x e; e], e the world axis, s the S centre
+            w0, w1, w2 = 0.0, 0.0, 0.0
+            if ball[r] == 1:
+                w0 = 1.0
+            elif ball[r] == 2:
+                w1 = 1.0
+            else:
+                w2 = 1.0
+            s0, s1, s2 = AP[r, 3], AP[r, 4], AP[r, 5]
+            v0, v1, v2 = s1 * w2 - s2 * w1, s2 * w0 - s0 * w2, s0 * w1 - s1 * w0
+        else:
+            w0, w1, w2 = T[r, 3], T[r, 4], T[r, 5]
+            v0, v1, v2 = T[r, 0], T[r, 1], T[r, 2]
+        out[r, 0] = (v0 - (c[1] * w2 - c[2] * w1)) / L
+        out[r, 1] = (v1 - (c[2] * w0 - c[0] * w2)) / L
+        out[r, 2] = (v2 - (c[0] * w1 - c[1] * w0)) / L
+        out[r, 3], out[r, 4], out[r, 5] = w0, w1, w2
+        _unit(out, r)
+
+
+@inner
+def _unit(out, r):
+    n = 0.0
+    for q in range(6):
+        n += out[r, q] * out[r, q]
+    n = max(math.sqrt(n), 1e-300)
+    for q in range(6):
+        out[r, q] /= n
