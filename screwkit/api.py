@@ -365,9 +365,8 @@ def forward(pm: PMLike, actuators: ArrayLike | Mapping[str, float],
 def assembly_modes(pm: PMLike, actuators: ArrayLike | Mapping[str, float], *, seeds: int = 1000,
                    seed: int = 0, degrees: bool = False, overrides: Mapping[str, float]
                    | None = None, progress: Callable | None = None) -> AssemblyModes:
-    """The distinct real forward-kinematics solutions found from ``seeds`` starts, each with
-    its ``det J`` sign (``progress(done, total)`` as the seeds are solved):
-    :func:`screwkit.engine.assembly_modes`."""
+    """The distinct real forward-kinematics solutions from ``seeds`` starts, each with its
+    ``det J`` sign (``progress(done, total)``): :func:`screwkit.engine.assembly_modes`."""
     from .engine import assembly_modes as _modes
     return _modes(_model(pm, overrides), actuators, seeds=seeds, seed=seed, degrees=degrees,
                   progress=progress)
