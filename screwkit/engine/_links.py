@@ -205,14 +205,6 @@ def _frames_of(solution, sl, slots: bool) -> tuple:
     return params, q, frames(ch.flat, _GIVEN, P6, Xq, slots=slots, twists=True)
 
 
-def joint_twists(solution) -> tuple:
-    """``(twists, axes_points)``: every joint's unit twist ``[v; w]`` about ``O`` and its
-    axis and point, ``(N, n, m, 6)`` each (zero in padded slots, NaN where a pose is
-    unreachable)."""
-    fr = _frames_of(solution, slice(None), False)[2]
-    return fr["twists"], fr["axes_points"]
-
-
 def link_frames(solution, sl=slice(None), slots: bool = True) -> LinkFrames:
     """The :class:`LinkFrames` of the poses ``sl`` of a :class:`PoseSolution`.
 

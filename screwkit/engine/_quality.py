@@ -330,8 +330,8 @@ def _orientation(analysis, ref) -> np.ndarray:
     """``(N,)``: the product over the legs of their constraint rows' orientation (+-1; 0 where
     one is not defined), by the kernel; ``ref`` the rows at the reference pose (None: not
     solved yet, for the legs with idle motions)."""
+    from ._launch import _launch
     from ._kernels import kernels
-    from ._links import joint_twists
     model = analysis.model
     jac = analysis.jacobian
     N = len(jac)
@@ -350,12 +350,14 @@ def _orientation(analysis, ref) -> np.ndarray:
             groups.append([legs[r], r, r + 1, sizes[legs[r]]])
     if not groups or not N:
         return np.ones(N)
-    c = model.normalisation
+    c, cl = model.normalisation, analysis.solution.closures
+    X = np.ascontiguousarray(cl.X[len(cl.chains.unknown):].T)     # (the joints' unknowns)
     out = np.empty(N)
-    T, AP = joint_twists(analysis.solution)
-    kernels().oriented_signs(kernel_array(jac.matrix), T, AP, ball, np.array(groups, np.int64),
-                             np.zeros(jac.matrix.shape[1:]) if ref is None else ref,
-                             kernel_array(c.centre), float(c.length), np.ones(N), out)
+    k = kernels()
+    _launch(k.oriented_range, k.oriented_parallel,
+            (cl.chains.flat.M, X, kernel_array(jac.matrix), ball, np.array(groups, np.int64),
+             np.zeros(jac.matrix.shape[1:]) if ref is None else ref, kernel_array(c.centre),
+             float(c.length), np.ones(N), out), N, None)
     return out
 
 

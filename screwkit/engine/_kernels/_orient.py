@@ -23,7 +23,11 @@ import math
 
 import numpy as np
 
-from ._jit import entry, inner
+from numba import prange
+
+from ._jit import entry, inner, one_lane, parallel
+from ._kin import chain, joint_twist
+from ._layout import D
 from ._small import lu_factor
 
 #: ``|det (C_p C_ref^T)|`` of a leg's unit, length-normalised constraint rows against its
@@ -33,39 +37,58 @@ ORIENT_MIN = 1e-3
 
 
 @entry
-def oriented_signs(J, T, AP, ball, groups, ref, centre, L, det, out):
+def oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, start, stop):
     """``out[p] = det[p]`` times the orientation of each leg's constraint rows of ``J[p]
-    (N, mr, 6)``; ``groups[g] = (leg, first row, stop row, joints)``: with ``joints + rows ==
-    6`` the sign of ``det`` of the leg's joint twists ``T[p, leg, :joints] (N, n, m, 6)`` (an
-    S joint's part ``ball[leg, j] = 1, 2, 3``: the rotation about X, Y, Z through its point
-    ``AP[p, leg, j, 3:]``) over its rows, else the sign of ``det (C_p C_ref^T)`` against
-    ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where ``det[p]`` is 0."""
-    N, mr = J.shape[0], J.shape[1]
+    (N, mr, 6)``, poses ``start:stop``; ``groups[g] = (leg, first row, stop row, joints)``:
+    with ``joints + rows == 6`` the sign of ``det`` of the leg's joint twists (at the joint
+    values ``X[p] (N, n m)``, the legs' slots in turn; an S joint's part ``ball[leg, j] = 1,
+    2, 3``: the rotation about X, Y, Z through its centre) over its rows, else the sign of
+    ``det (C_p C_ref^T)`` against ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where
+    ``det[p]`` is 0 (or not a number: an unreachable pose)."""
+    mr = J.shape[1]
+    n, m = M[D].shape[0], M[D].shape[1]
     a, b = np.empty((mr, 6)), np.empty((mr, 6))
     A, G = np.empty((6, 6)), np.zeros((3, 3))
     piv = np.zeros(6, np.int64)
+    FA, TW = np.zeros((n, m, 6)), np.zeros((m, 6))
+    RT, Rsl, CS, E = np.zeros((12, 1)), np.zeros((m, 12, 1)), np.zeros((2, 1)), np.zeros((3, 3))
     _unit_wrenches(ref, centre, L, b)
-    for p in range(N):
+    for p in range(start, stop):
         s = det[p]
-        if s != 0.0:
-            _unit_wrenches(J[p], centre, L, a)
-            for g in range(groups.shape[0]):
-                leg, r0, r1, m = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-                k = r1 - r0
-                if m + k == 6:
-                    _unit_twists(T[p, leg], AP[p, leg], ball[leg], m, centre, L, A)
-                    for i in range(k):
-                        for q in range(6):
-                            A[m + i, q] = a[r0 + i, q]
-                    d = lu_factor(A, 6, piv)
-                else:
-                    d = _against(a, b, r0, k, G)
-                if d == 0.0:
-                    s = 0.0
-                    break
-                if d < 0.0:
-                    s = -s
+        if s == 0.0 or s != s:
+            out[p] = 0.0
+            continue
+        _unit_wrenches(J[p], centre, L, a)
+        for g in range(groups.shape[0]):
+            leg, r0, r1, mj = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
+            k = r1 - r0
+            if mj + k == 6:
+                # the leg's joints at the pose (the frames kernel's chain), their twists
+                chain(M, leg, one_lane(X[p]), leg * m, one_lane(FA[leg]), RT, 1, 1, False, Rsl,
+                      E, CS)
+                for j in range(mj):
+                    joint_twist(M, leg, j, FA[leg], TW[j])
+                _unit_twists(TW, FA[leg], ball[leg], mj, centre, L, A)
+                for i in range(k):
+                    for q in range(6):
+                        A[mj + i, q] = a[r0 + i, q]
+                d = lu_factor(A, 6, piv)
+            else:
+                d = _against(a, b, r0, k, G)
+            if d == 0.0:
+                s = 0.0
+                break
+            if d < 0.0:
+                s = -s
         out[p] = s
+
+
+@parallel
+def oriented_parallel(M, X, J, ball, groups, ref, centre, L, det, out, nchunks):
+    N = J.shape[0]
+    for c in prange(nchunks):
+        oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, c * N // nchunks,
+                       (c + 1) * N // nchunks)
 
 
 @inner
@@ -103,7 +126,7 @@ def _unit_wrenches(W, c, L, out):
 
 
 @inner
-def _unit_twists(T, AP, ball, m, c, L, out):
+def _unit_twists(T, FA, ball, m, c, L, out):
     """The twists ``T[:m] (6,)`` (an S joint's parts: the rotations about X, Y, Z through its
     point) about ``c``, velocities over ``L``, at unit norm, into the first ``m`` rows of
     ``out``."""
@@ -116,7 +139,7 @@ def _unit_twists(T, AP, ball, m, c, L, out):
                 w1 = 1.0
             else:
                 w2 = 1.0
-            s0, s1, s2 = AP[r, 3], AP[r, 4], AP[r, 5]
+            s0, s1, s2 = FA[r, 3], FA[r, 4], FA[r, 5]
             v0, v1, v2 = s1 * w2 - s2 * w1, s2 * w0 - s0 * w2, s0 * w1 - s1 * w0
         else:
             w0, w1, w2 = T[r, 3], T[r, 4], T[r, 5]
