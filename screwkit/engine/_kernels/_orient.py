@@ -27,7 +27,7 @@ from numba import prange
 
 from ._jit import entry, inner, one_lane, parallel
 from ._kin import chain, joint_twist
-from ._layout import D
+from ._layout import BLOCK, D
 from ._small import lu_factor
 
 #: ``|det (C_p C_ref^T)|`` of a leg's unit, length-normalised constraint rows against its
@@ -44,43 +44,57 @@ def oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, start, stop)
     values ``X[p] (N, n m)``, the legs' slots in turn; an S joint's part ``ball[leg, j] = 1,
     2, 3``: the rotation about X, Y, Z through its centre) over its rows, else the sign of
     ``det (C_p C_ref^T)`` against ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where
-    ``det[p]`` is 0 (or not a number: an unreachable pose)."""
-    mr = J.shape[1]
+    ``det[p]`` is 0 (or not a number: an unreachable pose).  The legs' joints are formed
+    ``BLOCK`` poses at a time on the lanes of the frames kernel's ``chain`` (each lane the
+    one pose's arithmetic)."""
+    mr, nx = J.shape[1], X.shape[1]
     n, m = M[D].shape[0], M[D].shape[1]
     a, b = np.empty((mr, 6)), np.empty((mr, 6))
     A, G = np.empty((6, 6)), np.zeros((3, 3))
     piv = np.zeros(6, np.int64)
-    FA, TW = np.zeros((n, m, 6)), np.zeros((m, 6))
-    RT, Rsl, CS, E = np.zeros((12, 1)), np.zeros((m, 12, 1)), np.zeros((2, 1)), np.zeros((3, 3))
+    Xb, FA = np.zeros((nx, BLOCK)), np.zeros((n, m, 6, BLOCK))
+    fa, TW = np.zeros((m, 6)), np.zeros((m, 6))
+    RT, Rsl = np.zeros((12, BLOCK)), np.zeros((m, 12, BLOCK))
+    CS, E = np.zeros((2, BLOCK)), np.zeros((3, 3))
     _unit_wrenches(ref, centre, L, b)
-    for p in range(start, stop):
-        s = det[p]
-        if s == 0.0 or s != s:
-            out[p] = 0.0
-            continue
-        _unit_wrenches(J[p], centre, L, a)
+    for p0 in range(start, stop, BLOCK):
+        nb = min(BLOCK, stop - p0)
+        for l in range(nb):
+            for k in range(nx):
+                Xb[k, l] = X[p0 + l, k]
         for g in range(groups.shape[0]):
-            leg, r0, r1, mj = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-            k = r1 - r0
-            if mj + k == 6:
-                # the leg's joints at the pose (the frames kernel's chain), their twists
-                chain(M, leg, one_lane(X[p]), leg * m, one_lane(FA[leg]), RT, 1, 1, False, Rsl,
-                      E, CS)
-                for j in range(mj):
-                    joint_twist(M, leg, j, FA[leg], TW[j])
-                _unit_twists(TW, FA[leg], ball[leg], mj, centre, L, A)
-                for i in range(k):
-                    for q in range(6):
-                        A[mj + i, q] = a[r0 + i, q]
-                d = lu_factor(A, 6, piv)
-            else:
-                d = _against(a, b, r0, k, G)
-            if d == 0.0:
-                s = 0.0
-                break
-            if d < 0.0:
-                s = -s
-        out[p] = s
+            leg = groups[g, 0]
+            if groups[g, 3] + groups[g, 2] - groups[g, 1] == 6:
+                chain(M, leg, Xb, leg * m, FA[leg], RT, nb, BLOCK, False, Rsl, E, CS)
+        for l in range(nb):
+            p = p0 + l
+            s = det[p]
+            if s == 0.0 or s != s:
+                out[p] = 0.0
+                continue
+            _unit_wrenches(J[p], centre, L, a)
+            for g in range(groups.shape[0]):
+                leg, r0, r1, mj = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
+                k = r1 - r0
+                if mj + k == 6:
+                    for j in range(mj):
+                        for q in range(6):
+                            fa[j, q] = FA[leg, j, q, l]
+                    for j in range(mj):
+                        joint_twist(M, leg, j, fa, TW[j])
+                    _unit_twists(TW, fa, ball[leg], mj, centre, L, A)
+                    for i in range(k):
+                        for q in range(6):
+                            A[mj + i, q] = a[r0 + i, q]
+                    d = lu_factor(A, 6, piv)
+                else:
+                    d = _against(a, b, r0, k, G)
+                if d == 0.0:
+                    s = 0.0
+                    break
+                if d < 0.0:
+                    s = -s
+            out[p] = s
 
 
 @parallel
