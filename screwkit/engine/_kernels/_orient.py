@@ -28,6 +28,7 @@ from numba import prange
 from ._jit import entry, inner, one_lane, parallel
 from ._kin import chain, joint_twist
 from ._layout import BLOCK, D
+from ._rows import _normalise_twist, _normalise_wrench
 from ._small import lu_factor
 
 #: ``|det (C_p C_ref^T)|`` of a leg's unit, length-normalised constraint rows against its
@@ -129,39 +130,28 @@ def _against(a, b, r0, k, G):
 
 @inner
 def _unit_wrenches(W, c, L, out):
-    """The wrenches ``W (mr, 6)`` about ``c``, moments over ``L``, at unit norm."""
+    """The wrenches ``W (mr, 6)`` about ``c``, moments over ``L`` (the rows' own
+    normalisation, :func:`._rows._normalise_wrench`), at unit norm."""
     for r in range(W.shape[0]):
-        f0, f1, f2 = W[r, 0], W[r, 1], W[r, 2]
-        out[r, 0], out[r, 1], out[r, 2] = f0, f1, f2
-        out[r, 3] = (W[r, 3] - (c[1] * f2 - c[2] * f1)) / L
-        out[r, 4] = (W[r, 4] - (c[2] * f0 - c[0] * f2)) / L
-        out[r, 5] = (W[r, 5] - (c[0] * f1 - c[1] * f0)) / L
+        _normalise_wrench(W[r, 0], W[r, 1], W[r, 2], W[r, 3], W[r, 4], W[r, 5], c, L, out[r])
         _unit(out, r)
 
 
 @inner
 def _unit_twists(T, FA, ball, m, c, L, out):
     """The twists ``T[:m] (6,)`` (an S joint's parts: the rotations about X, Y, Z through its
-    point) about ``c``, velocities over ``L``, at unit norm, into the first ``m`` rows of
-    ``out``."""
+    point ``FA[j, 3:]``) about ``c``, velocities over ``L`` (:func:`._rows._normalise_twist`),
+    at unit norm, into the first ``m`` rows of ``out``."""
+    t = np.empty(6)
     for r in range(m):
         if ball[r] > 0:               # [s x e; e], e the world axis, s the S centre
-            w0, w1, w2 = 0.0, 0.0, 0.0
-            if ball[r] == 1:
-                w0 = 1.0
-            elif ball[r] == 2:
-                w1 = 1.0
-            else:
-                w2 = 1.0
+            for q in range(3):
+                t[3 + q] = 1.0 if ball[r] == q + 1 else 0.0
             s0, s1, s2 = FA[r, 3], FA[r, 4], FA[r, 5]
-            v0, v1, v2 = s1 * w2 - s2 * w1, s2 * w0 - s0 * w2, s0 * w1 - s1 * w0
+            t[0], t[1], t[2] = s1 * t[5] - s2 * t[4], s2 * t[3] - s0 * t[5], s0 * t[4] - s1 * t[3]
+            _normalise_twist(t, c, L, out[r])
         else:
-            w0, w1, w2 = T[r, 3], T[r, 4], T[r, 5]
-            v0, v1, v2 = T[r, 0], T[r, 1], T[r, 2]
-        out[r, 0] = (v0 - (c[1] * w2 - c[2] * w1)) / L
-        out[r, 1] = (v1 - (c[2] * w0 - c[0] * w2)) / L
-        out[r, 2] = (v2 - (c[0] * w1 - c[1] * w0)) / L
-        out[r, 3], out[r, 4], out[r, 5] = w0, w1, w2
+            _normalise_twist(T[r], c, L, out[r])
         _unit(out, r)
 
 
