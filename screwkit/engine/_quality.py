@@ -232,8 +232,8 @@ def trust_of(analysis) -> tuple:
 
 
 _HOME: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-#: The rows of ``J`` at the model's reference pose (:func:`det_reference`), against which
-#: :func:`det_signs` orients each leg's constraint rows.
+#: ``(rows, orientation)`` at the model's reference pose (:func:`det_reference`): its ``J``
+#: (against which a leg with idle motions is oriented) and its legs' orientation product.
 _REF_ROWS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
@@ -260,9 +260,9 @@ def det_reference(model, analyze) -> tuple:
                 break
             if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
                 s = (int(_det_signs(res.jacobian)[0]), name)
-                _REF_ROWS[model] = np.array(J, float).reshape(6, 6)
+                rows = np.array(J, float).reshape(6, 6)
                 # (the legs' orientation there: det_sign is det J's own sign at the reference)
-                _REF_ROWS[model] = (_REF_ROWS[model], _orientation(res, _REF_ROWS[model])[0])
+                _REF_ROWS[model] = (rows, _orientation(res, rows)[0])
                 break
         _HOME[model] = s
     return s
@@ -298,7 +298,7 @@ def quality(analysis, analyze) -> Quality:
 def det_signs(analysis, reach, analyze) -> np.ndarray:
     """The sign of ``det J`` of every pose of an analysis (N poses; 0 where unreachable or
     ``J`` is not square): the kernel's, from the statics, else by the kernel's LU, each leg's
-    constraint rows oriented as at the model's reference pose (:func:`_oriented`)."""
+    constraint rows oriented by its joint twists (:func:`_oriented`)."""
     jac = analysis.jacobian
     N = len(jac)
     det = analysis.diagnostics.get("det_sign")
