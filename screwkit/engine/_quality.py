@@ -299,6 +299,9 @@ def det_signs(analysis, reach, analyze) -> np.ndarray:
     """The sign of ``det J`` of every pose of an analysis (N poses; 0 where unreachable or
     ``J`` is not square): the kernel's, from the statics, else by the kernel's LU, each leg's
     constraint rows oriented by its joint twists (:func:`_oriented`)."""
+    got = analysis.__dict__.get("_det_signs")       # (formed once an analysis)
+    if got is not None:
+        return got
     jac = analysis.jacobian
     N = len(jac)
     det = analysis.diagnostics.get("det_sign")
@@ -311,6 +314,7 @@ def det_signs(analysis, reach, analyze) -> np.ndarray:
         det = _oriented(analysis, det, analyze)
     det = det.astype(int)
     det[~np.asarray(reach, bool).reshape(N)] = 0
+    analysis.__dict__["_det_signs"] = det
     return det
 
 

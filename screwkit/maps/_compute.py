@@ -225,7 +225,9 @@ def _pipelined(model, grid, slices, force, torque, stiffness, workers, loads, ma
     on the same analysis): the same bits.  At most three analyses are held at once."""
     from concurrent.futures import ThreadPoolExecutor
 
+    from ..engine import analyze
     from ..engine._launch import on_this_thread
+    from ..engine._quality import det_signs
 
     def arrays(res, sl):
         with on_this_thread():
@@ -236,6 +238,9 @@ def _pipelined(model, grid, slices, force, torque, stiffness, workers, loads, ma
         try:
             for sl in slices:
                 res = _analysis(model, grid.poses(sl), force, torque, stiffness, workers)
+                # (the assembly-mode signs here, on the analysis' threads: the arrays'
+                # thread, which reads them, has the indices and the arrays to form)
+                det_signs(res, res.solution.reachable_mask, analyze)
                 pending.append((sl, helper.submit(arrays, res, sl)))
                 del res
                 while len(pending) > 2:
