@@ -96,6 +96,8 @@ def test_an_unknown_keyword_is_a_misuse_error_naming_it(pm, call):
     (lambda pm: screwkit.freedoms([screwkit.Twist(np.ones(6))]), "is a Twist"),
     (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], points=[[1, 2]]), "points"),
     (lambda pm: screwkit.freedoms([[0, 0, 1, 0, 0, 0]], points=[[np.nan, 0, 0]]), "points"),
+    (lambda pm: screwkit.assembly_modes(pm, [0.0, 0.0, 0.0], seeds=10, progress=5),
+     "progress"),
     (lambda pm: screwkit.PMBuilder("b").set_limits("x"), "set_limits"),
     (lambda pm: screwkit.PMBuilder("b").set_workload("x"), "set_workload"),
     (lambda pm: screwkit.PMBuilder("b").add_leg("RPS", frame="x"), "frame"),

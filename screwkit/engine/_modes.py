@@ -124,6 +124,8 @@ def assembly_modes(model, actuators, *, seeds: int = 1000, seed: int = 0,
             or not 1 <= seeds <= MAX_SEEDS:
         raise InputError(f"seeds must be an integer from 1 to {MAX_SEEDS}, got {seeds!r:.40}")
     seed = check_seed(seed)
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a callable(done, total), got {type(progress).__name__}")
     ch = chains_of(model)
     target, single = actuator_targets(model, actuators, degrees)
     if target.shape[0] != 1:
