@@ -160,9 +160,7 @@ class PMAnalysis:
             good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
         return bool(good[0]) if self.single else good
 
-    @property
-    def residual(self):
-        return self.solution.residual
+    residual = property(lambda self: self.solution.residual, doc="The closure residual(s).")
 
     @cached_property
     def _actuated_twists(self):
@@ -341,7 +339,8 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
         Also keep, from the same kernel run, each actuated leg's actuated-joint unit twist
         (:attr:`PMAnalysis.actuated_twists`; formed on first read otherwise).
     lines : bool
-        Keep the joints :attr:`PMAnalysis.indices` reads and the platform from this run.
+        Keep from this run what a map reads: the joints :attr:`PMAnalysis.indices` reads,
+        the platform, the legs' orientation of ``quality.det_sign`` (else a second pass).
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every,
              raise_on_singular, twists, lines)
@@ -354,7 +353,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
     comp = compute(model, fixed, X0=X0, G6=G6, side=side, path=path, anchor_every=anchor_every,
                    F=F, T=T, chunk=chunk, workers=workers, progress=progress,
                    compliance=compliance, mapper=mapper if path else None, twists=bool(twists),
-                   lines=bool(lines))
+                   lines=bool(lines), orient=bool(lines))
     sol = make_solution(model, mark_invalid(comp.closures, invalid), single, notes, side,
                         invalid, (comp.diagnostics or {}).get("reversed_legs"))
     cond = comp.conditioning

@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
-from ..screws import GEOMETRY_RTOL
 from ._kernels import _layout as lay
+from ._line_table import line_table
 
 __all__ = ["FlatModel", "build", "joint_arrays", "platform_array", "encode_direction",
            "probe_model", "pack", "Packed"]
@@ -215,6 +215,15 @@ def joint_arrays(legs, L):
     return sizes, m, (D, P, rot, tra, qs, trn, bar, hinge, blen, kind)
 
 
+def _ball_slot(leg) -> int:
+    """The slot of the leg's first S joint's first part (its three R parts follow in turn;
+    ``LEG``'s ``L_BALL``), -1 without an S joint."""
+    for j, jt in enumerate(leg.joints):
+        if getattr(jt.spec, "origin", "") == "S" and jt.spec.part == 0:
+            return j
+    return -1
+
+
 def platform_array(frame, platform_home, centre, L) -> np.ndarray:
     """``PLAT``: the base frame, the platform at home, the centroid and the length."""
     R0, p0 = (np.asarray(x, float) for x in frame)
@@ -233,10 +242,11 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
     n = len(legs)
     active = [i not in passive for i in range(n)]
     sizes, m, geo = joint_arrays(legs, L)
-    leg = np.zeros((n, 4), np.int64)
+    leg = np.zeros((n, 5), np.int64)
     k = 0
     for i, lg in enumerate(legs):
-        leg[i] = (sizes[i], lg.actuated_index, int(active[i]), k if active[i] else -1)
+        leg[i] = (sizes[i], lg.actuated_index, int(active[i]), k if active[i] else -1,
+                  _ball_slot(lg))
         k += active[i]
     plat = platform_array(frame, platform_home, centre, L)
     pts, dirs, grp, tpl, gref, row_pts = _templates_tables(templates, active)
@@ -264,43 +274,6 @@ def build(legs, templates, *, L, centre, frame, platform_home, base_points, plat
                      rows[:, 3].copy(), rows[:, 0].copy())
 
 
-def _off_line(x, point, direction) -> float:
-    """The distance of the point ``x`` from the line through ``point`` along ``direction``."""
-    d = np.asarray(direction, float)
-    return float(np.linalg.norm(np.cross(np.asarray(x, float) - point, d)) / np.linalg.norm(d))
-
-
-def line_table(legs, passive, nu: int, m: int, q_scale, L: float) -> np.ndarray:
-    """The flattened model's ``REV (k, 6)`` table (:mod:`._kernels._layout`) of the placed
-    legs ``legs`` at home: one row ``(leg, row, sign, limit, s^home, scale)`` for each leg
-    (not in ``passive``) whose actuated joint is a P joint carrying the leg's whole length
-    (:mod:`._reversal`): ``row = nu + i m + k`` its unknown in ``X``, ``s^home`` its signed
-    home length, ``scale = q_scale[i, k]`` and ``limit = (tol - |s^home|) / scale`` (``tol =
-    GEOMETRY_RTOL L``): the leg is reversed where ``sign X[row] <= limit``, that is where
-    ``sign (s^home) (s^home + q) <= tol``."""
-    tol = GEOMETRY_RTOL * float(L)
-    table = []
-    for i, lg in enumerate(legs):
-        k = lg.actuated_index
-        if i in passive or k is None or lg.joints[k].kind != "P":
-            continue
-        A, a = np.asarray(lg.A, float), np.asarray(lg.a, float)
-        P = lg.joints[k]
-        u = np.asarray(P.direction, float)
-        u = u / np.linalg.norm(u)
-        on_line = (_off_line(A, P.point, u) <= tol and _off_line(a, P.point, u) <= tol
-                   and all(j.kind == "R" and _off_line(A, j.point, j.direction) <= tol
-                           for j in lg.joints[:k])
-                   and all(j.kind == "R" and _off_line(a, j.point, j.direction) <= tol
-                           for j in lg.joints[k + 1:]))
-        s = float((a - A) @ u)
-        if not on_line or abs(s) <= tol:
-            continue
-        scale = float(q_scale[i, k])
-        table.append((i, nu + i * m + k, np.sign(s), (tol - abs(s)) / scale, s, scale))
-    return np.array(table, float).reshape(-1, 6)
-
-
 def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candidates):
     """A one-leg model at its reference geometry for the home decisions of a row template
     (:mod:`screwkit.engine._kernels._probe`): ``((M, fp), candidates, indices, points)``:
@@ -323,7 +296,7 @@ def probe_model(leg, base_rotation, O, platform_rotation, o, point_refs, candida
         if ref not in points:
             points.append(ref)
     pts = _pad([[_point_code(p) for p in points]], 3)
-    leg_row = np.array([[sizes[0], leg.actuated_index, 1, 0]], np.int64)
+    leg_row = np.array([[sizes[0], leg.actuated_index, 1, 0, _ball_slot(leg)]], np.int64)
     plat = np.concatenate([R0.ravel(), np.asarray(O, float), Rh.ravel(), oh, oh, [1.0]])
     ap = Rh.T @ (np.asarray(leg.a, float) - oh)
     empty = _pad([[]], 6)

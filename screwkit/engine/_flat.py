@@ -20,7 +20,8 @@ from dataclasses import replace
 import numpy as np
 
 from ..pm import LENGTH_PARAMS, PARAMS
-from ._arrays import FlatModel, build, joint_arrays, line_table, platform_array
+from ._arrays import FlatModel, build, joint_arrays, platform_array
+from ._line_table import line_table
 from ._kernels import _layout as lay
 
 __all__ = ["FlatModel", "flatten", "reflatten", "flatten_legs", "base_points_of"]

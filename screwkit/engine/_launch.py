@@ -117,9 +117,9 @@ class _Plan:
 
 
 def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists,
-          lines=False, nrows=0, nstencil=0, excess=False, nguess=0) -> _Plan:
+          lines=False, nrows=0, nstencil=0, excess=False, nguess=0, orient=False) -> _Plan:
     key = ("plan", N, nx0, nside, ncomp, solve, rows, statics, continuation, twists, lines,
-           nrows, nstencil, excess, nguess)
+           nrows, nstencil, excess, nguess, orient)
     plan = flat.packed.get(key)
     if plan is not None:
         return plan
@@ -147,7 +147,7 @@ def _plan(flat, N, nx0, nside, ncomp, solve, rows, statics, continuation, twists
     plan.out = tuple((kd != "f", kd == "b", o, o + size, sh if len(sh) > 1 else None)
                      for sh, kd, (o, size) in zip(out.shapes, out.kinds, out.offsets))
     plan.flags = np.array([int(solve), int(rows), int(rows and statics), int(continuation),
-                           int(twists), int(lines)], np.int64)
+                           int(twists), int(lines), int(orient)], np.int64)
     plan.one = OnePose(plan.out, plan.out_nf, plan.out_ni) if N == 1 else None
     if len(flat.packed) > 64:              # (maps launch many sizes: keep the cache small)
         for k in [k for k in list(flat.packed) if k[0] == "plan"]:
@@ -172,7 +172,8 @@ def output_buffers(flat, N: int, *, rows=True, statics=True, twists=False,
 
 def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=None,
               compliance=None, solve=True, rows=True, statics=True, continuation=True,
-              twists=False, lines=False, workers=None, per_thread: int = MIN_PER_THREAD,
+              twists=False, lines=False, orient=False, workers=None,
+              per_thread: int = MIN_PER_THREAD,
               blocks: bool | None = True, out=None) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` (with ``G6 (N,
@@ -183,7 +184,9 @@ def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=Non
     conditioning (``rows``) and statics under ``(F, T)`` at ``o`` (``statics``).  Returns the
     outputs by name (:data:`OUTPUTS`); with ``lines`` also ``lines (N, n, LINE_WIDTH)``, the
     joints the transmission indices read (``_kernels/_indices.pose_lines``), and the platform
-    ``platform (N, 27)`` of each pose (empty without).  ``per_thread``: the fewest poses
+    ``platform (N, 27)`` of each pose (empty without); with ``orient`` (and ``statics``)
+    ``det_sign`` times each leg's orientation (``_kernels/_orient.py``; the assembly-mode
+    sign before its reference, :func:`._quality.det_signs`).  ``per_thread``: the fewest poses
     worth a thread (fewer for poses that cost more, such as closures solved from home).
     ``blocks``: on one thread too, at least :data:`BLOCKS_ALONE` poses run in blocks (see
     there); None: only where this process has loaded the parallel kernel already (nothing
@@ -205,7 +208,7 @@ def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=Non
                  0 if comp is None else comp.shape[0], solve and X is None, bool(rows),
                  bool(statics), bool(continuation), bool(twists), bool(lines),
                  N if scattered else 0, 0, out is not None and out[0].kind[-1],
-                 N if G6 is not None and X0 is not None else 0)
+                 N if G6 is not None and X0 is not None else 0, bool(orient))
     # the inputs, packed (the layout is the plan's; the values are copied)
     If = np.empty(plan.in_nf)
     (p0, p1, psh), (x0, x1, xsh), (s0, s1, _), (f0, f1, _), (t0, t1, _), \

@@ -259,10 +259,11 @@ def det_reference(model, analyze) -> tuple:
             if J.shape != (6, 6):
                 break
             if not bool(np.atleast_1d(res.jacobian.singular_mask)[0]):
-                s = (int(_det_signs(res.jacobian)[0]), name)
+                plain = int(_det_signs(res.jacobian)[0])
+                s = (plain, name)
                 rows = np.array(J, float).reshape(6, 6)
                 # (the legs' orientation there: det_sign is det J's own sign at the reference)
-                _REF_ROWS[model] = (rows, _orientation(res, rows)[0])
+                _REF_ROWS[model] = (rows, float(_oriented(res, rows)[0]) * plain)
                 break
         _HOME[model] = s
     return s
@@ -297,71 +298,50 @@ def quality(analysis, analyze) -> Quality:
 
 def det_signs(analysis, reach, analyze) -> np.ndarray:
     """The sign of ``det J`` of every pose of an analysis (N poses; 0 where unreachable or
-    ``J`` is not square): the kernel's, from the statics, else by the kernel's LU, each leg's
-    constraint rows oriented by its joint twists (:func:`_oriented`)."""
+    ``J`` is not square), each leg's constraint rows oriented by its joint twists
+    (:func:`_oriented`, :mod:`._kernels._orient`), relative to their orientation at the
+    model's reference pose, where the sign is then ``det J``'s own: a reference direction
+    that passes through zero turns a row over, and with it the sign of ``det J``, where
+    ``J`` is not singular; oriented so, only a singularity changes it."""
     got = analysis.__dict__.get("_det_signs")       # (formed once an analysis)
     if got is not None:
         return got
     jac = analysis.jacobian
     N = len(jac)
-    det = analysis.diagnostics.get("det_sign")
-    if jac.matrix.shape[1:] != (6, 6):
-        det = np.zeros(N, int)
-    elif det is None:
-        det = _det_signs(jac)
-    det = np.nan_to_num(np.asarray(det, float))
+    det = np.zeros(N)
     if jac.matrix.shape[1:] == (6, 6) and N:
-        det = _oriented(analysis, det, analyze)
+        det_reference(analysis.model, analyze)
+        ref, at_ref = _REF_ROWS.get(analysis.model, (None, 1.0))
+        det = _oriented(analysis, ref) * at_ref
     det = det.astype(int)
     det[~np.asarray(reach, bool).reshape(N)] = 0
     analysis.__dict__["_det_signs"] = det
     return det
 
 
-def _oriented(analysis, det, analyze) -> np.ndarray:
-    """``det`` (the plain signs of ``det J``) with each leg's constraint rows oriented by its
-    own joint twists (:mod:`._kernels._orient`), relative to their orientation at the
-    model's reference pose (where the sign is then ``det J``'s own): a reference direction
-    that passes through zero turns a row over, and with it the sign of ``det J``, where
-    ``J`` is not singular; oriented so, only a singularity changes it.  (A leg with idle
-    motions: against its rows at the reference pose, ``analyze`` solving that pose.)"""
-    det_reference(analysis.model, analyze)
-    ref, at_ref = _REF_ROWS.get(analysis.model, (None, 1.0))
-    return np.asarray(det, float) * _orientation(analysis, ref) * at_ref
-
-
-def _orientation(analysis, ref) -> np.ndarray:
-    """``(N,)``: the product over the legs of their constraint rows' orientation (+-1; 0 where
-    one is not defined), by the kernel; ``ref`` the rows at the reference pose (None: not
-    solved yet, for the legs with idle motions)."""
+def _oriented(analysis, ref) -> np.ndarray:
+    """``(N,)``: the signs of ``det J`` times each leg's orientation (the analysis kernel's
+    where its run formed them, ``analyze(lines=True)``; else by :func:`._kernels._orient.
+    oriented_range` from the solved unknowns), a leg with idle motions against its rows
+    ``ref (6, 6)`` at the reference pose (None: not solved yet); 0 where one is not
+    defined."""
     from ._launch import _launch
     from ._kernels import kernels
-    model = analysis.model
-    jac = analysis.jacobian
-    N = len(jac)
-    legs = [ri.leg for ri in jac.info]
-    sizes = [len(lg.joints) for lg in model.home_legs]
-    ball = np.zeros((len(sizes), max(sizes)), np.int64)      # an S joint's parts: 1, 2, 3
-    for i, lg in enumerate(model.home_legs):
-        for j, jt in enumerate(lg.joints):
-            if getattr(jt.spec, "origin", "") == "S":
-                ball[i, j] = jt.spec.part + 1
-    groups: list = []
-    for r in range(jac.n_actuated, len(legs)):
-        if groups and legs[r] == groups[-1][0]:
-            groups[-1][2] = r + 1
-        else:
-            groups.append([legs[r], r, r + 1, sizes[legs[r]]])
-    if not groups or not N:
-        return np.ones(N)
-    c, cl = model.normalisation, analysis.solution.closures
-    X = np.ascontiguousarray(cl.X[len(cl.chains.unknown):].T)     # (the joints' unknowns)
-    out = np.empty(N)
-    k = kernels()
-    _launch(k.oriented_range, k.oriented_parallel,
-            (cl.chains.flat.M, X, kernel_array(jac.matrix), ball, np.array(groups, np.int64),
-             np.zeros(jac.matrix.shape[1:]) if ref is None else ref, kernel_array(c.centre),
-             float(c.length), np.ones(N), out), N, None)
+    from ._kernels import _layout as lay
+    c = analysis.solution.closures
+    M = c.chains.flat.M
+    k, size = M[lay.TPL][:, lay.T_K], M[lay.LEG][:, lay.L_SIZE]
+    det = analysis.diagnostics.get("det_sign")
+    in_run = det is not None and analysis.diagnostics.get("det_oriented")
+    out = np.nan_to_num(np.array(_det_signs(analysis.jacobian) if det is None else det, float))
+    legs = np.flatnonzero((k > 0) & ((size + k != 6) if in_run else True))
+    if legs.size and len(out):
+        cn = analysis.model.normalisation
+        _launch(kernels().oriented_range, kernels().oriented_parallel,
+                (M, np.ascontiguousarray(c.X[len(c.chains.unknown):].T),
+                 kernel_array(analysis.jacobian.matrix), legs.astype(np.int64),
+                 np.zeros((6, 6)) if ref is None else ref, kernel_array(cn.centre),
+                 float(cn.length), out), len(out), None)
     return out
 
 

@@ -36,13 +36,13 @@ CONTINUATION_STEPS = (16, 64)
 
 class ActuatorLines:
     """The legs of a model whose actuator carries the leg's length (module docstring), from
-    its flattened table ``REV`` (:func:`._arrays.line_table`): ``legs (k,)`` their indices,
-    ``rows (k,)`` the rows of their actuated joints' unknowns in the solver's ``X``, ``scale (k,)``
-    the unknown's scale (``q = X[row] scale``), ``home (k,)`` the signed lengths ``s^home``
-    (model lengths), ``sign``, ``limit (k,)`` the test's (a leg is reversed where ``sign
-    X[row] <= limit``).  The test itself is the kernels' (:mod:`._kernels._reversed`): every
-    analysis returns its poses' reversed legs (``reversed_mask``); :meth:`mask` tests
-    unknowns given here."""
+    its flattened table ``REV`` (:func:`._line_table.line_table`): ``legs (k,)`` their
+    indices, ``rows (k,)`` the rows of their actuated joints' unknowns in the solver's ``X``,
+    ``scale (k,)`` the unknown's scale (``q = X[row] scale``), ``home (k,)`` the signed
+    lengths ``s^home`` (model lengths), ``sign``, ``limit (k,)`` the test's (a leg is
+    reversed where ``sign X[row] <= limit``).  The test itself is the kernels'
+    (:mod:`._kernels._reversed`): every analysis returns its poses' reversed legs
+    (``reversed_mask``); :meth:`mask` tests unknowns given here."""
 
     __slots__ = ("table", "legs", "rows", "scale", "home", "sign", "limit")
 
@@ -66,7 +66,7 @@ class ActuatorLines:
 
 def actuator_lines(model) -> ActuatorLines:
     """The :class:`ActuatorLines` of a model (its flattened table,
-    :func:`._arrays.line_table`)."""
+    :func:`._line_table.line_table`)."""
     from ._flat import flatten
     flat = flatten(model)
     lines = flat.packed.get("lines")

@@ -173,7 +173,7 @@ def _chunk_task(model, rows, F, T, compliance, item):
 
 
 def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, workers,
-                progress, twists, lines=False, G6=None) -> Computed:
+                progress, twists, lines=False, G6=None, orient=False) -> Computed:
     """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
     they are, without the chunks' copies."""
     flat = ch.flat
@@ -187,7 +187,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     o = run_poses(flat, predictor_of(ch), P6,
                   X0=None if X0 is None else X0.T, G6=G6, side=side, F=F, T=T,
                   compliance=compliance, rows=rows, statics=F is not None, twists=twists,
-                  lines=lines, workers=workers)
+                  lines=lines, orient=orient, workers=workers)
     if progress:
         progress(N, N)
     closures = Closures(ch, o["X"].T, fixed, o["residual"], o["iterations"], o["how"],
@@ -209,7 +209,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
 def compute(model, fixed: dict, *, X0=None, G6=None, side=None, path=False,
             anchor_every=None, rows=True, F=None, T=None, chunk=CHUNK, workers=None,
             progress=None, compliance=None, mapper=None, twists=False,
-            lines=False) -> Computed:
+            lines=False, orient=False) -> Computed:
     """Solve and (``rows``) form the Jacobian rows, conditioning and statics of N poses.
 
     ``progress(done, total)``: ``total = N``, or ``2 N`` for a path with rows (its closures
@@ -217,7 +217,9 @@ def compute(model, fixed: dict, *, X0=None, G6=None, side=None, path=False,
     computes ``[fn(x) for x in items]`` elsewhere, e.g. on a Dask cluster; the path's
     closures are solved here, the rows and statics of its chunks by the mapper.  ``lines``
     (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
-    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`).  ``G6 (N,
+    and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`); ``orient``
+    (not a path): ``det_sign`` times the legs' orientation (``diagnostics["det_oriented"]``
+    says where it is).  ``G6 (N,
     6)`` (with ``X0``, not a path): the parameters of the poses the warm starts solve, by
     which the kernels move each start (:func:`~screwkit.engine._launch.run_poses`).
 
@@ -228,7 +230,7 @@ def compute(model, fixed: dict, *, X0=None, G6=None, side=None, path=False,
     comp = _compute(model, fixed, X0=X0, G6=G6, side=side, path=path,
                     anchor_every=anchor_every, rows=rows, F=F, T=T, chunk=chunk,
                     workers=workers, progress=progress, compliance=compliance,
-                    mapper=mapper, twists=twists, lines=lines)
+                    mapper=mapper, twists=twists, lines=lines, orient=orient)
     return _unreversed(model, comp, side, rows, F, T, compliance, workers, twists, lines)
 
 
@@ -261,7 +263,8 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
         sub = _one_launch(ch, templates, {k: v[done] for k, v in fx.items()}, idx.size,
                           X[:, done], None if sub_side is None else sub_side[done], rows, F,
                           T, _per_pose(compliance, len(c.residual), idx), workers, None,
-                          twists, lines)
+                          twists, lines, None,
+                          bool((comp.diagnostics or {}).get("det_oriented")))
         sc = sub.closures
         c.X[:, idx] = sc.X
         for name in ("residual", "singular_beta"):
@@ -287,7 +290,7 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
 
 
 def _compute(model, fixed: dict, *, X0, G6, side, path, anchor_every, rows, F, T, chunk,
-             workers, progress, compliance, mapper, twists, lines) -> Computed:
+             workers, progress, compliance, mapper, twists, lines, orient) -> Computed:
     """:func:`compute` by its routes (one launch, chunks, a path), as the kernels solve."""
     compile_analysis()                  # (a first run: the kernels compiled on two processes)
     ch = chains_of(model)
@@ -295,10 +298,14 @@ def _compute(model, fixed: dict, *, X0, G6, side, path, anchor_every, rows, F, T
     N = len(next(iter(fixed.values())))
     fixed = {k: np.asarray(v, float) for k, v in fixed.items()}
     templates = templates_of(model) if rows else None
+    orient = bool(orient and rows and F is not None and not path)
     if not path and N <= chunk:
-        return _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
-                           workers, progress, twists, lines, G6)
-    diag = {}
+        c = _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
+                        workers, progress, twists, lines, G6, orient)
+        if orient:
+            c.diagnostics["det_oriented"] = True
+        return c
+    diag = {"det_oriented": True} if orient else {}
     steps = 2 * N if path and rows else N          # a path: the closures, then the rows
     chunk = max(1, int(chunk))
     slices = _chunks(N, chunk)
@@ -366,7 +373,8 @@ def _compute(model, fixed: dict, *, X0, G6, side, path, anchor_every, rows, F, T
                           G6=None if G6 is None or path else G6[sl], X=X[sl] if path else None,
                           side=None if side is None else side[sl], F=F, T=T, compliance=comp,
                           rows=rows, statics=statics, twists=twists, lines=lines,
-                          workers=workers, out=None if path else (buffers, sl.start))
+                          orient=orient, workers=workers,
+                          out=None if path else (buffers, sl.start))
             if path:
                 res[sl] = np.where(np.isfinite(path_res[sl]), o["residual"], np.inf)
             elif progress:

@@ -15,16 +15,17 @@ from ._block import lane_frames_into
 from ._members import DONE, NOT_DONE, SC_STATUS
 from ._indices import pose_lines
 from ._kin import forward
-from ._layout import (D, F_LINES, F_ROWS, F_STATICS, F_TWISTS, LEG, L_ACT, L_AROW, OUT_AMP,
-                      OUT_CCOND, OUT_CENTRE, OUT_COND, OUT_CRANK, OUT_DET, OUT_EQ, OUT_J,
-                      OUT_LENGTH, OUT_LINES, OUT_PLATFORM, OUT_RANK, OUT_RES, OUT_ROWS_OK,
-                      OUT_SCALE, OUT_STRUCT, OUT_SV, OUT_TWISTS, OUT_VALUES, OUT_X, RL_SC,
-                      RL_SP, RL_TW, ROWS)
+from ._layout import (D, F_LINES, F_ORIENT, F_ROWS, F_STATICS, F_TWISTS, LEG, L_ACT, L_AROW, L_SIZE,
+                      OUT_AMP, OUT_CCOND, OUT_CENTRE, OUT_COND, OUT_CRANK, OUT_DET, OUT_EQ,
+                      OUT_J, OUT_LENGTH, OUT_LINES, OUT_PLATFORM, OUT_RANK, OUT_RES,
+                      OUT_ROWS_OK, OUT_SCALE, OUT_STRUCT, OUT_SV, OUT_TWISTS, OUT_VALUES, OUT_X,
+                      PLAT, RL_SC, RL_SP, RL_TW, ROWS, TPL)
+from ._orient import leg_orientation, orients
 from ._newton import W_FA, W_FE, W_FL, W_FP, W_P6, W_S, W_XN
 from ._pack import out_row
 from ._rows import RW_TW, leg_frames, leg_rows, template_rows
-from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_D, SW_JN, SW_SP,
-                       conditioning_lanes, normalise_rows, spread_lanes)
+from ._statics import (CW_COND, CW_D, CW_JN, CW_O, CW_RANK, CW_SV, SW_D, SW_JN, SW_LU, SW_PIV,
+                       SW_SP, conditioning_lanes, normalise_rows, spread_lanes)
 from ._statics_block import statics_block
 
 
@@ -67,6 +68,11 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
     ok = True
     tw_out = O[OUT_TWISTS]
     leg = M[LEG]
+    # the legs' orientation of det J's sign (_orient), asked for, where the statics forms
+    # that sign
+    statics = flags[F_STATICS] and O[OUT_DET].shape[0] > 0
+    orient = statics and flags[F_ORIENT] and mr == 6
+    sign = 1.0
     for i in range(n):
         a = leg[i, L_AROW]
         if lane >= 0 and RL[RL_SC][i, SC_STATUS, lane] != NOT_DONE:
@@ -77,6 +83,13 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
             if flags[F_TWISTS] and a >= 0:
                 for k in range(6):
                     tw_out[q, a, k] = RL[RL_TW][i, leg[i, L_ACT], k, lane]
+            if orient and orients(leg[i], M[TPL][i]):
+                tw = RW[RW_TW]          # (the one-pose twists: free for this leg's lane's)
+                for j in range(leg[i, L_SIZE]):
+                    for k in range(6):
+                        tw[j, k] = RL[RL_TW][i, j, k, lane]
+                sign *= leg_orientation(leg[i], M[TPL][i], M[PLAT], tw, J, SW[SW_LU],
+                                        SW[SW_PIV])
             continue
         if lane >= 0:
             lane_frames_into(M, i, RL, lane, RW, FA[b, i])
@@ -87,11 +100,16 @@ def finish_rows(M, Z, I, O, flags, p, W, RW, SW, b, res, CW, l, lines_here, RL, 
             lok, st = leg_rows(M, i, RW, FA[b, i], fp, J, scale)
         ok = ok and lok
         O[OUT_STRUCT][q, i] = st
+        if orient and orients(leg[i], M[TPL][i]):
+            sign *= leg_orientation(leg[i], M[TPL][i], M[PLAT], RW[RW_TW], J, SW[SW_LU],
+                                    SW[SW_PIV])
         if flags[F_TWISTS] and a >= 0:
             tw = RW[RW_TW][leg[i, L_ACT]]
             for k in range(6):
                 tw_out[q, a, k] = tw[k]
     O[OUT_ROWS_OK][q] = ok
+    if statics:                         # (the statics multiplies it by det J's own sign)
+        O[OUT_DET][q] = sign
     # the centroid, spread and origin: the block's lane's, else formed here
     S, sl = RL[RL_SP], lane
     if lane < 0:

@@ -18,8 +18,9 @@ idx   name      dtype, shape   holds
 7     HINGE     f8 (n, m, 3)   its hinge ``b x D / |b|``
 8     BLEN      f8 (n, m)      ``|b|`` (0 where no Pa)
 9     KIND      i8 (n, m)      joint kind: 0 R, 1 P, 2 H, 3 Pa
-10    LEG       i8 (n, 4)      joints, actuated slot, active (1) or passive (0), row of
-                               its actuation row in J (-1 for a passive leg)
+10    LEG       i8 (n, 5)      joints, actuated slot, active (1) or passive (0), row of
+                               its actuation row in J (-1 for a passive leg), slot of
+                               its first S joint's first part (-1: no S joint)
 11    PLAT      f8 (28,)       base frame R0 (9, row-major), p0 (3); platform at home
                                Rh (9), ph (3); the model's centroid c (3) and length L
 12    ORDER     i8 (5,)        Euler axes (3), intrinsic (1/0), proper (1/0)
@@ -57,7 +58,7 @@ PTS, DIRS, GRP, TPL, GREF, ROWS, REV = range(15, 22)
 # joint kinds
 K_R, K_P, K_H, K_PA = 0, 1, 2, 3
 # LEG columns
-L_SIZE, L_ACT, L_ACTIVE, L_AROW = 0, 1, 2, 3
+L_SIZE, L_ACT, L_ACTIVE, L_AROW, L_BALL = 0, 1, 2, 3, 4
 # PLAT offsets
 P_R0, P_P0, P_RH, P_PH, P_C, P_L = 0, 9, 12, 21, 24, 27
 # named point types
@@ -126,7 +127,9 @@ RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP 
 
 #: The outputs of the analysis kernel (``_driver``), in its order (``_launch``), and its
 #: flags: solve, rows, statics, continuation, actuated twists, the lines of the transmission
-#: indices' joints and the platform (1/0 each).  ``OUT_EXCESS``: a path level's samples'
+#: indices' joints and the platform, the legs' orientation in ``OUT_DET`` (1/0 each).
+#: ``OUT_DET``: the sign of a square ``J``'s determinant, times its legs' orientation
+#: (``_orient.leg_orientation``) with ``F_ORIENT``.  ``OUT_EXCESS``: a path level's samples'
 #: excess (``_levels.moved_beyond``; no rows otherwise).  ``OUT_REVERSED``: each pose's legs
 #: whose actuator its unknowns run through zero length (bit ``i`` for leg ``i``, ``REV``).
 (OUT_X, OUT_RES, OUT_ITS, OUT_HOW, OUT_SING, OUT_J, OUT_SCALE, OUT_ROWS_OK, OUT_STRUCT,
@@ -135,7 +138,7 @@ RL_CTX, RL_PV, RL_DV, RL_TW, RL_J, RL_SCALE, RL_SC, RL_R, RL_V, RL_BASIS, RL_SP 
  OUT_REVERSED) = range(25)
 #: ``REV``'s columns.
 RV_LEG, RV_ROW, RV_SIGN, RV_LIMIT, RV_HOME, RV_SCALE = range(6)
-F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES = range(6)
+F_SOLVE, F_ROWS, F_STATICS, F_CONTINUATION, F_TWISTS, F_LINES, F_ORIENT = range(7)
 
 #: A path level's stencils (``_levels.level_stencil``), a sample's start: the columns, its
 #: kind (``SK_*``), the four weights, the four rows of the unknowns it reads (the cubic's

@@ -9,26 +9,32 @@ twists and ``k`` constraint rows make six spans the whole space with them (its r
 twists' reciprocal complement: in the ``[v; w]``, ``[f; m]`` order the plain orthogonal
 complement), so ``det [t_1; ...; t_m; c_1; ...; c_k]`` is not zero while the leg's joints
 stay independent, and its sign, times the leg's rows, orients them continuously along any
-motion: ``det J`` times those signs changes sign at a singularity only.  The joint twists
-follow the joints' own axes (no convention), in chain order, but for an S joint: its three
-R axes are one representation of a ball, whose other branch (the same ball, the same link)
-turns some of them over, so its twists are the rotations about the world's X, Y and Z axes
-through its centre, whatever the branch.  A leg with idle motions (more
-joints than that) is oriented against its rows at the model's reference pose instead.  The
-rows are taken about the normalisation centre ``c``, moments and velocities over ``L``, at
-unit norm: a determinant whose sign a move of the base frame or a change of units keeps.
-"""
+motion: ``det J`` times those signs changes sign at a singularity only
+(:func:`leg_orientation`, which the analysis kernel applies to each pose's sign of ``det
+J``: ``_finish.finish_rows``).  The joint twists follow the joints' own axes (no
+convention), in chain order, but for an S joint: its three R axes are one representation
+of a ball, whose other branch (the same ball, the same link) turns some of them over, so
+its twists are the rotations about the world's X, Y and Z axes through its centre,
+whatever the branch.  The rows are taken about the model's centroid ``c``, moments and
+velocities over ``L`` (the sign of the determinant does not depend on the point or the
+length: reciprocity is kept by both changes, and the rows' part along the twists'
+complement is moved by a positive definite map; nor on the rows' norms, which are left).
 
-import math
+The analysis kernel forms the orientation where it is asked to (a map's analysis), as each
+leg's rows are formed; :func:`oriented_range` forms it for an analysis whose run did not,
+from its solved unknowns (the legs' joints formed again on a block's lanes), and orients a
+leg with idle motions (more joints than ``6 - k``: few legs have both) against its rows at
+the model's reference pose.
+"""
 
 import numpy as np
 
 from numba import prange
 
-from ._jit import entry, inner, one_lane, parallel
+from ._jit import borrowing, entry, inner, parallel
 from ._kin import chain, joint_twist
-from ._layout import BLOCK, D
-from ._rows import _normalise_twist, _normalise_wrench
+from ._layout import BLOCK, D, LEG, L_BALL, L_SIZE, PLAT, P_C, P_L, TPL, T_CROW, T_K
+from ._rows import _normalise_twist, _normalise_wrench, unit_row
 from ._small import lu_factor
 
 #: ``|det (C_p C_ref^T)|`` of a leg's unit, length-normalised constraint rows against its
@@ -37,19 +43,76 @@ from ._small import lu_factor
 ORIENT_MIN = 1e-3
 
 
+@borrowing
+def orients(leg, tpl):
+    """Whether :func:`leg_orientation` orients the leg (rows ``leg`` of ``LEG``, ``tpl`` of
+    ``TPL``): it has constraint rows and no idle motion."""
+    return tpl[T_K] > 0 and leg[L_SIZE] + tpl[T_K] == 6
+
+
+@borrowing
+def leg_orientation(leg, tpl, plat, TW, J, A, piv):
+    """The orientation of a leg's constraint rows ``J[T_CROW:T_CROW + T_K] (6,)`` (of ``J
+    (mr, 6)``) by its joint twists ``TW (m, 6)`` (unit twists ``[v; w]`` about the base
+    origin, the kernels' ``joint_twist``): the sign of ``det [t_1..t_m; c_1..c_k]`` (an S
+    joint's three parts, from ``leg[L_BALL]`` on, as the rotations about X, Y, Z through its
+    centre), each row about the model's centroid, lengths over ``L`` (``plat``: the model's
+    ``PLAT``); 0 where the joints are dependent; 1 for a leg without
+    constraint rows or with idle motions (``m + k != 6``: :func:`oriented_range`).  ``leg``,
+    ``tpl``: the leg's rows of ``LEG`` and ``TPL``; ``A (6, 6)``, ``piv (6,)`` scratch."""
+    k, r0, mj, b = tpl[T_K], tpl[T_CROW], leg[L_SIZE], leg[L_BALL]
+    if not orients(leg, tpl):
+        return 1.0
+    c, L = plat[P_C:P_C + 3], plat[P_L]
+    for j in range(mj):
+        if b >= 0 and b <= j < b + 3:
+            _ball_axis(TW, b, j - b, c, L, A[j])
+        else:
+            _normalise_twist(TW[j], c, L, A[j])
+    for r in range(k):
+        w = J[r0 + r]
+        _normalise_wrench(w[0], w[1], w[2], w[3], w[4], w[5], c, L, A[mj + r])
+    return lu_factor(A, 6, piv)
+
+
+@borrowing
+def _ball_axis(TW, b, part, c, L, out):
+    """The rotation about the world axis ``part`` (0, 1, 2: X, Y, Z) through the centre ``s``
+    of the S joint whose parts are ``TW[b:b + 3]``, about ``c``, velocities over ``L``:
+    ``[(s - c) x e / L; e]``.  ``s`` is where its first two parts' axes meet (``v_j = s x
+    w_j``; the two stay at their home angle, a right angle, as the first turns the second
+    about itself): ``s = w_1 x v_1 / |w_1|^2 + lambda w_1``, ``lambda`` from the second."""
+    w1, v1, w2, v2 = TW[b, 3:], TW[b, :3], TW[b + 1, 3:], TW[b + 1, :3]
+    n1 = w1[0] * w1[0] + w1[1] * w1[1] + w1[2] * w1[2]
+    s0 = (w1[1] * v1[2] - w1[2] * v1[1]) / n1
+    s1 = (w1[2] * v1[0] - w1[0] * v1[2]) / n1
+    s2 = (w1[0] * v1[1] - w1[1] * v1[0]) / n1
+    x0, x1, x2 = w1[1] * w2[2] - w1[2] * w2[1], w1[2] * w2[0] - w1[0] * w2[2], \
+        w1[0] * w2[1] - w1[1] * w2[0]
+    r0 = v2[0] - (s1 * w2[2] - s2 * w2[1])
+    r1 = v2[1] - (s2 * w2[0] - s0 * w2[2])
+    r2 = v2[2] - (s0 * w2[1] - s1 * w2[0])
+    lam = (r0 * x0 + r1 * x1 + r2 * x2) / max(x0 * x0 + x1 * x1 + x2 * x2, 1e-300)
+    d0, d1, d2 = s0 + lam * w1[0] - c[0], s1 + lam * w1[1] - c[1], s2 + lam * w1[2] - c[2]
+    e0, e1, e2 = 1.0 if part == 0 else 0.0, 1.0 if part == 1 else 0.0, 1.0 if part == 2 else 0.0
+    out[0], out[1], out[2] = (d1 * e2 - d2 * e1) / L, (d2 * e0 - d0 * e2) / L, \
+        (d0 * e1 - d1 * e0) / L
+    out[3], out[4], out[5] = e0, e1, e2
+
+
 @entry
-def oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, start, stop):
-    """``out[p] = det[p]`` times the orientation of each leg's constraint rows of ``J[p]
-    (N, mr, 6)``, poses ``start:stop``; ``groups[g] = (leg, first row, stop row, joints)``:
-    with ``joints + rows == 6`` the sign of ``det`` of the leg's joint twists (at the joint
-    values ``X[p] (N, n m)``, the legs' slots in turn; an S joint's part ``ball[leg, j] = 1,
-    2, 3``: the rotation about X, Y, Z through its centre) over its rows, else the sign of
-    ``det (C_p C_ref^T)`` against ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where
-    ``det[p]`` is 0 (or not a number: an unreachable pose).  The legs' joints are formed
+def oriented_range(M, X, J, legs, ref, centre, L, out, start, stop):
+    """``out[p] *=`` the orientation of the constraint rows of ``J[p] (N, mr, 6)`` of each
+    leg of ``legs``, poses ``start:stop``: :func:`leg_orientation` at its joint values
+    (``X[p] (N, n m)``, the legs' slots in turn), or for a leg with idle motions the sign of
+    ``det (C_p C_ref^T)`` of its unit rows about ``centre``, moments over ``L``, against its
+    rows at the reference pose ``ref (mr, 6)`` (0 below :data:`ORIENT_MIN`); 0 where
+    ``out[p]`` is 0 or not a number (an unreachable pose).  The legs' joints are formed
     ``BLOCK`` poses at a time on the lanes of the frames kernel's ``chain`` (each lane the
     one pose's arithmetic)."""
     mr, nx = J.shape[1], X.shape[1]
     n, m = M[D].shape[0], M[D].shape[1]
+    LG, TP, plat = M[LEG], M[TPL], M[PLAT]
     a, b = np.empty((mr, 6)), np.empty((mr, 6))
     A, G = np.empty((6, 6)), np.zeros((3, 3))
     piv = np.zeros(6, np.int64)
@@ -63,46 +126,39 @@ def oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, start, stop)
         for l in range(nb):
             for k in range(nx):
                 Xb[k, l] = X[p0 + l, k]
-        for g in range(groups.shape[0]):
-            leg = groups[g, 0]
-            if groups[g, 3] + groups[g, 2] - groups[g, 1] == 6:
-                chain(M, leg, Xb, leg * m, FA[leg], RT, nb, BLOCK, False, Rsl, E, CS)
+        for g in range(legs.shape[0]):
+            i = legs[g]
+            if orients(LG[i], TP[i]):
+                chain(M, i, Xb, i * m, FA[i], RT, nb, BLOCK, False, Rsl, E, CS)
         for l in range(nb):
             p = p0 + l
-            s = det[p]
+            s = out[p]
             if s == 0.0 or s != s:
                 out[p] = 0.0
                 continue
-            _unit_wrenches(J[p], centre, L, a)
-            for g in range(groups.shape[0]):
-                leg, r0, r1, mj = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-                k = r1 - r0
-                if mj + k == 6:
-                    for j in range(mj):
+            unit = False
+            for g in range(legs.shape[0]):
+                i = legs[g]
+                if orients(LG[i], TP[i]):
+                    for j in range(LG[i, L_SIZE]):
                         for q in range(6):
-                            fa[j, q] = FA[leg, j, q, l]
-                    for j in range(mj):
-                        joint_twist(M, leg, j, fa, TW[j])
-                    _unit_twists(TW, fa, ball[leg], mj, centre, L, A)
-                    for i in range(k):
-                        for q in range(6):
-                            A[mj + i, q] = a[r0 + i, q]
-                    d = lu_factor(A, 6, piv)
+                            fa[j, q] = FA[i, j, q, l]
+                        joint_twist(M, i, j, fa, TW[j])
+                    d = leg_orientation(LG[i], TP[i], plat, TW, J[p], A, piv)
                 else:
-                    d = _against(a, b, r0, k, G)
-                if d == 0.0:
-                    s = 0.0
-                    break
-                if d < 0.0:
-                    s = -s
+                    if not unit:
+                        _unit_wrenches(J[p], centre, L, a)
+                        unit = True
+                    d = _against(a, b, TP[i, T_CROW], TP[i, T_K], G)
+                s = s * d
             out[p] = s
 
 
 @parallel
-def oriented_parallel(M, X, J, ball, groups, ref, centre, L, det, out, nchunks):
+def oriented_parallel(M, X, J, legs, ref, centre, L, out, nchunks):
     N = J.shape[0]
     for c in prange(nchunks):
-        oriented_range(M, X, J, ball, groups, ref, centre, L, det, out, c * N // nchunks,
+        oriented_range(M, X, J, legs, ref, centre, L, out, c * N // nchunks,
                        (c + 1) * N // nchunks)
 
 
@@ -134,32 +190,4 @@ def _unit_wrenches(W, c, L, out):
     normalisation, :func:`._rows._normalise_wrench`), at unit norm."""
     for r in range(W.shape[0]):
         _normalise_wrench(W[r, 0], W[r, 1], W[r, 2], W[r, 3], W[r, 4], W[r, 5], c, L, out[r])
-        _unit(out, r)
-
-
-@inner
-def _unit_twists(T, FA, ball, m, c, L, out):
-    """The twists ``T[:m] (6,)`` (an S joint's parts: the rotations about X, Y, Z through its
-    point ``FA[j, 3:]``) about ``c``, velocities over ``L`` (:func:`._rows._normalise_twist`),
-    at unit norm, into the first ``m`` rows of ``out``."""
-    t = np.empty(6)
-    for r in range(m):
-        if ball[r] > 0:               # [s x e; e], e the world axis, s the S centre
-            for q in range(3):
-                t[3 + q] = 1.0 if ball[r] == q + 1 else 0.0
-            s0, s1, s2 = FA[r, 3], FA[r, 4], FA[r, 5]
-            t[0], t[1], t[2] = s1 * t[5] - s2 * t[4], s2 * t[3] - s0 * t[5], s0 * t[4] - s1 * t[3]
-            _normalise_twist(t, c, L, out[r])
-        else:
-            _normalise_twist(T[r], c, L, out[r])
-        _unit(out, r)
-
-
-@inner
-def _unit(out, r):
-    n = 0.0
-    for q in range(6):
-        n += out[r, q] * out[r, q]
-    n = max(math.sqrt(n), 1e-300)
-    for q in range(6):
-        out[r, q] /= n
+        unit_row(out, r)

@@ -61,6 +61,17 @@ def _normalise_twist(t, c, L, out):
 
 
 @borrowing
+def unit_row(out, r):
+    """Row ``r`` of ``out (., 6)`` at unit norm (a zero row stays zero)."""
+    n = 0.0
+    for q in range(6):
+        n += out[r, q] * out[r, q]
+    n = max(math.sqrt(n), 1e-300)
+    for q in range(6):
+        out[r, q] /= n
+
+
+@borrowing
 def generic_members(M, i, RW, cons):
     """The leg's constraint members by the generic rule into ``cons[:k]`` (physical, a unit
     force or couple each); returns False where they are not well defined."""
@@ -71,12 +82,7 @@ def generic_members(M, i, RW, cons):
     for j in range(size):
         t = tw[j]
         _normalise_twist(t, c, L, Tn[j])
-        s = 0.0
-        for q in range(6):
-            s += Tn[j, q] * Tn[j, q]
-        s = max(math.sqrt(s), 1e-300)
-        for q in range(6):
-            Tn[j, q] /= s
+        unit_row(Tn, j)
     # the row space of the twists by one-sided Jacobi: rows orthogonal, norms the singular
     # values; the constraint space is its orthogonal complement (rank 6 - k)
     jacobi_rows(Tn, size, Tn, False)

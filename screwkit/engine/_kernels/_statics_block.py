@@ -126,4 +126,5 @@ def statics_block(I, p0, nb, mr, SW, CW, Jo, centres, lengths, svo, values_o, eq
             o[q] = co[q, l]
         eq[row] = equilibrium(J, mr, values, Wp, centre, L, dp)
         amp[row] = amplification(values, mr, torque, Wp, o, L)
-        det[row] = sign
+        # (times the legs' orientation that _finish.finish_rows put there: _orient)
+        det[row] = sign * det[row]
