@@ -160,7 +160,9 @@ class PMAnalysis:
             good &= eq.reshape(len(eq), -1).max(axis=1) <= 1e-8
         return bool(good[0]) if self.single else good
 
-    residual = property(lambda self: self.solution.residual, doc="The closure residual(s).")
+    @property
+    def residual(self):
+        return self.solution.residual
 
     @cached_property
     def _actuated_twists(self):
@@ -339,8 +341,7 @@ def analyze(model, pose=None, *, force=None, torque=None, degrees: bool = False,
         Also keep, from the same kernel run, each actuated leg's actuated-joint unit twist
         (:attr:`PMAnalysis.actuated_twists`; formed on first read otherwise).
     lines : bool
-        Keep from this run what a map reads: the joints :attr:`PMAnalysis.indices` reads,
-        the platform, the legs' orientation of ``quality.det_sign`` (else a second pass).
+        Keep from this run what maps read: the indices' joints, platform, det_sign orientation.
     """
     _options(threshold, chunk, workers, degrees, path, progress, anchor_every,
              raise_on_singular, twists, lines)

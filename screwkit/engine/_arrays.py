@@ -216,10 +216,14 @@ def joint_arrays(legs, L):
 
 
 def _ball_slot(leg) -> int:
-    """The slot of the leg's first S joint's first part (its three R parts follow in turn;
-    ``LEG``'s ``L_BALL``), -1 without an S joint."""
-    for j, jt in enumerate(leg.joints):
-        if getattr(jt.spec, "origin", "") == "S" and jt.spec.part == 0:
+    """The slot of the leg's first S joint's first part (its three R parts follow in turn,
+    as the leg string's expansion places them; ``LEG``'s ``L_BALL``), -1 without one."""
+    specs = [j.spec for j in leg.joints]
+    for j, sp in enumerate(specs):
+        if getattr(sp, "origin", "") == "S" and sp.part == 0:
+            if [(getattr(s, "origin", ""), getattr(s, "part", -1)) for s in specs[j:j + 3]] != \
+                    [("S", 0), ("S", 1), ("S", 2)]:
+                raise ValueError(f"{leg.name}: the parts of its S joint are not in turn")
             return j
     return -1
 

@@ -219,9 +219,9 @@ def compute(model, fixed: dict, *, X0=None, G6=None, side=None, path=False,
     (with ``rows``, not with a mapper): also the lines of the transmission indices' joints
     and the platform of every pose (:func:`~screwkit.engine._launch.run_poses`); ``orient``
     (not a path): ``det_sign`` times the legs' orientation (``diagnostics["det_oriented"]``
-    says where it is).  ``G6 (N,
-    6)`` (with ``X0``, not a path): the parameters of the poses the warm starts solve, by
-    which the kernels move each start (:func:`~screwkit.engine._launch.run_poses`).
+    says where it is).  ``G6 (N, 6)`` (with ``X0``, not a path): the parameters of the
+    poses the warm starts solve, by which the kernels move each start
+    (:func:`~screwkit.engine._launch.run_poses`).
 
     A pose whose solution runs a leg's linear actuator to a negative length
     (:mod:`._reversal`) is solved again (its reversed legs from home, else by continuation

@@ -52,7 +52,7 @@ def orients(leg, tpl):
 
 @borrowing
 def leg_orientation(leg, tpl, plat, TW, J, A, piv):
-    """The orientation of a leg's constraint rows ``J[T_CROW:T_CROW + T_K] (6,)`` (of ``J
+    """The orientation of a leg's constraint rows ``J[T_CROW:T_CROW + T_K] (k, 6)`` (of ``J
     (mr, 6)``) by its joint twists ``TW (m, 6)`` (unit twists ``[v; w]`` about the base
     origin, the kernels' ``joint_twist``): the sign of ``det [t_1..t_m; c_1..c_k]`` (an S
     joint's three parts, from ``leg[L_BALL]`` on, as the rotations about X, Y, Z through its
