@@ -52,6 +52,8 @@ def _bench_kernel():
                                                   home_vector, make_work, newton_step,
                                                   platform_columns)
     from screwkit.engine._kernels._pack import model, params
+    from screwkit.engine._kernels._layout import SY_SIZE
+    from screwkit.engine._kernels._path_loop import level_of, path_state
 
     @njit
     def parts(Mf, Mi, Md, Zf, Zi, Zd, P6, Xs, what):
@@ -101,9 +103,13 @@ def _bench_kernel():
 
     @njit
     def driver(Mf, Mi, Md, Zf, Zi, Zd, I, O, flags):
-        # one piece of all the poses, claimed from a counter of this call (one thread)
+        # one piece of all the poses, claimed from a counter of this call (one thread);
+        # no path (an empty path state: the level of a launch that is not a path's)
         taken = np.zeros(1, np.int64)
-        run_blocks(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, I[0].shape[0], taken)
+        H, V, P6, res, comp = path_state(np.empty(0), np.empty(0, np.int64))
+        N = I[0].shape[0]
+        L = level_of(H, V, P6, res, comp, np.zeros(SY_SIZE, np.int64), N)
+        run_blocks(model(Mf, Mi, Md), params(Zf, Zi, Zd), I, O, flags, N, 1, taken, L)
 
     return parts, blocks, driver
 
@@ -171,8 +177,8 @@ def measure(name: str, n: int = 20_000) -> None:
              np.zeros((0, ch.flat.n), np.int64), np.zeros((0, 3)), z[0],
              np.zeros((0, min(mr, 6))), z[1], z[0], z[1], z[0], np.zeros((0, mr)), z[0], z[0],
              z[0], np.zeros((0, na, 6)), np.zeros((0, ch.flat.n, LINE_WIDTH)),
-             np.zeros((0, 27)), z[0])
-        flags = np.array([1, 0, 0, 1, 0, 0], np.int64)
+             np.zeros((0, 27)), z[0], np.zeros(n, np.int64))
+        flags = np.array([1, 0, 0, 1, 0, 0, 0], np.int64)
         t, _ = _best(lambda: driver(*args, I, O, flags))
         rows.append((label, t * us, f"{O[2].mean():.2f} steps a pose"))
     from screwkit.engine._launch import run_poses as launch

@@ -11,7 +11,8 @@ this process: linux perf's map of JIT code), so that ``perf report`` names them:
 Workloads (3RRPRR, ``bench_engine.py``'s poses): ``path`` (the 100,000-sample path),
 ``random`` (100,000 random poses, closures from the home predictor), ``warm`` (1,000 calls
 of ``screwkit.analyze`` at one pose warm-started from a neighbour), ``given`` (50,000
-random poses' rows, conditioning and statics from their solved unknowns, on one thread).  Each
+random poses' rows, conditioning and statics from their solved unknowns, on one thread),
+``map`` (``screwkit.map`` of 100 x 100 x 100 cells, ``bench_engine.py --map``'s).  Each
 function's size in the map runs to the next one's start: a function's samples are exact,
 the last one's may take in code after it.  Functions LLVM inlined are part of their callers
 (``_jit.borrowing_inlined``); ``_jit.borrowing`` ones are functions of their own, as a rule.
@@ -54,6 +55,9 @@ def workload(kind: str):
         pose = {"alpha": np.radians(10 * np.sin(2 * np.pi * s)),
                 "beta": np.radians(8 * np.cos(2 * np.pi * s)), "Zo": 70 + 20 * s}
         return lambda: screwkit.analyze(pm, pose, path=True, **load)
+    if kind == "map":
+        grid = {"alpha": (-15.0, 15.0, 100), "beta": (-15.0, 15.0, 100), "Zo": (60.0, 100.0, 100)}
+        return lambda: screwkit.map(pm, grid, degrees=True)
     if kind == "warm":
         one = {"alpha": np.radians(5.0), "beta": np.radians(-3.0), "Zo": 80.0}
         near = {"alpha": np.radians(5.1), "beta": np.radians(-3.0), "Zo": 80.2}
@@ -66,7 +70,7 @@ def workload(kind: str):
     if kind == "random":
         return lambda: screwkit.analyze(pm, pose, **load)
     if kind != "given":
-        raise SystemExit(f"unknown workload {kind!r}: path, random, given or warm")
+        raise SystemExit(f"unknown workload {kind!r}: path, random, given, warm or map")
     X = np.ascontiguousarray(screwkit.analyze(pm, pose).solution.closures.X.T)
     ch = chains_of(pm)
     Z, P6 = predictor_of(ch), ch.full_params(pose, n)

@@ -323,3 +323,29 @@ def test_lu_block_and_det_sign_batch_are_the_matrices_alone(lu):
     assert sign[40] == 0.0
     fin = np.isfinite(A).all(axis=(1, 2))
     assert np.array_equal(sign[fin], np.sign(np.linalg.det(A[fin])))
+
+
+def test_lu_of_one_lane_is_the_lanes_with_ties_and_zero_pivots(lu):
+    """The one-lane LU (``_small._lu_lane``, its own loop form: the pivot and its row held in
+    registers) makes each comparison, interchange and update of the lanes' form: on small
+    integer matrices (ties between candidate pivots, exact zero pivots mid-way, whole zero
+    columns and rows) its factors, pivots and signs are the lanes' bit for bit, and its
+    signs those of the exact determinants (integers, which numpy's rounds to)."""
+    rng = np.random.default_rng(11)
+    N = 2 * B + 29
+    A = rng.integers(-2, 3, size=(N, 6, 6)).astype(float)
+    A[:20, :, 3] = 0.0                             # a zero column: det 0 at pivot 3 or later
+    A[20:40, 4] = A[20:40, 1]                      # two equal rows
+    A[40:50] = 0.0
+    A[50:60] = np.eye(6)[rng.permutation(6)]       # permutations: every pivot a tie of ones
+    A[61, 2, 5] = np.nan
+    b = rng.normal(size=(N, 6))
+    alone, lanes = lu(A, b, 0), lu(A, b, B)
+    assert np.array_equal(alone[0], lanes[0], equal_nan=True)
+    assert np.array_equal(alone[1], lanes[1]) and np.array_equal(alone[3], lanes[3])
+    solved = alone[3] != 0.0
+    assert np.array_equal(alone[2][solved], lanes[2][solved], equal_nan=True)
+    fin = np.isfinite(A).all(axis=(1, 2))
+    exact = np.round(np.linalg.det(A[fin]))
+    assert np.array_equal(alone[3][fin], np.sign(exact))
+    assert (alone[3][fin] == 0.0).sum() >= 50      # (the singular ones are there)

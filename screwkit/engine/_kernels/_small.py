@@ -10,7 +10,7 @@ pivoting.  Eigenvalues and singular values are in :mod:`._eigen`.
 import math
 
 import numpy as np
-from ._jit import borrowing, borrowing_inlined, inlined, inner, lanes, one_lane
+from ._jit import borrowing, borrowing_inlined, choose, inlined, inner, lanes, one_lane
 from ._layout import BLOCK
 
 
@@ -204,9 +204,14 @@ def lu_lanes(A, n, piv, nb, ls):
     j]|``, the same comparisons), the interchange of whole rows and the elimination by
     selects across the lanes.  A lane whose pivot is exactly zero stops there (its later
     ``piv`` entries -1, the rest of its ``A`` untouched): :func:`lu_sign` gives it 0.
-    Inlined into :func:`lu_factor` (one lane) and :func:`lu_block` (``BLOCK`` lanes) only."""
+    Inlined into :func:`lu_factor` (one lane) and :func:`lu_block` (``BLOCK`` lanes) only;
+    one lane (``ls`` 1) takes :func:`_lu_lane`, the same operations in the same order."""
     m = A.shape[1]
     a, pv = lanes(A), lanes(piv)
+    if ls == 1:
+        if nb == 1:
+            _lu_lane(a, n, pv, m)
+        return
     for j in range(n):
         jj = (j * m + j) * ls
         # each lane's pivot, its own comparisons in its order (the candidate rows in the outer
@@ -248,6 +253,43 @@ def lu_lanes(A, n, piv, nb, ls):
                     live = (pv[j * ls + k] >= 0) & (a[jj + k] != 0.0)
                     x = a[ic + k]
                     a[ic + k] = x - a[ij + k] * a[jc + k] if live else x
+
+
+@inlined
+def _lu_lane(a, n, pv, m):
+    """:func:`lu_lanes` of one lane (``a``, ``pv`` its flat ``A (m, m)`` and ``piv``): each
+    comparison, interchange, multiplier ``a[i, j] * (1 / a[j, j])`` and update of the lanes'
+    loops, in their order (the same bits: ``tests/test_kernels_lanes.py``), with the pivot's
+    row and largest value, its reciprocal and whether the factorisation goes on held in
+    registers across the row loops (the pivot's search by selects: a branch there is a
+    coin toss for random matrices), the interchange and the elimination by branches.  The
+    lanes' form, compiled for one lane, reloads them at every update (a store to ``a`` may
+    alias them for all LLVM knows): some 2x the time of this form for a 6x6 matrix
+    (measured alternately, 340-440 ns against 140-210 ns on a loaded host).  The one-lane
+    factorisations are a pose's statics solved alone and, in a map, the orientation of
+    each leg of each cell (``_orient``)."""
+    for j in range(n):
+        best, top = j, abs(a[j * m + j])
+        for i in range(j + 1, n):
+            v = abs(a[i * m + j])
+            take = v > top                # (the lanes' comparison: top is |a[best, j]|)
+            best, top = choose(take, i, best), choose(take, v, top)
+        if j > 0 and not (pv[j - 1] >= 0 and a[(j - 1) * m + j - 1] != 0.0):
+            best = -1                     # stopped at an earlier zero pivot: stays stopped
+        pv[j] = best
+        if best > j:
+            for c in range(n):
+                x, y = a[j * m + c], a[best * m + c]
+                a[j * m + c] = y
+                a[best * m + c] = x
+        jj = j * m + j
+        if best >= 0 and a[jj] != 0.0:
+            inv = 1.0 / a[jj]
+            for i in range(j + 1, n):
+                f = a[i * m + j] * inv
+                a[i * m + j] = f
+                for c in range(j + 1, n):
+                    a[i * m + c] = a[i * m + c] - f * a[j * m + c]
 
 
 @inlined
