@@ -205,7 +205,8 @@ def lu_lanes(A, n, piv, nb, ls):
     selects across the lanes.  A lane whose pivot is exactly zero stops there (its later
     ``piv`` entries -1, the rest of its ``A`` untouched): :func:`lu_sign` gives it 0.
     Inlined into :func:`lu_factor` (one lane) and :func:`lu_block` (``BLOCK`` lanes) only;
-    one lane (``ls`` 1) takes :func:`_lu_lane`, the same operations in the same order."""
+    one lane (``ls`` 1, ``nb`` 1) takes :func:`_lu_lane`, the same operations in the same
+    order (``nb`` 0 does nothing)."""
     m = A.shape[1]
     a, pv = lanes(A), lanes(piv)
     if ls == 1:
@@ -259,15 +260,17 @@ def lu_lanes(A, n, piv, nb, ls):
 def _lu_lane(a, n, pv, m):
     """:func:`lu_lanes` of one lane (``a``, ``pv`` its flat ``A (m, m)`` and ``piv``): each
     comparison, interchange, multiplier ``a[i, j] * (1 / a[j, j])`` and update of the lanes'
-    loops, in their order (the same bits: ``tests/test_kernels_lanes.py``), with the pivot's
-    row and largest value, its reciprocal and whether the factorisation goes on held in
-    registers across the row loops (the pivot's search by selects: a branch there is a
-    coin toss for random matrices), the interchange and the elimination by branches.  The
-    lanes' form, compiled for one lane, reloads them at every update (a store to ``a`` may
-    alias them for all LLVM knows): some 2x the time of this form for a 6x6 matrix
-    (measured alternately, 340-440 ns against 140-210 ns on a loaded host).  The one-lane
-    factorisations are a pose's statics solved alone and, in a map, the orientation of
-    each leg of each cell (``_orient``)."""
+    loops, in their order (the same bits, but for the sign of a NaN entry, which LLVM
+    chooses: the block's vector and scalar lanes differ in it too;
+    ``tests/test_kernels_lanes.py``), with the pivot's row and largest value, its
+    reciprocal and whether the factorisation goes on held in registers across the row
+    loops (the pivot's search by selects: a branch there is a coin toss for random
+    matrices), the interchange and the elimination by branches.  The lanes' form, compiled
+    for one lane, reloads them at every update (a store to ``a`` may alias them for all
+    LLVM knows): some 1.6-1.8x the time of this form for a 6x6 matrix (best of alternated
+    rounds, about 250 ns against 150 ns).  The one-lane factorisations are a pose's
+    statics solved alone and, in a map, the orientation of each leg of each cell
+    (``_orient``)."""
     for j in range(n):
         best, top = j, abs(a[j * m + j])
         for i in range(j + 1, n):
