@@ -42,9 +42,9 @@ def _capture(pm, near, prev, load):
         got["call"] = (serial, args, kw.get("path") or (_launch._NO_PATH_F, _launch._NO_PATH_I))
         return launch(serial, par, args, N, *a, **kw)
 
-    def spy_views(self, f, i):
-        got["one"] = (self, f, i)
-        return views(self, f, i)
+    def spy_views(self, f, i, frozen=False):
+        got["one"] = (self, f, i, frozen)
+        return views(self, f, i, frozen)
     _launch._launch, _outputs.OnePose.views = spy_launch, spy_views
     try:
         screwkit.analyze(pm, near, guess=prev.solution, **load)
@@ -78,7 +78,7 @@ def main(argv=None) -> int:
     prev = screwkit.analyze(pm, one, **load)
     got = _capture(pm, near, prev, load)
     serial, kargs, path = got["call"]
-    plan, f, i = got["one"]
+    plan, f, i, frozen = got["one"]
     # (the launch plan whose one-pose records these are: its layout, for the batch's views)
     layout = next(p.out for k, p in chains_of(pm).flat.packed.items()
                   if k[0] == "plan" and p.one is plan)
@@ -92,7 +92,7 @@ def main(argv=None) -> int:
         "kernel, one pose": lambda: serial(*kargs, 0, 1, *path),
         "kernel, no pose": lambda: serial(*kargs, 0, 0, *path),
         "dispatch alone": lambda: empty(*kargs, 0, 1, *path),
-        "outputs as arrays, one pose's records": lambda: plan.views(f, i),
+        "outputs as arrays, one pose's records": lambda: plan.views(f, i, frozen),
         "outputs as arrays, a batch's views": lambda: _outputs.views_of(f, i, layout, True),
     }
     for fn in variants.values():          # (compiled, loaded and warm before timing)

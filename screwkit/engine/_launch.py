@@ -174,7 +174,7 @@ def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=Non
               compliance=None, solve=True, rows=True, statics=True, continuation=True,
               twists=False, lines=False, orient=False, workers=None,
               per_thread: int = MIN_PER_THREAD,
-              blocks: bool | None = True, out=None) -> dict:
+              blocks: bool | None = True, out=None, frozen: bool = False) -> dict:
     """The analysis kernel on the poses ``P6 (N, 6)`` (given parameters in place; the
     dependent ones are ignored): closures from the warm starts ``X0 (N, nx)`` (with ``G6 (N,
     6)``, the parameters of the poses they solve: each moved by the home predictor's change
@@ -198,7 +198,8 @@ def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=Non
     pose ``j``'s outputs into row ``at[j]`` of ``buffers`` (a path's level: its samples'
     rows of the path's outputs), the whole buffers' arrays returned (views; the booleans
     as their integers, :meth:`OutputBuffers.arrays` without ``convert``).  (A path's levels:
-    :class:`._path_launch.LevelLaunches`.)"""
+    :class:`._path_launch.LevelLaunches`.)  ``frozen``: one pose's outputs of
+    :data:`._outputs.FROZEN` read-only (:meth:`._outputs.OnePose.views`)."""
     k = kernels()
     N = len(P6)
     comp = None if compliance is None else np.atleast_2d(compliance)
@@ -263,7 +264,7 @@ def run_poses(flat, Z, P6, *, X0=None, G6=None, X=None, side=None, F=None, T=Non
     if scattered:                   # (views of the whole buffers: no boolean copied)
         return buffers.arrays(convert=False)
     if out is None and plan.one is not None:       # (one pose: records, see _outputs)
-        return plan.one.views(Of, Oi)
+        return plan.one.views(Of, Oi, frozen)
     return views_of(Of, Oi, layout, True)
 
 

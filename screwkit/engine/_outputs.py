@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["OUTPUTS", "OUT_KINDS", "OnePose", "OutputBuffers", "rows_of", "views_of"]
+__all__ = ["FROZEN", "OUTPUTS", "OUT_KINDS", "OnePose", "OutputBuffers", "owned", "rows_of",
+           "views_of"]
 
 #: The outputs of the analysis kernel, in its order (``_kernels._layout.OUT_*``).
 OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", "rows_ok",
@@ -21,48 +22,86 @@ OUTPUTS = ("X", "residual", "iterations", "how", "singular_beta", "J", "scale", 
            "reversed_mask")
 OUT_KINDS = ("f", "f", "i", "i", "b", "f", "f", "b", "b", "f", "f", "f", "i", "f", "i", "f",
              "f", "f", "f", "f", "f", "f", "f", "f", "i")
+#: The outputs a one-pose analysis hands out read-only (``JacobianResult``'s matrix, scale
+#: and conditioning, ``StaticsResult``'s values, equilibrium residuals and amplification):
+#: :meth:`OnePose.views` can give them read-only from the start.
+FROZEN = frozenset(("J", "scale", "centre", "length", "singular_values", "rank",
+                    "condition_number", "constraint_rank", "constraint_condition_number",
+                    "values", "equilibrium", "amplification"))
 
 
 class OnePose:
-    """The outputs of a launch of one pose as fields of two records, one over the float
-    buffer and one over the integer buffer (each output of one pose is contiguous in its
-    buffer): a field's view costs a third of a slice and a reshape, and one pose's analysis
-    takes 25 of them (:func:`views_of` for any N: the same arrays, shapes and values).  The
-    outputs of no rows are new views of an empty array of their shape and dtype."""
+    """The outputs of a launch of one pose as fields of records over the float and the
+    integer buffer (each output of one pose is contiguous in its buffer): a field's view
+    costs a third of a slice and a reshape, and one pose's analysis takes 25 of them
+    (:func:`views_of` for any N: the same arrays, shapes and values).  The outputs a
+    result hands out read-only (:data:`FROZEN`: ``J``, its conditioning and the statics)
+    are fields of records of their own, which :meth:`views` can make read-only as a whole:
+    one flag a record instead of a read-only view an array (some 10 us of a warm pose's
+    analysis, ``_frozen.freeze_fields``).  The outputs of no rows are new views of an empty
+    array of their shape and dtype."""
 
-    __slots__ = ("f", "i", "items")
+    __slots__ = ("f", "i", "fz", "iz", "items")
 
     def __init__(self, layout, nf: int, ni: int):
-        fields = {False: ([], [], []), True: ([], [], [])}
+        # (float, integer) x (other, frozen): names, formats, offsets
+        fields = {key: ([], [], []) for key in ((0, 0), (0, 1), (1, 0), (1, 1))}
         self.items = []
         for name, (is_int, is_bool, o0, o1, sh) in zip(OUTPUTS, layout):
             if o1 == o0:
                 self.items.append((name, 3, np.empty(sh or (0,), bool if is_bool else
                                                      np.int64 if is_int else float)))
                 continue
-            names, formats, offsets = fields[is_int]
+            frozen = int(name in FROZEN)
+            names, formats, offsets = fields[int(is_int), frozen]
             names.append(name)
             formats.append(("i8" if is_int else "f8", () if sh is None else sh[1:]))
             offsets.append(8 * o0)
-            self.items.append((name, 2 if is_bool else int(is_int), None))
-        self.f, self.i = (np.dtype({"names": fields[k][0], "formats": fields[k][1],
-                                    "offsets": fields[k][2], "itemsize": 8 * size})
-                          for k, size in ((False, nf), (True, ni)))
+            self.items.append((name, 2 if is_bool else int(is_int) + 4 * frozen, None))
+        self.f, self.fz, self.i, self.iz = (
+            np.dtype({"names": fields[key][0], "formats": fields[key][1],
+                      "offsets": fields[key][2], "itemsize": 8 * size})
+            for key, size in (((0, 0), nf), ((0, 1), nf), ((1, 0), ni), ((1, 1), ni)))
 
-    def views(self, f, i) -> dict:
-        """The outputs by name of the float and integer buffers ``f``, ``i`` of one pose."""
+    def views(self, f, i, frozen: bool = False) -> dict:
+        """The outputs by name of the float and integer buffers ``f``, ``i`` of one pose;
+        ``frozen``: those of :data:`FROZEN` read-only (the buffers' writers done)."""
         rf, ri = np.frombuffer(f, self.f), np.frombuffer(i, self.i)
+        rz, qz = np.frombuffer(f, self.fz), np.frombuffer(i, self.iz)
+        if frozen:
+            rz.flags.writeable = qz.flags.writeable = False
         out = {}
         for name, kind, empty in self.items:
             if kind == 0:
                 out[name] = rf[name]
             elif kind == 1:
                 out[name] = ri[name]
+            elif kind == 4:
+                out[name] = rz[name]
+            elif kind == 5:
+                out[name] = qz[name]
             elif kind == 2:
                 out[name] = ri[name].astype(bool)
             else:
                 out[name] = empty.view()
         return out
+
+
+def owned(comp):
+    """``comp`` (a ``_run.Computed``) with its read-only outputs copied (a one pose's
+    :data:`FROZEN`, :meth:`OnePose.views`): where a reversed pose is solved again, its
+    relaunch's outputs are written in place (``_run._unreversed``)."""
+    import dataclasses
+
+    def own(a):
+        return a.copy() if isinstance(a, np.ndarray) and not a.flags.writeable else a
+
+    new = {k: own(v) for k, v in comp._asdict().items() if isinstance(v, np.ndarray)}
+    cond = comp.conditioning
+    if cond is not None:
+        new["conditioning"] = dataclasses.replace(
+            cond, **{f.name: own(getattr(cond, f.name)) for f in dataclasses.fields(cond)})
+    return comp._replace(**new)
 
 
 class OutputBuffers:

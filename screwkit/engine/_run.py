@@ -19,6 +19,7 @@ from ._chains import PARAMS, chains_of
 from ._kernels import compile_analysis
 from ._kernels._layout import ACCEPTED
 from ._launch import output_buffers, run_poses
+from ._outputs import owned
 from ._path_launch import LevelLaunches
 from ._pipeline import Conditioning
 from ._templates import labels_of, templates_of
@@ -113,7 +114,6 @@ class PathRows:
     its final unknowns either way).  The samples solved elsewhere (the anchors) or again
     after their level (the retries taken), and those Newton did not close from their
     level's start, are not *kept*: :meth:`finish` forms theirs from their final unknowns.
-
     Each level's launch writes its samples' outputs into their rows of the path's output
     buffers: nothing copied after a launch, and every output byte touched once."""
 
@@ -173,9 +173,9 @@ def _chunk_task(model, rows, F, T, compliance, item):
 
 
 def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, workers,
-                progress, twists, lines=False, G6=None, orient=False) -> Computed:
-    """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs as
-    they are, without the chunks' copies."""
+                progress, twists, lines=False, G6=None, orient=False, frozen=False) -> Computed:
+    """:func:`compute` of poses that fit one launch (not a path): the kernel's outputs, no
+    chunks' copies (``frozen``: one pose's read-only, :meth:`._outputs.OnePose.views`)."""
     flat = ch.flat
     if N == 1:                          # one pose: the row of P6 without a numpy call a value
         row = [0.0] * 6
@@ -187,7 +187,7 @@ def _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance, worke
     o = run_poses(flat, predictor_of(ch), P6,
                   X0=None if X0 is None else X0.T, G6=G6, side=side, F=F, T=T,
                   compliance=compliance, rows=rows, statics=F is not None, twists=twists,
-                  lines=lines, orient=orient, workers=workers)
+                  lines=lines, orient=orient, workers=workers, frozen=frozen)
     if progress:
         progress(N, N)
     closures = Closures(ch, o["X"].T, fixed, o["residual"], o["iterations"], o["how"],
@@ -259,6 +259,7 @@ def _unreversed(model, comp: Computed, side, rows, F, T, compliance, workers, tw
     X, its, done = resolve(model, fx, c.X[:, bad], sub_side, workers)
     idx = bad[done]
     if idx.size:
+        comp = owned(comp)              # (one pose's results' arrays were read-only)
         templates = templates_of(model) if rows else None
         sub = _one_launch(ch, templates, {k: v[done] for k, v in fx.items()}, idx.size,
                           X[:, done], None if sub_side is None else sub_side[done], rows, F,
@@ -301,7 +302,7 @@ def _compute(model, fixed: dict, *, X0, G6, side, path, anchor_every, rows, F, T
     orient = bool(orient and rows and F is not None and not path)
     if not path and N <= chunk:
         c = _one_launch(ch, templates, fixed, N, X0, side, rows, F, T, compliance,
-                        workers, progress, twists, lines, G6, orient)
+                        workers, progress, twists, lines, G6, orient, True)
         if orient:
             c.diagnostics["det_oriented"] = True
         return c
