@@ -184,6 +184,10 @@ def test_what_results_and_models_hold_is_read_only(pm):
     leg = screwkit.leg("RRPRR").analyze()
     arrays = {
         "J": one.jacobian.J, "matrix": one.jacobian.matrix,
+        # (one pose's, read-only from the kernel's records: _outputs.OnePose.views)
+        "one condition_number": one.jacobian.conditioning.condition_number,
+        "one singular_values": one.jacobian.singular_values, "one values": one.statics.values,
+        "one rank": one.jacobian.conditioning.rank, "one scale": one.jacobian.scale,
         "condition_number": many.jacobian.condition_number,
         "singular_values": many.jacobian.singular_values, "values": many.statics.values,
         "active": many.statics.active, "constraint": many.statics.constraint,

@@ -59,6 +59,11 @@ def test_a_pose_beyond_a_singular_surface_keeps_its_actuators_the_right_way_roun
     r = screwkit.analyze(pm, pose, force=F, torque=T)
     assert r.ok and r.solution.status == "ok"
     assert np.all(_signed_lengths(r.solution) > 0)
+    # solved again (its first solve reversed a leg), its outputs written in place into a
+    # copy of the first launch's read-only ones (_outputs.owned), read-only again
+    assert r.solution.closures.how.tolist() == [1]
+    for a in (r.jacobian.J, r.jacobian.conditioning.condition_number, r.statics.values):
+        assert not a.flags.writeable
     np.testing.assert_allclose(r.statics.active, _ups_spr_statics(pm, r.solution),
                                rtol=1e-9, atol=1e-9)
     # the same pose along a path from home: the same assembly, beyond the same surface
