@@ -9,6 +9,8 @@ buffers of a chunked analysis or a path that launches fill in place (:class:`Out
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 __all__ = ["FROZEN", "OUTPUTS", "OUT_KINDS", "OnePose", "OutputBuffers", "owned", "rows_of",
@@ -52,7 +54,7 @@ class OnePose:
                 self.items.append((name, 3, np.empty(sh or (0,), bool if is_bool else
                                                      np.int64 if is_int else float)))
                 continue
-            frozen = int(name in FROZEN)
+            frozen = int(name in FROZEN and not is_bool)  # (a boolean is a copy: its own)
             names, formats, offsets = fields[int(is_int), frozen]
             names.append(name)
             formats.append(("i8" if is_int else "f8", () if sh is None else sh[1:]))
@@ -91,8 +93,6 @@ def owned(comp):
     """``comp`` (a ``_run.Computed``) with its read-only outputs copied (a one pose's
     :data:`FROZEN`, :meth:`OnePose.views`): where a reversed pose is solved again, its
     relaunch's outputs are written in place (``_run._unreversed``)."""
-    import dataclasses
-
     def own(a):
         return a.copy() if isinstance(a, np.ndarray) and not a.flags.writeable else a
 
